@@ -1,0 +1,184 @@
+"""`pkgforge build`: a real colcon build (merged install) with the detected toolchain."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import BuildFailed, PkgforgeError
+from .toolchain import Toolchain, detect, prepend_path, require_cmake
+from .workspace import Workspace, discover
+
+# Build tools and test-only packages never need a stub: ament_cmake is the
+# toolchain itself, and tests are off unless asked for.
+NEVER_STUBBED_PREFIXES = ("ament_cmake", "ament_lint")
+
+LOG_TAIL_LINES = 40
+
+
+@dataclass
+class BuildOptions:
+    build_base: Path
+    install_base: Path
+    log_base: Path
+    build_tests: bool = False
+    stub_missing: bool = True
+    packages_select: tuple[str, ...] = ()
+    cmake_args: tuple[str, ...] = ()
+    parallel_workers: int | None = None
+    extra_env: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass
+class BuildResult:
+    install_base: Path
+    packages: list[str]
+    stubbed: list[str]
+
+
+def default_options(workspace: Workspace, build_base: Path | None = None,
+                    install_base: Path | None = None) -> BuildOptions:
+    return BuildOptions(
+        build_base=(build_base or workspace.root / "build").resolve(),
+        install_base=(install_base or workspace.root / "install").resolve(),
+        log_base=(workspace.root / "log").resolve(),
+    )
+
+
+def build_closure(descriptors: list, selection: list[str]) -> list:
+    """The selected packages and every workspace package they depend on (all when none selected)."""
+    if not selection:
+        return descriptors
+    by_name = {d.name: d for d in descriptors}
+    wanted, todo = set(), list(selection)
+    while todo:
+        name = todo.pop()
+        if name in wanted or name not in by_name:
+            continue
+        wanted.add(name)
+        for deps in by_name[name].dependencies.values():
+            todo.extend(str(dep) for dep in deps)
+    return [d for d in descriptors if d.name in wanted]
+
+
+def missing_dependencies(descriptors: list, toolchain: Toolchain, env: dict[str, str]) -> list[str]:
+    """Build dependencies of CMake packages that neither the workspace nor a prefix provides.
+
+    find_package() on them would stop the configure step on a machine without
+    ROS, although a description package uses nothing from them at build time.
+    """
+    in_workspace = {d.name for d in descriptors}
+    missing: set[str] = set()
+    for descriptor in descriptors:
+        if not str(descriptor.type).endswith("cmake"):
+            continue
+        for dep in descriptor.dependencies.get("build", set()):
+            name = str(dep)
+            if name in in_workspace or name.startswith(NEVER_STUBBED_PREFIXES):
+                continue
+            if not toolchain.find_cmake_config(name, env):
+                missing.add(name)
+    return sorted(missing)
+
+
+def write_stub_prefix(prefix: Path, names: list[str]) -> None:
+    """Empty CMake package configs, so find_package(<name> REQUIRED) succeeds."""
+    for name in names:
+        folder = prefix / "share" / name / "cmake"
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / f"{name}Config.cmake").write_text(
+            f"# pkgforge stub: {name} is declared in package.xml but not installed here.\n"
+            f"set({name}_FOUND TRUE)\n"
+            f"set({name}_INCLUDE_DIRS \"\")\nset({name}_LIBRARIES \"\")\n"
+        )
+
+
+def colcon_command(workspace: Workspace, options: BuildOptions, selection: list[str],
+                   cmake_args: list[str]) -> list[str]:
+    cmd = [sys.executable, "-m", "colcon", "--log-base", str(options.log_base), "build",
+           "--merge-install",
+           "--base-paths", str(workspace.base_path),
+           "--build-base", str(options.build_base),
+           "--install-base", str(options.install_base)]
+    if options.parallel_workers:
+        cmd += ["--parallel-workers", str(options.parallel_workers)]
+    if selection:
+        cmd += ["--packages-up-to", *selection]
+    if cmake_args:
+        # a lone `--cmake-args` list must not swallow later options: keep it last
+        cmd += ["--cmake-args", *cmake_args]
+    return cmd
+
+
+def failed_packages(build_base: Path, names: list[str]) -> list[str]:
+    """Packages whose colcon job ended non-zero (colcon-core writes build/<pkg>/colcon_build.rc)."""
+    failed = []
+    for name in names:
+        try:
+            rc = (build_base / name / "colcon_build.rc").read_text().strip()
+        except OSError:
+            continue
+        if rc not in ("", "0"):
+            failed.append(name)
+    return failed
+
+
+def log_tail(log_base: Path, package: str, lines: int = LOG_TAIL_LINES) -> str:
+    log = log_base / "latest_build" / package / "stdout_stderr.log"
+    try:
+        text = log.read_text(errors="replace").splitlines()
+    except OSError:
+        return f"(no log at {log})"
+    return "\n".join(text[-lines:])
+
+
+def run_build(workspace: Workspace, options: BuildOptions, *, out=None) -> BuildResult:
+    """Build with colcon; raise BuildFailed (exit 1) naming the failing packages."""
+    out = out or sys.stderr
+    toolchain = detect()
+    env = toolchain.environment()
+    env.update(options.extra_env)
+    require_cmake(env)
+    descriptors = discover(workspace.base_path)
+    if not descriptors:
+        raise PkgforgeError(f"no package found under {workspace.base_path}")
+    selection = list(options.packages_select)
+    if workspace.package_path is not None and not selection:
+        selection = [d.name for d in descriptors if Path(d.path).resolve() == workspace.package_path]
+
+    stubbed: list[str] = []
+    if options.stub_missing:
+        stubbed = missing_dependencies(build_closure(descriptors, selection), toolchain, env)
+        if stubbed:
+            stub_prefix = options.build_base / "pkgforge_stubs"
+            write_stub_prefix(stub_prefix, stubbed)
+            env["CMAKE_PREFIX_PATH"] = prepend_path(str(stub_prefix), env.get("CMAKE_PREFIX_PATH", ""))
+            print(f"pkgforge: not installed here, stubbed for find_package(): {', '.join(stubbed)} "
+                  "(use --no-stubs to fail instead)", file=out)
+
+    cmake_args = [f"-DBUILD_TESTING={'ON' if options.build_tests else 'OFF'}",
+                  f"-DPython3_EXECUTABLE={sys.executable}",
+                  *toolchain.cmake_generator_args(env), *options.cmake_args]
+    cmd = colcon_command(workspace, options, selection, cmake_args)
+    names = selection or [d.name for d in descriptors]
+    # a stale rc from an earlier run must not name a package that now passes
+    for name in names:
+        (options.build_base / name / "colcon_build.rc").unlink(missing_ok=True)
+    out.flush()
+    try:
+        completed = subprocess.run(cmd, cwd=workspace.root, env=env, stdin=subprocess.DEVNULL)
+    except OSError as exc:
+        raise PkgforgeError(f"cannot run colcon: {exc}") from exc
+    if completed.returncode != 0:
+        failed = failed_packages(options.build_base, names)
+        if not failed:
+            raise BuildFailed(f"colcon exited with {completed.returncode}; see its output above")
+        for package in failed:
+            print(f"\npkgforge: package '{package}' failed; last lines of its log "
+                  f"({options.log_base / 'latest_build' / package / 'stdout_stderr.log'}):",
+                  file=out)
+            print(log_tail(options.log_base, package), file=out)
+        raise BuildFailed(f"build failed: {', '.join(failed)}")
+    return BuildResult(options.install_base, names, stubbed)

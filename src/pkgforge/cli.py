@@ -1,0 +1,102 @@
+"""Command line: parse options, call the library, map errors to exit codes."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import click
+
+from . import __version__
+from .distros import DEFAULT_DISTRO, DISTROS
+from .errors import PkgforgeError
+
+CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
+
+
+def fail(error: PkgforgeError) -> None:
+    click.echo(f"pkgforge: error: {error}", err=True)
+    sys.exit(error.exit_code)
+
+
+@click.group(context_settings=CONTEXT_SETTINGS)
+@click.version_option(__version__, "--version", prog_name="pkgforge")
+def main() -> None:
+    """Scaffold, build and verify ROS 2 robot description packages."""
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("name")
+@click.option("--distro", type=click.Choice(list(DISTROS)), default=DEFAULT_DISTRO,
+              show_default=True, help="ROS 2 distribution the package targets.")
+@click.option("--build-type", type=click.Choice(["ament_cmake", "ament_python"]),
+              default="ament_cmake", show_default=True, help="Package build type.")
+@click.option("--launch-format", type=click.Choice(["py", "xml", "yaml"]), default="py",
+              show_default=True, help="Format of launch/display.launch.*.")
+@click.option("--destination", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Folder to create the package in [default: ./src in a workspace root, else .].")
+@click.option("--maintainer-name", default=None, help="[default: git config user.name]")
+@click.option("--maintainer-email", default=None, help="[default: git config user.email]")
+@click.option("--license", "license_", default="Apache-2.0", show_default=True,
+              help="License identifier for package.xml.")
+@click.option("--description", default="", help="package.xml description.")
+@click.option("--force", is_flag=True,
+              help="Write into an existing package folder, replacing the generated files.")
+def new(name, distro, build_type, launch_format, destination, maintainer_name,
+        maintainer_email, license_, description, force):
+    """Create a robot description package NAME that builds and shows in RViz2."""
+    from .scaffold import create_package, default_destination, make_spec
+
+    try:
+        spec = make_spec(name, distro=distro, build_type=build_type, launch_format=launch_format,
+                         maintainer_name=maintainer_name, maintainer_email=maintainer_email,
+                         license=license_, description=description)
+        created = create_package(spec, destination or default_destination(Path.cwd()), force=force)
+    except PkgforgeError as error:
+        fail(error)
+    shown = os.path.relpath(created.path)
+    click.echo(f"created {spec.build_type} package '{spec.name}' for ROS 2 {spec.distro.name} in {shown}/")
+    for relative in created.files:
+        mark = " (overwritten)" if relative in created.overwritten else ""
+        click.echo(f"  {relative}{mark}")
+    click.echo("next:\n"
+               f"  pkgforge build            # colcon build into install/\n"
+               f"  pkgforge verify {shown}\n"
+               f"  ros2 launch {spec.name} display.launch.{spec.launch_format}")
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("path", type=click.Path(path_type=Path), default=".")
+@click.option("--build-base", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Build folder [default: build/ in the workspace root].")
+@click.option("--install-base", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Install folder, merged layout [default: install/ in the workspace root].")
+@click.option("--packages-select", multiple=True, metavar="NAME",
+              help="Build only these packages (and what they depend on). Repeatable.")
+@click.option("--build-tests", is_flag=True,
+              help="Configure with BUILD_TESTING=ON (needs ament_lint_auto and the test tools).")
+@click.option("--no-stubs", is_flag=True,
+              help="Do not stub declared build dependencies that are not installed here.")
+@click.option("--parallel-workers", type=click.IntRange(1), default=None,
+              help="Packages built at once [default: colcon's, the number of cores].")
+@click.option("--cmake-args", "cmake_args", multiple=True, metavar="ARG",
+              help="Extra CMake argument, e.g. --cmake-args=-DFOO=1. Repeatable.")
+def build(path, build_base, install_base, packages_select, build_tests, no_stubs,
+          parallel_workers, cmake_args):
+    """Build the workspace or package at PATH with colcon (merged install)."""
+    from .build import default_options, run_build
+    from .workspace import locate
+
+    try:
+        workspace = locate(path)
+        options = default_options(workspace, build_base, install_base)
+        options.build_tests = build_tests
+        options.stub_missing = not no_stubs
+        options.packages_select = tuple(packages_select)
+        options.parallel_workers = parallel_workers
+        options.cmake_args = tuple(cmake_args)
+        result = run_build(workspace, options)
+    except PkgforgeError as error:
+        fail(error)
+    click.echo(f"built {len(result.packages)} package(s) into {os.path.relpath(result.install_base)}/")

@@ -1,0 +1,33 @@
+"""Package-name rules of REP 144, shared by `new` and the checks."""
+
+from __future__ import annotations
+
+import re
+
+REP144_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
+
+REP144_RULE = (
+    "a ROS package name (REP 144) starts with a lower-case letter, holds only "
+    "lower-case letters, digits and underscores, has no '__' and does not end with '_'"
+)
+
+
+def rep144_problem(name: str) -> str | None:
+    """Return why `name` breaks REP 144, or None when it is a valid package name."""
+    if not name:
+        return "the name is empty"
+    if "/" in name or "\\" in name or name in (".", ".."):
+        return f"'{name}' is a path, not a package name (use --destination for the folder)"
+    if not REP144_PATTERN.match(name):
+        if name[0].isdigit():
+            return f"'{name}' starts with a digit"
+        if name != name.lower():
+            return f"'{name}' has upper-case letters (try '{name.lower()}')"
+        if "-" in name:
+            return f"'{name}' has '-' (try '{name.replace('-', '_')}')"
+        return f"'{name}' has characters other than a-z, 0-9 and '_'"
+    if "__" in name:
+        return f"'{name}' has a double underscore"
+    if name.endswith("_"):
+        return f"'{name}' ends with '_'"
+    return None

@@ -1,0 +1,261 @@
+"""`pkgforge new`: options → a PackageSpec → rendered files → moved into place atomically."""
+
+from __future__ import annotations
+
+import getpass
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import jinja2
+from catkin_pkg.package import InvalidPackage, parse_package_string
+
+from .distros import DEFAULT_DISTRO, DISTROS, Distro
+from .errors import PkgforgeError
+from .names import REP144_RULE, rep144_problem
+from .resources import templates_dir
+from .stl import binary_stl, box_triangles
+
+BUILD_TYPES = ("ament_cmake", "ament_python")
+LAUNCH_FORMATS = ("py", "xml", "yaml")
+CI_SYSTEMS = ("github", "gitlab")
+
+# catkin_pkg's own rule, so a bad address fails here, not later in CMake
+EMAIL_PATTERN = re.compile(r"^[-a-zA-Z0-9_%+]+(\.[-a-zA-Z0-9_%+]+)*@[-a-zA-Z0-9%]+(\.[-a-zA-Z0-9%]+)*\.[a-zA-Z]{2,}$")
+
+# What the generated launch file starts or looks up, hence what must be an
+# exec_depend (user story 6). rviz_default_plugins provides the RViz displays.
+BASE_EXEC_DEPENDS = (
+    "joint_state_publisher",
+    "joint_state_publisher_gui",
+    "robot_state_publisher",
+    "rviz2",
+    "rviz_default_plugins",
+    "xacro",
+)
+LAUNCH_FORMAT_DEPENDS = {
+    "py": ("launch", "launch_ros"),
+    "xml": ("launch", "launch_ros", "launch_xml"),
+    "yaml": ("launch", "launch_ros", "launch_yaml"),
+}
+
+# The mesh the scaffold writes: a 4 cm x 4 cm x 30 cm arm segment.
+ARM_MESH_SIZE = (0.04, 0.04, 0.3)
+
+
+@dataclass(frozen=True)
+class PackageSpec:
+    """Everything that decides what `pkgforge new` writes."""
+
+    name: str
+    distro: Distro
+    build_type: str = "ament_cmake"
+    launch_format: str = "py"
+    maintainer_name: str = "todo"
+    maintainer_email: str = "todo@todo.todo"
+    license: str = "Apache-2.0"
+    description: str = ""
+    version: str = "0.0.0"
+    ci: tuple[str, ...] = field(default=())
+
+    @property
+    def folders(self) -> tuple[str, ...]:
+        """Resource folders the package gets; each one is installed to share/<name>/."""
+        return ("launch", "meshes", "rviz", "urdf")
+
+    @property
+    def exec_depends(self) -> list[str]:
+        return sorted(set(BASE_EXEC_DEPENDS) | set(LAUNCH_FORMAT_DEPENDS[self.launch_format]))
+
+    @property
+    def launch_file(self) -> str:
+        return f"launch/display.launch.{self.launch_format}"
+
+    @property
+    def model_file(self) -> str:
+        return f"urdf/{self.name}.urdf.xacro"
+
+    @property
+    def mesh_file(self) -> str:
+        return "meshes/arm.stl"
+
+    def template_context(self) -> dict:
+        return {
+            "spec": self,
+            "name": self.name,
+            "distro": self.distro,
+            "description": self.description
+            or f"Robot description of {self.name}: URDF/xacro model, meshes, launch files and RViz configuration.",
+        }
+
+
+def git_config(key: str) -> str | None:
+    try:
+        result = subprocess.run(
+            ["git", "config", "--get", key], capture_output=True, text=True, timeout=5
+        )
+    except (OSError, subprocess.SubprocessError):
+        return None
+    value = result.stdout.strip()
+    return value if result.returncode == 0 and value else None
+
+
+def default_maintainer() -> tuple[str, str]:
+    """Maintainer from git config, falling back like `ros2 pkg create` does."""
+    user = getpass.getuser() or "todo"
+    name = git_config("user.name") or user
+    email = git_config("user.email") or f"{user}@todo.todo"
+    return name, email
+
+
+def default_destination(cwd: Path) -> Path:
+    """`./src` in a workspace root (a folder with src/), else the current folder."""
+    return cwd / "src" if (cwd / "src").is_dir() else cwd
+
+
+def make_spec(
+    name: str,
+    *,
+    distro: str = DEFAULT_DISTRO,
+    build_type: str = "ament_cmake",
+    launch_format: str = "py",
+    maintainer_name: str | None = None,
+    maintainer_email: str | None = None,
+    license: str = "Apache-2.0",
+    description: str = "",
+    ci: tuple[str, ...] = (),
+) -> PackageSpec:
+    """Validate options into a PackageSpec; bad input raises PkgforgeError."""
+    problem = rep144_problem(name)
+    if problem:
+        raise PkgforgeError(f"invalid package name: {problem}; {REP144_RULE}")
+    if distro not in DISTROS:
+        raise PkgforgeError(f"unknown distro '{distro}'; choose one of {', '.join(DISTROS)}")
+    default_name, default_email = default_maintainer()
+    email = maintainer_email or default_email
+    if not EMAIL_PATTERN.match(email):
+        raise PkgforgeError(
+            f"invalid maintainer e-mail '{email}': package.xml needs an address like "
+            "name@example.com (set --maintainer-email or `git config user.email`)"
+        )
+    maint_name = (maintainer_name or default_name).strip()
+    if not maint_name:
+        raise PkgforgeError("the maintainer name is empty: set --maintainer-name")
+    if not license.strip():
+        raise PkgforgeError("the license is empty: set --license (e.g. Apache-2.0)")
+    return PackageSpec(
+        name=name,
+        distro=DISTROS[distro],
+        build_type=build_type,
+        launch_format=launch_format,
+        maintainer_name=maint_name,
+        maintainer_email=email,
+        license=license.strip(),
+        description=description.strip(),
+        ci=tuple(ci),
+    )
+
+
+def _environment() -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(templates_dir())),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+    # a Python literal for setup.py, quoted and escaped
+    env.filters["py"] = repr
+    return env
+
+
+def render_files(spec: PackageSpec) -> dict[str, bytes]:
+    """Every file of the new package, by path relative to the package folder."""
+    env = _environment()
+    ctx = spec.template_context()
+
+    def render(template: str) -> bytes:
+        return env.get_template(f"package/{template}").render(ctx).encode("utf-8")
+
+    files: dict[str, bytes] = {
+        "package.xml": render("package.xml.j2"),
+        spec.launch_file: render(f"launch/display.launch.{spec.launch_format}.j2"),
+        spec.model_file: render("urdf/model.urdf.xacro.j2"),
+        "urdf/macros.xacro": render("urdf/macros.xacro.j2"),
+        "rviz/display.rviz": render("rviz/display.rviz.j2"),
+        spec.mesh_file: binary_stl(box_triangles(ARM_MESH_SIZE), header=f"{spec.name} arm"),
+    }
+    if spec.build_type == "ament_cmake":
+        files["CMakeLists.txt"] = render("CMakeLists.txt.j2")
+    else:
+        files["setup.py"] = render("setup.py.j2")
+        files["setup.cfg"] = render("setup.cfg.j2")
+        files[f"resource/{spec.name}"] = b""
+    for system in spec.ci:
+        path = {"github": ".github/workflows/pkgforge.yml", "gitlab": ".gitlab-ci.yml"}[system]
+        files[path] = render(f"ci/{system}.yml.j2")
+    _validate_manifest(files["package.xml"])
+    return files
+
+
+def _validate_manifest(manifest: bytes) -> None:
+    """A template bug must never reach the user's disk as a broken package.xml."""
+    try:
+        parse_package_string(manifest.decode("utf-8"))
+    except InvalidPackage as exc:  # pragma: no cover - guards the templates
+        raise PkgforgeError(f"pkgforge rendered an invalid package.xml: {exc}") from exc
+
+
+@dataclass
+class CreatedPackage:
+    path: Path
+    files: list[str]
+    overwritten: list[str]
+
+
+def create_package(spec: PackageSpec, destination: Path, *, force: bool = False) -> CreatedPackage:
+    """Render into a temporary folder beside the target, then move into place.
+
+    Without `force` an existing target is refused and left untouched. With
+    `force` the generated files replace their namesakes; the user's other
+    files in the folder stay.
+    """
+    destination = destination.resolve()
+    target = destination / spec.name
+    if target.exists() and not force:
+        raise PkgforgeError(
+            f"{target} already exists; pkgforge does not touch it without --force "
+            "(which replaces the generated files and keeps any others)"
+        )
+    if target.exists() and not target.is_dir():
+        raise PkgforgeError(f"{target} exists and is not a folder")
+    files = render_files(spec)
+    try:
+        destination.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise PkgforgeError(f"cannot create the destination {destination}: {exc.strerror}") from exc
+    staging = Path(tempfile.mkdtemp(prefix=f".{spec.name}.pkgforge-", dir=destination))
+    try:
+        for relative, content in files.items():
+            path = staging / relative
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_bytes(content)
+        if not target.exists():
+            os.rename(staging, target)
+            return CreatedPackage(target, sorted(files), [])
+        overwritten = []
+        for relative in sorted(files):
+            final = target / relative
+            if final.exists():
+                overwritten.append(relative)
+            final.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(staging / relative, final)
+        return CreatedPackage(target, sorted(files), overwritten)
+    except OSError as exc:
+        raise PkgforgeError(f"cannot write the package to {target}: {exc}") from exc
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)

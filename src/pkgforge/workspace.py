@@ -1,0 +1,64 @@
+"""Finding packages the way colcon does: colcon-core discovery and identification."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import PkgforgeError
+
+
+@dataclass(frozen=True)
+class Workspace:
+    """Where a PATH given on the command line sits.
+
+    `root` is where build/, install/ and log/ go (the folder holding src/, as
+    colcon uses); `base_path` is what discovery crawls; `package` is set when
+    PATH is one package inside a workspace, so only it (and what it needs) is
+    processed.
+    """
+
+    root: Path
+    base_path: Path
+    package_path: Path | None = None
+
+
+def locate(path: Path) -> Workspace:
+    path = path.resolve()
+    if not path.exists():
+        raise PkgforgeError(f"{path} does not exist")
+    if not path.is_dir():
+        raise PkgforgeError(f"{path} is not a folder (give a package, a workspace or its src/)")
+    if (path / "src").is_dir() and not (path / "package.xml").exists():
+        return Workspace(root=path, base_path=path / "src")
+    if path.name == "src" and not (path / "package.xml").exists():
+        return Workspace(root=path.parent, base_path=path)
+    for ancestor in path.parents:
+        if ancestor.name == "src":
+            return Workspace(root=ancestor.parent, base_path=ancestor,
+                             package_path=path if (path / "package.xml").exists() else None)
+    return Workspace(root=path if not (path / "package.xml").exists() else path.parent,
+                     base_path=path,
+                     package_path=path if (path / "package.xml").exists() else None)
+
+
+def discover(base_path: Path) -> list:
+    """colcon PackageDescriptors under base_path (COLCON_IGNORE, AMENT_IGNORE honoured)."""
+    from colcon_core.package_augmentation import augment_packages
+    from colcon_core.package_discovery import add_package_discovery_arguments, discover_packages
+    from colcon_core.package_identification import get_package_identification_extensions
+
+    parser = argparse.ArgumentParser(add_help=False)
+    add_package_discovery_arguments(parser)
+    args = parser.parse_args(["--base-paths", str(base_path)])
+    # colcon logs identification problems itself; we report what it finds
+    logging.getLogger("colcon").setLevel(logging.ERROR)
+    try:
+        descriptors = discover_packages(args, get_package_identification_extensions())
+        # augmentation is where colcon-ros fills in the manifest's dependencies
+        augment_packages(descriptors)
+    except Exception as exc:  # colcon raises plain exceptions for bad manifests
+        raise PkgforgeError(f"package discovery under {base_path} failed: {exc}") from exc
+    return sorted(descriptors, key=lambda d: (d.name or "", str(d.path)))
