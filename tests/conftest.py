@@ -1,0 +1,73 @@
+"""Shared helpers and session fixtures: real `pkgforge`, real colcon, real xacro."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import sysconfig
+from pathlib import Path
+
+import pytest
+
+FIXTURES = Path(__file__).parent / "fixtures"
+SCRIPTS = Path(sysconfig.get_path("scripts"))
+
+# Every scaffold variant the acceptance matrix names: each distro (py launch),
+# each launch format, and ament_python (with py and xml launch files).
+VARIANTS = {
+    "v_humble": ["--distro", "humble"],
+    "v_jazzy": ["--distro", "jazzy"],
+    "v_kilted": ["--distro", "kilted"],
+    "v_rolling": ["--distro", "rolling"],
+    "v_xml": ["--launch-format", "xml"],
+    "v_yaml": ["--launch-format", "yaml"],
+    "v_humble_xml": ["--launch-format", "xml", "--distro", "humble"],
+    "v_humble_yaml": ["--launch-format", "yaml", "--distro", "humble"],
+    "v_python": ["--build-type", "ament_python"],
+    "v_python_xml": ["--build-type", "ament_python", "--launch-format", "xml"],
+}
+
+MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "test@example.com"]
+
+
+def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900):
+    """Run the installed pkgforge in a subprocess, as a user would."""
+    return subprocess.run(
+        [sys.executable, "-m", "pkgforge", *map(str, args)],
+        cwd=cwd, capture_output=True, text=True, timeout=timeout,
+        stdin=subprocess.DEVNULL, env=env,
+    )
+
+
+def new_package(workspace: Path, name: str, *options: str) -> Path:
+    result = run_pkgforge("new", name, *MAINTAINER, *options, cwd=workspace)
+    assert result.returncode == 0, result.stderr
+    return workspace / "src" / name
+
+
+def copy_fixture(relative: str, workspace: Path) -> Path:
+    source = FIXTURES / relative
+    target = workspace / "src" / source.name
+    shutil.copytree(source, target)
+    return target
+
+
+def xacro_command(model: Path, install: Path):
+    """The real xacro command line tool against an install tree."""
+    env = dict(os.environ, AMENT_PREFIX_PATH=str(install))
+    return subprocess.run([str(SCRIPTS / "xacro"), str(model)], capture_output=True, text=True,
+                          env=env, timeout=60, stdin=subprocess.DEVNULL)
+
+
+@pytest.fixture(scope="session")
+def variants_workspace(tmp_path_factory) -> Path:
+    """One workspace holding every scaffold variant, built once with `pkgforge build`."""
+    workspace = tmp_path_factory.mktemp("variants")
+    (workspace / "src").mkdir()
+    for name, options in VARIANTS.items():
+        new_package(workspace, name, *options)
+    result = run_pkgforge("build", cwd=workspace)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return workspace

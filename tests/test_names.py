@@ -1,0 +1,23 @@
+import pytest
+
+from pkgforge.names import rep144_problem
+
+
+@pytest.mark.parametrize("name", ["rob_description", "a", "robot2", "x_y_z", "r2d2_description"])
+def test_valid_names(name):
+    assert rep144_problem(name) is None
+
+
+@pytest.mark.parametrize("name, reason", [
+    ("Rob", "upper-case"),
+    ("rob-desc", "'-'"),
+    ("1rob", "starts with a digit"),
+    ("rob__d", "double underscore"),
+    ("rob_", "ends with '_'"),
+    ("../x", "is a path"),
+    ("", "empty"),
+    ("rob.d", "characters other than"),
+    ("_rob", "characters other than"),
+])
+def test_invalid_names_say_why(name, reason):
+    assert reason in rep144_problem(name)
