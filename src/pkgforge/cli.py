@@ -100,3 +100,65 @@ def build(path, build_base, install_base, packages_select, build_tests, no_stubs
     except PkgforgeError as error:
         fail(error)
     click.echo(f"built {len(result.packages)} package(s) into {os.path.relpath(result.install_base)}/")
+
+
+def _split_keys(values: tuple[str, ...]) -> list[str]:
+    return [k.strip() for value in values for k in value.split(",") if k.strip()]
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("path", type=click.Path(path_type=Path), default=".")
+@click.option("--format", "fmt", type=click.Choice(["text", "json", "junit", "sarif", "github"]),
+              default="text", show_default=True, help="Output format.")
+@click.option("--output", "-o", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the report to this file instead of standard output.")
+@click.option("--select", multiple=True, metavar="CHECKS",
+              help="Run only these checks: codes, code prefixes (PF2) or names; comma-separated.")
+@click.option("--ignore", multiple=True, metavar="CHECKS",
+              help="Skip these checks: codes, code prefixes or names; comma-separated.")
+@click.option("--strict", is_flag=True, help="Treat warnings as errors (exit 1 on any warning).")
+@click.option("--jobs", "-j", type=click.IntRange(1), default=None,
+              help="Packages verified at once [default: the number of cores].")
+def verify(path, fmt, output, select, ignore, strict, jobs):
+    """Check the package(s) at PATH against their install tree.
+
+    PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
+    1 errors found (or warnings with --strict), 2 verify could not run.
+    """
+    from .config import Selection
+    from .report import render
+    from .verify import VerifyOptions, verify as run_verify
+
+    options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict)
+    try:
+        result = run_verify(path, options)
+    except PkgforgeError as error:
+        fail(error)
+    color = fmt == "text" and output is None and sys.stdout.isatty() and "NO_COLOR" not in os.environ
+    text = render(fmt, result, color=color, strict=strict)
+    if output is not None:
+        try:
+            output.write_text(text, encoding="utf-8")
+        except OSError as exc:
+            fail(PkgforgeError(f"cannot write {output}: {exc.strerror}"))
+        if fmt != "text":
+            from .report.text import summary
+            click.echo(summary(result), err=True)
+    else:
+        click.echo(text, nl=False)
+    sys.exit(result.exit_code(strict))
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.option("--format", "fmt", type=click.Choice(["text", "markdown"]), default="text",
+              show_default=True, help="markdown writes docs/checks.md.")
+def checks(fmt):
+    """List every check: code, name, default severity and what it finds."""
+    from .checks.registry import all_checks
+    from .docs import checks_markdown
+
+    if fmt == "markdown":
+        click.echo(checks_markdown(), nl=False)
+        return
+    for check in all_checks():
+        click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {check.summary}")

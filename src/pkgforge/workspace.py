@@ -53,8 +53,9 @@ def discover(base_path: Path) -> list:
     parser = argparse.ArgumentParser(add_help=False)
     add_package_discovery_arguments(parser)
     args = parser.parse_args(["--base-paths", str(base_path)])
-    # colcon logs identification problems itself; we report what it finds
-    logging.getLogger("colcon").setLevel(logging.ERROR)
+    # colcon logs (with tracebacks) the manifests it rejects; pkgforge finds
+    # those folders itself and reports each problem with its line instead
+    logging.getLogger("colcon").setLevel(logging.CRITICAL + 1)
     try:
         descriptors = discover_packages(args, get_package_identification_extensions())
         # augmentation is where colcon-ros fills in the manifest's dependencies

@@ -1,0 +1,1 @@
+"""Checks: one module per area; importing a module registers its checks."""

@@ -1,0 +1,188 @@
+"""Checks of the build files' install rules against the package's folders."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..diagnostics import Finding, Severity
+from ..model.package import RESOURCE_FOLDERS, PackageModel
+from .context import CheckContext
+from .registry import register
+
+RESOURCE_SUFFIXES = (".urdf", ".xacro", ".rviz", ".stl", ".dae", ".obj", ".sdf", ".world",
+                     ".launch.py", ".launch.xml", ".launch.yaml")
+
+
+def _where(path: Path, line: int | None, model: PackageModel) -> str:
+    try:
+        shown = path.relative_to(model.path)
+    except ValueError:
+        shown = path
+    return f"{shown}:{line}" if line else str(shown)
+
+
+def install_fix(model: PackageModel, folder: str) -> str:
+    """How to install `folder`: extend the existing rule, or add one."""
+    rules = model.layout.directory_rules
+    share = f"share/{model.share_name}"
+    if model.setup_py is not None:
+        line = next((line for _, line, _, _ in rules), None)
+        where = f"setup.py:{line}" if line else "setup.py"
+        return (f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*')) "
+                f"to data_files in {where}")
+    for path, line, folders, destination in rules:
+        if destination == share:
+            return (f"add {folder} to install(DIRECTORY {' '.join(folders)} ...) at "
+                    f"{_where(path, line, model)}")
+    return f"add install(DIRECTORY {folder} DESTINATION share/${{PROJECT_NAME}}) to CMakeLists.txt"
+
+
+@register("PF201", "install-missing-directory", "error", area="install",
+          summary="an install rule names a source folder that does not exist",
+          explanation="CMake stops at install time with 'file INSTALL cannot find' (user story 2: "
+                      "a tutorial's install rule lists worlds/ and models/ the package lacks).",
+          hint="create the folder or remove it from the install rule")
+def install_missing_directory(ctx: CheckContext):
+    model = ctx.model
+    for missing in model.layout.missing:
+        if missing.mode != "DIRECTORY":
+            continue
+        yield Finding(f"install(DIRECTORY) names '{missing.text}', which does not exist in {model.name}",
+                      missing.path, missing.line, missing.column,
+                      hint=f"remove '{missing.text}' from the install rule at "
+                           f"{_where(missing.path, missing.line, model)}, or create {missing.text}/ "
+                           "with a file in it (git keeps no empty folder)")
+
+
+@register("PF207", "install-missing-file", "error", area="install",
+          summary="an install rule or data_files entry names a file that does not exist",
+          explanation="The build stops at install time (CMake) or setuptools fails on the "
+                      "missing file or on a folder listed as a file.",
+          hint="fix the path or remove it")
+def install_missing_file(ctx: CheckContext):
+    model = ctx.model
+    for missing in model.layout.missing:
+        if missing.mode == "DIRECTORY":
+            continue
+        what = "data_files" if missing.mode == "data_files" else f"install({missing.mode})"
+        yield Finding(f"{what} names '{missing.text}', which is not a file in {model.name}",
+                      missing.path, missing.line, missing.column)
+
+
+@register("PF202", "directory-not-installed", "warning", area="install",
+          summary="a folder of run-time resources is covered by no install rule",
+          explanation="Launch files resolve paths in install/share/<pkg>/, not in src/: a folder "
+                      "left out of the install rules is simply absent at run time, with no error "
+                      "(user story 1: rviz/ not installed, RViz starts with no config). An error "
+                      "when a file of the package refers to the folder, a warning otherwise.",
+          hint="install the folder to share/${PROJECT_NAME}")
+def directory_not_installed(ctx: CheckContext):
+    model = ctx.model
+    if not model.layout.known or model.layout.unknown:
+        return  # a rule pkgforge cannot read may install the folder
+    installed = model.layout.installed_sources()
+    own_names = {model.name, model.share_name}
+    referenced: dict[str, object] = {}
+    for reference in model.references:
+        if reference.package in own_names and reference.relative:
+            referenced.setdefault(reference.relative.split("/")[0], reference)
+    for folder, files in sorted(model.top_level_folders().items()):
+        if folder not in RESOURCE_FOLDERS and folder not in referenced:
+            continue
+        if any(model.path / f in installed for f in files):
+            continue
+        reference = referenced.get(folder)
+        if reference is not None:
+            message = (f"{folder}/ is not installed, but {_where(reference.path, reference.line, model)} "
+                       f"refers to {reference.relative}")
+            severity = Severity.ERROR
+        else:
+            message = f"{folder}/ holds {len(files)} file(s) but no install rule covers it"
+            severity = None
+        yield Finding(message, model.path / folder, None, hint=install_fix(model, folder), severity=severity)
+
+
+@register("PF203", "install-wrong-destination", "error", area="install",
+          summary="resources are installed outside share/<package>",
+          explanation="FindPackageShare, $(find pkg) and package:// all resolve to "
+                      "share/<package>/; resources installed elsewhere are never found.",
+          hint="use DESTINATION share/${PROJECT_NAME}")
+def install_wrong_destination(ctx: CheckContext):
+    model = ctx.model
+    share = f"share/{model.share_name}"
+    for rule in model.layout.destinations:
+        resources = [s for s in rule.sources
+                     if Path(s.rstrip("/")).name in RESOURCE_FOLDERS or s.endswith(RESOURCE_SUFFIXES)
+                     or (Path(s).parts and Path(s).parts[0] in RESOURCE_FOLDERS)]
+        if not resources:
+            continue
+        destination = rule.destination
+        if destination is not None and (destination == share or destination.startswith(share + "/")):
+            continue
+        where = "outside the install prefix" if destination is None else f"to {destination}/"
+        yield Finding(f"{', '.join(resources)} installed {where}, not under {share}/",
+                      rule.path, rule.line, rule.column,
+                      hint="use DESTINATION share/${PROJECT_NAME}" if model.setup_py is None
+                      else "use os.path.join('share', package_name, ...) as the destination")
+
+
+@register("PF204", "cmake-invalid", "error", area="install",
+          summary="CMakeLists.txt cannot be read, or has no project()",
+          explanation="CMake stops at configure time; pkgforge cannot predict the install tree "
+                      "either.",
+          hint="fix the syntax at the named line")
+def cmake_invalid(ctx: CheckContext):
+    model = ctx.model
+    cmake = model.cmake
+    if cmake is None:
+        return
+    for error in cmake.syntax_errors:
+        yield Finding(f"CMake syntax: {error.message}", error.path, error.line, error.column)
+    for source in cmake.unreadable:
+        yield Finding(f"{source.path.name} {source.problem}", source.path, source.problem_line)
+    if not cmake.syntax_errors and not cmake.unreadable and cmake.project_command is None:
+        yield Finding("CMakeLists.txt has no project() call", model.path / "CMakeLists.txt", 1,
+                      hint=f"add cmake_minimum_required(VERSION 3.10) and project({model.name} NONE)")
+
+
+@register("PF205", "ament-package-missing", "error", area="install",
+          summary="an ament_cmake package never calls ament_package()",
+          explanation="ament_package() installs package.xml and the ament index marker; without "
+                      "them FindPackageShare, get_package_share_directory and `ros2 launch` "
+                      "cannot find the package at all.",
+          hint="call ament_package() at the end of CMakeLists.txt")
+def ament_package_missing(ctx: CheckContext):
+    model = ctx.model
+    cmake = model.cmake
+    if cmake is None or model.build_type != "ament_cmake" or cmake.syntax_errors or cmake.unreadable:
+        return
+    if cmake.ament_package_command is None:
+        yield Finding("CMakeLists.txt never calls ament_package(): the package is not registered "
+                      "in the ament index", model.path / "CMakeLists.txt", None)
+
+
+@register("PF206", "install-rule-unevaluated", "info", area="install",
+          summary="pkgforge cannot tell what an install rule installs",
+          explanation="The rule depends on something pkgforge does not evaluate (an environment "
+                      "variable, a variable set outside the package, a call it does not model); "
+                      "its files are left out of the predicted tree. Verify with --build or "
+                      "--install-base to check the real tree.",
+          hint="use literal paths, or verify against a real build (--build)")
+def install_rule_unevaluated(ctx: CheckContext):
+    for path, line, why in ctx.model.layout.unknown:
+        yield Finding(f"cannot predict this install rule: {why}", path, line)
+
+
+@register("PF208", "setup-py-invalid", "error", area="install",
+          summary="setup.py cannot be parsed, or calls no setup()",
+          explanation="colcon builds ament_python packages by running setup.py.",
+          hint="fix setup.py at the named line")
+def setup_py_invalid(ctx: CheckContext):
+    setup_py = ctx.model.setup_py
+    if setup_py is None:
+        return
+    if setup_py.syntax_error is not None:
+        line, message = setup_py.syntax_error
+        yield Finding(f"setup.py: {message}", setup_py.source.path, line)
+    elif not setup_py.has_setup_call:
+        yield Finding("setup.py never calls setup()", setup_py.source.path, 1)

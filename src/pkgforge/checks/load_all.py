@@ -1,0 +1,3 @@
+"""Importing this module imports every check module, so all checks are registered."""
+
+from . import files, install, manifest  # noqa: F401

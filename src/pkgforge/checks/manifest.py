@@ -1,0 +1,154 @@
+"""Checks of package.xml and of the names a package goes by."""
+
+from __future__ import annotations
+
+from ..diagnostics import Finding, Severity
+from ..model.manifest import GENERIC_OVERLAPS, RUN_TAGS
+from ..model.references import launch_kind
+from ..names import REP144_RULE, rep144_problem
+from .context import CheckContext
+from .registry import register
+
+# Used by a package without being named in any file it ships.
+IMPLICIT_USES = {
+    "launch_xml": lambda kinds, files: "xml" in kinds,
+    "launch_yaml": lambda kinds, files: "yaml" in kinds,
+    "launch": lambda kinds, files: bool(kinds),
+    "launch_ros": lambda kinds, files: bool(kinds),
+    "ros2launch": lambda kinds, files: bool(kinds),
+    "xacro": lambda kinds, files: any(f.name.endswith(".xacro") for f in files),
+}
+
+
+@register("PF101", "manifest-invalid", "error", area="manifest",
+          summary="package.xml cannot be read, or is not a valid format 2/3 manifest",
+          explanation="colcon, rosdep and ament read package.xml first; a manifest they reject "
+                      "means the package is skipped or fails before anything is built.",
+          hint="fix the element named in the message (REP 149 lists what a manifest needs)")
+def manifest_invalid(ctx: CheckContext):
+    manifest = ctx.model.manifest
+    for message, line in manifest.problems:
+        yield Finding(message, manifest.path, line)
+    if not manifest.problems and manifest.format is not None and manifest.format < 2:
+        yield Finding(f"package.xml uses format {manifest.format}; ROS 2 tools expect format 2 or 3",
+                      manifest.path, manifest.root_line,
+                      hint='use <package format="3"> and the format 3 dependency tags')
+
+
+@register("PF102", "package-name-invalid", "error", area="manifest",
+          summary="the package name breaks REP 144",
+          explanation="ROS 2 tools and the build farm refuse names outside REP 144; "
+                      "some accept them locally and fail later.",
+          hint=REP144_RULE)
+def package_name_invalid(ctx: CheckContext):
+    manifest = ctx.model.manifest
+    if manifest.name is None:
+        return
+    problem = rep144_problem(manifest.name)
+    if problem:
+        yield Finding(f"invalid package name: {problem}", manifest.path, manifest.name_line)
+
+
+@register("PF103", "project-name-mismatch", "error", area="manifest",
+          summary="CMake project() differs from package.xml <name>",
+          explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
+                      "ament index, while every tool looks the package up by its package.xml "
+                      "name: FindPackageShare and `ros2 launch` find nothing (user story 3).",
+          hint="make project() and package.xml <name> the same")
+def project_name_mismatch(ctx: CheckContext):
+    model = ctx.model
+    cmake = model.cmake
+    if cmake is None or cmake.project_command is None or not isinstance(cmake.project_name, str):
+        return
+    if model.manifest.name and cmake.project_name != model.manifest.name:
+        command = cmake.project_command
+        yield Finding(
+            f"project({cmake.project_name}) but package.xml names the package '{model.manifest.name}'",
+            command.path, command.line, command.column,
+            hint=f"write project({model.manifest.name} ...): package.xml <name> decides the package name")
+
+
+@register("PF104", "folder-name-mismatch", "warning", area="manifest",
+          summary="the package folder's name differs from package.xml <name>",
+          explanation="Nothing breaks by itself, but people and tutorials use the folder name "
+                      "in FindPackageShare and package:// URIs, which resolve by the package "
+                      "name (user story 3: folder rob_description, package robot_description).",
+          hint="rename the folder, or rename the package everywhere")
+def folder_name_mismatch(ctx: CheckContext):
+    model = ctx.model
+    if model.manifest.name and model.path.name != model.manifest.name:
+        yield Finding(
+            f"folder '{model.path.name}' holds package '{model.manifest.name}': references must use "
+            f"'{model.manifest.name}'",
+            model.manifest.path, model.manifest.name_line,
+            hint=f"rename the folder to '{model.manifest.name}', or the package to "
+                 f"'{model.path.name}' in package.xml, project() and every reference")
+
+
+@register("PF105", "build-type-missing", "error", area="manifest",
+          summary="package.xml has no <export><build_type>",
+          explanation="Without it colcon takes the package for a catkin (ROS 1) package, "
+                      "which a ROS 2 workspace cannot build.",
+          hint="add <export><build_type>ament_cmake</build_type></export>")
+def build_type_missing(ctx: CheckContext):
+    model = ctx.model
+    manifest = model.manifest
+    if manifest.name is None or manifest.problems or manifest.build_type:
+        return
+    build_type = "ament_python" if (model.path / "setup.py").exists() and model.cmake is None \
+        else "ament_cmake"
+    yield Finding("package.xml declares no build type; colcon will treat the package as catkin",
+                  manifest.path, manifest.export_line or manifest.root_line,
+                  hint=f"add <export><build_type>{build_type}</build_type></export> to package.xml")
+
+
+@register("PF106", "duplicate-dependency", "warning", area="manifest",
+          summary="a dependency is declared twice",
+          explanation="An exact repeat is noise; <depend> beside <build_depend>, "
+                      "<build_export_depend> or <exec_depend> of the same package makes "
+                      "catkin_pkg reject the manifest, and colcon then skips the package.",
+          hint="keep one declaration")
+def duplicate_dependency(ctx: CheckContext):
+    manifest = ctx.model.manifest
+    seen: dict[str, list] = {}
+    for dependency in manifest.dependencies:
+        seen.setdefault(dependency.name, []).append(dependency)
+    for name, declarations in seen.items():
+        tags = [d.tag for d in declarations]
+        if "depend" in tags and any(t in GENERIC_OVERLAPS for t in tags):
+            specific = next(d for d in declarations if d.tag in GENERIC_OVERLAPS)
+            yield Finding(f"<depend>{name}</depend> already covers <{specific.tag}>{name}</{specific.tag}>; "
+                          "catkin_pkg rejects this manifest", manifest.path, specific.line,
+                          severity=Severity.ERROR,
+                          hint=f"delete <{specific.tag}>{name}</{specific.tag}> "
+                               f"(line {specific.line}): <depend> includes it")
+            continue
+        for index, dependency in enumerate(declarations):
+            if dependency.tag in tags[:index]:
+                first = declarations[tags.index(dependency.tag)]
+                yield Finding(f"<{dependency.tag}>{name}</{dependency.tag}> is declared again "
+                              f"(first at line {first.line})", manifest.path, dependency.line,
+                              hint=f"delete the repeat at line {dependency.line}")
+
+
+@register("PF107", "unused-exec-depend", "info", area="manifest",
+          summary="an exec_depend that nothing in the package uses",
+          explanation="A run-time dependency no launch file, model or config of the package "
+                      "names is usually left over from a tutorial; it costs installs on every "
+                      "machine that deploys the package.",
+          hint="remove it if nothing needs it at run time")
+def unused_exec_depend(ctx: CheckContext):
+    model = ctx.model
+    used = {r.package for r in model.references}
+    if model.cmake is not None:
+        used |= {name for name, _ in model.cmake.find_packages}
+    kinds = {launch_kind(f) for f in model.files} - {None}
+    for name, rule in IMPLICIT_USES.items():
+        if rule(kinds, model.files):
+            used.add(name)
+    if "rviz_default_plugins" in used or "rviz_common" in used:
+        used |= {"rviz_common", "rviz_default_plugins"}
+    for dependency in model.manifest.dependencies:
+        if dependency.tag in RUN_TAGS and dependency.tag != "depend" and dependency.name not in used:
+            yield Finding(f"nothing in {model.name} uses exec_depend '{dependency.name}'",
+                          model.manifest.path, dependency.line)

@@ -1,0 +1,59 @@
+"""What a check reports: a Diagnostic, located at a file and line, with a fix hint."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import IntEnum
+from pathlib import Path
+
+
+class Severity(IntEnum):
+    INFO = 1
+    WARNING = 2
+    ERROR = 3
+
+    @property
+    def label(self) -> str:
+        return self.name.lower()
+
+    @classmethod
+    def parse(cls, text: str) -> "Severity":
+        return cls[text.upper()]
+
+
+@dataclass(frozen=True)
+class Finding:
+    """What a check function yields; the registry adds code, name and default severity."""
+
+    message: str
+    path: Path
+    line: int | None = None
+    column: int | None = None
+    hint: str | None = None  # None: the check's own hint
+    severity: Severity | None = None  # None: the check's default
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    code: str
+    name: str
+    severity: Severity
+    package: str
+    path: Path  # absolute
+    line: int | None
+    column: int | None
+    message: str
+    hint: str
+
+    def sort_key(self) -> tuple:
+        return (self.package, str(self.path), self.line or 0, self.column or 0, self.code, self.message)
+
+
+@dataclass
+class PackageReport:
+    """The diagnostics of one package, and what the reports say about the package."""
+
+    name: str
+    path: Path
+    build_type: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)

@@ -1,0 +1,369 @@
+"""What a package's CMakeLists.txt means for its install tree.
+
+Interprets the part of CMake that decides install rules: project(), set(),
+list(APPEND), include() of the package's own files and GNUInstallDirs,
+add_subdirectory(), foreach(). Both branches of an if() are taken (a rule in
+either may run); function and macro bodies are not (they run only if called).
+A value built from something unknown stays unknown: it is never guessed.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .cmake_syntax import Argument, CMakeSyntaxError, Command, parse
+from .source import SourceFile, read_source
+
+# Stand-ins for paths that are not in the source tree
+INSTALL_PREFIX = "<install-prefix>"
+BINARY_DIR = "<build-dir>"
+
+VARIABLE = re.compile(r"\$\{([^${}]*)\}")
+ENV_VARIABLE = re.compile(r"\$ENV\{[^}]*\}")
+ESCAPES = {"n": "\n", "t": "\t", "r": "\r", ";": "\\;", "\\": "\\", '"': '"', " ": " ",
+           "$": "$", "@": "@", "(": "(", ")": ")", "#": "#", "{": "{", "}": "}"}
+
+INSTALL_KEYWORDS = {
+    "DESTINATION", "FILE_PERMISSIONS", "DIRECTORY_PERMISSIONS", "USE_SOURCE_PERMISSIONS",
+    "OPTIONAL", "MESSAGE_NEVER", "CONFIGURATIONS", "COMPONENT", "EXCLUDE_FROM_ALL",
+    "FILES_MATCHING", "PATTERN", "REGEX", "TYPE", "PERMISSIONS", "RENAME",
+}
+GNU_INSTALL_DIRS = {
+    "CMAKE_INSTALL_BINDIR": "bin", "CMAKE_INSTALL_SBINDIR": "sbin", "CMAKE_INSTALL_LIBDIR": "lib",
+    "CMAKE_INSTALL_INCLUDEDIR": "include", "CMAKE_INSTALL_DATAROOTDIR": "share",
+    "CMAKE_INSTALL_DATADIR": "share", "CMAKE_INSTALL_LIBEXECDIR": "libexec",
+}
+MAX_INCLUDE_DEPTH = 16
+
+
+class Unknown:
+    """A value pkgforge cannot know without running CMake."""
+
+    def __init__(self, why: str):
+        self.why = why
+
+    def __repr__(self) -> str:
+        return f"Unknown({self.why})"
+
+
+@dataclass(frozen=True)
+class Pattern:
+    kind: str  # PATTERN | REGEX
+    value: str
+    exclude: bool
+
+
+@dataclass
+class InstallRule:
+    mode: str  # DIRECTORY | FILES | PROGRAMS
+    command: Command
+    base_dir: Path  # CMAKE_CURRENT_SOURCE_DIR where the rule stands
+    sources: list[tuple[str | Unknown, Argument]] = field(default_factory=list)
+    destination: str | Unknown | None = None
+    destination_arg: Argument | None = None
+    optional: bool = False
+    files_matching: bool = False
+    patterns: list[Pattern] = field(default_factory=list)
+    rename: str | None = None
+    conditional: bool = False  # inside an if()
+
+    @property
+    def path(self) -> Path:
+        return self.command.path
+
+    @property
+    def line(self) -> int:
+        return self.command.line
+
+
+@dataclass
+class CMakeModel:
+    project_name: str | Unknown | None = None
+    project_command: Command | None = None
+    ament_package_command: Command | None = None
+    install_rules: list[InstallRule] = field(default_factory=list)
+    find_packages: list[tuple[str, Command]] = field(default_factory=list)
+    files: list[SourceFile] = field(default_factory=list)  # every CMake file read
+    syntax_errors: list[CMakeSyntaxError] = field(default_factory=list)
+    unreadable: list[SourceFile] = field(default_factory=list)
+
+
+class _Interpreter:
+    def __init__(self, package_path: Path, model: CMakeModel):
+        self.package_path = package_path
+        self.model = model
+        self.depth = 0
+
+    def run_file(self, path: Path, variables: dict) -> None:
+        if self.depth > MAX_INCLUDE_DEPTH:
+            return
+        source = read_source(path)
+        self.model.files.append(source)
+        if source.text is None:
+            self.model.unreadable.append(source)
+            return
+        try:
+            commands = parse(source.text, path)
+        except CMakeSyntaxError as error:
+            self.model.syntax_errors.append(error)
+            return
+        self.depth += 1
+        try:
+            self.run(commands, variables, conditional=False)
+        finally:
+            self.depth -= 1
+
+    def run(self, commands: list[Command], variables: dict, *, conditional: bool) -> None:
+        index, if_depth = 0, 0
+        while index < len(commands):
+            command = commands[index]
+            name = command.name
+            if name in ("function", "macro"):
+                index = _block_end(commands, index, name, "end" + name) + 1
+                continue
+            if name == "foreach":
+                end = _block_end(commands, index, "foreach", "endforeach")
+                self.foreach(command, commands[index + 1:end], variables, conditional or if_depth > 0)
+                index = end + 1
+                continue
+            if name == "if":
+                if_depth += 1
+            elif name == "endif":
+                if_depth = max(0, if_depth - 1)
+            else:
+                self.command(command, variables, conditional or if_depth > 0)
+            index += 1
+
+    def foreach(self, command: Command, body: list[Command], variables: dict, conditional: bool) -> None:
+        values = self.expand_args(command.args, variables)
+        if not values or isinstance(values[0], Unknown):
+            return
+        loop_var, items = values[0], values[1:]
+        if items and items[0] in ("IN",):
+            items = items[1:]
+        if items and items[0] in ("ITEMS", "LISTS"):
+            keyword, rest = items[0], items[1:]
+            items = rest
+            if keyword == "LISTS":
+                items = [part for name in rest for part in _split_list(variables.get(name, ""))]
+        if any(isinstance(item, Unknown) for item in items) or (items and items[0] == "RANGE"):
+            return
+        for item in items:
+            scope = dict(variables)
+            scope[loop_var] = item
+            self.run(body, scope, conditional=conditional)
+
+    def command(self, command: Command, variables: dict, conditional: bool) -> None:
+        name = command.name
+        if name == "project":
+            values = self.expand_args(command.args, variables)
+            if values:
+                self.model.project_name = values[0]
+                self.model.project_command = command
+                if isinstance(values[0], str):
+                    variables["PROJECT_NAME"] = values[0]
+                    variables["CMAKE_PROJECT_NAME"] = values[0]
+                    variables[f"{values[0]}_SOURCE_DIR"] = variables["CMAKE_CURRENT_SOURCE_DIR"]
+                else:
+                    variables["PROJECT_NAME"] = values[0]
+        elif name == "set":
+            self.set(command, variables)
+        elif name == "list":
+            values = self.expand_args(command.args, variables)
+            if len(values) >= 2 and values[0] == "APPEND" and isinstance(values[1], str):
+                current = variables.get(values[1], "")
+                parts = [current] if current != "" else []
+                if isinstance(current, Unknown) or any(isinstance(v, Unknown) for v in values[2:]):
+                    variables[values[1]] = Unknown(f"list {values[1]}")
+                else:
+                    variables[values[1]] = ";".join(parts + list(values[2:]))
+        elif name == "include":
+            self.include(command, variables)
+        elif name == "add_subdirectory":
+            values = self.expand_args(command.args, variables)
+            if values and isinstance(values[0], str):
+                folder = _resolve(values[0], variables)
+                if _inside(folder, self.package_path) and (folder / "CMakeLists.txt").is_file():
+                    scope = dict(variables)
+                    scope["CMAKE_CURRENT_SOURCE_DIR"] = str(folder)
+                    scope["CMAKE_CURRENT_LIST_DIR"] = str(folder)
+                    self.run_file(folder / "CMakeLists.txt", scope)
+        elif name == "install":
+            rule = self.install(command, variables)
+            if rule is not None:
+                rule.conditional = conditional
+                self.model.install_rules.append(rule)
+        elif name == "ament_package":
+            self.model.ament_package_command = command
+        elif name == "find_package":
+            values = self.expand_args(command.args, variables)
+            if values and isinstance(values[0], str):
+                self.model.find_packages.append((values[0], command))
+
+    def set(self, command: Command, variables: dict) -> None:
+        values = self.expand_args(command.args, variables)
+        if not values or isinstance(values[0], Unknown):
+            return
+        name, rest = values[0], values[1:]
+        for stop in ("CACHE", "PARENT_SCOPE"):
+            if stop in rest:
+                rest = rest[:rest.index(stop)]
+        if any(isinstance(v, Unknown) for v in rest):
+            variables[name] = Unknown(f"variable {name}")
+        else:
+            variables[name] = ";".join(rest)
+
+    def include(self, command: Command, variables: dict) -> None:
+        values = self.expand_args(command.args, variables)
+        if not values or isinstance(values[0], Unknown):
+            return
+        target = values[0]
+        if target == "GNUInstallDirs":
+            variables.update(GNU_INSTALL_DIRS)
+            return
+        if "/" not in target and not target.endswith(".cmake"):
+            return  # a CMake module from elsewhere
+        path = _resolve(target, variables)
+        if _inside(path, self.package_path) and path.is_file():
+            self.run_file(path, variables)
+
+    def install(self, command: Command, variables: dict) -> InstallRule | None:
+        args = list(command.args)
+        if not args:
+            return None
+        mode = self.expand(args[0], variables)
+        if mode not in ("DIRECTORY", "FILES", "PROGRAMS"):
+            return None  # TARGETS, EXPORT, SCRIPT, CODE: not resources
+        rule = InstallRule(mode, command, Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])))
+        expanded: list[tuple[str | Unknown, Argument]] = []
+        for arg in args[1:]:
+            for value in self.expand_list(arg, variables):
+                expanded.append((value, arg))
+        index = 0
+        while index < len(expanded) and expanded[index][0] not in INSTALL_KEYWORDS:
+            rule.sources.append(expanded[index])
+            index += 1
+        while index < len(expanded):
+            keyword, arg = expanded[index]
+            following = expanded[index + 1] if index + 1 < len(expanded) else None
+            if keyword == "DESTINATION" and following:
+                rule.destination, rule.destination_arg = following[0], following[1]
+                index += 2
+            elif keyword in ("PATTERN", "REGEX") and following:
+                exclude = index + 2 < len(expanded) and expanded[index + 2][0] == "EXCLUDE"
+                if isinstance(following[0], str):
+                    rule.patterns.append(Pattern(keyword, following[0], exclude))
+                index += 3 if exclude else 2
+            elif keyword == "RENAME" and following:
+                rule.rename = following[0] if isinstance(following[0], str) else None
+                index += 2
+            else:
+                if keyword == "OPTIONAL":
+                    rule.optional = True
+                elif keyword == "FILES_MATCHING":
+                    rule.files_matching = True
+                index += 1
+        return rule
+
+    # --- evaluation of arguments ---------------------------------------------------------
+
+    def expand(self, arg: Argument, variables: dict) -> str | Unknown:
+        if arg.kind == "bracket":
+            return arg.text
+        return _expand_text(arg.text, variables)
+
+    def expand_list(self, arg: Argument, variables: dict) -> list[str | Unknown]:
+        value = self.expand(arg, variables)
+        if isinstance(value, Unknown) or arg.kind != "unquoted":
+            return [value]
+        return [part for part in _split_list(value) if part != ""]
+
+    def expand_args(self, args: tuple[Argument, ...], variables: dict) -> list[str | Unknown]:
+        return [value for arg in args for value in self.expand_list(arg, variables)]
+
+
+def _expand_text(text: str, variables: dict) -> str | Unknown:
+    if ENV_VARIABLE.search(text):
+        return Unknown("an environment variable")
+    for _ in range(32):  # innermost ${} first, so ${A_${B}} works
+        match = VARIABLE.search(text)
+        if not match:
+            break
+        value = variables.get(match.group(1))
+        if value is None:
+            return Unknown(f"${{{match.group(1)}}}")
+        if isinstance(value, Unknown):
+            return value
+        text = text[:match.start()] + value + text[match.end():]
+    return re.sub(r"\\(.)", lambda m: ESCAPES.get(m.group(1), m.group(1)), text)
+
+
+def _split_list(value: str | Unknown) -> list:
+    if isinstance(value, Unknown):
+        return [value]
+    parts, current, index = [], [], 0
+    while index < len(value):
+        char = value[index]
+        if char == "\\" and index + 1 < len(value) and value[index + 1] == ";":
+            current.append(";")
+            index += 2
+            continue
+        if char == ";":
+            parts.append("".join(current))
+            current = []
+        else:
+            current.append(char)
+        index += 1
+    parts.append("".join(current))
+    return parts
+
+
+def _block_end(commands: list[Command], start: int, opener: str, closer: str) -> int:
+    depth = 0
+    for index in range(start, len(commands)):
+        if commands[index].name == opener:
+            depth += 1
+        elif commands[index].name == closer:
+            depth -= 1
+            if depth == 0:
+                return index
+    return len(commands) - 1
+
+
+def _resolve(value: str, variables: dict) -> Path:
+    path = Path(value)
+    if not path.is_absolute():
+        path = Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])) / path
+    return Path(_normalize(str(path)))
+
+
+def _normalize(path: str) -> str:
+    import os.path
+
+    return os.path.normpath(path)
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    try:
+        path.relative_to(folder)
+        return True
+    except ValueError:
+        return False
+
+
+def load_cmake(package_path: Path) -> CMakeModel:
+    model = CMakeModel()
+    variables = {
+        "CMAKE_CURRENT_SOURCE_DIR": str(package_path),
+        "CMAKE_CURRENT_LIST_DIR": str(package_path),
+        "CMAKE_SOURCE_DIR": str(package_path),
+        "PROJECT_SOURCE_DIR": str(package_path),
+        "CMAKE_INSTALL_PREFIX": INSTALL_PREFIX,
+        "CMAKE_CURRENT_BINARY_DIR": BINARY_DIR,
+        "CMAKE_BINARY_DIR": BINARY_DIR,
+        "PROJECT_BINARY_DIR": BINARY_DIR,
+    }
+    _Interpreter(package_path, model).run_file(package_path / "CMakeLists.txt", variables)
+    return model

@@ -1,0 +1,196 @@
+"""The predicted install tree: which source file lands where under the install prefix."""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+import posixpath
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .cmake import BINARY_DIR, INSTALL_PREFIX, CMakeModel, InstallRule, Unknown
+from .cmake_syntax import Argument
+from .setup_py import SetupPyModel
+
+INDEX_MARKER = "share/ament_index/resource_index/packages/{name}"
+
+
+@dataclass(frozen=True)
+class InstalledFile:
+    destination: str  # posix path relative to the install prefix
+    source: Path | None  # None for files the build generates (the ament index marker)
+    rule_path: Path | None
+    rule_line: int | None
+
+
+@dataclass(frozen=True)
+class MissingSource:
+    """An install rule names a source that does not exist."""
+
+    text: str
+    mode: str  # DIRECTORY | FILES | PROGRAMS | data_files
+    path: Path
+    line: int
+    column: int | None
+
+
+@dataclass(frozen=True)
+class RuleDestination:
+    """Where a rule installs, for install-wrong-destination."""
+
+    destination: str | None  # normalized, relative to the prefix; None when outside it
+    raw: str
+    sources: tuple[str, ...]
+    path: Path
+    line: int
+    column: int | None
+
+
+@dataclass
+class InstallLayout:
+    # False when the build file could not be read: then nothing is known to be
+    # missing from the tree, and checks that need the tree stand down
+    known: bool = True
+    files: dict[str, InstalledFile] = field(default_factory=dict)
+    missing: list[MissingSource] = field(default_factory=list)
+    destinations: list[RuleDestination] = field(default_factory=list)
+    # (path, line, why) for rules whose effect pkgforge cannot know
+    unknown: list[tuple[Path, int, str]] = field(default_factory=list)
+    # the rules that install folders, for fix hints: (path, line, installed top-level folders)
+    directory_rules: list[tuple[Path, int, tuple[str, ...], str]] = field(default_factory=list)
+
+    def add(self, destination: str, source: Path | None, rule_path: Path | None, rule_line: int | None):
+        self.files.setdefault(destination, InstalledFile(destination, source, rule_path, rule_line))
+
+    def installed_sources(self) -> set[Path]:
+        return {f.source for f in self.files.values() if f.source is not None}
+
+    def exists(self, destination: str) -> bool:
+        destination = posixpath.normpath(destination)
+        if destination in self.files:
+            return True
+        prefix = destination.rstrip("/") + "/"
+        return any(key.startswith(prefix) for key in self.files)
+
+
+def _normalize_destination(value: str) -> str | None:
+    """Relative to the install prefix, or None when the destination is outside it."""
+    value = value.replace("\\", "/")
+    if value.startswith(INSTALL_PREFIX):
+        value = value[len(INSTALL_PREFIX):].lstrip("/")
+    elif value.startswith("/"):
+        return None
+    value = posixpath.normpath(value) if value else "."
+    if value.startswith(".."):
+        return None
+    return "" if value == "." else value
+
+
+def _matches(pattern_kind: str, pattern: str, name: str, full: str) -> bool:
+    if pattern_kind == "PATTERN":
+        return fnmatch.fnmatchcase(name, pattern)
+    try:
+        return re.search(pattern, full) is not None
+    except re.error:
+        return False
+
+
+def _directory_files(source: Path, rule: InstallRule):
+    """(file, path relative to source) that install(DIRECTORY) copies, honouring patterns."""
+    excludes = [p for p in rule.patterns if p.exclude]
+    includes = [p for p in rule.patterns if not p.exclude]
+    for root, dirs, files in os.walk(source, followlinks=False):
+        root_path = Path(root)
+        dirs[:] = sorted(d for d in dirs if not any(
+            _matches(p.kind, p.value, d, (root_path / d).as_posix()) for p in excludes))
+        for name in sorted(files):
+            full = root_path / name
+            if any(_matches(p.kind, p.value, name, full.as_posix()) for p in excludes):
+                continue
+            if rule.files_matching and not any(
+                    _matches(p.kind, p.value, name, full.as_posix()) for p in includes):
+                continue
+            yield full, full.relative_to(source)
+
+
+def layout_from_cmake(cmake: CMakeModel, package_path: Path, share_name: str) -> InstallLayout:
+    layout = InstallLayout(known=not cmake.syntax_errors and not cmake.unreadable)
+    for rule in cmake.install_rules:
+        _apply_rule(layout, rule)
+    if cmake.ament_package_command is not None:
+        ament = cmake.ament_package_command
+        layout.add(f"share/{share_name}/package.xml", package_path / "package.xml", ament.path, ament.line)
+        layout.add(INDEX_MARKER.format(name=share_name), None, ament.path, ament.line)
+    return layout
+
+
+def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
+    dest_arg: Argument | None = rule.destination_arg
+    column = dest_arg.column if dest_arg else None
+    if rule.destination is None:
+        layout.unknown.append((rule.path, rule.line, "install() without DESTINATION"))
+        return
+    if isinstance(rule.destination, Unknown):
+        layout.unknown.append((rule.path, dest_arg.line if dest_arg else rule.line,
+                               f"DESTINATION depends on {rule.destination.why}"))
+        return
+    destination = _normalize_destination(rule.destination)
+    known_sources = tuple(s for s, _ in rule.sources if isinstance(s, str))
+    layout.destinations.append(RuleDestination(destination, rule.destination, known_sources, rule.path,
+                                               dest_arg.line if dest_arg else rule.line, column))
+    if destination is None:
+        return
+    installed_dirs = []
+    for value, arg in rule.sources:
+        if isinstance(value, Unknown):
+            layout.unknown.append((rule.path, arg.line, f"a source depends on {value.why}"))
+            continue
+        if value.startswith(BINARY_DIR):
+            continue  # generated at build time; not in the source tree
+        source = Path(os.path.normpath(value if os.path.isabs(value) else rule.base_dir / value))
+        if rule.mode == "DIRECTORY":
+            if not source.is_dir():
+                if not rule.optional:
+                    layout.missing.append(MissingSource(value, rule.mode, rule.path, arg.line, arg.column))
+                continue
+            into = destination if value.endswith("/") else posixpath.join(destination, source.name)
+            installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/"))
+            for full, relative in _directory_files(source, rule):
+                layout.add(posixpath.normpath(posixpath.join(into, relative.as_posix())), full,
+                           rule.path, rule.line)
+        else:
+            if not source.is_file():
+                if not rule.optional:
+                    layout.missing.append(MissingSource(value, rule.mode, rule.path, arg.line, arg.column))
+                continue
+            name = rule.rename or source.name
+            layout.add(posixpath.normpath(posixpath.join(destination, name)), source, rule.path, rule.line)
+    if installed_dirs:
+        layout.directory_rules.append((rule.path, rule.line, tuple(installed_dirs), destination))
+
+
+def layout_from_setup_py(setup_py: SetupPyModel, package_path: Path) -> InstallLayout:
+    layout = InstallLayout(known=setup_py.syntax_error is None and setup_py.has_setup_call)
+    path = setup_py.source.path
+    for line, why in setup_py.unknown:
+        layout.unknown.append((path, line, why))
+    for entry in setup_py.entries:
+        destination = _normalize_destination(entry.destination)
+        layout.destinations.append(RuleDestination(destination, entry.destination, entry.files, path,
+                                                   entry.line, None))
+        if destination is None:
+            continue
+        folders = set()
+        for relative in entry.files:
+            source = Path(os.path.normpath(package_path / relative))
+            if not source.is_file():
+                # setuptools fails on a listed folder or a missing file alike
+                layout.missing.append(MissingSource(relative, "data_files", path, entry.line, None))
+                continue
+            folders.add(Path(relative).parts[0] if len(Path(relative).parts) > 1 else "")
+            layout.add(posixpath.join(destination, source.name), source, path, entry.line)
+        top = tuple(sorted(f for f in folders if f))
+        if top:
+            layout.directory_rules.append((path, entry.line, top, destination))
+    return layout

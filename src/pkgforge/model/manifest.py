@@ -1,0 +1,137 @@
+"""package.xml: catkin_pkg for what it means, lxml for where each element stands."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from lxml import etree
+
+from .source import SourceFile
+
+DEPENDENCY_TAGS = (
+    "depend", "build_depend", "buildtool_depend", "build_export_depend",
+    "buildtool_export_depend", "exec_depend", "run_depend", "test_depend", "doc_depend",
+)
+# what satisfies a run-time need (REP 149: <depend> is build + build_export + exec)
+RUN_TAGS = ("depend", "exec_depend", "run_depend")
+# catkin_pkg refuses <depend>X</depend> beside a specific tag for X (colcon then skips the package)
+REDUNDANT_GENERIC = "is redundant with"
+GENERIC_OVERLAPS = {"build_depend", "build_export_depend", "exec_depend"}
+
+
+@dataclass(frozen=True)
+class Dependency:
+    name: str
+    tag: str
+    line: int
+
+
+@dataclass
+class Manifest:
+    path: Path
+    name: str | None = None
+    name_line: int | None = None
+    format: int | None = None
+    root_line: int = 1
+    build_type: str | None = None
+    build_type_line: int | None = None
+    export_line: int | None = None
+    dependencies: list[Dependency] = field(default_factory=list)
+    # (message, line) for manifest-invalid
+    problems: list[tuple[str, int | None]] = field(default_factory=list)
+    element_lines: dict[str, int] = field(default_factory=dict)  # first line of each tag
+
+    @property
+    def valid(self) -> bool:
+        return not self.problems and self.name is not None
+
+    def run_dependencies(self) -> set[str]:
+        return {d.name for d in self.dependencies if d.tag in RUN_TAGS}
+
+    def declared(self) -> set[str]:
+        return {d.name for d in self.dependencies}
+
+    def last_dependency_line(self) -> int | None:
+        lines = [d.line for d in self.dependencies]
+        return max(lines) if lines else self.export_line
+
+
+def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
+    """Build the Manifest; `parsed_package` is catkin_pkg's result when colcon already parsed it."""
+    manifest = Manifest(source.path)
+    if source.text is None:
+        manifest.problems.append((f"package.xml {source.problem}", source.problem_line))
+        return manifest
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, remove_comments=True,
+                             remove_pis=True, huge_tree=False)
+    try:
+        root = etree.fromstring(source.text.encode("utf-8"), parser)
+    except etree.XMLSyntaxError as exc:
+        manifest.problems.append((f"package.xml is not well-formed XML: {exc.msg}", exc.lineno))
+        return manifest
+    manifest.root_line = root.sourceline or 1
+    if root.tag != "package":
+        manifest.problems.append((f"the root element is <{root.tag}>, not <package>", root.sourceline))
+        return manifest
+    try:
+        manifest.format = int(root.get("format", "1"))
+    except ValueError:
+        manifest.problems.append((f"format=\"{root.get('format')}\" is not a number", root.sourceline))
+    for element in root:
+        if isinstance(element.tag, str):
+            manifest.element_lines.setdefault(element.tag, element.sourceline)
+    name_element = root.find("name")
+    if name_element is not None:
+        manifest.name = (name_element.text or "").strip()
+        manifest.name_line = name_element.sourceline
+    for element in root:
+        if isinstance(element.tag, str) and element.tag in DEPENDENCY_TAGS:
+            manifest.dependencies.append(
+                Dependency((element.text or "").strip(), element.tag, element.sourceline))
+    export = root.find("export")
+    if export is not None:
+        manifest.export_line = export.sourceline
+        build_type = export.find("build_type")
+        if build_type is not None:
+            manifest.build_type = (build_type.text or "").strip()
+            manifest.build_type_line = build_type.sourceline
+
+    if parsed_package is None:
+        _validate_with_catkin_pkg(manifest, source.text)
+    return manifest
+
+
+def _validate_with_catkin_pkg(manifest: Manifest, text: str) -> None:
+    from catkin_pkg.package import InvalidPackage, parse_package_string
+
+    try:
+        parse_package_string(text, filename=str(manifest.path), warnings=[])
+    except InvalidPackage as exc:
+        for message in _catkin_messages(exc):
+            if REDUNDANT_GENERIC in message:
+                continue  # reported, with its line, by duplicate-dependency
+            manifest.problems.append((message, _line_for(manifest, message)))
+    except (AssertionError, ValueError, TypeError) as exc:  # catkin_pkg asserts on some inputs
+        manifest.problems.append((f"catkin_pkg cannot read it: {exc}", manifest.root_line))
+
+
+def _catkin_messages(exc) -> list[str]:
+    text = str(exc)
+    text = re.sub(r"^Error\(s\) in package '[^']*':\s*", "", text)
+    text = re.sub(r"^Error\(s\) in [^:]*:\s*", "", text)
+    messages = [line.strip().removeprefix("- ") for line in text.splitlines()]
+    return [m for m in messages if m and m != "Error(s):"] or [text]
+
+
+def _line_for(manifest: Manifest, message: str) -> int:
+    """The line of the element a catkin_pkg message is about, else the <package> line."""
+    lowered = message.lower()
+    for tag in ("maintainer", "license", "version", "description", "author", "url", "name"):
+        if tag in lowered and tag in manifest.element_lines:
+            return manifest.element_lines[tag]
+    for dependency in manifest.dependencies:
+        if f'"{dependency.name}"' in message or f"'{dependency.name}'" in message:
+            return dependency.line
+    return manifest.root_line

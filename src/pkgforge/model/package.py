@@ -1,0 +1,128 @@
+"""PackageModel: one package read once (manifest, build files, install layout, references)."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .cmake import CMakeModel, load_cmake
+from .layout import InstallLayout, layout_from_cmake, layout_from_setup_py
+from .manifest import Manifest, load_manifest
+from .references import Reference, launch_kind, scan
+from .setup_py import SetupPyModel, load_setup_py
+from .source import SourceFile, read_source
+
+# Top-level folders that hold run-time resources by convention.
+RESOURCE_FOLDERS = ("launch", "urdf", "meshes", "rviz", "config", "worlds", "models", "maps",
+                    "params", "description", "robots", "xacro", "sdf")
+# Never part of what a package installs or refers to.
+SKIPPED_DIRS = {"build", "install", "log", "__pycache__", "node_modules", "test", "tests"}
+SCANNED_SUFFIXES = (".xacro", ".urdf", ".rviz", ".sdf")
+
+
+@dataclass
+class PackageModel:
+    name: str  # package.xml <name>, else the folder name
+    path: Path
+    build_type: str  # ament_cmake | ament_python | cmake | catkin | ...
+    manifest: Manifest
+    cmake: CMakeModel | None = None
+    setup_py: SetupPyModel | None = None
+    layout: InstallLayout = field(default_factory=InstallLayout)
+    files: list[Path] = field(default_factory=list)  # every file, relative to path
+    references: list[Reference] = field(default_factory=list)
+    sources: dict[Path, SourceFile] = field(default_factory=dict)  # every file read
+    skipped: list[SourceFile] = field(default_factory=list)  # too large or unreadable
+
+    @property
+    def share_name(self) -> str:
+        """The folder under share/ the build installs to (CMake's PROJECT_NAME)."""
+        if self.cmake is not None and isinstance(self.cmake.project_name, str):
+            return self.cmake.project_name
+        return self.name
+
+    @property
+    def share_prefix(self) -> str:
+        return f"share/{self.share_name}/"
+
+    def top_level_folders(self) -> dict[str, list[Path]]:
+        """Top-level folder → its files (relative to the package)."""
+        folders: dict[str, list[Path]] = {}
+        for relative in self.files:
+            if len(relative.parts) > 1:
+                folders.setdefault(relative.parts[0], []).append(relative)
+        return folders
+
+    def launch_files(self) -> list[Path]:
+        return [self.path / f for f in self.files if launch_kind(self.path / f)
+                and f.parts[0] not in SKIPPED_DIRS]
+
+    def suppressed(self, path: Path, line: int | None, keys: set[str]) -> bool:
+        source = self.sources.get(path)
+        if source is None or line is None:
+            return False
+        return bool(source.suppressions.get(line, set()) & keys)
+
+
+def _walk_files(root: Path) -> list[Path]:
+    """Every file of the package, not descending into nested packages or build folders."""
+    files = []
+    for current, dirs, names in os.walk(root, followlinks=False):
+        here = Path(current)
+        keep = []
+        for d in sorted(dirs):
+            if d.startswith(".") or (here == root and d in SKIPPED_DIRS):
+                continue
+            sub = here / d
+            if (sub / "package.xml").exists() or (sub / "COLCON_IGNORE").exists():
+                continue
+            keep.append(d)
+        dirs[:] = keep
+        for name in sorted(names):
+            if not name.startswith("."):
+                files.append((here / name).relative_to(root))
+    return files
+
+
+def _is_scanned(relative: Path) -> bool:
+    if relative.parts[0] in SKIPPED_DIRS:
+        return False
+    name = relative.name
+    if name.endswith(SCANNED_SUFFIXES) or name.endswith(".urdf.xml"):
+        return True
+    return launch_kind(relative) is not None
+
+
+def load_package(path: Path, *, colcon_type: str | None = None, parsed_by_colcon: bool = False) -> PackageModel:
+    path = path.resolve()
+    manifest_source = read_source(path / "package.xml")
+    manifest = load_manifest(manifest_source, parsed_package=True if parsed_by_colcon else None)
+    build_type = manifest.build_type or (colcon_type or "").removeprefix("ros.") or "unknown"
+    model = PackageModel(name=manifest.name or path.name, path=path, build_type=build_type,
+                         manifest=manifest)
+    model.sources[manifest_source.path] = manifest_source
+    model.files = _walk_files(path)
+
+    if (path / "CMakeLists.txt").exists() and build_type not in ("ament_python",):
+        model.cmake = load_cmake(path)
+        for source in model.cmake.files:
+            model.sources[source.path] = source
+        model.layout = layout_from_cmake(model.cmake, path, model.share_name)
+    elif (path / "setup.py").exists():
+        source = read_source(path / "setup.py")
+        model.sources[source.path] = source
+        model.setup_py = load_setup_py(source, path)
+        model.layout = layout_from_setup_py(model.setup_py, path)
+
+    for relative in model.files:
+        if not _is_scanned(relative):
+            continue
+        source = read_source(path / relative)
+        model.sources[source.path] = source
+        if source.text is None:
+            model.skipped.append(source)
+            continue
+        model.references.extend(scan(source))
+    # large files pkgforge would otherwise read later (models, meshes) are noted too
+    return model

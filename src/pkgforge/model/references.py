@@ -1,0 +1,183 @@
+"""Static references: the packages and share paths a package's own files name, with lines.
+
+Read without running anything: `package://pkg/...`, `$(find pkg)/...`,
+`$(find-pkg-share pkg)/...`, launch `pkg=` attributes, RViz plugin classes,
+and in Python launch files the literal arguments of FindPackageShare,
+get_package_share_directory, Node(package=...), PathJoinSubstitution and
+os.path.join, with names bound to literals followed through the file.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from .source import SourceFile
+
+PACKAGE_NAME = r"[A-Za-z][A-Za-z0-9_]*"
+TEXT_PATTERNS = [
+    (re.compile(rf"package://({PACKAGE_NAME})(/[^\"'\s<>]*)?"), "package://"),
+    (re.compile(rf"\$\(find\s+({PACKAGE_NAME})\)(/[^\"'\s<>)$]*)?"), "$(find)"),
+    (re.compile(rf"\$\(find-pkg-share\s+({PACKAGE_NAME})\)(/[^\"'\s<>)$]*)?"), "$(find-pkg-share)"),
+    (re.compile(rf"\$\(find-pkg-prefix\s+({PACKAGE_NAME})\)"), "$(find-pkg-prefix)"),
+]
+LAUNCH_XML_PATTERNS = [
+    (re.compile(rf"\bpkg\s*=\s*[\"']({PACKAGE_NAME})[\"']"), "node pkg"),
+    (re.compile(r"\$\(command\s+'?(xacro)\b"), "$(command xacro)"),
+    (re.compile(r"\$\(find-exec\s+(xacro)\)"), "$(find-exec)"),
+]
+LAUNCH_YAML_PATTERNS = [
+    (re.compile(rf"^\s*-?\s*pkg:\s*[\"']?({PACKAGE_NAME})[\"']?\s*$"), "node pkg"),
+    (re.compile(r"\$\(command\s+'?(xacro)\b"), "$(command xacro)"),
+    (re.compile(r"\$\(find-exec\s+(xacro)\)"), "$(find-exec)"),
+]
+RVIZ_CLASS = re.compile(rf"^\s*-?\s*Class:\s*({PACKAGE_NAME})/")
+
+SHARE_LOOKUPS = {"FindPackageShare", "get_package_share_directory", "get_package_share_path"}
+PREFIX_LOOKUPS = {"FindPackagePrefix", "get_package_prefix"}
+NODE_ACTIONS = {"Node", "ComposableNode", "LifecycleNode", "ExecutableInPackage", "ComposableNodeContainer"}
+PATH_JOINS = {"PathJoinSubstitution", "os.path.join", "join", "path.join"}
+STDLIB = set(sys.stdlib_module_names)
+
+
+@dataclass(frozen=True)
+class Reference:
+    package: str
+    relative: str | None  # a path inside the package's share folder, when one is named
+    path: Path  # the file that names it
+    line: int
+    column: int | None
+    via: str
+
+
+def launch_kind(path: Path) -> str | None:
+    """py | xml | yaml for launch files (by name, or by being in a launch/ folder)."""
+    name = path.name
+    for kind in ("py", "xml", "yaml"):
+        if name.endswith((f".launch.{kind}", f"_launch.{kind}")):
+            return kind
+    if path.parent.name == "launch" and path.suffix in (".py", ".xml", ".yaml", ".yml"):
+        return {".yml": "yaml"}.get(path.suffix, path.suffix[1:])
+    return None
+
+
+def scan(source: SourceFile) -> list[Reference]:
+    if source.text is None:
+        return []
+    kind = launch_kind(source.path)
+    if kind == "py":
+        return _scan_python(source)
+    patterns = list(TEXT_PATTERNS)
+    if kind == "xml":
+        patterns += LAUNCH_XML_PATTERNS
+    elif kind == "yaml":
+        patterns += LAUNCH_YAML_PATTERNS
+    found = []
+    rviz = source.path.suffix == ".rviz"
+    for number, line in enumerate(source.text.splitlines(), start=1):
+        if rviz:
+            match = RVIZ_CLASS.match(line)
+            if match:
+                found.append(Reference(match.group(1), None, source.path, number, match.start(1) + 1,
+                                       "rviz plugin"))
+            continue
+        for pattern, via in patterns:
+            for match in pattern.finditer(line):
+                relative = match.group(2).lstrip("/") if match.lastindex and match.lastindex >= 2 \
+                    and match.group(2) else None
+                found.append(Reference(match.group(1), relative, source.path, number,
+                                       match.start(1) + 1, via))
+    return found
+
+
+def _scan_python(source: SourceFile) -> list[Reference]:
+    try:
+        tree = ast.parse(source.text, filename=str(source.path))
+    except SyntaxError:
+        return []
+    found: list[Reference] = []
+    bindings = _literal_bindings(tree)
+
+    def literal(node):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            return node.value
+        if isinstance(node, ast.Name) and isinstance(bindings.get(node.id), str):
+            return bindings[node.id]
+        return None
+
+    def share_of(node):
+        """The package whose share folder `node` evaluates to, if it is a lookup."""
+        if isinstance(node, ast.Name) and isinstance(bindings.get(node.id), ast.Call):
+            node = bindings[node.id]
+        if isinstance(node, ast.Call) and _name(node.func).split(".")[-1] in SHARE_LOOKUPS and node.args:
+            return literal(node.args[0])
+        return None
+
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            if isinstance(node, ast.ImportFrom) and node.level:
+                continue  # a relative import names no package
+            modules = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module or ""]
+            for module in modules:
+                top = module.split(".")[0]
+                if top and top not in STDLIB:
+                    found.append(Reference(top, None, source.path, node.lineno, node.col_offset + 1, "import"))
+            continue
+        if not isinstance(node, ast.Call):
+            continue
+        name = _name(node.func).split(".")[-1] if not _name(node.func).startswith("os.") else _name(node.func)
+        position = (node.lineno, node.col_offset + 1)
+        if name in SHARE_LOOKUPS | PREFIX_LOOKUPS and node.args:
+            package = literal(node.args[0])
+            if package:
+                found.append(Reference(package, None, source.path, *position, name))
+        elif name in NODE_ACTIONS:
+            for keyword in node.keywords:
+                if keyword.arg == "package" and literal(keyword.value):
+                    found.append(Reference(literal(keyword.value), None, source.path, *position, name))
+        elif name in PATH_JOINS:
+            parts = node.args[0].elts if name == "PathJoinSubstitution" and node.args and \
+                isinstance(node.args[0], (ast.List, ast.Tuple)) else node.args
+            if parts:
+                package = share_of(parts[0])
+                rest = [literal(p) for p in parts[1:]]
+                if package and rest and all(r is not None for r in rest):
+                    first = parts[1]
+                    found.append(Reference(package, "/".join(r.strip("/") for r in rest), source.path,
+                                           first.lineno, first.col_offset + 1, name))
+        elif name == "Command" and node.args:
+            first = node.args[0].elts[0] if isinstance(node.args[0], (ast.List, ast.Tuple)) and \
+                node.args[0].elts else node.args[0]
+            text = literal(first)
+            if text and text.split() and text.split()[0] == "xacro":
+                found.append(Reference("xacro", None, source.path, *position, "Command xacro"))
+        elif name == "FindExecutable":
+            for keyword in node.keywords:
+                if keyword.arg == "name" and literal(keyword.value) == "xacro":
+                    found.append(Reference("xacro", None, source.path, *position, "FindExecutable"))
+    return found
+
+
+def _literal_bindings(tree: ast.AST) -> dict[str, object]:
+    """name → str literal or lookup Call, from every simple assignment in the file."""
+    bindings: dict[str, object] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+            value = node.value
+            if isinstance(value, ast.Constant) and isinstance(value.value, str):
+                bindings[node.targets[0].id] = value.value
+            elif isinstance(value, ast.Call) and _name(value.func).split(".")[-1] in SHARE_LOOKUPS:
+                bindings[node.targets[0].id] = value
+    return bindings
+
+
+def _name(func: ast.AST) -> str:
+    if isinstance(func, ast.Name):
+        return func.id
+    if isinstance(func, ast.Attribute):
+        inner = _name(func.value)
+        return f"{inner}.{func.attr}" if inner else func.attr
+    return ""

@@ -1,0 +1,31 @@
+"""GitHub Actions workflow commands: annotations on the pull request's files."""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from . import relative
+from .text import summary
+
+COMMANDS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
+
+
+def _data(text: str) -> str:
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _property(text: str) -> str:
+    return _data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def render(result, *, color: bool = False, strict: bool = False) -> str:
+    lines = []
+    for d in result.diagnostics:
+        props = [f"file={_property(relative(d.path, result.root))}"]
+        if d.line is not None:
+            props.append(f"line={d.line}")
+            if d.column is not None:
+                props.append(f"col={d.column}")
+        props.append(f"title={_property(f'{d.code} {d.name}')}")
+        lines.append(f"::{COMMANDS[d.severity]} {','.join(props)}::{_data(d.message)}%0Ahint: {_data(d.hint)}")
+    lines.append(summary(result))
+    return "\n".join(lines) + "\n"

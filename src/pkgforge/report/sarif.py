@@ -1,0 +1,48 @@
+"""SARIF 2.1.0 for code scanning (GitHub, GitLab, Azure DevOps)."""
+
+from __future__ import annotations
+
+import json
+
+from .. import __version__
+from ..checks.registry import all_checks
+from ..diagnostics import Severity
+from . import relative
+
+LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+
+
+def render(result, *, color: bool = False, strict: bool = False) -> str:
+    checks = all_checks()
+    index = {c.code: i for i, c in enumerate(checks)}
+    rules = [{
+        "id": c.code, "name": c.name,
+        "shortDescription": {"text": c.summary},
+        "fullDescription": {"text": c.explanation},
+        "help": {"text": c.hint},
+        "defaultConfiguration": {"level": LEVELS[c.severity]},
+    } for c in checks]
+    results = []
+    for d in result.diagnostics:
+        physical = {"artifactLocation": {"uri": relative(d.path, result.root), "uriBaseId": "SRCROOT"}}
+        if d.line is not None:
+            region = {"startLine": d.line}
+            if d.column is not None:
+                region["startColumn"] = d.column
+            physical["region"] = region
+        results.append({
+            "ruleId": d.code, "ruleIndex": index[d.code], "level": LEVELS[d.severity],
+            "message": {"text": f"{d.message} (hint: {d.hint})"},
+            "locations": [{"physicalLocation": physical}],
+        })
+    document = {
+        "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
+        "version": "2.1.0",
+        "runs": [{
+            "tool": {"driver": {"name": "pkgforge", "version": __version__,
+                                "informationUri": "https://pypi.org/project/pkgforge/", "rules": rules}},
+            "originalUriBaseIds": {"SRCROOT": {"uri": result.root.as_uri() + "/"}},
+            "results": results,
+        }],
+    }
+    return json.dumps(document, indent=2) + "\n"

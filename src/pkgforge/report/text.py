@@ -1,0 +1,38 @@
+"""ruff/mypy style: `path:line:col: CODE [severity] message (name)`, then `hint:`."""
+
+from __future__ import annotations
+
+import click
+
+from ..diagnostics import Severity
+from . import relative
+
+COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
+
+
+def location(diagnostic, root) -> str:
+    parts = [relative(diagnostic.path, root)]
+    if diagnostic.line is not None:
+        parts.append(str(diagnostic.line))
+        if diagnostic.column is not None:
+            parts.append(str(diagnostic.column))
+    return ":".join(parts)
+
+
+def summary(result) -> str:
+    return (f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
+            f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages")
+
+
+def render(result, *, color: bool = False, strict: bool = False) -> str:
+    def style(text: str, **kwargs) -> str:
+        return click.style(text, **kwargs) if color else text
+
+    lines = []
+    for diagnostic in result.diagnostics:
+        severity = style(f"[{diagnostic.severity.label}]", fg=COLORS[diagnostic.severity], bold=True)
+        lines.append(f"{style(location(diagnostic, result.root), bold=True)}: "
+                     f"{style(diagnostic.code, bold=True)} {severity} {diagnostic.message} ({diagnostic.name})")
+        lines.append(f"    hint: {diagnostic.hint}")
+    lines.append(summary(result))
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,399 @@
+"""Each check, triggered by a fixture modelled on the user stories: exact code, file and line.
+
+Every fixture is a fresh `pkgforge new` package with one defect written into it,
+so it triggers exactly the check named for it and nothing else at warning or above.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from conftest import FIXTURES, MAINTAINER, copy_fixture, run_pkgforge
+
+
+def line_of(path: Path, text: str) -> int:
+    for number, line in enumerate(path.read_text().splitlines(), start=1):
+        if text in line:
+            return number
+    raise AssertionError(f"{text!r} not in {path}")
+
+
+def edit(path: Path, old: str, new: str) -> None:
+    content = path.read_text()
+    assert old in content, f"{old!r} not in {path}"
+    path.write_text(content.replace(old, new, 1))
+
+
+@pytest.fixture(scope="module")
+def template_package(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("template")
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=folder)
+    assert result.returncode == 0, result.stderr
+    return folder / "rob_description"
+
+
+@pytest.fixture
+def package(tmp_path, template_package) -> Path:
+    """A fresh copy of a clean package in a workspace, to break in one place."""
+    target = tmp_path / "src" / "rob_description"
+    shutil.copytree(template_package, target)
+    return target
+
+
+def verify_json(path: Path, *args: str) -> tuple[int, dict]:
+    result = run_pkgforge("verify", path, "--format", "json", *args, cwd=path)
+    assert "Traceback" not in result.stderr, result.stderr
+    assert result.returncode in (0, 1), result.stderr
+    return result.returncode, json.loads(result.stdout)
+
+
+def findings(report: dict, minimum: str = "info") -> list[tuple]:
+    order = ["info", "warning", "error"]
+    return sorted((d["code"], d["name"], d["severity"], d["path"], d["line"])
+                  for d in report["diagnostics"] if order.index(d["severity"]) >= order.index(minimum))
+
+
+def test_clean_package_has_no_diagnostics(package):
+    status, report = verify_json(package.parent.parent)
+    assert status == 0
+    assert report["diagnostics"] == []
+
+
+def test_manifest_invalid_missing_license(package):
+    manifest = package / "package.xml"
+    edit(manifest, "  <license>Apache-2.0</license>\n", "")
+    status, report = verify_json(package)
+    assert status == 1
+    assert findings(report) == [("PF101", "manifest-invalid", "error", "package.xml",
+                                 line_of(manifest, '<package format="3">'))]
+    assert 'license' in report["diagnostics"][0]["message"]
+
+
+def test_manifest_invalid_truncated(package):
+    manifest = package / "package.xml"
+    manifest.write_text("\n".join(manifest.read_text().splitlines()[:8]) + "\n")
+    status, report = verify_json(package)
+    assert status == 1
+    (diagnostic,) = report["diagnostics"]
+    assert (diagnostic["code"], diagnostic["path"]) == ("PF101", "package.xml")
+    assert diagnostic["line"] == 9  # where the data ends
+    assert "not well-formed" in diagnostic["message"]
+
+
+def test_manifest_invalid_not_utf8(package):
+    manifest = package / "package.xml"
+    description_line = line_of(manifest, "<description>")
+    data = manifest.read_bytes().replace(b"<description>Robot", b"<description>Rob\xff\xfet", 1)
+    manifest.write_bytes(data)
+    status, report = verify_json(package)
+    assert findings(report) == [("PF101", "manifest-invalid", "error", "package.xml", description_line)]
+    assert f"not valid UTF-8: byte 0xff at line {description_line}" in report["diagnostics"][0]["message"]
+
+
+def test_package_name_invalid(tmp_path, template_package):
+    target = tmp_path / "src" / "Rob_description"
+    shutil.copytree(template_package, target)
+    for path in target.rglob("*"):
+        if path.is_file() and path.suffix != ".stl":
+            path.write_text(path.read_text().replace("rob_description", "Rob_description"))
+    (target / "urdf" / "rob_description.urdf.xacro").rename(target / "urdf" / "Rob_description.urdf.xacro")
+    status, report = verify_json(target)
+    assert findings(report) == [("PF102", "package-name-invalid", "error", "package.xml",
+                                 line_of(target / "package.xml", "<name>"))]
+    assert "upper-case" in report["diagnostics"][0]["message"]
+
+
+def test_project_name_mismatch(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "project(rob_description NONE)", "project(robot_description NONE)")
+    status, report = verify_json(package)
+    assert findings(report) == [("PF103", "project-name-mismatch", "error", "CMakeLists.txt",
+                                 line_of(cmake, "project("))]
+
+
+def test_folder_name_mismatch(package):
+    renamed = package.with_name("rob_desc")
+    package.rename(renamed)
+    status, report = verify_json(renamed)
+    assert status == 0
+    assert findings(report) == [("PF104", "folder-name-mismatch", "warning", "package.xml",
+                                 line_of(renamed / "package.xml", "<name>"))]
+
+
+def test_build_type_missing(package):
+    manifest = package / "package.xml"
+    content = manifest.read_text()
+    start, end = content.index("  <export>"), content.index("</export>") + len("</export>\n")
+    manifest.write_text(content[:start] + content[end:])
+    status, report = verify_json(package)
+    assert findings(report) == [("PF105", "build-type-missing", "error", "package.xml",
+                                 line_of(manifest, '<package format="3">'))]
+    assert "<build_type>ament_cmake</build_type>" in report["diagnostics"][0]["hint"]
+
+
+def test_duplicate_dependency(package):
+    manifest = package / "package.xml"
+    edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
+         "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n")
+    status, report = verify_json(package)
+    assert status == 0
+    assert findings(report) == [("PF106", "duplicate-dependency", "warning", "package.xml",
+                                 line_of(manifest, "<exec_depend>xacro") + 1)]
+
+
+def test_duplicate_generic_dependency_is_an_error(package):
+    manifest = package / "package.xml"
+    edit(manifest, "  <exec_depend>rviz2</exec_depend>\n",
+         "  <depend>rviz2</depend>\n  <exec_depend>rviz2</exec_depend>\n")
+    status, report = verify_json(package)
+    assert status == 1
+    assert findings(report) == [("PF106", "duplicate-dependency", "error", "package.xml",
+                                 line_of(manifest, "<exec_depend>rviz2"))]
+
+
+def test_unused_exec_depend(package):
+    manifest = package / "package.xml"
+    edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
+         "  <exec_depend>xacro</exec_depend>\n  <exec_depend>gazebo_ros</exec_depend>\n")
+    status, report = verify_json(package)
+    assert status == 0
+    assert findings(report) == [("PF107", "unused-exec-depend", "info", "package.xml",
+                                 line_of(manifest, "gazebo_ros"))]
+
+
+def test_install_missing_directory_seed001(tmp_path):
+    package = copy_fixture("seed001/small_turtle", tmp_path)
+    status, report = verify_json(package)
+    assert status == 1
+    rule_line = line_of(package / "CMakeLists.txt", "install(DIRECTORY")
+    assert findings(report) == [("PF201", "install-missing-directory", "error", "CMakeLists.txt", rule_line)] * 2
+    messages = [d["message"] for d in report["diagnostics"]]
+    assert any("'worlds'" in m for m in messages) and any("'models'" in m for m in messages)
+    assert [d["column"] for d in report["diagnostics"]] == [26, 45]
+
+
+def test_directory_not_installed_referenced_is_an_error(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "DIRECTORY launch meshes rviz urdf", "DIRECTORY launch meshes urdf")
+    status, report = verify_json(package)
+    assert status == 1
+    assert findings(report) == [("PF202", "directory-not-installed", "error", "rviz", None)]
+    diagnostic = report["diagnostics"][0]
+    assert f"launch/display.launch.py:{line_of(package / 'launch' / 'display.launch.py', 'display.rviz')}" \
+        in diagnostic["message"]
+    assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in diagnostic["hint"]
+
+
+def test_directory_not_installed_unreferenced_is_a_warning(package):
+    (package / "config").mkdir()
+    (package / "config" / "joints.yaml").write_text("a: 1\n")
+    status, report = verify_json(package)
+    assert status == 0
+    assert findings(report) == [("PF202", "directory-not-installed", "warning", "config", None)]
+
+
+def test_seed000_shape(tmp_path):
+    package = copy_fixture("seed000/rob_description", tmp_path)
+    status, report = verify_json(package)
+    assert status == 1
+    assert findings(report, "warning") == [
+        ("PF104", "folder-name-mismatch", "warning", "package.xml", line_of(package / "package.xml", "<name>")),
+        ("PF202", "directory-not-installed", "error", "rviz", None),
+    ]
+    rviz = next(d for d in report["diagnostics"] if d["code"] == "PF202")
+    assert f"CMakeLists.txt:{line_of(package / 'CMakeLists.txt', 'install(')}" in rviz["hint"]
+
+
+def test_install_wrong_destination(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "ament_package()", "install(DIRECTORY urdf DESTINATION share)\nament_package()")
+    status, report = verify_json(package)
+    assert findings(report) == [("PF203", "install-wrong-destination", "error", "CMakeLists.txt",
+                                 line_of(cmake, "DESTINATION share)"))]
+
+
+def test_cmake_invalid_unterminated_argument(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "DESTINATION share/${PROJECT_NAME}", 'DESTINATION "share/${PROJECT_NAME}')
+    status, report = verify_json(package)
+    assert findings(report) == [("PF204", "cmake-invalid", "error", "CMakeLists.txt",
+                                 line_of(cmake, 'DESTINATION "'))]
+    assert "unterminated quoted argument" in report["diagnostics"][0]["message"]
+
+
+def test_cmake_invalid_empty_file(package):
+    (package / "CMakeLists.txt").write_text("")
+    status, report = verify_json(package)
+    assert ("PF204", "cmake-invalid", "error", "CMakeLists.txt", 1) in findings(report)
+
+
+def test_ament_package_missing(package):
+    edit(package / "CMakeLists.txt", "ament_package()", "")
+    status, report = verify_json(package)
+    assert findings(report) == [("PF205", "ament-package-missing", "error", "CMakeLists.txt", None)]
+
+
+def test_install_rule_unevaluated(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "ament_package()", "install(DIRECTORY $ENV{EXTRA} DESTINATION share/${PROJECT_NAME})\nament_package()")
+    status, report = verify_json(package)
+    assert status == 0
+    assert findings(report) == [("PF206", "install-rule-unevaluated", "info", "CMakeLists.txt",
+                                 line_of(cmake, "$ENV{EXTRA}"))]
+
+
+def test_install_missing_file(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "ament_package()", "install(FILES README.md DESTINATION share/${PROJECT_NAME})\nament_package()")
+    status, report = verify_json(package)
+    assert findings(report) == [("PF207", "install-missing-file", "error", "CMakeLists.txt",
+                                 line_of(cmake, "README.md"))]
+
+
+def test_setup_py_invalid(tmp_path):
+    result = run_pkgforge("new", "rob_py", *MAINTAINER, "--build-type", "ament_python",
+                          "--destination", "src", cwd=tmp_path)
+    assert result.returncode == 0
+    setup = tmp_path / "src" / "rob_py" / "setup.py"
+    edit(setup, "zip_safe=True,", "zip_safe=True,,")
+    status, report = verify_json(tmp_path)
+    assert findings(report) == [("PF208", "setup-py-invalid", "error", "src/rob_py/setup.py",
+                                 line_of(setup, "zip_safe"))]
+
+
+def test_ament_python_data_files_missing_folder(tmp_path):
+    result = run_pkgforge("new", "rob_py", *MAINTAINER, "--build-type", "ament_python",
+                          "--destination", "src", cwd=tmp_path)
+    assert result.returncode == 0
+    setup = tmp_path / "src" / "rob_py" / "setup.py"
+    edit(setup, "        *share_files('rviz'),\n", "")
+    status, report = verify_json(tmp_path)
+    assert findings(report) == [("PF202", "directory-not-installed", "error", "src/rob_py/rviz", None)]
+    assert "data_files in setup.py" in report["diagnostics"][0]["hint"]
+
+
+def test_file_not_read_for_a_50mb_file(package):
+    (package / "urdf" / "huge.urdf").write_bytes(b"<robot>" + b" " * 50_000_000)
+    status, report = verify_json(package)
+    assert status == 0
+    assert findings(report) == [("PF901", "file-not-read", "info", "urdf/huge.urdf", None)]
+
+
+def test_symlink_loop_in_the_workspace(package):
+    (package / "urdf" / "loop").symlink_to("..")
+    (package.parent / "again").symlink_to(".")
+    status, report = verify_json(package.parent.parent)
+    assert status == 0
+    assert [p["name"] for p in report["packages"]] == ["rob_description"]
+
+
+def test_binary_garbage_named_package_xml(package):
+    (package / "package.xml").write_bytes(bytes(range(256)) * 4)
+    status, report = verify_json(package)
+    assert status == 1
+    assert report["diagnostics"][0]["code"] == "PF101"
+
+
+def test_no_package_is_exit_2(tmp_path):
+    result = run_pkgforge("verify", tmp_path, cwd=tmp_path)
+    assert result.returncode == 2
+    assert "no package found" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_missing_path_is_exit_2(tmp_path):
+    result = run_pkgforge("verify", tmp_path / "nope", cwd=tmp_path)
+    assert result.returncode == 2 and "does not exist" in result.stderr
+
+
+# --- configuration --------------------------------------------------------------------------
+
+def test_select_and_ignore(tmp_path):
+    copy_fixture("seed000/rob_description", tmp_path)
+    _, report = verify_json(tmp_path, "--select", "PF1")
+    assert {d["code"] for d in report["diagnostics"]} == {"PF104", "PF107"}
+    status, report = verify_json(tmp_path, "--ignore", "directory-not-installed,PF107")
+    assert status == 0
+    assert {d["code"] for d in report["diagnostics"]} == {"PF104"}
+
+
+def test_unknown_check_name_is_exit_2(tmp_path):
+    copy_fixture("seed000/rob_description", tmp_path)
+    result = run_pkgforge("verify", "--ignore", "no-such-check", cwd=tmp_path)
+    assert result.returncode == 2 and "no-such-check" in result.stderr
+
+
+def test_pkgforge_toml_workspace_and_package(tmp_path):
+    copy_fixture("seed000/rob_description", tmp_path)
+    (tmp_path / "pkgforge.toml").write_text(
+        '[verify]\nignore = ["PF107"]\n[verify.packages.robot_description]\nignore = ["directory-not-installed"]\n')
+    status, report = verify_json(tmp_path)
+    assert status == 0
+    assert {d["code"] for d in report["diagnostics"]} == {"PF104"}
+    (tmp_path / "src" / "rob_description" / "pkgforge.toml").write_text('[verify]\nignore = ["PF104"]\n')
+    _, report = verify_json(tmp_path)
+    assert report["diagnostics"] == []
+
+
+def test_bad_pkgforge_toml_is_exit_2(tmp_path):
+    copy_fixture("seed000/rob_description", tmp_path)
+    (tmp_path / "pkgforge.toml").write_text("[verify\n")
+    result = run_pkgforge("verify", cwd=tmp_path)
+    assert result.returncode == 2 and "pkgforge.toml: invalid TOML" in result.stderr
+
+
+def test_inline_suppression_cmake_and_xml(package):
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "ament_package()",
+         "# pkgforge: ignore=install-missing-file\ninstall(FILES README.md DESTINATION share/${PROJECT_NAME})\n"
+         "ament_package()")
+    manifest = package / "package.xml"
+    edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
+         "  <exec_depend>xacro</exec_depend>\n  <!-- pkgforge: ignore=PF107 -->\n"
+         "  <exec_depend>gazebo_ros</exec_depend>\n")
+    status, report = verify_json(package)
+    assert status == 0
+    assert report["diagnostics"] == []
+
+
+def test_strict_turns_warnings_into_exit_1(package):
+    renamed = package.with_name("rob_desc")
+    package.rename(renamed)
+    assert run_pkgforge("verify", renamed, cwd=renamed).returncode == 0
+    assert run_pkgforge("verify", "--strict", renamed, cwd=renamed).returncode == 1
+
+
+def test_text_format(tmp_path):
+    package = copy_fixture("seed001/small_turtle", tmp_path)
+    result = run_pkgforge("verify", cwd=tmp_path)
+    assert result.returncode == 1
+    lines = result.stdout.splitlines()
+    assert lines[0] == ("src/small_turtle/CMakeLists.txt:6:26: PF201 [error] install(DIRECTORY) names "
+                        "'worlds', which does not exist in small_turtle (install-missing-directory)")
+    assert lines[1].startswith("    hint: remove 'worlds' from the install rule at CMakeLists.txt:6")
+    assert lines[-1] == "2 errors, 0 warnings, 0 infos in 1 packages"
+    assert "\x1b[" not in result.stdout  # no colour when not on a terminal
+    assert package.is_dir()
+
+
+def test_verify_one_package_of_a_workspace(tmp_path):
+    copy_fixture("seed000/rob_description", tmp_path)
+    copy_fixture("seed001/small_turtle", tmp_path)
+    status, report = verify_json(tmp_path / "src" / "small_turtle")
+    assert [p["name"] for p in report["packages"]] == ["small_turtle"]
+    assert {d["package"] for d in report["diagnostics"]} == {"small_turtle"}
+
+
+def test_colcon_ignore_is_honoured(tmp_path):
+    copy_fixture("seed001/small_turtle", tmp_path)
+    (tmp_path / "src" / "small_turtle" / "COLCON_IGNORE").touch()
+    copy_fixture("seed000/rob_description", tmp_path)
+    _, report = verify_json(tmp_path)
+    assert [p["name"] for p in report["packages"]] == ["robot_description"]
+
+
+def test_fixture_folders_exist():
+    assert (FIXTURES / "seed000" / "rob_description" / "package.xml").is_file()
