@@ -12,6 +12,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+PLAIN_UNQUOTED = re.compile(r'[^\s()#"\\]+')
+PLAIN_QUOTED = re.compile(r'[^"\\]+')
+SPACE = re.compile(r"[ \t\r\n]+")
 BRACKET_OPEN = re.compile(r"\[(=*)\[")
 
 
@@ -49,20 +52,24 @@ class _Scanner:
 
     def advance(self, count: int = 1) -> str:
         chunk = self.text[self.pos:self.pos + count]
-        for char in chunk:
-            if char == "\n":
-                self.line, self.column = self.line + 1, 1
-            else:
-                self.column += 1
+        newlines = chunk.count("\n")
+        if newlines:
+            self.line += newlines
+            self.column = len(chunk) - chunk.rfind("\n")
+        else:
+            self.column += len(chunk)
         self.pos += len(chunk)
         return chunk
+
+    def advance_to(self, index: int) -> str:
+        return self.advance(index - self.pos)
 
     def error(self, message: str, line: int | None = None, column: int | None = None):
         return CMakeSyntaxError(message, self.path, line or self.line, column or self.column)
 
     def skip_line_comment(self) -> None:
-        while self.peek() and self.peek() != "\n":
-            self.advance()
+        end = self.text.find("\n", self.pos)
+        self.advance_to(len(self.text) if end < 0 else end)
 
     def bracket(self, what: str) -> str:
         """Read `[==[ ... ]==]` at the cursor; return its content."""
@@ -104,7 +111,7 @@ def _skip_space_and_comments(scanner: _Scanner, *, newlines: bool) -> None:
     while True:
         char = scanner.peek()
         if char in (" ", "\t", "\r") or (newlines and char == "\n"):
-            scanner.advance()
+            scanner.advance_to(SPACE.match(scanner.text, scanner.pos).end()) if newlines else scanner.advance()
         elif char == "#":
             scanner.advance()
             if BRACKET_OPEN.match(scanner.text, scanner.pos):
@@ -160,7 +167,7 @@ def _quoted(scanner: _Scanner) -> str:
         if char == '"':
             scanner.advance()
             return "".join(out)
-        out.append(scanner.advance())
+        out.append(scanner.advance_to(PLAIN_QUOTED.match(scanner.text, scanner.pos).end()))
 
 
 def _unquoted(scanner: _Scanner) -> str:
@@ -180,4 +187,4 @@ def _unquoted(scanner: _Scanner) -> str:
                                     start_line, start_column)
             out.append(scanner.advance(end - scanner.pos + 1))
         else:
-            out.append(scanner.advance())
+            out.append(scanner.advance_to(PLAIN_UNQUOTED.match(scanner.text, scanner.pos).end()))

@@ -100,18 +100,20 @@ def _directory_files(source: Path, rule: InstallRule):
     """(file, path relative to source) that install(DIRECTORY) copies, honouring patterns."""
     excludes = [p for p in rule.patterns if p.exclude]
     includes = [p for p in rule.patterns if not p.exclude]
-    for root, dirs, files in os.walk(source, followlinks=False):
-        root_path = Path(root)
-        dirs[:] = sorted(d for d in dirs if not any(
-            _matches(p.kind, p.value, d, (root_path / d).as_posix()) for p in excludes))
+    top = str(source)
+    for root, dirs, files in os.walk(top, followlinks=False):
+        relative_root = os.path.relpath(root, top)
+        if excludes:
+            dirs[:] = [d for d in dirs if not any(
+                _matches(p.kind, p.value, d, f"{root}/{d}") for p in excludes)]
+        dirs.sort()
         for name in sorted(files):
-            full = root_path / name
-            if any(_matches(p.kind, p.value, name, full.as_posix()) for p in excludes):
+            full = f"{root}/{name}"
+            if excludes and any(_matches(p.kind, p.value, name, full) for p in excludes):
                 continue
-            if rule.files_matching and not any(
-                    _matches(p.kind, p.value, name, full.as_posix()) for p in includes):
+            if rule.files_matching and not any(_matches(p.kind, p.value, name, full) for p in includes):
                 continue
-            yield full, full.relative_to(source)
+            yield Path(full), name if relative_root == "." else f"{relative_root}/{name}"
 
 
 def layout_from_cmake(cmake: CMakeModel, package_path: Path, share_name: str) -> InstallLayout:
@@ -157,7 +159,7 @@ def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
             into = destination if value.endswith("/") else posixpath.join(destination, source.name)
             installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/"))
             for full, relative in _directory_files(source, rule):
-                layout.add(posixpath.normpath(posixpath.join(into, relative.as_posix())), full,
+                layout.add(posixpath.normpath(posixpath.join(into, relative)), full,
                            rule.path, rule.line)
         else:
             if not source.is_file():

@@ -6,6 +6,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from catkin_pkg.package import InvalidPackage, parse_package_string
 from lxml import etree
 
 from .source import SourceFile
@@ -104,8 +105,6 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
 
 
 def _validate_with_catkin_pkg(manifest: Manifest, text: str) -> None:
-    from catkin_pkg.package import InvalidPackage, parse_package_string
-
     try:
         parse_package_string(text, filename=str(manifest.path), warnings=[])
     except InvalidPackage as exc:

@@ -68,20 +68,22 @@ class PackageModel:
 def _walk_files(root: Path) -> list[Path]:
     """Every file of the package, not descending into nested packages or build folders."""
     files = []
-    for current, dirs, names in os.walk(root, followlinks=False):
-        here = Path(current)
+    top = str(root)
+    for current, dirs, names in os.walk(top, followlinks=False):
+        relative_dir = os.path.relpath(current, top)
         keep = []
         for d in sorted(dirs):
-            if d.startswith(".") or (here == root and d in SKIPPED_DIRS):
+            if d.startswith(".") or (current == top and d in SKIPPED_DIRS):
                 continue
-            sub = here / d
-            if (sub / "package.xml").exists() or (sub / "COLCON_IGNORE").exists():
+            sub = os.path.join(current, d)
+            if os.path.exists(os.path.join(sub, "package.xml")) or \
+                    os.path.exists(os.path.join(sub, "COLCON_IGNORE")):
                 continue
             keep.append(d)
         dirs[:] = keep
         for name in sorted(names):
             if not name.startswith("."):
-                files.append((here / name).relative_to(root))
+                files.append(Path(name) if relative_dir == "." else Path(relative_dir, name))
     return files
 
 

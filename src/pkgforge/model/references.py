@@ -10,6 +10,7 @@ os.path.join, with names bound to literals followed through the file.
 from __future__ import annotations
 
 import ast
+import bisect
 import re
 import sys
 from dataclasses import dataclass
@@ -30,11 +31,12 @@ LAUNCH_XML_PATTERNS = [
     (re.compile(r"\$\(find-exec\s+(xacro)\)"), "$(find-exec)"),
 ]
 LAUNCH_YAML_PATTERNS = [
-    (re.compile(rf"^\s*-?\s*pkg:\s*[\"']?({PACKAGE_NAME})[\"']?\s*$"), "node pkg"),
+    (re.compile(rf"^[ \t]*-?[ \t]*pkg:[ \t]*[\"']?({PACKAGE_NAME})[\"']?[ \t]*$", re.M), "node pkg"),
     (re.compile(r"\$\(command\s+'?(xacro)\b"), "$(command xacro)"),
     (re.compile(r"\$\(find-exec\s+(xacro)\)"), "$(find-exec)"),
 ]
-RVIZ_CLASS = re.compile(rf"^\s*-?\s*Class:\s*({PACKAGE_NAME})/")
+NEWLINE = re.compile("\n")
+RVIZ_CLASS = re.compile(rf"^[ \t]*-?[ \t]*Class:[ \t]*({PACKAGE_NAME})/", re.M)
 
 SHARE_LOOKUPS = {"FindPackageShare", "get_package_share_directory", "get_package_share_path"}
 PREFIX_LOOKUPS = {"FindPackagePrefix", "get_package_prefix"}
@@ -75,21 +77,24 @@ def scan(source: SourceFile) -> list[Reference]:
         patterns += LAUNCH_XML_PATTERNS
     elif kind == "yaml":
         patterns += LAUNCH_YAML_PATTERNS
+    text = source.text
+    line_starts = [0] + [m.end() for m in NEWLINE.finditer(text)]
+
+    def position(offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(line_starts, offset)
+        return line, offset - line_starts[line - 1] + 1
+
     found = []
-    rviz = source.path.suffix == ".rviz"
-    for number, line in enumerate(source.text.splitlines(), start=1):
-        if rviz:
-            match = RVIZ_CLASS.match(line)
-            if match:
-                found.append(Reference(match.group(1), None, source.path, number, match.start(1) + 1,
-                                       "rviz plugin"))
-            continue
-        for pattern, via in patterns:
-            for match in pattern.finditer(line):
-                relative = match.group(2).lstrip("/") if match.lastindex and match.lastindex >= 2 \
-                    and match.group(2) else None
-                found.append(Reference(match.group(1), relative, source.path, number,
-                                       match.start(1) + 1, via))
+    if source.path.suffix == ".rviz":
+        for match in RVIZ_CLASS.finditer(text):
+            found.append(Reference(match.group(1), None, source.path, *position(match.start(1)), "rviz plugin"))
+        return found
+    for pattern, via in patterns:
+        for match in pattern.finditer(text):
+            relative = match.group(2).lstrip("/") if match.lastindex and match.lastindex >= 2 \
+                and match.group(2) else None
+            found.append(Reference(match.group(1), relative, source.path, *position(match.start(1)), via))
+    found.sort(key=lambda r: (r.line, r.column or 0))
     return found
 
 

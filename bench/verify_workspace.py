@@ -1,0 +1,88 @@
+"""`pkgforge verify` against `colcon list` on one generated workspace of N packages.
+
+    .venv/bin/python bench/verify_workspace.py [--packages 200] [--repeat 5] [--keep DIR]
+
+The packages are made with pkgforge's own scaffold (the code behind `pkgforge new`).
+Both commands run as subprocesses, as a user runs them; the table gives the
+median wall time of each and their ratio. Asserts nothing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import sysconfig
+import tempfile
+import time
+from pathlib import Path
+
+from pkgforge.scaffold import create_package, make_spec
+
+SCRIPTS = Path(sysconfig.get_path("scripts"))
+
+
+def generate(root: Path, count: int) -> Path:
+    src = root / "src"
+    src.mkdir(parents=True, exist_ok=True)
+    formats = ("py", "xml", "yaml")
+    for i in range(count):
+        name = f"bench_{i:03d}_description"
+        if (src / name).exists():
+            continue
+        spec = make_spec(name, maintainer_name="Bench", maintainer_email="bench@example.com",
+                         launch_format=formats[i % 3],
+                         build_type="ament_python" if i % 10 == 9 else "ament_cmake")
+        create_package(spec, src)
+    return root
+
+
+# As on a user's machine, where pip byte-compiled everything it installed: an
+# editable checkout with PYTHONDONTWRITEBYTECODE would recompile pkgforge each run.
+ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+
+
+def timed(cmd: list[str], cwd: Path, ok=(0,)) -> float:
+    start = time.perf_counter()
+    result = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, stdin=subprocess.DEVNULL, env=ENV)
+    elapsed = time.perf_counter() - start
+    if result.returncode not in ok:
+        sys.exit(f"failed ({result.returncode}): {' '.join(cmd)}\n{result.stdout[-2000:]}{result.stderr[-2000:]}")
+    return elapsed
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--packages", type=int, default=200)
+    parser.add_argument("--repeat", type=int, default=9)
+    parser.add_argument("--keep", type=Path, default=None, help="generate into (and keep) this folder")
+    args = parser.parse_args()
+
+    commands = {
+        "colcon list": [str(SCRIPTS / "colcon"), "list"],
+        "pkgforge verify": [sys.executable, "-m", "pkgforge", "verify", "--format", "json"],
+        "pkgforge verify --jobs 1": [sys.executable, "-m", "pkgforge", "verify", "--jobs", "1",
+                                     "--format", "json"],
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        root = generate(args.keep or Path(tmp), args.packages)
+        for cmd in commands.values():
+            timed(cmd, root)  # warm caches, write byte code
+        # interleaved, so a slow spell of the machine hits every command alike
+        times: dict[str, list[float]] = {name: [] for name in commands}
+        for _ in range(args.repeat):
+            for name, cmd in commands.items():
+                times[name].append(timed(cmd, root))
+
+    base = times["colcon list"]
+    print(f"workspace: {args.packages} packages, {args.repeat} interleaved runs")
+    print(f"{'command':<28}{'median s':>10}{'median ratio to colcon list':>30}")
+    for name, values in times.items():
+        ratio = statistics.median(v / b for v, b in zip(values, base))
+        print(f"{name:<28}{statistics.median(values):>10.2f}{ratio:>30.2f}")
+
+
+if __name__ == "__main__":
+    main()
