@@ -177,15 +177,28 @@ def test_install_missing_directory_seed001(tmp_path):
 
 
 def test_directory_not_installed_referenced_is_an_error(package):
+    """Without launch resolution (issue 4's checks alone) the folder is reported."""
     cmake = package / "CMakeLists.txt"
     edit(cmake, "DIRECTORY launch meshes rviz urdf", "DIRECTORY launch meshes urdf")
-    status, report = verify_json(package)
+    status, report = verify_json(package, "--select", "PF1,PF2")
     assert status == 1
     assert findings(report) == [("PF202", "directory-not-installed", "error", "rviz", None)]
     diagnostic = report["diagnostics"][0]
     assert f"launch/display.launch.py:{line_of(package / 'launch' / 'display.launch.py', 'display.rviz')}" \
         in diagnostic["message"]
     assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in diagnostic["hint"]
+
+
+def test_folder_a_launch_file_needs_is_reported_at_the_launch_line(package):
+    """With launch resolution, the launch file's line is where the problem shows."""
+    cmake = package / "CMakeLists.txt"
+    edit(cmake, "DIRECTORY launch meshes rviz urdf", "DIRECTORY launch meshes urdf")
+    status, report = verify_json(package)
+    assert status == 1
+    launch = package / "launch" / "display.launch.py"
+    assert findings(report) == [("PF302", "uninstalled-reference", "error", "launch/display.launch.py",
+                                 line_of(launch, "'rviz', 'display.rviz'"))]
+    assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in report["diagnostics"][0]["hint"]
 
 
 def test_directory_not_installed_unreferenced_is_a_warning(package):
@@ -197,8 +210,9 @@ def test_directory_not_installed_unreferenced_is_a_warning(package):
 
 
 def test_seed000_shape(tmp_path):
+    """Issue 4's checks on the seed 000 shape: the names, and rviz/ not installed."""
     package = copy_fixture("seed000/rob_description", tmp_path)
-    status, report = verify_json(package)
+    status, report = verify_json(package, "--select", "PF1,PF2")
     assert status == 1
     assert findings(report, "warning") == [
         ("PF104", "folder-name-mismatch", "warning", "package.xml", line_of(package / "package.xml", "<name>")),
@@ -206,6 +220,17 @@ def test_seed000_shape(tmp_path):
     ]
     rviz = next(d for d in report["diagnostics"] if d["code"] == "PF202")
     assert f"CMakeLists.txt:{line_of(package / 'CMakeLists.txt', 'install(')}" in rviz["hint"]
+
+
+def test_seed000_shape_with_launch_resolution(tmp_path):
+    package = copy_fixture("seed000/rob_description", tmp_path)
+    status, report = verify_json(package)
+    launch = package / "launch" / "display.launch.py"
+    assert findings(report, "warning") == [
+        ("PF104", "folder-name-mismatch", "warning", "package.xml", line_of(package / "package.xml", "<name>")),
+        ("PF302", "uninstalled-reference", "error", "launch/display.launch.py",
+         line_of(launch, "rviz_config_path = ")),
+    ]
 
 
 def test_install_wrong_destination(package):
@@ -271,8 +296,13 @@ def test_ament_python_data_files_missing_folder(tmp_path):
     assert result.returncode == 0
     setup = tmp_path / "src" / "rob_py" / "setup.py"
     edit(setup, "        *share_files('rviz'),\n", "")
-    status, report = verify_json(tmp_path)
+    status, report = verify_json(tmp_path, "--select", "PF2")
     assert findings(report) == [("PF202", "directory-not-installed", "error", "src/rob_py/rviz", None)]
+    assert "data_files in setup.py" in report["diagnostics"][0]["hint"]
+    status, report = verify_json(tmp_path)
+    launch = tmp_path / "src" / "rob_py" / "launch" / "display.launch.py"
+    assert findings(report) == [("PF302", "uninstalled-reference", "error", "src/rob_py/launch/display.launch.py",
+                                 line_of(launch, "'rviz', 'display.rviz'"))]
     assert "data_files in setup.py" in report["diagnostics"][0]["hint"]
 
 
@@ -315,7 +345,7 @@ def test_select_and_ignore(tmp_path):
     copy_fixture("seed000/rob_description", tmp_path)
     _, report = verify_json(tmp_path, "--select", "PF1")
     assert {d["code"] for d in report["diagnostics"]} == {"PF104", "PF107"}
-    status, report = verify_json(tmp_path, "--ignore", "directory-not-installed,PF107")
+    status, report = verify_json(tmp_path, "--ignore", "directory-not-installed,uninstalled-reference,PF107")
     assert status == 0
     assert {d["code"] for d in report["diagnostics"]} == {"PF104"}
 
@@ -329,7 +359,7 @@ def test_unknown_check_name_is_exit_2(tmp_path):
 def test_pkgforge_toml_workspace_and_package(tmp_path):
     copy_fixture("seed000/rob_description", tmp_path)
     (tmp_path / "pkgforge.toml").write_text(
-        '[verify]\nignore = ["PF107"]\n[verify.packages.robot_description]\nignore = ["directory-not-installed"]\n')
+        '[verify]\nignore = ["PF107"]\n[verify.packages.robot_description]\nignore = ["directory-not-installed", "PF302"]\n')
     status, report = verify_json(tmp_path)
     assert status == 0
     assert {d["code"] for d in report["diagnostics"]} == {"PF104"}

@@ -119,7 +119,20 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
 @click.option("--strict", is_flag=True, help="Treat warnings as errors (exit 1 on any warning).")
 @click.option("--jobs", "-j", type=click.IntRange(1), default=None,
               help="Packages verified at once [default: the number of cores].")
-def verify(path, fmt, output, select, ignore, strict, jobs):
+@click.option("--build", "build_tree", is_flag=True,
+              help="Resolve against a real colcon build into build/pkgforge-verify/ "
+                   "[default: the tree predicted from the install rules].")
+@click.option("--install-base", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Resolve against an existing install folder from your own colcon build "
+                   "(merged or isolated); nothing is rebuilt.")
+@click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
+              help="A launch argument's value for every launch file. Repeatable.")
+@click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
+              help="Seconds one launch file may take to load and resolve.")
+@click.option("--explain-launch", "explain_launch", type=click.Path(path_type=Path), default=None,
+              metavar="FILE", help="Print how FILE resolves in the install tree, then exit.")
+def verify(path, fmt, output, select, ignore, strict, jobs, build_tree, install_base, launch_args,
+           launch_timeout, explain_launch):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -129,8 +142,24 @@ def verify(path, fmt, output, select, ignore, strict, jobs):
     from .report import render
     from .verify import VerifyOptions, verify as run_verify
 
-    options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict)
+    if build_tree and install_base is not None:
+        fail(PkgforgeError("--build and --install-base exclude each other: build, or read an existing tree"))
+    arguments = {}
+    for text in launch_args:
+        name, sep, value = text.partition(":=")
+        if not sep or not name:
+            fail(PkgforgeError(f"--launch-arg '{text}' is not NAME:=VALUE"))
+        arguments[name] = value
+    mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
+    options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
+                            mode=mode, install_base=install_base, launch_timeout=launch_timeout,
+                            launch_arguments=arguments)
     try:
+        if explain_launch is not None:
+            from .explain import explain_launch_file
+
+            click.echo(explain_launch_file(path, explain_launch, options), nl=False)
+            return
         result = run_verify(path, options)
     except PkgforgeError as error:
         fail(error)

@@ -1,13 +1,15 @@
-"""`pkgforge verify`: discover → load one model per package → run checks → filter.
+"""`pkgforge verify`: discover → one model per package → install tree → resolve launch files → checks.
 
-Packages are independent once discovered, so each is loaded and checked in a
-worker process; only plain data (PackageReport) crosses back.
+Models load in worker processes while colcon's discovery runs here; launch
+files are resolved in worker subprocesses (user code); the checks then read
+the models and resolutions in this process. Only plain data crosses a process.
 """
 
 from __future__ import annotations
 
 import os
 import re
+import sys
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from multiprocessing import get_context
@@ -18,13 +20,14 @@ from .checks.registry import all_checks
 from .config import Config, Selection, load_config
 from .diagnostics import Diagnostic, Finding, PackageReport, Severity
 from .errors import PkgforgeError
-from .model.package import load_package
+from .model.package import PackageModel, load_package
 from .workspace import Workspace, discover, locate
 
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
 NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
+LAUNCH_AREA = "launch"
 
 
 @dataclass(frozen=True)
@@ -40,6 +43,10 @@ class VerifyOptions:
     selection: Selection = field(default_factory=Selection)
     jobs: int | None = None
     strict: bool = False
+    mode: str = "predicted"  # predicted | build | install-base
+    install_base: Path | None = None
+    launch_timeout: float = 10.0
+    launch_arguments: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -47,6 +54,8 @@ class VerifyResult:
     root: Path
     reports: list[PackageReport]
     checks_run: set[str]
+    tree_kind: str | None = None
+    launch_files: int = 0
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -61,6 +70,8 @@ class VerifyResult:
             return 1
         return 0
 
+
+# --- finding the packages -------------------------------------------------------------------
 
 def package_folders(base: Path) -> list[Path]:
     """Folders with a package.xml under base, honouring the ignore markers as colcon does."""
@@ -86,15 +97,11 @@ def quick_name(folder: Path) -> str:
     return match.group(1) if match else folder.name
 
 
-def find_targets(workspace: Workspace) -> tuple[list[PackageTarget], dict[str, Path]]:
-    """The packages to verify, and every package of the workspace by name.
-
-    colcon's discovery decides; folders whose package.xml colcon rejected are
-    added, so their manifest problems are reported instead of silently skipped.
-    """
-    descriptors = discover(workspace.base_path)
+def find_targets(workspace: Workspace) -> list[PackageTarget]:
+    """Every ROS package of the workspace: colcon's discovery decides, and folders whose
+    package.xml colcon rejected are added, so their problems are reported, not skipped."""
     targets = []
-    for descriptor in descriptors:
+    for descriptor in discover(workspace.base_path):
         path = Path(descriptor.path).resolve()
         if not (path / "package.xml").exists():
             continue  # a plain CMake or Python package: not a ROS package
@@ -104,20 +111,52 @@ def find_targets(workspace: Workspace) -> tuple[list[PackageTarget], dict[str, P
     for path in package_folders(workspace.base_path):
         if path not in known:
             targets.append(PackageTarget(path, quick_name(path), None, False))
-    everything = {t.name: t.path for t in targets}
-    if workspace.package_path is not None:
-        targets = [t for t in targets if t.path == workspace.package_path.resolve()]
-    return sorted(targets, key=lambda t: (t.name, str(t.path))), everything
+    return sorted(targets, key=lambda t: (t.name, str(t.path)))
 
 
-def verify_package(target: PackageTarget, workspace_packages: dict[str, Path],
-                   selection: Selection) -> PackageReport:
-    """Load one package's model and run the selected checks on it (in a worker process)."""
-    model = load_package(target.path, colcon_type=target.colcon_type,
-                         parsed_by_colcon=target.parsed_by_colcon)
-    context = CheckContext(model, workspace_packages)
-    codes = selection.codes()
+def _load(target: PackageTarget) -> PackageModel:
+    return load_package(target.path, colcon_type=target.colcon_type, parsed_by_colcon=target.parsed_by_colcon)
+
+
+def _load_chunk(folders: list[Path]) -> list[PackageModel]:
+    return [_load(PackageTarget(folder, folder.name, None, False)) for folder in folders]
+
+
+def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], dict[Path, PackageModel]]:
+    """Models of every package; with several cores, loaded while colcon's discovery runs.
+
+    Discovery and loading each take about half of a run on their own, so a
+    quick walk hands the folders to workers first; colcon's answer then decides
+    which models count, and what it found that the walk did not is loaded after.
+    """
+    guessed = package_folders(workspace.base_path)
+    if jobs <= 1 or len(guessed) < PARALLEL_THRESHOLD:
+        targets = find_targets(workspace)
+        return targets, {t.path: _load(t) for t in targets}
+    workers = max(1, jobs - 1)  # this process runs discovery meanwhile
+    size = max(1, -(-len(guessed) // (workers * 4)))
+    chunks = [guessed[i:i + size] for i in range(0, len(guessed), size)]
+    with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("fork")) as pool:
+        futures = [pool.submit(_load_chunk, chunk) for chunk in chunks]
+        targets = find_targets(workspace)
+        loaded = {model.path: model for future in futures for model in future.result()}
+    models = {}
+    for target in targets:
+        model = loaded.get(target.path)
+        if model is None or model.name != target.name:
+            model = _load(target)
+        elif target.colcon_type and model.manifest.build_type is None:
+            model.build_type = target.colcon_type.removeprefix("ros.")
+        models[target.path] = model
+    return targets, models
+
+
+# --- checks ---------------------------------------------------------------------------------
+
+def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
+    model = context.model
     report = PackageReport(model.name, model.path, model.build_type)
+    seen = set()
     for check in all_checks():
         if check.code not in codes:
             continue
@@ -128,14 +167,23 @@ def verify_package(target: PackageTarget, workspace_packages: dict[str, Path],
                 f"internal error in check {check.name}: {type(exc).__name__}: {exc}", model.path,
                 severity=Severity.WARNING, hint="please report this to pkgforge"))]
         for diagnostic in diagnostics:
-            if not model.suppressed(diagnostic.path, diagnostic.line, {check.code, check.name}):
-                report.diagnostics.append(diagnostic)
+            key = (diagnostic.code, str(diagnostic.path), diagnostic.line, diagnostic.message)
+            if key in seen or model.suppressed(diagnostic.path, diagnostic.line, {check.code, check.name}):
+                continue
+            seen.add(key)
+            report.diagnostics.append(diagnostic)
     report.diagnostics.sort(key=Diagnostic.sort_key)
     return report
 
 
-def _verify_one(args) -> PackageReport:
-    return verify_package(*args)
+def make_tree(options: VerifyOptions, workspace: Workspace, models: list[PackageModel]):
+    from .trees import built_tree, existing_tree, predicted_tree
+
+    if options.mode == "install-base":
+        return existing_tree(options.install_base, models)
+    if options.mode == "build":
+        return built_tree(workspace, models, out=sys.stderr)
+    return predicted_tree(models)
 
 
 def verify(path: Path, options: VerifyOptions) -> VerifyResult:
@@ -143,50 +191,42 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     workspace = locate(path)
     config: Config = load_config(workspace.root, options.selection)
     jobs = options.jobs or os.cpu_count() or 1
-    guessed = package_folders(workspace.base_path)
-    if jobs > 1 and len(guessed) >= PARALLEL_THRESHOLD and workspace.package_path is None:
-        reports = _verify_overlapped(workspace, config, guessed, jobs)
-    else:
-        targets, everything = find_targets(workspace)
-        reports = [_verify_one((t, everything, config.for_package(t.name, t.path))) for t in targets]
-    if not reports:
+    targets, models = load_models(workspace, jobs)
+    if workspace.package_path is not None:
+        targets = [t for t in targets if t.path == workspace.package_path.resolve()]
+    if not targets:
         raise PkgforgeError(f"no package found under {root}")
-    checks_run = set().union(*(config.for_package(r.name, r.path).codes() for r in reports))
-    return VerifyResult(root, reports, checks_run)
+    everything = {t.name: t.path for t in find_targets_names(models)}
+    codes = {t.path: config.for_package(t.name, t.path).codes() for t in targets}
+    launch_codes = {c.code for c in all_checks() if c.area == LAUNCH_AREA}
+    checked = [models[t.path] for t in targets]
+
+    tree, resolutions, ros1, launch_count = None, {}, {}, 0
+    if any(codes[t.path] & launch_codes for t in targets):
+        from .launch.resolve import find_launch_files, resolve
+
+        tree = make_tree(options, workspace, list(models.values()))
+        launch_files, ros1_files = find_launch_files(tree, checked)
+        launch_count = len(launch_files)
+        for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
+                                  arguments=options.launch_arguments):
+            resolutions.setdefault(resolution.launch.package, []).append(resolution)
+        for launch in ros1_files:
+            ros1.setdefault(launch.package, []).append(launch)
+    try:
+        by_share = {m.share_name: m for m in models.values()}
+        reports = []
+        for target in targets:
+            model = models[target.path]
+            context = CheckContext(model, everything, by_share, tree, resolutions.get(model.name, []),
+                                   ros1.get(model.name, []))
+            reports.append(run_checks(context, codes[target.path]))
+    finally:
+        if tree is not None:
+            tree.close()
+    checks_run = set().union(*codes.values())
+    return VerifyResult(root, reports, checks_run, tree.kind if tree else None, launch_count)
 
 
-# The workspace index, set before the pool forks so workers inherit it instead
-# of receiving a copy with every package.
-_FORKED_WORKSPACE: dict[str, Path] = {}
-
-
-def _verify_chunk(items: list[tuple[PackageTarget, Selection]]) -> list[PackageReport]:
-    return [verify_package(target, _FORKED_WORKSPACE, selection) for target, selection in items]
-
-
-def _verify_overlapped(workspace: Workspace, config: Config, guessed: list[Path], jobs: int):
-    """Workers verify the folders a quick walk found while colcon's discovery runs here.
-
-    Discovery and model loading are independent, and each takes about half of
-    a run: overlapping them is most of what a second core can give. colcon's
-    answer then decides which results count; what it found that the walk did
-    not is verified afterwards.
-    """
-    global _FORKED_WORKSPACE
-    named = [(quick_name(p), p) for p in guessed]
-    _FORKED_WORKSPACE = dict(named)
-    workers = max(1, jobs - 1)  # this process runs discovery meanwhile
-    items = [(PackageTarget(p, name, None, False), config.for_package(name, p)) for name, p in named]
-    size = max(1, -(-len(items) // (workers * 4)))
-    chunks = [items[i:i + size] for i in range(0, len(items), size)]
-    with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("fork")) as pool:
-        futures = [pool.submit(_verify_chunk, chunk) for chunk in chunks]
-        targets, everything = find_targets(workspace)
-        done = {report.path: report for future in futures for report in future.result()}
-    reports = []
-    for target in targets:
-        report = done.get(target.path)
-        if report is None or everything != _FORKED_WORKSPACE:
-            report = _verify_one((target, everything, config.for_package(target.name, target.path)))
-        reports.append(report)
-    return reports
+def find_targets_names(models: dict[Path, PackageModel]) -> list[PackageTarget]:
+    return [PackageTarget(path, model.name, None, False) for path, model in models.items()]

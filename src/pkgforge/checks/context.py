@@ -1,4 +1,4 @@
-"""What a check reads: one package's model and the workspace around it."""
+"""What a check reads: one package's model, the workspace, the install tree, the resolutions."""
 
 from __future__ import annotations
 
@@ -7,15 +7,108 @@ from pathlib import Path
 
 from ..model.package import PackageModel
 
+# pkgforge provides these in the launch worker; a missing submodule of one is a real error
+STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
+
 
 @dataclass
 class CheckContext:
     model: PackageModel
     # every package of the workspace being verified: name → folder
     workspace: dict[str, Path] = field(default_factory=dict)
+    # the models of the verified packages, by the name their share folder has
+    models: dict[str, PackageModel] = field(default_factory=dict)
+    tree: object | None = None  # trees.InstallTree, when launch files were resolved
+    resolutions: list = field(default_factory=list)  # launch.resolve.Resolution of this package
+    ros1_launch_files: list = field(default_factory=list)
 
     def relative(self, path: Path) -> str:
         try:
             return str(path.relative_to(self.model.path))
         except ValueError:
             return str(path)
+
+    # --- packages -----------------------------------------------------------------------------
+
+    def model_for_share(self, package: str) -> PackageModel | None:
+        if package in (self.model.share_name, self.model.name):
+            return self.model
+        return self.models.get(package)
+
+    def tree_packages(self) -> set[str]:
+        if self.tree is None:
+            return set()
+        return set(self.tree.packages) | set(self.tree.phantom_packages)
+
+    def known_packages(self) -> set[str]:
+        """Packages that exist for this package: the workspace's, its declared ones, installed ones."""
+        return set(self.workspace) | self.model.manifest.declared() | self.tree_packages()
+
+    # --- locations ----------------------------------------------------------------------------
+
+    def source_position(self, resolution, item_file: str | None, line: int | None):
+        """(source path, line) of a construct, or None when it stands in another package's file."""
+        launch = resolution.launch
+        if item_file is None or item_file == str(launch.installed):
+            return (launch.source or launch.installed), line
+        if self.tree is None:
+            return None
+        located = self.tree.locate(item_file)
+        if located is None:
+            return None
+        package, relative, _ = located
+        if package not in (self.model.share_name, self.model.name):
+            return None
+        entry = self.model.layout.files.get(f"share/{package}/{relative}")
+        source = entry.source if entry is not None and entry.source is not None else self.model.path / relative
+        return source, line
+
+    def static_line(self, path: Path, package: str, relative: str) -> int | None:
+        """The line where the file names package/relative literally, if it does."""
+        for reference in self.model.references:
+            if reference.path == path and reference.package == package and reference.relative == relative:
+                return reference.line
+        return None
+
+    # --- launch results -----------------------------------------------------------------------
+
+    def load_error_kind(self, resolution) -> str | None:
+        """None (loaded), or why not: load | package | xacro | unevaluated."""
+        if resolution.status == "ok":
+            return None
+        error = resolution.error or {}
+        if resolution.status != "load-error":
+            return "load"
+        if error.get("type") == "PackageNotFoundError":
+            return "package"
+        if error.get("type") == "XacroException":
+            return "xacro"
+        module = (error.get("module") or "").split(".")[0]
+        if error.get("type") == "ModuleNotFoundError" and module and module not in STAND_IN_MODULES \
+                and (module in self.model.manifest.declared() or module in self.tree_packages()):
+            return "unevaluated"
+        return "load"
+
+    def static_fallback(self) -> dict[Path, list]:
+        """Static references of the launch files that could not be evaluated here."""
+        out: dict[Path, list] = {}
+        for resolution in self.resolutions:
+            if self.load_error_kind(resolution) == "unevaluated" and resolution.launch.source:
+                out[resolution.launch.source] = [r for r in self.model.references
+                                                 if r.path == resolution.launch.source]
+        return out
+
+    def folders_reported_uninstalled(self) -> set[str]:
+        """Own top-level folders a launch file resolves into but the tree lacks."""
+        folders = set()
+        if self.tree is None:
+            return folders
+        for resolution in self.resolutions:
+            for item in resolution.items.get("paths", []):
+                if item.get("exists"):
+                    continue
+                located = self.tree.locate(item["path"])
+                if located and located[0] in (self.model.share_name, self.model.name) \
+                        and (self.model.path / located[1]).exists():
+                    folders.add(located[1].split("/")[0])
+        return folders

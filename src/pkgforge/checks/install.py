@@ -80,6 +80,8 @@ def directory_not_installed(ctx: CheckContext):
     model = ctx.model
     if not model.layout.known or model.layout.unknown:
         return  # a rule pkgforge cannot read may install the folder
+    # a launch file that resolves into the folder reports it, at its own line (uninstalled-reference)
+    covered_by_launch = ctx.folders_reported_uninstalled()
     installed = model.layout.installed_sources()
     own_names = {model.name, model.share_name}
     referenced: dict[str, object] = {}
@@ -89,7 +91,7 @@ def directory_not_installed(ctx: CheckContext):
     for folder, files in sorted(model.top_level_folders().items()):
         if folder not in RESOURCE_FOLDERS and folder not in referenced:
             continue
-        if any(model.path / f in installed for f in files):
+        if any(model.path / f in installed for f in files) or folder in covered_by_launch:
             continue
         reference = referenced.get(folder)
         if reference is not None:

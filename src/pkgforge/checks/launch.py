@@ -1,0 +1,315 @@
+"""Checks of launch files as resolved in the install tree."""
+
+from __future__ import annotations
+
+import difflib
+from pathlib import Path
+
+from ..diagnostics import Finding
+from ..model.manifest import RUN_TAGS
+from .context import CheckContext
+from .install import install_fix
+from .registry import register
+
+JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
+MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
+
+
+def _branch_note(item: dict, resolution) -> str:
+    branches = [b for b in item.get("branches", []) if b]
+    if branches and len(branches) < resolution.branches:
+        return f" (only with {', '.join(branches)})"
+    return ""
+
+
+def _position(ctx: CheckContext, resolution, item_file: str | None, line: int | None):
+    """(source path, line) for an item, or None when it stands in another package's file."""
+    return ctx.source_position(resolution, item_file, line)
+
+
+@register("PF301", "launch-load-error", "error", area="launch",
+          summary="a launch file raises, fails to import, or runs past the time limit",
+          explanation="`ros2 launch` would stop at the same place; nothing after it starts.",
+          hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
+               "resolved tree)")
+def launch_load_error(ctx: CheckContext):
+    for resolution in ctx.resolutions:
+        error = resolution.error
+        if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
+            position = _position(ctx, resolution, error.get("file"), error.get("line"))
+            if position is None:
+                position = (resolution.launch.source or resolution.launch.installed, None)
+            if resolution.status == "timeout":
+                message = f"{resolution.launch.installed.name} {error['message']}"
+            elif resolution.status == "crashed":
+                message = f"{resolution.launch.installed.name}: {error['message']}"
+            else:
+                message = f"loading {resolution.launch.installed.name} failed: {error['message']}"
+            yield Finding(message, *position)
+        for item in resolution.items.get("errors", []):
+            if item.get("message", "").startswith("executed command failed") and "xacro" in item["message"]:
+                continue  # xacro-error reports it with xacro's message
+            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            if position is not None:
+                yield Finding(f"{item.get('entity', 'an action')} failed: {item['type']}: {item['message']}"
+                              f"{_branch_note(item, resolution)}", *position)
+
+
+def _share_reference(ctx: CheckContext, path: str):
+    located = ctx.tree.locate(path) if ctx.tree is not None else None
+    if located is None or ctx.tree.is_phantom(path):
+        return None
+    return located
+
+
+@register("PF302", "uninstalled-reference", "error", area="launch",
+          summary="a launch file resolves a path that the install rules leave out",
+          explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
+                      "looks (user story 1: the RViz config was never installed, RViz started empty).",
+          hint="extend the install rule")
+def uninstalled_reference(ctx: CheckContext):
+    yield from _missing_paths(ctx, want_source=True)
+
+
+@register("PF303", "missing-file", "error", area="launch",
+          summary="a launch file resolves a path that exists nowhere",
+          explanation="Neither the install tree nor the package's source has the file: a typo in a "
+                      "file or folder name, or a file never committed.",
+          hint="fix the path in the launch file")
+def missing_file(ctx: CheckContext):
+    yield from _missing_paths(ctx, want_source=False)
+
+
+def _missing_paths(ctx: CheckContext, *, want_source: bool):
+    seen = set()
+    for resolution in ctx.resolutions:
+        for item in resolution.items.get("paths", []):
+            if item.get("exists"):
+                continue
+            located = _share_reference(ctx, item["path"])
+            if located is None:
+                continue
+            package, relative, _ = located
+            owner = ctx.model_for_share(package)
+            source = owner.path / relative if owner is not None else None
+            in_source = source is not None and source.exists()
+            if in_source != want_source:
+                continue
+            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            if position is None:
+                continue
+            path, line = position
+            line = ctx.static_line(path, package, relative) or line
+            key = (str(path), line, package, relative)
+            if key in seen:
+                continue
+            seen.add(key)
+            shown = f"share/{package}/{relative}"
+            if want_source:
+                yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
+                              f"install rule covers it{_branch_note(item, resolution)}", path, line,
+                              hint=install_fix(owner, relative.split('/')[0]))
+            else:
+                hint = None
+                if owner is not None:
+                    near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
+                    hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
+                yield Finding(f"{shown} does not exist, in the install tree or in {package}'s source"
+                              f"{_branch_note(item, resolution)}", path, line, hint=hint)
+
+
+def _looked_up(ctx: CheckContext):
+    """(package name, source path, line, how, item, resolution) for every package a launch file uses."""
+    for resolution in ctx.resolutions:
+        for item in resolution.items.get("packages", []):
+            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            if position is not None:
+                yield item["name"], position[0], position[1], item.get("via", ""), item, resolution
+        for item in resolution.items.get("includes", []):
+            located = _share_reference(ctx, item["path"]) or (
+                ctx.tree.locate(item["path"]) if ctx.tree is not None else None)
+            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            if located is not None and position is not None:
+                yield located[0], position[0], position[1], "included launch file", item, resolution
+        error = resolution.error or {}
+        if resolution.status == "load-error" and error.get("package"):
+            position = _position(ctx, resolution, error.get("file"), error.get("line"))
+            if position is not None:
+                yield error["package"], position[0], position[1], "lookup", {"found": False}, resolution
+    for path, references in ctx.static_fallback().items():
+        for reference in references:
+            yield reference.package, reference.path, reference.line, reference.via, {}, None
+
+
+@register("PF304", "unknown-package", "error", area="launch",
+          summary="a launch file looks up a package that exists nowhere",
+          explanation="The package is not in the workspace, not declared in package.xml, and not "
+                      "installed: almost always a typo or a package renamed (user story 3: "
+                      "`robot_description` looked up in package `rob_description`).",
+          hint="fix the package name")
+def unknown_package(ctx: CheckContext):
+    if not ctx.model.manifest.valid:
+        return  # with no readable manifest, nothing is known to be declared
+    known = ctx.known_packages()
+    seen = set()
+    for name, path, line, via, item, _ in _looked_up(ctx):
+        if name in known or (name, str(path), line) in seen:
+            continue
+        if item.get("found") is not False and not via == "lookup" and ctx.tree is not None \
+                and name in ctx.tree.packages:
+            continue
+        seen.add((name, str(path), line))
+        candidates = sorted(known | {ctx.model.path.name})
+        near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
+        hint = f"did you mean {', '.join(near)}?" if near else "check the name against package.xml <name>"
+        yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
+                      "and not installed", path, line, hint=hint)
+
+
+@register("PF305", "missing-exec-depend", "error", area="launch",
+          summary="a package used at run time is not an exec_depend",
+          explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
+                      "machine the node, file or tool is missing (user story 6).",
+          hint="declare it with <exec_depend>")
+def missing_exec_depend(ctx: CheckContext):
+    model = ctx.model
+    if not model.manifest.valid:
+        return  # with no readable manifest, nothing is known to be declared
+    declared = model.manifest.run_dependencies()
+    own = {model.name, model.share_name}
+    known = ctx.known_packages() | ctx.tree_packages()
+    reported = set()
+    for name, path, line, via, item, resolution in sorted(
+            _looked_up(ctx), key=lambda x: (x[0], str(x[1]), x[2] or 0)):
+        if name in own or name in declared or name in reported or name not in known:
+            continue
+        reported.add(name)
+        note = _branch_note(item, resolution) if resolution is not None else ""
+        yield Finding(f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
+                      path, line, hint=f"add <exec_depend>{name}</exec_depend> to package.xml"
+                                       + (f" (after line {model.manifest.last_dependency_line()})"
+                                          if model.manifest.last_dependency_line() else ""))
+
+
+@register("PF306", "jsp-model-argument", "error", area="launch",
+          summary="joint_state_publisher is given the robot model as an argument",
+          explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
+                      "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
+                      "4). It reads /robot_description from robot_state_publisher.",
+          hint="remove the model from the node's arguments")
+def jsp_model_argument(ctx: CheckContext):
+    seen = set()
+    for resolution in ctx.resolutions:
+        for node in resolution.items.get("nodes", []):
+            if node.get("package") not in JSP_PACKAGES:
+                continue
+            models = [a for a in node.get("arguments", []) if str(a).endswith(MODEL_SUFFIXES)]
+            position = _position(ctx, resolution, node.get("file"), node.get("line"))
+            if models and position is not None and position not in seen:
+                seen.add(position)
+                yield Finding(f"{node['package']} is given {Path(models[0]).name} in arguments; it reads "
+                              f"/robot_description instead{_branch_note(node, resolution)}", *position,
+                              hint=f"remove arguments=[...] from the {node['package']} node: "
+                                   "robot_state_publisher publishes /robot_description")
+
+
+@register("PF307", "robot-description-not-string", "warning", area="launch",
+          summary="robot_description comes from Command() without ParameterValue(..., value_type=str)",
+          explanation="launch_ros parses a parameter's text as YAML; the xacro output then fails to "
+                      "load whenever it looks like YAML (since Jazzy launch refuses it).",
+          hint="wrap it: ParameterValue(Command([...]), value_type=str)")
+def robot_description_not_string(ctx: CheckContext):
+    for resolution in ctx.resolutions:
+        if resolution.launch.installed.suffix != ".py":
+            continue
+        for node in resolution.items.get("nodes", []):
+            if node.get("package") != "robot_state_publisher":
+                continue
+            for parameter in node.get("parameters", []):
+                if parameter.get("name") == "robot_description" and parameter.get("form") == "command-untyped":
+                    position = _position(ctx, resolution, parameter.get("file"), parameter.get("line"))
+                    if position is not None:
+                        yield Finding("robot_description is a Command() that launch_ros will parse as YAML",
+                                      *position)
+
+
+@register("PF308", "xacro-error", "error", area="launch",
+          summary="xacro fails on the model a launch file processes",
+          explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
+                      "message says why (an include that does not resolve, an undefined property, "
+                      "a $(find) of an unknown package).",
+          hint="fix the model as xacro's message says")
+def xacro_error(ctx: CheckContext):
+    seen = set()
+    for resolution in ctx.resolutions:
+        for command in resolution.items.get("commands", []):
+            if command.get("ok") or "model" not in command:
+                continue
+            position = _position(ctx, resolution, command.get("file"), command.get("line"))
+            if position is None or position in seen:
+                continue
+            seen.add(position)
+            message = command.get("message", "").strip().splitlines()
+            yield Finding(f"xacro {Path(command['model']).name}: {message[0] if message else 'failed'}",
+                          *position)
+        error = resolution.error or {}
+        if ctx.load_error_kind(resolution) == "xacro":
+            position = _position(ctx, resolution, error.get("file"), error.get("line"))
+            if position is not None:
+                yield Finding(f"xacro: {error['message']}", *position)
+
+
+@register("PF309", "launch-argument-required", "info", area="launch",
+          summary="a launch argument has no default, and no value was given",
+          explanation="What depends on it is skipped, not guessed. Give a value with "
+                      "--launch-arg name:=value to check it.",
+          hint="pass --launch-arg NAME:=VALUE, or give the argument a default")
+def launch_argument_required(ctx: CheckContext):
+    seen = set()
+    for resolution in ctx.resolutions:
+        for item in resolution.items.get("required", []):
+            if "skipped" in item:
+                continue
+            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            if position is not None and (item["name"], position) not in seen:
+                seen.add((item["name"], position))
+                yield Finding(f"launch argument '{item['name']}' has no default and no value", *position)
+
+
+@register("PF310", "unsupported-launch-api", "info", area="launch",
+          summary="a launch file uses a real launch API that pkgforge does not evaluate",
+          explanation="The construct is recorded and skipped; what it would do is not checked.",
+          hint="nothing to fix; check this part by running the launch file")
+def unsupported_launch_api(ctx: CheckContext):
+    seen = set()
+    for resolution in ctx.resolutions:
+        for item in resolution.items.get("unsupported", []):
+            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            if position is not None and (item["name"], position) not in seen:
+                seen.add((item["name"], position))
+                yield Finding(f"{item['name']} is not evaluated by pkgforge", *position)
+
+
+@register("PF311", "launch-unevaluated", "info", area="launch",
+          summary="a launch file imports a module of a package that is declared but not installed here",
+          explanation="Not the launch file's fault: the package is simply not on this machine. Its "
+                      "literal package and path references are still checked, statically.",
+          hint="verify on a machine with the dependency installed (or --install-base) to evaluate it")
+def launch_unevaluated(ctx: CheckContext):
+    for resolution in ctx.resolutions:
+        if ctx.load_error_kind(resolution) == "unevaluated":
+            error = resolution.error
+            position = _position(ctx, resolution, error.get("file"), error.get("line")) or \
+                (resolution.launch.source or resolution.launch.installed, None)
+            yield Finding(f"{resolution.launch.installed.name} imports {error.get('module')}, from a "
+                          "package not installed here; checked statically instead", *position)
+
+
+@register("PF312", "ros1-launch-file", "info", area="launch",
+          summary="a ROS 1 .launch file is installed",
+          explanation="ROS 2 launches .launch.py, .launch.xml and .launch.yaml files; a roslaunch "
+                      "file is left over from a ROS 1 package.",
+          hint="port it to a ROS 2 launch file, or stop installing it")
+def ros1_launch_file(ctx: CheckContext):
+    for launch in ctx.ros1_launch_files:
+        yield Finding(f"{launch.installed.name} is a ROS 1 launch file", launch.source or launch.installed)

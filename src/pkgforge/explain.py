@@ -1,0 +1,105 @@
+"""`pkgforge verify --explain-launch FILE`: how one launch file resolves in the install tree."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from .errors import PkgforgeError
+from .verify import VerifyOptions, load_models, make_tree
+from .workspace import locate
+
+OK, MISSING, UNCHECKED = "✓", "✗", "·"
+
+
+def _installed_path(file: Path, tree, models) -> tuple[Path, str]:
+    file = file.resolve()
+    if tree.locate(str(file)) is not None:
+        return file, tree.locate(str(file))[0]
+    for model in models:
+        for destination, installed in model.layout.files.items():
+            if installed.source is not None and installed.source.resolve() == file:
+                for prefix in tree.prefixes:
+                    if (prefix / destination).exists():
+                        return prefix / destination, model.name
+    raise PkgforgeError(f"{file} is not installed by any package under the workspace: "
+                        "is it in a folder the install rules cover?")
+
+
+def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
+    from .launch.resolve import LaunchFile, resolve, source_of
+
+    workspace = locate(path)
+    _, models = load_models(workspace, 1)
+    tree = make_tree(options, workspace, list(models.values()))
+    try:
+        installed, package = _installed_path(file, tree, models.values())
+        model = next((m for m in models.values() if m.name == package or m.share_name == package), None)
+        launch = LaunchFile(package, installed, source_of(installed, tree, model))
+        (resolution,) = resolve([launch], tree, timeout=options.launch_timeout,
+                                arguments=options.launch_arguments)
+        return _render(resolution, tree)
+    finally:
+        tree.close()
+
+
+def _short(path: str, tree) -> str:
+    located = tree.locate(path)
+    if located is None:
+        return path
+    return f"share/{located[0]}/{located[1]}"
+
+
+def _mark(path: str, exists: bool, tree) -> str:
+    if tree.is_phantom(path):
+        return UNCHECKED
+    return OK if exists else MISSING
+
+
+def _where(item: dict, tree) -> str:
+    file = item.get("file")
+    place = f"{os.path.basename(file)}:{item.get('line')}" if file else f"line {item.get('line')}"
+    branches = [b for b in item.get("branches", []) if b]
+    return place + (f" [{', '.join(branches)}]" if branches else "")
+
+
+def _render(resolution, tree) -> str:
+    launch = resolution.launch
+    lines = [f"{launch.source or launch.installed}", f"  installed as {_short(str(launch.installed), tree)} "
+             f"in the {tree.kind} tree"]
+    if resolution.status != "ok":
+        error = resolution.error or {}
+        lines.append(f"  {MISSING} {resolution.status}: {error.get('message')} (line {error.get('line')})")
+    if resolution.arguments:
+        lines.append("arguments:")
+        for argument in resolution.arguments:
+            values = " | ".join(argument["choices"]) if argument.get("choices") else argument.get("default")
+            shown = _short(values, tree) if isinstance(values, str) and values.startswith("/") else values
+            lines.append(f"  {argument['name']} = {shown if shown is not None else '(required)'}")
+    if resolution.branch_names:
+        lines.append(f"evaluated for: {'; '.join(resolution.branch_names)}")
+    sections = [
+        ("nodes", lambda n: f"{n.get('package')}/{n.get('executable')}" + (
+            f" args {[_short(a, tree) for a in n['arguments']]}" if n.get("arguments") else "") + "".join(
+            f"\n      param {p['name'] or '(file)'}: {p['form']}" for p in n.get("parameters", []))),
+        ("packages", lambda p: f"{UNCHECKED if p['name'] in tree.phantom_packages else MISSING if p.get('found') is False else OK} "
+                               f"{p['name']} ({p.get('via')})"
+                               + (" — declared, not installed here" if p['name'] in tree.phantom_packages else "")),
+        ("includes", lambda i: f"{_mark(i['path'], i['exists'], tree)} {_short(i['path'], tree)} {i.get('arguments') or ''}"),
+        ("paths", lambda p: f"{_mark(p['path'], p['exists'], tree)} {_short(p['path'], tree)} ({p.get('via')})"),
+        ("commands", lambda c: f"{OK if c['ok'] else MISSING} {' '.join(_short(w, tree) for w in c['command'])}"
+                               + ("" if c["ok"] else f"\n      {c.get('message', '').splitlines()[0] if c.get('message') else ''}")),
+        ("errors", lambda e: f"{MISSING} {e.get('entity')}: {e.get('message')}"),
+        ("unsupported", lambda u: f"{UNCHECKED} {u['name']} (not evaluated)"),
+    ]
+    for kind, show in sections:
+        items = resolution.items.get(kind, [])
+        if items:
+            lines.append(f"{kind}:")
+            seen = set()
+            for item in sorted(items, key=lambda i: (i.get("line") or 0)):
+                text = f"  {show(item)}  @ {_where(item, tree)}"
+                if text not in seen:
+                    seen.add(text)
+                    lines.append(text)
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,1 @@
+"""Resolving launch files in an install tree, in worker subprocesses."""

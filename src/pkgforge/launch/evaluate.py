@@ -1,0 +1,161 @@
+"""Evaluating one launch file in the worker: load it, then visit it once per branch.
+
+An argument with choices, or with a true/false default, is evaluated for every
+value (so both sides of `gui` are checked); `--launch-arg` values are fixed.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import itertools
+import os
+import re
+import traceback
+
+from . import runtime
+from .runtime import (RECORDER, Action, LaunchContext, LaunchDescription, LaunchDescriptionEntity,
+                      Recorder, Unresolved)
+
+MAX_BRANCHES = 16
+MAX_DEPTH = 32
+NOT_FOUND = re.compile(r"package '([^']+)' not found")
+_module_counter = itertools.count()
+
+
+def kind_of(path: str) -> str:
+    name = path.lower()
+    if name.endswith(".py"):
+        return "py"
+    if name.endswith((".yaml", ".yml")):
+        return "yaml"
+    return "xml"
+
+
+def load_description(path: str, kind: str | None = None) -> LaunchDescription:
+    kind = kind or kind_of(path)
+    runtime._LAUNCH_FILES.add(path)
+    if kind == "py":
+        spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        function = getattr(module, "generate_launch_description", None)
+        if function is None:
+            raise runtime.InvalidLaunchFileError(f"{os.path.basename(path)} has no generate_launch_description()")
+        description = function()
+        if not isinstance(description, LaunchDescription):
+            raise runtime.InvalidLaunchFileError(
+                f"generate_launch_description() returned {type(description).__name__}, not a LaunchDescription")
+        return description
+    from .frontend import parse_file
+
+    return parse_file(path, kind)
+
+
+def _location_in(path: str, error: BaseException) -> int | None:
+    """The deepest traceback line inside the launch file (or any launch file being evaluated)."""
+    line = None
+    for frame in traceback.extract_tb(error.__traceback__):
+        if frame.filename == path or frame.filename in runtime._LAUNCH_FILES:
+            line = frame.lineno
+    if line is None and isinstance(error, SyntaxError) and error.filename == path:
+        line = error.lineno
+    return line
+
+
+def _error_record(path: str, error: BaseException, stage: str) -> dict:
+    message = f"{type(error).__name__}: {error}"
+    if isinstance(error, SystemExit):
+        message = f"SystemExit: the launch file called sys.exit({error.code!r})"
+    record = {"stage": stage, "type": type(error).__name__, "message": message,
+              "file": path, "line": _location_in(path, error)}
+    if type(error).__name__ == "PackageNotFoundError":
+        match = NOT_FOUND.search(str(error))
+        record["package"] = match.group(1) if match else str(error).strip("'\"")
+    if isinstance(error, ModuleNotFoundError):
+        record["module"] = error.name
+    if getattr(error, "line", None) and type(error).__name__ == "FrontendError":
+        record["line"] = error.line
+    frames = traceback.extract_tb(error.__traceback__)
+    origin = next((f for f in reversed(frames) if f.filename in runtime._LAUNCH_FILES), None)
+    if origin is not None:
+        record["file"], record["line"] = origin.filename, origin.lineno
+    return record
+
+
+def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
+    if depth > MAX_DEPTH:
+        RECORDER.errors.append({"stage": "visit", "type": "RecursionError",
+                                "message": f"launch files include each other more than {MAX_DEPTH} deep",
+                                "file": context.current_file, "line": None})
+        return
+    for entity in entities:
+        if not isinstance(entity, LaunchDescriptionEntity):
+            continue
+        condition = getattr(entity, "condition", None) if isinstance(entity, Action) else None
+        try:
+            if condition is not None and not condition.evaluate(context):
+                continue
+            children = entity.visit(context)
+        except Unresolved as missing:
+            RECORDER.add("required", {"name": missing.name, "skipped": type(entity).__name__}, entity)
+            continue
+        except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
+            if type(error).__name__ == "PackageNotFoundError":
+                match = NOT_FOUND.search(str(error))
+                RECORDER.add("packages", {"name": match.group(1) if match else str(error),
+                                          "via": type(entity).__name__, "found": False}, entity)
+                continue
+            record = {"stage": "visit", "type": type(error).__name__, "message": str(error),
+                      "file": entity._file, "line": entity._line, "entity": type(entity).__name__}
+            record["branch"] = dict(RECORDER.branch)
+            RECORDER.errors.append(record)
+            continue
+        if children:
+            visit(list(children), context, depth + 1)
+
+
+def evaluate(path: str, overrides: dict[str, str]) -> dict:
+    """Resolve one launch file; the result is plain data (JSON)."""
+    runtime.RECORDER.__init__()  # a fresh record for each file
+    runtime._LAUNCH_FILES.clear()
+    runtime._LAUNCH_FILES.add(path)
+    try:
+        description = load_description(path)
+    except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
+        return {"status": "load-error", "error": _error_record(path, error, "load"), **_dump(RECORDER)}
+
+    def run(values: dict[str, str], label: dict[str, str]) -> None:
+        RECORDER.branch = label
+        context = LaunchContext()
+        context.current_file = path
+        context.launch_configurations.update(overrides)
+        context.launch_configurations.update(values)
+        visit([description], context)
+
+    run({}, {})
+    varying = [a for a in RECORDER.arguments.values()
+               if a["name"] not in overrides and a["file"] == path and (a["choices"] or a["boolean"])]
+    if varying:
+        defaults = {a["name"]: a["default"] for a in varying}
+        for kind in ("nodes", "packages", "paths", "includes", "commands", "unsupported", "required", "errors"):
+            for item in getattr(RECORDER, kind):
+                if not item.get("branch"):
+                    item["branch"] = dict(defaults)
+        domains = [a["choices"] or ["true", "false"] for a in varying]
+        names = [a["name"] for a in varying]
+        for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
+            assignment = dict(zip(names, values))
+            if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
+                continue
+            run(assignment, assignment)
+    return {"status": "ok", "error": None, **_dump(RECORDER)}
+
+
+def _dump(recorder: Recorder) -> dict:
+    return {
+        "arguments": list(recorder.arguments.values()),
+        "nodes": recorder.nodes, "packages": recorder.packages, "paths": recorder.paths,
+        "includes": recorder.includes, "commands": recorder.commands,
+        "unsupported": recorder.unsupported, "required": recorder.required, "errors": recorder.errors,
+        "files": sorted(runtime._LAUNCH_FILES),
+    }

@@ -1,0 +1,201 @@
+"""Resolving every launch file of the verified packages, in worker subprocesses.
+
+The parent hands each worker a batch of files, one at a time, and waits for
+each reply no longer than the time limit; a worker that runs past it (a loop,
+a hang) or dies (os._exit) is killed and replaced, and the file is reported.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import queue
+import subprocess
+import sys
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..model.package import PackageModel
+from ..model.references import launch_kind
+from ..trees import InstallTree
+
+DEFAULT_TIMEOUT = 10.0
+ITEM_KINDS = ("nodes", "packages", "paths", "includes", "commands", "unsupported", "required", "errors")
+
+
+@dataclass(frozen=True)
+class LaunchFile:
+    package: str
+    installed: Path
+    source: Path | None
+
+
+@dataclass
+class Resolution:
+    """One launch file resolved: plain data, items de-duplicated across branches."""
+
+    launch: LaunchFile
+    status: str  # ok | load-error | timeout | crashed
+    error: dict | None = None
+    arguments: list = field(default_factory=list)
+    items: dict[str, list[dict]] = field(default_factory=dict)
+    branches: int = 1
+    branch_names: list[str] = field(default_factory=list)
+
+
+def find_launch_files(tree: InstallTree, models: list[PackageModel]) -> tuple[list[LaunchFile], list[LaunchFile]]:
+    """(launch files, ROS 1 .launch files) installed by the given packages."""
+    found, ros1 = [], []
+    for model in models:
+        share = tree.share(model.share_name)
+        if share is None or not share.is_dir():
+            continue
+        for root, dirs, files in os.walk(share, followlinks=True):
+            dirs[:] = sorted(d for d in dirs if d not in ("test", "tests", "__pycache__") and not d.startswith("."))
+            for name in sorted(files):
+                installed = Path(root) / name
+                if name.endswith(".launch") and not name.endswith((".launch.py", ".launch.xml")):
+                    ros1.append(LaunchFile(model.name, installed, source_of(installed, tree, model)))
+                    continue
+                if name.startswith("test_") or not _is_launch_file(installed):
+                    continue
+                found.append(LaunchFile(model.name, installed, source_of(installed, tree, model)))
+    return found, ros1
+
+
+def _is_launch_file(path: Path) -> bool:
+    kind = launch_kind(path)
+    if kind is None:
+        return False
+    if path.name.endswith((f".launch.{kind}", f"_launch.{kind}")):
+        return True
+    try:
+        head = path.read_text(errors="replace")[:65536]
+    except OSError:
+        return False
+    if kind == "py":
+        return "generate_launch_description" in head
+    return "<launch" in head if kind == "xml" else head.lstrip().startswith("launch:")
+
+
+def source_of(installed: Path, tree: InstallTree, model: PackageModel | None) -> Path | None:
+    """The source file an installed file came from (by the model's layout, else by name)."""
+    located = tree.locate(str(installed))
+    if located is None or model is None:
+        return None
+    package, relative, _ = located
+    entry = model.layout.files.get(f"share/{package}/{relative}")
+    if entry is not None and entry.source is not None:
+        return entry.source
+    candidate = model.path / relative
+    return candidate if candidate.is_file() else None
+
+
+class _Worker:
+    def __init__(self, env: dict[str, str]):
+        self.env = env
+        self.process: subprocess.Popen | None = None
+        self.replies: queue.Queue = queue.Queue()
+
+    def start(self) -> None:
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "pkgforge.launch.worker"], stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=self.env, text=True,
+            start_new_session=True)
+        self.replies = queue.Queue()
+        threading.Thread(target=self._read, args=(self.process, self.replies), daemon=True).start()
+
+    @staticmethod
+    def _read(process, replies) -> None:
+        for line in process.stdout:
+            replies.put(line)
+        replies.put(None)
+
+    def ask(self, request: dict, timeout: float) -> dict:
+        if self.process is None or self.process.poll() is not None:
+            self.start()
+        try:
+            self.process.stdin.write(json.dumps(request) + "\n")
+            self.process.stdin.flush()
+        except (BrokenPipeError, OSError):
+            self.stop()
+            return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
+        deadline = time.monotonic() + timeout
+        try:
+            line = self.replies.get(timeout=max(0.1, deadline - time.monotonic()))
+        except queue.Empty:
+            self.stop()
+            return {"status": "timeout", "error": {
+                "message": f"still running after the {timeout:g} s limit (an endless loop, or waiting "
+                           "for something); raise it with --launch-timeout", "line": None}}
+        if line is None:
+            code = self.process.poll()
+            self.stop()
+            return {"status": "crashed", "error": {
+                "message": f"the process evaluating it exited (status {code}) without a result "
+                           "(os._exit or a crash in an extension module)", "line": None}}
+        return json.loads(line)
+
+    def stop(self) -> None:
+        if self.process is not None:
+            try:
+                os.killpg(self.process.pid, 9)
+            except (ProcessLookupError, PermissionError):
+                pass
+            self.process.wait()
+            self.process = None
+
+
+def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
+            timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None) -> list[Resolution]:
+    if not launch_files:
+        return []
+    env = tree.environment()
+    scripts = os.path.dirname(sys.executable)
+    env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
+    work: queue.Queue = queue.Queue()
+    for index, launch in enumerate(launch_files):
+        work.put((index, launch))
+    results: list[Resolution | None] = [None] * len(launch_files)
+
+    def run() -> None:
+        worker = _Worker(env)
+        try:
+            while True:
+                try:
+                    index, launch = work.get_nowait()
+                except queue.Empty:
+                    return
+                reply = worker.ask({"file": str(launch.installed), "arguments": arguments or {}}, timeout)
+                results[index] = _resolution(launch, reply)
+        finally:
+            worker.stop()
+
+    threads = [threading.Thread(target=run) for _ in range(max(1, min(jobs, len(launch_files))))]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    return [r for r in results if r is not None]
+
+
+def _resolution(launch: LaunchFile, reply: dict) -> Resolution:
+    resolution = Resolution(launch, reply.get("status", "crashed"), reply.get("error"),
+                            reply.get("arguments", []))
+    branch_keys = set()
+    for kind in ITEM_KINDS:
+        merged: dict[str, dict] = {}
+        for item in reply.get(kind, []):
+            branch = item.pop("branch", {}) or {}
+            label = " ".join(f"{k}:={v}" for k, v in sorted(branch.items()))
+            branch_keys.add(label)
+            key = json.dumps(item, sort_keys=True, default=str)
+            entry = merged.setdefault(key, dict(item, branches=[]))
+            if label not in entry["branches"]:
+                entry["branches"].append(label)
+        resolution.items[kind] = list(merged.values())
+    resolution.branch_names = sorted(b for b in branch_keys if b)
+    resolution.branches = max(1, len(resolution.branch_names))
+    return resolution
