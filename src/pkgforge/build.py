@@ -134,8 +134,12 @@ def log_tail(log_base: Path, package: str, lines: int = LOG_TAIL_LINES) -> str:
     return "\n".join(text[-lines:])
 
 
-def run_build(workspace: Workspace, options: BuildOptions, *, out=None) -> BuildResult:
-    """Build with colcon; raise BuildFailed (exit 1) naming the failing packages."""
+def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
+              colcon_output_to_stderr: bool = False) -> BuildResult:
+    """Build with colcon; raise BuildFailed (exit 1) naming the failing packages.
+
+    `colcon_output_to_stderr` keeps standard output free for a report (verify --build).
+    """
     out = out or sys.stderr
     toolchain = detect()
     env = toolchain.environment()
@@ -168,7 +172,8 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None) -> Build
         (options.build_base / name / "colcon_build.rc").unlink(missing_ok=True)
     out.flush()
     try:
-        completed = subprocess.run(cmd, cwd=workspace.root, env=env, stdin=subprocess.DEVNULL)
+        completed = subprocess.run(cmd, cwd=workspace.root, env=env, stdin=subprocess.DEVNULL,
+                                   stdout=sys.stderr if colcon_output_to_stderr else None)
     except OSError as exc:
         raise PkgforgeError(f"cannot run colcon: {exc}") from exc
     if completed.returncode != 0:

@@ -14,7 +14,6 @@ that nothing under it can be checked.
 from __future__ import annotations
 
 import os
-import shutil
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,6 +32,8 @@ class InstallTree:
     phantom: Path | None = None
     packages: dict[str, Path] = field(default_factory=dict)  # package → prefix holding it
     phantom_packages: set[str] = field(default_factory=set)
+    # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS)
+    system_packages: set[str] = field(default_factory=set)
     _temporary: tempfile.TemporaryDirectory | None = None
 
     def share(self, package: str) -> Path | None:
@@ -85,7 +86,8 @@ def _user_prefixes() -> list[Path]:
 
 
 def _add_phantoms(tree: InstallTree, models: list[PackageModel], root: Path) -> None:
-    available = set(tree.packages) | set(_index(_user_prefixes()))
+    tree.system_packages = set(_index(_user_prefixes()))
+    available = set(tree.packages) | tree.system_packages
     wanted = {dep.name for model in models for dep in model.manifest.dependencies
               if dep.tag not in ("test_depend", "doc_depend")}
     missing = sorted(name for name in wanted - available if name)
@@ -145,11 +147,8 @@ def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTre
 
     base = workspace.root / "build" / "pkgforge-verify"
     options = BuildOptions(build_base=base / "build", install_base=base / "install", log_base=base / "log")
-    run_build(workspace, options, out=out)
+    run_build(workspace, options, out=out, colcon_output_to_stderr=True)
     tree = existing_tree(options.install_base, models)
     tree.kind = "built"
     return tree
 
-
-def remove_tree_cache(workspace) -> None:
-    shutil.rmtree(workspace.root / "build" / "pkgforge-verify", ignore_errors=True)

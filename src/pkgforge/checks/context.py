@@ -36,13 +36,20 @@ class CheckContext:
         return self.models.get(package)
 
     def tree_packages(self) -> set[str]:
+        """Packages a lookup finds: in the tree, declared (phantom), or already installed."""
         if self.tree is None:
             return set()
-        return set(self.tree.packages) | set(self.tree.phantom_packages)
+        return set(self.tree.packages) | set(self.tree.phantom_packages) | set(self.tree.system_packages)
+
+    def real_packages(self) -> set[str]:
+        """Every name known to be a ROS package, declared here or not."""
+        from ..known_packages import WELL_KNOWN
+
+        return set(self.workspace) | self.tree_packages() | WELL_KNOWN
 
     def known_packages(self) -> set[str]:
-        """Packages that exist for this package: the workspace's, its declared ones, installed ones."""
-        return set(self.workspace) | self.model.manifest.declared() | self.tree_packages()
+        """Names that are no typo: real packages, and whatever this package declares."""
+        return self.real_packages() | self.model.manifest.declared()
 
     # --- locations ----------------------------------------------------------------------------
 

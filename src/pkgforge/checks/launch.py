@@ -12,6 +12,9 @@ from .install import install_fix
 from .registry import register
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
+# `ros2 launch` (ros2launch) depends on these: whoever can launch has them
+LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
+                         "ros2launch"}
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
 
 
@@ -139,6 +142,12 @@ def _looked_up(ctx: CheckContext):
     for path, references in ctx.static_fallback().items():
         for reference in references:
             yield reference.package, reference.path, reference.line, reference.via, {}, None
+    # a Python launch file that imports a ROS package's module needs that package at run time
+    evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
+    for reference in ctx.model.references:
+        if reference.via == "import" and reference.path in evaluated \
+                and reference.package not in LAUNCH_INFRASTRUCTURE:
+            yield reference.package, reference.path, reference.line, "import of", {}, None
 
 
 @register("PF304", "unknown-package", "error", area="launch",
@@ -153,13 +162,10 @@ def unknown_package(ctx: CheckContext):
     known = ctx.known_packages()
     seen = set()
     for name, path, line, via, item, _ in _looked_up(ctx):
-        if name in known or (name, str(path), line) in seen:
-            continue
-        if item.get("found") is not False and not via == "lookup" and ctx.tree is not None \
-                and name in ctx.tree.packages:
+        if name in known or (name, str(path), line) in seen or via == "import of":
             continue
         seen.add((name, str(path), line))
-        candidates = sorted(known | {ctx.model.path.name})
+        candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
         near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
         hint = f"did you mean {', '.join(near)}?" if near else "check the name against package.xml <name>"
         yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
@@ -177,11 +183,12 @@ def missing_exec_depend(ctx: CheckContext):
         return  # with no readable manifest, nothing is known to be declared
     declared = model.manifest.run_dependencies()
     own = {model.name, model.share_name}
-    known = ctx.known_packages() | ctx.tree_packages()
+    known = ctx.real_packages()
     reported = set()
     for name, path, line, via, item, resolution in sorted(
             _looked_up(ctx), key=lambda x: (x[0], str(x[1]), x[2] or 0)):
-        if name in own or name in declared or name in reported or name not in known:
+        if name in own or name in declared or name in reported or name not in known \
+                or name in LAUNCH_INFRASTRUCTURE:
             continue
         reported.add(name)
         note = _branch_note(item, resolution) if resolution is not None else ""
