@@ -1,16 +1,19 @@
-"""`pkgforge verify` against `colcon list` on one generated workspace of N packages.
+"""`pkgforge verify` against `colcon list` (and `colcon build`) on one generated workspace.
 
-    .venv/bin/python bench/verify_workspace.py [--packages 200] [--repeat 5] [--keep DIR]
+    .venv/bin/python bench/verify_workspace.py [--packages 200] [--repeat 9] [--keep DIR] [--with-build]
 
 The packages are made with pkgforge's own scaffold (the code behind `pkgforge new`).
-Both commands run as subprocesses, as a user runs them; the table gives the
-median wall time of each and their ratio. Asserts nothing.
+Every command runs as a subprocess, as a user runs it, interleaved with the
+others; the table gives each one's median wall time and its median ratio to
+`colcon list` in the same round. With --with-build, `colcon build` and
+`pkgforge verify --build` run once each (cold). Asserts nothing.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -58,13 +61,16 @@ def main() -> None:
     parser.add_argument("--packages", type=int, default=200)
     parser.add_argument("--repeat", type=int, default=9)
     parser.add_argument("--keep", type=Path, default=None, help="generate into (and keep) this folder")
+    parser.add_argument("--with-build", action="store_true", help="also time colcon build and verify --build")
     args = parser.parse_args()
 
+    verify = [sys.executable, "-m", "pkgforge", "verify", "--format", "json"]
+    static = ["--select", "PF1,PF2,PF9"]  # manifest and install checks: no launch resolution
     commands = {
         "colcon list": [str(SCRIPTS / "colcon"), "list"],
-        "pkgforge verify": [sys.executable, "-m", "pkgforge", "verify", "--format", "json"],
-        "pkgforge verify --jobs 1": [sys.executable, "-m", "pkgforge", "verify", "--jobs", "1",
-                                     "--format", "json"],
+        "verify, manifest+install checks": [*verify, *static],
+        "  same, --jobs 1": [*verify, *static, "--jobs", "1"],
+        "verify (default: + launch files)": verify,
     }
     with tempfile.TemporaryDirectory() as tmp:
         root = generate(args.keep or Path(tmp), args.packages)
@@ -75,13 +81,26 @@ def main() -> None:
         for _ in range(args.repeat):
             for name, cmd in commands.items():
                 times[name].append(timed(cmd, root))
+        once = {}
+        if args.with_build:
+            env_build = dict(ENV, CMAKE_PREFIX_PATH=sys.prefix, PATH=f"{SCRIPTS}{os.pathsep}{ENV['PATH']}")
+            for folder in ("build", "install", "log"):
+                shutil.rmtree(root / folder, ignore_errors=True)
+            start = time.perf_counter()
+            subprocess.run([str(SCRIPTS / "colcon"), "build", "--merge-install", "--cmake-args",
+                            "-DBUILD_TESTING=OFF"], cwd=root, env=env_build, capture_output=True, check=True)
+            once["colcon build (cold)"] = time.perf_counter() - start
+            once["verify --build (cold)"] = timed([*verify, "--build"], root)
+            once["verify --install-base install"] = timed([*verify, "--install-base", "install"], root)
 
     base = times["colcon list"]
     print(f"workspace: {args.packages} packages, {args.repeat} interleaved runs")
-    print(f"{'command':<28}{'median s':>10}{'median ratio to colcon list':>30}")
+    print(f"{'command':<34}{'median s':>10}{'ratio to colcon list':>24}")
     for name, values in times.items():
         ratio = statistics.median(v / b for v, b in zip(values, base))
-        print(f"{name:<28}{statistics.median(values):>10.2f}{ratio:>30.2f}")
+        print(f"{name:<34}{statistics.median(values):>10.2f}{ratio:>24.2f}")
+    for name, seconds in once.items():
+        print(f"{name:<34}{seconds:>10.2f}{seconds / statistics.median(base):>24.2f}")
 
 
 if __name__ == "__main__":

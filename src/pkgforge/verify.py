@@ -186,17 +186,40 @@ def make_tree(options: VerifyOptions, workspace: Workspace, models: list[Package
     return predicted_tree(models)
 
 
+def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict]:
+    """One package of a workspace (pre-commit): it, and the workspace packages it declares.
+
+    The other packages matter only by name, which a walk reads cheaply; colcon
+    identifies just this folder.
+    """
+    folder = workspace.package_path.resolve()
+    everything = {quick_name(p): p for p in package_folders(workspace.base_path)}
+    targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
+    if not targets:
+        return [], {}, everything
+    models = {folder: _load(targets[0])}
+    todo = [models[folder]]
+    while todo:
+        for dependency in todo.pop().manifest.declared():
+            path = everything.get(dependency)
+            if path is not None and path not in models:
+                models[path] = _load(PackageTarget(path, dependency, None, False))
+                todo.append(models[path])
+    return targets, models, everything
+
+
 def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     root = path.resolve()
     workspace = locate(path)
     config: Config = load_config(workspace.root, options.selection)
     jobs = options.jobs or os.cpu_count() or 1
-    targets, models = load_models(workspace, jobs)
     if workspace.package_path is not None:
-        targets = [t for t in targets if t.path == workspace.package_path.resolve()]
+        targets, models, everything = load_one_package(workspace)
+    else:
+        targets, models = load_models(workspace, jobs)
+        everything = {model.name: path for path, model in models.items()}
     if not targets:
         raise PkgforgeError(f"no package found under {root}")
-    everything = {t.name: t.path for t in find_targets_names(models)}
     codes = {t.path: config.for_package(t.name, t.path).codes() for t in targets}
     launch_codes = {c.code for c in all_checks() if c.area == LAUNCH_AREA}
     checked = [models[t.path] for t in targets]
@@ -227,6 +250,3 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     checks_run = set().union(*codes.values())
     return VerifyResult(root, reports, checks_run, tree.kind if tree else None, launch_count)
 
-
-def find_targets_names(models: dict[Path, PackageModel]) -> list[PackageTarget]:
-    return [PackageTarget(path, model.name, None, False) for path, model in models.items()]
