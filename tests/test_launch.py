@@ -155,11 +155,10 @@ def test_xacro_error_names_xacros_message(tmp_path):
     (package / "urdf" / "small_turtle.urdf").write_text(
         '<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
         '  <xacro:include filename="$(find small_turtle)/urdf/gone.xacro"/>\n</robot>\n')
-    launch = package / "launch" / "display.launch.py"
     status, report = verify(package)
     assert status == 1
-    assert found(report) == [("PF308", "xacro-error", "launch/display.launch.py",
-                              line_of(launch, "Command(["))]
+    # at the model's include line, where the fix goes (not at the launch line that runs xacro)
+    assert found(report) == [("PF308", "xacro-error", "urdf/small_turtle.urdf", 2)]
     assert "gone.xacro" in report["diagnostics"][0]["message"]
 
 

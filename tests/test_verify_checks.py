@@ -110,9 +110,14 @@ def test_package_name_invalid(tmp_path, template_package):
 def test_project_name_mismatch(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "project(rob_description NONE)", "project(robot_description NONE)")
-    status, report = verify_json(package)
+    status, report = verify_json(package, "--select", "PF1,PF2,PF9")
     assert findings(report) == [("PF103", "project-name-mismatch", "error", "CMakeLists.txt",
                                  line_of(cmake, "project("))]
+    # and what it breaks: the package installs as robot_description, so $(find rob_description) fails
+    _, report = verify_json(package)
+    model = package / "urdf" / "rob_description.urdf.xacro"
+    assert ("PF308", "xacro-error", "error", "urdf/rob_description.urdf.xacro",
+            line_of(model, "$(find rob_description)")) in findings(report)
 
 
 def test_folder_name_mismatch(package):

@@ -27,7 +27,8 @@ IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
 NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
-LAUNCH_AREA = "launch"
+# areas whose checks need the install tree and worker subprocesses
+TREE_AREAS = ("launch", "model", "rviz")
 
 
 @dataclass(frozen=True)
@@ -208,6 +209,34 @@ def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Pa
     return targets, models, everything
 
 
+def rviz_configs(tree, checked: list[PackageModel], resolutions: dict) -> dict:
+    """package → (its RViz configs, [(config, launch file passing it with -d)])."""
+    from .launch.resolve import source_of
+    from .rviz import read_rviz
+
+    out = {}
+    for model in checked:
+        configs: dict[Path, object] = {}
+        for destination, installed in model.layout.files.items():
+            if destination.endswith(".rviz") and installed.source is not None:
+                configs[installed.source] = read_rviz(installed.source)
+        launches = []
+        for resolution in resolutions.get(model.name, []):
+            for node in resolution.items.get("nodes", []):
+                arguments = node.get("arguments") or []
+                if node.get("package") != "rviz2" or "-d" not in arguments[:-1]:
+                    continue
+                installed = Path(arguments[arguments.index("-d") + 1])
+                source = source_of(installed, tree, model)
+                if source is None or not source.is_file():
+                    continue  # another package's config, or missing (uninstalled-reference says so)
+                if source not in configs:
+                    configs[source] = read_rviz(source)
+                launches.append((configs[source], resolution.launch))
+        out[model.name] = (list(configs.values()), launches)
+    return out
+
+
 def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     root = path.resolve()
     workspace = locate(path)
@@ -221,11 +250,13 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     if not targets:
         raise PkgforgeError(f"no package found under {root}")
     codes = {t.path: config.for_package(t.name, t.path).codes() for t in targets}
-    launch_codes = {c.code for c in all_checks() if c.area == LAUNCH_AREA}
+    tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS}
     checked = [models[t.path] for t in targets]
 
-    tree, resolutions, ros1, launch_count = None, {}, {}, 0
-    if any(codes[t.path] & launch_codes for t in targets):
+    tree, launch_count = None, 0
+    resolutions, ros1, model_results, rviz = {}, {}, {}, {}
+    if any(codes[t.path] & tree_codes for t in targets):
+        from . import models as robot_models
         from .launch.resolve import find_launch_files, resolve
 
         tree = make_tree(options, workspace, list(models.values()))
@@ -236,13 +267,19 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
             resolutions.setdefault(resolution.launch.package, []).append(resolution)
         for launch in ros1_files:
             ros1.setdefault(launch.package, []).append(launch)
+        for result in robot_models.process(robot_models.collect(tree, checked, resolutions), tree,
+                                           jobs=jobs, timeout=options.launch_timeout):
+            model_results.setdefault(result.package, []).append(result)
+        rviz = rviz_configs(tree, checked, resolutions)
     try:
         by_share = {m.share_name: m for m in models.values()}
         reports = []
         for target in targets:
             model = models[target.path]
+            configs, launches = rviz.get(model.name, ([], []))
             context = CheckContext(model, everything, by_share, tree, resolutions.get(model.name, []),
-                                   ros1.get(model.name, []))
+                                   ros1.get(model.name, []), model_results.get(model.name, []),
+                                   configs, launches)
             reports.append(run_checks(context, codes[target.path]))
     finally:
         if tree is not None:

@@ -21,6 +21,9 @@ class CheckContext:
     tree: object | None = None  # trees.InstallTree, when launch files were resolved
     resolutions: list = field(default_factory=list)  # launch.resolve.Resolution of this package
     ros1_launch_files: list = field(default_factory=list)
+    model_results: list = field(default_factory=list)  # models.ModelResult of this package
+    rviz_configs: list = field(default_factory=list)  # rviz.RvizConfig of this package's own files
+    rviz_launches: list = field(default_factory=list)  # (RvizConfig, LaunchFile) a launch passes with -d
 
     def relative(self, path: Path) -> str:
         try:
@@ -69,6 +72,26 @@ class CheckContext:
         entry = self.model.layout.files.get(f"share/{package}/{relative}")
         source = entry.source if entry is not None and entry.source is not None else self.model.path / relative
         return source, line
+
+    def own_source(self, installed: str) -> Path | None:
+        """The source of an installed file of this package (a model, an include), else None."""
+        if self.tree is None:
+            return None
+        located = self.tree.locate(installed)
+        if located is None or located[0] not in (self.model.share_name, self.model.name):
+            return None
+        entry = self.model.layout.files.get(f"share/{located[0]}/{located[1]}")
+        if entry is not None and entry.source is not None:
+            return entry.source
+        return self.model.path / located[1]
+
+    def file_exists_for_rviz(self, reference: str) -> bool:
+        """A Description File as RViz reads it: an absolute path, or package://."""
+        if reference.startswith("package://") and self.tree is not None:
+            from ..meshes import resolve_uri
+
+            return resolve_uri(reference, self.tree).status in ("found", "unchecked")
+        return Path(reference).is_file()
 
     def static_line(self, path: Path, package: str, relative: str) -> int | None:
         """The line where the file names package/relative literally, if it does."""

@@ -12,6 +12,10 @@ from .install import install_fix
 from .registry import register
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
+# rviz2 depends on these; a declared rviz2 brings their displays
+RVIZ_BUILTIN = {"rviz_common", "rviz_default_plugins"}
+# uses that missing-exec-depend checks; unknown names there are xacro's or RViz's error to report
+STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "package://", "$(find)", "RViz display from"}
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
                          "ros2launch"}
@@ -142,6 +146,18 @@ def _looked_up(ctx: CheckContext):
     for path, references in ctx.static_fallback().items():
         for reference in references:
             yield reference.package, reference.path, reference.line, reference.via, {}, None
+    # models: $(find pkg) and package://pkg, as written and as xacro expanded them
+    for reference in ctx.model.references:
+        if reference.via in ("package://", "$(find)") and reference.path.name.endswith(MODEL_SUFFIXES):
+            yield reference.package, reference.path, reference.line, reference.via, {}, None
+        elif reference.via == "rviz plugin":
+            yield reference.package, reference.path, reference.line, "RViz display from", {}, None
+    for result in ctx.model_results:
+        for mesh in (result.robot or {}).get("meshes", []):
+            if mesh["uri"].startswith("package://"):
+                package = mesh["uri"][len("package://"):].split("/")[0]
+                source = ctx.own_source(mesh.get("file") or "") or result.source or result.installed
+                yield package, source, mesh.get("line"), "package://", {}, None
     # a Python launch file that imports a ROS package's module needs that package at run time
     evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
     for reference in ctx.model.references:
@@ -162,7 +178,7 @@ def unknown_package(ctx: CheckContext):
     known = ctx.known_packages()
     seen = set()
     for name, path, line, via, item, _ in _looked_up(ctx):
-        if name in known or (name, str(path), line) in seen or via == "import of":
+        if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
         seen.add((name, str(path), line))
         candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
@@ -190,6 +206,8 @@ def missing_exec_depend(ctx: CheckContext):
         if name in own or name in declared or name in reported or name not in known \
                 or name in LAUNCH_INFRASTRUCTURE:
             continue
+        if name in RVIZ_BUILTIN and "rviz2" in declared:
+            continue  # rviz2 depends on them
         reported.add(name)
         note = _branch_note(item, resolution) if resolution is not None else ""
         yield Finding(f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
@@ -240,17 +258,21 @@ def robot_description_not_string(ctx: CheckContext):
                                       *position)
 
 
-@register("PF308", "xacro-error", "error", area="launch",
+@register("PF308", "xacro-error", "error", area="model",
           summary="xacro fails on the model a launch file processes",
           explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
                       "message says why (an include that does not resolve, an undefined property, "
                       "a $(find) of an unknown package).",
           hint="fix the model as xacro's message says")
 def xacro_error(ctx: CheckContext):
+    from .model import model_error_paths, xacro_model_errors
+
+    yield from xacro_model_errors(ctx)
+    covered = model_error_paths(ctx)  # reported above, at the model's own line
     seen = set()
     for resolution in ctx.resolutions:
         for command in resolution.items.get("commands", []):
-            if command.get("ok") or "model" not in command:
+            if command.get("ok") or "model" not in command or command["model"] in covered:
                 continue
             position = _position(ctx, resolution, command.get("file"), command.get("line"))
             if position is None or position in seen:

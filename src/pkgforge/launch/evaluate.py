@@ -10,6 +10,7 @@ import importlib.util
 import itertools
 import os
 import re
+import sys
 import traceback
 
 from . import runtime
@@ -114,8 +115,41 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
             visit(list(children), context, depth + 1)
 
 
+def _watch_xacro() -> None:
+    """Record models a Python launch file processes with the xacro module itself (seed 000's style)."""
+    import xacro
+
+    if getattr(xacro, "_pkgforge_watched", False):
+        return
+    real_parse, real_process_file = xacro.parse, xacro.process_file
+
+    def note(path, via):
+        # only a call from the launch file itself: xacro calls parse() for every include too
+        caller = sys._getframe(2).f_code.co_filename
+        if caller not in runtime._LAUNCH_FILES:
+            return
+        if not runtime._RUNNING_XACRO and isinstance(path, str) and os.path.isabs(path):
+            file, line = runtime.here()
+            RECORDER.add("commands", {"command": ["xacro", path], "ok": True, "message": "", "model": path,
+                                      "mappings": {}, "via": via, "file": file, "line": line})
+            RECORDER.add("packages", {"name": "xacro", "via": via, "file": file, "line": line})
+
+    def parse(inp, filename=None, **kwargs):
+        note(filename or getattr(inp, "name", None), "xacro.parse")
+        return real_parse(inp, filename, **kwargs)
+
+    def process_file(input_file_name, **kwargs):
+        note(input_file_name, "xacro.process_file")
+        return real_process_file(input_file_name, **kwargs)
+
+    xacro._pkgforge_real_process_file = real_process_file  # Command(['xacro', ...]) records itself
+    xacro.parse, xacro.process_file = parse, process_file
+    xacro._pkgforge_watched = True
+
+
 def evaluate(path: str, overrides: dict[str, str]) -> dict:
     """Resolve one launch file; the result is plain data (JSON)."""
+    _watch_xacro()
     runtime.RECORDER.__init__()  # a fresh record for each file
     runtime._LAUNCH_FILES.clear()
     runtime._LAUNCH_FILES.add(path)

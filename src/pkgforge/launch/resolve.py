@@ -148,37 +148,44 @@ class _Worker:
             self.process = None
 
 
-def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
-            timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None) -> list[Resolution]:
-    if not launch_files:
+def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
+                 timeout: float = DEFAULT_TIMEOUT) -> list[dict]:
+    """Each request answered by a worker subprocess, in order; a hang or crash is an answer too."""
+    if not requests:
         return []
     env = tree.environment()
     scripts = os.path.dirname(sys.executable)
     env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
     work: queue.Queue = queue.Queue()
-    for index, launch in enumerate(launch_files):
-        work.put((index, launch))
-    results: list[Resolution | None] = [None] * len(launch_files)
+    for index, request in enumerate(requests):
+        work.put((index, request))
+    replies: list[dict | None] = [None] * len(requests)
 
     def run() -> None:
         worker = _Worker(env)
         try:
             while True:
                 try:
-                    index, launch = work.get_nowait()
+                    index, request = work.get_nowait()
                 except queue.Empty:
                     return
-                reply = worker.ask({"file": str(launch.installed), "arguments": arguments or {}}, timeout)
-                results[index] = _resolution(launch, reply)
+                replies[index] = worker.ask(request, timeout)
         finally:
             worker.stop()
 
-    threads = [threading.Thread(target=run) for _ in range(max(1, min(jobs, len(launch_files))))]
+    threads = [threading.Thread(target=run) for _ in range(max(1, min(jobs, len(requests))))]
     for thread in threads:
         thread.start()
     for thread in threads:
         thread.join()
-    return [r for r in results if r is not None]
+    return replies
+
+
+def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
+            timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None) -> list[Resolution]:
+    requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
+    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout)
+    return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies)]
 
 
 def _resolution(launch: LaunchFile, reply: dict) -> Resolution:

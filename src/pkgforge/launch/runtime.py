@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 _LAUNCH_FILES: set[str] = set()  # files being evaluated; frames in them are "user" frames
 _FRONTEND_LOCATION: list[tuple[str, int]] = []  # (file, line) while the XML/YAML frontend builds
+_RUNNING_XACRO = False  # pkgforge's own xacro run (a Command), not the launch file's
 
 
 def here() -> tuple[str | None, int | None]:
@@ -292,20 +293,24 @@ def _run_xacro(args: list[str]) -> tuple[bool, str, str]:
 
     import xacro
 
+    process_file = getattr(xacro, "_pkgforge_real_process_file", xacro.process_file)
     files = [a for a in args if ":=" not in a and not a.startswith("-")]
     mappings = dict(a.split(":=", 1) for a in args if ":=" in a)
     if not files:
         return False, "", "xacro: no input file"
     stderr = io.StringIO()
     real_stderr, sys.stderr = sys.stderr, stderr
+    global _RUNNING_XACRO
+    _RUNNING_XACRO = True
     try:
-        document = xacro.process_file(files[0], mappings=mappings)
+        document = process_file(files[0], mappings=mappings)
         return True, document.toprettyxml(indent="  "), ""
     except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
         message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
         extra = stderr.getvalue().strip()
         return False, "", f"{message}\n{extra}".strip()
     finally:
+        _RUNNING_XACRO = False
         sys.stderr = real_stderr
 
 

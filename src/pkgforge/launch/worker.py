@@ -33,14 +33,19 @@ def main() -> None:
     sys.stdout = sys.stderr = open(os.devnull, "w")
     _install_api()
     from pkgforge.launch.evaluate import evaluate
+    from pkgforge.robot import process_model
 
     for line in sys.stdin:
         request = json.loads(line)
         try:
-            result = evaluate(request["file"], request.get("arguments", {}))
+            if "model" in request:
+                result = process_model(request["model"], request.get("mappings", {}))
+            else:
+                result = evaluate(request["file"], request.get("arguments", {}))
         except BaseException as error:  # noqa: BLE001 - the reply must always come
             result = {"status": "load-error", "error": {"stage": "worker", "type": type(error).__name__,
-                                                        "message": str(error), "file": request["file"],
+                                                        "message": str(error),
+                                                        "file": request.get("file") or request.get("model"),
                                                         "line": None}}
         result["request"] = request
         replies.write(json.dumps(result, default=str) + "\n")

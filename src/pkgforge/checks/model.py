@@ -1,0 +1,199 @@
+"""Checks of robot models (xacro/URDF) and the meshes they reference, in the install tree."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+from ..diagnostics import Finding
+from ..meshes import resolve_uri, unreadable
+from .context import CheckContext
+from .install import install_fix
+from .registry import register
+
+
+def _where(ctx: CheckContext, result, file: str | None, line: int | None):
+    """(source path, line) in this package, falling back to the model's own source file."""
+    own = ctx.own_source(file) if file else None
+    if own is not None:
+        return own, line
+    return (result.source or result.installed), None
+
+
+@register("PF401", "urdf-invalid", "error", area="model",
+          summary="a processed model is not a usable URDF",
+          explanation="robot_state_publisher refuses it (or publishes a broken TF tree): no <robot>, "
+                      "duplicate names, a joint whose parent or child link does not exist, more than "
+                      "one root link, a cycle, or not XML at all.",
+          hint="fix the element named in the message")
+def urdf_invalid(ctx: CheckContext):
+    for result in ctx.model_results:
+        error = result.error or {}
+        if result.status == "error" and error.get("stage") == "xml":
+            yield Finding(f"{result.installed.name}: {error['message']}", *_where(ctx, result, error.get("file"),
+                                                                                error.get("line")))
+            continue
+        robot = result.robot
+        if result.status != "ok" or robot is None:
+            continue
+        if robot.get("root_tag") != "robot":
+            yield Finding(f"{result.installed.name} has <{robot.get('root_tag')}> at its root, not <robot>",
+                          *_where(ctx, result, str(result.installed), 1))
+            continue
+        yield from _structure_problems(ctx, result, robot)
+
+
+def _structure_problems(ctx, result, robot: dict):
+    links, joints = robot.get("links", []), robot.get("joints", [])
+    if not links:
+        yield Finding(f"{result.installed.name} defines no link", *_where(ctx, result, None, None))
+        return
+    for kind, items in (("link", links), ("joint", joints)):
+        counts = Counter(item["name"] for item in items)
+        for item in items:
+            if counts[item["name"]] > 1:
+                counts[item["name"]] = 0  # report each name once
+                yield Finding(f"{kind} name '{item['name']}' is used more than once",
+                              *_where(ctx, result, item.get("file"), item.get("line")))
+    names = {link["name"] for link in links}
+    parents: dict[str, str] = {}
+    for joint in joints:
+        for role in ("parent", "child"):
+            if joint.get(role) not in names:
+                yield Finding(f"joint '{joint['name']}' has {role} link '{joint.get(role)}', which does not exist",
+                              *_where(ctx, result, joint.get("file"), joint.get("line")),
+                              hint=f"add a link named '{joint.get(role)}' or fix the joint's <{role} link=...>")
+        if joint.get("child") in parents:
+            yield Finding(f"link '{joint['child']}' is the child of two joints", *_where(
+                ctx, result, joint.get("file"), joint.get("line")))
+        parents[joint.get("child")] = joint.get("parent")
+    roots = [link for link in links if link["name"] not in parents]
+    if len(roots) > 1:
+        yield Finding(f"more than one root link: {', '.join(r['name'] for r in roots)} "
+                      "(every link but one must be a joint's child)",
+                      *_where(ctx, result, roots[1].get("file"), roots[1].get("line")))
+    elif not roots:
+        yield Finding("the joints form a cycle: no link is the root", *_where(ctx, result, None, None))
+
+
+def _meshes(ctx: CheckContext):
+    """(result, mesh item, lookup) for every mesh URI of every processed model."""
+    for result in ctx.model_results:
+        if result.status != "ok" or not result.robot:
+            continue
+        seen = set()
+        for mesh in result.robot.get("meshes", []):
+            if mesh["uri"] in seen:
+                continue
+            seen.add(mesh["uri"])
+            yield result, mesh, resolve_uri(mesh["uri"], ctx.tree, result.installed)
+
+
+@register("PF402", "mesh-not-found", "error", area="model",
+          summary="a mesh or texture URI does not resolve to a file in the install tree",
+          explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
+                      "folder never installed, a typo, or a path leaving its package shows an empty "
+                      "or broken model (user story 7).",
+          hint="install the mesh, or fix the URI")
+def mesh_not_found(ctx: CheckContext):
+    for result, mesh, lookup in _meshes(ctx):
+        position = _where(ctx, result, mesh.get("file"), mesh.get("line"))
+        where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
+        if lookup.status == "escapes":
+            yield Finding(f"{mesh['uri']} ({where}) leaves package {lookup.package} with '..'", *position,
+                          hint=f"name a file inside {lookup.package}, or use package://<other>/... for "
+                               "another package's file")
+        elif lookup.status == "unknown-package":
+            yield Finding(f"{mesh['uri']} ({where}): package '{lookup.package}' is not installed anywhere",
+                          *position, hint="fix the package name in the URI")
+        elif lookup.status == "missing":
+            owner = ctx.model_for_share(lookup.package) if lookup.package else None
+            in_source = owner is not None and (owner.path / lookup.relative).is_file()
+            if in_source:
+                yield Finding(f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
+                              f"{lookup.package} but no install rule covers it", *position,
+                              hint=install_fix(owner, lookup.relative.split("/")[0]))
+            else:
+                yield Finding(f"{mesh['uri']} ({where}) does not exist", *position,
+                              hint="fix the file name in the URI")
+
+
+@register("PF403", "mesh-case-mismatch", "error", area="model",
+          summary="a mesh URI differs from the file's name only in letter case",
+          explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
+                      "Linux does not, and the link shows nothing (user story 7).",
+          hint="use the file's real name in the URI")
+def mesh_case_mismatch(ctx: CheckContext):
+    for result, mesh, lookup in _meshes(ctx):
+        if lookup.status == "case":
+            yield Finding(f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
+                          *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                          hint=f"write {lookup.real_name} in the URI (or rename the file)")
+
+
+@register("PF404", "mesh-source-path", "warning", area="model",
+          summary="a file:// mesh URI points into a source tree",
+          explanation="It works on the machine that built the package and nowhere else: installed "
+                      "packages must not refer to src/.",
+          hint="use package://<package>/<path> for an installed mesh")
+def mesh_source_path(ctx: CheckContext):
+    sources = [m.path for m in ctx.models.values()] + [ctx.model.path]
+    for result, mesh, lookup in _meshes(ctx):
+        if mesh["uri"].startswith("file://") and lookup.path is not None:
+            for folder in sources:
+                try:
+                    relative = lookup.path.relative_to(folder)
+                except ValueError:
+                    continue
+                yield Finding(f"{mesh['uri']} points into the source of {folder.name}",
+                              *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                              hint=f"install it and write package://{folder.name}/{relative.as_posix()}")
+                break
+
+
+@register("PF405", "mesh-unreadable", "error", area="model",
+          summary="a mesh file is not a readable mesh of its kind",
+          explanation="A truncated STL, a .dae that is not COLLADA, an OBJ with no vertices: the "
+                      "visualizer fails on it or shows nothing.",
+          hint="export the mesh again")
+def mesh_unreadable(ctx: CheckContext):
+    for result, mesh, lookup in _meshes(ctx):
+        if lookup.status == "found":
+            problem = unreadable(lookup.path)
+            if problem:
+                yield Finding(f"{mesh['uri']}: {problem}", *_where(ctx, result, mesh.get("file"), mesh.get("line")))
+
+
+@register("PF406", "model-needs-arguments", "info", area="model",
+          summary="a model needs xacro arguments that nothing gives it",
+          explanation="It was checked only with the values a launch file passes; on its own it cannot "
+                      "be processed.",
+          hint="give the xacro:arg a default, or check it through the launch file that passes it")
+def model_needs_arguments(ctx: CheckContext):
+    for result in ctx.model_results:
+        if result.status == "needs-arguments":
+            argument = (result.error or {}).get("argument")
+            yield Finding(f"{result.installed.name} needs the xacro argument '{argument}'; skipped on its own",
+                          *_where(ctx, result, (result.error or {}).get("file"), (result.error or {}).get("line")))
+    # a model too large to process is reported by file-not-read
+
+
+def model_error_paths(ctx: CheckContext) -> set[str]:
+    return {str(r.installed) for r in ctx.model_results if r.status == "error"}
+
+
+def xacro_model_errors(ctx: CheckContext):
+    """xacro failures on processed models, at the model line where they happen (for xacro-error)."""
+    for result in ctx.model_results:
+        error = result.error or {}
+        if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
+            yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
+                          *_where(ctx, result, error.get("file"), error.get("line")))
+
+
+def link_names(ctx: CheckContext, launch) -> set[str] | None:
+    """Links of the models the given launch file feeds to xacro (None when it feeds none)."""
+    found = [r for r in ctx.model_results if any(o["launch"] == launch for o in r.origins)]
+    if not found or any(r.status != "ok" for r in found):
+        return None  # nothing to compare with: xacro-error or urdf-invalid says why
+    return set().union(*(r.links for r in found))
+

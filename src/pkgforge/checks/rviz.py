@@ -1,0 +1,61 @@
+"""Checks of RViz configs: installed ones, and those a launch file passes to rviz2 with -d."""
+
+from __future__ import annotations
+
+from ..diagnostics import Finding
+from ..rviz import ROBOT_MODEL
+from .context import CheckContext
+from .model import link_names
+from .registry import register
+
+# frames another node (localization, odometry) publishes; fine when no link has the name
+EXTERNAL_FRAMES = ("map", "odom", "world", "earth")
+
+
+@register("PF501", "rviz-invalid", "error", area="rviz",
+          summary="an RViz config is not YAML, or not an RViz config",
+          explanation="rviz2 falls back to an empty default layout: no robot, no TF.",
+          hint="save the config again from RViz (File > Save Config As)")
+def rviz_invalid(ctx: CheckContext):
+    for config in ctx.rviz_configs:
+        if config.error:
+            yield Finding(f"{config.path.name}: {config.error}", config.path, config.error_line)
+
+
+@register("PF502", "rviz-no-description", "error", area="rviz",
+          summary="a RobotModel display has no description to show",
+          explanation="No error anywhere, TF fine, and RViz shows no robot until someone sets "
+                      "Description Topic by hand (user story 5).",
+          hint="set Description Source: Topic and Description Topic: /robot_description")
+def rviz_no_description(ctx: CheckContext):
+    for config in ctx.rviz_configs:
+        for display in config.displays:
+            if display["class"] != ROBOT_MODEL or not display["enabled"]:
+                continue
+            if display["source"] == "File":
+                file = display["file"] or ""
+                if not file or not ctx.file_exists_for_rviz(file):
+                    yield Finding(f"RobotModel '{display['name']}' reads Description File '{file}', which does not "
+                                  "exist", config.path, display["file_line"] or display["line"])
+            elif not (display["topic"] or "").strip():
+                yield Finding(f"RobotModel '{display['name']}' has no Description Topic: RViz shows no robot",
+                              config.path, display["topic_line"] or display["line"])
+
+
+@register("PF503", "rviz-fixed-frame-unknown", "warning", area="rviz",
+          summary="the Fixed Frame is not a link of the model the same launch file publishes",
+          explanation="RViz shows 'Fixed Frame [x] does not exist' and draws nothing relative to it.",
+          hint="set Fixed Frame to a link of the model, e.g. its root link")
+def rviz_fixed_frame_unknown(ctx: CheckContext):
+    for config, launch in ctx.rviz_launches:
+        frame = config.fixed_frame
+        links = link_names(ctx, launch)
+        if not frame or links is None or frame in links:
+            continue
+        if frame in EXTERNAL_FRAMES:
+            continue
+        example = sorted(links)[0]
+        yield Finding(f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
+                      config.path, config.fixed_frame_line,
+                      hint=f"use a link of the model (e.g. {example}); frames such as map, odom or world that "
+                           "another node publishes are accepted when no link has the name")

@@ -1,0 +1,114 @@
+"""Mesh URIs resolved in the install tree, and mesh files checked to be what they claim.
+
+Readability is judged from headers and sizes (binary STL: 84 bytes + 50 per
+triangle; ASCII STL: `solid` … `facet`; COLLADA: an XML root <COLLADA>; OBJ:
+vertex lines), not with a mesh library: that costs a numpy import on every
+run to learn what the first kilobytes tell.
+"""
+
+from __future__ import annotations
+
+import os
+import posixpath
+import struct
+from dataclasses import dataclass
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+from .trees import InstallTree
+
+READ_LIMIT = 1 << 20
+
+
+@dataclass(frozen=True)
+class MeshLookup:
+    status: str  # found | missing | case | unchecked | escapes | unknown-package | unsupported
+    path: Path | None = None
+    package: str | None = None
+    relative: str | None = None
+    real_name: str | None = None  # for case: the name on disk
+
+
+def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLookup:
+    if uri.startswith("package://"):
+        package, _, relative = uri[len("package://"):].partition("/")
+        relative = unquote(relative)
+        normal = posixpath.normpath(relative)
+        if normal.startswith("..") or normal.startswith("/"):
+            return MeshLookup("escapes", None, package, relative)
+        if package in tree.phantom_packages:
+            return MeshLookup("unchecked", None, package, normal)
+        share = tree.share(package) or _system_share(tree, package)
+        if share is None:
+            return MeshLookup("unknown-package", None, package, normal)
+        return _check(share / normal, package, normal)
+    if uri.startswith("file://"):
+        path = Path(unquote(urlparse(uri).path))
+        return _check(path, None, None)
+    if "://" in uri:
+        return MeshLookup("unsupported")
+    if base is not None:  # a relative path: relative to the model file, as urdfdom does
+        return _check(base.parent / uri, None, None)
+    return MeshLookup("unsupported")
+
+
+def _system_share(tree: InstallTree, package: str) -> Path | None:
+    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        if prefix and (Path(prefix) / "share/ament_index/resource_index/packages" / package).is_file():
+            return Path(prefix) / "share" / package
+    return None
+
+
+def _check(path: Path, package: str | None, relative: str | None) -> MeshLookup:
+    if path.is_file():
+        return MeshLookup("found", path, package, relative)
+    parent = path.parent
+    if parent.is_dir():
+        wanted = path.name.lower()
+        for entry in os.listdir(parent):
+            if entry.lower() == wanted:
+                return MeshLookup("case", path, package, relative, entry)
+    return MeshLookup("missing", path, package, relative)
+
+
+def unreadable(path: Path) -> str | None:
+    """Why the mesh file is not a readable mesh of its kind, or None when it is."""
+    suffix = path.suffix.lower()
+    try:
+        size = path.stat().st_size
+        with open(path, "rb") as handle:
+            head = handle.read(READ_LIMIT)
+    except OSError as error:
+        return f"cannot read it: {error.strerror}"
+    if size == 0:
+        return "the file is empty"
+    if suffix == ".stl":
+        return _stl_problem(head, size)
+    if suffix == ".dae":
+        text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
+        if not text.startswith(b"<"):
+            return "a .dae file must be COLLADA XML; this does not start with '<'"
+        if b"<COLLADA" not in head[:4096]:
+            return "no <COLLADA> root element in the first 4 kB"
+        return None
+    if suffix == ".obj":
+        if b"\nv " not in b"\n" + head and not head.startswith(b"v "):
+            return "an OBJ file needs vertex lines ('v x y z'); none in the first MB"
+        return None
+    return None  # other formats (.glb, .ply, textures) are passed to their loaders unchecked
+
+
+def _stl_problem(head: bytes, size: int) -> str | None:
+    if len(head) >= 84:
+        (count,) = struct.unpack_from("<I", head, 80)
+        if 84 + 50 * count == size:
+            return None  # a binary STL, whatever its header says
+    if head.lstrip().lower().startswith(b"solid"):
+        if b"facet" in head or size > READ_LIMIT:
+            return None
+        return "an ASCII STL with no 'facet' in it"
+    if len(head) < 84:
+        return f"{size} bytes is too short for an STL (a binary STL has an 84-byte header)"
+    (count,) = struct.unpack_from("<I", head, 80)
+    return (f"binary STL header says {count} triangles ({84 + 50 * count} bytes), "
+            f"but the file has {size} bytes: truncated or not an STL")

@@ -1,0 +1,98 @@
+"""Which robot models to process, and their results (plain data from the worker).
+
+A model is processed when a launch file feeds it to xacro (with that launch's
+xacro arguments), and every top-level .urdf/.xacro installed in a urdf/,
+description/ or robots/ folder that no other file includes is processed on
+its own: the model a person opens in RViz by hand is checked too.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .launch.resolve import run_requests, source_of
+from .model.package import PackageModel
+from .trees import InstallTree
+
+MODEL_FOLDERS = ("urdf", "description", "robots", "xacro")
+MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro")
+INCLUDE = re.compile(r"<xacro:include[^>]*?filename\s*=\s*[\"']([^\"']+)[\"']")
+
+
+@dataclass
+class ModelResult:
+    package: str  # the verified package that uses or installs the model
+    installed: Path
+    source: Path | None
+    mappings: dict
+    origins: list[dict] = field(default_factory=list)  # launch lines that feed it to xacro
+    status: str = "ok"  # ok | error | needs-arguments | too-large | timeout | crashed | library
+    error: dict | None = None
+    robot: dict | None = None
+    includes: list[str] = field(default_factory=list)
+
+    @property
+    def links(self) -> set[str]:
+        return {link["name"] for link in (self.robot or {}).get("links", [])}
+
+
+def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
+    share = tree.share(model.share_name)
+    if share is None:
+        return []
+    candidates, included = [], set()
+    for folder in MODEL_FOLDERS:
+        for root, dirs, files in os.walk(share / folder, followlinks=True):
+            dirs.sort()
+            for name in sorted(files):
+                if name.endswith(MODEL_SUFFIXES):
+                    path = Path(root) / name
+                    candidates.append(path)
+                    try:
+                        if path.stat().st_size < 2 * 2**20:
+                            included |= {os.path.basename(m) for m in INCLUDE.findall(
+                                path.read_text(errors="replace"))}
+                    except OSError:
+                        continue
+    return [path for path in candidates if path.name not in included]
+
+
+def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str, list]) -> list[ModelResult]:
+    jobs: dict[tuple, ModelResult] = {}
+    by_name = {m.name: m for m in models}
+    for package, package_resolutions in resolutions.items():
+        owner = by_name.get(package)
+        for resolution in package_resolutions:
+            for command in resolution.items.get("commands", []):
+                model_path = command.get("model")
+                if not model_path or not os.path.isfile(model_path) or tree.is_phantom(model_path):
+                    continue
+                key = (package, os.path.normpath(model_path), tuple(sorted(command.get("mappings", {}).items())))
+                if key not in jobs:
+                    jobs[key] = ModelResult(package, Path(key[1]), source_of(Path(key[1]), tree, owner),
+                                            dict(command.get("mappings", {})))
+                jobs[key].origins.append({"launch": resolution.launch, "file": command.get("file"),
+                                          "line": command.get("line")})
+    for model in models:
+        for path in _installed_models(tree, model):
+            key = (model.name, os.path.normpath(path), ())
+            if not any(k[:2] == key[:2] for k in jobs):
+                jobs[key] = ModelResult(model.name, path, source_of(path, tree, model), {})
+    return list(jobs.values())
+
+
+def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float) -> list[ModelResult]:
+    requests = [{"model": str(r.installed), "mappings": r.mappings} for r in results]
+    for result, reply in zip(results, run_requests(requests, tree, jobs=jobs, timeout=timeout)):
+        result.status = reply.get("status", "crashed")
+        result.error = reply.get("error")
+        result.robot = reply.get("robot")
+        result.includes = reply.get("includes", [])
+        if result.status == "ok" and not result.origins and not result.links:
+            result.status = "library"  # only macros and properties: checked through its includers
+        if result.status == "needs-arguments" and result.origins:
+            result.status = "error"  # a launch file gave it no value either
+    return results

@@ -1,0 +1,171 @@
+"""Robot models: the real xacro, then the URDF's structure as plain data.
+
+Runs in the launch worker (xacro evaluates ${} and $(eval) expressions: user
+code). The result names every link, joint and mesh URI with the file and line
+a person would edit: the element's own line in a plain URDF; for xacro, the
+line in the model or its includes where the name is written, else the file.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+import sys
+
+from lxml import etree
+
+GEOMETRY_URI_TAGS = ("mesh",)
+NEEDS_ARGUMENT = re.compile(r"[Uu]ndefined substitution argument (\S+)")
+MAX_MODEL_BYTES = 8 * 1024 * 1024
+
+
+def process_model(path: str, mappings: dict[str, str]) -> dict:
+    """xacro (or plain URDF) → {status, error, robot: {links, joints, meshes, ...}}."""
+    try:
+        size = os.path.getsize(path)
+    except OSError as error:
+        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
+    if size > MAX_MODEL_BYTES:
+        return {"status": "too-large", "error": {
+            "message": f"{size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
+            "file": path, "line": None}}
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+        head.decode("utf-8")
+    except UnicodeDecodeError:
+        return {"status": "error", "error": {"message": "not a text file (binary data, not XML)",
+                                             "file": path, "line": 1, "stage": "xml"}}
+    text, includes, error = _expand(path, mappings)
+    if error is not None:
+        return error
+    try:
+        root = etree.fromstring(text.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
+    except etree.XMLSyntaxError as exc:
+        return {"status": "error", "error": {"message": f"not well-formed XML: {exc.msg}", "file": path,
+                                             "line": exc.lineno, "stage": "xml"}}
+    sources = _name_index([path, *includes])
+    return {"status": "ok", "error": None, "includes": includes, "robot": _structure(root, path, sources)}
+
+
+def _expand(path: str, mappings: dict[str, str]):
+    """The xacro output (or the file itself when it uses no xacro), with the files it included."""
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        raw = handle.read()
+    if "xacro" not in raw:
+        return raw, [], None
+    import xacro
+
+    stderr = io.StringIO()
+    real_stderr, sys.stderr = sys.stderr, stderr
+    # xacro keeps module state between runs: a fresh include list for each model
+    xacro.all_includes[:] = []
+    try:
+        document = xacro.process_file(path, mappings=dict(mappings))
+        includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(path)})
+        return document.toxml(), includes, None
+    except RecursionError:
+        stack = list(getattr(xacro, "filestack", None) or [path])
+        repeated = next((f for f in stack if stack.count(f) > 1), stack[-1])
+        return None, [], {"status": "error", "error": {
+            "message": f"{os.path.basename(repeated)} includes itself (directly or through another file): "
+                       "xacro recursed without end", "file": repeated,
+            "line": _line_mentioning(repeated, "xacro:include")}}
+    except BaseException as exc:  # XacroException, XML errors, SystemExit from xacro's own checks
+        message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
+        if getattr(exc, "macro", None):
+            message = f"{message} (in macro {exc.macro})" if isinstance(exc.macro, str) else message
+        needs = NEEDS_ARGUMENT.search(message)
+        status = "needs-arguments" if needs and not mappings else "error"
+        file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
+        stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
+        return None, [], {"status": status, "error": {"message": message.strip(), "file": file, "line": line,
+                                                      "argument": needs.group(1) if needs else None,
+                                                      "stage": stage}}
+    finally:
+        sys.stderr = real_stderr
+
+
+def _xacro_location(exc, path: str, filestack: list):
+    """The file xacro was in when it failed (the end of its include chain), and the line naming the culprit."""
+    file = next((f for f in reversed(filestack) if f), path)
+    line = None
+    text = str(exc)
+    missing = re.search(r"No such file or directory: \[?'?([^'\]\s]+)", text)
+    undefined = re.search(r"name '([^']+)' is not defined", text) or \
+        re.search(r"[Uu]ndefined substitution argument (\S+)", text)
+    package = re.search(r"package '([^']+)' not found", text)
+    if missing:
+        line = _line_mentioning(file, os.path.basename(missing.group(1)))
+    elif undefined:
+        line = _line_mentioning(file, undefined.group(1))
+    elif package:
+        line = _line_mentioning(file, f"$(find {package.group(1)}")
+    return file, line
+
+
+def _line_mentioning(path: str, text: str) -> int | None:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            for number, line in enumerate(handle, start=1):
+                if text in line:
+                    return number
+    except OSError:
+        pass
+    return None
+
+
+NAME_ATTRIBUTE = re.compile(r"<\s*(link|joint)\b[^>]*?\bname\s*=\s*[\"']([^\"'$]+)[\"']")
+
+
+def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
+    """(tag, literal name) → (file, line) across the model's files."""
+    index: dict[tuple[str, str], tuple[str, int]] = {}
+    for file in files:
+        try:
+            with open(file, encoding="utf-8", errors="replace") as handle:
+                for number, line in enumerate(handle, start=1):
+                    for match in NAME_ATTRIBUTE.finditer(line):
+                        index.setdefault((match.group(1), match.group(2)), (file, number))
+        except OSError:
+            continue
+    return index
+
+
+def _structure(root, path: str, sources: dict) -> dict:
+    plain = not sources or all(f == path for f, _ in sources.values())
+
+    def where(element, tag: str | None = None, name: str | None = None):
+        if tag and name and (tag, name) in sources:
+            return sources[(tag, name)]
+        return (path, element.sourceline if plain else None)
+
+    robot = {"root_tag": root.tag if isinstance(root.tag, str) else None, "name": root.get("name"),
+             "links": [], "joints": [], "meshes": []}
+    if root.tag != "robot":
+        return robot
+    for link in root.findall("link"):
+        name = link.get("name")
+        file, line = where(link, "link", name)
+        robot["links"].append({"name": name, "file": file, "line": line})
+        for kind in ("visual", "collision"):
+            for part in link.findall(kind):
+                for mesh in part.iter(*GEOMETRY_URI_TAGS):
+                    uri = mesh.get("filename")
+                    if uri:
+                        robot["meshes"].append({"uri": uri, "link": name, "kind": kind, "file": file,
+                                                "line": line if not plain else mesh.sourceline})
+    for material in root.iter("texture"):
+        if material.get("filename"):
+            robot["meshes"].append({"uri": material.get("filename"), "link": None, "kind": "texture",
+                                    "file": path, "line": material.sourceline if plain else None})
+    for joint in root.findall("joint"):
+        name = joint.get("name")
+        file, line = where(joint, "joint", name)
+        parent, child = joint.find("parent"), joint.find("child")
+        robot["joints"].append({
+            "name": name, "type": joint.get("type"), "file": file, "line": line,
+            "parent": parent.get("link") if parent is not None else None,
+            "child": child.get("link") if child is not None else None})
+    return robot

@@ -1,0 +1,85 @@
+"""RViz configs (.rviz, YAML): global options and displays, with lines."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+from .model.source import read_source
+
+ROBOT_MODEL = "rviz_default_plugins/RobotModel"
+
+
+@dataclass
+class RvizConfig:
+    path: Path
+    error: str | None = None
+    error_line: int | None = None
+    fixed_frame: str | None = None
+    fixed_frame_line: int | None = None
+    displays: list[dict] = field(default_factory=list)
+
+
+def _line(node) -> int:
+    return node.start_mark.line + 1
+
+
+def _mapping(node) -> dict:
+    """key → value node, for a YAML mapping node."""
+    if not isinstance(node, yaml.MappingNode):
+        return {}
+    return {key.value: value for key, value in node.value if isinstance(key, yaml.ScalarNode)}
+
+
+def _scalar(node) -> str | None:
+    return node.value if isinstance(node, yaml.ScalarNode) else None
+
+
+def read_rviz(path: Path) -> RvizConfig:
+    config = RvizConfig(path)
+    source = read_source(path)
+    if source.text is None:
+        config.error, config.error_line = source.problem, source.problem_line
+        return config
+    try:
+        document = yaml.compose(source.text)
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        config.error = f"not valid YAML: {getattr(error, 'problem', None) or error}"
+        config.error_line = mark.line + 1 if mark else None
+        return config
+    manager = _mapping(document).get("Visualization Manager")
+    if manager is None:
+        config.error, config.error_line = "no 'Visualization Manager': not an RViz config", 1
+        return config
+    options = _mapping(_mapping(manager).get("Global Options"))
+    if "Fixed Frame" in options:
+        config.fixed_frame = _scalar(options["Fixed Frame"])
+        config.fixed_frame_line = _line(options["Fixed Frame"])
+    displays = _mapping(manager).get("Displays")
+    for node in displays.value if isinstance(displays, yaml.SequenceNode) else []:
+        _display(node, config.displays)
+    return config
+
+
+def _display(node, out: list) -> None:
+    entries = _mapping(node)
+    klass = _scalar(entries.get("Class"))
+    topic_node = entries.get("Description Topic")
+    topic = _scalar(_mapping(topic_node).get("Value")) if isinstance(topic_node, yaml.MappingNode) \
+        else _scalar(topic_node)
+    out.append({
+        "class": klass, "line": _line(entries["Class"]) if "Class" in entries else _line(node),
+        "name": _scalar(entries.get("Name")),
+        "enabled": (_scalar(entries.get("Enabled")) or "true").lower() == "true",
+        "source": _scalar(entries.get("Description Source")),
+        "topic": topic, "topic_line": _line(topic_node) if topic_node is not None else None,
+        "file": _scalar(entries.get("Description File")),
+        "file_line": _line(entries["Description File"]) if "Description File" in entries else None,
+    })
+    if klass == "rviz_common/Group":  # displays nested in a group
+        children = entries.get("Displays")
+        for child in children.value if isinstance(children, yaml.SequenceNode) else []:
+            _display(child, out)
