@@ -131,8 +131,11 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               help="Seconds one launch file may take to load and resolve.")
 @click.option("--explain-launch", "explain_launch", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print how FILE resolves in the install tree, then exit.")
+@click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
+              metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
+                                   "(xacro arguments from --launch-arg).")
 def verify(path, fmt, output, select, ignore, strict, jobs, build_tree, install_base, launch_args,
-           launch_timeout, explain_launch):
+           launch_timeout, explain_launch, explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -159,6 +162,11 @@ def verify(path, fmt, output, select, ignore, strict, jobs, build_tree, install_
             from .explain import explain_launch_file
 
             click.echo(explain_launch_file(path, explain_launch, options), nl=False)
+            return
+        if explain_model is not None:
+            from .explain import explain_model_file
+
+            click.echo(explain_model_file(path, explain_model, options), nl=False)
             return
         result = run_verify(path, options)
     except PkgforgeError as error:

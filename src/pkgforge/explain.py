@@ -103,3 +103,62 @@ def _render(resolution, tree) -> str:
                     seen.add(text)
                     lines.append(text)
     return "\n".join(lines) + "\n"
+
+
+def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
+    """The model's link/joint tree with every mesh URI and whether it resolves (check_urdf, with meshes)."""
+    from . import models as robot_models
+    from .launch.resolve import source_of
+    from .meshes import resolve_uri
+
+    workspace = locate(path)
+    _, models = load_models(workspace, 1)
+    tree = make_tree(options, workspace, list(models.values()))
+    try:
+        installed, package = _installed_path(file, tree, models.values())
+        owner = next((m for m in models.values() if m.name == package or m.share_name == package), None)
+        result = robot_models.ModelResult(package, installed, source_of(installed, tree, owner),
+                                          dict(options.launch_arguments))
+        (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout)
+        lines = [f"{result.source or installed}", f"  installed as {_short(str(installed), tree)} "
+                 f"in the {tree.kind} tree"]
+        if result.status not in ("ok", "library"):
+            error = result.error or {}
+            lines.append(f"  {MISSING} {result.status}: {error.get('message')} "
+                         f"({os.path.basename(error.get('file') or '')}:{error.get('line')})")
+            return "\n".join(lines) + "\n"
+        robot = result.robot or {}
+        links, joints = robot.get("links", []), robot.get("joints", [])
+        lines.append(f"robot {robot.get('name')}: {len(links)} links, {len(joints)} joints")
+        meshes: dict[str, list] = {}
+        for mesh in robot.get("meshes", []):
+            meshes.setdefault(mesh.get("link"), []).append(mesh)
+        children: dict[str, list] = {}
+        for joint in joints:
+            children.setdefault(joint.get("parent"), []).append(joint)
+        child_names = {j.get("child") for j in joints}
+
+        def mesh_lines(link: str, indent: str) -> None:
+            for mesh in meshes.get(link, []):
+                lookup = resolve_uri(mesh["uri"], tree, installed)
+                mark = {"found": OK, "unchecked": UNCHECKED}.get(lookup.status, MISSING)
+                note = "" if lookup.status in ("found", "unchecked") else f"  ({lookup.status})"
+                lines.append(f"{indent}{mesh['kind']} {mark} {mesh['uri']}{note}")
+
+        def walk(link: str, indent: str, seen: set) -> None:
+            ordered = sorted(children.get(link, []), key=lambda j: j.get("name") or "")
+            for index, joint in enumerate(ordered):
+                last = index == len(ordered) - 1
+                lines.append(f"{indent}{'└─' if last else '├─'} {joint['name']} ({joint['type']}) → {joint['child']}")
+                deeper = indent + ("   " if last else "│  ")
+                mesh_lines(joint["child"], deeper + "  ")
+                if joint["child"] not in seen:
+                    walk(joint["child"], deeper, seen | {joint["child"]})
+
+        for root in [link["name"] for link in links if link["name"] not in child_names]:
+            lines.append(root)
+            mesh_lines(root, "  ")
+            walk(root, "", {root})
+        return "\n".join(lines) + "\n"
+    finally:
+        tree.close()

@@ -53,8 +53,9 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
                     candidates.append(path)
                     try:
                         if path.stat().st_size < 2 * 2**20:
+                            # a file including itself is still top-level (and broken)
                             included |= {os.path.basename(m) for m in INCLUDE.findall(
-                                path.read_text(errors="replace"))}
+                                path.read_text(errors="replace"))} - {name}
                     except OSError:
                         continue
     return [path for path in candidates if path.name not in included]

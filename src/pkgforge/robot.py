@@ -45,8 +45,10 @@ def process_model(path: str, mappings: dict[str, str]) -> dict:
     except etree.XMLSyntaxError as exc:
         return {"status": "error", "error": {"message": f"not well-formed XML: {exc.msg}", "file": path,
                                              "line": exc.lineno, "stage": "xml"}}
-    sources = _name_index([path, *includes])
-    return {"status": "ok", "error": None, "includes": includes, "robot": _structure(root, path, sources)}
+    expanded = includes is not None
+    sources = _name_index([path, *includes]) if expanded else {}
+    return {"status": "ok", "error": None, "includes": includes or [],
+            "robot": _structure(root, path, sources, expanded)}
 
 
 def _expand(path: str, mappings: dict[str, str]):
@@ -54,7 +56,7 @@ def _expand(path: str, mappings: dict[str, str]):
     with open(path, encoding="utf-8", errors="replace") as handle:
         raw = handle.read()
     if "xacro" not in raw:
-        return raw, [], None
+        return raw, None, None  # no includes: the output is the file itself
     import xacro
 
     stderr = io.StringIO()
@@ -65,26 +67,33 @@ def _expand(path: str, mappings: dict[str, str]):
         document = xacro.process_file(path, mappings=dict(mappings))
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(path)})
         return document.toxml(), includes, None
-    except RecursionError:
-        stack = list(getattr(xacro, "filestack", None) or [path])
-        repeated = next((f for f in stack if stack.count(f) > 1), stack[-1])
-        return None, [], {"status": "error", "error": {
-            "message": f"{os.path.basename(repeated)} includes itself (directly or through another file): "
-                       "xacro recursed without end", "file": repeated,
-            "line": _line_mentioning(repeated, "xacro:include")}}
     except BaseException as exc:  # XacroException, XML errors, SystemExit from xacro's own checks
-        message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
-        if getattr(exc, "macro", None):
-            message = f"{message} (in macro {exc.macro})" if isinstance(exc.macro, str) else message
-        needs = NEEDS_ARGUMENT.search(message)
-        status = "needs-arguments" if needs and not mappings else "error"
-        file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
-        stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
-        return None, [], {"status": status, "error": {"message": message.strip(), "file": file, "line": line,
-                                                      "argument": needs.group(1) if needs else None,
-                                                      "stage": stage}}
+        if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
+            return None, [], _recursion_error(xacro, path)
+        return None, [], _xacro_error(xacro, exc, path, mappings)
     finally:
         sys.stderr = real_stderr
+
+
+def _recursion_error(xacro, path: str) -> dict:
+    stack = list(getattr(xacro, "filestack", None) or [path])
+    repeated = next((f for f in stack if stack.count(f) > 1), stack[-1])
+    return {"status": "error", "error": {
+        "message": f"{os.path.basename(repeated)} includes itself (directly or through another file): "
+                   "xacro recursed without end", "file": repeated,
+        "line": _line_mentioning(repeated, "xacro:include"), "stage": "xacro"}}
+
+
+def _xacro_error(xacro, exc, path: str, mappings: dict) -> dict:
+    message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
+    if isinstance(getattr(exc, "macro", None), str):
+        message = f"{message} (in macro {exc.macro})"
+    needs = NEEDS_ARGUMENT.search(message)
+    status = "needs-arguments" if needs and not mappings else "error"
+    file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
+    stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
+    return {"status": status, "error": {"message": message.strip(), "file": file, "line": line,
+                                        "argument": needs.group(1) if needs else None, "stage": stage}}
 
 
 def _xacro_location(exc, path: str, filestack: list):
@@ -117,6 +126,7 @@ def _line_mentioning(path: str, text: str) -> int | None:
 
 
 NAME_ATTRIBUTE = re.compile(r"<\s*(link|joint)\b[^>]*?\bname\s*=\s*[\"']([^\"'$]+)[\"']")
+MESH_ATTRIBUTE = re.compile(r"<\s*(mesh|texture)\b[^>]*?\bfilename\s*=\s*[\"']([^\"'$]+)[\"']")
 
 
 def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
@@ -126,15 +136,16 @@ def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
         try:
             with open(file, encoding="utf-8", errors="replace") as handle:
                 for number, line in enumerate(handle, start=1):
-                    for match in NAME_ATTRIBUTE.finditer(line):
-                        index.setdefault((match.group(1), match.group(2)), (file, number))
+                    for pattern in (NAME_ATTRIBUTE, MESH_ATTRIBUTE):
+                        for match in pattern.finditer(line):
+                            index.setdefault((match.group(1), match.group(2)), (file, number))
         except OSError:
             continue
     return index
 
 
-def _structure(root, path: str, sources: dict) -> dict:
-    plain = not sources or all(f == path for f, _ in sources.values())
+def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
+    plain = not expanded  # element lines are the file's own lines
 
     def where(element, tag: str | None = None, name: str | None = None):
         if tag and name and (tag, name) in sources:
@@ -154,8 +165,10 @@ def _structure(root, path: str, sources: dict) -> dict:
                 for mesh in part.iter(*GEOMETRY_URI_TAGS):
                     uri = mesh.get("filename")
                     if uri:
-                        robot["meshes"].append({"uri": uri, "link": name, "kind": kind, "file": file,
-                                                "line": line if not plain else mesh.sourceline})
+                        mesh_file, mesh_line = (path, mesh.sourceline) if plain else \
+                            sources.get(("mesh", uri), (file, line))
+                        robot["meshes"].append({"uri": uri, "link": name, "kind": kind, "file": mesh_file,
+                                                "line": mesh_line})
     for material in root.iter("texture"):
         if material.get("filename"):
             robot["meshes"].append({"uri": material.get("filename"), "link": None, "kind": "texture",

@@ -57,15 +57,22 @@ def read_rviz(path: Path) -> RvizConfig:
     options = _mapping(_mapping(manager).get("Global Options"))
     if "Fixed Frame" in options:
         config.fixed_frame = _scalar(options["Fixed Frame"])
-        config.fixed_frame_line = _line(options["Fixed Frame"])
+        config.fixed_frame_line = _key_lines(_mapping(manager).get("Global Options"))["Fixed Frame"]
     displays = _mapping(manager).get("Displays")
     for node in displays.value if isinstance(displays, yaml.SequenceNode) else []:
         _display(node, config.displays)
     return config
 
 
+def _key_lines(node) -> dict:
+    if not isinstance(node, yaml.MappingNode):
+        return {}
+    return {key.value: _line(key) for key, _ in node.value if isinstance(key, yaml.ScalarNode)}
+
+
 def _display(node, out: list) -> None:
     entries = _mapping(node)
+    keys = _key_lines(node)
     klass = _scalar(entries.get("Class"))
     topic_node = entries.get("Description Topic")
     topic = _scalar(_mapping(topic_node).get("Value")) if isinstance(topic_node, yaml.MappingNode) \
@@ -75,9 +82,9 @@ def _display(node, out: list) -> None:
         "name": _scalar(entries.get("Name")),
         "enabled": (_scalar(entries.get("Enabled")) or "true").lower() == "true",
         "source": _scalar(entries.get("Description Source")),
-        "topic": topic, "topic_line": _line(topic_node) if topic_node is not None else None,
+        "topic": topic, "topic_line": keys.get("Description Topic"),
         "file": _scalar(entries.get("Description File")),
-        "file_line": _line(entries["Description File"]) if "Description File" in entries else None,
+        "file_line": keys.get("Description File"),
     })
     if klass == "rviz_common/Group":  # displays nested in a group
         children = entries.get("Displays")

@@ -129,10 +129,20 @@ class CheckContext:
         return out
 
     def folders_reported_uninstalled(self) -> set[str]:
-        """Own top-level folders a launch file resolves into but the tree lacks."""
+        """Own top-level folders a launch file or a model's mesh resolves into but the tree lacks."""
         folders = set()
         if self.tree is None:
             return folders
+        own = (self.model.share_name, self.model.name)
+        for result in self.model_results:
+            for mesh in (result.robot or {}).get("meshes", []):
+                uri = mesh["uri"]
+                if uri.startswith("package://"):
+                    package, _, relative = uri[len("package://"):].partition("/")
+                    if package in own and (self.model.path / relative).is_file() \
+                            and self.tree.share(package) is not None \
+                            and not (self.tree.share(package) / relative).exists():
+                        folders.add(relative.split("/")[0])
         for resolution in self.resolutions:
             for item in resolution.items.get("paths", []):
                 if item.get("exists"):

@@ -156,8 +156,10 @@ def _looked_up(ctx: CheckContext):
         for mesh in (result.robot or {}).get("meshes", []):
             if mesh["uri"].startswith("package://"):
                 package = mesh["uri"][len("package://"):].split("/")[0]
-                source = ctx.own_source(mesh.get("file") or "") or result.source or result.installed
-                yield package, source, mesh.get("line"), "package://", {}, None
+                own = ctx.own_source(mesh.get("file") or "")
+                # a mesh written in another package's file: this model's file, no line
+                source, line = (own, mesh.get("line")) if own else (result.source or result.installed, None)
+                yield package, source, line, "package://", {}, None
     # a Python launch file that imports a ROS package's module needs that package at run time
     evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
     for reference in ctx.model.references:
@@ -201,8 +203,9 @@ def missing_exec_depend(ctx: CheckContext):
     own = {model.name, model.share_name}
     known = ctx.real_packages()
     reported = set()
+    # a use with a line first: that is where the diagnostic points
     for name, path, line, via, item, resolution in sorted(
-            _looked_up(ctx), key=lambda x: (x[0], str(x[1]), x[2] or 0)):
+            _looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
         if name in own or name in declared or name in reported or name not in known \
                 or name in LAUNCH_INFRASTRUCTURE:
             continue
@@ -282,7 +285,8 @@ def xacro_error(ctx: CheckContext):
             yield Finding(f"xacro {Path(command['model']).name}: {message[0] if message else 'failed'}",
                           *position)
         error = resolution.error or {}
-        if ctx.load_error_kind(resolution) == "xacro":
+        models = {c.get("model") for c in resolution.items.get("commands", [])}
+        if ctx.load_error_kind(resolution) == "xacro" and not models & covered:
             position = _position(ctx, resolution, error.get("file"), error.get("line"))
             if position is not None:
                 yield Finding(f"xacro: {error['message']}", *position)

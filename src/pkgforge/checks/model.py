@@ -102,6 +102,11 @@ def mesh_not_found(ctx: CheckContext):
             yield Finding(f"{mesh['uri']} ({where}) leaves package {lookup.package} with '..'", *position,
                           hint=f"name a file inside {lookup.package}, or use package://<other>/... for "
                                "another package's file")
+        elif lookup.status == "unknown-package" and not lookup.package:
+            fixed = "package://" + mesh["uri"][len("package://"):].lstrip("/")
+            yield Finding(f"{mesh['uri']} ({where}) names no package: 'package:///' has three slashes, and "
+                          "RViz's resource retriever reads an empty package name", *position,
+                          hint=f"write {fixed}")
         elif lookup.status == "unknown-package":
             yield Finding(f"{mesh['uri']} ({where}): package '{lookup.package}' is not installed anywhere",
                           *position, hint="fix the package name in the URI")
@@ -188,6 +193,14 @@ def xacro_model_errors(ctx: CheckContext):
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
                           *_where(ctx, result, error.get("file"), error.get("line")))
+
+
+def root_link(ctx: CheckContext, launch) -> str | None:
+    for result in ctx.model_results:
+        if result.status == "ok" and any(o["launch"] == launch for o in result.origins):
+            children = {j.get("child") for j in result.robot.get("joints", [])}
+            return next((l["name"] for l in result.robot.get("links", []) if l["name"] not in children), None)
+    return None
 
 
 def link_names(ctx: CheckContext, launch) -> set[str] | None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..diagnostics import Finding
 from ..rviz import ROBOT_MODEL
 from .context import CheckContext
-from .model import link_names
+from .model import link_names, root_link
 from .registry import register
 
 # frames another node (localization, odometry) publishes; fine when no link has the name
@@ -54,8 +54,8 @@ def rviz_fixed_frame_unknown(ctx: CheckContext):
             continue
         if frame in EXTERNAL_FRAMES:
             continue
-        example = sorted(links)[0]
+        example = root_link(ctx, launch) or sorted(links)[0]
         yield Finding(f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
                       config.path, config.fixed_frame_line,
-                      hint=f"use a link of the model (e.g. {example}); frames such as map, odom or world that "
+                      hint=f"use a link of the model (its root is {example}); frames such as map, odom or world that "
                            "another node publishes are accepted when no link has the name")

@@ -19,9 +19,11 @@ from pathlib import Path
 from .source import SourceFile
 
 PACKAGE_NAME = r"[A-Za-z][A-Za-z0-9_]*"
+# what ament accepts in practice (example-robot-data is a real, installed package name)
+INSTALLED_NAME = r"[A-Za-z][A-Za-z0-9_\-]*"
 TEXT_PATTERNS = [
-    (re.compile(rf"package://({PACKAGE_NAME})(/[^\"'\s<>]*)?"), "package://"),
-    (re.compile(rf"\$\(find\s+({PACKAGE_NAME})\)(/[^\"'\s<>)$]*)?"), "$(find)"),
+    (re.compile(rf"package://({INSTALLED_NAME})(/[^\"'\s<>]*)?"), "package://"),
+    (re.compile(rf"\$\(find\s+({INSTALLED_NAME})\)(/[^\"'\s<>)$]*)?"), "$(find)"),
     (re.compile(rf"\$\(find-pkg-share\s+({PACKAGE_NAME})\)(/[^\"'\s<>)$]*)?"), "$(find-pkg-share)"),
     (re.compile(rf"\$\(find-pkg-prefix\s+({PACKAGE_NAME})\)"), "$(find-pkg-prefix)"),
 ]
