@@ -68,9 +68,10 @@ def main() -> None:
     static = ["--select", "PF1,PF2,PF9"]  # manifest and install checks: no launch resolution
     commands = {
         "colcon list": [str(SCRIPTS / "colcon"), "list"],
-        "verify, manifest+install checks": [*verify, *static],
-        "  same, --jobs 1": [*verify, *static, "--jobs", "1"],
-        "verify (default: + launch files)": verify,
+        "verify, manifest+install checks": [*verify, *static, "--no-cache"],
+        "  same, --jobs 1": [*verify, *static, "--jobs", "1", "--no-cache"],
+        "verify (default), first run": [*verify, "--no-cache"],
+        "verify (default), second run": verify,  # unchanged workspace: from the cache
     }
     with tempfile.TemporaryDirectory() as tmp:
         root = generate(args.keep or Path(tmp), args.packages)

@@ -43,15 +43,17 @@ def main() -> None:
 @click.option("--description", default="", help="package.xml description.")
 @click.option("--force", is_flag=True,
               help="Write into an existing package folder, replacing the generated files.")
+@click.option("--ci", type=click.Choice(["github", "gitlab"]), multiple=True,
+              help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.")
 def new(name, distro, build_type, launch_format, destination, maintainer_name,
-        maintainer_email, license_, description, force):
+        maintainer_email, license_, description, force, ci):
     """Create a robot description package NAME that builds and shows in RViz2."""
     from .scaffold import create_package, default_destination, make_spec
 
     try:
         spec = make_spec(name, distro=distro, build_type=build_type, launch_format=launch_format,
                          maintainer_name=maintainer_name, maintainer_email=maintainer_email,
-                         license=license_, description=description)
+                         license=license_, description=description, ci=tuple(dict.fromkeys(ci)))
         created = create_package(spec, destination or default_destination(Path.cwd()), force=force)
     except PkgforgeError as error:
         fail(error)
@@ -112,6 +114,8 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               default="text", show_default=True, help="Output format.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the report to this file instead of standard output.")
+@click.option("--junit-xml", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Also write a JUnit XML report here (for CI test reports).")
 @click.option("--select", multiple=True, metavar="CHECKS",
               help="Run only these checks: codes, code prefixes (PF2) or names; comma-separated.")
 @click.option("--ignore", multiple=True, metavar="CHECKS",
@@ -129,13 +133,16 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               help="A launch argument's value for every launch file. Repeatable.")
 @click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
               help="Seconds one launch file may take to load and resolve.")
+@click.option("--no-cache", is_flag=True,
+              help="Verify every package again instead of reusing results of unchanged ones "
+                   "(cache: build/pkgforge-cache/, safe to delete).")
 @click.option("--explain-launch", "explain_launch", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print how FILE resolves in the install tree, then exit.")
 @click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
-def verify(path, fmt, output, select, ignore, strict, jobs, build_tree, install_base, launch_args,
-           launch_timeout, explain_launch, explain_model):
+def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
+           launch_timeout, no_cache, explain_launch, explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -156,7 +163,7 @@ def verify(path, fmt, output, select, ignore, strict, jobs, build_tree, install_
     mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
     options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
                             mode=mode, install_base=install_base, launch_timeout=launch_timeout,
-                            launch_arguments=arguments)
+                            launch_arguments=arguments, use_cache=not no_cache)
     try:
         if explain_launch is not None:
             from .explain import explain_launch_file
@@ -183,7 +190,45 @@ def verify(path, fmt, output, select, ignore, strict, jobs, build_tree, install_
             click.echo(summary(result), err=True)
     else:
         click.echo(text, nl=False)
+    if junit_xml is not None:
+        try:
+            junit_xml.parent.mkdir(parents=True, exist_ok=True)
+            junit_xml.write_text(render("junit", result, strict=strict), encoding="utf-8")
+        except OSError as exc:
+            fail(PkgforgeError(f"cannot write {junit_xml}: {exc.strerror}"))
     sys.exit(result.exit_code(strict))
+
+
+@main.command("verify-files", context_settings=CONTEXT_SETTINGS)
+@click.argument("files", nargs=-1, type=click.Path(path_type=Path))
+@click.option("--strict", is_flag=True, help="Treat warnings as errors.")
+def verify_files(files, strict):
+    """Verify the packages that hold FILES (pre-commit passes the staged files).
+
+    Each package found above a file is verified once, in the fast default mode.
+    """
+    from .config import Selection
+    from .report import render
+    from .verify import VerifyOptions, verify as run_verify
+
+    packages = []
+    for file in files:
+        folder = file.resolve().parent
+        while folder != folder.parent and not (folder / "package.xml").is_file():
+            folder = folder.parent
+        if (folder / "package.xml").is_file() and folder not in packages:
+            packages.append(folder)
+    status = 0
+    for package in packages:
+        try:
+            result = run_verify(package, VerifyOptions(Selection(), strict=strict))
+        except PkgforgeError as error:
+            fail(error)
+        result.root = Path.cwd()  # paths as the repository shows them
+        if result.diagnostics:
+            click.echo(render("text", result, color=sys.stdout.isatty()), nl=False)
+        status = max(status, result.exit_code(strict))
+    sys.exit(status)
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)

@@ -31,6 +31,10 @@ class Selection:
     select: list[str] = field(default_factory=list)  # empty: every check
     ignore: list[str] = field(default_factory=list)
 
+    def key(self) -> str:
+        """The selection as text, for cache keys (with pkgforge's version, it decides the codes)."""
+        return f"{sorted(self.select)}|{sorted(self.ignore)}"
+
     def codes(self) -> set[str]:
         checks = all_checks()
         chosen = {c.code for c in checks if not self.select or any(_matches(c, k) for k in self.select)}
@@ -45,6 +49,8 @@ def _matches(check, key: str) -> bool:
 
 
 def validate_keys(keys: list[str], where: str) -> None:
+    if not keys:
+        return
     checks = all_checks()
     for key in keys:
         if not any(_matches(c, key) for c in checks):

@@ -85,9 +85,10 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
     return list(jobs.values())
 
 
-def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float) -> list[ModelResult]:
+def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float,
+            on_done=None) -> list[ModelResult]:
     requests = [{"model": str(r.installed), "mappings": r.mappings} for r in results]
-    for result, reply in zip(results, run_requests(requests, tree, jobs=jobs, timeout=timeout)):
+    for result, reply in zip(results, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done)):
         result.status = reply.get("status", "crashed")
         result.error = reply.get("error")
         result.robot = reply.get("robot")

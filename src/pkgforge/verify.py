@@ -7,21 +7,27 @@ the models and resolutions in this process. Only plain data crosses a process.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import sys
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
-from multiprocessing import get_context
 from pathlib import Path
 
-from .checks.context import CheckContext
-from .checks.registry import all_checks
+from typing import TYPE_CHECKING
+
 from .config import Config, Selection, load_config
 from .diagnostics import Diagnostic, Finding, PackageReport, Severity
 from .errors import PkgforgeError
-from .model.package import PackageModel, load_package
+from .progress import Progress
 from .workspace import Workspace, discover, locate
+
+if TYPE_CHECKING:
+    from .checks.context import CheckContext
+    from .model.package import PackageModel
+
+# The model layer (lxml, catkin_pkg) and the checks load only when something
+# must be verified: a run answered from the cache never imports them.
 
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
 NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
@@ -48,6 +54,10 @@ class VerifyOptions:
     install_base: Path | None = None
     launch_timeout: float = 10.0
     launch_arguments: dict[str, str] = field(default_factory=dict)
+    use_cache: bool = True
+
+    def cache_key(self) -> str:
+        return json.dumps([self.mode, sorted(self.launch_arguments.items()), self.launch_timeout])
 
 
 @dataclass
@@ -57,6 +67,9 @@ class VerifyResult:
     checks_run: set[str]
     tree_kind: str | None = None
     launch_files: int = 0
+    cached: int = 0  # packages answered from the cache
+    # package folder → files outside it that its verification read (for the cache)
+    externals: dict[Path, set[str]] = field(default_factory=dict)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -116,6 +129,8 @@ def find_targets(workspace: Workspace) -> list[PackageTarget]:
 
 
 def _load(target: PackageTarget) -> PackageModel:
+    from .model.package import load_package
+
     return load_package(target.path, colcon_type=target.colcon_type, parsed_by_colcon=target.parsed_by_colcon)
 
 
@@ -134,6 +149,9 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
     if jobs <= 1 or len(guessed) < PARALLEL_THRESHOLD:
         targets = find_targets(workspace)
         return targets, {t.path: _load(t) for t in targets}
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+
     workers = max(1, jobs - 1)  # this process runs discovery meanwhile
     size = max(1, -(-len(guessed) // (workers * 4)))
     chunks = [guessed[i:i + size] for i in range(0, len(guessed), size)]
@@ -155,6 +173,8 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
 # --- checks ---------------------------------------------------------------------------------
 
 def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
+    from .checks.registry import all_checks
+
     model = context.model
     report = PackageReport(model.name, model.path, model.build_type)
     seen = set()
@@ -242,6 +262,13 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     workspace = locate(path)
     config: Config = load_config(workspace.root, options.selection)
     jobs = options.jobs or os.cpu_count() or 1
+    cache, keys, hits = None, {}, {}
+    if options.use_cache and options.mode == "predicted":
+        cache, keys, hits = _cache_lookup(workspace, config, options)
+        if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
+            reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
+            codes = set().union(*(codes for _, codes in hits.values()))
+            return VerifyResult(root, reports, codes, cached=len(reports))
     if workspace.package_path is not None:
         targets, models, everything = load_one_package(workspace)
     else:
@@ -249,6 +276,65 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         everything = {model.name: path for path, model in models.items()}
     if not targets:
         raise PkgforgeError(f"no package found under {root}")
+    todo = [t for t in targets if t.path not in hits]
+    result = run(root, workspace, config, todo, models, everything, options) if todo else \
+        VerifyResult(root, [], set())
+    if cache is not None:
+        for report in result.reports:
+            if report.path in keys:
+                cache.store(report.path, keys[report.path], report, result.externals.get(report.path, set()),
+                            config.for_package(report.name, report.path).codes())
+        cache.save_index()
+    result.reports = sorted(result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path)))
+    result.checks_run |= set().union(*(codes for _, codes in hits.values()))
+    result.cached = len(hits)
+    return result
+
+
+def cache_folder(workspace: Workspace) -> Path:
+    """build/pkgforge-cache in a workspace (beside colcon's build folders); for a lone package
+    (a repository that is one package), the user's cache folder: nothing is written beside it."""
+    import hashlib
+
+    if (workspace.root / "src").is_dir() or (workspace.root / "build").is_dir():
+        build = workspace.root / "build"
+        if not build.exists():
+            build.mkdir()
+            (build / "COLCON_IGNORE").touch()  # as colcon marks it, so no crawl enters it
+        return build / "pkgforge-cache"
+    home = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
+    return home / "pkgforge" / hashlib.sha1(str(workspace.base_path).encode()).hexdigest()[:16]
+
+
+def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
+    """(cache, package folder → key, package folder → cached report) for the packages to verify."""
+    from .cache import ResultCache, workspace_key
+    from .model.files import walk_file_names
+
+    cache = ResultCache(cache_folder(workspace), options.cache_key())
+    every = package_folders(workspace.base_path)
+    folders = [workspace.package_path.resolve()] if workspace.package_path is not None else every
+    signature = workspace_key(every)
+    keys, hits = {}, {}
+    for folder in folders:
+        name = quick_name(folder)
+        files = walk_file_names(folder)
+        selection = config.for_package(name, folder)
+        keys[folder] = cache.package_key(folder, files, selection.key(), signature)
+        report = cache.load(folder, keys[folder])
+        if report is not None:
+            hits[folder] = report
+    cache.save_index()
+    return cache, keys, hits
+
+
+def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageTarget],
+        models: dict[Path, PackageModel], everything: dict[str, Path], options: VerifyOptions) -> VerifyResult:
+    """Verify the targets; `models` holds every package the install tree needs."""
+    from .checks.context import CheckContext
+    from .checks.registry import all_checks
+
+    jobs = options.jobs or os.cpu_count() or 1
     codes = {t.path: config.for_package(t.name, t.path).codes() for t in targets}
     tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS}
     checked = [models[t.path] for t in targets]
@@ -259,18 +345,24 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         from . import models as robot_models
         from .launch.resolve import find_launch_files, resolve
 
+        progress = Progress()
+        progress.show(f"{len(checked)} packages: install tree")
         tree = make_tree(options, workspace, list(models.values()))
         launch_files, ros1_files = find_launch_files(tree, checked)
         launch_count = len(launch_files)
         for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
-                                  arguments=options.launch_arguments):
+                                  arguments=options.launch_arguments,
+                                  on_done=progress.counter("launch files", len(launch_files))):
             resolutions.setdefault(resolution.launch.package, []).append(resolution)
         for launch in ros1_files:
             ros1.setdefault(launch.package, []).append(launch)
-        for result in robot_models.process(robot_models.collect(tree, checked, resolutions), tree,
-                                           jobs=jobs, timeout=options.launch_timeout):
+        to_process = robot_models.collect(tree, checked, resolutions)
+        for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
+                                           on_done=progress.counter("robot models", len(to_process))):
             model_results.setdefault(result.package, []).append(result)
         rviz = rviz_configs(tree, checked, resolutions)
+        progress.clear()
+    read: dict[Path, set[str]] = {}
     try:
         by_share = {m.share_name: m for m in models.values()}
         reports = []
@@ -281,9 +373,13 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
                                    ros1.get(model.name, []), model_results.get(model.name, []),
                                    configs, launches)
             reports.append(run_checks(context, codes[target.path]))
+            if options.use_cache and tree is not None:
+                from .cache import externals as read_elsewhere
+
+                read[target.path] = read_elsewhere(context)
     finally:
         if tree is not None:
             tree.close()
     checks_run = set().union(*codes.values())
-    return VerifyResult(root, reports, checks_run, tree.kind if tree else None, launch_count)
+    return VerifyResult(root, reports, checks_run, tree.kind if tree else None, launch_count, externals=read)
 

@@ -149,7 +149,7 @@ class _Worker:
 
 
 def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
-                 timeout: float = DEFAULT_TIMEOUT) -> list[dict]:
+                 timeout: float = DEFAULT_TIMEOUT, on_done=None) -> list[dict]:
     """Each request answered by a worker subprocess, in order; a hang or crash is an answer too."""
     if not requests:
         return []
@@ -170,6 +170,8 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
                 except queue.Empty:
                     return
                 replies[index] = worker.ask(request, timeout)
+                if on_done is not None:
+                    on_done()
         finally:
             worker.stop()
 
@@ -182,9 +184,10 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
 
 
 def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
-            timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None) -> list[Resolution]:
+            timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None,
+            on_done=None) -> list[Resolution]:
     requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
-    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout)
+    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done)
     return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies)]
 
 

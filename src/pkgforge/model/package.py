@@ -11,13 +11,12 @@ from .layout import InstallLayout, layout_from_cmake, layout_from_setup_py
 from .manifest import Manifest, load_manifest
 from .references import Reference, launch_kind, scan
 from .setup_py import SetupPyModel, load_setup_py
+from .files import SKIPPED_DIRS, walk_files as _walk_files
 from .source import SourceFile, read_source
 
 # Top-level folders that hold run-time resources by convention.
 RESOURCE_FOLDERS = ("launch", "urdf", "meshes", "rviz", "config", "worlds", "models", "maps",
                     "params", "description", "robots", "xacro", "sdf")
-# Never part of what a package installs or refers to.
-SKIPPED_DIRS = {"build", "install", "log", "__pycache__", "node_modules", "test", "tests"}
 SCANNED_SUFFIXES = (".xacro", ".urdf", ".rviz", ".sdf")
 
 
@@ -63,28 +62,6 @@ class PackageModel:
         if source is None or line is None:
             return False
         return bool(source.suppressions.get(line, set()) & keys)
-
-
-def _walk_files(root: Path) -> list[Path]:
-    """Every file of the package, not descending into nested packages or build folders."""
-    files = []
-    top = str(root)
-    for current, dirs, names in os.walk(top, followlinks=False):
-        relative_dir = os.path.relpath(current, top)
-        keep = []
-        for d in sorted(dirs):
-            if d.startswith(".") or (current == top and d in SKIPPED_DIRS):
-                continue
-            sub = os.path.join(current, d)
-            if os.path.exists(os.path.join(sub, "package.xml")) or \
-                    os.path.exists(os.path.join(sub, "COLCON_IGNORE")):
-                continue
-            keep.append(d)
-        dirs[:] = keep
-        for name in sorted(names):
-            if not name.startswith("."):
-                files.append(Path(name) if relative_dir == "." else Path(relative_dir, name))
-    return files
 
 
 def _is_scanned(relative: Path) -> bool:

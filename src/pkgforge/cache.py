@@ -1,0 +1,178 @@
+"""Per-package results cached by the content of everything their checks read.
+
+An entry is valid while the package's files, the files outside it that its
+verification read (another package's xacro include or mesh, an installed file),
+the selected checks and options, and the workspace's package names and declared
+dependencies are all unchanged. File digests are memoized by (size, mtime), as
+git's index does, so an unchanged file is not read again. Entries are written
+to a temporary file and renamed: two runs at once never see half an entry, and
+the folder is safe to delete.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import tempfile
+from pathlib import Path
+
+from . import __version__
+from .diagnostics import Diagnostic, PackageReport, Severity
+
+CACHE_FORMAT = 1
+DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
+NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as out:
+            out.write(text)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+class ResultCache:
+    def __init__(self, folder: Path, options_key: str):
+        self.folder = folder
+        self.options_key = options_key
+        self.index_path = folder / "digests.json"
+        try:
+            self.index = json.loads(self.index_path.read_text())
+        except (OSError, ValueError):
+            self.index = {}
+        self.changed = False
+
+    # --- digests ------------------------------------------------------------------------------
+
+    def digest(self, path: str) -> str | None:
+        """sha256 of a file's content (None when missing), memoized by size and mtime."""
+        try:
+            stat = os.stat(path)
+        except OSError:
+            return None
+        stamp = [stat.st_size, stat.st_mtime_ns]
+        known = self.index.get(path)
+        if known and known[:2] == stamp:
+            return known[2]
+        digest = hashlib.sha256()
+        try:
+            with open(path, "rb") as handle:
+                for block in iter(lambda: handle.read(1 << 20), b""):
+                    digest.update(block)
+        except OSError:
+            return None
+        self.index[path] = [*stamp, digest.hexdigest()]
+        self.changed = True
+        return self.index[path][2]
+
+    def package_key(self, folder: Path, files: list[str], selection: str, workspace_key: str) -> str:
+        key = hashlib.sha256()
+        for part in (__version__, str(CACHE_FORMAT), self.options_key, workspace_key, selection):
+            key.update(part.encode() + b"\0")
+        for relative in files:
+            key.update(relative.encode() + b"\0" + (self.digest(str(folder / relative)) or "-").encode() + b"\0")
+        return key.hexdigest()
+
+    # --- entries ------------------------------------------------------------------------------
+
+    def _entry_path(self, folder: Path) -> Path:
+        return self.folder / f"{hashlib.sha1(str(folder).encode()).hexdigest()}.json"
+
+    def load(self, folder: Path, key: str) -> tuple[PackageReport, set[str]] | None:
+        """(report, codes of the checks that ran) when the entry is still valid."""
+        try:
+            entry = json.loads(self._entry_path(folder).read_text())
+        except (OSError, ValueError):
+            return None
+        if entry.get("key") != key:
+            return None
+        for path, digest in entry.get("externals", []):
+            if self.digest(path) != digest:
+                return None
+        return _report_from(entry["report"]), set(entry.get("codes", []))
+
+    def store(self, folder: Path, key: str, report: PackageReport, externals: set[str], codes: set[str]) -> None:
+        entry = {"key": key, "externals": sorted([p, self.digest(p)] for p in externals),
+                 "codes": sorted(codes), "report": _report_to(report)}
+        _atomic_write(self._entry_path(folder), json.dumps(entry))
+
+    def save_index(self) -> None:
+        if self.changed:
+            _atomic_write(self.index_path, json.dumps(self.index))
+
+
+def workspace_key(folders: list[Path]) -> str:
+    """The names and declared dependencies of every package: what lookups depend on."""
+    names, dependencies = set(), set()
+    for folder in folders:
+        try:
+            text = (folder / "package.xml").read_text(errors="replace")
+        except OSError:
+            continue
+        match = NAME.search(text)
+        names.add(match.group(1) if match else folder.name)
+        dependencies.update(DEPENDENCY.findall(text))
+    return hashlib.sha256(json.dumps([sorted(names), sorted(dependencies)]).encode()).hexdigest()
+
+
+BUILD_FILES = ("package.xml", "CMakeLists.txt", "setup.py", "setup.cfg")
+
+
+def externals(context) -> set[str]:
+    """Files outside the package that its verification depended on (real paths).
+
+    A path into another workspace package depends on that package's build
+    files too: fixing its install rules changes what exists in the tree.
+    """
+    from .meshes import resolve_uri
+
+    tree = context.tree
+    found: set[str] = set()
+    for resolution in context.resolutions:
+        for kind in ("paths", "includes"):
+            found.update(item["path"] for item in resolution.items.get(kind, []))
+        found.update(c["model"] for c in resolution.items.get("commands", []) if c.get("model"))
+    for result in context.model_results:
+        found.add(str(result.installed))
+        found.update(result.includes)
+        for mesh in (result.robot or {}).get("meshes", []):
+            lookup = resolve_uri(mesh["uri"], tree, result.installed)
+            if lookup.path is not None:
+                found.add(str(lookup.path))
+    own = str(context.model.path) + os.sep
+    temporary = [str(p) + os.sep for p in (tree.prefixes if tree is not None else [])]
+    out = set()
+    for path in found:
+        located = tree.locate(path) if tree is not None else None
+        if located is not None:
+            package = located[0]
+            if tree.is_phantom(path) or package in (context.model.name, context.model.share_name):
+                continue
+            other = context.models.get(package)
+            if other is not None:
+                out.update(str(other.path / name) for name in BUILD_FILES)
+        real = os.path.realpath(path)
+        if not real.startswith(own) and not any(real.startswith(t) for t in temporary):
+            out.add(real)
+    return out
+
+
+def _report_to(report: PackageReport) -> dict:
+    return {"name": report.name, "path": str(report.path), "build_type": report.build_type,
+            "diagnostics": [{**d.__dict__, "path": str(d.path), "severity": d.severity.label}
+                            for d in report.diagnostics]}
+
+
+def _report_from(data: dict) -> PackageReport:
+    report = PackageReport(data["name"], Path(data["path"]), data["build_type"])
+    for d in data["diagnostics"]:
+        report.diagnostics.append(Diagnostic(**{**d, "path": Path(d["path"]),
+                                                "severity": Severity.parse(d["severity"])}))
+    return report

@@ -1,0 +1,85 @@
+"""`colcon verify`: pkgforge's checks as a colcon verb, after `colcon build`.
+
+Takes colcon's own package selection (--packages-select, --packages-skip,
+--packages-up-to, --base-paths, ...) and checks the selected packages against
+the install tree colcon built (--install-base, merged or isolated).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from colcon_core.package_selection import add_arguments as add_packages_arguments
+from colcon_core.package_selection import get_package_descriptors, select_package_decorators
+from colcon_core.plugin_system import satisfies_version
+from colcon_core.topological_order import topological_order_packages
+from colcon_core.verb import VerbExtensionPoint
+
+FORMATS = ("text", "json", "junit", "sarif", "github")
+
+
+class VerifyVerb(VerbExtensionPoint):
+    """Check packages against their install tree: install rules, launch files, models, RViz configs."""
+
+    def __init__(self):  # noqa: D107
+        super().__init__()
+        satisfies_version(VerbExtensionPoint.EXTENSION_POINT_VERSION, "^1.0")
+
+    def add_arguments(self, *, parser):  # noqa: D102
+        parser.add_argument("--build-base", default="build",
+                            help="The base path for all build directories (default: build)")
+        parser.add_argument("--install-base", default="install",
+                            help="The install tree to check, merged or isolated (default: install)")
+        add_packages_arguments(parser)
+        parser.add_argument("--junit-xml", metavar="PATH", default=None,
+                            help="Also write a JUnit XML report (one testsuite per package)")
+        parser.add_argument("--pkgforge-format", choices=FORMATS, default="text",
+                            help="Output format on standard output (default: text)")
+        parser.add_argument("--strict", action="store_true", help="Treat warnings as errors")
+        parser.add_argument("--pkgforge-select", action="append", default=[], metavar="CHECKS",
+                            help="Run only these checks (codes, prefixes or names; comma-separated)")
+        parser.add_argument("--pkgforge-ignore", action="append", default=[], metavar="CHECKS",
+                            help="Skip these checks (codes, prefixes or names; comma-separated)")
+        parser.add_argument("--launch-timeout", type=float, default=10.0,
+                            help="Seconds one launch file may take (default: 10)")
+
+    def main(self, *, context):  # noqa: D102
+        from .config import Selection, load_config
+        from .errors import PkgforgeError
+        from .report import render
+        from .verify import PackageTarget, VerifyOptions, _load, run
+        from .workspace import Workspace
+
+        args = context.args
+        descriptors = get_package_descriptors(args)
+        decorators = topological_order_packages(descriptors, recursive_categories=("run",))
+        select_package_decorators(args, decorators)
+        ros = [d for d in decorators if str(d.descriptor.type).startswith("ros.")]
+        targets = [PackageTarget(Path(d.descriptor.path).resolve(), d.descriptor.name, str(d.descriptor.type), True)
+                   for d in ros]
+        selected = {Path(d.descriptor.path).resolve() for d in ros if d.selected}
+        root = Path.cwd()
+        selection = Selection(_keys(args.pkgforge_select), _keys(args.pkgforge_ignore))
+        options = VerifyOptions(selection, strict=args.strict, mode="install-base",
+                                install_base=Path(args.install_base), launch_timeout=args.launch_timeout)
+        try:
+            config = load_config(root, selection)
+            models = {t.path: _load(t) for t in targets}
+            chosen = [t for t in targets if t.path in selected]
+            if not chosen:
+                print("colcon verify: no package selected", file=sys.stderr)
+                return 0
+            result = run(root, Workspace(root, root), config, chosen, models,
+                         {t.name: t.path for t in targets}, options)
+        except PkgforgeError as error:
+            return f"colcon verify: {error}"
+        sys.stdout.write(render(args.pkgforge_format, result, color=sys.stdout.isatty(), strict=args.strict))
+        if args.junit_xml:
+            Path(args.junit_xml).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.junit_xml).write_text(render("junit", result, strict=args.strict), encoding="utf-8")
+        return result.exit_code(args.strict)
+
+
+def _keys(values: list[str]) -> list[str]:
+    return [k.strip() for value in values for k in value.split(",") if k.strip()]

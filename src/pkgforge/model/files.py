@@ -1,0 +1,38 @@
+"""The files of a package: a walk light enough for the cache's fast path (no XML, no colcon)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+# Never part of what a package installs or refers to.
+SKIPPED_DIRS = {"build", "install", "log", "__pycache__", "node_modules", "test", "tests"}
+
+
+def walk_files(root: Path) -> list[Path]:
+    """Every file of the package, not descending into nested packages or build folders."""
+    return [Path(name) for name in walk_file_names(root)]
+
+
+def walk_file_names(root: Path) -> list[str]:
+    """walk_files as relative path strings (the cache's fast path builds no Path objects)."""
+    files = []
+    top = str(root)
+    for current, dirs, names in os.walk(top, followlinks=False):
+        relative_dir = os.path.relpath(current, top)
+        keep = []
+        for d in sorted(dirs):
+            if d.startswith(".") or (current == top and d in SKIPPED_DIRS):
+                continue
+            sub = os.path.join(current, d)
+            if os.path.exists(os.path.join(sub, "package.xml")) or \
+                    os.path.exists(os.path.join(sub, "COLCON_IGNORE")):
+                continue
+            keep.append(d)
+        dirs[:] = keep
+        for name in sorted(names):
+            if not name.startswith("."):
+                files.append(name if relative_dir == "." else f"{relative_dir}/{name}")
+    return files
+
+
