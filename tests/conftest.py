@@ -54,6 +54,38 @@ def copy_fixture(relative: str, workspace: Path) -> Path:
     return target
 
 
+def line_of(path: Path, text: str) -> int:
+    """The first line of path that contains text (tests assert exact lines with it)."""
+    for number, line in enumerate(path.read_text().splitlines(), start=1):
+        if text in line:
+            return number
+    raise AssertionError(f"{text!r} not in {path}")
+
+
+def edit(path: Path, old: str, new: str) -> None:
+    """Replace old (which must be there) by new, once."""
+    content = path.read_text()
+    assert old in content, f"{old!r} not in {path}"
+    path.write_text(content.replace(old, new, 1))
+
+
+def verify_report(path: Path, *args: str) -> tuple[int, dict]:
+    """`pkgforge verify PATH --format json ARGS` run in PATH: (exit status, report)."""
+    import json
+
+    result = run_pkgforge("verify", path, "--format", "json", *args, cwd=path)
+    assert "Traceback" not in result.stderr, result.stderr
+    assert result.returncode in (0, 1), result.stdout + result.stderr
+    return result.returncode, json.loads(result.stdout)
+
+
+SEVERITIES = ["info", "warning", "error"]
+
+
+def at_least(report: dict, minimum: str) -> list[dict]:
+    return [d for d in report["diagnostics"] if SEVERITIES.index(d["severity"]) >= SEVERITIES.index(minimum)]
+
+
 def xacro_command(model: Path, install: Path):
     """The real xacro command line tool against an install tree."""
     env = dict(os.environ, AMENT_PREFIX_PATH=str(install))

@@ -16,8 +16,8 @@ import pytest
 import yaml
 from lxml import etree
 
-from conftest import MAINTAINER, copy_fixture, run_pkgforge
-from test_launch import edit, jazzy_package, line_of, plain_colcon_build
+from conftest import MAINTAINER, edit, line_of, run_pkgforge
+from test_launch import jazzy_package, plain_colcon_build
 
 REPO = Path(__file__).resolve().parent.parent
 SCRIPTS = Path(sysconfig.get_path("scripts"))

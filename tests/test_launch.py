@@ -12,35 +12,23 @@ from pathlib import Path
 
 import pytest
 
-from conftest import FIXTURES, VARIANTS, copy_fixture, run_pkgforge
+from conftest import FIXTURES, VARIANTS, at_least, copy_fixture, edit, line_of, run_pkgforge, verify_report
+
+verify = verify_report
+
+
+def found(report: dict, minimum: str = "warning") -> list[tuple]:
+    return sorted((d["code"], d["name"], d["path"], d["line"]) for d in at_least(report, minimum))
 
 SCRIPTS = Path(sysconfig.get_path("scripts"))
 
 
-def line_of(path: Path, text: str) -> int:
-    for number, line in enumerate(path.read_text().splitlines(), start=1):
-        if text in line:
-            return number
-    raise AssertionError(f"{text!r} not in {path}")
 
 
-def edit(path: Path, old: str, new: str) -> None:
-    content = path.read_text()
-    assert old in content, f"{old!r} not in {path}"
-    path.write_text(content.replace(old, new, 1))
 
 
-def verify(path: Path, *args: str) -> tuple[int, dict]:
-    result = run_pkgforge("verify", path, "--format", "json", *args, cwd=path)
-    assert "Traceback" not in result.stderr, result.stderr
-    assert result.returncode in (0, 1), result.stdout + result.stderr
-    return result.returncode, json.loads(result.stdout)
 
 
-def found(report: dict, minimum: str = "warning") -> list[tuple]:
-    order = ["info", "warning", "error"]
-    return sorted((d["code"], d["name"], d["path"], d["line"]) for d in report["diagnostics"]
-                  if order.index(d["severity"]) >= order.index(minimum))
 
 
 # --- fixtures: the two seed styles, clean -----------------------------------------------------

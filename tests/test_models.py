@@ -10,21 +10,18 @@ import pytest
 
 from pkgforge.stl import binary_stl, box_triangles
 
-from conftest import MAINTAINER, copy_fixture, run_pkgforge
-from test_launch import edit, humble_package, line_of
+from conftest import MAINTAINER, at_least, edit, line_of, run_pkgforge, verify_report
+from test_launch import humble_package
 
-
-def verify(path: Path, *args: str) -> tuple[int, dict]:
-    result = run_pkgforge("verify", path, "--format", "json", *args, cwd=path)
-    assert "Traceback" not in result.stderr, result.stderr
-    assert result.returncode in (0, 1), result.stdout + result.stderr
-    return result.returncode, json.loads(result.stdout)
+verify = verify_report
 
 
 def found(report: dict, minimum: str = "info") -> list[tuple]:
-    order = ["info", "warning", "error"]
-    return sorted((d["code"], d["name"], d["path"], d["line"]) for d in report["diagnostics"]
-                  if order.index(d["severity"]) >= order.index(minimum))
+    return sorted((d["code"], d["name"], d["path"], d["line"]) for d in at_least(report, minimum))
+
+
+
+
 
 
 PLATE = """<?xml version="1.0"?>

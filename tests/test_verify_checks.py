@@ -12,20 +12,17 @@ from pathlib import Path
 
 import pytest
 
-from conftest import FIXTURES, MAINTAINER, copy_fixture, run_pkgforge
+from conftest import FIXTURES, MAINTAINER, at_least, copy_fixture, edit, line_of, run_pkgforge, verify_report
+
+verify_json = verify_report
 
 
-def line_of(path: Path, text: str) -> int:
-    for number, line in enumerate(path.read_text().splitlines(), start=1):
-        if text in line:
-            return number
-    raise AssertionError(f"{text!r} not in {path}")
+def findings(report: dict, minimum: str = "info") -> list[tuple]:
+    return sorted((d["code"], d["name"], d["severity"], d["path"], d["line"]) for d in at_least(report, minimum))
 
 
-def edit(path: Path, old: str, new: str) -> None:
-    content = path.read_text()
-    assert old in content, f"{old!r} not in {path}"
-    path.write_text(content.replace(old, new, 1))
+
+
 
 
 @pytest.fixture(scope="module")
@@ -44,17 +41,8 @@ def package(tmp_path, template_package) -> Path:
     return target
 
 
-def verify_json(path: Path, *args: str) -> tuple[int, dict]:
-    result = run_pkgforge("verify", path, "--format", "json", *args, cwd=path)
-    assert "Traceback" not in result.stderr, result.stderr
-    assert result.returncode in (0, 1), result.stderr
-    return result.returncode, json.loads(result.stdout)
 
 
-def findings(report: dict, minimum: str = "info") -> list[tuple]:
-    order = ["info", "warning", "error"]
-    return sorted((d["code"], d["name"], d["severity"], d["path"], d["line"])
-                  for d in report["diagnostics"] if order.index(d["severity"]) >= order.index(minimum))
 
 
 def test_clean_package_has_no_diagnostics(package):

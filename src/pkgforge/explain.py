@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import PkgforgeError
@@ -26,21 +27,28 @@ def _installed_path(file: Path, tree, models) -> tuple[Path, str]:
                         "is it in a folder the install rules cover?")
 
 
-def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
-    from .launch.resolve import LaunchFile, resolve, source_of
-
+@contextmanager
+def _installed(path: Path, file: Path, options: VerifyOptions):
+    """(tree, installed path of FILE, its package, the package's model); the tree closes after."""
     workspace = locate(path)
     _, models = load_models(workspace, 1)
     tree = make_tree(options, workspace, list(models.values()))
     try:
         installed, package = _installed_path(file, tree, models.values())
-        model = next((m for m in models.values() if m.name == package or m.share_name == package), None)
-        launch = LaunchFile(package, installed, source_of(installed, tree, model))
+        owner = next((m for m in models.values() if package in (m.name, m.share_name)), None)
+        yield tree, installed, package, owner
+    finally:
+        tree.close()
+
+
+def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
+    from .launch.resolve import LaunchFile, resolve, source_of
+
+    with _installed(path, file, options) as (tree, installed, package, owner):
+        launch = LaunchFile(package, installed, source_of(installed, tree, owner))
         (resolution,) = resolve([launch], tree, timeout=options.launch_timeout,
                                 arguments=options.launch_arguments)
         return _render(resolution, tree)
-    finally:
-        tree.close()
 
 
 def _short(path: str, tree) -> str:
@@ -111,12 +119,7 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
     from .launch.resolve import source_of
     from .meshes import resolve_uri
 
-    workspace = locate(path)
-    _, models = load_models(workspace, 1)
-    tree = make_tree(options, workspace, list(models.values()))
-    try:
-        installed, package = _installed_path(file, tree, models.values())
-        owner = next((m for m in models.values() if m.name == package or m.share_name == package), None)
+    with _installed(path, file, options) as (tree, installed, package, owner):
         result = robot_models.ModelResult(package, installed, source_of(installed, tree, owner),
                                           dict(options.launch_arguments))
         (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout)
@@ -160,5 +163,3 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
             mesh_lines(root, "  ")
             walk(root, "", {root})
         return "\n".join(lines) + "\n"
-    finally:
-        tree.close()
