@@ -89,7 +89,7 @@ def test_real_robots_verify_without_errors(tmp_path, robot_prefix):
     assert len({d["line"] for d in talos}) == len(talos)  # each at its own <mesh> line
     assert [p for p in problems if p[0] != "talos_wrap_description"] == []
     # the meshes were resolved in the installed package, not skipped
-    explain = run_pkgforge("verify", "--explain-model", f"src/panda_wrap_description/urdf/panda_wrap_description.urdf.xacro",
+    explain = run_pkgforge("verify", "--explain-model", "src/panda_wrap_description/urdf/panda_wrap_description.urdf.xacro",
                            cwd=tmp_path, env=env)
     assert "✓ package://example-robot-data/robots/panda_description/meshes/visual/link0.dae" in explain.stdout
     assert "✗" not in explain.stdout

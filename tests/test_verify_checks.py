@@ -6,7 +6,6 @@ so it triggers exactly the check named for it and nothing else at warning or abo
 
 from __future__ import annotations
 
-import json
 import shutil
 from pathlib import Path
 

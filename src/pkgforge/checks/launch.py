@@ -6,7 +6,6 @@ import difflib
 from pathlib import Path
 
 from ..diagnostics import Finding
-from ..model.manifest import RUN_TAGS
 from .context import CheckContext
 from .install import install_fix
 from .registry import register

@@ -1,6 +1,5 @@
 """pkgforge stand-in for `launch_ros` (only inside the launch worker): the real public names."""
 
-from pkgforge.launch import runtime as _rt
 from . import actions  # noqa: F401
 from . import substitutions  # noqa: F401
 from . import parameter_descriptions  # noqa: F401
