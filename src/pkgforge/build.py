@@ -185,5 +185,6 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
                   f"({options.log_base / 'latest_build' / package / 'stdout_stderr.log'}):",
                   file=out)
             print(log_tail(options.log_base, package), file=out)
-        raise BuildFailed(f"build failed: {', '.join(failed)}")
+        raise BuildFailed(f"build failed: {', '.join(failed)} "
+                          "(`pkgforge verify` points at the file and line of most such problems)")
     return BuildResult(options.install_base, names, stubbed)

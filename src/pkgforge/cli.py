@@ -11,6 +11,8 @@ import click
 from . import __version__
 from .distros import DEFAULT_DISTRO, DISTROS
 from .errors import PkgforgeError
+from .report import FORMATS
+from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -30,9 +32,9 @@ def main() -> None:
 @click.argument("name")
 @click.option("--distro", type=click.Choice(list(DISTROS)), default=DEFAULT_DISTRO,
               show_default=True, help="ROS 2 distribution the package targets.")
-@click.option("--build-type", type=click.Choice(["ament_cmake", "ament_python"]),
+@click.option("--build-type", type=click.Choice(BUILD_TYPES),
               default="ament_cmake", show_default=True, help="Package build type.")
-@click.option("--launch-format", type=click.Choice(["py", "xml", "yaml"]), default="py",
+@click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py",
               show_default=True, help="Format of launch/display.launch.*.")
 @click.option("--destination", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder to create the package in [default: ./src in a workspace root, else .].")
@@ -43,7 +45,7 @@ def main() -> None:
 @click.option("--description", default="", help="package.xml description.")
 @click.option("--force", is_flag=True,
               help="Write into an existing package folder, replacing the generated files.")
-@click.option("--ci", type=click.Choice(["github", "gitlab"]), multiple=True,
+@click.option("--ci", type=click.Choice(CI_SYSTEMS), multiple=True,
               help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.")
 def new(name, distro, build_type, launch_format, destination, maintainer_name,
         maintainer_email, license_, description, force, ci):
@@ -110,7 +112,7 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
-@click.option("--format", "fmt", type=click.Choice(["text", "json", "junit", "sarif", "github"]),
+@click.option("--format", "fmt", type=click.Choice(FORMATS),
               default="text", show_default=True, help="Output format.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the report to this file instead of standard output.")

@@ -16,7 +16,7 @@ from colcon_core.plugin_system import satisfies_version
 from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
-FORMATS = ("text", "json", "junit", "sarif", "github")
+from .report import FORMATS
 
 
 class VerifyVerb(VerbExtensionPoint):

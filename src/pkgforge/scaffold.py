@@ -16,13 +16,11 @@ from catkin_pkg.package import InvalidPackage, parse_package_string
 
 from .distros import DEFAULT_DISTRO, DISTROS, Distro
 from .errors import PkgforgeError
+from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 from .names import REP144_RULE, rep144_problem
 from .resources import templates_dir
 from .stl import binary_stl, box_triangles
 
-BUILD_TYPES = ("ament_cmake", "ament_python")
-LAUNCH_FORMATS = ("py", "xml", "yaml")
-CI_SYSTEMS = ("github", "gitlab")
 
 # catkin_pkg's own rule, so a bad address fails here, not later in CMake
 EMAIL_PATTERN = re.compile(r"^[-a-zA-Z0-9_%+]+(\.[-a-zA-Z0-9_%+]+)*@[-a-zA-Z0-9%]+(\.[-a-zA-Z0-9%]+)*\.[a-zA-Z]{2,}$")
@@ -135,6 +133,11 @@ def make_spec(
         raise PkgforgeError(f"invalid package name: {problem}; {REP144_RULE}")
     if distro not in DISTROS:
         raise PkgforgeError(f"unknown distro '{distro}'; choose one of {', '.join(DISTROS)}")
+    for value, allowed, what in ((build_type, BUILD_TYPES, "build type"),
+                                 (launch_format, LAUNCH_FORMATS, "launch format"),
+                                 *((system, CI_SYSTEMS, "CI system") for system in ci)):
+        if value not in allowed:
+            raise PkgforgeError(f"unknown {what} '{value}'; choose one of {', '.join(allowed)}")
     default_name, default_email = default_maintainer()
     email = maintainer_email or default_email
     if not EMAIL_PATTERN.match(email):
