@@ -75,6 +75,9 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
                 if key not in jobs:
                     jobs[key] = ModelResult(package, Path(key[1]), source_of(Path(key[1]), tree, owner),
                                             dict(command.get("mappings", {})))
+                if command.get("robot") and jobs[key].robot is None:
+                    # the launch's own xacro run already gave the structure
+                    jobs[key].robot, jobs[key].includes = command["robot"], command.get("includes", [])
                 jobs[key].origins.append({"launch": resolution.launch, "file": command.get("file"),
                                           "line": command.get("line")})
     for model in models:
@@ -87,8 +90,10 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
 
 def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float,
             on_done=None) -> list[ModelResult]:
-    requests = [{"model": str(r.installed), "mappings": r.mappings} for r in results]
-    for result, reply in zip(results, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done)):
+    """Run xacro on the models whose structure no launch file's xacro run already gave."""
+    pending = [r for r in results if r.robot is None]
+    requests = [{"model": str(r.installed), "mappings": r.mappings} for r in pending]
+    for result, reply in zip(pending, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done)):
         result.status = reply.get("status", "crashed")
         result.error = reply.get("error")
         result.robot = reply.get("robot")
@@ -97,4 +102,7 @@ def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout
             result.status = "library"  # only macros and properties: checked through its includers
         if result.status == "needs-arguments" and result.origins:
             result.status = "error"  # a launch file gave it no value either
+    for result in results:
+        if result not in pending and not result.links and not result.origins:
+            result.status = "library"
     return results

@@ -51,6 +51,15 @@ def process_model(path: str, mappings: dict[str, str]) -> dict:
             "robot": _structure(root, path, sources, expanded)}
 
 
+def structure_of_output(path: str, urdf: str, includes: list[str]) -> dict | None:
+    """The structure of a xacro output produced elsewhere (a launch file's Command), or None."""
+    try:
+        root = etree.fromstring(urdf.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
+    except etree.XMLSyntaxError:
+        return None
+    return _structure(root, path, _name_index([path, *includes]), expanded=True)
+
+
 def _expand(path: str, mappings: dict[str, str]):
     """The xacro output (or the file itself when it uses no xacro), with the files it included."""
     with open(path, encoding="utf-8", errors="replace") as handle:

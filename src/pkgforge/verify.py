@@ -357,8 +357,9 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         for launch in ros1_files:
             ros1.setdefault(launch.package, []).append(launch)
         to_process = robot_models.collect(tree, checked, resolutions)
+        pending = sum(1 for r in to_process if r.robot is None)
         for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
-                                           on_done=progress.counter("robot models", len(to_process))):
+                                           on_done=progress.counter("robot models", pending)):
             model_results.setdefault(result.package, []).append(result)
         rviz = rviz_configs(tree, checked, resolutions)
         progress.clear()

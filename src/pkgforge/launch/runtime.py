@@ -261,8 +261,8 @@ class Command(Substitution):
         key = tuple(words)
         if key not in RECORDER.command_cache:
             RECORDER.command_cache[key] = _run_command(words)
-        ok, output, message = RECORDER.command_cache[key]
-        record = {"command": words, "ok": ok, "message": message}
+        ok, output, message, extra = RECORDER.command_cache[key]
+        record = {"command": words, "ok": ok, "message": message, **extra}
         if os.path.basename(words[0]) == "xacro":
             RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, self)
             for word in words[1:]:
@@ -277,18 +277,20 @@ class Command(Substitution):
         return output
 
 
-def _run_command(words: list[str]) -> tuple[bool, str, str]:
+def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
     """Run a Command; xacro runs in this process with the real xacro library."""
     if os.path.basename(words[0]) == "xacro":
         return _run_xacro(words[1:])
     try:
         done = subprocess.run(words, capture_output=True, text=True, timeout=30, stdin=subprocess.DEVNULL)
     except (OSError, subprocess.TimeoutExpired) as exc:
-        return False, "", str(exc)
-    return done.returncode == 0, done.stdout, done.stderr.strip()
+        return False, "", str(exc), {}
+    return done.returncode == 0, done.stdout, done.stderr.strip(), {}
 
 
-def _run_xacro(args: list[str]) -> tuple[bool, str, str]:
+def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
+    """xacro with the real library; a success also yields the model's structure, so the
+    model checks need not run xacro on it a second time."""
     import io
 
     import xacro
@@ -297,18 +299,24 @@ def _run_xacro(args: list[str]) -> tuple[bool, str, str]:
     files = [a for a in args if ":=" not in a and not a.startswith("-")]
     mappings = dict(a.split(":=", 1) for a in args if ":=" in a)
     if not files:
-        return False, "", "xacro: no input file"
+        return False, "", "xacro: no input file", {}
     stderr = io.StringIO()
     real_stderr, sys.stderr = sys.stderr, stderr
     global _RUNNING_XACRO
     _RUNNING_XACRO = True
+    xacro.all_includes[:] = []
     try:
         document = process_file(files[0], mappings=mappings)
-        return True, document.toprettyxml(indent="  "), ""
+        output = document.toprettyxml(indent="  ")
+        from ..robot import structure_of_output
+
+        includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
+        robot = structure_of_output(files[0], output, includes)
+        return True, output, "", ({"robot": robot, "includes": includes} if robot else {})
     except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
         message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
         extra = stderr.getvalue().strip()
-        return False, "", f"{message}\n{extra}".strip()
+        return False, "", f"{message}\n{extra}".strip(), {}
     finally:
         _RUNNING_XACRO = False
         sys.stderr = real_stderr
