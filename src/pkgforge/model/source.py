@@ -22,9 +22,13 @@ class SourceFile:
     # line number → names/codes suppressed for the line after the comment
     suppressions: dict[int, set[str]] = field(default_factory=dict)
 
-    @property
-    def lines(self) -> list[str]:
-        return self.text.splitlines() if self.text is not None else []
+    def __getstate__(self) -> dict:
+        # A model crosses from a worker process to the checks, which never read
+        # file text (the loaders did): leave it behind, keeping "was readable".
+        state = dict(self.__dict__)
+        if state["text"] is not None:
+            state["text"] = ""
+        return state
 
 
 def read_source(path: Path) -> SourceFile:
