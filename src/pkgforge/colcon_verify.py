@@ -73,7 +73,9 @@ class VerifyVerb(VerbExtensionPoint):
             result = run(root, Workspace(root, root), config, chosen, models,
                          {t.name: t.path for t in targets}, options)
         except PkgforgeError as error:
-            return f"colcon verify: {error}"
+            # 2, as `pkgforge verify`: could not run (colcon turns a returned string into 1)
+            print(f"colcon verify: {error}", file=sys.stderr)
+            return 2
         sys.stdout.write(render(args.pkgforge_format, result, color=sys.stdout.isatty(), strict=args.strict))
         if args.junit_xml:
             Path(args.junit_xml).parent.mkdir(parents=True, exist_ok=True)

@@ -8,7 +8,6 @@ from dataclasses import dataclass
 @dataclass(frozen=True)
 class Distro:
     name: str
-    ubuntu: str
     # launch_ros gained the `type` attribute of <param> in the XML/YAML
     # frontends after Humble; Humble rejects nothing but ignores it, so we only
     # write it where it is understood.
@@ -19,10 +18,10 @@ class Distro:
 DISTROS: dict[str, Distro] = {
     d.name: d
     for d in (
-        Distro("humble", "jammy", frontend_param_type=False, docker_image="ros:humble"),
-        Distro("jazzy", "noble", frontend_param_type=True, docker_image="ros:jazzy"),
-        Distro("kilted", "noble", frontend_param_type=True, docker_image="ros:kilted"),
-        Distro("rolling", "noble", frontend_param_type=True, docker_image="ros:rolling"),
+        Distro("humble", frontend_param_type=False, docker_image="ros:humble"),
+        Distro("jazzy", frontend_param_type=True, docker_image="ros:jazzy"),
+        Distro("kilted", frontend_param_type=True, docker_image="ros:kilted"),
+        Distro("rolling", frontend_param_type=True, docker_image="ros:rolling"),
     )
 }
 

@@ -131,7 +131,13 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
                          f"({os.path.basename(error.get('file') or '')}:{error.get('line')})")
             return "\n".join(lines) + "\n"
         robot = result.robot or {}
+        if robot.get("root_tag") != "robot":
+            raise PkgforgeError(f"{file} is not a robot model: its root element is "
+                                f"<{robot.get('root_tag')}>, not <robot>")
         links, joints = robot.get("links", []), robot.get("joints", [])
+        if not links:
+            lines.append("a macro library: no links of its own (checked through the models that include it)")
+            return "\n".join(lines) + "\n"
         lines.append(f"robot {robot.get('name')}: {len(links)} links, {len(joints)} joints")
         meshes: dict[str, list] = {}
         for mesh in robot.get("meshes", []):

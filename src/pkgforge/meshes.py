@@ -38,7 +38,7 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
             return MeshLookup("escapes", None, package, relative)
         if package in tree.phantom_packages:
             return MeshLookup("unchecked", None, package, normal)
-        share = tree.share(package) or _system_share(tree, package)
+        share = tree.installed_share(package)
         if share is None:
             return MeshLookup("unknown-package", None, package, normal)
         return _check(share / normal, package, normal)
@@ -50,13 +50,6 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
     if base is not None:  # a relative path: relative to the model file, as urdfdom does
         return _check(base.parent / uri, None, None)
     return MeshLookup("unsupported")
-
-
-def _system_share(tree: InstallTree, package: str) -> Path | None:
-    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-        if prefix and (Path(prefix) / "share/ament_index/resource_index/packages" / package).is_file():
-            return Path(prefix) / "share" / package
-    return None
 
 
 def _check(path: Path, package: str | None, relative: str | None) -> MeshLookup:

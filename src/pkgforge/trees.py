@@ -32,12 +32,18 @@ class InstallTree:
     phantom: Path | None = None
     packages: dict[str, Path] = field(default_factory=dict)  # package → prefix holding it
     phantom_packages: set[str] = field(default_factory=set)
-    # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS)
-    system_packages: set[str] = field(default_factory=set)
+    # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS) → their prefix
+    system_packages: dict[str, Path] = field(default_factory=dict)
     _temporary: tempfile.TemporaryDirectory | None = None
 
     def share(self, package: str) -> Path | None:
+        """The package's share folder in the tree (workspace packages)."""
         prefix = self.packages.get(package)
+        return prefix / "share" / package if prefix else None
+
+    def installed_share(self, package: str) -> Path | None:
+        """The share folder in the tree, else in a prefix the user already has."""
+        prefix = self.packages.get(package) or self.system_packages.get(package)
         return prefix / "share" / package if prefix else None
 
     def locate(self, path: str) -> tuple[str, str, Path] | None:
@@ -86,8 +92,8 @@ def _user_prefixes() -> list[Path]:
 
 
 def _add_phantoms(tree: InstallTree, models: list[PackageModel], root: Path) -> None:
-    tree.system_packages = set(_index(_user_prefixes()))
-    available = set(tree.packages) | tree.system_packages
+    tree.system_packages = _index(_user_prefixes())
+    available = set(tree.packages) | set(tree.system_packages)
     wanted = {dep.name for model in models for dep in model.manifest.dependencies
               if dep.tag not in ("test_depend", "doc_depend")}
     missing = sorted(name for name in wanted - available if name)

@@ -65,9 +65,6 @@ class VerifyResult:
     root: Path
     reports: list[PackageReport]
     checks_run: set[str]
-    tree_kind: str | None = None
-    launch_files: int = 0
-    cached: int = 0  # packages answered from the cache
     # package folder → files outside it that its verification read (for the cache)
     externals: dict[Path, set[str]] = field(default_factory=dict)
 
@@ -268,7 +265,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
             codes = set().union(*(codes for _, codes in hits.values()))
-            return VerifyResult(root, reports, codes, cached=len(reports))
+            return VerifyResult(root, reports, codes)
     if workspace.package_path is not None:
         targets, models, everything = load_one_package(workspace)
     else:
@@ -287,7 +284,6 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         cache.save_index()
     result.reports = sorted(result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path)))
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
-    result.cached = len(hits)
     return result
 
 
@@ -299,7 +295,8 @@ def cache_folder(workspace: Workspace) -> Path:
     if (workspace.root / "src").is_dir() or (workspace.root / "build").is_dir():
         build = workspace.root / "build"
         if not build.exists():
-            build.mkdir()
+            # exist_ok: another run may create it between the check and here
+            build.mkdir(exist_ok=True)
             (build / "COLCON_IGNORE").touch()  # as colcon marks it, so no crawl enters it
         return build / "pkgforge-cache"
     home = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
@@ -339,7 +336,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS}
     checked = [models[t.path] for t in targets]
 
-    tree, launch_count = None, 0
+    tree = None
     resolutions, ros1, model_results, rviz = {}, {}, {}, {}
     if any(codes[t.path] & tree_codes for t in targets):
         from . import models as robot_models
@@ -349,7 +346,6 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         progress.show(f"{len(checked)} packages: install tree")
         tree = make_tree(options, workspace, list(models.values()))
         launch_files, ros1_files = find_launch_files(tree, checked)
-        launch_count = len(launch_files)
         for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
                                   arguments=options.launch_arguments,
                                   on_done=progress.counter("launch files", len(launch_files))):
@@ -382,5 +378,5 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         if tree is not None:
             tree.close()
     checks_run = set().union(*codes.values())
-    return VerifyResult(root, reports, checks_run, tree.kind if tree else None, launch_count, externals=read)
+    return VerifyResult(root, reports, checks_run, externals=read)
 

@@ -56,34 +56,19 @@ class CheckContext:
 
     # --- locations ----------------------------------------------------------------------------
 
+    def own_source(self, installed: str) -> Path | None:
+        """The source of an installed file of this package (a model, an include), else None."""
+        from ..launch.resolve import source_of
+
+        return source_of(Path(installed), self.tree, self.model) if self.tree is not None else None
+
     def source_position(self, resolution, item_file: str | None, line: int | None):
         """(source path, line) of a construct, or None when it stands in another package's file."""
         launch = resolution.launch
         if item_file is None or item_file == str(launch.installed):
             return (launch.source or launch.installed), line
-        if self.tree is None:
-            return None
-        located = self.tree.locate(item_file)
-        if located is None:
-            return None
-        package, relative, _ = located
-        if package not in (self.model.share_name, self.model.name):
-            return None
-        entry = self.model.layout.files.get(f"share/{package}/{relative}")
-        source = entry.source if entry is not None and entry.source is not None else self.model.path / relative
-        return source, line
-
-    def own_source(self, installed: str) -> Path | None:
-        """The source of an installed file of this package (a model, an include), else None."""
-        if self.tree is None:
-            return None
-        located = self.tree.locate(installed)
-        if located is None or located[0] not in (self.model.share_name, self.model.name):
-            return None
-        entry = self.model.layout.files.get(f"share/{located[0]}/{located[1]}")
-        if entry is not None and entry.source is not None:
-            return entry.source
-        return self.model.path / located[1]
+        source = self.own_source(item_file)
+        return (source, line) if source is not None else None
 
     def file_exists_for_rviz(self, reference: str) -> bool:
         """A Description File as RViz reads it: an absolute path, or package://."""

@@ -28,11 +28,6 @@ def _branch_note(item: dict, resolution) -> str:
     return ""
 
 
-def _position(ctx: CheckContext, resolution, item_file: str | None, line: int | None):
-    """(source path, line) for an item, or None when it stands in another package's file."""
-    return ctx.source_position(resolution, item_file, line)
-
-
 @register("PF301", "launch-load-error", "error", area="launch",
           summary="a launch file raises, fails to import, or runs past the time limit",
           explanation="`ros2 launch` would stop at the same place; nothing after it starts.",
@@ -42,7 +37,7 @@ def launch_load_error(ctx: CheckContext):
     for resolution in ctx.resolutions:
         error = resolution.error
         if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
-            position = _position(ctx, resolution, error.get("file"), error.get("line"))
+            position = ctx.source_position(resolution, error.get("file"), error.get("line"))
             if position is None:
                 position = (resolution.launch.source or resolution.launch.installed, None)
             if resolution.status == "timeout":
@@ -55,7 +50,7 @@ def launch_load_error(ctx: CheckContext):
         for item in resolution.items.get("errors", []):
             if item.get("message", "").startswith("executed command failed") and "xacro" in item["message"]:
                 continue  # xacro-error reports it with xacro's message
-            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is not None:
                 yield Finding(f"{item.get('entity', 'an action')} failed: {item['type']}: {item['message']}"
                               f"{_branch_note(item, resolution)}", *position)
@@ -101,7 +96,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             in_source = source is not None and source.exists()
             if in_source != want_source:
                 continue
-            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is None:
                 continue
             path, line = position
@@ -128,18 +123,18 @@ def _looked_up(ctx: CheckContext):
     """(package name, source path, line, how, item, resolution) for every package a launch file uses."""
     for resolution in ctx.resolutions:
         for item in resolution.items.get("packages", []):
-            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is not None:
                 yield item["name"], position[0], position[1], item.get("via", ""), item, resolution
         for item in resolution.items.get("includes", []):
             located = _share_reference(ctx, item["path"]) or (
                 ctx.tree.locate(item["path"]) if ctx.tree is not None else None)
-            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if located is not None and position is not None:
                 yield located[0], position[0], position[1], "included launch file", item, resolution
         error = resolution.error or {}
         if resolution.status == "load-error" and error.get("package"):
-            position = _position(ctx, resolution, error.get("file"), error.get("line"))
+            position = ctx.source_position(resolution, error.get("file"), error.get("line"))
             if position is not None:
                 yield error["package"], position[0], position[1], "lookup", {"found": False}, resolution
     for path, references in ctx.static_fallback().items():
@@ -231,7 +226,7 @@ def jsp_model_argument(ctx: CheckContext):
             if node.get("package") not in JSP_PACKAGES:
                 continue
             models = [a for a in node.get("arguments", []) if str(a).endswith(MODEL_SUFFIXES)]
-            position = _position(ctx, resolution, node.get("file"), node.get("line"))
+            position = ctx.source_position(resolution, node.get("file"), node.get("line"))
             if models and position is not None and position not in seen:
                 seen.add(position)
                 yield Finding(f"{node['package']} is given {Path(models[0]).name} in arguments; it reads "
@@ -254,41 +249,10 @@ def robot_description_not_string(ctx: CheckContext):
                 continue
             for parameter in node.get("parameters", []):
                 if parameter.get("name") == "robot_description" and parameter.get("form") == "command-untyped":
-                    position = _position(ctx, resolution, parameter.get("file"), parameter.get("line"))
+                    position = ctx.source_position(resolution, parameter.get("file"), parameter.get("line"))
                     if position is not None:
                         yield Finding("robot_description is a Command() that launch_ros will parse as YAML",
                                       *position)
-
-
-@register("PF308", "xacro-error", "error", area="model",
-          summary="xacro fails on the model a launch file processes",
-          explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
-                      "message says why (an include that does not resolve, an undefined property, "
-                      "a $(find) of an unknown package).",
-          hint="fix the model as xacro's message says")
-def xacro_error(ctx: CheckContext):
-    from .model import model_error_paths, xacro_model_errors
-
-    yield from xacro_model_errors(ctx)
-    covered = model_error_paths(ctx)  # reported above, at the model's own line
-    seen = set()
-    for resolution in ctx.resolutions:
-        for command in resolution.items.get("commands", []):
-            if command.get("ok") or "model" not in command or command["model"] in covered:
-                continue
-            position = _position(ctx, resolution, command.get("file"), command.get("line"))
-            if position is None or position in seen:
-                continue
-            seen.add(position)
-            message = command.get("message", "").strip().splitlines()
-            yield Finding(f"xacro {Path(command['model']).name}: {message[0] if message else 'failed'}",
-                          *position)
-        error = resolution.error or {}
-        models = {c.get("model") for c in resolution.items.get("commands", [])}
-        if ctx.load_error_kind(resolution) == "xacro" and not models & covered:
-            position = _position(ctx, resolution, error.get("file"), error.get("line"))
-            if position is not None:
-                yield Finding(f"xacro: {error['message']}", *position)
 
 
 @register("PF309", "launch-argument-required", "info", area="launch",
@@ -302,7 +266,7 @@ def launch_argument_required(ctx: CheckContext):
         for item in resolution.items.get("required", []):
             if "skipped" in item:
                 continue
-            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is not None and (item["name"], position) not in seen:
                 seen.add((item["name"], position))
                 yield Finding(f"launch argument '{item['name']}' has no default and no value", *position)
@@ -316,7 +280,7 @@ def unsupported_launch_api(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
         for item in resolution.items.get("unsupported", []):
-            position = _position(ctx, resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is not None and (item["name"], position) not in seen:
                 seen.add((item["name"], position))
                 yield Finding(f"{item['name']} is not evaluated by pkgforge", *position)
@@ -331,7 +295,7 @@ def launch_unevaluated(ctx: CheckContext):
     for resolution in ctx.resolutions:
         if ctx.load_error_kind(resolution) == "unevaluated":
             error = resolution.error
-            position = _position(ctx, resolution, error.get("file"), error.get("line")) or \
+            position = ctx.source_position(resolution, error.get("file"), error.get("line")) or \
                 (resolution.launch.source or resolution.launch.installed, None)
             yield Finding(f"{resolution.launch.installed.name} imports {error.get('module')}, from a "
                           "package not installed here; checked statically instead", *position)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections import Counter
+from pathlib import Path
 
 from ..diagnostics import Finding
 from ..meshes import resolve_uri, unreadable
@@ -17,6 +18,41 @@ def _where(ctx: CheckContext, result, file: str | None, line: int | None):
     if own is not None:
         return own, line
     return (result.source or result.installed), None
+
+
+@register("PF308", "xacro-error", "error", area="model",
+          summary="xacro fails on the model a launch file processes",
+          explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
+                      "message says why (an include that does not resolve, an undefined property, "
+                      "a $(find) of an unknown package).",
+          hint="fix the model as xacro's message says")
+def xacro_error(ctx: CheckContext):
+    covered = set()
+    for result in ctx.model_results:
+        error = result.error or {}
+        if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
+            covered.add(str(result.installed))
+            yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
+                          *_where(ctx, result, error.get("file"), error.get("line")))
+    # a launch file's xacro run on a model not processed above (failures above are at the model's line)
+    seen = set()
+    for resolution in ctx.resolutions:
+        for command in resolution.items.get("commands", []):
+            if command.get("ok") or "model" not in command or command["model"] in covered:
+                continue
+            position = ctx.source_position(resolution, command.get("file"), command.get("line"))
+            if position is None or position in seen:
+                continue
+            seen.add(position)
+            message = command.get("message", "").strip().splitlines()
+            yield Finding(f"xacro {Path(command['model']).name}: {message[0] if message else 'failed'}",
+                          *position)
+        error = resolution.error or {}
+        models = {c.get("model") for c in resolution.items.get("commands", [])}
+        if ctx.load_error_kind(resolution) == "xacro" and not models & covered:
+            position = ctx.source_position(resolution, error.get("file"), error.get("line"))
+            if position is not None:
+                yield Finding(f"xacro: {error['message']}", *position)
 
 
 @register("PF401", "urdf-invalid", "error", area="model",
@@ -180,19 +216,6 @@ def model_needs_arguments(ctx: CheckContext):
             yield Finding(f"{result.installed.name} needs the xacro argument '{argument}'; skipped on its own",
                           *_where(ctx, result, (result.error or {}).get("file"), (result.error or {}).get("line")))
     # a model too large to process is reported by file-not-read
-
-
-def model_error_paths(ctx: CheckContext) -> set[str]:
-    return {str(r.installed) for r in ctx.model_results if r.status == "error"}
-
-
-def xacro_model_errors(ctx: CheckContext):
-    """xacro failures on processed models, at the model line where they happen (for xacro-error)."""
-    for result in ctx.model_results:
-        error = result.error or {}
-        if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
-            yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
-                          *_where(ctx, result, error.get("file"), error.get("line")))
 
 
 def root_link(ctx: CheckContext, launch) -> str | None:

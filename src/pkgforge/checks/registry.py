@@ -54,20 +54,7 @@ def register(code: str, name: str, severity: str, *, summary: str, explanation: 
     return decorate
 
 
-def declare(code: str, name: str, severity: str, *, summary: str, explanation: str, hint: str,
-            area: str) -> None:
-    """A check whose findings come from elsewhere (a loader or a worker), not from a function."""
-    register(code, name, severity, summary=summary, explanation=explanation, hint=hint, area=area)(None)
-
-
 def all_checks() -> list[Check]:
     from . import load_all  # noqa: F401  (importing the modules registers their checks)
 
     return sorted(REGISTRY.values(), key=lambda c: c.code)
-
-
-def by_code_or_name(key: str) -> Check | None:
-    all_checks()
-    if key.upper() in REGISTRY:
-        return REGISTRY[key.upper()]
-    return next((c for c in REGISTRY.values() if c.name == key), None)

@@ -81,9 +81,10 @@ def _is_launch_file(path: Path) -> bool:
 
 
 def source_of(installed: Path, tree: InstallTree, model: PackageModel | None) -> Path | None:
-    """The source file an installed file came from (by the model's layout, else by name)."""
+    """The source file in `model`'s package that an installed file came from (by the layout,
+    else by name); None when the file belongs to another package or has no source."""
     located = tree.locate(str(installed))
-    if located is None or model is None:
+    if located is None or model is None or located[0] not in (model.name, model.share_name):
         return None
     package, relative, _ = located
     entry = model.layout.files.get(f"share/{package}/{relative}")

@@ -427,13 +427,9 @@ class FileContent(Substitution):
 # launch_ros substitutions
 
 def _share_directory(package: str) -> str:
-    from ament_index_python.packages import PackageNotFoundError as RealNotFound
     from ament_index_python.packages import get_package_share_directory
 
-    try:
-        return get_package_share_directory(package)
-    except RealNotFound:
-        raise
+    return get_package_share_directory(package)
 
 
 class FindPackageShare(Substitution):
@@ -444,14 +440,14 @@ class FindPackageShare(Substitution):
     def perform(self, context):
         package = perform(context, self.package)
         RECORDER.add("packages", {"name": package, "via": type(self).__name__}, self)
-        return self.find(package)
+        return self.find(package, context)
 
-    def find(self, package: str) -> str:
+    def find(self, package: str, context: LaunchContext) -> str:
         return _share_directory(package)
 
 
 class FindPackagePrefix(FindPackageShare):
-    def find(self, package: str) -> str:
+    def find(self, package: str, context: LaunchContext) -> str:
         from ament_index_python.packages import get_package_prefix
 
         return get_package_prefix(package)
@@ -466,8 +462,8 @@ class FindPackageFile(FindPackageShare):
         super().__init__(package)
         self.file_path = file_path
 
-    def find(self, package):
-        path = os.path.join(_share_directory(package), perform(LaunchContext(), self.file_path))
+    def find(self, package: str, context: LaunchContext) -> str:
+        path = os.path.join(_share_directory(package), perform(context, self.file_path))
         _record_path(path, self, "FindPackageFile")
         return path
 

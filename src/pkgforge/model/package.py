@@ -40,10 +40,6 @@ class PackageModel:
             return self.cmake.project_name
         return self.name
 
-    @property
-    def share_prefix(self) -> str:
-        return f"share/{self.share_name}/"
-
     def top_level_folders(self) -> dict[str, list[Path]]:
         """Top-level folder → its files (relative to the package)."""
         folders: dict[str, list[Path]] = {}
