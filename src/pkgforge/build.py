@@ -135,10 +135,11 @@ def log_tail(log_base: Path, package: str, lines: int = LOG_TAIL_LINES) -> str:
 
 
 def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
-              colcon_output_to_stderr: bool = False) -> BuildResult:
+              colcon_output_to_stderr: bool = False, quiet_failures: bool = False) -> BuildResult:
     """Build with colcon; raise BuildFailed (exit 1) naming the failing packages.
 
-    `colcon_output_to_stderr` keeps standard output free for a report (verify --build).
+    `colcon_output_to_stderr` keeps standard output free for a report (verify --build);
+    `quiet_failures`: the caller reports the failing packages' log tails itself.
     """
     out = out or sys.stderr
     toolchain = detect()
@@ -179,12 +180,15 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
     if completed.returncode != 0:
         failed = failed_packages(options.build_base, names)
         if not failed:
-            raise BuildFailed(f"colcon exited with {completed.returncode}; see its output above")
-        for package in failed:
-            print(f"\npkgforge: package '{package}' failed; last lines of its log "
-                  f"({options.log_base / 'latest_build' / package / 'stdout_stderr.log'}):",
-                  file=out)
-            print(log_tail(options.log_base, package), file=out)
+            raise BuildFailed(f"colcon exited with {completed.returncode}; see its output above",
+                              status=completed.returncode)
+        failures = [(package, options.log_base / "latest_build" / package / "stdout_stderr.log",
+                     log_tail(options.log_base, package)) for package in failed]
+        if not quiet_failures:
+            for package, log, tail in failures:
+                print(f"\npkgforge: package '{package}' failed; last lines of its log ({log}):", file=out)
+                print(tail, file=out)
         raise BuildFailed(f"build failed: {', '.join(failed)} "
-                          "(`pkgforge verify` points at the file and line of most such problems)")
+                          "(`pkgforge verify` points at the file and line of most such problems)",
+                          failures, completed.returncode)
     return BuildResult(options.install_base, names, stubbed)

@@ -26,6 +26,33 @@ def fail(error: PkgforgeError) -> None:
 @click.version_option(__version__, "--version", prog_name="pkgforge")
 def main() -> None:
     """Scaffold, build and verify ROS 2 robot description packages."""
+    from .processes import install_signal_handlers
+
+    # Ctrl-C, SIGTERM, SIGHUP: every process pkgforge started is killed, exit 128 + signal
+    install_signal_handlers()
+
+
+class MemorySize(click.ParamType):
+    """A size such as 2G or 512M (bytes), or `unlimited`."""
+
+    name = "SIZE"
+    minimum = 256 * 2**20
+
+    def convert(self, value, param, ctx):
+        from .processes import format_size, parse_size
+
+        if isinstance(value, int) or value is None:
+            return value
+        if str(value).strip().lower() in ("unlimited", "none"):
+            return None
+        try:
+            size = parse_size(str(value))
+        except ValueError as exc:
+            self.fail(str(exc), param, ctx)
+        if size < self.minimum:
+            self.fail(f"{value} is below the {format_size(self.minimum)} a launch worker needs to start",
+                      param, ctx)
+        return size
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
@@ -135,6 +162,8 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               help="A launch argument's value for every launch file. Repeatable.")
 @click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
               help="Seconds one launch file may take to load and resolve.")
+@click.option("--worker-memory", type=MemorySize(), default="2G", show_default=True,
+              help="Memory (address space) each launch worker may use, e.g. 4G or 512M, or unlimited.")
 @click.option("--no-cache", is_flag=True,
               help="Verify every package again instead of reusing results of unchanged ones "
                    "(cache: build/pkgforge-cache/, safe to delete).")
@@ -144,7 +173,7 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
-           launch_timeout, no_cache, explain_launch, explain_model):
+           launch_timeout, worker_memory, no_cache, explain_launch, explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -165,7 +194,7 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
     mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
     options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
                             mode=mode, install_base=install_base, launch_timeout=launch_timeout,
-                            launch_arguments=arguments, use_cache=not no_cache)
+                            launch_arguments=arguments, use_cache=not no_cache, worker_memory=worker_memory)
     try:
         if explain_launch is not None:
             from .explain import explain_launch_file

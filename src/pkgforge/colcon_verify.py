@@ -16,6 +16,7 @@ from colcon_core.plugin_system import satisfies_version
 from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
+from .processes import DEFAULT_WORKER_MEMORY
 from .report import FORMATS
 
 
@@ -43,6 +44,9 @@ class VerifyVerb(VerbExtensionPoint):
                             help="Skip these checks (codes, prefixes or names; comma-separated)")
         parser.add_argument("--launch-timeout", type=float, default=10.0,
                             help="Seconds one launch file may take (default: 10)")
+        parser.add_argument("--worker-memory", type=_memory, default=DEFAULT_WORKER_MEMORY, metavar="SIZE",
+                            help="Memory each launch worker may use, e.g. 4G or 512M, or unlimited "
+                                 "(default: 2G)")
 
     def main(self, *, context):  # noqa: D102
         from .config import Selection, load_config
@@ -62,7 +66,8 @@ class VerifyVerb(VerbExtensionPoint):
         root = Path.cwd()
         selection = Selection(_keys(args.pkgforge_select), _keys(args.pkgforge_ignore))
         options = VerifyOptions(selection, strict=args.strict, mode="install-base",
-                                install_base=Path(args.install_base), launch_timeout=args.launch_timeout)
+                                install_base=Path(args.install_base), launch_timeout=args.launch_timeout,
+                                worker_memory=args.worker_memory)
         try:
             config = load_config(root, selection)
             models = {t.path: _load(t) for t in targets}
@@ -81,6 +86,22 @@ class VerifyVerb(VerbExtensionPoint):
             Path(args.junit_xml).parent.mkdir(parents=True, exist_ok=True)
             Path(args.junit_xml).write_text(render("junit", result, strict=args.strict), encoding="utf-8")
         return result.exit_code(args.strict)
+
+
+def _memory(text: str) -> int | None:
+    import argparse
+
+    from .processes import parse_size
+
+    if text.strip().lower() in ("unlimited", "none"):
+        return None
+    try:
+        size = parse_size(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if size < 256 * 2**20:
+        raise argparse.ArgumentTypeError(f"{text} is below the 256 MiB a launch worker needs to start")
+    return size
 
 
 def _keys(values: list[str]) -> list[str]:

@@ -8,6 +8,15 @@ class PkgforgeError(Exception):
 
 
 class BuildFailed(PkgforgeError):
-    """colcon ran and at least one package failed; exit status 1."""
+    """colcon ran and at least one package failed; exit status 1.
+
+    `failures`: (package, its log file, the last lines of the log), one per failing
+    package; empty when colcon stopped before any package ran.
+    """
 
     exit_code = 1
+
+    def __init__(self, message: str, failures: list | None = None, status: int | None = None):
+        super().__init__(message)
+        self.failures = failures or []
+        self.status = status

@@ -42,12 +42,13 @@ def _installed(path: Path, file: Path, options: VerifyOptions):
 
 
 def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
-    from .launch.resolve import LaunchFile, resolve, source_of
+    from .launch.resolve import LaunchFile, WorkerLimits, resolve, source_of
 
     with _installed(path, file, options) as (tree, installed, package, owner):
         launch = LaunchFile(package, installed, source_of(installed, tree, owner))
         (resolution,) = resolve([launch], tree, timeout=options.launch_timeout,
-                                arguments=options.launch_arguments)
+                                arguments=options.launch_arguments,
+                                limits=WorkerLimits(options.launch_timeout, options.worker_memory))
         return _render(resolution, tree)
 
 

@@ -89,11 +89,12 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
 
 
 def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float,
-            on_done=None) -> list[ModelResult]:
+            on_done=None, limits=None) -> list[ModelResult]:
     """Run xacro on the models whose structure no launch file's xacro run already gave."""
     pending = [r for r in results if r.robot is None]
     requests = [{"model": str(r.installed), "mappings": r.mappings} for r in pending]
-    for result, reply in zip(pending, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done)):
+    for result, reply in zip(pending, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done,
+                                                    limits=limits)):
         result.status = reply.get("status", "crashed")
         result.error = reply.get("error")
         result.robot = reply.get("robot")

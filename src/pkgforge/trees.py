@@ -153,7 +153,7 @@ def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTre
 
     base = workspace.root / "build" / "pkgforge-verify"
     options = BuildOptions(build_base=base / "build", install_base=base / "install", log_base=base / "log")
-    run_build(workspace, options, out=out, colcon_output_to_stderr=True)
+    run_build(workspace, options, out=out, colcon_output_to_stderr=True, quiet_failures=True)
     tree = existing_tree(options.install_base, models)
     tree.kind = "built"
     return tree

@@ -18,7 +18,8 @@ from typing import TYPE_CHECKING
 
 from .config import Config, Selection, load_config
 from .diagnostics import Diagnostic, Finding, PackageReport, Severity
-from .errors import PkgforgeError
+from .errors import BuildFailed, PkgforgeError
+from .processes import DEFAULT_WORKER_MEMORY
 from .progress import Progress
 from .workspace import Workspace, discover, locate
 
@@ -34,7 +35,7 @@ NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
-TREE_AREAS = ("launch", "model", "rviz")
+TREE_AREAS = ("launch", "model", "rviz", "build")
 
 
 @dataclass(frozen=True)
@@ -55,6 +56,7 @@ class VerifyOptions:
     launch_timeout: float = 10.0
     launch_arguments: dict[str, str] = field(default_factory=dict)
     use_cache: bool = True
+    worker_memory: int | None = DEFAULT_WORKER_MEMORY  # bytes per launch worker; None: unlimited
 
     def cache_key(self) -> str:
         return json.dumps([self.mode, sorted(self.launch_arguments.items()), self.launch_timeout])
@@ -67,6 +69,9 @@ class VerifyResult:
     checks_run: set[str]
     # package folder → files outside it that its verification read (for the cache)
     externals: dict[Path, set[str]] = field(default_factory=dict)
+    # package folders whose result depends on the machine's state (a timeout, a crashed or
+    # killed worker, a limit hit): never cached
+    unstable: set[Path] = field(default_factory=set)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -278,7 +283,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         VerifyResult(root, [], set())
     if cache is not None:
         for report in result.reports:
-            if report.path in keys:
+            if report.path in keys and report.path not in result.unstable:
                 cache.store(report.path, keys[report.path], report, result.externals.get(report.path, set()),
                             config.for_package(report.name, report.path).codes())
         cache.save_index()
@@ -337,17 +342,27 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     checked = [models[t.path] for t in targets]
 
     tree = None
+    build_failure: BuildFailed | None = None
     resolutions, ros1, model_results, rviz = {}, {}, {}, {}
     if any(codes[t.path] & tree_codes for t in targets):
         from . import models as robot_models
-        from .launch.resolve import find_launch_files, resolve
+        from .launch.resolve import WorkerLimits, find_launch_files, resolve
 
+        limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
         progress.show(f"{len(checked)} packages: install tree")
-        tree = make_tree(options, workspace, list(models.values()))
+        try:
+            tree = make_tree(options, workspace, list(models.values()))
+        except BuildFailed as failure:
+            if options.mode != "build":
+                raise
+            build_failure = failure  # reported as build-failed beside every check that needs no tree
+            codes = {path: selected - tree_codes | (selected & {BUILD_FAILED})
+                     for path, selected in codes.items()}
+    if tree is not None:
         launch_files, ros1_files = find_launch_files(tree, checked)
         for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
-                                  arguments=options.launch_arguments,
+                                  arguments=options.launch_arguments, limits=limits,
                                   on_done=progress.counter("launch files", len(launch_files))):
             resolutions.setdefault(resolution.launch.package, []).append(resolution)
         for launch in ros1_files:
@@ -355,7 +370,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         to_process = robot_models.collect(tree, checked, resolutions)
         pending = sum(1 for r in to_process if r.robot is None)
         for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
-                                           on_done=progress.counter("robot models", pending)):
+                                           on_done=progress.counter("robot models", pending), limits=limits):
             model_results.setdefault(result.package, []).append(result)
         rviz = rviz_configs(tree, checked, resolutions)
         progress.clear()
@@ -370,6 +385,8 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                                    ros1.get(model.name, []), model_results.get(model.name, []),
                                    configs, launches)
             reports.append(run_checks(context, codes[target.path]))
+            if build_failure is not None and BUILD_FAILED in codes[target.path]:
+                _report_build_failure(reports[-1], model, build_failure)
             if options.use_cache and tree is not None:
                 from .cache import externals as read_elsewhere
 
@@ -378,5 +395,42 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         if tree is not None:
             tree.close()
     checks_run = set().union(*codes.values())
-    return VerifyResult(root, reports, checks_run, externals=read)
+    unstable = {t.path for t in targets if _machine_dependent(resolutions.get(models[t.path].name, []),
+                                                               model_results.get(models[t.path].name, []))}
+    return VerifyResult(root, reports, checks_run, externals=read, unstable=unstable)
+
+
+BUILD_FAILED = "PF902"
+
+
+def _report_build_failure(report: PackageReport, model: PackageModel, failure: BuildFailed) -> None:
+    """One build-failed error for a package colcon could not build (every package, when colcon
+    stopped before any ran)."""
+    from .checks.build import build_failed_finding
+    from .checks.registry import REGISTRY
+
+    if failure.failures:
+        found = [(log, tail) for package, log, tail in failure.failures if package == model.name]
+    else:
+        found = [(None, "")]
+    for log, tail in found:
+        finding = build_failed_finding(model.path, model.build_type, log, tail, failure.status)
+        if model.suppressed(finding.path, finding.line, {BUILD_FAILED, "build-failed"}):
+            continue
+        report.diagnostics.append(REGISTRY[BUILD_FAILED].diagnostic(model.name, finding))
+    report.diagnostics.sort(key=Diagnostic.sort_key)
+
+
+def _machine_dependent(resolutions: list, model_results: list) -> bool:
+    """A result that the machine's load or limits decided: a timeout, a crashed or killed worker,
+    a limit hit. Run again, it may differ, so it is never cached."""
+    from .launch.resolve import MACHINE_DEPENDENT
+
+    for item in [*resolutions, *model_results]:
+        if item.status in MACHINE_DEPENDENT or (item.error or {}).get("limit"):
+            return True
+        for error in getattr(item, "items", {}).get("errors", []):
+            if error.get("limit"):
+                return True
+    return False
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import queue
+import signal
 import subprocess
 import sys
 import threading
@@ -17,11 +18,16 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .. import processes
 from ..model.package import PackageModel
 from ..model.references import launch_kind
 from ..trees import InstallTree
 
 DEFAULT_TIMEOUT = 10.0
+DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
+KILL_GRACE = 2.0  # seconds past the time limit before the parent kills a worker that did not stop
+# a result that depends on the machine's load or limits, never cached
+MACHINE_DEPENDENT = ("timeout", "crashed")
 ITEM_KINDS = ("nodes", "packages", "paths", "includes", "commands", "unsupported", "required", "errors")
 
 
@@ -94,24 +100,45 @@ def source_of(installed: Path, tree: InstallTree, model: PackageModel | None) ->
     return candidate if candidate.is_file() else None
 
 
+@dataclass(frozen=True)
+class WorkerLimits:
+    """What one launch worker may use: wall and CPU time per file, address space, open files."""
+
+    timeout: float = DEFAULT_TIMEOUT
+    memory: int | None = DEFAULT_WORKER_MEMORY  # bytes; None: no limit
+
+    def environment(self) -> str:
+        return json.dumps({"timeout": self.timeout, "memory": self.memory, "parent": os.getpid()})
+
+
 class _Worker:
-    def __init__(self, env: dict[str, str]):
+    """One worker subprocess, in its own session and process group; stopping it kills
+    everything below it too (processes.kill_tree), including detached children."""
+
+    def __init__(self, env: dict[str, str], limits: WorkerLimits | None = None):
         self.env = env
+        self.limits = limits or WorkerLimits()
         self.process: subprocess.Popen | None = None
         self.replies: queue.Queue = queue.Queue()
 
     def start(self) -> None:
+        if processes.cancelled.is_set():
+            raise _Cancelled()
+        env = dict(self.env, PKGFORGE_WORKER_LIMITS=self.limits.environment())
         self.process = subprocess.Popen(
             [sys.executable, "-m", "pkgforge.launch.worker"], stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=self.env, text=True,
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, text=True, errors="replace",
             start_new_session=True)
         self.replies = queue.Queue()
         threading.Thread(target=self._read, args=(self.process, self.replies), daemon=True).start()
 
     @staticmethod
     def _read(process, replies) -> None:
-        for line in process.stdout:
-            replies.put(line)
+        try:
+            for line in process.stdout:
+                replies.put(line)
+        except (OSError, ValueError):
+            pass
         replies.put(None)
 
     def ask(self, request: dict, timeout: float) -> dict:
@@ -123,37 +150,81 @@ class _Worker:
         except (BrokenPipeError, OSError):
             self.stop()
             return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
-        deadline = time.monotonic() + timeout
+        # the worker stops the launch file itself at the limit, at the line it was running;
+        # past this grace the parent kills it (stuck in an extension module, signals blocked)
+        deadline = time.monotonic() + timeout + KILL_GRACE
         try:
             line = self.replies.get(timeout=max(0.1, deadline - time.monotonic()))
         except queue.Empty:
             self.stop()
             return {"status": "timeout", "error": {
                 "message": f"still running after the {timeout:g} s limit (an endless loop, or waiting "
-                           "for something); raise it with --launch-timeout", "line": None}}
+                           "for something); raise it with --launch-timeout", "line": None, "limit": "time"}}
         if line is None:
-            code = self.process.poll()
+            code = self.process.wait()
+            self.stop()
+            return {"status": "crashed", "error": {"message": _death(code, self.limits), "line": None}}
+        try:
+            reply = json.loads(line)
+        except ValueError:
             self.stop()
             return {"status": "crashed", "error": {
-                "message": f"the process evaluating it exited (status {code}) without a result "
-                           "(os._exit or a crash in an extension module)", "line": None}}
-        return json.loads(line)
+                "message": "the process evaluating it wrote something that is not a result "
+                           "(it wrote to a file descriptor it does not own)", "line": None}}
+        if not isinstance(reply, dict):
+            self.stop()
+            return {"status": "crashed", "error": {"message": "the launch worker gave no result", "line": None}}
+        if reply.get("status") in MACHINE_DEPENDENT or any(
+                isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]):
+            self.stop()  # a fresh worker for the next file: nothing it left running stays
+        return reply
 
     def stop(self) -> None:
-        if self.process is not None:
+        """Kill the worker and every process below it, and reap them."""
+        process, self.process = self.process, None
+        if process is None:
+            return
+        # (a worker that died already left its processes to pkgforge: run_requests kills those)
+        killed = processes.kill_tree({process.pid}) if process.poll() is None else set()
+        process.wait()
+        processes.reap(killed, keep={process.pid})
+        for stream in (process.stdin, process.stdout):
             try:
-                os.killpg(self.process.pid, 9)
-            except (ProcessLookupError, PermissionError):
+                stream.close()
+            except OSError:
                 pass
-            self.process.wait()
-            self.process = None
+
+
+class _Cancelled(Exception):
+    """A signal asked pkgforge to stop: no new worker."""
+
+
+def _death(code: int | None, limits: WorkerLimits) -> str:
+    if code is not None and code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        cause = {"SIGKILL": "killed (SIGKILL: by the system's out-of-memory killer, or by the launch file)",
+                 "SIGXCPU": f"stopped at the {limits.timeout:g} s CPU time limit (raise it with --launch-timeout)",
+                 "SIGSEGV": "crashed (SIGSEGV in an extension module)"}.get(name, f"killed by {name}")
+        return f"the process evaluating it was {cause}, without a result"
+    return (f"the process evaluating it exited (status {code}) without a result "
+            "(os._exit or a crash in an extension module)")
 
 
 def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
-                 timeout: float = DEFAULT_TIMEOUT, on_done=None) -> list[dict]:
-    """Each request answered by a worker subprocess, in order; a hang or crash is an answer too."""
+                 timeout: float = DEFAULT_TIMEOUT, on_done=None, limits: WorkerLimits | None = None) -> list[dict]:
+    """Each request answered by a worker subprocess, in order; a hang or crash is an answer too.
+
+    Every worker, and everything the launch files started, is gone when this returns
+    (or raises: a signal stops pkgforge, see processes.py).
+    """
     if not requests:
         return []
+    limits = WorkerLimits(timeout, limits.memory if limits is not None else DEFAULT_WORKER_MEMORY)
+    processes.become_subreaper()
+    before = processes.descendants(os.getpid())
     env = tree.environment()
     scripts = os.path.dirname(sys.executable)
     env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
@@ -163,9 +234,9 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     replies: list[dict | None] = [None] * len(requests)
 
     def run() -> None:
-        worker = _Worker(env)
+        worker = _Worker(env, limits)
         try:
-            while True:
+            while not processes.cancelled.is_set():
                 try:
                     index, request = work.get_nowait()
                 except queue.Empty:
@@ -173,22 +244,34 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
                 replies[index] = worker.ask(request, timeout)
                 if on_done is not None:
                     on_done()
+        except _Cancelled:
+            return
         finally:
             worker.stop()
 
-    threads = [threading.Thread(target=run) for _ in range(max(1, min(jobs, len(requests))))]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
+    threads = [threading.Thread(target=run, daemon=True) for _ in range(max(1, min(jobs, len(requests))))]
+    try:
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    finally:
+        # anything a worker left that escaped its tree (re-parented here) is killed too
+        leftover = processes.descendants(os.getpid()) - before
+        if leftover:
+            processes.reap(processes.kill_tree(leftover, skip=before), timeout=0.5)
+    for index, reply in enumerate(replies):
+        if reply is None:
+            replies[index] = {"status": "crashed", "error": {"message": "not evaluated (pkgforge was stopped)",
+                                                              "line": None}}
     return replies
 
 
 def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
             timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None,
-            on_done=None) -> list[Resolution]:
+            on_done=None, limits: WorkerLimits | None = None) -> list[Resolution]:
     requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
-    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done)
+    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done, limits=limits)
     return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies)]
 
 

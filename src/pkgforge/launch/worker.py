@@ -4,16 +4,36 @@ Launch files are user code: they run only here, in a subprocess the parent
 kills when one runs past its time limit. Replies go to a private copy of the
 original stdout; the launch files' own prints (and their children's) go to
 /dev/null, so nothing they write can corrupt the replies.
+
+Before any user code runs the worker limits itself (PKGFORGE_WORKER_LIMITS, set
+by the parent): address space (--worker-memory), open files, and per request
+CPU time and wall time (--launch-timeout). A breach raises inside the launch
+file, so it is reported at the line that was running, naming the limit and the
+option that raises it. The worker is a child subreaper, so what a launch file
+starts (even double-forked and setsid) stays below it until the parent kills
+the whole tree.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
+import signal
 import sys
 from pathlib import Path
 
 API = Path(__file__).resolve().parent / "api"
+OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
+
+
+class TimeLimit(BaseException):
+    """Raised in the launch file's code when its wall time runs out (BaseException: an
+    `except Exception` in the launch file does not swallow it)."""
+
+
+class CPULimit(BaseException):
+    """Raised in the launch file's code when its CPU time runs out (SIGXCPU)."""
 
 
 def _install_api() -> None:
@@ -25,12 +45,141 @@ def _install_api() -> None:
         sys.path.insert(0, str(API.parent / "api_ament"))
 
 
+# --- limits ---------------------------------------------------------------------------------
+
+def _read_limits() -> dict:
+    try:
+        return json.loads(os.environ.pop("PKGFORGE_WORKER_LIMITS", "{}"))
+    except ValueError:
+        return {}
+
+
+def _apply_limits(limits: dict) -> None:
+    """Process-wide limits and the parent-death signal, before any user code runs."""
+    import resource
+
+    from pkgforge.processes import become_subreaper, die_with_parent
+
+    if limits.get("parent"):
+        die_with_parent(int(limits["parent"]))
+    become_subreaper()
+    _set(resource.RLIMIT_CORE, 0)
+    if limits.get("memory"):
+        _set(resource.RLIMIT_AS, int(limits["memory"]))
+    _set(resource.RLIMIT_NOFILE, OPEN_FILES)
+
+    def on_alarm(signum, frame):
+        raise TimeLimit()
+
+    def on_xcpu(signum, frame):
+        raise CPULimit()
+
+    signal.signal(signal.SIGALRM, on_alarm)
+    signal.signal(signal.SIGXCPU, on_xcpu)
+
+
+def _set(kind: int, value: int) -> None:
+    import resource
+
+    try:
+        _, hard = resource.getrlimit(kind)
+        if hard != resource.RLIM_INFINITY:
+            value = min(value, hard)
+        resource.setrlimit(kind, (value, value))
+    except (ValueError, OSError):
+        pass
+
+
+def _arm(limits: dict) -> None:
+    """This request's wall-time alarm and CPU-time soft limit (the CPU limit counts the whole
+    process, so it is set to what was used so far plus this request's share)."""
+    import resource
+
+    timeout = limits.get("timeout")
+    if not timeout:
+        return
+    signal.setitimer(signal.ITIMER_REAL, float(timeout))
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    soft = int(usage.ru_utime + usage.ru_stime) + math.ceil(float(timeout))
+    try:
+        _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+        if hard == resource.RLIM_INFINITY or soft < hard:
+            resource.setrlimit(resource.RLIMIT_CPU, (soft, hard))
+    except (ValueError, OSError):
+        pass
+
+
+def _disarm() -> None:
+    import resource
+
+    signal.setitimer(signal.ITIMER_REAL, 0)
+    try:
+        _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+        resource.setrlimit(resource.RLIMIT_CPU, (hard, hard))
+    except (ValueError, OSError):
+        pass
+
+
+def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
+    """(limit, message) when an error record is a limit breach."""
+    from pkgforge.processes import format_size
+
+    kind, message = error.get("type"), str(error.get("message", ""))
+    timeout = limits.get("timeout")
+    if kind == "TimeLimit":
+        return "time", (f"still running after the {timeout:g} s limit (an endless loop, or waiting "
+                        "for something); raise it with --launch-timeout")
+    if kind == "CPULimit":
+        return "cpu", f"used more than the {timeout:g} s CPU time limit; raise it with --launch-timeout"
+    if kind == "MemoryError" or message.startswith("MemoryError"):
+        size = format_size(int(limits["memory"])) if limits.get("memory") else "available"
+        return "memory", (f"MemoryError: the launch worker's {size} memory limit was hit; "
+                          "raise it with --worker-memory (e.g. --worker-memory 4G)")
+    if "[Errno 24]" in message:
+        return "files", (f"too many open files: the launch worker's limit of {OPEN_FILES} open files "
+                         "(the usual `ulimit -n`, as under ros2 launch) was hit; close the files it opens")
+    return None
+
+
+def _mark_limits(result: dict, limits: dict) -> None:
+    """Name the limit a breach hit (the parent never caches such a result)."""
+    records = [result.get("error")] + list(result.get("errors", []))
+    for record in records:
+        if not isinstance(record, dict):
+            continue
+        breach = _limit_message(record, limits)
+        if breach is not None:
+            record["limit"], record["message"] = breach
+            if record is result.get("error") and breach[0] == "time":
+                result["status"] = "timeout"
+
+
+def _located(request: dict, error: BaseException) -> dict:
+    """An error that escaped evaluate() (a limit hit while visiting), at the launch file's line."""
+    record = {"stage": "worker", "type": type(error).__name__, "message": str(error),
+              "file": request.get("file") or request.get("model"), "line": None}
+    if "file" in request:
+        from pkgforge.launch import runtime
+        from pkgforge.launch.evaluate import _location_in
+
+        import traceback
+
+        frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in runtime._LAUNCH_FILES]
+        if frames:
+            record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
+        else:
+            record["line"] = _location_in(request["file"], error)
+    return record
+
+
 def main() -> None:
+    limits = _read_limits()
     replies = os.fdopen(os.dup(1), "w", buffering=1)
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)
     os.dup2(devnull, 2)
     sys.stdout = sys.stderr = open(os.devnull, "w")
+    _apply_limits(limits)
     _install_api()
     from pkgforge.launch.evaluate import evaluate
     from pkgforge.robot import process_model
@@ -38,15 +187,17 @@ def main() -> None:
     for line in sys.stdin:
         request = json.loads(line)
         try:
-            if "model" in request:
-                result = process_model(request["model"], request.get("mappings", {}))
-            else:
-                result = evaluate(request["file"], request.get("arguments", {}))
+            try:
+                _arm(limits)
+                if "model" in request:
+                    result = process_model(request["model"], request.get("mappings", {}))
+                else:
+                    result = evaluate(request["file"], request.get("arguments", {}))
+            finally:
+                _disarm()
         except BaseException as error:  # noqa: BLE001 - the reply must always come
-            result = {"status": "load-error", "error": {"stage": "worker", "type": type(error).__name__,
-                                                        "message": str(error),
-                                                        "file": request.get("file") or request.get("model"),
-                                                        "line": None}}
+            result = {"status": "load-error", "error": _located(request, error)}
+        _mark_limits(result, limits)
         result["request"] = request
         replies.write(json.dumps(result, default=str) + "\n")
 

@@ -1,0 +1,54 @@
+"""`verify --build`: a package colcon could not build."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from ..diagnostics import Finding
+from .registry import register
+
+TAIL_LINES = 15
+CMAKE_ERROR = re.compile(r"CMake Error at (.+?):(\d+)")
+PYTHON_FRAME = re.compile(r'File "(.+?)", line (\d+)')
+
+
+# verify.py reports it from the build's outcome (no check function reads a context)
+register("PF902", "build-failed", "error", area="build",
+         summary="colcon could not build the package (`verify --build`)",
+         explanation="Nothing it would install exists, so its launch files, models and RViz configs "
+                     "were not checked against a built tree; every check that needs no tree still ran.",
+         hint="fix the error in the log tail (the whole log is at the path named), or run `pkgforge verify` "
+              "without --build to check the rest against the tree predicted from the install rules")(None)
+
+
+def build_failed_finding(package_path: Path, build_type: str, log: Path | None, tail: str,
+                         status: int | None = None) -> Finding:
+    """The failure at the first CMake or Python error in the package's own files, else at its
+    build file; the message ends with the last lines of colcon's log."""
+    lines = [line for line in tail.splitlines() if line.strip()][-TAIL_LINES:]
+    where = _located(package_path, tail)
+    if where is None:
+        name = "setup.py" if build_type == "ament_python" else "CMakeLists.txt"
+        where = (package_path / name if (package_path / name).is_file() else package_path / "package.xml", None)
+    if log is None:
+        head = f"colcon build stopped (status {status}) before building it"
+    else:
+        head = f"colcon build failed; last lines of {log}:"
+    return Finding("\n".join([head, *("  " + line for line in lines)]), *where)
+
+
+def _located(package_path: Path, tail: str) -> tuple[Path, int] | None:
+    for pattern in (CMAKE_ERROR, PYTHON_FRAME):
+        for match in pattern.finditer(tail):
+            path = Path(match.group(1).strip())
+            if not path.is_absolute():
+                path = package_path / path
+            try:
+                path = path.resolve()
+                path.relative_to(package_path)
+            except (OSError, ValueError):
+                continue
+            if path.is_file():
+                return path, int(match.group(2))
+    return None
