@@ -3,8 +3,11 @@
 An entry is valid while the package's files, the files outside it that its
 verification read (another package's xacro include or mesh, an installed file),
 the selected checks and options, and the workspace's package names and declared
-dependencies are all unchanged. File digests are memoized by (size, mtime), as
-git's index does, so an unchanged file is not read again. Entries are written
+dependencies are all unchanged. A file's fingerprint is its content and its
+permission bits (a `chmod 000` changes what verify can read); content digests
+are memoized by (size, mtime, ctime, mode), as git's index does, so an
+unchanged file is not read again. Results that depend on the machine's state
+(a timeout, a crashed worker, a limit hit) are never stored (verify.py). Entries are written
 to a temporary file and renamed: two runs at once never see half an entry, and
 the folder is safe to delete.
 """
@@ -21,7 +24,7 @@ from pathlib import Path
 from . import __version__
 from .diagnostics import Diagnostic, PackageReport, Severity
 
-CACHE_FORMAT = 1
+CACHE_FORMAT = 2
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
@@ -52,25 +55,27 @@ class ResultCache:
     # --- digests ------------------------------------------------------------------------------
 
     def digest(self, path: str) -> str | None:
-        """sha256 of a file's content (None when missing), memoized by size and mtime."""
+        """sha256 of a file's content and its mode (None when missing), memoized by size, mtime,
+        ctime and mode; an unreadable file's fingerprint is its mode alone."""
         try:
             stat = os.stat(path)
         except OSError:
             return None
-        stamp = [stat.st_size, stat.st_mtime_ns]
+        mode = f"{stat.st_mode & 0o7777:o}"
+        stamp = [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
         known = self.index.get(path)
-        if known and known[:2] == stamp:
-            return known[2]
+        if known and len(known) == 5 and known[:4] == stamp:
+            return f"{known[4]}:{mode}"
         digest = hashlib.sha256()
         try:
             with open(path, "rb") as handle:
                 for block in iter(lambda: handle.read(1 << 20), b""):
                     digest.update(block)
         except OSError:
-            return None
+            return f"unreadable:{mode}"
         self.index[path] = [*stamp, digest.hexdigest()]
         self.changed = True
-        return self.index[path][2]
+        return f"{digest.hexdigest()}:{mode}"
 
     def package_key(self, folder: Path, files: list[str], selection: str, workspace_key: str) -> str:
         key = hashlib.sha256()

@@ -22,7 +22,27 @@ def fail(error: PkgforgeError) -> None:
     sys.exit(error.exit_code)
 
 
-@click.group(context_settings=CONTEXT_SETTINGS)
+class _Group(click.Group):
+    def main(self, *args, **kwargs):
+        from .processes import Interrupted
+
+        try:
+            return super().main(*args, **kwargs)
+        except Interrupted as stop:
+            # unwound (every child killed, temporary trees removed): skip the interpreter's slow
+            # teardown of every module, so Ctrl-C returns the prompt at once
+            import atexit
+
+            for stream in (sys.stdout, sys.stderr):
+                try:
+                    stream.flush()
+                except (OSError, ValueError):
+                    pass
+            atexit._run_exitfuncs()
+            os._exit(stop.code)
+
+
+@click.group(cls=_Group, context_settings=CONTEXT_SETTINGS)
 @click.version_option(__version__, "--version", prog_name="pkgforge")
 def main() -> None:
     """Scaffold, build and verify ROS 2 robot description packages."""

@@ -360,20 +360,25 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             codes = {path: selected - tree_codes | (selected & {BUILD_FAILED})
                      for path, selected in codes.items()}
     if tree is not None:
-        launch_files, ros1_files = find_launch_files(tree, checked)
-        for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
-                                  arguments=options.launch_arguments, limits=limits,
-                                  on_done=progress.counter("launch files", len(launch_files))):
-            resolutions.setdefault(resolution.launch.package, []).append(resolution)
-        for launch in ros1_files:
-            ros1.setdefault(launch.package, []).append(launch)
-        to_process = robot_models.collect(tree, checked, resolutions)
-        pending = sum(1 for r in to_process if r.robot is None)
-        for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
-                                           on_done=progress.counter("robot models", pending), limits=limits):
-            model_results.setdefault(result.package, []).append(result)
-        rviz = rviz_configs(tree, checked, resolutions)
-        progress.clear()
+        try:  # a signal or an error: the temporary tree goes too
+            launch_files, ros1_files = find_launch_files(tree, checked)
+            for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
+                                      arguments=options.launch_arguments, limits=limits,
+                                      on_done=progress.counter("launch files", len(launch_files))):
+                resolutions.setdefault(resolution.launch.package, []).append(resolution)
+            for launch in ros1_files:
+                ros1.setdefault(launch.package, []).append(launch)
+            to_process = robot_models.collect(tree, checked, resolutions)
+            pending = sum(1 for r in to_process if r.robot is None)
+            for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
+                                               on_done=progress.counter("robot models", pending), limits=limits):
+                model_results.setdefault(result.package, []).append(result)
+            rviz = rviz_configs(tree, checked, resolutions)
+            progress.clear()
+        except BaseException:
+            progress.clear()
+            tree.close()
+            raise
     read: dict[Path, set[str]] = {}
     try:
         by_share = {m.share_name: m for m in models.values()}

@@ -11,6 +11,8 @@ from .registry import register
 TAIL_LINES = 15
 CMAKE_ERROR = re.compile(r"CMake Error at (.+?):(\d+)")
 PYTHON_FRAME = re.compile(r'File "(.+?)", line (\d+)')
+# where the log's story starts: the first error, else its last lines are shown
+ERROR_LINE = re.compile(r"CMake Error|Traceback \(most recent call last\)|\berror:|^error\b|Error:", re.IGNORECASE)
 
 
 # verify.py reports it from the build's outcome (no check function reads a context)
@@ -26,7 +28,9 @@ def build_failed_finding(package_path: Path, build_type: str, log: Path | None, 
                          status: int | None = None) -> Finding:
     """The failure at the first CMake or Python error in the package's own files, else at its
     build file; the message ends with the last lines of colcon's log."""
-    lines = [line for line in tail.splitlines() if line.strip()][-TAIL_LINES:]
+    lines = [line for line in tail.splitlines() if line.strip()]
+    first_error = next((i for i, line in enumerate(lines) if ERROR_LINE.search(line)), None)
+    lines = lines[first_error:first_error + TAIL_LINES] if first_error is not None else lines[-TAIL_LINES:]
     where = _located(package_path, tail)
     if where is None:
         name = "setup.py" if build_type == "ament_python" else "CMakeLists.txt"
@@ -34,7 +38,7 @@ def build_failed_finding(package_path: Path, build_type: str, log: Path | None, 
     if log is None:
         head = f"colcon build stopped (status {status}) before building it"
     else:
-        head = f"colcon build failed; last lines of {log}:"
+        head = f"colcon build failed; from its log {log}:"
     return Finding("\n".join([head, *("  " + line for line in lines)]), *where)
 
 
