@@ -200,21 +200,59 @@ def test_open_files_limit_is_located(tmp_path):
     assert "1024 open files" in diagnostic["message"]
 
 
+def test_limits_are_set_before_the_launch_file_runs(tmp_path):
+    launch = ('import resource\n\n\ndef generate_launch_description():\n'
+              '    raise RuntimeError(repr([resource.getrlimit(getattr(resource, kind))[0]\n'
+              '                             for kind in ("RLIMIT_AS", "RLIMIT_NOFILE", "RLIMIT_CPU")]))\n')
+    package(tmp_path, launch)
+    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", "7", cwd=tmp_path)
+    (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
+    memory, files, cpu = json.loads(diagnostic["message"].rsplit("RuntimeError: ", 1)[1])
+    assert (memory, files) == (2 * 2**30, 1024)
+    assert 7 <= cpu <= 9  # this file's share: the CPU time used so far + the time limit
+
+
 def test_cpu_time_limit_is_located(tmp_path):
-    """Threads hashing in parallel (outside the GIL) can reach the CPU time limit before the wall
-    time one; which comes first depends on the free cores: either is named, at the running line."""
-    launch = ('import hashlib\nimport threading\n\nfrom launch import LaunchDescription\n\n\n'
-              'def spin():\n    data = bytes(2**22)\n    while True:\n        hashlib.sha256(data).digest()\n\n\n'
-              'def generate_launch_description():\n'
-              '    for _ in range(4):\n        threading.Thread(target=spin, daemon=True).start()\n'
+    """The CPU limit (SIGXCPU) stops the launch file at the line it was running. Reaching it in a
+    test without racing the wall-time limit: the file lowers its own soft limit to 1 s."""
+    launch = ('import resource\n\n\ndef generate_launch_description():\n'
+              '    used = resource.getrusage(resource.RUSAGE_SELF)\n'
+              '    soft, hard = resource.getrlimit(resource.RLIMIT_CPU)\n'
+              '    resource.setrlimit(resource.RLIMIT_CPU, (int(used.ru_utime + used.ru_stime) + 1, hard))\n'
               '    while True: sum(range(1000))\n')
     folder = package(tmp_path, launch)
-    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", "2", cwd=tmp_path)
+    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", "60", cwd=tmp_path)
     (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
     assert (diagnostic["code"], diagnostic["line"]) == \
         ("PF301", line_of(folder / "launch" / "display.launch.py", "while True: sum"))
-    assert "--launch-timeout" in diagnostic["message"]
-    assert "CPU time limit" in diagnostic["message"] or "s limit" in diagnostic["message"]
+    assert "CPU time limit" in diagnostic["message"] and "--launch-timeout" in diagnostic["message"]
+
+
+def test_wall_time_limit_is_located(tmp_path):
+    launch = ('import time\n\nfrom launch import LaunchDescription\n\n\ndef generate_launch_description():\n'
+              '    time.sleep(600)\n    return LaunchDescription([])\n')
+    folder = package(tmp_path, launch)
+    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", "1", cwd=tmp_path)
+    (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
+    assert (diagnostic["code"], diagnostic["line"]) == \
+        ("PF301", line_of(folder / "launch" / "display.launch.py", "time.sleep(600)"))
+    assert "still running after the 1 s limit" in diagnostic["message"]
+
+
+def test_colcon_verify_worker_memory(tmp_path):
+    from test_launch import SCRIPTS, plain_colcon_build
+
+    package(tmp_path, BIG_ALLOCATION)
+    plain_colcon_build(tmp_path)
+    colcon = [str(SCRIPTS / "colcon"), "verify", "--pkgforge-format", "json"]
+    result = subprocess.run([*colcon, "--worker-memory", "512M"], cwd=tmp_path, capture_output=True, text=True,
+                            timeout=600, stdin=subprocess.DEVNULL)
+    assert result.returncode == 1, result.stdout + result.stderr
+    (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
+    assert diagnostic["code"] == "PF301" and "512 MiB memory limit" in diagnostic["message"]
+    bad = subprocess.run([*colcon, "--worker-memory", "lots"], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=600, stdin=subprocess.DEVNULL)
+    assert bad.returncode != 0 and "not a size such as 2G or 512M" in bad.stderr
 
 
 # --- verify --build on a failing build ---------------------------------------------------------
@@ -236,6 +274,7 @@ def test_failing_build_still_reports_everything(tmp_path):
     assert 'file INSTALL cannot find' in failed["message"]
     assert failed["name"] == "build-failed" and failed["severity"] == "error"
     junit = etree.parse(str(tmp_path / "out" / "junit.xml"))
+    etree.XMLSchema(etree.parse(str(Path(__file__).parent / "schemas" / "junit.xsd"))).assertValid(junit)
     failures = junit.findall(".//testcase/failure/..")
     assert "PF902 build-failed" in {case.get("name") for case in failures}
 

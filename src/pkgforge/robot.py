@@ -101,8 +101,15 @@ def _xacro_error(xacro, exc, path: str, mappings: dict) -> dict:
     status = "needs-arguments" if needs and not mappings else "error"
     file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
     stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
-    return {"status": status, "error": {"message": message.strip(), "file": file, "line": line,
-                                        "argument": needs.group(1) if needs else None, "stage": stage}}
+    error = {"message": message.strip(), "file": file, "line": line,
+             "argument": needs.group(1) if needs else None, "stage": stage}
+    cause, seen = exc, set()
+    while cause is not None and id(cause) not in seen:  # a worker limit hit inside xacro: the worker names it
+        seen.add(id(cause))
+        if isinstance(cause, MemoryError):
+            error["type"] = "MemoryError"
+        cause = getattr(cause, "exc", None) or cause.__cause__ or cause.__context__
+    return {"status": status, "error": error}
 
 
 def _xacro_location(exc, path: str, filestack: list):

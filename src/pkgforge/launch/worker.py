@@ -133,7 +133,7 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
         return "cpu", f"used more than the {timeout:g} s CPU time limit; raise it with --launch-timeout"
     if kind == "MemoryError" or message.startswith("MemoryError"):
         size = format_size(int(limits["memory"])) if limits.get("memory") else "available"
-        return "memory", (f"MemoryError: the launch worker's {size} memory limit was hit; "
+        return "memory", (f"the launch worker's {size} memory limit was hit; "
                           "raise it with --worker-memory (e.g. --worker-memory 4G)")
     if "[Errno 24]" in message:
         return "files", (f"too many open files: the launch worker's limit of {OPEN_FILES} open files "
@@ -148,10 +148,18 @@ def _mark_limits(result: dict, limits: dict) -> None:
         if not isinstance(record, dict):
             continue
         breach = _limit_message(record, limits)
-        if breach is not None:
-            record["limit"], record["message"] = breach
-            if record is result.get("error") and breach[0] == "time":
-                result["status"] = "timeout"
+        if breach is None:
+            continue
+        original = str(record.get("message", ""))
+        record["limit"], record["message"] = breach
+        if record is not result.get("error"):
+            continue  # an entity's error is shown with its type already
+        if breach[0] == "time":
+            result["status"] = "timeout"
+        elif breach[0] == "memory":
+            # xacro's own words say where (which expression): keep them
+            prefix = f"{original}: " if original and not original.startswith("MemoryError") else ""
+            record["message"] = f"{prefix}MemoryError: {breach[1]}"
 
 
 def _located(request: dict, error: BaseException) -> dict:
@@ -197,6 +205,10 @@ def main() -> None:
                 _disarm()
         except BaseException as error:  # noqa: BLE001 - the reply must always come
             result = {"status": "load-error", "error": _located(request, error)}
+            if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
+                from pkgforge.launch.runtime import RECORDER
+
+                result["errors"] = list(RECORDER.errors)
         _mark_limits(result, limits)
         result["request"] = request
         replies.write(json.dumps(result, default=str) + "\n")
