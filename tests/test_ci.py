@@ -61,6 +61,15 @@ def test_colcon_verify_skip_the_broken_package(built_workspace):
     assert result.stdout.splitlines()[-1] == "0 errors, 0 warnings, 0 infos in 3 packages"
 
 
+@pytest.mark.slow
+def test_colcon_verify_worker_memory(built_workspace):
+    """The limit itself is tested through `pkgforge verify` (test_processes.py); same code path."""
+    result = colcon("verify", "--worker-memory", "512M", "--packages-select", "a_description", cwd=built_workspace)
+    assert result.returncode == 0, result.stdout + result.stderr
+    bad = colcon("verify", "--worker-memory", "lots", cwd=built_workspace)
+    assert bad.returncode != 0 and "not a size such as 2G or 512M" in bad.stderr
+
+
 def test_colcon_lists_the_verb(tmp_path):
     result = colcon("--help", cwd=tmp_path)
     assert re.search(r"^\s+verify\s+Check packages against their install tree", result.stdout, re.M)

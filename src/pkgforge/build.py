@@ -28,6 +28,7 @@ class BuildOptions:
     packages_select: tuple[str, ...] = ()
     cmake_args: tuple[str, ...] = ()
     parallel_workers: int | None = None
+    continue_on_error: bool = False  # build every package that can be built (verify --build reports each failure)
     extra_env: dict[str, str] = field(default_factory=dict)
 
 
@@ -102,6 +103,8 @@ def colcon_command(workspace: Workspace, options: BuildOptions, selection: list[
            "--base-paths", str(workspace.base_path),
            "--build-base", str(options.build_base),
            "--install-base", str(options.install_base)]
+    if options.continue_on_error:
+        cmd += ["--continue-on-error"]
     if options.parallel_workers:
         cmd += ["--parallel-workers", str(options.parallel_workers)]
     if selection:

@@ -152,7 +152,8 @@ def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTre
     from .build import BuildOptions, run_build
 
     base = workspace.root / "build" / "pkgforge-verify"
-    options = BuildOptions(build_base=base / "build", install_base=base / "install", log_base=base / "log")
+    options = BuildOptions(build_base=base / "build", install_base=base / "install", log_base=base / "log",
+                           continue_on_error=True)
     run_build(workspace, options, out=out, colcon_output_to_stderr=True, quiet_failures=True)
     tree = existing_tree(options.install_base, models)
     tree.kind = "built"
