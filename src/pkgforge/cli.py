@@ -6,13 +6,18 @@ import os
 import sys
 from pathlib import Path
 
-import click
+if sys.argv and os.path.basename(sys.argv[0]) == "pkgforge":  # the console script, before click loads:
+    from .processes import install_signal_handlers  # a Ctrl-C while starting exits 130 too
 
-from . import __version__
-from .distros import DEFAULT_DISTRO, DISTROS
-from .errors import PkgforgeError
-from .report import FORMATS
-from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
+    install_signal_handlers()
+
+import click  # noqa: E402
+
+from . import __version__  # noqa: E402
+from .distros import DEFAULT_DISTRO, DISTROS  # noqa: E402
+from .errors import PkgforgeError  # noqa: E402
+from .report import FORMATS  # noqa: E402
+from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS  # noqa: E402
 
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -23,11 +28,15 @@ def fail(error: PkgforgeError) -> None:
 
 
 class _Group(click.Group):
-    def main(self, *args, **kwargs):
-        from .processes import Interrupted
+    def main(self, args=None, *rest, **kwargs):
+        from .processes import Interrupted, install_signal_handlers
 
+        if args is None:
+            # the command line itself (not a caller passing arguments, as tests do): Ctrl-C,
+            # SIGTERM, SIGHUP kill every process pkgforge started, and exit 128 + signal
+            install_signal_handlers()
         try:
-            return super().main(*args, **kwargs)
+            return super().main(args, *rest, **kwargs)
         except Interrupted as stop:
             # unwound (every child killed, temporary trees removed): skip the interpreter's slow
             # teardown of every module, so Ctrl-C returns the prompt at once
@@ -46,10 +55,6 @@ class _Group(click.Group):
 @click.version_option(__version__, "--version", prog_name="pkgforge")
 def main() -> None:
     """Scaffold, build and verify ROS 2 robot description packages."""
-    from .processes import install_signal_handlers
-
-    # Ctrl-C, SIGTERM, SIGHUP: every process pkgforge started is killed, exit 128 + signal
-    install_signal_handlers()
 
 
 class MemorySize(click.ParamType):
