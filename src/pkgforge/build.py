@@ -171,8 +171,9 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
                   *toolchain.cmake_generator_args(env), *options.cmake_args]
     cmd = colcon_command(workspace, options, selection, cmake_args)
     names = selection or [d.name for d in descriptors]
+    built = [d.name for d in build_closure(descriptors, selection)]  # with what they depend on
     # a stale rc from an earlier run must not name a package that now passes
-    for name in names:
+    for name in built:
         (options.build_base / name / "colcon_build.rc").unlink(missing_ok=True)
     out.flush()
     try:
@@ -181,7 +182,7 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
     except OSError as exc:
         raise PkgforgeError(f"cannot run colcon: {exc}") from exc
     if completed.returncode != 0:
-        failed = failed_packages(options.build_base, names)
+        failed = failed_packages(options.build_base, built)
         if not failed:
             raise BuildFailed(f"colcon exited with {completed.returncode}; see its output above",
                               status=completed.returncode)

@@ -391,7 +391,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                                    configs, launches)
             reports.append(run_checks(context, codes[target.path]))
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
-                _report_build_failure(reports[-1], model, build_failure)
+                _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})
             if options.use_cache and tree is not None:
                 from .cache import externals as read_elsewhere
 
@@ -408,18 +408,20 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
 BUILD_FAILED = "PF902"
 
 
-def _report_build_failure(report: PackageReport, model: PackageModel, failure: BuildFailed) -> None:
-    """One build-failed error for a package colcon could not build (every package, when colcon
-    stopped before any ran)."""
+def _report_build_failure(report: PackageReport, model: PackageModel, failure: BuildFailed,
+                          verified: set[str]) -> None:
+    """One build-failed error for a package colcon could not build; when only packages outside
+    the verified ones failed (a dependency) or colcon stopped before any ran, each verified
+    package gets one, so a failed build never passes."""
     from .checks.build import build_failed_finding
     from .checks.registry import REGISTRY
 
-    if failure.failures:
-        found = [(log, tail) for package, log, tail in failure.failures if package == model.name]
-    else:
-        found = [(None, "")]
-    for log, tail in found:
-        finding = build_failed_finding(model.path, model.build_type, log, tail, failure.status)
+    own = [(package, log, tail) for package, log, tail in failure.failures if package == model.name]
+    if not own and not any(package in verified for package, _, _ in failure.failures):
+        own = failure.failures[:1] or [(None, None, "")]
+    for package, log, tail in own:
+        finding = build_failed_finding(model.path, model.build_type, log, tail, failure.status,
+                                       None if package == model.name else package)
         if model.suppressed(finding.path, finding.line, {BUILD_FAILED, "build-failed"}):
             continue
         report.diagnostics.append(REGISTRY[BUILD_FAILED].diagnostic(model.name, finding))

@@ -25,18 +25,20 @@ register("PF902", "build-failed", "error", area="build",
 
 
 def build_failed_finding(package_path: Path, build_type: str, log: Path | None, tail: str,
-                         status: int | None = None) -> Finding:
+                         status: int | None = None, dependency: str | None = None) -> Finding:
     """The failure at the first CMake or Python error in the package's own files, else at its
     build file; the message ends with the last lines of colcon's log."""
     lines = [line for line in tail.splitlines() if line.strip()]
     first_error = next((i for i, line in enumerate(lines) if ERROR_LINE.search(line)), None)
     lines = lines[first_error:first_error + TAIL_LINES] if first_error is not None else lines[-TAIL_LINES:]
-    where = _located(package_path, tail)
+    where = None if dependency else _located(package_path, tail)
     if where is None:
         name = "setup.py" if build_type == "ament_python" else "CMakeLists.txt"
         where = (package_path / name if (package_path / name).is_file() else package_path / "package.xml", None)
     if log is None:
         head = f"colcon build stopped (status {status}) before building it"
+    elif dependency:
+        head = f"colcon build failed on {dependency}, which it needs; from {dependency}'s log {log}:"
     else:
         head = f"colcon build failed; from its log {log}:"
     return Finding("\n".join([head, *("  " + line for line in lines)]), *where)
