@@ -161,7 +161,10 @@ class _Worker:
                 "message": f"still running after the {timeout:g} s limit (an endless loop, or waiting "
                            "for something); raise it with --launch-timeout", "line": None, "limit": "time"}}
         if line is None:
-            code = self.process.wait()
+            try:  # its replies closed: it is ending (or closed them and goes on: killed below)
+                code = self.process.wait(timeout=1.0)
+            except subprocess.TimeoutExpired:
+                code = None
             self.stop()
             return {"status": "crashed", "error": {"message": _death(code, self.limits), "line": None}}
         try:

@@ -21,6 +21,7 @@ import math
 import os
 import signal
 import sys
+import traceback
 from pathlib import Path
 
 API = Path(__file__).resolve().parent / "api"
@@ -168,15 +169,10 @@ def _located(request: dict, error: BaseException) -> dict:
               "file": request.get("file") or request.get("model"), "line": None}
     if "file" in request:
         from pkgforge.launch import runtime
-        from pkgforge.launch.evaluate import _location_in
-
-        import traceback
 
         frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in runtime._LAUNCH_FILES]
         if frames:
             record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
-        else:
-            record["line"] = _location_in(request["file"], error)
     return record
 
 
