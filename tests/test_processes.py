@@ -175,20 +175,25 @@ LIMITS = {
     "l_rlimits": launch_file("    raise RuntimeError(repr([resource.getrlimit(getattr(resource, kind))[0]\n"
                              "                             for kind in ('RLIMIT_AS', 'RLIMIT_NOFILE', 'RLIMIT_CPU')]))\n",
                              "import resource\n\n"),
-    # the CPU limit (SIGXCPU) without racing the wall-time limit: the file lowers its own soft limit
-    "l_cpu": launch_file("    used = resource.getrusage(resource.RUSAGE_SELF)\n"
+    # the CPU limit (SIGXCPU) without racing the wall-time limit on a busy machine: the file lowers
+    # its own soft limit to 1-2 s from now, and threads hashing outside the GIL use CPU faster
+    "l_cpu": launch_file("    for _ in range(3):\n"
+                         "        threading.Thread(target=spin, daemon=True).start()\n"
+                         "    used = resource.getrusage(resource.RUSAGE_SELF)\n"
                          "    soft, hard = resource.getrlimit(resource.RLIMIT_CPU)\n"
-                         "    resource.setrlimit(resource.RLIMIT_CPU, (int(used.ru_utime + used.ru_stime) + 1, hard))\n"
-                         "    while True: sum(range(1000))\n", "import resource\n\n"),
+                         "    resource.setrlimit(resource.RLIMIT_CPU, (int(used.ru_utime + used.ru_stime) + 2, hard))\n"
+                         "    while True: sum(range(1000))\n",
+                         "import hashlib\nimport resource\nimport threading\n\n\n"
+                         "def spin():\n    data = bytes(2**22)\n    while True:\n        hashlib.sha256(data).digest()\n\n\n"),
     "l_wall": launch_file("    time.sleep(600)\n", "import time\n\n"),
     "l_killed": launch_file("    os.kill(os.getpid(), signal.SIGKILL)\n", "import os\nimport signal\n\n"),
 }
-TIMEOUT = 4
+TIMEOUT = 6
 
 
 @pytest.fixture(scope="module")
 def limits_workspace(tmp_path_factory, package) -> tuple[Path, dict[str, dict]]:
-    """(workspace, package → its one error), verified once with --launch-timeout 4."""
+    """(workspace, package → its one error), verified once with --launch-timeout TIMEOUT."""
     workspace = tmp_path_factory.mktemp("limits")
     for name, launch in LIMITS.items():
         package(workspace, launch, name)
