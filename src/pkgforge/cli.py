@@ -138,13 +138,16 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
 @click.option("--no-cache", is_flag=True,
               help="Verify every package again instead of reusing results of unchanged ones "
                    "(cache: build/pkgforge-cache/, safe to delete).")
+@click.option("--distro", "target_distro", type=click.Choice(list(DISTROS)), default=None,
+              help="The ROS 2 distro the packages target [default: ROS_DISTRO, pkgforge.toml "
+                   "[verify] distro, the package's CI file, else every active distro].")
 @click.option("--explain-launch", "explain_launch", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print how FILE resolves in the install tree, then exit.")
 @click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
-           launch_timeout, no_cache, explain_launch, explain_model):
+           launch_timeout, no_cache, target_distro, explain_launch, explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -165,7 +168,7 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
     mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
     options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
                             mode=mode, install_base=install_base, launch_timeout=launch_timeout,
-                            launch_arguments=arguments, use_cache=not no_cache)
+                            launch_arguments=arguments, use_cache=not no_cache, distro=target_distro)
     try:
         if explain_launch is not None:
             from .explain import explain_launch_file

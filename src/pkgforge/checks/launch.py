@@ -164,8 +164,8 @@ def _looked_up(ctx: CheckContext):
 
 @register("PF304", "unknown-package", "error", area="launch",
           summary="a launch file looks up a package that exists nowhere",
-          explanation="The package is not in the workspace, not declared in package.xml, and not "
-                      "installed: almost always a typo or a package renamed (user story 3: "
+          explanation="The package is not in the workspace, not declared in package.xml, not "
+                      "installed and released in no active ROS 2 distro: almost always a typo or a package renamed (user story 3: "
                       "`robot_description` looked up in package `rob_description`).",
           hint="fix the package name")
 def unknown_package(ctx: CheckContext):
@@ -177,11 +177,20 @@ def unknown_package(ctx: CheckContext):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
         seen.add((name, str(path), line))
-        candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
-        near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
-        hint = f"did you mean {', '.join(near)}?" if near else "check the name against package.xml <name>"
         yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
-                      "and not installed", path, line, hint=hint)
+                      "and released in no ROS 2 distro", path, line, hint=_unknown_hint(ctx, name))
+
+
+def _unknown_hint(ctx: CheckContext, name: str) -> str:
+    """The package's ROS 2 name, or close names from the workspace, package.xml and the distros."""
+    from ..distro_data import load, replacement
+
+    if replacement(name) is not None:
+        return f"use {replacement(name)[0]}: {replacement(name)[1]}"
+    candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
+    near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
+    near += [n for n in load().close_names(name, n=3) if n not in near]
+    return f"did you mean {', '.join(near[:3])}?" if near else "check the name against package.xml <name>"
 
 
 @register("PF305", "missing-exec-depend", "error", area="launch",

@@ -148,7 +148,85 @@ def unused_exec_depend(ctx: CheckContext):
             used.add(name)
     if "rviz_default_plugins" in used or "rviz_common" in used:
         used |= {"rviz_common", "rviz_default_plugins"}
-    for dependency in model.manifest.dependencies:
-        if dependency.tag in RUN_TAGS and dependency.tag != "depend" and dependency.name not in used:
+    for dependency in model.manifest.active_dependencies():
+        if dependency.tag in RUN_TAGS and dependency.tag != "depend" and dependency.name not in used \
+                and _not_in_distro(ctx, dependency.name, declared=True) is None:  # that one says it
             yield Finding(f"nothing in {model.name} uses exec_depend '{dependency.name}'",
                           model.manifest.path, dependency.line)
+
+
+def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
+    """(message, hint) when `name` is not released for the target distros, else None."""
+    from ..distro_data import load, replacement
+
+    data = load()
+    released = data.released_in(name)
+    better = replacement(name)
+    if released:
+        missing = [d for d in ctx.distros if d not in released]
+        if not missing:
+            return None
+        message = f"'{name}' is not released for {', '.join(missing)} (released for {', '.join(released)})"
+        if better is not None and all(data.released(better[0], d) for d in missing):
+            hint = f"use {better[0]} instead: {better[1]}"
+        else:
+            hint = (f"build {name} from source in the workspace, or target "
+                    f"{' or '.join(released)} (--distro, ROS_DISTRO or pkgforge.toml [verify] distro)")
+        return message, hint
+    installed = set(ctx.tree.packages) | set(ctx.tree.system_packages) if ctx.tree is not None else set()
+    if not declared or name in installed:
+        return None
+    if better is not None:
+        return (f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",
+                f"declare {better[0]} instead")
+    if "-" in name or name.startswith(("python", "lib")) or name != name.lower():
+        return None  # a rosdep key for a system package (python3-yaml, libboost-dev, Eigen3)
+    near = data.close_names(name, n=1, cutoff=0.85)
+    if not near:
+        return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
+    return (f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
+            f"did you mean {near[0]}?")
+
+
+@register("PF108", "package-not-in-distro", "error", area="manifest",
+          summary="a package used or declared is not released for the target ROS 2 distro",
+          explanation="rosdep and the binary packages install only what is released for the "
+                      "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
+                      "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
+                      "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
+                      "distro or the package's CI file; without one, a package released in any "
+                      "active distro counts.",
+          hint="use the ROS 2 package released for the distro")
+def package_not_in_distro(ctx: CheckContext):
+    model = ctx.model
+    manifest = model.manifest
+    if not manifest.valid:
+        return
+    local = set(ctx.workspace) | {model.name, model.share_name}
+    reported = set()
+    for dependency in manifest.active_dependencies():
+        name = dependency.name
+        if name in local or name in reported:
+            continue
+        problem = _not_in_distro(ctx, name, declared=True)
+        if problem is not None:
+            reported.add(name)
+            yield Finding(f"<{dependency.tag}>{name}</{dependency.tag}>: {problem[0]}", manifest.path,
+                          dependency.line, hint=problem[1])
+    if not ctx.distros:
+        return
+    from .launch import _looked_up
+
+    uses: dict[str, list] = {}
+    for name, path, line, via, _, _ in _looked_up(ctx):
+        if name not in local and name not in reported and name not in manifest.declared():
+            uses.setdefault(name, []).append((line is None, str(path), line or 0, path, line, via))
+    for name, found in sorted(uses.items()):
+        problem = _not_in_distro(ctx, name, declared=False)
+        if problem is None:
+            continue
+        found.sort()
+        _, _, _, path, line, via = found[0]
+        more = len({(f[1], f[2]) for f in found}) - 1
+        yield Finding(f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else ""),
+                      path, line, hint=problem[1])
