@@ -201,7 +201,8 @@ def test_python_launch_has_the_urdf_launch_shape(jazzy_package):
     assert "value_type=str" in (jazzy_package / "launch" / "display.launch.py").read_text()
 
 
-@pytest.mark.parametrize("distro, typed", [("humble", False), ("jazzy", True), ("rolling", True)])
+@pytest.mark.parametrize("distro, typed", [("humble", False), ("jazzy", True), ("lyrical", True),
+                                           ("rolling", True)])
 def test_xml_launch_per_distro(tmp_path, distro, typed):
     result = run_pkgforge("new", "rob", *MAINTAINER, "--launch-format", "xml", "--distro", distro, cwd=tmp_path)
     assert result.returncode == 0, result.stderr

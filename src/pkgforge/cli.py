@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 
 from . import __version__
-from .distros import DEFAULT_DISTRO, DISTROS
+from .distros import DISTROS, NEWEST_LTS, default_distro
 from .errors import PkgforgeError
 from .report import FORMATS
 from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
@@ -30,8 +30,8 @@ def main() -> None:
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("name")
-@click.option("--distro", type=click.Choice(list(DISTROS)), default=DEFAULT_DISTRO,
-              show_default=True, help="ROS 2 distribution the package targets.")
+@click.option("--distro", type=click.Choice(list(DISTROS)), default=default_distro,
+              show_default=f"ROS_DISTRO, else {NEWEST_LTS}", help="ROS 2 distribution the package targets.")
 @click.option("--build-type", type=click.Choice(BUILD_TYPES),
               default="ament_cmake", show_default=True, help="Package build type.")
 @click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py",

@@ -82,7 +82,8 @@ def missing_file(ctx: CheckContext):
 
 
 def _missing_paths(ctx: CheckContext, *, want_source: bool):
-    seen = set()
+    # one defect, one diagnostic: the first line of a file that names the path, "and N more"
+    found: dict[tuple, list] = {}
     for resolution in ctx.resolutions:
         for item in resolution.items.get("paths", []):
             if item.get("exists"):
@@ -101,22 +102,25 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
                 continue
             path, line = position
             line = ctx.static_line(path, package, relative) or line
-            key = (str(path), line, package, relative)
-            if key in seen:
-                continue
-            seen.add(key)
-            shown = f"share/{package}/{relative}"
-            if want_source:
-                yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
-                              f"install rule covers it{_branch_note(item, resolution)}", path, line,
-                              hint=install_fix(owner, relative.split('/')[0]))
-            else:
-                hint = None
-                if owner is not None:
-                    near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
-                    hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
-                yield Finding(f"{shown} does not exist, in the install tree or in {package}'s source"
-                              f"{_branch_note(item, resolution)}", path, line, hint=hint)
+            lines = found.setdefault((str(path), package, relative), [path, owner, item, resolution, []])[4]
+            if line not in lines:
+                lines.append(line)
+    for (_, package, relative), (path, owner, item, resolution, lines) in found.items():
+        lines.sort(key=lambda n: (n is None, n or 0))
+        line = lines[0]
+        more = f" (and {len(lines) - 1} more in this file)" if len(lines) > 1 else ""
+        shown = f"share/{package}/{relative}"
+        if want_source:
+            yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
+                          f"install rule covers it{_branch_note(item, resolution)}{more}", path, line,
+                          hint=install_fix(owner, relative.split('/')[0]))
+        else:
+            hint = None
+            if owner is not None:
+                near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
+                hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
+            yield Finding(f"{shown} does not exist, in the install tree or in {package}'s source"
+                          f"{_branch_note(item, resolution)}{more}", path, line, hint=hint)
 
 
 def _looked_up(ctx: CheckContext):

@@ -68,11 +68,13 @@ def project_name_mismatch(ctx: CheckContext):
             hint=f"write project({model.manifest.name} ...): package.xml <name> decides the package name")
 
 
-@register("PF104", "folder-name-mismatch", "warning", area="manifest",
+@register("PF104", "folder-name-mismatch", "info", area="manifest",
           summary="the package folder's name differs from package.xml <name>",
-          explanation="Nothing breaks by itself, but people and tutorials use the folder name "
-                      "in FindPackageShare and package:// URIs, which resolve by the package "
-                      "name (user story 3: folder rob_description, package robot_description).",
+          explanation="Nothing breaks by itself (many repositories name folders differently on "
+                      "purpose); it matters only when a file uses the folder name as a package "
+                      "name in FindPackageShare or package:// URIs, which resolve by the package "
+                      "name, and unknown-package reports that use (user story 3: folder "
+                      "rob_description, package robot_description).",
           hint="rename the folder, or rename the package everywhere")
 def folder_name_mismatch(ctx: CheckContext):
     model = ctx.model
@@ -133,12 +135,17 @@ def duplicate_dependency(ctx: CheckContext):
 
 @register("PF107", "unused-exec-depend", "info", area="manifest",
           summary="an exec_depend that nothing in the package uses",
-          explanation="A run-time dependency no launch file, model or config of the package "
-                      "names is usually left over from a tutorial; it costs installs on every "
-                      "machine that deploys the package.",
+          explanation="A run-time dependency no launch file, model, RViz config, ros2_control or "
+                      "plugin YAML, <plugin> element or Python module of the package names is "
+                      "usually left over from a tutorial; it costs installs on every machine that "
+                      "deploys the package. Metapackages are exempt.",
           hint="remove it if nothing needs it at run time")
 def unused_exec_depend(ctx: CheckContext):
     model = ctx.model
+    if model.manifest.metapackage:
+        return  # a metapackage's dependencies are what it is for
+    # launch, models, RViz displays, ros2_control and Gazebo plugins, controller types in YAML,
+    # the imports of the package's own Python modules
     used = {r.package for r in model.references}
     if model.cmake is not None:
         used |= {name for name, _ in model.cmake.find_packages}
@@ -230,3 +237,37 @@ def package_not_in_distro(ctx: CheckContext):
         more = len({(f[1], f[2]) for f in found}) - 1
         yield Finding(f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else ""),
                       path, line, hint=problem[1])
+
+
+@register("PF109", "find-package-undeclared", "error", area="manifest",
+          summary="CMakeLists.txt calls find_package() on a ROS package that package.xml does not "
+                  "declare for the build",
+          explanation="rosdep installs only declared build dependencies: on a clean machine (a "
+                      "build farm, a Docker image after `rosdep install`) the find_package() fails. "
+                      "It builds here because the package is installed anyway, or because "
+                      "pkgforge build stubs declared packages.",
+          hint="declare it with <build_depend> (or <depend>)")
+def find_package_undeclared(ctx: CheckContext):
+    model = ctx.model
+    manifest = model.manifest
+    if model.cmake is None or not manifest.valid:
+        return
+    from ..distro_data import released_set
+
+    build = manifest.build_dependencies() | {d.name for d in manifest.active_dependencies()
+                                             if d.tag in ("test_depend", "build_export_depend")}
+    ros_packages = set(ctx.workspace) | released_set(())
+    reported = set()
+    after = manifest.last_dependency_line()
+    for name, command in model.cmake.find_packages:
+        if name in build or name in reported or name not in ros_packages or name in (model.name,):
+            continue
+        reported.add(name)
+        other = next((d for d in manifest.active_dependencies() if d.name == name), None)
+        why = f" (only <{other.tag}> at package.xml:{other.line})" if other is not None else ""
+        tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
+        yield Finding(f"find_package({name}) but package.xml does not declare {name} for the build{why}",
+                      command.path, command.line, command.column,
+                      hint=(f"change package.xml:{other.line} to <depend>{name}</depend>" if other is not None
+                            else f"add <{tag}>{name}</{tag}> to package.xml"
+                                 + (f" after line {after}" if after else "")))

@@ -56,6 +56,7 @@ class Manifest:
     build_type: str | None = None
     build_type_line: int | None = None
     export_line: int | None = None
+    metapackage: bool = False  # <export><metapackage/>: its dependencies are its content
     dependencies: list[Dependency] = field(default_factory=list)
     # (message, line) for manifest-invalid
     problems: list[tuple[str, int | None]] = field(default_factory=list)
@@ -122,6 +123,7 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
     export = root.find("export")
     if export is not None:
         manifest.export_line = export.sourceline
+        manifest.metapackage = export.find("metapackage") is not None
         build_type = export.find("build_type")
         if build_type is not None:
             manifest.build_type = (build_type.text or "").strip()

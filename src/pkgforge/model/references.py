@@ -72,11 +72,15 @@ def scan(source: SourceFile) -> list[Reference]:
     kind = launch_kind(source.path)
     if kind == "py":
         return _scan_python(source)
+    if source.path.suffix == ".py":  # the package's own modules and scripts: what they import
+        return [r for r in _scan_python(source) if r.via == "import"]
     locate = _Locator(source.text)
     if source.path.suffix == ".rviz":
         found = _scan_rviz(source, locate)
     elif kind == "yaml":
         found = _scan_yaml(source, locate)
+    elif source.path.suffix in (".yaml", ".yml"):
+        found = _scan_config_yaml(source, locate)
     else:
         found = _scan_xml(source, locate, launch=kind == "xml")
     found.sort(key=lambda r: (r.line, r.column or 0))
@@ -133,6 +137,49 @@ def _scan_xml(source: SourceFile, locate: _Locator, *, launch: bool) -> list[Ref
             found += _in_value(value, patterns, source.path, line, locate)
         if element.text and element.text.strip():
             found += _in_value(element.text, patterns, source.path, line, locate)
+        if element.tag == "plugin":
+            found += _plugin_uses(element, source.path, locate)
+    return found
+
+
+# Gazebo plugin libraries whose file name is not their package's name
+PLUGIN_LIBRARIES = {"libgazebo_ros2_control": "gazebo_ros2_control", "libgazebo_ros_": "gazebo_plugins",
+                    "libgz_ros2_control": "gz_ros2_control", "gz_ros2_control": "gz_ros2_control",
+                    "libign_ros2_control": "ign_ros2_control", "ign_ros2_control": "ign_ros2_control"}
+
+
+def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
+    """<plugin>pkg/Class</plugin> (ros2_control hardware) and <plugin filename="lib...so">
+    (Gazebo): the package that provides the plugin."""
+    found = []
+    line = element.sourceline or 1
+    text = (element.text or "").strip()
+    if "/" in text and PACKAGE_ONLY.fullmatch(text.split("/")[0]):
+        where = locate(text, line)
+        found.append(Reference(text.split("/")[0], None, path, where[0], where[1], "plugin"))
+    filename = (element.get("filename") or "").strip()
+    if filename:
+        stem = filename.split("/")[-1].removesuffix(".so").removesuffix("-system")
+        package = next((p for prefix, p in PLUGIN_LIBRARIES.items() if stem.startswith(prefix)),
+                       stem.removeprefix("lib"))
+        if PACKAGE_ONLY.fullmatch(package):
+            where = locate(filename, line)
+            found.append(Reference(package, None, path, where[0], where[1], "plugin"))
+    return found
+
+
+def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
+    """ros2_control and pluginlib YAML: `type: joint_trajectory_controller/JointTrajectoryController`,
+    `plugin: "nav2_..::.."`: the package each class comes from."""
+    found: list[Reference] = []
+    for key, value, line in _yaml_scalars(source.text):
+        if key not in ("type", "plugin", "plugin_name", "plugins"):
+            continue
+        value = value.strip()
+        package = value.split("/")[0] if "/" in value else value.split("::")[0] if "::" in value else None
+        if package and PACKAGE_ONLY.fullmatch(package):
+            where = locate(value, line)
+            found.append(Reference(package, None, source.path, where[0], where[1], "plugin"))
     return found
 
 
