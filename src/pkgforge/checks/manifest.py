@@ -142,8 +142,8 @@ def duplicate_dependency(ctx: CheckContext):
           hint="remove it if nothing needs it at run time")
 def unused_exec_depend(ctx: CheckContext):
     model = ctx.model
-    if model.manifest.metapackage:
-        return  # a metapackage's dependencies are what it is for
+    if model.manifest.metapackage or not model.top_level_folders().keys() - {"resource"}:
+        return  # a metapackage (tagged, or nothing but its manifest): its dependencies are its content
     # launch, models, RViz displays, ros2_control and Gazebo plugins, controller types in YAML,
     # the imports of the package's own Python modules
     used = {r.package for r in model.references}

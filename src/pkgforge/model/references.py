@@ -170,8 +170,24 @@ def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
 
 def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
     """ros2_control and pluginlib YAML: `type: joint_trajectory_controller/JointTrajectoryController`,
-    `plugin: "nav2_..::.."`: the package each class comes from."""
+    `plugin: "nav2_..::.."`: the package each class comes from; parameters of the
+    controller_manager node (`controller_manager: {ros__parameters: ...}`) use controller_manager."""
+    import yaml
+
     found: list[Reference] = []
+    try:
+        documents = list(yaml.compose_all(source.text, Loader=yaml.SafeLoader))
+    except yaml.YAMLError:
+        return found
+    for document in documents:
+        if isinstance(document, yaml.MappingNode):
+            for key_node, value_node in document.value:
+                if getattr(key_node, "value", None) == "controller_manager" \
+                        and isinstance(value_node, yaml.MappingNode) \
+                        and any(getattr(k, "value", None) == "ros__parameters" for k, _ in value_node.value):
+                    line = key_node.start_mark.line + 1
+                    found.append(Reference("controller_manager", None, source.path, line,
+                                           key_node.start_mark.column + 1, "plugin"))
     for key, value, line in _yaml_scalars(source.text):
         if key not in ("type", "plugin", "plugin_name", "plugins"):
             continue

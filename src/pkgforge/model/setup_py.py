@@ -74,7 +74,18 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
     if data_files is None:
         _read_setup_cfg(model, package_path)
         return model
-    elements = data_files.elts if isinstance(data_files, (ast.List, ast.Tuple)) else [data_files]
+    if not isinstance(data_files, (ast.List, ast.Tuple)):
+        # a list built before setup(): its entries, at the line of data_files=
+        try:
+            value = evaluator.eval(data_files)
+            if not isinstance(value, (list, tuple)):
+                raise Unevaluable(data_files, "data_files is not a list")
+            elements = [ast.Constant(entry, lineno=data_files.lineno) for entry in value]
+        except Unevaluable as exc:
+            model.unknown.append((getattr(exc.node, "lineno", data_files.lineno), exc.why))
+            return model
+    else:
+        elements = data_files.elts
     for element in elements:
         try:
             values = evaluator.eval(element.value) if isinstance(element, ast.Starred) \
@@ -191,7 +202,7 @@ class _Evaluator:
 
     def eval(self, node: ast.AST, scope: dict | None = None):
         scope = scope or {}
-        if isinstance(node, ast.Constant) and isinstance(node.value, (str, int, bool, type(None))):
+        if isinstance(node, ast.Constant) and isinstance(node.value, (str, int, bool, type(None), tuple, list)):
             return node.value
         if isinstance(node, ast.Name):
             if node.id in scope:
