@@ -51,7 +51,10 @@ class CheckContext:
         released for the target distros (any active distro when there is no target)."""
         from ..distro_data import released_set
 
-        return set(self.workspace) | self.tree_packages() | released_set(self.distros)
+        # a name declared somewhere (a phantom in the tree) but released only for other distros
+        # is package-not-in-distro's, not a real package here
+        foreign = released_set(()) - released_set(self.distros)
+        return set(self.workspace) | (self.tree_packages() - foreign) | released_set(self.distros)
 
     def known_packages(self) -> set[str]:
         """Names that are no typo: real packages, released in any distro, or declared here."""
