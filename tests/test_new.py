@@ -139,6 +139,9 @@ def test_templates_ship_in_the_wheel(tmp_path):
     for template in ("package/package.xml.j2", "package/CMakeLists.txt.j2",
                      "package/launch/display.launch.py.j2", "package/rviz/display.rviz.j2"):
         assert f"pkgforge/templates/{template}" in names
+    # the released packages of every active distro, which verify reads (distro_data)
+    assert zipfile.ZipFile(wheel).read("pkgforge/data/distros.txt") == \
+        (REPO / "src" / "pkgforge" / "data" / "distros.txt").read_bytes()
 
 
 # --- what the files say --------------------------------------------------------------------

@@ -106,13 +106,13 @@ def read_config(path: Path) -> dict:
         validate_keys(value, f"{path}: verify.{key}")
     distro = verify.get("distro")
     if distro is not None:
-        from .distro_data import active_distros
+        from .distros import DISTROS
 
         chosen = [distro] if isinstance(distro, str) else distro
         if not isinstance(chosen, list) or not chosen or \
-                any(not isinstance(d, str) or d not in active_distros() for d in chosen):
+                any(not isinstance(d, str) or d not in DISTROS for d in chosen):
             raise PkgforgeError(f"{path}: verify.distro must name active ROS 2 distros "
-                                f"({', '.join(active_distros())})")
+                                f"({', '.join(DISTROS)}), as a string or a list")
     for package, table in verify.get("packages", {}).items():
         validate_keys(list(table.get("ignore", [])), f"{path}: verify.packages.{package}.ignore")
     return data

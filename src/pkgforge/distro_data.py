@@ -14,7 +14,6 @@ few milliseconds: bench/distro_data.py measures it.
 
 from __future__ import annotations
 
-import difflib
 import functools
 from dataclasses import dataclass
 from pathlib import Path
@@ -84,6 +83,8 @@ class DistroData:
         return [name for name, mask in self.masks.items() if mask & bit]
 
     def close_names(self, name: str, distro: str | None = None, n: int = 3, cutoff: float = 0.8) -> list[str]:
+        import difflib
+
         return difflib.get_close_matches(name, self.packages(distro), n=n, cutoff=cutoff)
 
 
@@ -155,7 +156,9 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     ROS_DISTRO / setup-ros / matrix keys. Read with the YAML loader, never guessed."""
     import yaml
 
-    names = set(active_distros())
+    from .distros import DISTROS
+
+    names = set(DISTROS)  # the same names as the data's (a test keeps them equal), without reading it
     found: set[str] = set()
 
     def distro_words(text: str) -> set[str]:
@@ -186,7 +189,7 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
                 continue  # not ours to report; the CI system does
             for document in documents:
                 walk(document)
-    return tuple(d for d in active_distros() if d in found)
+    return tuple(d for d in DISTROS if d in found)
 
 
 def target_distros(package_path: Path, root: Path, option: str | None, configured) -> tuple[tuple[str, ...], str]:
@@ -196,7 +199,9 @@ def target_distros(package_path: Path, root: Path, option: str | None, configure
     (the package folder, then its parents up to the workspace root)."""
     import os
 
-    names = active_distros()
+    from .distros import DISTROS
+
+    names = list(DISTROS)
     if option:
         return (option,), "--distro"
     environment = os.environ.get("ROS_DISTRO", "")
