@@ -145,15 +145,28 @@ def render(distros: list[DistroInfo], released: dict[str, set[str]], source: str
 
 # --- the distros a package targets -----------------------------------------------------------
 
-CI_FILES = (".gitlab-ci.yml", ".gitlab-ci.yaml", ".github/workflows/*.yml", ".github/workflows/*.yaml")
-# keys whose value names the distro in a CI file (ROS_DISTRO env, setup-ros, industrial_ci, matrices)
+CI_FILES = (".gitlab-ci.yml", ".gitlab-ci.yaml")
+CI_FOLDER = ".github/workflows"
 CI_DISTRO_KEYS = {"ros_distro", "rosdistro", "ros-distro", "distro", "distros", "ros_distros",
                   "required-ros-distributions", "ros-distribution", "ros_distribution"}
 
 
+def _ci_files(folder: Path) -> list[Path]:
+    """The CI files of a folder: two stats and, only when it exists, a listing of .github/workflows."""
+    found = [folder / name for name in CI_FILES if (folder / name).is_file()]
+    workflows = folder / CI_FOLDER
+    if workflows.is_dir():
+        found += sorted(p for p in workflows.iterdir() if p.suffix in (".yml", ".yaml") and p.is_file())
+    return found
+
+
+@functools.lru_cache(maxsize=4096)
 def ci_distros(folder: Path) -> tuple[str, ...]:
     """The active distros a package's CI files build for: docker images ros:<distro>..., and
     ROS_DISTRO / setup-ros / matrix keys. Read with the YAML loader, never guessed."""
+    files = _ci_files(folder)
+    if not files:
+        return ()
     import yaml
 
     from .distros import DISTROS
@@ -181,14 +194,13 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
                     if distro in names:
                         found.add(distro)
 
-    for pattern in CI_FILES:
-        for path in sorted(folder.glob(pattern)):
-            try:
-                documents = list(yaml.safe_load_all(path.read_text(encoding="utf-8")))
-            except (OSError, UnicodeDecodeError, yaml.YAMLError):
-                continue  # not ours to report; the CI system does
-            for document in documents:
-                walk(document)
+    for path in files:
+        try:
+            documents = list(yaml.safe_load_all(path.read_text(encoding="utf-8")))
+        except (OSError, UnicodeDecodeError, yaml.YAMLError):
+            continue  # not ours to report; the CI system does
+        for document in documents:
+            walk(document)
     return tuple(d for d in DISTROS if d in found)
 
 
