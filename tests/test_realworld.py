@@ -268,6 +268,9 @@ def test_one_defect_one_diagnostic_and_user_paths(every_distro, workspace):
         ("missing-file", "launch/display.launch.py", line_of(launch, "gone.rviz")),
         ("unused-exec-depend", "package.xml", line_of(manifest, "urdf_tutorial")),
     ]
+    (gone,) = [d for d in by_name(every_distro, "precise_description", "missing-file") if "gone.rviz" in d["message"]]
+    second = line_of(launch, "gone.rviz") + 2
+    assert gone["message"].endswith(f"(and 1 more in this file: line {second})")
     assert all("pkgforge-tree-" not in d["message"] + d["hint"] for d in every_distro["diagnostics"])
 
 

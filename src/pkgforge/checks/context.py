@@ -86,12 +86,14 @@ class CheckContext:
             return resolve_uri(reference, self.tree).status in ("found", "unchecked")
         return Path(reference).is_file()
 
-    def static_line(self, path: Path, package: str, relative: str) -> int | None:
-        """The line where the file names package/relative literally, if it does."""
-        for reference in self.model.references:
-            if reference.path == path and reference.package == package and reference.relative == relative:
-                return reference.line
-        return None
+    def static_line(self, path: Path, package: str, relative: str, near: int | None = None) -> int | None:
+        """The line where the file names package/relative literally, if it does (the one
+        nearest `near` when it does on several lines)."""
+        lines = [r.line for r in self.model.references
+                 if r.path == path and r.package == package and r.relative == relative]
+        if not lines:
+            return None
+        return min(lines, key=lambda n: (abs(n - near), n)) if near is not None else lines[0]
 
     # --- launch results -----------------------------------------------------------------------
 

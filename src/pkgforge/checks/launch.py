@@ -101,14 +101,16 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             if position is None:
                 continue
             path, line = position
-            line = ctx.static_line(path, package, relative) or line
+            line = ctx.static_line(path, package, relative, line) or line
             lines = found.setdefault((str(path), package, relative), [path, owner, item, resolution, []])[4]
             if line not in lines:
                 lines.append(line)
     for (_, package, relative), (path, owner, item, resolution, lines) in found.items():
         lines.sort(key=lambda n: (n is None, n or 0))
         line = lines[0]
-        more = f" (and {len(lines) - 1} more in this file)" if len(lines) > 1 else ""
+        others = [str(n) for n in lines[1:] if n is not None]
+        more = (f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
+                if len(lines) > 1 else "")
         shown = f"share/{package}/{relative}"
         if want_source:
             yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
