@@ -161,7 +161,8 @@ def test_gazebo_ros_on_jazzy_is_package_not_in_distro(jazzy, workspace):
         ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>rviz</exec_depend>")),
         ("package-not-in-distro", "package.xml", line_of(manifest, "join_state_publisher")),
     ])
-    (gazebo,) = [d for d in by_name(jazzy, "distro_description", "package-not-in-distro") if "gazebo_ros" in d["message"]]
+    (gazebo,) = [d for d in by_name(jazzy, "distro_description", "package-not-in-distro")
+                 if "gazebo_ros" in d["message"]]
     assert "not released for jazzy (released for humble)" in gazebo["message"]
     assert gazebo["hint"].startswith("use ros_gz_sim instead")
 
@@ -222,7 +223,8 @@ def test_find_package_undeclared(every_distro, workspace):
     assert findings(every_distro, "find_description") == [
         ("find-package-undeclared", "CMakeLists.txt", line_of(cmake, "find_package(xacro"))]
     (diagnostic,) = by_name(every_distro, "find_description", "find-package-undeclared")
-    assert diagnostic["hint"] == f"change package.xml:{line_of(manifest, '<exec_depend>xacro')} to <depend>xacro</depend>"
+    declared = line_of(manifest, "<exec_depend>xacro")
+    assert diagnostic["hint"] == f"change package.xml:{declared} to <depend>xacro</depend>"
 
 
 def test_node_arguments_string_and_rsp_model_argument(every_distro, workspace):

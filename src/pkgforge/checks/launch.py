@@ -171,7 +171,8 @@ def _looked_up(ctx: CheckContext):
 @register("PF304", "unknown-package", "error", area="launch",
           summary="a launch file looks up a package that exists nowhere",
           explanation="The package is not in the workspace, not declared in package.xml, not "
-                      "installed and released in no active ROS 2 distro: almost always a typo or a package renamed (user story 3: "
+                      "installed and released in no active ROS 2 distro: almost always a typo or a "
+                      "package renamed (user story 3: "
                       "`robot_description` looked up in package `rob_description`).",
           hint="fix the package name")
 def unknown_package(ctx: CheckContext):
