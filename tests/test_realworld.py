@@ -71,6 +71,43 @@ def test_variables_foreach_and_install_files_with_one_unevaluable_rule(every_dis
         ("install-rule-unevaluated", "CMakeLists.txt", line_of(cmake, "$ENV{EXTRA_ASSETS}"))]
 
 
+@pytest.mark.parametrize("package, installed", [
+    ("auto_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
+    ("loops_description", ["launch/display.launch.py", "meshes/base_link.STL", "rviz/view.rviz",
+                           "urdf/robot.urdf"]),
+    ("py_description", ["config/arm/limits.yaml", "launch/display.launch.py", "meshes/base_link.STL",
+                        "urdf/robot.urdf"]),
+    ("cfg_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
+    ("cmake_python_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
+])
+def test_the_predicted_install_tree_of_each_idiom(package, installed):
+    from pkgforge.model.package import load_package
+
+    model = load_package(REALWORLD / package)
+    share = f"share/{package}/"
+    assert sorted(f[len(share):] for f in model.layout.files if f.startswith(share)) == \
+        sorted(installed + ["package.xml"])
+    if package == "cmake_python_description":  # ament_python_install_package(${PROJECT_NAME})
+        assert "lib/python3/site-packages/cmake_python_description/tools.py" in model.layout.files
+
+
+def test_a_setup_py_loop_over_something_unknown_is_unevaluated_not_guessed(tmp_path):
+    from pkgforge.model.setup_py import load_setup_py
+    from pkgforge.model.source import read_source
+
+    (tmp_path / "launch").mkdir()
+    (tmp_path / "launch" / "a.launch.py").write_text("")
+    setup = tmp_path / "setup.py"
+    setup.write_text("import os\nfrom glob import glob\nfrom setuptools import setup\n"
+                     "data_files = [('share/p', ['package.xml'])]\n"
+                     "for folder in os.listdir('.'):\n"
+                     "    data_files.append(('share/p/' + folder, glob(folder + '/*')))\n"
+                     "setup(name='p', data_files=data_files)\n")
+    model = load_setup_py(read_source(setup), tmp_path)
+    assert model.entries == []
+    assert [line for line, _ in model.unknown] == [line_of(setup, "for folder in")]
+
+
 # --- 2. references from parsers --------------------------------------------------------------
 
 def test_references_in_comments_are_no_use(workspace):

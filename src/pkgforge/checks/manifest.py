@@ -149,6 +149,8 @@ def unused_exec_depend(ctx: CheckContext):
     used = {r.package for r in model.references}
     if model.cmake is not None:
         used |= {name for name, _ in model.cmake.find_packages}
+        if model.cmake.auto_find_command is not None:  # ament_auto_find_build_dependencies()
+            used |= model.manifest.build_dependencies()
     kinds = {launch_kind(f) for f in model.files} - {None}
     for name, rule in IMPLICIT_USES.items():
         if rule(kinds, model.files):
