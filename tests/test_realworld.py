@@ -281,13 +281,13 @@ def test_rsp_model_argument_is_an_error_on_rolling(workspace):
     assert [d["severity"] for d in report["diagnostics"]] == ["error"]
 
 
-def test_package_not_installed_from_the_install_base(tmp_path):
-    """A package that failed to build is absent from the install base: an error, not a clean report."""
+def test_package_not_installed_from_the_install_base(tmp_path, variants_workspace):
+    """A package that failed to build is absent from the install base: an error, not a clean report.
+    The session's built variants are the install base; v_jazzy is in it, broken_description not."""
     (tmp_path / "src").mkdir()
-    new_package(tmp_path, "rob_description")
-    assert run_pkgforge("build", cwd=tmp_path).returncode == 0
-    broken = new_package(tmp_path, "broken_description")  # added after the build: not installed
-    status, report = verify_report(tmp_path, "--install-base", "install", "--no-cache")
+    shutil.copytree(variants_workspace / "src" / "v_jazzy", tmp_path / "src" / "v_jazzy")
+    broken = new_package(tmp_path, "broken_description")
+    status, report = verify_report(tmp_path, "--install-base", str(variants_workspace / "install"), "--no-cache")
     assert status == 1
     assert [(d["package"], d["name"], d["path"], d["line"]) for d in report["diagnostics"]] == [
         ("broken_description", "package-not-installed", "src/broken_description/package.xml",
