@@ -139,6 +139,16 @@ def test_distro_data_every_active_distro():
     assert len(data.masks) > 2000
 
 
+def test_every_replacement_is_released_where_its_name_is_not():
+    from pkgforge.distro_data import REPLACEMENTS, load
+
+    data = load()
+    for name, (successor, why) in REPLACEMENTS.items():
+        assert not data.released(name, "rolling"), name
+        assert data.released_in(successor) == data.names, (name, successor)
+        assert why
+
+
 def test_distro_data_regenerates_identically_from_the_lists(tmp_path):
     lists = Path("/work/shared/rosdistro")
     if not lists.is_dir():

@@ -20,8 +20,8 @@ from pathlib import Path
 
 DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
 
-# ROS 1 names and renamed packages → what a ROS 2 package uses instead. One table, one place.
-# (name, the distros it applies to (None: every one), replacement, why)
+# ROS 1 names, renamed packages and Gazebo Classic → what a ROS 2 package uses instead, and why.
+# One table, one place; it is consulted only for a name not released for the target distro.
 REPLACEMENTS: dict[str, tuple[str, str]] = {
     # ROS 1 packages with a ROS 2 successor
     "rviz": ("rviz2", "rviz is ROS 1; ROS 2 has rviz2"),
@@ -37,9 +37,8 @@ REPLACEMENTS: dict[str, tuple[str, str]] = {
     "tf": ("tf2_ros", "tf is ROS 1; ROS 2 has tf2_ros"),
     "message_generation": ("rosidl_default_generators", "message_generation is ROS 1"),
     "message_runtime": ("rosidl_default_runtime", "message_runtime is ROS 1"),
-    "gazebo_ros_control": ("gazebo_ros2_control", "gazebo_ros_control is ROS 1"),
+    "gazebo_ros_control": ("gz_ros2_control", "gazebo_ros_control is ROS 1 (Gazebo Classic)"),
     "joint_state_controller": ("joint_state_broadcaster", "joint_state_controller is ROS 1"),
-    "robot_state_publisher_gui": ("joint_state_publisher_gui", "no such package"),
     # Gazebo Classic is gone after Humble; Gazebo (gz) replaces it
     "gazebo_ros": ("ros_gz_sim", "Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo "
                                  "with ros_gz_sim"),
@@ -113,12 +112,9 @@ def active_distros() -> list[str]:
     return load().names
 
 
-def replacement(name: str, distro: str | None = None) -> tuple[str, str] | None:
+def replacement(name: str) -> tuple[str, str] | None:
     """(what to use instead, why) for a package name that has a known successor."""
-    found = REPLACEMENTS.get(name)
-    if found is None:
-        return None
-    return found
+    return REPLACEMENTS.get(name)
 
 
 # --- writing the data (scripts/update-distro-data) -------------------------------------------
