@@ -81,10 +81,23 @@ class DistroData:
         bit = 1 << self.names.index(distro)
         return [name for name, mask in self.masks.items() if mask & bit]
 
-    def close_names(self, name: str, distro: str | None = None, n: int = 3, cutoff: float = 0.8) -> list[str]:
-        import difflib
+    def close_names(self, name: str, distro: str | None = None, n: int = 3, cutoff: float = 0.8,
+                    same_start: bool = False) -> list[str]:
+        """Released names close to `name` (difflib); `same_start`: only names with its first
+        letter (fast enough to ask for every declared name; typos rarely hit the first letter)."""
+        return list(_close_names(self, name, distro, n, cutoff, same_start))
 
-        return difflib.get_close_matches(name, self.packages(distro), n=n, cutoff=cutoff)
+
+@functools.lru_cache(maxsize=256)
+def _close_names(data: DistroData, name: str, distro: str | None, n: int, cutoff: float,
+                 same_start: bool) -> tuple[str, ...]:
+    import difflib
+
+    size = len(name)
+    # a ratio is at most 2*min(len)/(len a + len b): names of other lengths cannot reach the cutoff
+    candidates = [c for c in data.packages(distro) if 2 * min(size, len(c)) >= cutoff * (size + len(c))
+                  and (not same_start or c[:1] == name[:1])]
+    return tuple(difflib.get_close_matches(name, candidates, n=n, cutoff=cutoff))
 
 
 def parse(text: str) -> DistroData:

@@ -190,7 +190,7 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
                 f"declare {better[0]} instead")
     if "-" in name or name.startswith(("python", "lib")) or name != name.lower():
         return None  # a rosdep key for a system package (python3-yaml, libboost-dev, Eigen3)
-    near = data.close_names(name, n=1, cutoff=0.85)
+    near = data.close_names(name, n=1, cutoff=0.85, same_start=True)
     if not near:
         return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
     return (f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
