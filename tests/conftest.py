@@ -20,6 +20,7 @@ VARIANTS = {
     "v_humble": ["--distro", "humble"],
     "v_jazzy": ["--distro", "jazzy"],
     "v_kilted": ["--distro", "kilted"],
+    "v_lyrical": ["--distro", "lyrical"],
     "v_rolling": ["--distro", "rolling"],
     "v_xml": ["--launch-format", "xml"],
     "v_yaml": ["--launch-format", "yaml"],

@@ -96,7 +96,7 @@ def test_github_workflow(tmp_path, distro):
     assert any(step.get("uses", "").startswith("actions/upload-artifact") for step in job["steps"])
 
 
-@pytest.mark.parametrize("distro", ["kilted", "rolling"])
+@pytest.mark.parametrize("distro", ["kilted", "lyrical", "rolling"])
 def test_gitlab_pipeline(tmp_path, distro):
     assert run_pkgforge("new", "rob", *MAINTAINER, "--ci", "gitlab", "--distro", distro, cwd=tmp_path).returncode == 0
     pipeline = yaml.safe_load((tmp_path / "rob" / ".gitlab-ci.yml").read_text())

@@ -139,6 +139,9 @@ def test_templates_ship_in_the_wheel(tmp_path):
     for template in ("package/package.xml.j2", "package/CMakeLists.txt.j2",
                      "package/launch/display.launch.py.j2", "package/rviz/display.rviz.j2"):
         assert f"pkgforge/templates/{template}" in names
+    # the released packages of every active distro, which verify reads (distro_data)
+    assert zipfile.ZipFile(wheel).read("pkgforge/data/distros.txt") == \
+        (REPO / "src" / "pkgforge" / "data" / "distros.txt").read_bytes()
 
 
 # --- what the files say --------------------------------------------------------------------
@@ -201,7 +204,8 @@ def test_python_launch_has_the_urdf_launch_shape(jazzy_package):
     assert "value_type=str" in (jazzy_package / "launch" / "display.launch.py").read_text()
 
 
-@pytest.mark.parametrize("distro, typed", [("humble", False), ("jazzy", True), ("rolling", True)])
+@pytest.mark.parametrize("distro, typed", [("humble", False), ("jazzy", True), ("lyrical", True),
+                                           ("rolling", True)])
 def test_xml_launch_per_distro(tmp_path, distro, typed):
     result = run_pkgforge("new", "rob", *MAINTAINER, "--launch-format", "xml", "--distro", distro, cwd=tmp_path)
     assert result.returncode == 0, result.stderr

@@ -64,7 +64,7 @@ def run_format(workspace: Path, fmt: str, *args: str):
 def test_json_matches_schema(broken_workspace):
     report = json.loads(run_format(broken_workspace, "json"))
     jsonschema.validate(report, JSON_REPORT_SCHEMA)
-    assert report["summary"] == {"errors": 3, "warnings": 1, "infos": 1, "packages": 2}
+    assert report["summary"] == {"errors": 3, "warnings": 0, "infos": 2, "packages": 2}
     assert {p["path"] for p in report["packages"]} == {"src/rob_description", "src/small_turtle"}
     assert all(not Path(d["path"]).is_absolute() for d in report["diagnostics"])
 
@@ -73,7 +73,7 @@ def test_junit_validates(broken_workspace, tmp_path):
     output = tmp_path / "report.xml"
     result = run_pkgforge("verify", "--format", "junit", "--output", output, cwd=broken_workspace)
     assert result.returncode == 1
-    assert result.stderr.strip() == "3 errors, 1 warnings, 1 infos in 2 packages"
+    assert result.stderr.strip() == "3 errors, 0 warnings, 2 infos in 2 packages"
     document = etree.parse(str(output))
     etree.XMLSchema(etree.parse(str(SCHEMAS / "junit.xsd"))).assertValid(document)
     suites = {s.get("name"): s for s in document.getroot()}
@@ -102,7 +102,7 @@ def test_github_annotations(broken_workspace):
     assert all(pattern.match(line) for line in annotations), annotations
     assert "::error file=src/small_turtle/CMakeLists.txt,line=6,col=26,title=PF201 install-missing-directory::" \
         in "\n".join(annotations)
-    assert lines[-1] == "3 errors, 1 warnings, 1 infos in 2 packages"
+    assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages"
 
 
 def test_docs_checks_md_is_generated_from_the_registry():

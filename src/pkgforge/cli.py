@@ -14,7 +14,7 @@ if sys.argv and os.path.basename(sys.argv[0]) == "pkgforge":  # the console scri
 import click  # noqa: E402
 
 from . import __version__  # noqa: E402
-from .distros import DEFAULT_DISTRO, DISTROS  # noqa: E402
+from .distros import DISTROS, NEWEST_LTS, default_distro  # noqa: E402
 from .errors import PkgforgeError  # noqa: E402
 from .report import FORMATS  # noqa: E402
 from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS  # noqa: E402
@@ -82,8 +82,8 @@ class MemorySize(click.ParamType):
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("name")
-@click.option("--distro", type=click.Choice(list(DISTROS)), default=DEFAULT_DISTRO,
-              show_default=True, help="ROS 2 distribution the package targets.")
+@click.option("--distro", type=click.Choice(list(DISTROS)), default=default_distro,
+              show_default=f"ROS_DISTRO, else {NEWEST_LTS}", help="ROS 2 distribution the package targets.")
 @click.option("--build-type", type=click.Choice(BUILD_TYPES),
               default="ament_cmake", show_default=True, help="Package build type.")
 @click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py",
@@ -192,13 +192,16 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
 @click.option("--no-cache", is_flag=True,
               help="Verify every package again instead of reusing results of unchanged ones "
                    "(cache: build/pkgforge-cache/, safe to delete).")
+@click.option("--distro", "target_distro", type=click.Choice(list(DISTROS)), default=None,
+              help="The ROS 2 distro the packages target [default: ROS_DISTRO, pkgforge.toml "
+                   "[verify] distro, the package's CI file, else every active distro].")
 @click.option("--explain-launch", "explain_launch", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print how FILE resolves in the install tree, then exit.")
 @click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
-           launch_timeout, worker_memory, no_cache, explain_launch, explain_model):
+           launch_timeout, worker_memory, no_cache, target_distro, explain_launch, explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -219,7 +222,8 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
     mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
     options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
                             mode=mode, install_base=install_base, launch_timeout=launch_timeout,
-                            launch_arguments=arguments, use_cache=not no_cache, worker_memory=worker_memory)
+                            launch_arguments=arguments, use_cache=not no_cache, worker_memory=worker_memory,
+                            distro=target_distro)
     try:
         if explain_launch is not None:
             from .explain import explain_launch_file

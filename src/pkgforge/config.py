@@ -5,6 +5,7 @@ pkgforge.toml, at the workspace root or a package root:
     [verify]
     ignore = ["unused-exec-depend"]      # codes or names
     select = ["PF1", "PF2"]              # prefixes of codes work too
+    distro = "jazzy"                     # or a list: the ROS 2 distros the package targets
     [verify.packages.rob_description]   # workspace file only
     ignore = ["folder-name-mismatch"]
 """
@@ -78,6 +79,15 @@ class Config:
                 select = list(own_verify["select"])
         return Selection(select, ignore)
 
+    def distro_for(self, package_path: Path):
+        """[verify] distro of the package's pkgforge.toml, else the workspace's; None if neither."""
+        own = package_path / CONFIG_FILE
+        if own.is_file() and own != self.workspace_file:
+            value = read_config(own).get("verify", {}).get("distro")
+            if value:
+                return value
+        return self.workspace.get("verify", {}).get("distro")
+
 
 def read_config(path: Path) -> dict:
     try:
@@ -94,6 +104,15 @@ def read_config(path: Path) -> dict:
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
             raise PkgforgeError(f"{path}: verify.{key} must be a list of check codes or names")
         validate_keys(value, f"{path}: verify.{key}")
+    distro = verify.get("distro")
+    if distro is not None:
+        from .distros import DISTROS
+
+        chosen = [distro] if isinstance(distro, str) else distro
+        if not isinstance(chosen, list) or not chosen or \
+                any(not isinstance(d, str) or d not in DISTROS for d in chosen):
+            raise PkgforgeError(f"{path}: verify.distro must name active ROS 2 distros "
+                                f"({', '.join(DISTROS)}), as a string or a list")
     for package, table in verify.get("packages", {}).items():
         validate_keys(list(table.get("ignore", [])), f"{path}: verify.packages.{package}.ignore")
     return data

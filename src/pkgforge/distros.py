@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 
@@ -13,16 +14,30 @@ class Distro:
     # write it where it is understood.
     frontend_param_type: bool
     docker_image: str
+    lts: bool
+    ubuntu: str  # the Ubuntu release of its ros:<distro> image
 
 
+# every active ROS 2 distro, oldest first (the released packages of each: distro_data)
 DISTROS: dict[str, Distro] = {
     d.name: d
     for d in (
-        Distro("humble", frontend_param_type=False, docker_image="ros:humble"),
-        Distro("jazzy", frontend_param_type=True, docker_image="ros:jazzy"),
-        Distro("kilted", frontend_param_type=True, docker_image="ros:kilted"),
-        Distro("rolling", frontend_param_type=True, docker_image="ros:rolling"),
+        Distro("humble", frontend_param_type=False, docker_image="ros:humble", lts=True, ubuntu="22.04 jammy"),
+        Distro("jazzy", frontend_param_type=True, docker_image="ros:jazzy", lts=True, ubuntu="24.04 noble"),
+        Distro("kilted", frontend_param_type=True, docker_image="ros:kilted", lts=False, ubuntu="24.04 noble"),
+        Distro("lyrical", frontend_param_type=True, docker_image="ros:lyrical", lts=True,
+               ubuntu="26.04 resolute"),
+        Distro("rolling", frontend_param_type=True, docker_image="ros:rolling", lts=False,
+               ubuntu="26.04 resolute"),
     )
 }
 
-DEFAULT_DISTRO = "jazzy"
+# the newest long-term-support release
+NEWEST_LTS = [d.name for d in DISTROS.values() if d.lts][-1]
+DEFAULT_DISTRO = NEWEST_LTS
+
+
+def default_distro() -> str:
+    """ROS_DISTRO when it names an active distro (a sourced ROS), else the newest LTS."""
+    environment = os.environ.get("ROS_DISTRO", "")
+    return environment if environment in DISTROS else NEWEST_LTS

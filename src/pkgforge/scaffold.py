@@ -14,7 +14,7 @@ from pathlib import Path
 import jinja2
 from catkin_pkg.package import InvalidPackage, parse_package_string
 
-from .distros import DEFAULT_DISTRO, DISTROS, Distro
+from .distros import DISTROS, Distro, default_distro
 from .errors import PkgforgeError
 from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 from .names import REP144_RULE, rep144_problem
@@ -118,7 +118,7 @@ def default_destination(cwd: Path) -> Path:
 def make_spec(
     name: str,
     *,
-    distro: str = DEFAULT_DISTRO,
+    distro: str | None = None,
     build_type: str = "ament_cmake",
     launch_format: str = "py",
     maintainer_name: str | None = None,
@@ -131,6 +131,7 @@ def make_spec(
     problem = rep144_problem(name)
     if problem:
         raise PkgforgeError(f"invalid package name: {problem}; {REP144_RULE}")
+    distro = distro or default_distro()  # ROS_DISTRO when set, else the newest LTS
     if distro not in DISTROS:
         raise PkgforgeError(f"unknown distro '{distro}'; choose one of {', '.join(DISTROS)}")
     for value, allowed, what in ((build_type, BUILD_TYPES, "build type"),

@@ -57,9 +57,11 @@ class VerifyOptions:
     launch_arguments: dict[str, str] = field(default_factory=dict)
     use_cache: bool = True
     worker_memory: int | None = DEFAULT_WORKER_MEMORY  # bytes per launch worker; None: unlimited
+    distro: str | None = None  # --distro; else ROS_DISTRO, pkgforge.toml, CI file (distro_data.target_distros)
 
     def cache_key(self) -> str:
-        return json.dumps([self.mode, sorted(self.launch_arguments.items()), self.launch_timeout])
+        return json.dumps([self.mode, sorted(self.launch_arguments.items()), self.launch_timeout,
+                           self.distro, os.environ.get("ROS_DISTRO", "")])
 
 
 @dataclass
@@ -322,12 +324,20 @@ def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
         name = quick_name(folder)
         files = walk_file_names(folder)
         selection = config.for_package(name, folder)
-        keys[folder] = cache.package_key(folder, files, selection.key(), signature)
+        targets = _targets(folder, workspace, config, options)
+        keys[folder] = cache.package_key(folder, files, f"{selection.key()}|{','.join(targets)}", signature)
         report = cache.load(folder, keys[folder])
         if report is not None:
             hits[folder] = report
     cache.save_index()
     return cache, keys, hits
+
+
+def _targets(folder: Path, workspace: Workspace, config: Config, options: VerifyOptions) -> tuple[str, ...]:
+    """The ROS 2 distros a package targets (empty: every active distro)."""
+    from .distro_data import target_distros
+
+    return target_distros(folder, workspace.root.resolve(), options.distro, config.distro_for(folder))[0]
 
 
 def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageTarget],
@@ -386,9 +396,12 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         for target in targets:
             model = models[target.path]
             configs, launches = rviz.get(model.name, ([], []))
+            model.manifest.distros = _targets(target.path, workspace, config, options)
             context = CheckContext(model, everything, by_share, tree, resolutions.get(model.name, []),
                                    ros1.get(model.name, []), model_results.get(model.name, []),
-                                   configs, launches)
+                                   configs, launches, distros=model.manifest.distros,
+                                   install_base=options.install_base if options.mode == "install-base"
+                                   else None)
             reports.append(run_checks(context, codes[target.path]))
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
                 _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})

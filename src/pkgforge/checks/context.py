@@ -24,6 +24,8 @@ class CheckContext:
     model_results: list = field(default_factory=list)  # models.ModelResult of this package
     rviz_configs: list = field(default_factory=list)  # rviz.RvizConfig of this package's own files
     rviz_launches: list = field(default_factory=list)  # (RvizConfig, LaunchFile) a launch passes with -d
+    distros: tuple = ()  # the ROS 2 distros the package targets; empty: every active distro
+    install_base: Path | None = None  # --install-base, when verifying against one
 
     def relative(self, path: Path) -> str:
         try:
@@ -45,14 +47,20 @@ class CheckContext:
         return set(self.tree.packages) | set(self.tree.phantom_packages) | set(self.tree.system_packages)
 
     def real_packages(self) -> set[str]:
-        """Every name known to be a ROS package, declared here or not."""
-        from ..known_packages import WELL_KNOWN
+        """Every name known to be a ROS package here: the workspace's, the tree's, and those
+        released for the target distros (any active distro when there is no target)."""
+        from ..distro_data import released_set
 
-        return set(self.workspace) | self.tree_packages() | WELL_KNOWN
+        # a name declared somewhere (a phantom in the tree) but released only for other distros
+        # is package-not-in-distro's, not a real package here
+        foreign = released_set(()) - released_set(self.distros)
+        return set(self.workspace) | (self.tree_packages() - foreign) | released_set(self.distros)
 
     def known_packages(self) -> set[str]:
-        """Names that are no typo: real packages, and whatever this package declares."""
-        return self.real_packages() | self.model.manifest.declared()
+        """Names that are no typo: real packages, released in any distro, or declared here."""
+        from ..distro_data import released_set
+
+        return self.real_packages() | released_set(()) | self.model.manifest.declared()
 
     # --- locations ----------------------------------------------------------------------------
 
@@ -78,12 +86,14 @@ class CheckContext:
             return resolve_uri(reference, self.tree).status in ("found", "unchecked")
         return Path(reference).is_file()
 
-    def static_line(self, path: Path, package: str, relative: str) -> int | None:
-        """The line where the file names package/relative literally, if it does."""
-        for reference in self.model.references:
-            if reference.path == path and reference.package == package and reference.relative == relative:
-                return reference.line
-        return None
+    def static_line(self, path: Path, package: str, relative: str, near: int | None = None) -> int | None:
+        """The line where the file names package/relative literally, if it does (the one
+        nearest `near` when it does on several lines)."""
+        lines = [r.line for r in self.model.references
+                 if r.path == path and r.package == package and r.relative == relative]
+        if not lines:
+            return None
+        return min(lines, key=lambda n: (abs(n - near), n)) if near is not None else lines[0]
 
     # --- launch results -----------------------------------------------------------------------
 

@@ -188,3 +188,29 @@ def setup_py_invalid(ctx: CheckContext):
         yield Finding(f"setup.py: {message}", setup_py.source.path, line)
     elif not setup_py.has_setup_call:
         yield Finding("setup.py never calls setup()", setup_py.source.path, 1)
+
+
+@register("PF209", "package-not-installed", "error", area="install",
+          summary="--install-base: a verified package is missing from the install base",
+          explanation="colcon installs a package only when its build succeeds: a package absent "
+                      "from the install base most often failed to build (or was skipped), and "
+                      "nothing of it can be checked against the real tree.",
+          hint="look at colcon's log (log/latest_build/<package>/stdout_stderr.log), fix the build, "
+               "and build again")
+def package_not_installed(ctx: CheckContext):
+    if ctx.install_base is None:
+        return
+    model = ctx.model
+    if ctx.tree is not None:
+        installed = set(ctx.tree.packages)
+    else:
+        from ..trees import INDEX
+
+        base = Path(ctx.install_base)
+        installed = {p.name for p in (base / INDEX).glob("*")} | \
+            {p.name for p in base.glob(f"*/{INDEX}/*")}
+    if model.share_name not in installed and model.name not in installed:
+        yield Finding(f"{model.name} is not in the install base {ctx.install_base}: its build failed or "
+                      f"it was not built", model.manifest.path, model.manifest.name_line,
+                      hint=f"look at colcon's log (log/latest_build/{model.name}/stdout_stderr.log), fix "
+                           f"the build, and run colcon build again")

@@ -82,7 +82,8 @@ def missing_file(ctx: CheckContext):
 
 
 def _missing_paths(ctx: CheckContext, *, want_source: bool):
-    seen = set()
+    # one defect, one diagnostic: the first line of a file that names the path, "and N more"
+    found: dict[tuple, list] = {}
     for resolution in ctx.resolutions:
         for item in resolution.items.get("paths", []):
             if item.get("exists"):
@@ -100,23 +101,28 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             if position is None:
                 continue
             path, line = position
-            line = ctx.static_line(path, package, relative) or line
-            key = (str(path), line, package, relative)
-            if key in seen:
-                continue
-            seen.add(key)
-            shown = f"share/{package}/{relative}"
-            if want_source:
-                yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
-                              f"install rule covers it{_branch_note(item, resolution)}", path, line,
-                              hint=install_fix(owner, relative.split('/')[0]))
-            else:
-                hint = None
-                if owner is not None:
-                    near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
-                    hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
-                yield Finding(f"{shown} does not exist, in the install tree or in {package}'s source"
-                              f"{_branch_note(item, resolution)}", path, line, hint=hint)
+            line = ctx.static_line(path, package, relative, line) or line
+            lines = found.setdefault((str(path), package, relative), [path, owner, item, resolution, []])[4]
+            if line not in lines:
+                lines.append(line)
+    for (_, package, relative), (path, owner, item, resolution, lines) in found.items():
+        lines.sort(key=lambda n: (n is None, n or 0))
+        line = lines[0]
+        others = [str(n) for n in lines[1:] if n is not None]
+        more = (f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
+                if len(lines) > 1 else "")
+        shown = f"share/{package}/{relative}"
+        if want_source:
+            yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
+                          f"install rule covers it{_branch_note(item, resolution)}{more}", path, line,
+                          hint=install_fix(owner, relative.split('/')[0]))
+        else:
+            hint = None
+            if owner is not None:
+                near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
+                hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
+            yield Finding(f"{shown} does not exist, in the install tree or in {package}'s source"
+                          f"{_branch_note(item, resolution)}{more}", path, line, hint=hint)
 
 
 def _looked_up(ctx: CheckContext):
@@ -164,8 +170,9 @@ def _looked_up(ctx: CheckContext):
 
 @register("PF304", "unknown-package", "error", area="launch",
           summary="a launch file looks up a package that exists nowhere",
-          explanation="The package is not in the workspace, not declared in package.xml, and not "
-                      "installed: almost always a typo or a package renamed (user story 3: "
+          explanation="The package is not in the workspace, not declared in package.xml, not "
+                      "installed and released in no active ROS 2 distro: almost always a typo or a "
+                      "package renamed (user story 3: "
                       "`robot_description` looked up in package `rob_description`).",
           hint="fix the package name")
 def unknown_package(ctx: CheckContext):
@@ -177,11 +184,20 @@ def unknown_package(ctx: CheckContext):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
         seen.add((name, str(path), line))
-        candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
-        near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
-        hint = f"did you mean {', '.join(near)}?" if near else "check the name against package.xml <name>"
         yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
-                      "and not installed", path, line, hint=hint)
+                      "and released in no ROS 2 distro", path, line, hint=_unknown_hint(ctx, name))
+
+
+def _unknown_hint(ctx: CheckContext, name: str) -> str:
+    """The package's ROS 2 name, or close names from the workspace, package.xml and the distros."""
+    from ..distro_data import load, replacement
+
+    if replacement(name) is not None:
+        return f"use {replacement(name)[0]}: {replacement(name)[1]}"
+    candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
+    near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
+    near += [n for n in load().close_names(name, n=3) if n not in near]
+    return f"did you mean {', '.join(near[:3])}?" if near else "check the name against package.xml <name>"
 
 
 @register("PF305", "missing-exec-depend", "error", area="launch",

@@ -68,11 +68,13 @@ def project_name_mismatch(ctx: CheckContext):
             hint=f"write project({model.manifest.name} ...): package.xml <name> decides the package name")
 
 
-@register("PF104", "folder-name-mismatch", "warning", area="manifest",
+@register("PF104", "folder-name-mismatch", "info", area="manifest",
           summary="the package folder's name differs from package.xml <name>",
-          explanation="Nothing breaks by itself, but people and tutorials use the folder name "
-                      "in FindPackageShare and package:// URIs, which resolve by the package "
-                      "name (user story 3: folder rob_description, package robot_description).",
+          explanation="Nothing breaks by itself (many repositories name folders differently on "
+                      "purpose); it matters only when a file uses the folder name as a package "
+                      "name in FindPackageShare or package:// URIs, which resolve by the package "
+                      "name, and unknown-package reports that use (user story 3: folder "
+                      "rob_description, package robot_description).",
           hint="rename the folder, or rename the package everywhere")
 def folder_name_mismatch(ctx: CheckContext):
     model = ctx.model
@@ -133,22 +135,141 @@ def duplicate_dependency(ctx: CheckContext):
 
 @register("PF107", "unused-exec-depend", "info", area="manifest",
           summary="an exec_depend that nothing in the package uses",
-          explanation="A run-time dependency no launch file, model or config of the package "
-                      "names is usually left over from a tutorial; it costs installs on every "
-                      "machine that deploys the package.",
+          explanation="A run-time dependency no launch file, model, RViz config, ros2_control or "
+                      "plugin YAML, <plugin> element or Python module of the package names is "
+                      "usually left over from a tutorial; it costs installs on every machine that "
+                      "deploys the package. Metapackages are exempt.",
           hint="remove it if nothing needs it at run time")
 def unused_exec_depend(ctx: CheckContext):
     model = ctx.model
+    if model.manifest.metapackage or not model.top_level_folders().keys() - {"resource"}:
+        return  # a metapackage (tagged, or nothing but its manifest): its dependencies are its content
+    # launch, models, RViz displays, ros2_control and Gazebo plugins, controller types in YAML,
+    # the imports of the package's own Python modules
     used = {r.package for r in model.references}
     if model.cmake is not None:
         used |= {name for name, _ in model.cmake.find_packages}
+        if model.cmake.auto_find_command is not None:  # ament_auto_find_build_dependencies()
+            used |= model.manifest.build_dependencies()
     kinds = {launch_kind(f) for f in model.files} - {None}
     for name, rule in IMPLICIT_USES.items():
         if rule(kinds, model.files):
             used.add(name)
     if "rviz_default_plugins" in used or "rviz_common" in used:
         used |= {"rviz_common", "rviz_default_plugins"}
-    for dependency in model.manifest.dependencies:
-        if dependency.tag in RUN_TAGS and dependency.tag != "depend" and dependency.name not in used:
+    for dependency in model.manifest.active_dependencies():
+        if dependency.tag in RUN_TAGS and dependency.tag != "depend" and dependency.name not in used \
+                and _not_in_distro(ctx, dependency.name, declared=True) is None:  # that one says it
             yield Finding(f"nothing in {model.name} uses exec_depend '{dependency.name}'",
                           model.manifest.path, dependency.line)
+
+
+def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
+    """(message, hint) when `name` is not released for the target distros, else None."""
+    from ..distro_data import load, replacement
+
+    data = load()
+    released = data.released_in(name)
+    better = replacement(name)
+    if released:
+        missing = [d for d in ctx.distros if d not in released]
+        if not missing:
+            return None
+        message = f"'{name}' is not released for {', '.join(missing)} (released for {', '.join(released)})"
+        if better is not None and all(data.released(better[0], d) for d in missing):
+            hint = f"use {better[0]} instead: {better[1]}"
+        else:
+            hint = (f"build {name} from source in the workspace, or target "
+                    f"{' or '.join(released)} (--distro, ROS_DISTRO or pkgforge.toml [verify] distro)")
+        return message, hint
+    installed = set(ctx.tree.packages) | set(ctx.tree.system_packages) if ctx.tree is not None else set()
+    if not declared or name in installed:
+        return None
+    if better is not None:
+        return (f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",
+                f"declare {better[0]} instead")
+    if "-" in name or name.startswith(("python", "lib")) or name != name.lower():
+        return None  # a rosdep key for a system package (python3-yaml, libboost-dev, Eigen3)
+    near = data.close_names(name, n=1, cutoff=0.85, same_start=True)
+    if not near:
+        return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
+    return (f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
+            f"did you mean {near[0]}?")
+
+
+@register("PF108", "package-not-in-distro", "error", area="manifest",
+          summary="a package used or declared is not released for the target ROS 2 distro",
+          explanation="rosdep and the binary packages install only what is released for the "
+                      "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
+                      "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
+                      "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
+                      "distro or the package's CI file; without one, a package released in any "
+                      "active distro counts.",
+          hint="use the ROS 2 package released for the distro")
+def package_not_in_distro(ctx: CheckContext):
+    model = ctx.model
+    manifest = model.manifest
+    if not manifest.valid:
+        return
+    local = set(ctx.workspace) | {model.name, model.share_name}
+    reported = set()
+    for dependency in manifest.active_dependencies():
+        name = dependency.name
+        if name in local or name in reported:
+            continue
+        problem = _not_in_distro(ctx, name, declared=True)
+        if problem is not None:
+            reported.add(name)
+            yield Finding(f"<{dependency.tag}>{name}</{dependency.tag}>: {problem[0]}", manifest.path,
+                          dependency.line, hint=problem[1])
+    if not ctx.distros:
+        return
+    from .launch import _looked_up
+
+    uses: dict[str, list] = {}
+    for name, path, line, via, _, _ in _looked_up(ctx):
+        if name not in local and name not in reported and name not in manifest.declared():
+            uses.setdefault(name, []).append((line is None, str(path), line or 0, path, line, via))
+    for name, found in sorted(uses.items()):
+        problem = _not_in_distro(ctx, name, declared=False)
+        if problem is None:
+            continue
+        found.sort()
+        _, _, _, path, line, via = found[0]
+        more = len({(f[1], f[2]) for f in found}) - 1
+        yield Finding(f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else ""),
+                      path, line, hint=problem[1])
+
+
+@register("PF109", "find-package-undeclared", "error", area="manifest",
+          summary="CMakeLists.txt calls find_package() on a ROS package that package.xml does not "
+                  "declare for the build",
+          explanation="rosdep installs only declared build dependencies: on a clean machine (a "
+                      "build farm, a Docker image after `rosdep install`) the find_package() fails. "
+                      "It builds here because the package is installed anyway, or because "
+                      "pkgforge build stubs declared packages.",
+          hint="declare it with <build_depend> (or <depend>)")
+def find_package_undeclared(ctx: CheckContext):
+    model = ctx.model
+    manifest = model.manifest
+    if model.cmake is None or not manifest.valid:
+        return
+    from ..distro_data import released_set
+
+    build = manifest.build_dependencies() | {d.name for d in manifest.active_dependencies()
+                                             if d.tag in ("test_depend", "build_export_depend")}
+    ros_packages = set(ctx.workspace) | released_set(())
+    reported = set()
+    after = manifest.last_dependency_line()
+    for name, command in model.cmake.find_packages:
+        if name in build or name in reported or name not in ros_packages or name in (model.name,):
+            continue
+        reported.add(name)
+        other = next((d for d in manifest.active_dependencies() if d.name == name), None)
+        why = f" (only <{other.tag}> at package.xml:{other.line})" if other is not None else ""
+        tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
+        yield Finding(f"find_package({name}) but package.xml does not declare {name} for the build{why}",
+                      command.path, command.line, command.column,
+                      hint=(f"change package.xml:{other.line} to <depend>{name}</depend>" if other is not None
+                            else f"add <{tag}>{name}</{tag}> to package.xml"
+                                 + (f" after line {after}" if after else "")))

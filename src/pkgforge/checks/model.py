@@ -40,6 +40,8 @@ def xacro_error(ctx: CheckContext):
         for command in resolution.items.get("commands", []):
             if command.get("ok") or "model" not in command or command["model"] in covered:
                 continue
+            if not Path(command["model"]).exists():
+                continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
             position = ctx.source_position(resolution, command.get("file"), command.get("line"))
             if position is None or position in seen:
                 continue

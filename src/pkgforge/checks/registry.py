@@ -7,7 +7,7 @@ Findings; it never opens files. The registry turns Findings into Diagnostics.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..diagnostics import Diagnostic, Finding, Severity
 
@@ -26,7 +26,8 @@ class Check:
     def run(self, context) -> list[Diagnostic]:
         if self.function is None:
             return []
-        return [self.diagnostic(context.model.name, finding) for finding in self.function(context)]
+        return [self.diagnostic(context.model.name, _user_paths(finding, context))
+                for finding in self.function(context)]
 
     def diagnostic(self, package: str, finding: Finding) -> Diagnostic:
         return Diagnostic(
@@ -35,6 +36,36 @@ class Check:
             package=package, path=finding.path, line=finding.line, column=finding.column,
             message=finding.message, hint=finding.hint or self.hint,
         )
+
+
+def _user_paths(finding: Finding, context) -> Finding:
+    """Messages name the user's files, never pkgforge's temporary tree (/tmp/pkgforge-tree-...):
+    a path there becomes the package's own file, else share/<package>/<path>."""
+    import re
+
+    tree = getattr(context, "tree", None)
+    if tree is None or getattr(tree, "kind", None) != "predicted" and getattr(tree, "phantom", None) is None:
+        return finding
+    roots = ([*tree.prefixes] if tree.kind == "predicted" else []) + ([tree.phantom] if tree.phantom else [])
+    pattern = re.compile("|".join(re.escape(str(root)) + r"/[^\s'\"()\[\],;:]*" for root in roots))
+
+    def shown(match) -> str:
+        located = tree.locate(match.group(0))
+        if located is None:
+            return match.group(0)
+        package, relative, _ = located
+        owner = context.model_for_share(package)
+        if owner is not None and owner is context.model:
+            return relative
+        return f"share/{package}/{relative}"
+
+    def rewrite(text: str | None) -> str | None:
+        return pattern.sub(shown, text) if text else text
+
+    message, hint = rewrite(finding.message), rewrite(finding.hint)
+    if (message, hint) == (finding.message, finding.hint):
+        return finding
+    return replace(finding, message=message, hint=hint)
 
 
 REGISTRY: dict[str, Check] = {}

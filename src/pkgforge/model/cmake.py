@@ -19,6 +19,8 @@ from .source import SourceFile, read_source
 # Stand-ins for paths that are not in the source tree
 INSTALL_PREFIX = "<install-prefix>"
 BINARY_DIR = "<build-dir>"
+# where ament_cmake_python installs modules (the real path names the Python version)
+PYTHON_SITE = "lib/python3/site-packages"
 
 VARIABLE = re.compile(r"\$\{([^${}]*)\}")
 ENV_VARIABLE = re.compile(r"\$ENV\{[^}]*\}")
@@ -85,6 +87,8 @@ class CMakeModel:
     ament_package_command: Command | None = None
     install_rules: list[InstallRule] = field(default_factory=list)
     find_packages: list[tuple[str, Command]] = field(default_factory=list)
+    # ament_auto_find_build_dependencies(): every build dependency of package.xml is found
+    auto_find_command: Command | None = None
     files: list[SourceFile] = field(default_factory=list)  # every CMake file read
     syntax_errors: list[CMakeSyntaxError] = field(default_factory=list)
     unreadable: list[SourceFile] = field(default_factory=list)
@@ -197,10 +201,57 @@ class _Interpreter:
                 self.model.install_rules.append(rule)
         elif name == "ament_package":
             self.model.ament_package_command = command
+        elif name == "ament_auto_package":
+            # ament_cmake_auto: install(DIRECTORY <dir> DESTINATION share/${PROJECT_NAME}) for each
+            # folder after INSTALL_TO_SHARE, then ament_package()
+            self.model.ament_package_command = command
+            rule = self.auto_package(command, variables)
+            if rule is not None:
+                rule.conditional = conditional
+                self.model.install_rules.append(rule)
+        elif name == "ament_auto_find_build_dependencies":
+            self.model.auto_find_command = command
+        elif name in ("ament_python_install_package", "ament_python_install_module"):
+            rule = self.python_install(command, variables)
+            if rule is not None:
+                self.model.install_rules.append(rule)
         elif name == "find_package":
             values = self.expand_args(command.args, variables)
             if values and isinstance(values[0], str):
                 self.model.find_packages.append((values[0], command))
+
+    def auto_package(self, command: Command, variables: dict) -> InstallRule | None:
+        rule = InstallRule("DIRECTORY", command, Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])))
+        keywords = {"INSTALL_TO_SHARE", "INSTALL_TO_PATH", "USE_SCOPED_HEADER_INSTALL_DIR"}
+        collecting = False
+        for arg in command.args:
+            for value in self.expand_list(arg, variables):
+                if value in keywords:
+                    collecting = value == "INSTALL_TO_SHARE"
+                elif collecting:
+                    rule.sources.append((value, arg))
+        if not rule.sources:
+            return None
+        project = variables.get("PROJECT_NAME")
+        rule.destination = f"share/{project}" if isinstance(project, str) else Unknown("${PROJECT_NAME}")
+        return rule
+
+    def python_install(self, command: Command, variables: dict) -> InstallRule | None:
+        """ament_cmake_python: the package folder (PACKAGE_DIR, else the name) or module file."""
+        values = self.expand_args(command.args, variables)
+        if not values or isinstance(values[0], Unknown):
+            return None
+        source: str | Unknown = values[0]
+        if command.name == "ament_python_install_package":
+            if "PACKAGE_DIR" in values[1:-1]:
+                source = values[values.index("PACKAGE_DIR") + 1]
+            mode = "DIRECTORY"
+        else:
+            mode = "FILES"
+        rule = InstallRule(mode, command, Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])))
+        rule.sources.append((source, command.args[0]))
+        rule.destination = PYTHON_SITE
+        return rule
 
     def set(self, command: Command, variables: dict) -> None:
         values = self.expand_args(command.args, variables)

@@ -178,6 +178,7 @@ def layout_from_setup_py(setup_py: SetupPyModel, package_path: Path) -> InstallL
     for line, why in setup_py.unknown:
         layout.unknown.append((path, line, why))
     for entry in setup_py.entries:
+        path = entry.path or setup_py.source.path
         destination = _normalize_destination(entry.destination)
         layout.destinations.append(RuleDestination(destination, entry.destination, entry.files, path,
                                                    entry.line, None))

@@ -27,6 +27,23 @@ class Dependency:
     name: str
     tag: str
     line: int
+    condition: str | None = None  # REP 149 condition="$ROS_VERSION == 2", evaluated as catkin_pkg does
+
+    def active(self, distros: tuple[str, ...] = ()) -> bool:
+        """Whether the dependency counts on ROS 2 (for any of `distros`; every distro when empty)."""
+        if not self.condition:
+            return True
+        from catkin_pkg.condition import evaluate_condition
+
+        context = {"ROS_VERSION": "2", "ROS_PYTHON_VERSION": "3"}
+        try:
+            if "ROS_DISTRO" in self.condition and not distros:
+                return True  # a condition on the distro, with no target distro: it may hold
+            if "ROS_DISTRO" not in self.condition:
+                return bool(evaluate_condition(self.condition, context))
+            return any(evaluate_condition(self.condition, {**context, "ROS_DISTRO": d}) for d in distros)
+        except (ValueError, TypeError):
+            return True  # catkin_pkg rejects the manifest; manifest-invalid says so
 
 
 @dataclass
@@ -39,20 +56,31 @@ class Manifest:
     build_type: str | None = None
     build_type_line: int | None = None
     export_line: int | None = None
+    metapackage: bool = False  # <export><metapackage/>: its dependencies are its content
     dependencies: list[Dependency] = field(default_factory=list)
     # (message, line) for manifest-invalid
     problems: list[tuple[str, int | None]] = field(default_factory=list)
     element_lines: dict[str, int] = field(default_factory=dict)  # first line of each tag
+    # the target distros of this verify (conditions on $ROS_DISTRO are evaluated for them)
+    distros: tuple[str, ...] = ()
 
     @property
     def valid(self) -> bool:
         return not self.problems and self.name is not None
 
+    def active_dependencies(self) -> list[Dependency]:
+        """The dependencies whose condition holds on ROS 2 (and the target distros)."""
+        return [d for d in self.dependencies if d.active(self.distros)]
+
     def run_dependencies(self) -> set[str]:
-        return {d.name for d in self.dependencies if d.tag in RUN_TAGS}
+        return {d.name for d in self.active_dependencies() if d.tag in RUN_TAGS}
+
+    def build_dependencies(self) -> set[str]:
+        return {d.name for d in self.active_dependencies()
+                if d.tag in ("depend", "build_depend", "buildtool_depend")}
 
     def declared(self) -> set[str]:
-        return {d.name for d in self.dependencies}
+        return {d.name for d in self.active_dependencies()}
 
     def last_dependency_line(self) -> int | None:
         lines = [d.line for d in self.dependencies]
@@ -90,10 +118,12 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
     for element in root:
         if isinstance(element.tag, str) and element.tag in DEPENDENCY_TAGS:
             manifest.dependencies.append(
-                Dependency((element.text or "").strip(), element.tag, element.sourceline))
+                Dependency((element.text or "").strip(), element.tag, element.sourceline,
+                           element.get("condition")))
     export = root.find("export")
     if export is not None:
         manifest.export_line = export.sourceline
+        manifest.metapackage = export.find("metapackage") is not None
         build_type = export.find("build_type")
         if build_type is not None:
             manifest.build_type = (build_type.text or "").strip()

@@ -65,6 +65,8 @@ def _is_scanned(relative: Path) -> bool:
     name = relative.name
     if name.endswith(SCANNED_SUFFIXES) or name.endswith(".urdf.xml"):
         return True
+    if name.endswith((".py", ".yaml", ".yml")) and relative.parts[0] not in ("test", "tests"):
+        return True  # imports; controller and plugin types
     return launch_kind(relative) is not None
 
 

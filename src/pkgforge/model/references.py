@@ -1,16 +1,20 @@
 """Static references: the packages and share paths a package's own files name, with lines.
 
-Read without running anything: `package://pkg/...`, `$(find pkg)/...`,
-`$(find-pkg-share pkg)/...`, launch `pkg=` attributes, RViz plugin classes,
-and in Python launch files the literal arguments of FindPackageShare,
-get_package_share_directory, Node(package=...), PathJoinSubstitution and
-os.path.join, with names bound to literals followed through the file.
+Read without running anything, and always through a parser: XML (URDF,
+xacro, SDF, launch XML) through lxml with comments and processing
+instructions removed, YAML (launch YAML, RViz configs) through the YAML
+composer, Python through `ast`. What a comment says is never a use.
+Inside the values the parsers give (attribute values, element text, YAML
+scalars): `package://pkg/...`, `$(find pkg)/...`, `$(find-pkg-share pkg)/...`,
+launch `pkg` attributes and keys, RViz plugin classes; in Python launch files
+the literal arguments of FindPackageShare, get_package_share_directory,
+Node(package=...), PathJoinSubstitution and os.path.join, with names bound to
+literals followed through the file.
 """
 
 from __future__ import annotations
 
 import ast
-import bisect
 import re
 import sys
 from dataclasses import dataclass
@@ -27,18 +31,12 @@ TEXT_PATTERNS = [
     (re.compile(rf"\$\(find-pkg-share\s+({PACKAGE_NAME})\)(/[^\"'\s<>)$]*)?"), "$(find-pkg-share)"),
     (re.compile(rf"\$\(find-pkg-prefix\s+({PACKAGE_NAME})\)"), "$(find-pkg-prefix)"),
 ]
-LAUNCH_XML_PATTERNS = [
-    (re.compile(rf"\bpkg\s*=\s*[\"']({PACKAGE_NAME})[\"']"), "node pkg"),
+# inside launch XML/YAML values: xacro run by $(command) or found by $(find-exec)
+VALUE_PATTERNS = [
     (re.compile(r"\$\(command\s+'?(xacro)\b"), "$(command xacro)"),
     (re.compile(r"\$\(find-exec\s+(xacro)\)"), "$(find-exec)"),
 ]
-LAUNCH_YAML_PATTERNS = [
-    (re.compile(rf"^[ \t]*-?[ \t]*pkg:[ \t]*[\"']?({PACKAGE_NAME})[\"']?[ \t]*$", re.M), "node pkg"),
-    (re.compile(r"\$\(command\s+'?(xacro)\b"), "$(command xacro)"),
-    (re.compile(r"\$\(find-exec\s+(xacro)\)"), "$(find-exec)"),
-]
-NEWLINE = re.compile("\n")
-RVIZ_CLASS = re.compile(rf"^[ \t]*-?[ \t]*Class:[ \t]*({PACKAGE_NAME})/", re.M)
+PACKAGE_ONLY = re.compile(PACKAGE_NAME)
 
 SHARE_LOOKUPS = {"FindPackageShare", "get_package_share_directory", "get_package_share_path"}
 PREFIX_LOOKUPS = {"FindPackagePrefix", "get_package_prefix"}
@@ -74,29 +72,172 @@ def scan(source: SourceFile) -> list[Reference]:
     kind = launch_kind(source.path)
     if kind == "py":
         return _scan_python(source)
-    patterns = list(TEXT_PATTERNS)
-    if kind == "xml":
-        patterns += LAUNCH_XML_PATTERNS
-    elif kind == "yaml":
-        patterns += LAUNCH_YAML_PATTERNS
-    text = source.text
-    line_starts = [0] + [m.end() for m in NEWLINE.finditer(text)]
-
-    def position(offset: int) -> tuple[int, int]:
-        line = bisect.bisect_right(line_starts, offset)
-        return line, offset - line_starts[line - 1] + 1
-
-    found = []
+    if source.path.suffix == ".py":  # the package's own modules and scripts: what they import
+        return [r for r in _scan_python(source) if r.via == "import"]
+    locate = _Locator(source.text)
     if source.path.suffix == ".rviz":
-        for match in RVIZ_CLASS.finditer(text):
-            found.append(Reference(match.group(1), None, source.path, *position(match.start(1)), "rviz plugin"))
-        return found
+        found = _scan_rviz(source, locate)
+    elif kind == "yaml":
+        found = _scan_yaml(source, locate)
+    elif source.path.suffix in (".yaml", ".yml"):
+        found = _scan_config_yaml(source, locate)
+    else:
+        found = _scan_xml(source, locate, launch=kind == "xml")
+    found.sort(key=lambda r: (r.line, r.column or 0))
+    return found
+
+
+class _Locator:
+    """The line and column of a value a parser found, searched from the line the parser names
+    (lxml gives an element's first line; an attribute may stand on a later one)."""
+
+    def __init__(self, text: str):
+        self.lines = text.splitlines()
+
+    def __call__(self, needle: str, line: int) -> tuple[int, int | None]:
+        for number in range(max(line, 1), min(len(self.lines), line + 200) + 1):
+            column = self.lines[number - 1].find(needle)
+            if column >= 0:
+                return number, column + 1
+        return line, None
+
+
+def _in_value(text: str, patterns, path: Path, line: int, locate: _Locator) -> list[Reference]:
+    """References inside one parsed value (an attribute, an element's text, a YAML scalar)."""
+    found = []
     for pattern, via in patterns:
         for match in pattern.finditer(text):
             relative = match.group(2).lstrip("/") if match.lastindex and match.lastindex >= 2 \
                 and match.group(2) else None
-            found.append(Reference(match.group(1), relative, source.path, *position(match.start(1)), via))
-    found.sort(key=lambda r: (r.line, r.column or 0))
+            where = locate(match.group(0), line)
+            column = where[1] + (match.start(1) - match.start(0)) if where[1] else None
+            found.append(Reference(match.group(1), relative, path, where[0], column, via))
+    return found
+
+
+def _scan_xml(source: SourceFile, locate: _Locator, *, launch: bool) -> list[Reference]:
+    from lxml import etree
+
+    parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False,
+                             no_network=True, huge_tree=False)
+    try:
+        root = etree.fromstring(source.text.encode("utf-8"), parser)
+    except (etree.XMLSyntaxError, ValueError):
+        return []  # urdf-invalid, xacro-error or the launch load error reports the file
+    patterns = TEXT_PATTERNS + (VALUE_PATTERNS if launch else [])
+    found: list[Reference] = []
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            continue
+        line = element.sourceline or 1
+        for name, value in element.attrib.items():
+            if launch and name == "pkg" and PACKAGE_ONLY.fullmatch(value.strip()):
+                where = locate(f"{name}=", line)
+                found.append(Reference(value.strip(), None, source.path, where[0], where[1], "node pkg"))
+            found += _in_value(value, patterns, source.path, line, locate)
+        if element.text and element.text.strip():
+            found += _in_value(element.text, patterns, source.path, line, locate)
+        if element.tag == "plugin":
+            found += _plugin_uses(element, source.path, locate)
+    return found
+
+
+# Gazebo plugin libraries whose file name is not their package's name
+PLUGIN_LIBRARIES = {"libgazebo_ros2_control": "gazebo_ros2_control", "libgazebo_ros_": "gazebo_plugins",
+                    "libgz_ros2_control": "gz_ros2_control", "gz_ros2_control": "gz_ros2_control",
+                    "libign_ros2_control": "ign_ros2_control", "ign_ros2_control": "ign_ros2_control"}
+
+
+def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
+    """<plugin>pkg/Class</plugin> (ros2_control hardware) and <plugin filename="lib...so">
+    (Gazebo): the package that provides the plugin."""
+    found = []
+    line = element.sourceline or 1
+    text = (element.text or "").strip()
+    if "/" in text and PACKAGE_ONLY.fullmatch(text.split("/")[0]):
+        where = locate(text, line)
+        found.append(Reference(text.split("/")[0], None, path, where[0], where[1], "plugin"))
+    filename = (element.get("filename") or "").strip()
+    if filename:
+        stem = filename.split("/")[-1].removesuffix(".so").removesuffix("-system")
+        package = next((p for prefix, p in PLUGIN_LIBRARIES.items() if stem.startswith(prefix)),
+                       stem.removeprefix("lib"))
+        if PACKAGE_ONLY.fullmatch(package):
+            where = locate(filename, line)
+            found.append(Reference(package, None, path, where[0], where[1], "plugin"))
+    return found
+
+
+def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
+    """ros2_control and pluginlib YAML: `type: joint_trajectory_controller/JointTrajectoryController`,
+    `plugin: "nav2_..::.."`: the package each class comes from; parameters of the
+    controller_manager node (`controller_manager: {ros__parameters: ...}`) use controller_manager."""
+    import yaml
+
+    found: list[Reference] = []
+    try:
+        documents = list(yaml.compose_all(source.text, Loader=yaml.SafeLoader))
+    except yaml.YAMLError:
+        return found
+    for document in documents:
+        if isinstance(document, yaml.MappingNode):
+            for key_node, value_node in document.value:
+                if getattr(key_node, "value", None) == "controller_manager" \
+                        and isinstance(value_node, yaml.MappingNode) \
+                        and any(getattr(k, "value", None) == "ros__parameters" for k, _ in value_node.value):
+                    line = key_node.start_mark.line + 1
+                    found.append(Reference("controller_manager", None, source.path, line,
+                                           key_node.start_mark.column + 1, "plugin"))
+    for key, value, line in _yaml_scalars(source.text):
+        if key not in ("type", "plugin", "plugin_name", "plugins"):
+            continue
+        value = value.strip()
+        package = value.split("/")[0] if "/" in value else value.split("::")[0] if "::" in value else None
+        if package and PACKAGE_ONLY.fullmatch(package):
+            where = locate(value, line)
+            found.append(Reference(package, None, source.path, where[0], where[1], "plugin"))
+    return found
+
+
+def _yaml_scalars(text: str):
+    """(key or None, scalar value, line) for every scalar of every YAML document."""
+    import yaml
+
+    try:
+        documents = list(yaml.compose_all(text, Loader=yaml.SafeLoader))
+    except yaml.YAMLError:
+        return
+    todo = [(None, document) for document in documents if document is not None]
+    while todo:
+        key, node = todo.pop()
+        if isinstance(node, yaml.ScalarNode):
+            yield key, node.value, node.start_mark.line + 1
+        elif isinstance(node, yaml.SequenceNode):
+            todo += [(key, child) for child in node.value]
+        elif isinstance(node, yaml.MappingNode):
+            for key_node, value_node in node.value:
+                name = key_node.value if isinstance(key_node, yaml.ScalarNode) else None
+                todo.append((name, value_node))
+
+
+def _scan_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
+    found: list[Reference] = []
+    for key, value, line in _yaml_scalars(source.text):
+        if key == "pkg" and PACKAGE_ONLY.fullmatch(value.strip()):
+            where = locate(value.strip(), line)
+            found.append(Reference(value.strip(), None, source.path, where[0], where[1], "node pkg"))
+        found += _in_value(value, TEXT_PATTERNS + VALUE_PATTERNS, source.path, line, locate)
+    return found
+
+
+def _scan_rviz(source: SourceFile, locate: _Locator) -> list[Reference]:
+    found: list[Reference] = []
+    for key, value, line in _yaml_scalars(source.text):
+        if key == "Class" and "/" in value:
+            package = value.split("/")[0].strip()
+            if PACKAGE_ONLY.fullmatch(package):
+                where = locate(value, line)
+                found.append(Reference(package, None, source.path, where[0], where[1], "rviz plugin"))
     return found
 
 

@@ -1,9 +1,11 @@
 """setup.py `data_files` read from the AST, without running setup.py.
 
 Evaluates literals, names assigned at module level, `+`, f-strings,
-os.path.join, glob()/glob.glob(), os.walk() comprehensions, and calls of the
-module's own one-line functions (`def f(x): return ...`). Anything else is
-Unknown and reported, never guessed.
+os.path.join, glob()/glob.glob(), os.walk() comprehensions, calls of the
+module's own one-line functions (`def f(x): return ...`), and module-level
+`for` loops that append/extend/+= a list. `[options.data_files]` of setup.cfg
+counts when setup() passes no data_files (setuptools' own precedence).
+Anything else is Unknown and reported, never guessed.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ class DataFilesEntry:
     destination: str
     files: tuple[str, ...]  # relative to the package folder
     line: int
+    path: Path | None = None  # the file that names it, when not setup.py (setup.cfg)
 
 
 @dataclass
@@ -53,14 +56,9 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
         return model
     evaluator = _Evaluator(package_path)
     for statement in tree.body:
-        if isinstance(statement, ast.Assign) and len(statement.targets) == 1 \
-                and isinstance(statement.targets[0], ast.Name):
-            try:
-                evaluator.names[statement.targets[0].id] = evaluator.eval(statement.value)
-            except Unevaluable:
-                evaluator.names.pop(statement.targets[0].id, None)
-        elif isinstance(statement, ast.FunctionDef):
+        if isinstance(statement, ast.FunctionDef):
             evaluator.functions[statement.name] = statement
+    evaluator.run(tree.body)
     setup_call = next((node for node in ast.walk(tree) if isinstance(node, ast.Call)
                        and _call_name(node.func) in ("setup", "setuptools.setup")), None)
     if setup_call is None:
@@ -74,8 +72,20 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
             pass
     data_files = keywords.get("data_files")
     if data_files is None:
+        _read_setup_cfg(model, package_path)
         return model
-    elements = data_files.elts if isinstance(data_files, (ast.List, ast.Tuple)) else [data_files]
+    if not isinstance(data_files, (ast.List, ast.Tuple)):
+        # a list built before setup(): its entries, at the line of data_files=
+        try:
+            value = evaluator.eval(data_files)
+            if not isinstance(value, (list, tuple)):
+                raise Unevaluable(data_files, "data_files is not a list")
+            elements = [ast.Constant(entry, lineno=data_files.lineno) for entry in value]
+        except Unevaluable as exc:
+            model.unknown.append((getattr(exc.node, "lineno", data_files.lineno), exc.why))
+            return model
+    else:
+        elements = data_files.elts
     for element in elements:
         try:
             values = evaluator.eval(element.value) if isinstance(element, ast.Starred) \
@@ -100,21 +110,108 @@ def _call_name(func: ast.AST) -> str:
     return ""
 
 
+class _Failed(ast.AST):
+    """Where and why a module-level name could not be evaluated."""
+
+    def __init__(self, lineno: int, why: str):
+        super().__init__()
+        self.lineno, self.why = lineno, why
+
+
 class _Evaluator:
     def __init__(self, package_path: Path):
         self.package_path = package_path
         self.names: dict[str, object] = {}
         self.functions: dict[str, ast.FunctionDef] = {}
+        self.failed: dict[str, _Failed] = {}  # name → why its value is unknown
+
+    # --- statements (module level) -----------------------------------------------------------
+
+    def run(self, statements: list[ast.stmt]) -> None:
+        for statement in statements:
+            self.statement(statement)
+
+    def fail(self, name: str, line: int, why: str) -> None:
+        self.names.pop(name, None)
+        self.failed.setdefault(name, _Failed(line, why))
+
+    def statement(self, statement: ast.stmt) -> None:
+        if isinstance(statement, ast.Assign) and len(statement.targets) == 1:
+            target = statement.targets[0]
+            try:
+                value = self.eval(statement.value)
+                if isinstance(target, ast.Name):
+                    self.names[target.id] = value
+                    self.failed.pop(target.id, None)
+                else:
+                    _bind(target, value, self.names, statement)
+            except Unevaluable as exc:
+                for name in _assigned_names(target):
+                    self.fail(name, getattr(exc.node, "lineno", statement.lineno), exc.why)
+        elif isinstance(statement, ast.AugAssign) and isinstance(statement.target, ast.Name) \
+                and isinstance(statement.op, ast.Add):
+            name = statement.target.id
+            try:
+                current = self.eval(statement.target)
+                added = self.eval(statement.value)
+                if isinstance(current, list) and isinstance(added, (list, tuple)):
+                    self.names[name] = current + list(added)
+                elif type(current) is type(added) and isinstance(current, (str, tuple)):
+                    self.names[name] = current + added
+                else:
+                    raise Unevaluable(statement, "'+=' of different types")
+            except Unevaluable as exc:
+                self.fail(name, getattr(exc.node, "lineno", statement.lineno), exc.why)
+        elif isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call) \
+                and isinstance(statement.value.func, ast.Attribute) \
+                and isinstance(statement.value.func.value, ast.Name) \
+                and statement.value.func.attr in ("append", "extend"):
+            call, name = statement.value, statement.value.func.value.id
+            if name not in self.names and name not in self.failed:
+                return  # a list pkgforge does not track
+            try:
+                current = self.eval(call.func.value)
+                if not isinstance(current, list) or len(call.args) != 1 or call.keywords:
+                    raise Unevaluable(call, f"{name}.{call.func.attr}() of something not a list")
+                value = self.eval(call.args[0])
+                self.names[name] = current + ([value] if call.func.attr == "append" else list(value))
+            except Unevaluable as exc:
+                self.fail(name, getattr(exc.node, "lineno", statement.lineno), exc.why)
+            except TypeError:
+                self.fail(name, statement.lineno, f"{name}.extend() of something not a list")
+        elif isinstance(statement, ast.For) and not statement.orelse:
+            try:
+                items = list(self.eval(statement.iter))
+            except (Unevaluable, TypeError) as exc:
+                why = exc.why if isinstance(exc, Unevaluable) else "the loop's items are not a list"
+                for name in _changed_names(statement.body) | _assigned_names(statement.target):
+                    self.fail(name, statement.lineno, f"changed in a loop over something unknown ({why})")
+                return
+            for item in items:
+                try:
+                    _bind(statement.target, item, self.names, statement)
+                except Unevaluable as exc:
+                    for name in _changed_names(statement.body):
+                        self.fail(name, statement.lineno, exc.why)
+                    return
+                self.run(statement.body)
+        elif isinstance(statement, (ast.If, ast.For, ast.While, ast.Try, ast.With)):
+            kind = type(statement).__name__.lower()
+            for name in _changed_names([statement]):
+                self.fail(name, statement.lineno, f"changed inside a {kind} statement pkgforge does not run")
 
     def eval(self, node: ast.AST, scope: dict | None = None):
         scope = scope or {}
-        if isinstance(node, ast.Constant) and isinstance(node.value, (str, int, bool, type(None))):
+        if isinstance(node, ast.Constant) and isinstance(node.value, (str, int, bool, type(None), tuple, list)):
             return node.value
         if isinstance(node, ast.Name):
             if node.id in scope:
                 return scope[node.id]
             if node.id in self.names:
                 return self.names[node.id]
+            if node.id in self.failed:
+                failed = self.failed[node.id]
+                raise Unevaluable(failed, f"'{node.id}': {failed.why}")
             raise Unevaluable(node, f"'{node.id}' is not a literal pkgforge can see")
         if isinstance(node, ast.JoinedStr):
             return "".join(str(self.eval(v.value if isinstance(v, ast.FormattedValue) else v, scope))
@@ -192,3 +289,61 @@ def _bind(target: ast.AST, value, scope: dict, node: ast.AST) -> None:
             _bind(element, item, scope, node)
     else:
         raise Unevaluable(node, "a loop target pkgforge cannot unpack")
+
+
+def _assigned_names(target: ast.AST) -> set[str]:
+    return {node.id for node in ast.walk(target) if isinstance(node, ast.Name)}
+
+
+def _changed_names(statements: list[ast.stmt]) -> set[str]:
+    """Names that statements assign, or append/extend to."""
+    names: set[str] = set()
+    for statement in statements:
+        for node in ast.walk(statement):
+            if isinstance(node, (ast.Assign, ast.AugAssign, ast.AnnAssign)):
+                for target in (node.targets if isinstance(node, ast.Assign) else [node.target]):
+                    names |= _assigned_names(target)
+            elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                    and isinstance(node.func.value, ast.Name) and node.func.attr in ("append", "extend", "insert"):
+                names.add(node.func.value.id)
+    return names
+
+
+def _read_setup_cfg(model: SetupPyModel, package_path: Path) -> None:
+    """[options.data_files] of setup.cfg: `destination = file, glob ...`, globs as setuptools expands."""
+    import configparser
+
+    path = package_path / "setup.cfg"
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return
+    parser = configparser.ConfigParser(interpolation=None)
+    parser.optionxform = str  # destinations keep their case
+    try:
+        parser.read_string(text, source=str(path))
+    except configparser.Error:
+        return  # setuptools reports a broken setup.cfg when colcon builds
+    if not parser.has_section("options.data_files"):
+        return
+    # the line of each key in the section, for diagnostics (configparser keeps none)
+    lines: dict[str, int] = {}
+    section = None
+    for number, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if stripped.startswith("[") and stripped.endswith("]"):
+            section = stripped[1:-1].strip()
+        elif section == "options.data_files" and "=" in stripped and not line[:1].isspace():
+            lines.setdefault(stripped.split("=", 1)[0].strip(), number)
+    for destination, value in parser.items("options.data_files"):
+        files: list[str] = []
+        for item in value.replace(",", "\n").splitlines():
+            item = item.strip()
+            if not item:
+                continue
+            if any(c in item for c in "*?["):
+                found = globmodule.glob(str(package_path / item), recursive=True)
+                files += sorted(os.path.relpath(f, package_path) for f in found if os.path.isfile(f))
+            else:
+                files.append(item)
+        model.entries.append(DataFilesEntry(destination, tuple(files), lines.get(destination, 1), path))

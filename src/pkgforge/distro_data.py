@@ -1,0 +1,254 @@
+"""Which packages are released into which active ROS 2 distribution.
+
+The data ships in the wheel as data/distros.txt (about 60 KB), written by
+scripts/update-distro-data from ros/rosdistro (REP 143). Its format:
+
+    # comment lines
+    @distro humble lts ubuntu:jammy,rhel:8      one line per distro, in bit order
+    =1f ament_cmake launch rviz2 ...            a hex mask of those distros, then the names
+                                                released into exactly those
+
+Reading it is lazy (the first question asks; nothing at import) and costs a
+few milliseconds: bench/distro_data.py measures it.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
+
+# ROS 1 names, renamed packages and Gazebo Classic → what a ROS 2 package uses instead, and why.
+# One table, one place; it is consulted only for a name not released for the target distro.
+REPLACEMENTS: dict[str, tuple[str, str]] = {
+    # ROS 1 packages with a ROS 2 successor
+    "rviz": ("rviz2", "rviz is ROS 1; ROS 2 has rviz2"),
+    "roslaunch": ("ros2launch", "roslaunch is ROS 1; ROS 2 launches with ros2launch (launch, launch_ros)"),
+    "rospy": ("rclpy", "rospy is ROS 1; ROS 2 has rclpy"),
+    "roscpp": ("rclcpp", "roscpp is ROS 1; ROS 2 has rclcpp"),
+    "actionlib": ("rclcpp_action", "actionlib is ROS 1; ROS 2 has actions in rclcpp_action/rclpy"),
+    "actionlib_msgs": ("action_msgs", "actionlib_msgs is ROS 1; ROS 2 has action_msgs"),
+    "catkin": ("ament_cmake", "catkin is ROS 1; ROS 2 builds with ament_cmake"),
+    "rosbag": ("rosbag2", "rosbag is ROS 1; ROS 2 has rosbag2"),
+    "roslib": ("ament_index_python", "roslib is ROS 1; ROS 2 finds packages with ament_index_python"),
+    "rospack": ("ament_index_python", "rospack is ROS 1; ROS 2 finds packages with ament_index_python"),
+    "tf": ("tf2_ros", "tf is ROS 1; ROS 2 has tf2_ros"),
+    "message_generation": ("rosidl_default_generators", "message_generation is ROS 1"),
+    "message_runtime": ("rosidl_default_runtime", "message_runtime is ROS 1"),
+    "gazebo_ros_control": ("gz_ros2_control", "gazebo_ros_control is ROS 1 (Gazebo Classic)"),
+    "joint_state_controller": ("joint_state_broadcaster", "joint_state_controller is ROS 1"),
+    # Gazebo Classic is gone after Humble; Gazebo (gz) replaces it
+    "gazebo_ros": ("ros_gz_sim", "Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo "
+                                 "with ros_gz_sim"),
+    "gazebo_plugins": ("ros_gz_sim", "Gazebo Classic plugins are released for Humble only"),
+    "gazebo_ros_pkgs": ("ros_gz", "Gazebo Classic is released for Humble only; use ros_gz"),
+    "gazebo_ros2_control": ("gz_ros2_control", "Gazebo Classic is released for Humble only"),
+    "ros_ign_gazebo": ("ros_gz_sim", "ros_ign_* was renamed ros_gz_*"),
+    "ros_ign_bridge": ("ros_gz_bridge", "ros_ign_* was renamed ros_gz_*"),
+    "ros_ign": ("ros_gz", "ros_ign_* was renamed ros_gz_*"),
+    "ign_ros2_control": ("gz_ros2_control", "ign_ros2_control was renamed gz_ros2_control"),
+}
+
+
+@dataclass(frozen=True)
+class DistroInfo:
+    name: str
+    status: str  # lts | non-lts | rolling
+    platforms: str  # ubuntu:noble,debian:bookworm,...
+
+
+class DistroData:
+    def __init__(self, distros: list[DistroInfo], masks: dict[str, int]):
+        self.distros = distros
+        self.names = [d.name for d in distros]
+        self.masks = masks
+
+    def released_in(self, package: str) -> list[str]:
+        mask = self.masks.get(package, 0)
+        return [name for bit, name in enumerate(self.names) if mask >> bit & 1]
+
+    def released(self, package: str, distro: str | None = None) -> bool:
+        mask = self.masks.get(package, 0)
+        if distro is None:
+            return mask != 0
+        return distro in self.names and bool(mask >> self.names.index(distro) & 1)
+
+    def packages(self, distro: str | None = None) -> list[str]:
+        if distro is None:
+            return list(self.masks)
+        bit = 1 << self.names.index(distro)
+        return [name for name, mask in self.masks.items() if mask & bit]
+
+    def close_names(self, name: str, distro: str | None = None, n: int = 3, cutoff: float = 0.8,
+                    same_start: bool = False) -> list[str]:
+        """Released names close to `name` (difflib); `same_start`: only names with its first
+        letter (fast enough to ask for every declared name; typos rarely hit the first letter)."""
+        return list(_close_names(self, name, distro, n, cutoff, same_start))
+
+
+@functools.lru_cache(maxsize=256)
+def _close_names(data: DistroData, name: str, distro: str | None, n: int, cutoff: float,
+                 same_start: bool) -> tuple[str, ...]:
+    import difflib
+
+    size = len(name)
+    # a ratio is at most 2*min(len)/(len a + len b): names of other lengths cannot reach the cutoff
+    candidates = [c for c in data.packages(distro) if 2 * min(size, len(c)) >= cutoff * (size + len(c))
+                  and (not same_start or c[:1] == name[:1])]
+    return tuple(difflib.get_close_matches(name, candidates, n=n, cutoff=cutoff))
+
+
+def parse(text: str) -> DistroData:
+    distros: list[DistroInfo] = []
+    masks: dict[str, int] = {}
+    for line in text.splitlines():
+        if not line or line[0] == "#":
+            continue
+        if line[0] == "@":
+            _, name, status, platforms = (line.split() + ["", "", ""])[:4]
+            distros.append(DistroInfo(name, status, platforms))
+            continue
+        if line[0] == "=":
+            mask, *names = line[1:].split()
+            masks.update(dict.fromkeys(names, int(mask, 16)))
+    return DistroData(distros, masks)
+
+
+@functools.lru_cache(maxsize=1)
+def load() -> DistroData:
+    return parse(DATA_FILE.read_text(encoding="utf-8"))
+
+
+def active_distros() -> list[str]:
+    return load().names
+
+
+def replacement(name: str) -> tuple[str, str] | None:
+    """(what to use instead, why) for a package name that has a known successor."""
+    return REPLACEMENTS.get(name)
+
+
+# --- writing the data (scripts/update-distro-data) -------------------------------------------
+
+def render(distros: list[DistroInfo], released: dict[str, set[str]], source: str) -> str:
+    """The data file's text: `released` maps distro → package names."""
+    masks: dict[str, int] = {}
+    for bit, distro in enumerate(distros):
+        for name in released[distro.name]:
+            masks[name] = masks.get(name, 0) | 1 << bit
+    lines = ["# Packages released into each active ROS 2 distribution (REP 143 distribution.yaml).",
+             f"# Source: {source}. Written by scripts/update-distro-data; do not edit.",
+             "# @distro NAME STATUS PLATFORMS, in bit order; then =HEXMASK NAMES... (released in exactly those)"]
+    lines += [f"@distro {d.name} {d.status} {d.platforms or '-'}" for d in distros]
+    groups: dict[int, list[str]] = {}
+    for name in sorted(masks):
+        groups.setdefault(masks[name], []).append(name)
+    for mask in sorted(groups):
+        names = groups[mask]
+        for start in range(0, len(names), 200):  # lines of a readable length for diffs
+            lines.append(f"={mask:x} " + " ".join(names[start:start + 200]))
+    return "\n".join(lines) + "\n"
+
+
+# --- the distros a package targets -----------------------------------------------------------
+
+CI_FILES = (".gitlab-ci.yml", ".gitlab-ci.yaml")
+CI_FOLDER = ".github/workflows"
+CI_DISTRO_KEYS = {"ros_distro", "rosdistro", "ros-distro", "distro", "distros", "ros_distros",
+                  "required-ros-distributions", "ros-distribution", "ros_distribution"}
+
+
+def _ci_files(folder: Path) -> list[Path]:
+    """The CI files of a folder: two stats and, only when it exists, a listing of .github/workflows."""
+    found = [folder / name for name in CI_FILES if (folder / name).is_file()]
+    workflows = folder / CI_FOLDER
+    if workflows.is_dir():
+        found += sorted(p for p in workflows.iterdir() if p.suffix in (".yml", ".yaml") and p.is_file())
+    return found
+
+
+@functools.lru_cache(maxsize=4096)
+def ci_distros(folder: Path) -> tuple[str, ...]:
+    """The active distros a package's CI files build for: docker images ros:<distro>..., and
+    ROS_DISTRO / setup-ros / matrix keys. Read with the YAML loader, never guessed."""
+    files = _ci_files(folder)
+    if not files:
+        return ()
+    import yaml
+
+    from .distros import DISTROS
+
+    names = set(DISTROS)  # the same names as the data's (a test keeps them equal), without reading it
+    found: set[str] = set()
+
+    def distro_words(text: str) -> set[str]:
+        return {w for w in text.replace(",", " ").split() if w in names}
+
+    def walk(node, key: str | None = None):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                walk(v, str(k).lower())
+        elif isinstance(node, list):
+            for v in node:
+                walk(v, key)
+        elif isinstance(node, str):
+            if key in CI_DISTRO_KEYS:
+                found.update(distro_words(node))
+            for word in node.split():
+                image = word.split("/")[-1]  # ros:jazzy, osrf/ros:jazzy-desktop
+                if image.startswith("ros:"):
+                    distro = image[4:].split("-")[0]
+                    if distro in names:
+                        found.add(distro)
+
+    for path in files:
+        try:
+            documents = list(yaml.safe_load_all(path.read_text(encoding="utf-8")))
+        except (OSError, UnicodeDecodeError, yaml.YAMLError):
+            continue  # not ours to report; the CI system does
+        for document in documents:
+            walk(document)
+    return tuple(d for d in DISTROS if d in found)
+
+
+def target_distros(package_path: Path, root: Path, option: str | None, configured) -> tuple[tuple[str, ...], str]:
+    """(distros, where that came from); ((), 'every active distro') when nothing says.
+
+    In order: --distro, ROS_DISTRO, pkgforge.toml [verify] distro, the package's CI files
+    (the package folder, then its parents up to the workspace root)."""
+    import os
+
+    from .distros import DISTROS
+
+    names = list(DISTROS)
+    if option:
+        return (option,), "--distro"
+    environment = os.environ.get("ROS_DISTRO", "")
+    if environment in names:
+        return (environment,), "ROS_DISTRO"
+    if configured:
+        chosen = (configured,) if isinstance(configured, str) else tuple(configured)
+        return tuple(d for d in names if d in chosen), "pkgforge.toml"
+    folder = package_path
+    while True:
+        found = ci_distros(folder)
+        if found:
+            return found, "CI file"
+        if folder == root or root not in folder.parents:
+            break
+        folder = folder.parent
+    return (), "every active distro"
+
+
+@functools.lru_cache(maxsize=8)
+def released_set(distros: tuple[str, ...] = ()) -> frozenset[str]:
+    """The packages released for every one of `distros`, or for any active distro when empty."""
+    data = load()
+    if not distros:
+        return frozenset(data.masks)
+    bits = 0
+    for distro in distros:
+        bits |= 1 << data.names.index(distro)
+    return frozenset(name for name, mask in data.masks.items() if mask & bits == bits)
