@@ -32,13 +32,20 @@ def kind_of(path: str) -> str:
     return "xml"
 
 
+def load_module(path: str):
+    """A Python launch file as a module (launch's load_python_launch_file_as_module)."""
+    runtime._LAUNCH_FILES.add(path)
+    spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def load_description(path: str, kind: str | None = None) -> LaunchDescription:
     kind = kind or kind_of(path)
     runtime._LAUNCH_FILES.add(path)
     if kind == "py":
-        spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
+        module = load_module(path)
         function = getattr(module, "generate_launch_description", None)
         if function is None:
             raise runtime.InvalidLaunchFileError(f"{os.path.basename(path)} has no generate_launch_description()")
