@@ -98,7 +98,7 @@ def dotted(node: ast.expr) -> str | None:
     return None
 
 
-def read_module(name: str, path: Path, known: set[str]) -> dict:
+def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     is_package = path.name == "__init__.py"
     names: dict[str, dict] = {}
@@ -137,6 +137,12 @@ def read_module(name: str, path: Path, known: set[str]) -> dict:
                     kind = "module" if local[bound] in known else "external-module"
                     names[bound] = {"kind": kind, "module": local[bound]}
             elif isinstance(statement, ast.ClassDef):
+                for decorator in statement.decorator_list:
+                    if isinstance(decorator, ast.Call) and dotted(decorator.func) in (
+                            "expose_action", "expose_substitution") and decorator.args and \
+                            isinstance(decorator.args[0], ast.Constant):
+                        kind = "actions" if dotted(decorator.func) == "expose_action" else "substitutions"
+                        exposed[kind][decorator.args[0].value] = f"{name}.{statement.name}"
                 bases = []
                 for base in statement.bases:
                     text = dotted(base)
@@ -207,14 +213,16 @@ def generate(upstream: Path) -> dict:
         files = {}
         for folder, top in PACKAGES:
             files.update(module_files(upstream / distro / folder, top))
+        exposed: dict = {"actions": {}, "substitutions": {}}
         for module, path in files.items():
-            modules[module] = read_module(module, path, set(files))
+            modules[module] = read_module(module, path, set(files), exposed)
         # a submodule is an attribute of its package once imported
         for module in modules:
             parent, _, child = module.rpartition(".")
             if parent in modules:
                 modules[parent].setdefault("submodules", []).append(child)
-        data["distros"][distro] = {"sources": " ".join(sources), "modules": dict(sorted(modules.items()))}
+        data["distros"][distro] = {"sources": " ".join(sources), "modules": dict(sorted(modules.items())),
+                                   "frontend": {k: dict(sorted(v.items())) for k, v in exposed.items()}}
     return data
 
 
@@ -229,7 +237,9 @@ def main(argv: list[str]) -> int:
     # one module a line: small, and a regeneration diffs by module
     lines = []
     for distro, content in data["distros"].items():
-        lines.append(f' "{distro}": {{"sources": {json.dumps(content["sources"])}, "modules": {{')
+        lines.append(f' "{distro}": {{"sources": {json.dumps(content["sources"])},')
+        lines.append(f'  "frontend": {json.dumps(content["frontend"], sort_keys=True)},')
+        lines.append('  "modules": {')
         entries = [f'  {json.dumps(m)}: {json.dumps(v, sort_keys=True, separators=(",", ":"))}'
                    for m, v in content["modules"].items()]
         lines.append(",\n".join(entries))

@@ -55,7 +55,7 @@ _EVENT_CLASSES = ("launch.event.Event", "launch.events.", "launch_ros.events.")
 IMPLEMENTED = {
     "launch.action.Action": "Action",
     "launch.condition.Condition": "Condition",
-    "launch.event_handler.BaseEventHandler": "EventHandler",
+    "launch.event_handler.BaseEventHandler": "BaseEventHandler",
     "launch.event_handler.EventHandler": "EventHandler",
     "launch.invalid_launch_file_error.InvalidLaunchFileError": "InvalidLaunchFileError",
     "launch.launch_context.LaunchContext": "LaunchContext",
@@ -206,16 +206,25 @@ IMPLEMENTED = {
 
 # --- the list of names ----------------------------------------------------------------------
 
-_modules: dict | None = None
+_data: dict | None = None
 _objects: dict[str, object] = {}
 
 
-def modules() -> dict:
-    global _modules
-    if _modules is None:
+def _distro_data() -> dict:
+    global _data
+    if _data is None:
         with open(DATA, encoding="utf-8") as handle:
-            _modules = json.load(handle)["distros"][distro()]["modules"]
-    return _modules
+            _data = json.load(handle)["distros"][distro()]
+    return _data
+
+
+def modules() -> dict:
+    return _distro_data()["modules"]
+
+
+def frontend() -> dict:
+    """{"actions": {tag: real class}, "substitutions": {name: real class}} of the XML/YAML front end."""
+    return _distro_data()["frontend"]
 
 
 def _split(target: str) -> tuple[str, str]:

@@ -154,9 +154,57 @@ def _watch_xacro() -> None:
     xacro._pkgforge_watched = True
 
 
+def _watch_ament() -> None:
+    """A launch file's own ament_index lookups are recorded; a package not found here is
+    reported and stands in as an empty package, so the rest of the file is still checked
+    (lookups by xacro or by the launch API itself are left alone)."""
+    try:
+        import ament_index_python
+        import ament_index_python.packages as packages
+    except ImportError:
+        return
+    if getattr(packages, "_pkgforge_watched", False):
+        return
+
+    def from_launch_file() -> bool:
+        return sys._getframe(2).f_code.co_filename in runtime._LAUNCH_FILES
+
+    real_prefix = packages.get_package_prefix
+    real_share = packages.get_package_share_directory
+    real_share_path = getattr(packages, "get_package_share_path", None)
+
+    def get_package_prefix(package_name):
+        if from_launch_file():
+            return runtime.lookup_package(package_name, "get_package_prefix", runtime.here(), "prefix")
+        return real_prefix(package_name)
+
+    def get_package_share_directory(package_name, *args, **kwargs):
+        if from_launch_file():
+            return runtime.lookup_package(package_name, "get_package_share_directory", runtime.here())
+        return real_share(package_name, *args, **kwargs)
+
+    def get_package_share_path(package_name, *args, **kwargs):
+        import pathlib
+
+        if from_launch_file():
+            return pathlib.Path(runtime.lookup_package(package_name, "get_package_share_path", runtime.here()))
+        return real_share_path(package_name, *args, **kwargs)
+
+    get_package_prefix._pkgforge_real = real_prefix
+    patched = {"get_package_prefix": get_package_prefix, "get_package_share_directory": get_package_share_directory}
+    if real_share_path is not None:
+        patched["get_package_share_path"] = get_package_share_path
+    for module in (packages, ament_index_python):
+        for name, function in patched.items():
+            if hasattr(module, name):
+                setattr(module, name, function)
+    packages._pkgforge_watched = True
+
+
 def evaluate(path: str, overrides: dict[str, str]) -> dict:
     """Resolve one launch file; the result is plain data (JSON)."""
     _watch_xacro()
+    _watch_ament()
     runtime.RECORDER.__init__()  # a fresh record for each file
     runtime._LAUNCH_FILES.clear()
     runtime._LAUNCH_FILES.add(path)
