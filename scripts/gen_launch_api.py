@@ -175,7 +175,11 @@ def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
                             entry = {"kind": "value", "line": statement.lineno}
                             value = statement.value
                             if isinstance(value, ast.Name) and value.id in names:
-                                entry = {"kind": "alias", "target": f"{name}.{value.id}"}
+                                bound = names[value.id]
+                                entry = dict(bound) if bound["kind"] != "class" and bound["kind"] != \
+                                    "function" else {"kind": "alias", "target": f"{name}.{value.id}"}
+                                if value.id == node.id:  # `X = X`: a re-export
+                                    entry = dict(bound)
                             names[node.id] = entry
             elif isinstance(statement, ast.If) and ("TYPE_CHECKING" in ast.unparse(statement.test)
                                                     or ast.unparse(statement.test) == "False"):

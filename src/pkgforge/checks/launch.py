@@ -48,7 +48,7 @@ def launch_load_error(ctx: CheckContext):
                 message = f"loading {resolution.launch.installed.name} failed: {error['message']}"
             yield Finding(message, *position)
         for item in resolution.items.get("errors", []):
-            if item.get("message", "").startswith("executed command failed") and "xacro" in item["message"]:
+            if item.get("message", "").startswith("executed command") and "xacro" in item["message"]:
                 continue  # xacro-error reports it with xacro's message
             position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is not None:

@@ -240,7 +240,7 @@ def _definition(target: str, depth: int = 0):
         return None
     if entry["kind"] == "alias":
         if entry["target"] in modules():
-            return entry["target"], {"kind": "module"}
+            return entry["target"], {"kind": "module", "module": entry["target"]}
         return _definition(entry["target"], depth + 1)
     return target, entry
 
@@ -254,7 +254,7 @@ def resolve(target: str):
         raise LookupError(target)
     canonical, entry = found
     if entry["kind"] == "module":
-        return importlib.import_module(canonical)
+        return importlib.import_module(entry.get("module", canonical))
     if canonical in _objects:
         return _objects[canonical]
     kind = entry["kind"]

@@ -342,9 +342,13 @@ class Command(Substitution):
         ok, output, message, extra = RECORDER.command_cache[key]
         stderr = extra.get("stderr", "")
         extra = {k: v for k, v in extra.items() if k != "stderr"}
+        failure = None
         if ok and stderr and on_stderr == "fail":
-            ok, message = False, (f"executed command showed stderr output. Command: {text}\n"
-                                  f"Captured stderr output:\n{stderr}")
+            # launch fails a Command that writes to stderr unless on_stderr says otherwise
+            failure = f"executed command showed stderr output. Command: {text}\nCaptured stderr output:\n{stderr}"
+            first = stderr.strip().splitlines()[0] if stderr.strip() else ""
+            ok, message = False, (f"{first} (written to stderr: Command's on_stderr='fail' stops the launch; "
+                                  "fix the warning or pass on_stderr='warn')")
         elif ok and stderr and on_stderr == "capture":
             output = output + stderr
         record = {"command": words, "ok": ok, "message": message, **extra}
@@ -358,8 +362,8 @@ class Command(Substitution):
             record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
         RECORDER.add("commands", record, self)
         if not ok:
-            if message.startswith("executed command showed stderr output"):
-                raise SubstitutionFailure(message)
+            if failure is not None:
+                raise SubstitutionFailure(failure)
             raise SubstitutionFailure(f"executed command failed. Command: {text}\n{message}")
         return output
 
