@@ -70,6 +70,18 @@ def _location_in(path: str, error: BaseException) -> int | None:
     return line
 
 
+def _missing_package_of(error: BaseException) -> str | None:
+    """The package not found here whose stand-in folder this error touched (a consequence of
+    that lookup, already reported), else None."""
+    texts = [str(error), str(getattr(error, "filename", "") or "")]
+    for text in texts:
+        index = text.find(runtime.MISSING_PACKAGE_ROOT + "/")
+        if index >= 0:
+            rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1:]
+            return re.split(r"[/'\"\s]", rest, maxsplit=1)[0] or None
+    return None
+
+
 def _error_record(path: str, error: BaseException, stage: str) -> dict:
     message = f"{type(error).__name__}: {error}"
     if isinstance(error, SystemExit):
@@ -79,6 +91,15 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
     if type(error).__name__ == "PackageNotFoundError":
         match = NOT_FOUND.search(str(error))
         record["package"] = match.group(1) if match else str(error).strip("'\"")
+    missing = _missing_package_of(error)
+    if missing is not None:
+        # the file stopped on the empty stand-in of a package not found: that lookup is the cause
+        lookup = next((p for p in RECORDER.packages if p.get("name") == missing and p.get("found") is False), None)
+        record.update(type="PackageNotFoundError", package=missing,
+                      message=f"PackageNotFoundError: package '{missing}' not found")
+        if lookup is not None:
+            record["file"], record["line"] = lookup.get("file"), lookup.get("line")
+            return record
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
     if getattr(error, "line", None) and type(error).__name__ == "FrontendError":
@@ -108,6 +129,11 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
             RECORDER.add("required", {"name": missing.name, "skipped": type(entity).__name__}, entity)
             continue
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
+            missing = _missing_package_of(error)
+            if missing is not None:  # a consequence of a lookup already reported
+                RECORDER.add("required", {"name": f"<package {missing} not found>",
+                                          "skipped": type(entity).__name__}, entity)
+                continue
             if type(error).__name__ == "PackageNotFoundError":
                 match = NOT_FOUND.search(str(error))
                 RECORDER.add("packages", {"name": match.group(1) if match else str(error),
