@@ -119,6 +119,24 @@ def test_humble_lacks_the_names_jazzy_added(pattern_bot):
     assert "Unknown substitution: equals" in errors[(path, line)]
 
 
+def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
+    package = copy_fixture(FIXTURE, tmp_path)
+    cmake = package / "CMakeLists.txt"
+    cmake.write_text(cmake.read_text().replace(
+        "install(DIRECTORY config launch urdf\n",
+        "install(FILES launch/find_share_find.launch.py DESTINATION share/${PROJECT_NAME}/launch)\n"
+        "install(DIRECTORY config urdf\n"))
+    report = verify(tmp_path)
+    uninstalled = {d["path"] for d in report if d["code"] == "PF313"}
+    expected = {f"{LAUNCH}/{p.name}" for p in (package / "launch").iterdir() if p.name != "find_share_find.launch.py"}
+    assert uninstalled == expected
+    assert all(d["line"] is None and d["severity"] == "warning" for d in report if d["code"] == "PF313")
+    # evaluated all the same, from the source: what they use is checked
+    found = {(d["code"], d["path"], d["line"]) for d in report}
+    assert ("PF305", *at(package, "event_handler.launch.py", "package='twist_mux'")) in found
+    assert ("PF304", *at(package, "missing_package.launch.py", "FindPackageShare('pattern_bott')")) in found
+
+
 # --- the worker's record, for what the diagnostics do not show ---------------------------------
 
 def worker(requests: list[dict], env: dict | None = None) -> list[dict]:
