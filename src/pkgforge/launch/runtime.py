@@ -594,17 +594,53 @@ def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
     from ament_index_python.packages import get_package_prefix
 
     item = {"name": package, "via": via}
+    guarded = False
     if isinstance(where, tuple):
         item["file"], item["line"] = where
+        guarded = _guarded(*where)
         where = None
     try:
         prefix = getattr(get_package_prefix, "_pkgforge_real", get_package_prefix)(package)
     except (AmentNotFound, PackageNotFoundError, ValueError):
+        if guarded:
+            raise  # the launch file catches it: probing for an optional package
         RECORDER.add("packages", dict(item, found=False), where)
         prefix = os.path.join(MISSING_PACKAGE_ROOT, package)
     else:
         RECORDER.add("packages", item, where)
     return prefix if kind == "prefix" else os.path.join(prefix, "share", package)
+
+
+_GUARDS: dict[str, list[tuple[int, int]]] = {}
+CATCHING = {"PackageNotFoundError", "KeyError", "LookupError", "Exception", "BaseException"}
+
+
+def _guarded(file: str | None, line: int | None) -> bool:
+    """Whether the launch file's line is inside a try whose handlers catch a failed lookup."""
+    import ast
+
+    if file is None or line is None:
+        return False
+    if file not in _GUARDS:
+        spans = []
+        try:
+            with open(file, encoding="utf-8") as handle:
+                tree = ast.parse(handle.read())
+        except (OSError, SyntaxError, ValueError):
+            tree = None
+        for node in ast.walk(tree) if tree is not None else []:
+            if isinstance(node, ast.Try) and node.body:
+                names = set()
+                for handler in node.handlers:
+                    if handler.type is None:
+                        names.add("BaseException")
+                    for part in ast.walk(handler.type) if handler.type is not None else []:
+                        if isinstance(part, (ast.Name, ast.Attribute)):
+                            names.add(part.id if isinstance(part, ast.Name) else part.attr)
+                if names & CATCHING:
+                    spans.append((node.body[0].lineno, node.body[-1].end_lineno or node.body[-1].lineno))
+        _GUARDS[file] = spans
+    return any(start <= line <= end for start, end in _GUARDS[file])
 
 
 class FindPackage(Substitution):
