@@ -23,8 +23,6 @@ from __future__ import annotations
 
 import builtins
 import importlib
-import importlib.abc
-import importlib.machinery
 import importlib.util
 import json
 import os
@@ -418,34 +416,37 @@ def _stand_in_function(canonical: str, entry: dict):
 
 # --- the import hook ------------------------------------------------------------------------
 
-class _Loader(importlib.abc.Loader):
+class _Loader:
     def create_module(self, spec):
         return None
 
     def exec_module(self, module) -> None:
-        info = modules()[module.__name__]
-        module.__file__ = f"<pkgforge launch API ({distro()})>/{module.__name__.replace('.', '/')}.py"
-        for name, entry in info["names"].items():
-            if entry["kind"] in ("module", "alias") and _definition(f"{module.__name__}.{name}") and \
-                    _definition(f"{module.__name__}.{name}")[1]["kind"] == "module":
-                continue  # set below, once imported
-            try:
-                setattr(module, name, resolve(f"{module.__name__}.{name}"))
-            except (ImportError, LookupError, AttributeError):
-                pass  # an external module this machine lacks (rclpy…): absent here too
-        for imported in info["imports"]:
-            importlib.import_module(imported)
-        for name, entry in info["names"].items():
-            if not hasattr(module, name):
+        name = module.__name__
+        info = modules()[name]
+        module.__file__ = f"<pkgforge launch API ({distro()})>/{name.replace('.', '/')}.py"
+
+        def __getattr__(attribute):
+            # names are resolved when first used (PEP 562): importing launch stays cheap
+            if attribute in info["names"]:
                 try:
-                    setattr(module, name, resolve(f"{module.__name__}.{name}"))
-                except (ImportError, LookupError, AttributeError):
-                    pass
+                    value = resolve(f"{name}.{attribute}")
+                except (ImportError, LookupError) as error:
+                    raise AttributeError(f"module {name!r} has no attribute {attribute!r}") from error
+                setattr(module, attribute, value)
+                return value
+            raise AttributeError(f"module {name!r} has no attribute {attribute!r}")
+
+        def __dir__():
+            return sorted(set(module.__dict__) | set(info["names"]))
+
+        module.__getattr__, module.__dir__ = __getattr__, __dir__
         if info.get("all") is not None:
             module.__all__ = list(info["all"])
+        for imported in info["imports"]:  # what the real module imports: the same submodules exist
+            importlib.import_module(imported)
 
 
-class _Finder(importlib.abc.MetaPathFinder):
+class _Finder:
     loader = _Loader()
 
     def find_spec(self, fullname, path=None, target=None):
