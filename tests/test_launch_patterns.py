@@ -37,6 +37,12 @@ def at(package: Path, name: str, text: str) -> tuple[str, int]:
     return f"src/pattern_bot/{'launch/' if not name.startswith('urdf/') else ''}{name}", line_of(path, text)
 
 
+def at_before(package: Path, name: str, text: str) -> tuple[str, int]:
+    """A YAML entity's line: the `- tag:` line above its attribute `text`."""
+    path, line = at(package, name, text)
+    return path, line - 1
+
+
 @pytest.fixture(scope="module")
 def pattern_bot(tmp_path_factory) -> Path:
     workspace = tmp_path_factory.mktemp("patterns")
@@ -83,6 +89,11 @@ def expected_jazzy(package: Path) -> set[tuple]:
         # a run-time query is not run at verify time (an info); the timer's actions are visited
         d("PF310", "runtime_command.launch.py", "rate = Command("),
         d("PF305", "runtime_command.launch.py", "package='joy'"),
+        # the front end's tags and substitutions: the nodes at the end are still checked
+        d("PF305", "frontend_tags.launch.xml", 'pkg="slam_toolbox"'),
+        ("PF305", *at_before(package, "frontend_tags.launch.yaml", 'pkg: "nav2_map_server"')),
+        # Jazzy's own front end fails on $(any ...) and $(all ...)
+        d("PF301", "all_any.launch.xml", 'if="$(any '),
         # a real name pkgforge does not evaluate: an info, not a load error
         d("PF310", "unsupported_api.launch.py", "LaunchLogDir()"),
         # xacro warns on stderr: Command's default on_stderr='fail' fails, 'ignore' does not
@@ -101,6 +112,8 @@ def test_messages_name_the_cause(jazzy_report):
     assert messages[("PF301", "bool_default.launch.py")].endswith("TypeError: 'bool' object is not iterable")
     assert messages[("PF310", "runtime_command.launch.py")].startswith("Command 'ros2 param get' (run-time only)")
     assert messages[("PF310", "unsupported_api.launch.py")].startswith("LaunchLogDir ")
+    assert messages[("PF301", "all_any.launch.xml")].endswith(
+        "AnySubstitution.__init__() got an unexpected keyword argument 'args'")
     assert "redefining global symbol: len" in messages[("PF308", "xacro_stderr.launch.py")]
     assert "\n" not in messages[("PF308", "xacro_stderr.launch.py")]
 

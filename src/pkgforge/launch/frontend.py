@@ -69,6 +69,7 @@ def _matching_paren(text: str, open_index: int) -> int:
 
 def _split_arguments(body: str) -> list[str]:
     args, current, quote, depth = [], [], None, 0
+    quoted = False  # '' is an argument too (an empty string)
     for char in body:
         if quote:
             if char == quote and depth == 0:
@@ -81,19 +82,19 @@ def _split_arguments(body: str) -> list[str]:
                 depth -= 1
             continue
         if char in ("'", '"') and depth == 0:
-            quote = char
+            quote, quoted = char, True
             continue
         if char.isspace() and depth == 0:
-            if current:
+            if current or quoted:
                 args.append("".join(current))
-                current = []
+                current, quoted = [], False
             continue
         if char == "(" and current[-1:] == ["$"]:
             depth += 1
         elif char == ")" and depth:
             depth -= 1
         current.append(char)
-    if current:
+    if current or quoted:
         args.append("".join(current))
     return args
 
@@ -102,7 +103,7 @@ def _substitution(body: str):
     words = _split_arguments(body)
     if not words:
         raise FrontendError("empty substitution $()", None)
-    name, args = words[0], [parse_substitution(a) for a in words[1:]]
+    name, args = words[0], [parse_substitution(a) or [rt.TextSubstitution(text="")] for a in words[1:]]
 
     def arg(i, default=None):
         return args[i] if i < len(args) else default
@@ -112,6 +113,7 @@ def _substitution(body: str):
     exposed = api.frontend()["substitutions"]
     if name not in exposed:
         raise FrontendError(f"Unknown substitution: {name}", None)
+    api.resolve(exposed[name])  # the real constructor's signature is checked from here on
     if name in SUBSTITUTIONS:
         return SUBSTITUTIONS[name](args, arg)
     return api.resolve(exposed[name])(*args)  # a real substitution pkgforge does not evaluate
@@ -165,8 +167,9 @@ SUBSTITUTIONS = {
     "not": _boolean(rt.NotSubstitution, "not", 1),
     "and": _boolean(rt.AndSubstitution, "and", 2),
     "or": _boolean(rt.OrSubstitution, "or", 2),
-    "all": lambda args, arg: rt.AllSubstitution(*args),
-    "any": lambda args, arg: rt.AnySubstitution(*args),
+    # jazzy's parse passes args=[...] to a constructor that takes *args: a TypeError in ROS too
+    "all": lambda args, arg: rt.AllSubstitution(args=args),
+    "any": lambda args, arg: rt.AnySubstitution(args=args),
     "equals": _boolean(rt.EqualsSubstitution, "equals", 2),
     "not-equals": _boolean(rt.NotEqualsSubstitution, "not-equals", 2),
     "if": _if,
@@ -258,6 +261,8 @@ def _entities(elements: list[Element], path: str) -> list:
             if error.line is None:
                 error.line = element.line
             raise
+        except (TypeError, ValueError, RuntimeError) as error:  # what building the element raised
+            raise FrontendError(f"{type(error).__name__}: {error}", element.line) from error
         finally:
             rt._FRONTEND_LOCATION.pop()
         if entity is not None:
