@@ -357,6 +357,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     if any(codes[t.path] & tree_codes for t in targets):
         from . import models as robot_models
         from .launch.resolve import WorkerLimits, find_launch_files, resolve
+        from .launch.uninstalled import source_only
 
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
@@ -372,6 +373,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     if tree is not None:
         try:  # a signal or an error: the temporary tree goes too
             launch_files, ros1_files = find_launch_files(tree, checked)
+            launch_files += source_only(checked, launch_files)  # evaluated from the source
             for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
                                       arguments=options.launch_arguments, limits=limits,
                                       on_done=progress.counter("launch files", len(launch_files))):

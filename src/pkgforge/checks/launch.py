@@ -48,7 +48,7 @@ def launch_load_error(ctx: CheckContext):
                 message = f"loading {resolution.launch.installed.name} failed: {error['message']}"
             yield Finding(message, *position)
         for item in resolution.items.get("errors", []):
-            if item.get("message", "").startswith("executed command failed") and "xacro" in item["message"]:
+            if item.get("message", "").startswith("executed command") and "xacro" in item["message"]:
                 continue  # xacro-error reports it with xacro's message
             position = ctx.source_position(resolution, item.get("file"), item.get("line"))
             if position is not None:
@@ -325,3 +325,29 @@ def launch_unevaluated(ctx: CheckContext):
 def ros1_launch_file(ctx: CheckContext):
     for launch in ctx.ros1_launch_files:
         yield Finding(f"{launch.installed.name} is a ROS 1 launch file", launch.source or launch.installed)
+
+
+@register("PF315", "launch-not-installed", "warning", area="launch",
+          summary="a launch file in the source is left out of the install rules",
+          explanation="`ros2 launch <pkg> <file>` looks in install/share/<pkg>/ and cannot find it. pkgforge "
+                      "evaluates it from the source, so what it references is still checked. Reported "
+                      "here when other files of its folder are installed (else directory-not-installed "
+                      "reports the folder).",
+          hint="install it with the other launch files")
+def launch_not_installed(ctx: CheckContext):
+    from ..launch.uninstalled import is_uninstalled
+    from ..model.package import RESOURCE_FOLDERS
+
+    installed = ctx.model.layout.installed_sources()
+    for resolution in ctx.resolutions:
+        launch = resolution.launch
+        if not is_uninstalled(launch):
+            continue
+        relative = launch.source.relative_to(ctx.model.path)
+        folder = relative.parts[0] if len(relative.parts) > 1 else None
+        siblings = ctx.model.top_level_folders().get(folder, []) if folder else []
+        if folder in RESOURCE_FOLDERS and not any(ctx.model.path / f in installed for f in siblings):
+            continue  # directory-not-installed reports the whole folder
+        yield Finding(f"{relative} is not installed: `ros2 launch {ctx.model.name} {launch.source.name}` "
+                      "cannot find it (evaluated from the source)", launch.source, None,
+                      hint=install_fix(ctx.model, folder) if folder else "install it to share/<package>")

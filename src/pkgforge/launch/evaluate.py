@@ -32,13 +32,20 @@ def kind_of(path: str) -> str:
     return "xml"
 
 
+def load_module(path: str):
+    """A Python launch file as a module (launch's load_python_launch_file_as_module)."""
+    runtime._LAUNCH_FILES.add(path)
+    spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def load_description(path: str, kind: str | None = None) -> LaunchDescription:
     kind = kind or kind_of(path)
     runtime._LAUNCH_FILES.add(path)
     if kind == "py":
-        spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
+        module = load_module(path)
         function = getattr(module, "generate_launch_description", None)
         if function is None:
             raise runtime.InvalidLaunchFileError(f"{os.path.basename(path)} has no generate_launch_description()")
@@ -63,6 +70,18 @@ def _location_in(path: str, error: BaseException) -> int | None:
     return line
 
 
+def _missing_package_of(error: BaseException) -> str | None:
+    """The package not found here whose stand-in folder this error touched (a consequence of
+    that lookup, already reported), else None."""
+    texts = [str(error), str(getattr(error, "filename", "") or "")]
+    for text in texts:
+        index = text.find(runtime.MISSING_PACKAGE_ROOT + "/")
+        if index >= 0:
+            rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1:]
+            return re.split(r"[/'\"\s]", rest, maxsplit=1)[0] or None
+    return None
+
+
 def _error_record(path: str, error: BaseException, stage: str) -> dict:
     message = f"{type(error).__name__}: {error}"
     if isinstance(error, SystemExit):
@@ -72,6 +91,15 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
     if type(error).__name__ == "PackageNotFoundError":
         match = NOT_FOUND.search(str(error))
         record["package"] = match.group(1) if match else str(error).strip("'\"")
+    missing = _missing_package_of(error)
+    if missing is not None:
+        # the file stopped on the empty stand-in of a package not found: that lookup is the cause
+        lookup = next((p for p in RECORDER.packages if p.get("name") == missing and p.get("found") is False), None)
+        record.update(type="PackageNotFoundError", package=missing,
+                      message=f"PackageNotFoundError: package '{missing}' not found")
+        if lookup is not None:
+            record["file"], record["line"] = lookup.get("file"), lookup.get("line")
+            return record
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
     if getattr(error, "line", None) and type(error).__name__ == "FrontendError":
@@ -101,6 +129,11 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
             RECORDER.add("required", {"name": missing.name, "skipped": type(entity).__name__}, entity)
             continue
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
+            missing = _missing_package_of(error)
+            if missing is not None:  # a consequence of a lookup already reported
+                RECORDER.add("required", {"name": f"<package {missing} not found>",
+                                          "skipped": type(entity).__name__}, entity)
+                continue
             if type(error).__name__ == "PackageNotFoundError":
                 match = NOT_FOUND.search(str(error))
                 RECORDER.add("packages", {"name": match.group(1) if match else str(error),
@@ -147,9 +180,57 @@ def _watch_xacro() -> None:
     xacro._pkgforge_watched = True
 
 
+def _watch_ament() -> None:
+    """A launch file's own ament_index lookups are recorded; a package not found here is
+    reported and stands in as an empty package, so the rest of the file is still checked
+    (lookups by xacro or by the launch API itself are left alone)."""
+    try:
+        import ament_index_python
+        import ament_index_python.packages as packages
+    except ImportError:
+        return
+    if getattr(packages, "_pkgforge_watched", False):
+        return
+
+    def from_launch_file() -> bool:
+        return sys._getframe(2).f_code.co_filename in runtime._LAUNCH_FILES
+
+    real_prefix = packages.get_package_prefix
+    real_share = packages.get_package_share_directory
+    real_share_path = getattr(packages, "get_package_share_path", None)
+
+    def get_package_prefix(package_name):
+        if from_launch_file():
+            return runtime.lookup_package(package_name, "get_package_prefix", runtime.here(), "prefix")
+        return real_prefix(package_name)
+
+    def get_package_share_directory(package_name, *args, **kwargs):
+        if from_launch_file():
+            return runtime.lookup_package(package_name, "get_package_share_directory", runtime.here())
+        return real_share(package_name, *args, **kwargs)
+
+    def get_package_share_path(package_name, *args, **kwargs):
+        import pathlib
+
+        if from_launch_file():
+            return pathlib.Path(runtime.lookup_package(package_name, "get_package_share_path", runtime.here()))
+        return real_share_path(package_name, *args, **kwargs)
+
+    get_package_prefix._pkgforge_real = real_prefix
+    patched = {"get_package_prefix": get_package_prefix, "get_package_share_directory": get_package_share_directory}
+    if real_share_path is not None:
+        patched["get_package_share_path"] = get_package_share_path
+    for module in (packages, ament_index_python):
+        for name, function in patched.items():
+            if hasattr(module, name):
+                setattr(module, name, function)
+    packages._pkgforge_watched = True
+
+
 def evaluate(path: str, overrides: dict[str, str]) -> dict:
     """Resolve one launch file; the result is plain data (JSON)."""
     _watch_xacro()
+    _watch_ament()
     runtime.RECORDER.__init__()  # a fresh record for each file
     runtime._LAUNCH_FILES.clear()
     runtime._LAUNCH_FILES.add(path)

@@ -11,10 +11,12 @@ configuration is an error, conditions accept true/false/1/0 only.
 
 from __future__ import annotations
 
+import collections.abc
 import os
 import shlex
 import subprocess
 import sys
+import typing
 from dataclasses import dataclass, field
 
 # --- where a construct stands in the launch file --------------------------------------------
@@ -37,7 +39,16 @@ def here() -> tuple[str | None, int | None]:
 
 
 class Located:
-    """Base of every stand-in object: remembers its launch file and line."""
+    """Base of every stand-in object: remembers its launch file and line.
+
+    A class exposed under a real API name carries `_pkgforge_check` (set by api.py): the
+    real constructor's signature, checked before anything else as ROS would."""
+
+    def __new__(cls, *args, **kwargs):
+        check = cls.__dict__.get("_pkgforge_check")
+        if check is not None:
+            check(args, kwargs)
+        return object.__new__(cls)
 
     def __init__(self) -> None:
         self._file, self._line = here()
@@ -51,6 +62,20 @@ class SubstitutionFailure(RuntimeError):
 
 class InvalidLaunchFileError(Exception):
     pass
+
+
+class InvalidPythonLaunchFileError(InvalidLaunchFileError):
+    pass
+
+
+class InvalidFrontendLaunchFileError(InvalidLaunchFileError):
+    pass
+
+
+class InvalidConditionExpressionError(SubstitutionFailure):
+    def __init__(self, expression, expression_substitutions=None, valid_expressions=None):
+        valid = valid_expressions or VALID_TRUE_EXPRESSIONS + VALID_FALSE_EXPRESSIONS
+        super().__init__(f"Unexpected condition expression '{expression}', expected one of: {valid}")
 
 
 class PackageNotFoundError(KeyError):
@@ -96,9 +121,11 @@ RECORDER = Recorder()
 # --- context --------------------------------------------------------------------------------
 
 class LaunchContext:
-    def __init__(self, argv=None, noninteractive=True):
+    def __init__(self, *, argv=None, noninteractive=False):
         self.launch_configurations: dict[str, str] = {}
         self.environment = dict(os.environ)
+        self._initial_environment = dict(os.environ)
+        self._environment_stack: list[dict] = []
         self.locals = _Locals()
         self.argv = argv or []
         self.noninteractive = noninteractive
@@ -135,28 +162,56 @@ class Substitution(Located):
         return type(self).__name__
 
 
-def normalize(value) -> list:
-    """str | Substitution | iterable of those → list of Substitutions (launch's rule)."""
-    if value is None:
-        return []
-    if isinstance(value, (str, Substitution)):
-        value = [value]
+def normalize(subs) -> list:
+    """launch.utilities.normalize_to_list_of_substitutions: str | Substitution | iterable of
+    those → list of Substitutions; anything else raises the TypeError ROS raises (iterating
+    a bool or an int fails, an item of another type is refused)."""
+    if isinstance(subs, str):
+        return [TextSubstitution(text=subs)]
+    if isinstance(subs, Substitution):
+        return [subs]
     out = []
-    for item in value:
-        if isinstance(item, str):
-            out.append(TextSubstitution(text=item))
-        elif isinstance(item, Substitution):
+    for item in subs:
+        if isinstance(item, Substitution):
             out.append(item)
-        elif isinstance(item, (int, float, bool)):
-            out.append(TextSubstitution(text=str(item)))
+        elif isinstance(item, str):
+            out.append(TextSubstitution(text=item))
         else:
-            raise TypeError(f"expected str or Substitution, got {type(item).__name__}")
+            raise TypeError(f"Failed to normalize given item of type '{type(item)}', when only "
+                            "'str' or 'launch.Substitution' were expected.")
     return out
 
 
 def perform(context: LaunchContext, value) -> str:
-    """Concatenate the performed substitutions, as launch.utilities.perform_substitutions."""
+    """Concatenate the performed substitutions (None → ''): pkgforge's own shorthand."""
+    if value is None:
+        return ""
     return "".join(s.perform(context) for s in normalize(value))
+
+
+def perform_substitutions(context: LaunchContext, subs) -> str:
+    """launch.utilities.perform_substitutions (a list of Substitutions)."""
+    return "".join(context.perform_substitution(sub) for sub in subs)
+
+
+def _stringify_default(default) -> list:
+    """LaunchConfiguration's default: items that are not str or Substitution become str()."""
+    items = default if isinstance(default, collections.abc.Iterable) else (default,)
+    return normalize([i if isinstance(i, (str, Substitution)) else str(i) for i in items])
+
+
+def _plain_text(value):
+    """EqualsSubstitution's operand: None → '', a bool → 'true'/'false', else str()."""
+    if isinstance(value, Substitution) or (
+            isinstance(value, collections.abc.Iterable) and not isinstance(value, str) and len(value) > 0
+            and all(isinstance(v, (str, Substitution)) for v in value)
+            and any(isinstance(v, Substitution) for v in value)):
+        return value
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return str(value).lower()
+    return str(value)
 
 
 class TextSubstitution(Substitution):
@@ -171,8 +226,8 @@ class TextSubstitution(Substitution):
 class LaunchConfiguration(Substitution):
     def __init__(self, variable_name, *, default=None):
         super().__init__()
-        self.variable_name = variable_name
-        self.default = default
+        self.variable_name = normalize(variable_name)
+        self.default = None if default is None else _stringify_default(default)
 
     def perform(self, context):
         name = perform(context, self.variable_name)
@@ -229,39 +284,73 @@ class FindExecutable(Substitution):
 
 
 class PythonExpression(Substitution):
-    def __init__(self, expression, python_modules=("math",)):
+    def __init__(self, expression, python_modules=["math"]):  # noqa: B006 - launch's default
         super().__init__()
-        self.expression = expression
-        self.python_modules = python_modules
+        ensure_argument_type(expression, (str, Substitution, collections.abc.Iterable), "expression",
+                             "PythonExpression")
+        ensure_argument_type(python_modules, (str, Substitution, collections.abc.Iterable),
+                             "python_modules", "PythonExpression")
+        self.expression = normalize(expression)
+        self.python_modules = normalize(python_modules)
 
     def perform(self, context):
         import importlib
 
-        names = {m: importlib.import_module(m) for m in perform_list(context, self.python_modules)}
-        if "math" in names:
-            names.update(vars(names["math"]))
-        return str(eval(perform(context, self.expression), {}, names))
+        names = {}
+        for sub in self.python_modules:
+            module = importlib.import_module(context.perform_substitution(sub))
+            if module.__name__ == "math":
+                names.update(vars(module))
+            names[module.__name__] = module
+        return str(eval(perform_substitutions(context, self.expression), {}, names))
 
 
-def perform_list(context, values) -> list[str]:
-    return [perform(context, v) if not isinstance(v, str) else v for v in values]
+# commands whose output is a pure function of files: run at verify time
+PURE_COMMANDS = {"xacro", "cat"}
+MISSING_PACKAGE_ROOT = "/nonexistent-pkgforge-missing-package"
+
+
+def _pure(words: list[str]) -> bool:
+    return os.path.basename(words[0]) in PURE_COMMANDS
 
 
 class Command(Substitution):
+    """Runs only what is a pure function of files (xacro, cat); any other command (a
+    `ros2 param get`, a script) is run-time only: recorded as not evaluated, and its output
+    stands in as a placeholder so the rest is still checked."""
+
     def __init__(self, command, *, on_stderr="fail"):
         super().__init__()
-        self.command = command
-        self.on_stderr = on_stderr
+        self.command = normalize(command)
+        self.on_stderr = normalize(on_stderr)
 
     def perform(self, context):
-        text = perform(context, self.command)
+        text = perform_substitutions(context, self.command)
         words = shlex.split(text)
-        if not words:
-            raise SubstitutionFailure("empty command")
+        on_stderr = perform_substitutions(context, self.on_stderr)
+        if on_stderr not in ("fail", "ignore", "warn", "capture"):
+            raise SubstitutionFailure("expected 'on_stderr' to be one of: 'fail', 'ignore', 'warn' or 'capture'")
+        if not words or not _pure(words):
+            shown = " ".join(words[:3]) if words else ""
+            RECORDER.add("unsupported", {"name": f"Command '{shown}' (run-time only)"}, self)
+            return f"<output of {shown} at run time>"
+        if any(w.startswith(MISSING_PACKAGE_ROOT) for w in words):
+            raise Unresolved(f"<{words[0]} of a file in a package not found>")
         key = tuple(words)
         if key not in RECORDER.command_cache:
             RECORDER.command_cache[key] = _run_command(words)
         ok, output, message, extra = RECORDER.command_cache[key]
+        stderr = extra.get("stderr", "")
+        extra = {k: v for k, v in extra.items() if k != "stderr"}
+        failure = None
+        if ok and stderr and on_stderr == "fail":
+            # launch fails a Command that writes to stderr unless on_stderr says otherwise
+            failure = f"executed command showed stderr output. Command: {text}\nCaptured stderr output:\n{stderr}"
+            first = stderr.strip().splitlines()[0] if stderr.strip() else ""
+            ok, message = False, (f"{first} (written to stderr: Command's on_stderr='fail' stops the launch; "
+                                  "fix the warning or pass on_stderr='warn')")
+        elif ok and stderr and on_stderr == "capture":
+            output = output + stderr
         record = {"command": words, "ok": ok, "message": message, **extra}
         if os.path.basename(words[0]) == "xacro":
             RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, self)
@@ -273,6 +362,8 @@ class Command(Substitution):
             record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
         RECORDER.add("commands", record, self)
         if not ok:
+            if failure is not None:
+                raise SubstitutionFailure(failure)
             raise SubstitutionFailure(f"executed command failed. Command: {text}\n{message}")
         return output
 
@@ -283,9 +374,13 @@ def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
         return _run_xacro(words[1:])
     try:
         done = subprocess.run(words, capture_output=True, text=True, timeout=30, stdin=subprocess.DEVNULL)
+    except FileNotFoundError as exc:
+        return False, "", f"file not found: {exc}", {}
     except (OSError, subprocess.TimeoutExpired) as exc:
         return False, "", str(exc), {}
-    return done.returncode == 0, done.stdout, done.stderr.strip(), {}
+    if done.returncode != 0:
+        return False, "", (f"Captured stderr output: {done.stderr}" if done.stderr else ""), {}
+    return True, done.stdout, "", {"stderr": done.stderr}
 
 
 def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
@@ -312,7 +407,8 @@ def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
 
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
         robot = structure_of_output(files[0], output, includes)
-        return True, output, "", ({"robot": robot, "includes": includes} if robot else {})
+        extra = {"robot": robot, "includes": includes} if robot else {}
+        return True, output, "", dict(extra, stderr=stderr.getvalue())
     except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
         message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
         extra = stderr.getvalue().strip()
@@ -351,138 +447,245 @@ class LocalSubstitution(Substitution):
 
 
 def _truth(text: str) -> bool:
+    """A condition's expression (evaluate_condition_expression): true/1, false/0, nothing else."""
     lowered = text.strip().lower()
-    if lowered in ("true", "1"):
+    if lowered in VALID_TRUE_EXPRESSIONS:
         return True
-    if lowered in ("false", "0"):
+    if lowered in VALID_FALSE_EXPRESSIONS:
         return False
-    raise SubstitutionFailure(f"'{text}' is not a boolean (true, false, 1 or 0)")
+    raise InvalidConditionExpressionError(lowered)
 
 
-class _Boolean(Substitution):
-    def __init__(self, *values):
+VALID_TRUE_EXPRESSIONS = ["true", "1"]
+VALID_FALSE_EXPRESSIONS = ["false", "0"]
+
+
+def _typed_bool(context, subs) -> bool:
+    """perform_typed_substitution(..., bool): '1'/'0', else YAML's booleans (yes, on, True…)."""
+    import yaml
+
+    text = perform_substitutions(context, subs)
+    value = {"1": "true", "0": "false"}.get(text, text)
+    try:
+        output = yaml.safe_load(value) if value else value
+    except yaml.YAMLError as error:
+        raise SubstitutionFailure(f"Failed to convert '{value}' to '{bool}': yaml.safe_load() failed\n{error}")
+    if isinstance(output, bool):
+        return output
+    raise SubstitutionFailure(f"Cannot convert value '{value}' to '{bool}'")
+
+
+class NotSubstitution(Substitution):
+    def __init__(self, value):
         super().__init__()
-        self.values = values
+        self.value = normalize(value)
 
-
-class NotSubstitution(_Boolean):
     def perform(self, context):
-        return str(not _truth(perform(context, self.values[0]))).lower()
+        return str(not _typed_bool(context, self.value)).lower()
 
 
-class AndSubstitution(_Boolean):
+class AndSubstitution(Substitution):
+    def __init__(self, left, right):
+        super().__init__()
+        self.left, self.right = normalize(left), normalize(right)
+
     def perform(self, context):
-        return str(all(_truth(perform(context, v)) for v in self.values)).lower()
+        left, right = _typed_bool(context, self.left), _typed_bool(context, self.right)
+        return str(left and right).lower()
 
 
-class OrSubstitution(_Boolean):
+class OrSubstitution(AndSubstitution):
     def perform(self, context):
-        return str(any(_truth(perform(context, v)) for v in self.values)).lower()
+        left, right = _typed_bool(context, self.left), _typed_bool(context, self.right)
+        return str(left or right).lower()
 
 
-class AllSubstitution(AndSubstitution):
-    pass
+class AllSubstitution(Substitution):
+    def __init__(self, *args):
+        super().__init__()
+        self.args = [normalize(a) for a in args]
+
+    def perform(self, context):
+        return str(all([_typed_bool(context, a) for a in self.args])).lower()
 
 
-class AnySubstitution(OrSubstitution):
-    pass
+class AnySubstitution(AllSubstitution):
+    def perform(self, context):
+        return str(any([_typed_bool(context, a) for a in self.args])).lower()
+
+
+def _str_is_bool(text) -> bool:
+    return isinstance(text, str) and text.lower() in ("true", "false", "1", "0")
+
+
+def _str_is_float(text) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 class EqualsSubstitution(Substitution):
+    """Typed as in launch: booleans compare as booleans (True equals 1), numbers as numbers
+    (1 equals 1.0), anything else as text."""
+
     def __init__(self, left, right):
         super().__init__()
-        self.left, self.right = left, right
+        self.left, self.right = normalize(_plain_text(left)), normalize(_plain_text(right))
+
+    def _equal(self, context) -> bool:
+        import math
+
+        left = perform_substitutions(context, self.left)
+        right = perform_substitutions(context, self.right)
+        if _str_is_bool(left) and _str_is_bool(right):
+            return (left.lower() in ("true", "1")) == (right.lower() in ("true", "1"))
+        if _str_is_float(left) and _str_is_float(right):
+            return math.isclose(float(left), float(right))
+        return left == right
 
     def perform(self, context):
-        return str(perform(context, self.left) == perform(context, self.right)).lower()
+        return str(self._equal(context)).lower()
 
 
 class NotEqualsSubstitution(EqualsSubstitution):
     def perform(self, context):
-        return str(perform(context, self.left) != perform(context, self.right)).lower()
+        return str(not self._equal(context)).lower()
 
 
 class IfElseSubstitution(Substitution):
     def __init__(self, condition, if_value="", else_value=""):
         super().__init__()
-        self.condition, self.if_value, self.else_value = condition, if_value, else_value
+        if if_value == else_value == "":
+            raise RuntimeError("One of if_value and else_value must be specified")
+        self.condition = normalize(condition)
+        self.if_value, self.else_value = normalize(if_value), normalize(else_value)
 
     def perform(self, context):
-        chosen = self.if_value if _truth(perform(context, self.condition)) else self.else_value
-        return perform(context, chosen)
+        chosen = self.if_value if _typed_bool(context, self.condition) else self.else_value
+        return perform_substitutions(context, chosen)
 
 
 class FileContent(Substitution):
     def __init__(self, path):
         super().__init__()
-        self.path = path
+        self.path = normalize(path)
 
     def perform(self, context):
-        path = perform(context, self.path)
+        path = perform_substitutions(context, self.path)
         _record_path(path, self, "FileContent")
-        with open(path, encoding="utf-8") as handle:
-            return handle.read()
+        if path.startswith(MISSING_PACKAGE_ROOT):
+            raise Unresolved(f"<a file of a package not found: {path}>")
+        try:
+            with open(path, encoding="utf-8") as handle:
+                return handle.read()
+        except FileNotFoundError:
+            raise SubstitutionFailure(f"File not found: {path}") from None
 
 
 # launch_ros substitutions
 
-def _share_directory(package: str) -> str:
-    from ament_index_python.packages import get_package_share_directory
+def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
+    """A package's share (or prefix) folder, the lookup recorded. A package not found here is
+    recorded as such and stands in as an empty package (a path that exists nowhere), so the
+    rest of the file is still evaluated."""
+    from ament_index_python.packages import PackageNotFoundError as AmentNotFound
+    from ament_index_python.packages import get_package_prefix
 
-    return get_package_share_directory(package)
+    item = {"name": package, "via": via}
+    guarded = False
+    if isinstance(where, tuple):
+        item["file"], item["line"] = where
+        guarded = _guarded(*where)
+        where = None
+    try:
+        prefix = getattr(get_package_prefix, "_pkgforge_real", get_package_prefix)(package)
+    except (AmentNotFound, PackageNotFoundError, ValueError):
+        if guarded:
+            raise  # the launch file catches it: probing for an optional package
+        RECORDER.add("packages", dict(item, found=False), where)
+        prefix = os.path.join(MISSING_PACKAGE_ROOT, package)
+    else:
+        RECORDER.add("packages", item, where)
+    return prefix if kind == "prefix" else os.path.join(prefix, "share", package)
 
 
-class FindPackageShare(Substitution):
+_GUARDS: dict[str, list[tuple[int, int]]] = {}
+CATCHING = {"PackageNotFoundError", "KeyError", "LookupError", "Exception", "BaseException"}
+
+
+def _guarded(file: str | None, line: int | None) -> bool:
+    """Whether the launch file's line is inside a try whose handlers catch a failed lookup."""
+    import ast
+
+    if file is None or line is None:
+        return False
+    if file not in _GUARDS:
+        spans = []
+        try:
+            with open(file, encoding="utf-8") as handle:
+                tree = ast.parse(handle.read())
+        except (OSError, SyntaxError, ValueError):
+            tree = None
+        for node in ast.walk(tree) if tree is not None else []:
+            if isinstance(node, ast.Try) and node.body:
+                names = set()
+                for handler in node.handlers:
+                    if handler.type is None:
+                        names.add("BaseException")
+                    for part in ast.walk(handler.type) if handler.type is not None else []:
+                        if isinstance(part, (ast.Name, ast.Attribute)):
+                            names.add(part.id if isinstance(part, ast.Name) else part.attr)
+                if names & CATCHING:
+                    spans.append((node.body[0].lineno, node.body[-1].end_lineno or node.body[-1].lineno))
+        _GUARDS[file] = spans
+    return any(start <= line <= end for start, end in _GUARDS[file])
+
+
+class FindPackage(Substitution):
     def __init__(self, package):
         super().__init__()
-        self.package = package
+        self.package = normalize(package)
 
     def perform(self, context):
-        package = perform(context, self.package)
-        RECORDER.add("packages", {"name": package, "via": type(self).__name__}, self)
-        return self.find(package, context)
+        self._performing = True
+        try:
+            return self.find(perform_substitutions(context, self.package))
+        finally:
+            self._performing = False
 
-    def find(self, package: str, context: LaunchContext) -> str:
-        return _share_directory(package)
+    def find(self, package_name):
+        raise NotImplementedError()
 
-
-class FindPackagePrefix(FindPackageShare):
-    def find(self, package: str, context: LaunchContext) -> str:
-        from ament_index_python.packages import get_package_prefix
-
-        return get_package_prefix(package)
-
-
-class FindPackage(FindPackagePrefix):
-    pass
+    def _where(self):
+        # performed: the object's place; called directly by the launch file: that call's place
+        return self if getattr(self, "_performing", False) else here()
 
 
-class FindPackageFile(FindPackageShare):
-    def __init__(self, package, file_path):
-        super().__init__(package)
-        self.file_path = file_path
+class FindPackagePrefix(FindPackage):
+    def find(self, package_name):
+        return lookup_package(package_name, "FindPackagePrefix", self._where(), "prefix")
 
-    def find(self, package: str, context: LaunchContext) -> str:
-        path = os.path.join(_share_directory(package), perform(context, self.file_path))
-        _record_path(path, self, "FindPackageFile")
-        return path
+
+class FindPackageShare(FindPackage):
+    def find(self, package_name):
+        return lookup_package(package_name, "FindPackageShare", self._where())
 
 
 class ExecutableInPackage(Substitution):
     def __init__(self, executable, package):
         super().__init__()
-        self.executable, self.package = executable, package
+        self.executable, self.package = normalize(executable), normalize(package)
 
     def perform(self, context):
-        package = perform(context, self.package)
-        RECORDER.add("packages", {"name": package, "via": "ExecutableInPackage"}, self)
-        from ament_index_python.packages import get_package_prefix
-
-        return os.path.join(get_package_prefix(package), "lib", package, perform(context, self.executable))
+        package = perform_substitutions(context, self.package)
+        prefix = lookup_package(package, "ExecutableInPackage", self, "prefix")
+        return os.path.join(prefix, "lib", package, perform_substitutions(context, self.executable))
 
 
 def _record_path(path: str, obj, via: str) -> None:
-    if path and os.path.isabs(path):
+    if path and os.path.isabs(path) and not path.startswith(MISSING_PACKAGE_ROOT):
         RECORDER.add("paths", {"path": path, "via": via, "exists": os.path.exists(path)}, obj)
 
 
@@ -569,7 +772,15 @@ class DeclareLaunchArgument(Action):
     def __init__(self, name, *, default_value=None, description=None, choices=None, **kwargs):
         super().__init__(**kwargs)
         self.name = name
-        self.default_value = default_value
+        # normalised as launch does: a bool or an int default is a TypeError, as in ROS
+        self.default_value = None if default_value is None else normalize(default_value)
+        if choices is not None:
+            if len(choices) == 0:
+                raise RuntimeError("Provided choices arg is empty. Use None to ignore the choice list.")
+            if default_value is not None and not isinstance(default_value, (Substitution, list)) \
+                    and default_value not in choices:
+                raise RuntimeError(f'Provided default_value "{default_value}" is not in provided choices '
+                                   f'"{choices}".')
         self.description = description
         self.choices = list(choices) if choices is not None else None
 
@@ -577,7 +788,7 @@ class DeclareLaunchArgument(Action):
         default = None
         if self.default_value is not None:
             try:
-                default = perform(context, self.default_value)
+                default = perform_substitutions(context, self.default_value)
             except Unresolved:
                 default = None
         RECORDER.arguments.setdefault(self.name, {
@@ -587,51 +798,57 @@ class DeclareLaunchArgument(Action):
         })
         if self.name not in context.launch_configurations:
             if self.default_value is None:
+                # ROS stops here (a required argument); verify records it and goes on
                 RECORDER.add("required", {"name": self.name}, self)
                 return None
-            context.launch_configurations[self.name] = perform(context, self.default_value)
+            context.launch_configurations[self.name] = perform_substitutions(context, self.default_value)
         value = context.launch_configurations[self.name]
         if self.choices is not None and value not in self.choices:
-            raise SubstitutionFailure(
-                f"argument '{self.name}' has value '{value}', not one of {self.choices}")
+            raise RuntimeError(f'Argument "{self.name}" provided value "{value}" is not valid. Valid options '
+                               f"are: {self.choices}")
         return None
 
 
 class SetLaunchConfiguration(Action):
     def __init__(self, name, value, **kwargs):
         super().__init__(**kwargs)
-        self.name, self.value = name, value
+        self.name, self.value = normalize(name), normalize(value)
 
     def visit(self, context):
-        context.launch_configurations[perform(context, self.name)] = perform(context, self.value)
+        context.launch_configurations[perform_substitutions(context, self.name)] = \
+            perform_substitutions(context, self.value)
 
 
 class UnsetLaunchConfiguration(Action):
     def __init__(self, name, **kwargs):
         super().__init__(**kwargs)
-        self.name = name
+        self.name = normalize(name)
 
     def visit(self, context):
-        context.launch_configurations.pop(perform(context, self.name), None)
+        context.launch_configurations.pop(perform_substitutions(context, self.name), None)
 
 
 class GroupAction(Action):
+    """Scoped: configurations and environment restored after; forwarding=False: the group
+    starts with only its own launch_configurations and the original environment."""
+
     def __init__(self, actions, *, scoped=True, forwarding=True, launch_configurations=None, **kwargs):
         super().__init__(**kwargs)
-        self.actions = list(actions)
-        self.scoped = scoped
-        self.launch_configurations = launch_configurations or {}
+        self.actions = actions
+        self.scoped, self.forwarding = scoped, forwarding
+        self.launch_configurations = launch_configurations if launch_configurations is not None else {}
 
     def visit(self, context):
-        entities = []
-        if self.scoped:
-            entities.append(PushLaunchConfigurations())
-        for key, value in self.launch_configurations.items():
-            entities.append(SetLaunchConfiguration(key, value))
-        entities.extend(self.actions)
-        if self.scoped:
-            entities.append(PopLaunchConfigurations())
-        return entities
+        actions = list(self.actions)
+        sets = [SetLaunchConfiguration(k, v) for k, v in self.launch_configurations.items()]
+        if not self.scoped:
+            return [*sets, *actions]
+        if self.forwarding:
+            return [PushLaunchConfigurations(), PushEnvironment(), *sets, *actions, PopEnvironment(),
+                    PopLaunchConfigurations()]
+        return [PushLaunchConfigurations(), PushEnvironment(), ResetEnvironment(),
+                ResetLaunchConfigurations(self.launch_configurations), *actions, PopEnvironment(),
+                PopLaunchConfigurations()]
 
 
 class PushLaunchConfigurations(Action):
@@ -647,10 +864,30 @@ class PopLaunchConfigurations(Action):
 class ResetLaunchConfigurations(Action):
     def __init__(self, launch_configurations=None, **kwargs):
         super().__init__(**kwargs)
-        self.keep = launch_configurations or {}
+        self.keep = launch_configurations
 
     def visit(self, context):
-        context.launch_configurations = {perform(context, k): perform(context, v) for k, v in self.keep.items()}
+        kept = {perform_substitutions(context, normalize(k)): perform_substitutions(context, normalize(v))
+                for k, v in (self.keep or {}).items()}
+        context.launch_configurations.clear()
+        context.launch_configurations.update(kept)
+
+
+class PushEnvironment(Action):
+    def visit(self, context):
+        context._environment_stack.append(dict(context.environment))
+
+
+class PopEnvironment(Action):
+    def visit(self, context):
+        if not context._environment_stack:
+            raise RuntimeError("environment stack unexpectedly empty")
+        context.environment = context._environment_stack.pop()
+
+
+class ResetEnvironment(Action):
+    def visit(self, context):
+        context.environment = dict(context._initial_environment)
 
 
 class OpaqueFunction(Action):
@@ -665,46 +902,51 @@ class OpaqueFunction(Action):
 class SetEnvironmentVariable(Action):
     def __init__(self, name, value, **kwargs):
         super().__init__(**kwargs)
-        self.name, self.value = name, value
+        self.name, self.value = normalize(name), normalize(value)
 
     def visit(self, context):
-        name, value = perform(context, self.name), perform(context, self.value)
+        name, value = perform_substitutions(context, self.name), perform_substitutions(context, self.value)
         context.environment[name] = value
-        os.environ[name] = value
 
 
-class AppendEnvironmentVariable(SetEnvironmentVariable):
+class AppendEnvironmentVariable(Action):
     def __init__(self, name, value, *, prepend=False, separator=os.pathsep, **kwargs):
-        super().__init__(name, value, **kwargs)
+        super().__init__(**kwargs)
+        self.name, self.value = normalize(name), normalize(value)
         self.prepend, self.separator = prepend, separator
 
     def visit(self, context):
-        name, value = perform(context, self.name), perform(context, self.value)
+        name, value = perform_substitutions(context, self.name), perform_substitutions(context, self.value)
+        prepend = self.prepend if isinstance(self.prepend, bool) else \
+            _typed_bool(context, normalize(self.prepend))
+        separator = perform(context, self.separator)
         current = context.environment.get(name)
         if current:
-            value = f"{value}{self.separator}{current}" if self.prepend else f"{current}{self.separator}{value}"
+            value = f"{value}{separator}{current}" if prepend else f"{current}{separator}{value}"
         context.environment[name] = value
-        os.environ[name] = value
 
 
 class UnsetEnvironmentVariable(Action):
     def __init__(self, name, **kwargs):
         super().__init__(**kwargs)
-        self.name = name
+        self.name = normalize(name)
 
     def visit(self, context):
-        context.environment.pop(perform(context, self.name), None)
+        context.environment.pop(perform_substitutions(context, self.name), None)
 
 
 class LogInfo(Action):
-    def __init__(self, *, msg="", **kwargs):
+    def __init__(self, *, msg, **kwargs):
         super().__init__(**kwargs)
-        self.msg = msg
+        self.msg = normalize(msg)
 
 
 class TimerAction(Action):
+    """Its actions would start after `period`: they are checked like any other."""
+
     def __init__(self, *, period, actions, cancel_on_shutdown=True, **kwargs):
         super().__init__(**kwargs)
+        self.period = period
         self.actions = list(actions)
 
     def visit(self, context):
@@ -721,28 +963,36 @@ class RegisterEventHandler(Action):
         return list(getattr(self.event_handler, "entities", []))
 
 
-class EventHandler(Located):
-    def __init__(self, *, matcher=None, entities=None, **_ignored):
+class BaseEventHandler(Located):
+    def __init__(self, *, matcher=None, handle_once=False, **_ignored):
         super().__init__()
+        self.entities = []
+
+
+class EventHandler(BaseEventHandler):
+    def __init__(self, *, matcher=None, entities=None, handle_once=False, **_ignored):
+        super().__init__(matcher=matcher, handle_once=handle_once)
         self.entities = _as_entities(entities)
 
 
 def _as_entities(entities) -> list:
     if entities is None or callable(entities):
-        return []
+        return []  # a function of the event: only known when the event happens
     if isinstance(entities, LaunchDescriptionEntity):
         return [entities]
     return [e for e in entities if isinstance(e, LaunchDescriptionEntity)]
 
 
 class _OnEvent(EventHandler):
-    def __init__(self, *, target_action=None, **kwargs):
-        entities = None
-        for key in ("on_exit", "on_start", "on_completion", "on_stdout", "on_stderr",
-                    "on_shutdown", "entities", "on_include"):
-            if kwargs.get(key) is not None:
-                entities = kwargs[key]
-        super().__init__(entities=entities)
+    HANDLERS = ("on_exit", "on_start", "on_completion", "on_stdin", "on_stdout", "on_stderr",
+                "on_shutdown", "on_include", "on_event", "entities")
+
+    def __init__(self, **kwargs):
+        entities = []
+        for key in self.HANDLERS:
+            entities.extend(_as_entities(kwargs.get(key)))
+        super().__init__()
+        self.entities = entities
 
 
 class OnProcessExit(_OnEvent):
@@ -775,6 +1025,18 @@ class OnActionEventBase(_OnEvent):
 
 class OnStateTransition(_OnEvent):
     pass
+
+
+def matcher(*args, **kwargs):
+    """event_named, matches_action…: a predicate on events, which never come at verify time."""
+    return lambda event: False
+
+
+class InertEvent(Located):
+    """An event class (Shutdown, ChangeState…): emitted at run time; nothing to check."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__()
 
 
 class ExecuteProcess(Action):
@@ -876,50 +1138,92 @@ def _phantom(path: str) -> bool:
 
 # --- launch_ros actions ---------------------------------------------------------------------
 
+def is_root_namespace(ns) -> bool:
+    return ns == "/"
+
+
+def is_namespace_absolute(ns) -> bool:
+    return ns.startswith("/")
+
+
+def prefix_namespace(base_ns, ns):
+    """launch_ros: ns under base_ns unless ns is absolute; trailing '/' stripped."""
+    if base_ns is None and ns is None:
+        return None
+    if ns is None:
+        combined = base_ns
+    elif not base_ns or is_namespace_absolute(ns):
+        combined = ns
+    else:
+        combined = ("" if is_root_namespace(base_ns) else base_ns) + "/" + ns
+    return combined if is_root_namespace(combined) else combined.rstrip("/")
+
+
+def make_namespace_absolute(ns):
+    if ns is None:
+        return None
+    return ns if is_namespace_absolute(ns) else "/" + ns
+
+
 class Node(ExecuteProcess):
     def __init__(self, *, executable=None, package=None, name=None, namespace=None,
                  exec_name=None, parameters=None, remappings=None, ros_arguments=None,
-                 arguments=None, node_executable=None, node_name=None, node_namespace=None,
-                 **kwargs):
+                 arguments=None, **kwargs):
         kwargs.pop("cmd", None)
         super().__init__(cmd=[], **kwargs)
         self.package = package
-        self.executable = executable if executable is not None else node_executable
-        self.node_name = name if name is not None else node_name
-        self.namespace = namespace if namespace is not None else node_namespace
+        self.executable = executable
+        self.node_name = name
+        self.namespace = namespace
+        if parameters is not None and (isinstance(parameters, str) or
+                                       not isinstance(parameters, collections.abc.Sequence)):
+            raise TypeError(f"Expecting list of parameters, got {parameters}")
         self.parameters = list(parameters or [])
         self.remappings = list(remappings or [])
         self.arguments = list(arguments or [])
         self.ros_arguments = list(ros_arguments or [])
 
-    def record(self, context) -> dict:
+    def _package(self, context):
+        """The package, recorded first: a failure later in the node must not hide it."""
         package = perform(context, self.package) if self.package is not None else None
+        if package:
+            RECORDER.add("packages", {"name": package, "via": "Node package"}, self)
+        return package
+
+    def record(self, context, package) -> dict:
         arguments = []
         for argument in self.arguments:
             text = perform(context, argument)
             arguments.append(text)
             _record_path(text, self, "Node arguments")
+        namespace = perform(context, self.namespace) if self.namespace is not None else None
+        namespace = make_namespace_absolute(prefix_namespace(context.launch_configurations.get("ros_namespace"),
+                                                             namespace))
         parameters = []
+        for group in context.launch_configurations.get("global_params") or []:
+            if isinstance(group, tuple):
+                parameters.append({"name": group[0], "form": "plain", "value_preview": str(group[1])[:200],
+                                   "file": self._file, "line": self._line})
         for group in self.parameters:
             parameters.extend(_evaluate_parameters(context, group, self))
+        remappings = [list(r) for r in context.launch_configurations.get("ros_remaps") or []]
+        remappings += [[perform(context, a), perform(context, b)] for a, b in self.remappings]
         return {
             "kind": "node", "package": package,
             "executable": perform(context, self.executable) if self.executable is not None else None,
             "name": perform(context, self.node_name) if self.node_name is not None else None,
-            "namespace": perform(context, self.namespace) if self.namespace is not None else None,
-            "arguments": arguments, "parameters": parameters,
-            "remappings": [[perform(context, a), perform(context, b)] for a, b in self.remappings],
+            "namespace": namespace, "arguments": arguments, "parameters": parameters,
+            "remappings": remappings,
         }
 
     def visit(self, context):
-        record = self.record(context)
-        if record["package"]:
-            RECORDER.add("packages", {"name": record["package"], "via": "Node package"}, self)
-        RECORDER.add("nodes", record, self)
+        package = self._package(context)
+        RECORDER.add("nodes", self.record(context, package), self)
 
 
 class LifecycleNode(Node):
-    pass
+    def __init__(self, *, name, namespace, **kwargs):
+        super().__init__(name=name, namespace=namespace, **kwargs)
 
 
 class ParameterValue(Located):
@@ -940,18 +1244,35 @@ class Parameter(Located):
         self.name, self.value = name, value
 
 
+def _flatten(group: dict, prefix: str | None, context) -> list[tuple[str, object]]:
+    """A parameter dict, nested dicts joined with '.' (normalize_parameter_dict)."""
+    out = []
+    for key, value in group.items():
+        name = perform(context, key) if not isinstance(key, str) else key
+        if prefix:
+            name = f"{prefix}.{name}"
+        if isinstance(value, collections.abc.Mapping):
+            out.extend(_flatten(value, name, context))
+        else:
+            out.append((name, value))
+    return out
+
+
 def _evaluate_parameters(context, group, node) -> list[dict]:
     """Node parameters: dicts of name → value, or parameter files; with how each was given."""
     out = []
-    if isinstance(group, dict):
-        for key, value in group.items():
-            name = perform(context, key) if not isinstance(key, str) else key
+    if isinstance(group, collections.abc.Mapping):
+        for name, value in _flatten(group, None, context):
             given = _value_form(value)
             text = _perform_value(context, value)
             out.append({"name": name, "form": given, "value_preview": str(text)[:200],
                         "file": node._file, "line": getattr(value, "_line", None) or node._line})
             if isinstance(text, str):
                 _record_path(text, node, "parameter")
+    elif isinstance(group, Parameter):
+        text = _perform_value(context, group.value)
+        out.append({"name": perform(context, group.name), "form": _value_form(group.value),
+                    "value_preview": str(text)[:200], "file": node._file, "line": node._line})
     else:
         source = group.param_file if isinstance(group, ParameterFile) else group
         path = perform(context, source) if not isinstance(source, (os.PathLike,)) else os.fspath(source)
@@ -978,11 +1299,19 @@ def _has_command(value) -> bool:
 
 
 def _perform_value(context, value):
+    """A parameter's value as launch_ros evaluates it: a list with a Substitution among strs is
+    one string (joined); a list of strs stays a list; a list of lists is a list of strings."""
     if isinstance(value, ParameterValue):
         value = value.value
-    if isinstance(value, (str, Substitution)) or (isinstance(value, (list, tuple)) and value and
-                                                  all(isinstance(v, (str, Substitution)) for v in value)):
+    if isinstance(value, (str, Substitution)):
         return perform(context, value)
+    if isinstance(value, (list, tuple)) and value:
+        kinds = {type(v) for v in value}
+        if any(isinstance(v, Substitution) for v in value) and \
+                all(isinstance(v, (str, Substitution)) for v in value):
+            return perform(context, list(value))
+        if all(isinstance(v, (str, Substitution, list, tuple)) for v in value) and kinds - {str}:
+            return [perform(context, v) for v in value]
     return value
 
 
@@ -1024,7 +1353,25 @@ class LoadComposableNodes(Action):
 class PushRosNamespace(Action):
     def __init__(self, namespace, **kwargs):
         super().__init__(**kwargs)
-        self.namespace = namespace
+        self.namespace = normalize(namespace)
+
+    def visit(self, context):
+        pushed = perform_substitutions(context, self.namespace)
+        previous = context.launch_configurations.get("ros_namespace", None)
+        namespace = make_namespace_absolute(prefix_namespace(previous, pushed))
+        if not _valid_namespace(namespace):
+            raise SubstitutionFailure("The resulting namespace is invalid: "
+                                      f"[previous_namespace='{previous}', pushed_namespace='{pushed}']")
+        context.launch_configurations["ros_namespace"] = namespace
+
+
+def _valid_namespace(namespace: str) -> bool:
+    """rmw's namespace rules: absolute, [A-Za-z0-9_/] tokens not starting with a digit, no '//'."""
+    import re
+
+    if namespace == "/":
+        return True
+    return bool(re.fullmatch(r"(/[A-Za-z_][A-Za-z0-9_]*)+", namespace))
 
 
 class SetParameter(Action):
@@ -1032,15 +1379,28 @@ class SetParameter(Action):
         super().__init__(**kwargs)
         self.name, self.value = name, value
 
+    def visit(self, context):
+        name = perform(context, self.name)
+        value = _perform_value(context, self.value)
+        context.launch_configurations.setdefault("global_params", []).append((name, value))
+
 
 class SetRemap(Action):
     def __init__(self, src, dst, **kwargs):
         super().__init__(**kwargs)
+        self.src, self.dst = normalize(src), normalize(dst)
+
+    def visit(self, context):
+        src, dst = perform_substitutions(context, self.src), perform_substitutions(context, self.dst)
+        # appended in place, as launch_ros does
+        remaps = context.launch_configurations.get("ros_remaps", [])
+        remaps.append((src, dst))
+        context.launch_configurations["ros_remaps"] = remaps
 
 
-class SetUseSimTime(Action):
+class SetUseSimTime(SetParameter):
     def __init__(self, value, **kwargs):
-        super().__init__(**kwargs)
+        super().__init__("use_sim_time", value, **kwargs)
 
 
 class SetParametersFromFile(Action):
@@ -1049,7 +1409,9 @@ class SetParametersFromFile(Action):
         self.filename = filename
 
     def visit(self, context):
-        _record_path(perform(context, self.filename), self, "SetParametersFromFile")
+        path = perform(context, self.filename)
+        _record_path(path, self, "SetParametersFromFile")
+        context.launch_configurations.setdefault("global_params", []).append(path)
 
 
 class RosTimerAction(TimerAction):
@@ -1058,11 +1420,14 @@ class RosTimerAction(TimerAction):
 
 # --- names ROS has and pkgforge does not evaluate -------------------------------------------
 
-def unsupported(name: str, base: type = Action) -> type:
-    """A real launch API name pkgforge records instead of evaluating."""
+def unsupported(name: str, bases=Action) -> type:
+    """A real launch API name pkgforge records instead of evaluating: an action that does
+    nothing, a substitution whose value is unknown (what uses it is skipped)."""
+    bases = bases if isinstance(bases, tuple) else (bases,)
 
     def __init__(self, *args, **kwargs):
-        base.__init__(self)
+        Located.__init__(self)
+        self.condition = kwargs.get("condition")
         RECORDER.add("unsupported", {"name": name}, self)
 
     def visit(self, context):
@@ -1071,7 +1436,7 @@ def unsupported(name: str, base: type = Action) -> type:
     def perform(self, context):
         raise Unresolved(f"<{name}>")
 
-    return type(name, (base,), {"__init__": __init__, "visit": visit, "perform": perform})
+    return type(name, bases, {"__init__": __init__, "visit": visit, "perform": perform})
 
 
 def load_description_function(path, *args, **kwargs):
@@ -1079,3 +1444,55 @@ def load_description_function(path, *args, **kwargs):
     from .evaluate import load_description
 
     return load_description(os.fspath(path))
+
+
+def load_python_launch_file_as_module(python_launch_file_path):
+    """The launch file as a module, as launch loads it (generate_launch_description not called)."""
+    from .evaluate import load_module
+
+    return load_module(os.fspath(python_launch_file_path))
+
+
+# --- launch.utilities and friends -----------------------------------------------------------
+
+SomeSubstitutionsType = typing.Union[str, Substitution, typing.Iterable[typing.Union[str, Substitution]]]
+SomeSubstitutionsType_types_tuple = (str, Substitution, collections.abc.Iterable)
+SomeEntitiesType = typing.Union[LaunchDescriptionEntity, typing.Iterable[LaunchDescriptionEntity]]
+SomeEntitiesType_types_tuple = (LaunchDescriptionEntity, collections.abc.Iterable)
+FilePath = typing.Union[str, "os.PathLike[str]"]
+
+
+def isclassinstance(obj) -> bool:
+    return hasattr(obj, "__class__")
+
+
+def is_a(obj, entity_type) -> bool:
+    return isclassinstance(obj) and issubclass(obj.__class__, entity_type)
+
+
+def is_a_subclass(obj, entity_type) -> bool:
+    return is_a(obj, entity_type) or (isinstance(obj, type) and issubclass(obj, entity_type))
+
+
+def ensure_argument_type(argument, types, argument_name, caller=None) -> None:
+    """launch.utilities.ensure_argument_type: a TypeError naming the argument."""
+    types = types if isinstance(types, (list, tuple)) else [types]
+    if not any(isinstance(argument, t) or (isinstance(argument, type) and isinstance(t, type)
+                                           and issubclass(argument, t)) for t in types):
+        expected = ", ".join(f"'{t}'" for t in types)
+        prefix = f"{caller}: " if caller else ""
+        raise TypeError(f"{prefix}Expected '{argument_name}' to be one of [{expected}], "
+                        f"but got '{argument}' of type '{type(argument)}'")
+
+
+def normalize_to_list_of_entities(entities) -> list:
+    out = []
+    for entity in entities:
+        out.extend(entity if isinstance(entity, (list, tuple)) else [entity])
+    return out
+
+
+def get_logger(name=None):
+    import logging
+
+    return logging.getLogger("launch" if name is None else name)

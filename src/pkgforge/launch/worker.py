@@ -24,7 +24,7 @@ import sys
 import traceback
 from pathlib import Path
 
-API = Path(__file__).resolve().parent / "api"
+API_AMENT = Path(__file__).resolve().parent / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
 
 
@@ -38,12 +38,15 @@ class CPULimit(BaseException):
 
 
 def _install_api() -> None:
-    """Put pkgforge's launch, launch_ros, launch_xml and launch_yaml first on the path."""
-    sys.path.insert(0, str(API))
+    """Serve pkgforge's launch, launch_ros, launch_xml and launch_yaml (the real names of the
+    target distro, PKGFORGE_LAUNCH_DISTRO) before anything on the path."""
+    from pkgforge.launch import api
+
+    api.install()
     try:
         import ament_index_python.packages  # noqa: F401  (the real one, from the ament extra or ROS)
     except ImportError:
-        sys.path.insert(0, str(API.parent / "api_ament"))
+        sys.path.insert(0, str(API_AMENT))
 
 
 # --- limits ---------------------------------------------------------------------------------
