@@ -141,9 +141,8 @@ def externals(context) -> set[str]:
     tree = context.tree
     found: set[str] = set()
     for resolution in context.resolutions:
-        for kind in ("paths", "includes"):
-            found.update(item["path"] for item in resolution.items.get(kind, []))
-        found.update(c["model"] for c in resolution.items.get("commands", []) if c.get("model"))
+        found.update(item.path for item in [*resolution.paths, *resolution.includes])
+        found.update(c.model for c in resolution.commands if c.model)
     for result in context.model_results:
         found.add(str(result.installed))
         found.update(result.includes)

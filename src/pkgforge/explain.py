@@ -65,49 +65,67 @@ def _mark(path: str, exists: bool, tree) -> str:
     return OK if exists else MISSING
 
 
-def _where(item: dict, tree) -> str:
-    file = item.get("file")
-    place = f"{os.path.basename(file)}:{item.get('line')}" if file else f"line {item.get('line')}"
-    branches = [b for b in item.get("branches", []) if b]
+def _where(item, tree) -> str:
+    place = f"{os.path.basename(item.file)}:{item.line}" if item.file else f"line {item.line}"
+    branches = [b for b in item.branches if b]
     return place + (f" [{', '.join(branches)}]" if branches else "")
+
+
+def _node(n, tree) -> str:
+    text = f"{n.package}/{n.executable}" if n.kind == "node" else " ".join(n.cmd or [])
+    if n.arguments:
+        text += f" args {[_short(a, tree) for a in n.arguments]}"
+    return text + "".join(f"\n      param {p.name or '(file)'}: {p.form}" for p in n.parameters)
+
+
+def _package(p, tree) -> str:
+    phantom = p.name in tree.phantom_packages
+    mark = UNCHECKED if phantom else MISSING if p.found is False else OK
+    return f"{mark} {p.name} ({p.via})" + (" — declared, not installed here" if phantom else "")
+
+
+def _command(c, tree) -> str:
+    text = f"{OK if c.ok else MISSING} {' '.join(_short(w, tree) for w in c.command)}"
+    if c.runtime_only:
+        return f"{UNCHECKED} {' '.join(c.command)} (run time only, not executed)"
+    if not c.ok and c.message:
+        text += f"\n      {c.message.splitlines()[0]}"
+    return text
 
 
 def _render(resolution, tree) -> str:
     launch = resolution.launch
+    engine = f"the {resolution.engine} engine" + (f" (ROS 2 {resolution.distro})" if resolution.distro else "")
     lines = [f"{launch.source or launch.installed}", f"  installed as {_short(str(launch.installed), tree)} "
-             f"in the {tree.kind} tree"]
+             f"in the {tree.kind} tree, evaluated by {engine}"]
     if resolution.status != "ok":
-        error = resolution.error or {}
-        lines.append(f"  {MISSING} {resolution.status}: {error.get('message')} (line {error.get('line')})")
+        error = resolution.error
+        lines.append(f"  {MISSING} {resolution.status}: {error.message if error else None} "
+                     f"(line {error.line if error else None})")
     if resolution.arguments:
         lines.append("arguments:")
         for argument in resolution.arguments:
-            values = " | ".join(argument["choices"]) if argument.get("choices") else argument.get("default")
+            values = " | ".join(argument.choices) if argument.choices else argument.default
             shown = _short(values, tree) if isinstance(values, str) and values.startswith("/") else values
-            lines.append(f"  {argument['name']} = {shown if shown is not None else '(required)'}")
+            lines.append(f"  {argument.name} = {shown if shown is not None else '(required)'}")
     if resolution.branch_names:
         lines.append(f"evaluated for: {'; '.join(resolution.branch_names)}")
     sections = [
-        ("nodes", lambda n: f"{n.get('package')}/{n.get('executable')}" + (
-            f" args {[_short(a, tree) for a in n['arguments']]}" if n.get("arguments") else "") + "".join(
-            f"\n      param {p['name'] or '(file)'}: {p['form']}" for p in n.get("parameters", []))),
-        ("packages", lambda p: f"{UNCHECKED if p['name'] in tree.phantom_packages else MISSING if p.get('found') is False else OK} "
-                               f"{p['name']} ({p.get('via')})"
-                               + (" — declared, not installed here" if p['name'] in tree.phantom_packages else "")),
-        ("includes", lambda i: f"{_mark(i['path'], i['exists'], tree)} {_short(i['path'], tree)} {i.get('arguments') or ''}"),
-        ("paths", lambda p: f"{_mark(p['path'], p['exists'], tree)} {_short(p['path'], tree)} ({p.get('via')})"),
-        ("commands", lambda c: f"{OK if c['ok'] else MISSING} {' '.join(_short(w, tree) for w in c['command'])}"
-                               + ("" if c["ok"] else f"\n      {c.get('message', '').splitlines()[0] if c.get('message') else ''}")),
-        ("errors", lambda e: f"{MISSING} {e.get('entity')}: {e.get('message')}"),
-        ("unsupported", lambda u: f"{UNCHECKED} {u['name']} (not evaluated)"),
+        ("nodes", _node),
+        ("packages", _package),
+        ("includes", lambda i, t: f"{_mark(i.path, i.exists, t)} {_short(i.path, t)} {i.arguments or ''}"),
+        ("paths", lambda p, t: f"{_mark(p.path, p.exists, t)} {_short(p.path, t)} ({p.via})"),
+        ("commands", _command),
+        ("errors", lambda e, t: f"{MISSING} {e.entity}: {e.message}"),
+        ("unsupported", lambda u, t: f"{UNCHECKED} {u.name} (not evaluated)"),
     ]
     for kind, show in sections:
-        items = resolution.items.get(kind, [])
+        items = getattr(resolution, kind)
         if items:
             lines.append(f"{kind}:")
             seen = set()
-            for item in sorted(items, key=lambda i: (i.get("line") or 0)):
-                text = f"  {show(item)}  @ {_where(item, tree)}"
+            for item in sorted(items, key=lambda i: (i.line or 0)):
+                text = f"  {show(item, tree)}  @ {_where(item, tree)}"
                 if text not in seen:
                     seen.add(text)
                     lines.append(text)

@@ -67,19 +67,19 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
     for package, package_resolutions in resolutions.items():
         owner = by_name.get(package)
         for resolution in package_resolutions:
-            for command in resolution.items.get("commands", []):
-                model_path = command.get("model")
+            for command in resolution.commands:
+                model_path = command.model
                 if not model_path or not os.path.isfile(model_path) or tree.is_phantom(model_path):
                     continue
-                key = (package, os.path.normpath(model_path), tuple(sorted(command.get("mappings", {}).items())))
+                key = (package, os.path.normpath(model_path), tuple(sorted(command.mappings.items())))
                 if key not in jobs:
                     jobs[key] = ModelResult(package, Path(key[1]), source_of(Path(key[1]), tree, owner),
-                                            dict(command.get("mappings", {})))
-                if command.get("robot") and jobs[key].robot is None:
+                                            dict(command.mappings))
+                if command.robot and jobs[key].robot is None:
                     # the launch's own xacro run already gave the structure
-                    jobs[key].robot, jobs[key].includes = command["robot"], command.get("includes", [])
-                jobs[key].origins.append({"launch": resolution.launch, "file": command.get("file"),
-                                          "line": command.get("line")})
+                    jobs[key].robot, jobs[key].includes = command.robot, list(command.includes)
+                jobs[key].origins.append({"launch": resolution.launch, "file": command.file,
+                                          "line": command.line})
     for model in models:
         for path in _installed_models(tree, model):
             key = (model.name, os.path.normpath(path), ())

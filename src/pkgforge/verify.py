@@ -246,9 +246,9 @@ def rviz_configs(tree, checked: list[PackageModel], resolutions: dict) -> dict:
                 configs[installed.source] = read_rviz(installed.source)
         launches = []
         for resolution in resolutions.get(model.name, []):
-            for node in resolution.items.get("nodes", []):
-                arguments = node.get("arguments") or []
-                if node.get("package") != "rviz2" or "-d" not in arguments[:-1]:
+            for node in resolution.nodes:
+                arguments = node.arguments
+                if node.package != "rviz2" or "-d" not in arguments[:-1]:
                     continue
                 installed = Path(arguments[arguments.index("-d") + 1])
                 source = source_of(installed, tree, model)

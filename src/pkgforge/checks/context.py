@@ -101,15 +101,15 @@ class CheckContext:
         """None (loaded), or why not: load | package | xacro | unevaluated."""
         if resolution.status == "ok":
             return None
-        error = resolution.error or {}
-        if resolution.status != "load-error":
+        error = resolution.error
+        if resolution.status != "load-error" or error is None:
             return "load"
-        if error.get("type") == "PackageNotFoundError":
+        if error.type == "PackageNotFoundError":
             return "package"
-        if error.get("type") == "XacroException":
+        if error.type == "XacroException":
             return "xacro"
-        module = (error.get("module") or "").split(".")[0]
-        if error.get("type") == "ModuleNotFoundError" and module and module not in STAND_IN_MODULES \
+        module = (error.module or "").split(".")[0]
+        if error.type == "ModuleNotFoundError" and module and module not in STAND_IN_MODULES \
                 and (module in self.model.manifest.declared() or module in self.tree_packages()):
             return "unevaluated"
         return "load"
@@ -139,10 +139,10 @@ class CheckContext:
                             and not (self.tree.share(package) / relative).exists():
                         folders.add(relative.split("/")[0])
         for resolution in self.resolutions:
-            for item in resolution.items.get("paths", []):
-                if item.get("exists"):
+            for item in resolution.paths:
+                if item.exists:
                     continue
-                located = self.tree.locate(item["path"])
+                located = self.tree.locate(item.path)
                 if located and located[0] in (self.model.share_name, self.model.name) \
                         and (self.model.path / located[1]).exists():
                     folders.add(located[1].split("/")[0])

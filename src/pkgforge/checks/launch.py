@@ -9,6 +9,7 @@ from ..diagnostics import Finding
 from .context import CheckContext
 from .install import install_fix
 from .registry import register
+from ..launch.records import PackageLookup, Record
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these; a declared rviz2 brings their displays
@@ -21,8 +22,8 @@ LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "a
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
 
 
-def _branch_note(item: dict, resolution) -> str:
-    branches = [b for b in item.get("branches", []) if b]
+def _branch_note(item: Record, resolution) -> str:
+    branches = [b for b in item.branches if b]
     if branches and len(branches) < resolution.branches:
         return f" (only with {', '.join(branches)})"
     return ""
@@ -37,22 +38,22 @@ def launch_load_error(ctx: CheckContext):
     for resolution in ctx.resolutions:
         error = resolution.error
         if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
-            position = ctx.source_position(resolution, error.get("file"), error.get("line"))
+            position = ctx.source_position(resolution, error.file, error.line)
             if position is None:
                 position = (resolution.launch.source or resolution.launch.installed, None)
             if resolution.status == "timeout":
-                message = f"{resolution.launch.installed.name} {error['message']}"
+                message = f"{resolution.launch.installed.name} {error.message}"
             elif resolution.status == "crashed":
-                message = f"{resolution.launch.installed.name}: {error['message']}"
+                message = f"{resolution.launch.installed.name}: {error.message}"
             else:
-                message = f"loading {resolution.launch.installed.name} failed: {error['message']}"
+                message = f"loading {resolution.launch.installed.name} failed: {error.message}"
             yield Finding(message, *position)
-        for item in resolution.items.get("errors", []):
-            if item.get("message", "").startswith("executed command") and "xacro" in item["message"]:
+        for item in resolution.errors:
+            if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
-            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
-                yield Finding(f"{item.get('entity', 'an action')} failed: {item['type']}: {item['message']}"
+                yield Finding(f"{item.entity or 'an action'} failed: {item.type}: {item.message}"
                               f"{_branch_note(item, resolution)}", *position)
 
 
@@ -85,10 +86,10 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
     # one defect, one diagnostic: the first line of a file that names the path, "and N more"
     found: dict[tuple, list] = {}
     for resolution in ctx.resolutions:
-        for item in resolution.items.get("paths", []):
-            if item.get("exists"):
+        for item in resolution.paths:
+            if item.exists:
                 continue
-            located = _share_reference(ctx, item["path"])
+            located = _share_reference(ctx, item.path)
             if located is None:
                 continue
             package, relative, _ = located
@@ -97,7 +98,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             in_source = source is not None and source.exists()
             if in_source != want_source:
                 continue
-            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
+            position = ctx.source_position(resolution, item.file, item.line)
             if position is None:
                 continue
             path, line = position
@@ -128,30 +129,30 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
 def _looked_up(ctx: CheckContext):
     """(package name, source path, line, how, item, resolution) for every package a launch file uses."""
     for resolution in ctx.resolutions:
-        for item in resolution.items.get("packages", []):
-            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
+        for item in resolution.packages:
+            position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
-                yield item["name"], position[0], position[1], item.get("via", ""), item, resolution
-        for item in resolution.items.get("includes", []):
-            located = _share_reference(ctx, item["path"]) or (
-                ctx.tree.locate(item["path"]) if ctx.tree is not None else None)
-            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
+                yield item.name, position[0], position[1], item.via, item, resolution
+        for item in resolution.includes:
+            located = _share_reference(ctx, item.path) or (
+                ctx.tree.locate(item.path) if ctx.tree is not None else None)
+            position = ctx.source_position(resolution, item.file, item.line)
             if located is not None and position is not None:
                 yield located[0], position[0], position[1], "included launch file", item, resolution
-        error = resolution.error or {}
-        if resolution.status == "load-error" and error.get("package"):
-            position = ctx.source_position(resolution, error.get("file"), error.get("line"))
+        error = resolution.error
+        if resolution.status == "load-error" and error is not None and error.package:
+            position = ctx.source_position(resolution, error.file, error.line)
             if position is not None:
-                yield error["package"], position[0], position[1], "lookup", {"found": False}, resolution
+                yield error.package, position[0], position[1], "lookup", PackageLookup(found=False), resolution
     for path, references in ctx.static_fallback().items():
         for reference in references:
-            yield reference.package, reference.path, reference.line, reference.via, {}, None
+            yield reference.package, reference.path, reference.line, reference.via, None, None
     # models: $(find pkg) and package://pkg, as written and as xacro expanded them
     for reference in ctx.model.references:
         if reference.via in ("package://", "$(find)") and reference.path.name.endswith(MODEL_SUFFIXES):
-            yield reference.package, reference.path, reference.line, reference.via, {}, None
+            yield reference.package, reference.path, reference.line, reference.via, None, None
         elif reference.via == "rviz plugin":
-            yield reference.package, reference.path, reference.line, "RViz display from", {}, None
+            yield reference.package, reference.path, reference.line, "RViz display from", None, None
     for result in ctx.model_results:
         for mesh in (result.robot or {}).get("meshes", []):
             if mesh["uri"].startswith("package://"):
@@ -159,13 +160,13 @@ def _looked_up(ctx: CheckContext):
                 own = ctx.own_source(mesh.get("file") or "")
                 # a mesh written in another package's file: this model's file, no line
                 source, line = (own, mesh.get("line")) if own else (result.source or result.installed, None)
-                yield package, source, line, "package://", {}, None
+                yield package, source, line, "package://", None, None
     # a Python launch file that imports a ROS package's module needs that package at run time
     evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
     for reference in ctx.model.references:
         if reference.via == "import" and reference.path in evaluated \
                 and reference.package not in LAUNCH_INFRASTRUCTURE:
-            yield reference.package, reference.path, reference.line, "import of", {}, None
+            yield reference.package, reference.path, reference.line, "import of", None, None
 
 
 @register("PF304", "unknown-package", "error", area="launch",
@@ -238,16 +239,16 @@ def missing_exec_depend(ctx: CheckContext):
 def jsp_model_argument(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
-        for node in resolution.items.get("nodes", []):
-            if node.get("package") not in JSP_PACKAGES:
+        for node in resolution.nodes:
+            if node.package not in JSP_PACKAGES:
                 continue
-            models = [a for a in node.get("arguments", []) if str(a).endswith(MODEL_SUFFIXES)]
-            position = ctx.source_position(resolution, node.get("file"), node.get("line"))
+            models = [a for a in node.arguments if str(a).endswith(MODEL_SUFFIXES)]
+            position = ctx.source_position(resolution, node.file, node.line)
             if models and position is not None and position not in seen:
                 seen.add(position)
-                yield Finding(f"{node['package']} is given {Path(models[0]).name} in arguments; it reads "
+                yield Finding(f"{node.package} is given {Path(models[0]).name} in arguments; it reads "
                               f"/robot_description instead{_branch_note(node, resolution)}", *position,
-                              hint=f"remove arguments=[...] from the {node['package']} node: "
+                              hint=f"remove arguments=[...] from the {node.package} node: "
                                    "robot_state_publisher publishes /robot_description")
 
 
@@ -260,12 +261,12 @@ def robot_description_not_string(ctx: CheckContext):
     for resolution in ctx.resolutions:
         if resolution.launch.installed.suffix != ".py":
             continue
-        for node in resolution.items.get("nodes", []):
-            if node.get("package") != "robot_state_publisher":
+        for node in resolution.nodes:
+            if node.package != "robot_state_publisher":
                 continue
-            for parameter in node.get("parameters", []):
-                if parameter.get("name") == "robot_description" and parameter.get("form") == "command-untyped":
-                    position = ctx.source_position(resolution, parameter.get("file"), parameter.get("line"))
+            for parameter in node.parameters:
+                if parameter.name == "robot_description" and parameter.form == "command-untyped":
+                    position = ctx.source_position(resolution, parameter.file, parameter.line)
                     if position is not None:
                         yield Finding("robot_description is a Command() that launch_ros will parse as YAML",
                                       *position)
@@ -279,13 +280,13 @@ def robot_description_not_string(ctx: CheckContext):
 def launch_argument_required(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
-        for item in resolution.items.get("required", []):
-            if "skipped" in item:
+        for item in resolution.required:
+            if item.skipped is not None:
                 continue
-            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
-            if position is not None and (item["name"], position) not in seen:
-                seen.add((item["name"], position))
-                yield Finding(f"launch argument '{item['name']}' has no default and no value", *position)
+            position = ctx.source_position(resolution, item.file, item.line)
+            if position is not None and (item.name, position) not in seen:
+                seen.add((item.name, position))
+                yield Finding(f"launch argument '{item.name}' has no default and no value", *position)
 
 
 @register("PF310", "unsupported-launch-api", "info", area="launch",
@@ -295,11 +296,11 @@ def launch_argument_required(ctx: CheckContext):
 def unsupported_launch_api(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
-        for item in resolution.items.get("unsupported", []):
-            position = ctx.source_position(resolution, item.get("file"), item.get("line"))
-            if position is not None and (item["name"], position) not in seen:
-                seen.add((item["name"], position))
-                yield Finding(f"{item['name']} is not evaluated by pkgforge", *position)
+        for item in resolution.unsupported:
+            position = ctx.source_position(resolution, item.file, item.line)
+            if position is not None and (item.name, position) not in seen:
+                seen.add((item.name, position))
+                yield Finding(f"{item.name} is not evaluated by pkgforge", *position)
 
 
 @register("PF311", "launch-unevaluated", "info", area="launch",
@@ -311,9 +312,9 @@ def launch_unevaluated(ctx: CheckContext):
     for resolution in ctx.resolutions:
         if ctx.load_error_kind(resolution) == "unevaluated":
             error = resolution.error
-            position = ctx.source_position(resolution, error.get("file"), error.get("line")) or \
+            position = ctx.source_position(resolution, error.file, error.line) or \
                 (resolution.launch.source or resolution.launch.installed, None)
-            yield Finding(f"{resolution.launch.installed.name} imports {error.get('module')}, from a "
+            yield Finding(f"{resolution.launch.installed.name} imports {error.module}, from a "
                           "package not installed here; checked statically instead", *position)
 
 

@@ -37,24 +37,24 @@ def xacro_error(ctx: CheckContext):
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
     seen = set()
     for resolution in ctx.resolutions:
-        for command in resolution.items.get("commands", []):
-            if command.get("ok") or "model" not in command or command["model"] in covered:
+        for command in resolution.commands:
+            if command.ok or command.model is None or command.model in covered:
                 continue
-            if not Path(command["model"]).exists():
+            if not Path(command.model).exists():
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
-            position = ctx.source_position(resolution, command.get("file"), command.get("line"))
+            position = ctx.source_position(resolution, command.file, command.line)
             if position is None or position in seen:
                 continue
             seen.add(position)
-            message = command.get("message", "").strip().splitlines()
-            yield Finding(f"xacro {Path(command['model']).name}: {message[0] if message else 'failed'}",
+            message = command.message.strip().splitlines()
+            yield Finding(f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}",
                           *position)
-        error = resolution.error or {}
-        models = {c.get("model") for c in resolution.items.get("commands", [])}
-        if ctx.load_error_kind(resolution) == "xacro" and not models & covered:
-            position = ctx.source_position(resolution, error.get("file"), error.get("line"))
+        error = resolution.error
+        models = {c.model for c in resolution.commands}
+        if ctx.load_error_kind(resolution) == "xacro" and error is not None and not models & covered:
+            position = ctx.source_position(resolution, error.file, error.line)
             if position is not None:
-                yield Finding(f"xacro: {error['message']}", *position)
+                yield Finding(f"xacro: {error.message}", *position)
 
 
 @register("PF401", "urdf-invalid", "error", area="model",

@@ -14,6 +14,7 @@ import sys
 import traceback
 
 from . import runtime
+from .records import ITEM_KINDS, Error, as_dict
 from .runtime import (RECORDER, Action, LaunchContext, LaunchDescription, LaunchDescriptionEntity,
                       Recorder, Unresolved)
 
@@ -108,12 +109,12 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
     origin = next((f for f in reversed(frames) if f.filename in runtime._LAUNCH_FILES), None)
     if origin is not None:
         record["file"], record["line"] = origin.filename, origin.lineno
-    return record
+    return as_dict(Error(**record))
 
 
 def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
     if depth > MAX_DEPTH:
-        RECORDER.errors.append({"stage": "visit", "type": "RecursionError",
+        RECORDER.add("errors", {"stage": "visit", "type": "RecursionError",
                                 "message": f"launch files include each other more than {MAX_DEPTH} deep",
                                 "file": context.current_file, "line": None})
         return
@@ -122,8 +123,12 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
             continue
         condition = getattr(entity, "condition", None) if isinstance(entity, Action) else None
         try:
-            if condition is not None and not condition.evaluate(context):
-                continue
+            if condition is not None:
+                taken = bool(condition.evaluate(context))
+                RECORDER.add("conditions", {"condition": type(condition).__name__,
+                                            "entity": type(entity).__name__, "taken": taken}, entity)
+                if not taken:
+                    continue
             children = entity.visit(context)
         except Unresolved as missing:
             RECORDER.add("required", {"name": missing.name, "skipped": type(entity).__name__}, entity)
@@ -141,8 +146,7 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
                 continue
             record = {"stage": "visit", "type": type(error).__name__, "message": str(error),
                       "file": entity._file, "line": entity._line, "entity": type(entity).__name__}
-            record["branch"] = dict(RECORDER.branch)
-            RECORDER.errors.append(record)
+            RECORDER.add("errors", record)
             continue
         if children:
             visit(list(children), context, depth + 1)
@@ -249,15 +253,17 @@ def evaluate(path: str, overrides: dict[str, str]) -> dict:
 
     run({}, {})
     varying = [a for a in RECORDER.arguments.values()
-               if a["name"] not in overrides and a["file"] == path and (a["choices"] or a["boolean"])]
+               if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
     if varying:
-        defaults = {a["name"]: a["default"] for a in varying}
-        for kind in ("nodes", "packages", "paths", "includes", "commands", "unsupported", "required", "errors"):
+        defaults = {a.name: a.default for a in varying}
+        for kind in ITEM_KINDS:
             for item in getattr(RECORDER, kind):
-                if not item.get("branch"):
-                    item["branch"] = dict(defaults)
-        domains = [a["choices"] or ["true", "false"] for a in varying]
-        names = [a["name"] for a in varying]
+                if not item.branch:
+                    item.branch = dict(defaults)
+        domains = [a.choices or ["true", "false"] for a in varying]
+        for argument, domain in zip(varying, domains):
+            argument.values = list(domain)
+        names = [a.name for a in varying]
         for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
             assignment = dict(zip(names, values))
             if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
@@ -267,10 +273,4 @@ def evaluate(path: str, overrides: dict[str, str]) -> dict:
 
 
 def _dump(recorder: Recorder) -> dict:
-    return {
-        "arguments": list(recorder.arguments.values()),
-        "nodes": recorder.nodes, "packages": recorder.packages, "paths": recorder.paths,
-        "includes": recorder.includes, "commands": recorder.commands,
-        "unsupported": recorder.unsupported, "required": recorder.required, "errors": recorder.errors,
-        "files": sorted(runtime._LAUNCH_FILES),
-    }
+    return {**recorder.dump(), "files": sorted(runtime._LAUNCH_FILES), "engine": "builtin"}

@@ -15,40 +15,20 @@ import subprocess
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from .. import processes
 from ..model.package import PackageModel
 from ..model.references import launch_kind
 from ..trees import InstallTree
+from .records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
 KILL_GRACE = 2.0  # seconds past the time limit before the parent kills a worker that did not stop
 # a result that depends on the machine's load or limits, never cached
 MACHINE_DEPENDENT = ("timeout", "crashed")
-ITEM_KINDS = ("nodes", "packages", "paths", "includes", "commands", "unsupported", "required", "errors")
-
-
-@dataclass(frozen=True)
-class LaunchFile:
-    package: str
-    installed: Path
-    source: Path | None
-
-
-@dataclass
-class Resolution:
-    """One launch file resolved: plain data, items de-duplicated across branches."""
-
-    launch: LaunchFile
-    status: str  # ok | load-error | timeout | crashed
-    error: dict | None = None
-    arguments: list = field(default_factory=list)
-    items: dict[str, list[dict]] = field(default_factory=dict)
-    branches: int = 1
-    branch_names: list[str] = field(default_factory=list)
 
 
 def find_launch_files(tree: InstallTree, models: list[PackageModel]) -> tuple[list[LaunchFile], list[LaunchFile]]:
@@ -279,20 +259,4 @@ def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
 
 
 def _resolution(launch: LaunchFile, reply: dict) -> Resolution:
-    resolution = Resolution(launch, reply.get("status", "crashed"), reply.get("error"),
-                            reply.get("arguments", []))
-    branch_keys = set()
-    for kind in ITEM_KINDS:
-        merged: dict[str, dict] = {}
-        for item in reply.get(kind, []):
-            branch = item.pop("branch", {}) or {}
-            label = " ".join(f"{k}:={v}" for k, v in sorted(branch.items()))
-            branch_keys.add(label)
-            key = json.dumps(item, sort_keys=True, default=str)
-            entry = merged.setdefault(key, dict(item, branches=[]))
-            if label not in entry["branches"]:
-                entry["branches"].append(label)
-        resolution.items[kind] = list(merged.values())
-    resolution.branch_names = sorted(b for b in branch_keys if b)
-    resolution.branches = max(1, len(resolution.branch_names))
-    return resolution
+    return resolution_from_reply(launch, reply)

@@ -17,7 +17,6 @@ import shlex
 import subprocess
 import sys
 import typing
-from dataclasses import dataclass, field
 
 # --- where a construct stands in the launch file --------------------------------------------
 
@@ -92,27 +91,7 @@ class Unresolved(Exception):
 
 # --- the record -----------------------------------------------------------------------------
 
-@dataclass
-class Recorder:
-    branch: dict = field(default_factory=dict)
-    arguments: dict = field(default_factory=dict)  # name → {default, choices, file, line}
-    nodes: list = field(default_factory=list)
-    packages: list = field(default_factory=list)
-    paths: list = field(default_factory=list)
-    includes: list = field(default_factory=list)
-    commands: list = field(default_factory=list)
-    unsupported: list = field(default_factory=list)
-    required: list = field(default_factory=list)
-    errors: list = field(default_factory=list)
-    command_cache: dict = field(default_factory=dict)
-
-    def add(self, kind: str, item: dict, obj=None) -> None:
-        item = dict(item)
-        if obj is not None:
-            item.setdefault("file", obj._file)
-            item.setdefault("line", obj._line)
-        item["branch"] = dict(self.branch)
-        getattr(self, kind).append(item)
+from .records import Recorder  # noqa: E402  (the record format both engines share)
 
 
 RECORDER = Recorder()

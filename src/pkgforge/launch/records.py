@@ -1,0 +1,264 @@
+"""What a launch evaluation produces: one typed record format for both engines.
+
+The worker (built-in engine or the real ROS launch libraries) fills a Recorder
+with these records, serialises them with `dataclasses.asdict`, and the parent
+rebuilds them with `from_dict`; the checks read typed attributes. A key that
+no record has raises at once (in the worker and in the parent): a renamed key
+fails loudly instead of being read as missing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Literal
+
+Status = Literal["ok", "load-error", "timeout", "crashed"]
+Engine = Literal["builtin", "ros"]
+NodeKind = Literal["node", "process"]
+ParameterForm = Literal["plain", "typed", "typed-str", "command-untyped", "file"]
+
+
+@dataclass
+class Record:
+    """Where a construct stands (file, line) and under which argument values it was seen."""
+
+    file: str | None = None
+    line: int | None = None
+    branch: dict[str, str] = field(default_factory=dict)  # the worker's: one evaluation's values
+    branches: list[str] = field(default_factory=list)  # the parent's: every evaluation that saw it
+
+
+@dataclass
+class Argument(Record):
+    name: str = ""
+    default: str | None = None
+    choices: list[str] | None = None
+    boolean: bool = False
+    values: list[str] = field(default_factory=list)  # the values evaluated (choices, true/false)
+
+
+@dataclass
+class Parameter(Record):
+    name: str | None = None  # None: a parameter file
+    form: ParameterForm = "plain"
+    value_preview: str = ""
+
+
+@dataclass
+class Node(Record):
+    kind: NodeKind = "node"
+    package: str | None = None
+    executable: str | None = None
+    name: str | None = None
+    namespace: str | None = None
+    parameters: list[Parameter] = field(default_factory=list)
+    remappings: list[list[str]] = field(default_factory=list)
+    arguments: list[str] = field(default_factory=list)
+    cmd: list[str] | None = None  # a plain process (ExecuteProcess)
+
+
+@dataclass
+class PackageLookup(Record):
+    name: str = ""
+    via: str = ""
+    found: bool | None = None  # None: not asked (the tree decides)
+
+
+@dataclass
+class ResolvedPath(Record):
+    path: str = ""
+    via: str = ""
+    exists: bool = False
+
+
+@dataclass
+class Include(Record):
+    path: str = ""
+    arguments: dict[str, str] = field(default_factory=dict)
+    exists: bool = False
+
+
+@dataclass
+class CommandRun(Record):
+    command: list[str] = field(default_factory=list)
+    ok: bool = True
+    message: str = ""
+    model: str | None = None  # the xacro input
+    mappings: dict[str, str] = field(default_factory=dict)  # xacro name:=value
+    runtime_only: bool = False  # a run-time query, not executed at verify time
+    via: str | None = None
+    robot: dict | None = None  # the model's structure, from the launch's own xacro run
+    includes: list[str] = field(default_factory=list)
+
+
+@dataclass
+class Condition(Record):
+    condition: str = ""  # IfCondition, UnlessCondition, ...
+    entity: str = ""  # what it guards
+    taken: bool = True
+
+
+@dataclass
+class Unsupported(Record):
+    name: str = ""
+
+
+@dataclass
+class Required(Record):
+    name: str = ""
+    skipped: str | None = None  # the entity skipped for want of it; None: the declaration
+
+
+@dataclass
+class Error(Record):
+    stage: str = "visit"  # load | visit | worker
+    type: str = ""
+    message: str = ""
+    entity: str | None = None
+    package: str | None = None  # PackageNotFoundError: which package
+    module: str | None = None  # ModuleNotFoundError: which module
+
+
+KINDS: dict[str, type[Record]] = {
+    "nodes": Node, "packages": PackageLookup, "paths": ResolvedPath, "includes": Include,
+    "commands": CommandRun, "conditions": Condition, "unsupported": Unsupported,
+    "required": Required, "errors": Error,
+}
+ITEM_KINDS = tuple(KINDS)
+
+
+class RecordKeyError(KeyError):
+    """A record built from a key no record of that kind has."""
+
+
+def from_dict(cls: type, data: dict):
+    """A record from plain data; an unknown key raises RecordKeyError."""
+    names = {f.name: f for f in dataclasses.fields(cls)}
+    unknown = set(data) - set(names)
+    if unknown:
+        raise RecordKeyError(f"{cls.__name__} has no field {', '.join(sorted(unknown))}")
+    values = dict(data)
+    if cls is Node and values.get("parameters"):
+        values["parameters"] = [p if isinstance(p, Parameter) else from_dict(Parameter, p)
+                                for p in values["parameters"]]
+    return cls(**values)
+
+
+def as_dict(record) -> dict:
+    return dataclasses.asdict(record)
+
+
+def identity(record: Record) -> str:
+    """The record without its branch: equal records from several evaluations merge."""
+    data = as_dict(record)
+    data.pop("branch"), data.pop("branches")
+    return json.dumps(data, sort_keys=True, default=str)
+
+
+class _Arguments(dict):
+    """name → Argument; a dict given (the built-in engine's) becomes an Argument."""
+
+    def setdefault(self, key, default=None):
+        if key not in self:
+            self[key] = default
+        return self[key]
+
+    def __setitem__(self, key, value):
+        super().__setitem__(key, value if isinstance(value, Argument) else from_dict(Argument, value))
+
+
+@dataclass
+class Recorder:
+    """What one launch file's evaluation saw; `add(kind, item, obj)` records one item."""
+
+    branch: dict = field(default_factory=dict)
+    arguments: dict = field(default_factory=_Arguments)
+    nodes: list = field(default_factory=list)
+    packages: list = field(default_factory=list)
+    paths: list = field(default_factory=list)
+    includes: list = field(default_factory=list)
+    commands: list = field(default_factory=list)
+    conditions: list = field(default_factory=list)
+    unsupported: list = field(default_factory=list)
+    required: list = field(default_factory=list)
+    errors: list = field(default_factory=list)
+    command_cache: dict = field(default_factory=dict)
+
+    def add(self, kind: str, item: dict, obj=None) -> Record:
+        item = dict(item)
+        if obj is not None:
+            item.setdefault("file", getattr(obj, "_file", None))
+            item.setdefault("line", getattr(obj, "_line", None))
+        item.setdefault("branch", dict(self.branch))
+        record = from_dict(KINDS[kind], item)
+        getattr(self, kind).append(record)
+        return record
+
+    def dump(self) -> dict:
+        out = {"arguments": [as_dict(a) for a in self.arguments.values()]}
+        for kind in ITEM_KINDS:
+            out[kind] = [as_dict(r) for r in getattr(self, kind)]
+        return out
+
+
+@dataclass(frozen=True)
+class LaunchFile:
+    package: str
+    installed: Path
+    source: Path | None
+
+
+@dataclass
+class Resolution:
+    """One launch file resolved; records de-duplicated across branches."""
+
+    launch: LaunchFile
+    status: Status
+    error: Error | None = None
+    arguments: list[Argument] = field(default_factory=list)
+    nodes: list[Node] = field(default_factory=list)
+    packages: list[PackageLookup] = field(default_factory=list)
+    paths: list[ResolvedPath] = field(default_factory=list)
+    includes: list[Include] = field(default_factory=list)
+    commands: list[CommandRun] = field(default_factory=list)
+    conditions: list[Condition] = field(default_factory=list)
+    unsupported: list[Unsupported] = field(default_factory=list)
+    required: list[Required] = field(default_factory=list)
+    errors: list[Error] = field(default_factory=list)
+    files: list[str] = field(default_factory=list)  # every launch file evaluated (includes too)
+    branches: int = 1
+    branch_names: list[str] = field(default_factory=list)
+    engine: Engine = "builtin"
+    distro: str | None = None
+
+
+STATUSES = ("ok", "load-error", "timeout", "crashed")
+
+
+def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
+    """The parent's side: the worker's plain data back into records, merged across branches."""
+    status = reply.get("status", "crashed")
+    if status not in STATUSES:
+        raise ValueError(f"unknown launch status {status!r}")
+    error = reply.get("error")
+    resolution = Resolution(launch, status, from_dict(Error, error) if error else None,
+                            [from_dict(Argument, a) for a in reply.get("arguments", [])],
+                            files=list(reply.get("files", [])), engine=reply.get("engine", "builtin"),
+                            distro=reply.get("distro"))
+    labels = set()
+    for kind, cls in KINDS.items():
+        merged: dict[str, Record] = {}
+        for data in reply.get(kind, []):
+            record = from_dict(cls, data)
+            label = " ".join(f"{k}:={v}" for k, v in sorted(record.branch.items()))
+            labels.add(label)
+            entry = merged.setdefault(identity(record), record)
+            if label not in entry.branches:
+                entry.branches.append(label)
+        setattr(resolution, kind, list(merged.values()))
+    resolution.branch_names = sorted(b for b in labels if b)
+    resolution.branches = max(1, len(resolution.branch_names))
+    return resolution
