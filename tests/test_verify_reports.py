@@ -22,7 +22,7 @@ NULLABLE_INT = {"type": ["integer", "null"]}
 JSON_REPORT_SCHEMA = {
     "type": "object",
     "additionalProperties": False,
-    "required": ["version", "packages", "diagnostics", "summary"],
+    "required": ["version", "packages", "diagnostics", "summary", "launch"],
     "properties": {
         "version": {"const": 1},
         "packages": {"type": "array", "items": {
@@ -43,6 +43,9 @@ JSON_REPORT_SCHEMA = {
         "summary": {"type": "object", "additionalProperties": False,
                     "required": ["errors", "warnings", "infos", "packages"],
                     "properties": {k: {"type": "integer"} for k in ("errors", "warnings", "infos", "packages")}},
+        "launch": {"type": "object", "additionalProperties": False, "required": ["engine", "distro"],
+                   "properties": {"engine": {"enum": ["builtin", "ros"]},
+                                  "distro": {"type": ["string", "null"]}}},
     },
 }
 
@@ -73,7 +76,7 @@ def test_junit_validates(broken_workspace, tmp_path):
     output = tmp_path / "report.xml"
     result = run_pkgforge("verify", "--format", "junit", "--output", output, cwd=broken_workspace)
     assert result.returncode == 1
-    assert result.stderr.strip() == "3 errors, 0 warnings, 2 infos in 2 packages"
+    assert result.stderr.strip() == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine"
     document = etree.parse(str(output))
     etree.XMLSchema(etree.parse(str(SCHEMAS / "junit.xsd"))).assertValid(document)
     suites = {s.get("name"): s for s in document.getroot()}
@@ -102,7 +105,7 @@ def test_github_annotations(broken_workspace):
     assert all(pattern.match(line) for line in annotations), annotations
     assert "::error file=src/small_turtle/CMakeLists.txt,line=6,col=26,title=PF201 install-missing-directory::" \
         in "\n".join(annotations)
-    assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages"
+    assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine"
 
 
 def test_docs_checks_md_is_generated_from_the_registry():

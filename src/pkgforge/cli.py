@@ -189,6 +189,12 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               help="Seconds one launch file may take to load and resolve.")
 @click.option("--worker-memory", type=MemorySize(), default="2G", show_default=True,
               help="Memory (address space) each launch worker may use, e.g. 4G or 512M, or unlimited.")
+@click.option("--launch-engine", type=click.Choice(["auto", "ros", "builtin"]), default="auto", show_default=True,
+              help="Evaluate launch files with a ROS 2 distro's own launch libraries (ros), pkgforge's "
+                   "built-in engine (builtin), or ros where a distro is found (auto).")
+@click.option("--ros-prefix", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy) "
+                   "[default: the sourced one, else the only one in /opt/ros].")
 @click.option("--no-cache", is_flag=True,
               help="Verify every package again instead of reusing results of unchanged ones "
                    "(cache: build/pkgforge-cache/, safe to delete).")
@@ -201,7 +207,8 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
-           launch_timeout, worker_memory, no_cache, target_distro, explain_launch, explain_model):
+           launch_timeout, worker_memory, launch_engine, ros_prefix, no_cache, target_distro, explain_launch,
+           explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -223,7 +230,7 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
     options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
                             mode=mode, install_base=install_base, launch_timeout=launch_timeout,
                             launch_arguments=arguments, use_cache=not no_cache, worker_memory=worker_memory,
-                            distro=target_distro)
+                            distro=target_distro, launch_engine=launch_engine, ros_prefix=ros_prefix)
     try:
         if explain_launch is not None:
             from .explain import explain_launch_file

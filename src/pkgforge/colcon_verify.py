@@ -47,6 +47,11 @@ class VerifyVerb(VerbExtensionPoint):
         parser.add_argument("--worker-memory", type=_memory, default=DEFAULT_WORKER_MEMORY, metavar="SIZE",
                             help="Memory each launch worker may use, e.g. 4G or 512M, or unlimited "
                                  "(default: 2G)")
+        parser.add_argument("--launch-engine", choices=("auto", "ros", "builtin"), default="auto",
+                            help="Evaluate launch files with the ROS 2 distro's launch libraries (ros), "
+                                 "pkgforge's built-in engine (builtin), or ros where found (default: auto)")
+        parser.add_argument("--ros-prefix", default=None, metavar="DIR",
+                            help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy)")
 
     def main(self, *, context):  # noqa: D102
         from .config import Selection, load_config
@@ -67,8 +72,10 @@ class VerifyVerb(VerbExtensionPoint):
         selection = Selection(_keys(args.pkgforge_select), _keys(args.pkgforge_ignore))
         options = VerifyOptions(selection, strict=args.strict, mode="install-base",
                                 install_base=Path(args.install_base), launch_timeout=args.launch_timeout,
-                                worker_memory=args.worker_memory)
+                                worker_memory=args.worker_memory, launch_engine=args.launch_engine,
+                                ros_prefix=Path(args.ros_prefix) if args.ros_prefix else None)
         try:
+            options.engine()
             config = load_config(root, selection)
             models = {t.path: _load(t) for t in targets}
             chosen = [t for t in targets if t.path in selected]

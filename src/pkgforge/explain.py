@@ -47,7 +47,7 @@ def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
     with _installed(path, file, options) as (tree, installed, package, owner):
         launch = LaunchFile(package, installed, source_of(installed, tree, owner))
         (resolution,) = resolve([launch], tree, timeout=options.launch_timeout,
-                                arguments=options.launch_arguments,
+                                arguments=options.launch_arguments, engine=options.engine(),
                                 limits=WorkerLimits(options.launch_timeout, options.worker_memory))
         return _render(resolution, tree)
 

@@ -58,10 +58,23 @@ class VerifyOptions:
     use_cache: bool = True
     worker_memory: int | None = DEFAULT_WORKER_MEMORY  # bytes per launch worker; None: unlimited
     distro: str | None = None  # --distro; else ROS_DISTRO, pkgforge.toml, CI file (distro_data.target_distros)
+    launch_engine: str = "auto"  # auto | ros | builtin
+    ros_prefix: Path | None = None
+    _engine: object | None = field(default=None, repr=False, compare=False)
+
+    def engine(self):
+        """The launch engine these options choose (launch.engines.LaunchEngine), found once."""
+        if self._engine is None:
+            from .launch.engines import choose
+
+            self._engine = choose(self.launch_engine, self.ros_prefix)
+        return self._engine
 
     def cache_key(self) -> str:
+        engine = self.engine()
         return json.dumps([self.mode, sorted(self.launch_arguments.items()), self.launch_timeout,
-                           self.distro, os.environ.get("ROS_DISTRO", "")])
+                           self.distro, os.environ.get("ROS_DISTRO", ""), engine.name, engine.prefix,
+                           engine.distro])
 
 
 @dataclass
@@ -74,6 +87,8 @@ class VerifyResult:
     # package folders whose result depends on the machine's state (a timeout, a crashed or
     # killed worker, a limit hit): never cached
     unstable: set[Path] = field(default_factory=set)
+    engine: str = "builtin"  # the launch engine: builtin | ros
+    distro: str | None = None  # the ROS 2 distro whose launch libraries ran (ros engine)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -263,6 +278,7 @@ def rviz_configs(tree, checked: list[PackageModel], resolutions: dict) -> dict:
 
 def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     root = path.resolve()
+    engine = options.engine()  # before any work: a --launch-engine that cannot be had stops here
     workspace = locate(path)
     config: Config = load_config(workspace.root, options.selection)
     jobs = options.jobs or os.cpu_count() or 1
@@ -272,7 +288,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
             codes = set().union(*(codes for _, codes in hits.values()))
-            return VerifyResult(root, reports, codes)
+            return VerifyResult(root, reports, codes, engine=engine.name, distro=engine.distro)
     if workspace.package_path is not None:
         targets, models, everything = load_one_package(workspace)
     else:
@@ -291,6 +307,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         cache.save_index()
     result.reports = sorted(result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path)))
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
+    result.engine, result.distro = engine.name, engine.distro
     return result
 
 
@@ -376,6 +393,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             launch_files += source_only(checked, launch_files)  # evaluated from the source
             for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
                                       arguments=options.launch_arguments, limits=limits,
+                                      engine=options.engine(),
                                       on_done=progress.counter("launch files", len(launch_files))):
                 resolutions.setdefault(resolution.launch.package, []).append(resolution)
             for launch in ros1_files:
@@ -417,7 +435,9 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     checks_run = set().union(*codes.values())
     unstable = {t.path for t in targets if _machine_dependent(resolutions.get(models[t.path].name, []),
                                                                model_results.get(models[t.path].name, []))}
-    return VerifyResult(root, reports, checks_run, externals=read, unstable=unstable)
+    engine = options.engine()
+    return VerifyResult(root, reports, checks_run, externals=read, unstable=unstable,
+                        engine=engine.name, distro=engine.distro)
 
 
 BUILD_FAILED = "PF902"
@@ -448,11 +468,13 @@ def _machine_dependent(resolutions: list, model_results: list) -> bool:
     a limit hit. Run again, it may differ, so it is never cached."""
     from .launch.resolve import MACHINE_DEPENDENT
 
+    def limit(error) -> bool:  # a launch record (launch.records.Error) or a model's plain data
+        return bool(error.get("limit") if isinstance(error, dict) else getattr(error, "limit", None))
+
     for item in [*resolutions, *model_results]:
-        if item.status in MACHINE_DEPENDENT or (item.error or {}).get("limit"):
+        if item.status in MACHINE_DEPENDENT or limit(item.error or {}):
             return True
-        for error in getattr(item, "items", {}).get("errors", []):
-            if error.get("limit"):
-                return True
+        if any(limit(error) for error in getattr(item, "errors", [])):
+            return True
     return False
 

@@ -22,6 +22,7 @@ from .. import processes
 from ..model.package import PackageModel
 from ..model.references import launch_kind
 from ..trees import InstallTree
+from .engines import BUILTIN, LaunchEngine
 from .records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
 
 DEFAULT_TIMEOUT = 10.0
@@ -197,7 +198,8 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
 
 
 def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
-                 timeout: float = DEFAULT_TIMEOUT, on_done=None, limits: WorkerLimits | None = None) -> list[dict]:
+                 timeout: float = DEFAULT_TIMEOUT, on_done=None, limits: WorkerLimits | None = None,
+                 engine: LaunchEngine = BUILTIN) -> list[dict]:
     """Each request answered by a worker subprocess, in order; a hang or crash is an answer too.
 
     Every worker, and everything the launch files started, is gone when this returns
@@ -211,6 +213,7 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     env = tree.environment()
     scripts = os.path.dirname(sys.executable)
     env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
+    env = engine.environment(env)
     work: queue.Queue = queue.Queue()
     for index, request in enumerate(requests):
         work.put((index, request))
@@ -252,9 +255,14 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
 
 def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
             timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None,
-            on_done=None, limits: WorkerLimits | None = None) -> list[Resolution]:
+            on_done=None, limits: WorkerLimits | None = None,
+            engine: LaunchEngine = BUILTIN) -> list[Resolution]:
     requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
-    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done, limits=limits)
+    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done, limits=limits,
+                           engine=engine)
+    for reply in replies:  # a timeout or a crash is the engine's too
+        reply.setdefault("engine", engine.name)
+        reply.setdefault("distro", engine.distro)
     return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies)]
 
 

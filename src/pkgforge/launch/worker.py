@@ -187,7 +187,22 @@ def main() -> None:
     os.dup2(devnull, 2)
     sys.stdout = sys.stderr = open(os.devnull, "w")
     _apply_limits(limits)
-    _install_api()
+    engine = os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin")
+    distro = os.environ.get("PKGFORGE_ROS_DISTRO") or None
+    setup_error = None
+    if engine == "ros":
+        try:
+            import ament_index_python.packages  # noqa: F401
+        except ImportError:
+            sys.path.append(str(API.parent / "api_ament"))
+        from pkgforge.launch import ros_engine
+
+        try:
+            ros_engine.setup(os.environ.get("PKGFORGE_ROS_PREFIX") or None)
+        except BaseException as error:  # noqa: BLE001 - said for every file, never a traceback
+            setup_error = f"the ROS 2 launch libraries could not be imported: {type(error).__name__}: {error}"
+    else:
+        _install_api()
     from pkgforge.launch.evaluate import evaluate
     from pkgforge.robot import process_model
 
@@ -198,6 +213,10 @@ def main() -> None:
                 _arm(limits)
                 if "model" in request:
                     result = process_model(request["model"], request.get("mappings", {}))
+                elif engine == "ros" and setup_error is not None:
+                    result = ros_engine.error_reply(request["file"], setup_error, distro)
+                elif engine == "ros":
+                    result = ros_engine.evaluate(request["file"], request.get("arguments", {}), distro)
                 else:
                     result = evaluate(request["file"], request.get("arguments", {}))
             finally:

@@ -22,6 +22,7 @@ def as_dict(result) -> dict:
         } for d in result.diagnostics],
         "summary": {"errors": result.count(Severity.ERROR), "warnings": result.count(Severity.WARNING),
                     "infos": result.count(Severity.INFO), "packages": len(result.reports)},
+        "launch": {"engine": getattr(result, "engine", "builtin"), "distro": getattr(result, "distro", None)},
     }
 
 

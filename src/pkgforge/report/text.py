@@ -21,7 +21,15 @@ def location(diagnostic, root) -> str:
 
 def summary(result) -> str:
     return (f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
-            f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages")
+            f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages"
+            + engine_note(result))
+
+
+def engine_note(result) -> str:
+    """Which launch engine evaluated the launch files."""
+    if getattr(result, "engine", "builtin") != "ros":
+        return "; launch: built-in engine"
+    return f"; launch: ROS 2 {result.distro or '(distro unknown)'}"
 
 
 def render(result, *, color: bool = False, strict: bool = False) -> str:

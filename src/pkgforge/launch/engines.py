@@ -1,0 +1,132 @@
+"""Which launch engine evaluates launch files: the built-in one, or a ROS 2 distro's own libraries.
+
+Parent side: nothing here imports `launch`. `--launch-engine auto` (the default) takes the
+real libraries where a distro is installed: `--ros-prefix DIR`, else a sourced environment
+(AMENT_PREFIX_PATH or PYTHONPATH holding `launch` and `launch_ros`), else the single
+/opt/ros/<distro>; without one, the built-in engine. `--launch-engine ros` insists.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from dataclasses import dataclass
+from typing import Literal
+
+from ..errors import PkgforgeError
+
+ENGINE_ENV = "PKGFORGE_LAUNCH_ENGINE"
+PREFIX_ENV = "PKGFORGE_ROS_PREFIX"
+DISTRO_ENV = "PKGFORGE_ROS_DISTRO"
+CHOICES = ("auto", "ros", "builtin")
+KNOWN_DISTROS = ("humble", "iron", "jazzy", "kilted", "rolling")
+
+
+@dataclass(frozen=True)
+class LaunchEngine:
+    name: Literal["builtin", "ros"] = "builtin"
+    prefix: str | None = None  # "" : the sourced PYTHONPATH has the libraries
+    distro: str | None = None
+    how: str = "built-in"
+
+    def environment(self, env: dict[str, str]) -> dict[str, str]:
+        env = dict(env)
+        env[ENGINE_ENV] = self.name
+        env.pop(PREFIX_ENV, None)
+        env.pop(DISTRO_ENV, None)
+        if self.name == "ros":
+            env[PREFIX_ENV] = self.prefix or ""
+            env[DISTRO_ENV] = self.distro or ""
+            if self.prefix:
+                # the distro's own packages (launch's grammar) before the placeholders of undeclared ones
+                parts = [p for p in env.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+                if self.prefix not in parts:
+                    phantom = env.get("PKGFORGE_PHANTOM_PREFIX")
+                    at = parts.index(phantom) if phantom in parts else len(parts)
+                    parts.insert(at, self.prefix)
+                env["AMENT_PREFIX_PATH"] = os.pathsep.join(parts)
+        return env
+
+    @property
+    def label(self) -> str:
+        if self.name == "builtin":
+            return "built-in"
+        return f"ROS 2 {self.distro or '(distro unknown)'}" + (f" from {self.prefix}" if self.prefix else "")
+
+
+BUILTIN = LaunchEngine()
+
+
+def python_paths(prefix: str) -> list[str]:
+    """The folders of a ROS prefix that hold Python packages (any Python version)."""
+    patterns = ("lib/python3*/site-packages", "lib/python3*/dist-packages", "local/lib/python3*/dist-packages",
+                "local/lib/python3*/site-packages", "lib/python3/dist-packages")
+    found = []
+    for pattern in patterns:
+        for folder in sorted(glob.glob(os.path.join(prefix, pattern))):
+            if folder not in found:
+                found.append(folder)
+    return found
+
+
+def has_launch(prefix: str) -> bool:
+    return any(os.path.isfile(os.path.join(folder, "launch", "__init__.py")) and
+               os.path.isfile(os.path.join(folder, "launch_ros", "__init__.py"))
+               for folder in python_paths(prefix))
+
+
+def _pythonpath_has_launch(environ) -> bool:
+    for folder in environ.get("PYTHONPATH", "").split(os.pathsep):
+        if folder and os.path.isfile(os.path.join(folder, "launch", "__init__.py")) and \
+                os.path.isfile(os.path.join(folder, "launch_ros", "__init__.py")):
+            return True
+    return False
+
+
+def distro_of(prefix: str | None, environ=os.environ) -> str | None:
+    if prefix:
+        name = os.path.basename(os.path.normpath(prefix))
+        from ..distros import DISTROS
+
+        if name in DISTROS or name in ("humble", "iron", "jazzy", "kilted", "rolling"):
+            return name
+    return environ.get("ROS_DISTRO") or None
+
+
+def find_ros(ros_prefix: str | None = None, environ=os.environ) -> tuple[str | None, str | None, str]:
+    """(prefix, distro, how) of the ROS 2 launch libraries to use; prefix None when none found.
+    A prefix of "" means: the sourced environment's PYTHONPATH already has them."""
+    if ros_prefix:
+        return (ros_prefix if has_launch(ros_prefix) else None), distro_of(ros_prefix, environ), "--ros-prefix"
+    for prefix in environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        if prefix and has_launch(prefix):
+            return prefix, distro_of(prefix, environ), "sourced"
+    if _pythonpath_has_launch(environ):
+        return "", environ.get("ROS_DISTRO") or None, "sourced"
+    candidates = [p for p in sorted(glob.glob("/opt/ros/*")) if has_launch(p)]
+    if len(candidates) == 1:
+        return candidates[0], distro_of(candidates[0], environ), "/opt/ros"
+    return None, None, ("several distros in /opt/ros: choose one with --ros-prefix" if candidates else "none")
+
+
+
+def choose(option: str = "auto", ros_prefix=None, environ=os.environ) -> LaunchEngine:
+    """The engine for --launch-engine OPTION (--ros-prefix DIR); a clear error when ros cannot be had."""
+    if option not in CHOICES:
+        raise PkgforgeError(f"--launch-engine {option!r}: choose auto, ros or builtin")
+    if option == "builtin":
+        return BUILTIN
+    prefix_text = os.fspath(ros_prefix) if ros_prefix is not None else None
+    if prefix_text is not None and not os.path.isdir(prefix_text):
+        raise PkgforgeError(f"--ros-prefix {prefix_text}: no such folder")
+    prefix, distro, how = find_ros(prefix_text, environ)
+    if prefix is None:
+        if prefix_text is not None:
+            raise PkgforgeError(f"--ros-prefix {prefix_text} holds no ROS 2 launch libraries "
+                                "(lib/python3.*/site-packages/launch and launch_ros): pass a distro's "
+                                "install folder, e.g. /opt/ros/jazzy")
+        if option == "ros":
+            raise PkgforgeError("--launch-engine ros: no ROS 2 distro found (" + how + "); source one, "
+                                "pass --ros-prefix /opt/ros/<distro>, or use --launch-engine builtin")
+        return BUILTIN
+    return LaunchEngine("ros", os.path.abspath(prefix) if prefix else "", distro, how)

@@ -1,0 +1,701 @@
+"""The real engine: a ROS 2 distro's own `launch`, `launch_xml`, `launch_yaml` and `launch_ros`.
+
+Runs only in the launch worker (`PKGFORGE_LAUNCH_ENGINE=ros`). The libraries are
+imported once per worker. Each file is loaded as `ros2 launch` loads it (an
+IncludeLaunchDescription of the file, with the launch arguments) and its
+description is visited here, entity by entity, WITHOUT starting anything: the
+actions that would start a process (ExecuteProcess, Node, ComposableNodeContainer,
+LifecycleNode) have their substitutions performed and are recorded instead; no
+ROS graph, no DDS, and nothing written outside a temporary folder (ROS_LOG_DIR
+and the temporary parameter files live there). `Command` runs only xacro (in this
+process, with the real xacro library); any other command is recorded as run-time
+only. Where rclpy, lifecycle_msgs or composition_interfaces cannot be imported,
+minimal stand-ins provide just what launch_ros touches at import and visit time.
+
+The records are the built-in engine's (launch/records.py), with the same `via`
+names, so the two engines can be compared record for record (tests/test_launch_oracle.py).
+"""
+
+from __future__ import annotations
+
+import atexit
+import enum
+import itertools
+import os
+import re
+import shlex
+import shutil
+import sys
+import tempfile
+import types
+
+from . import runtime as rt
+from .engines import python_paths
+from .records import ITEM_KINDS, as_dict
+
+MAX_BRANCHES = 16
+MAX_DEPTH = 32
+MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
+NOT_FOUND = re.compile(r"package '([^']+)' not found")
+# actions whose execution needs a running launch service or a ROS graph: recorded, not executed
+NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandler"}
+
+RECORDER = rt.RECORDER
+L = types.SimpleNamespace()  # the real libraries, once imported
+_SCRATCH: str | None = None
+
+
+# --- stand-ins for the compiled ROS packages launch_ros imports -------------------------------
+
+def _module(name: str, **attributes) -> types.ModuleType:
+    module = types.ModuleType(name)
+    module.__dict__.update(attributes)
+    module.__pkgforge_stand_in__ = True
+    sys.modules[name] = module
+    return module
+
+
+class _Constants:
+    """A message class's constants: the real values, any other name an int."""
+
+    def __init__(self, **values):
+        self.__dict__.update(values)
+
+    def __getattr__(self, name):
+        if name.isupper():
+            return 0
+        raise AttributeError(name)
+
+    def __call__(self, *args, **kwargs):
+        return types.SimpleNamespace(**kwargs)
+
+
+class _Message:
+    Request = types.SimpleNamespace
+    Response = types.SimpleNamespace
+
+
+_NODE_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_NAMESPACE = re.compile(r"^/([A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*)?$")
+
+
+class InvalidNodeNameException(ValueError):
+    pass
+
+
+class InvalidNamespaceException(ValueError):
+    pass
+
+
+def _validate_node_name(name):
+    if not _NODE_NAME.match(name or ""):
+        raise InvalidNodeNameException(f"Invalid node name: node name must not be empty, contain only "
+                                       f"alphanumerics and underscores, and not start with a number: '{name}'")
+    return True
+
+
+def _validate_namespace(namespace):
+    if not _NAMESPACE.match(namespace or ""):
+        raise InvalidNamespaceException(f"Invalid namespace: '{namespace}'")
+    return True
+
+
+class _ParameterType(enum.IntEnum):
+    NOT_SET = 0
+    BOOL = 1
+    INTEGER = 2
+    DOUBLE = 3
+    STRING = 4
+    BYTE_ARRAY = 5
+    BOOL_ARRAY = 6
+    INTEGER_ARRAY = 7
+    DOUBLE_ARRAY = 8
+    STRING_ARRAY = 9
+
+    def check(self, value):
+        kinds = {1: bool, 2: int, 3: float, 4: str}
+        if self in kinds:
+            return isinstance(value, kinds[self]) and not (self == 2 and isinstance(value, bool))
+        if self == _ParameterType.NOT_SET:
+            return value is None
+        return isinstance(value, (list, tuple))
+
+
+class _Parameter:
+    Type = _ParameterType
+
+    def __init__(self, name, type_=None, value=None):
+        self.name, self.type_, self.value = name, type_, value
+
+
+def _install_stand_ins() -> list[str]:
+    """Stand-ins for what cannot be imported; the names of those provided."""
+    provided = []
+    try:
+        import rclpy  # noqa: F401
+        import rclpy.executors  # noqa: F401
+        import rclpy.parameter  # noqa: F401
+        import rclpy.validate_namespace  # noqa: F401
+        import rclpy.validate_node_name  # noqa: F401
+    except Exception:  # noqa: BLE001 - a ROS for another Python: its extension modules do not load
+        for name in [n for n in sys.modules if n == "rclpy" or n.startswith("rclpy.")]:
+            del sys.modules[name]
+        rclpy = _module("rclpy", ok=lambda: False, init=lambda *a, **k: None, shutdown=lambda *a, **k: None)
+        rclpy.executors = _module("rclpy.executors", SingleThreadedExecutor=object)
+        rclpy.parameter = _module("rclpy.parameter", Parameter=_Parameter)
+        rclpy.validate_namespace = _module("rclpy.validate_namespace", validate_namespace=_validate_namespace)
+        rclpy.validate_node_name = _module("rclpy.validate_node_name", validate_node_name=_validate_node_name)
+        rclpy.logging = _module("rclpy.logging", get_logging_directory=lambda: os.environ["ROS_LOG_DIR"])
+        rclpy.exceptions = _module("rclpy.exceptions", InvalidNamespaceException=InvalidNamespaceException,
+                                   InvalidNodeNameException=InvalidNodeNameException)
+        rclpy.node = _module("rclpy.node", Node=object)
+        provided.append("rclpy")
+    try:
+        import lifecycle_msgs.msg  # noqa: F401
+        import lifecycle_msgs.srv  # noqa: F401
+    except Exception:  # noqa: BLE001
+        state = _Constants(PRIMARY_STATE_UNKNOWN=0, PRIMARY_STATE_UNCONFIGURED=1, PRIMARY_STATE_INACTIVE=2,
+                           PRIMARY_STATE_ACTIVE=3, PRIMARY_STATE_FINALIZED=4, TRANSITION_STATE_CONFIGURING=10,
+                           TRANSITION_STATE_CLEANINGUP=11, TRANSITION_STATE_SHUTTINGDOWN=12,
+                           TRANSITION_STATE_ACTIVATING=13, TRANSITION_STATE_DEACTIVATING=14,
+                           TRANSITION_STATE_ERRORPROCESSING=15)
+        transition = _Constants(TRANSITION_CREATE=0, TRANSITION_CONFIGURE=1, TRANSITION_CLEANUP=2,
+                                TRANSITION_ACTIVATE=3, TRANSITION_DEACTIVATE=4,
+                                TRANSITION_UNCONFIGURED_SHUTDOWN=5, TRANSITION_INACTIVE_SHUTDOWN=6,
+                                TRANSITION_ACTIVE_SHUTDOWN=7, TRANSITION_DESTROY=8)
+        package = _module("lifecycle_msgs")
+        package.msg = _module("lifecycle_msgs.msg", State=state, Transition=transition,
+                              TransitionEvent=_Constants())
+        package.srv = _module("lifecycle_msgs.srv", ChangeState=_Message, GetState=_Message)
+        provided.append("lifecycle_msgs")
+    try:
+        import composition_interfaces.srv  # noqa: F401
+    except Exception:  # noqa: BLE001
+        package = _module("composition_interfaces")
+        package.srv = _module("composition_interfaces.srv", LoadNode=_Message, UnloadNode=_Message,
+                              ListNodes=_Message)
+        provided.append("composition_interfaces")
+    return provided
+
+
+# --- setting up the libraries, once per worker ------------------------------------------------
+
+class _LineDict(dict):
+    line = None
+
+
+def _yaml_with_lines(yaml_module):
+    class Loader(yaml_module.SafeLoader):
+        pass
+
+    def construct_map(loader, node):
+        data = _LineDict()
+        data.line = node.start_mark.line + 1
+        yield data
+        data.update(loader.construct_mapping(node))
+        for key_node, value_node in node.value:
+            value = loader.constructed_objects.get(value_node)
+            if isinstance(value, _LineDict):
+                value.line = key_node.start_mark.line + 1  # the tag's line, as `- node:` is written
+
+    Loader.add_constructor("tag:yaml.org,2002:map", construct_map)
+    shim = types.SimpleNamespace(**{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")})
+    shim.safe_load = lambda stream: yaml_module.load(stream, Loader=Loader)
+    return shim
+
+
+def _xml_with_lines(et_module):
+    """xml.etree's parse through lxml: the same element API, with each element's source line."""
+    from lxml import etree
+
+    parser = etree.XMLParser(remove_comments=True, remove_pis=True)
+    shim = types.SimpleNamespace(**{k: getattr(et_module, k) for k in dir(et_module) if not k.startswith("__")})
+    shim.parse = lambda source, *a, **k: etree.parse(source, parser)
+    return shim
+
+
+def _entity_line(entity) -> int | None:
+    for attribute in ("_Entity__xml_element", "_Entity__element"):
+        element = getattr(entity, attribute, None)
+        if element is not None:
+            return getattr(element, "sourceline", None) or getattr(element, "line", None)
+    return None
+
+
+def setup(prefix: str | None) -> None:
+    """Import the distro's launch libraries (once) and hook what records and locates."""
+    global _SCRATCH
+    if getattr(L, "launch", None) is not None:
+        return
+    _SCRATCH = tempfile.mkdtemp(prefix="pkgforge-ros-")
+    atexit.register(shutil.rmtree, _SCRATCH, True)
+    os.environ["ROS_LOG_DIR"] = os.path.join(_SCRATCH, "log")
+    os.environ.setdefault("ROS_HOME", os.path.join(_SCRATCH, "ros_home"))
+    tempfile.tempdir = os.path.join(_SCRATCH, "tmp")
+    os.makedirs(tempfile.tempdir, exist_ok=True)
+    if prefix:
+        for folder in reversed(python_paths(prefix)):
+            if folder not in sys.path:
+                sys.path.insert(0, folder)
+    L.stand_ins = _install_stand_ins()
+    import launch
+    import launch.frontend
+    import launch.launch_description_sources
+    import launch.logging
+    import launch.substitutions
+    import launch.utilities
+    import launch_ros
+    import launch_ros.actions
+    import launch_ros.descriptions
+    import launch_ros.substitutions
+    import launch_xml  # noqa: F401
+    import launch_xml.parser
+    import launch_yaml  # noqa: F401
+    import launch_yaml.parser
+    import yaml
+    import xml.etree.ElementTree as ET
+
+    try:
+        launch.logging.launch_config.log_dir = os.environ["ROS_LOG_DIR"]
+    except Exception:  # noqa: BLE001 - an older launch: ROS_LOG_DIR alone decides
+        pass
+    launch_xml.parser.ET = _xml_with_lines(ET)
+    launch_yaml.parser.yaml = _yaml_with_lines(yaml)
+    L.launch, L.launch_ros = launch, launch_ros
+    L.perform = launch.utilities.perform_substitutions
+    L.normalize = launch.utilities.normalize_to_list_of_substitutions
+    _hook_locations()
+    _hook_loaders()
+    _hook_substitutions()
+
+
+def _locate(cls) -> None:
+    """Every instance of cls (and its subclasses) remembers the launch file line that made it:
+    set in __new__, which runs once whatever the __init__ chain does."""
+    if cls.__dict__.get("_pkgforge_located"):
+        return
+    real_new = cls.__new__
+
+    def __new__(klass, *args, **kwargs):
+        instance = real_new(klass) if real_new is object.__new__ else real_new(klass, *args, **kwargs)
+        try:
+            instance._file, instance._line = rt.here()
+        except AttributeError:  # __slots__: no location
+            pass
+        return instance
+
+    cls.__new__ = staticmethod(__new__)
+    cls._pkgforge_located = True
+
+
+def _hook_locations() -> None:
+    launch, launch_ros = L.launch, L.launch_ros
+    from launch.event_handler import BaseEventHandler
+
+    bases = [launch.LaunchDescriptionEntity, launch.Substitution, launch.Condition,
+             launch.LaunchDescriptionSource, BaseEventHandler, launch_ros.descriptions.ComposableNode,
+             launch_ros.parameter_descriptions.ParameterValue, launch_ros.parameter_descriptions.ParameterFile]
+    for base in bases:
+        _locate(base)
+    node_init = launch_ros.actions.Node.__init__
+
+    def __init__(self, *args, **kwargs):
+        self._pkgforge_parameters = list(kwargs.get("parameters") or [])
+        self._pkgforge_arguments = list(kwargs.get("arguments") or [])
+        node_init(self, *args, **kwargs)
+
+    launch_ros.actions.Node.__init__ = __init__
+    parse_action = launch.frontend.Parser.parse_action
+
+    def located_parse_action(self, entity):
+        file = rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None
+        rt._FRONTEND_LOCATION.append((file, _entity_line(entity)))
+        try:
+            return parse_action(self, entity)
+        finally:
+            rt._FRONTEND_LOCATION.pop()
+
+    launch.frontend.Parser.parse_action = located_parse_action
+
+
+def _hook_loaders() -> None:
+    """Every launch file loaded (top level or included) joins the files whose frames are user code."""
+    from launch.launch_description_sources import frontend_launch_file_utilities as frontend
+    from launch.launch_description_sources import python_launch_file_utilities as python
+
+    real_python = python.get_launch_description_from_python_launch_file
+    real_frontend = frontend.get_launch_description_from_frontend_launch_file
+
+    def from_python(path, *args, **kwargs):
+        rt._LAUNCH_FILES.add(os.fspath(path))
+        return real_python(path, *args, **kwargs)
+
+    def from_frontend(path, *args, **kwargs):
+        rt._LAUNCH_FILES.add(os.fspath(path))
+        rt._FRONTEND_LOCATION.append((os.fspath(path), None))
+        try:
+            return real_frontend(path, *args, **kwargs)
+        finally:
+            rt._FRONTEND_LOCATION.pop()
+
+    replacements = {real_python: from_python, real_frontend: from_frontend}
+    for name, module in list(sys.modules.items()):
+        if name.split(".")[0] in ("launch", "launch_xml", "launch_yaml", "launch_ros") and module is not None:
+            for attribute, value in list(vars(module).items()):
+                if callable(value) and value in replacements:
+                    setattr(module, attribute, replacements[value])
+
+
+def _record_path(path, obj, via: str) -> None:
+    if isinstance(path, str) and path and os.path.isabs(path):
+        RECORDER.add("paths", {"path": path, "via": via, "exists": os.path.exists(path)}, obj)
+
+
+def _hook_substitutions() -> None:
+    subs, ros_subs = L.launch.substitutions, L.launch_ros.substitutions
+
+    def wrap(cls, after=None, before=None):
+        real = cls.perform
+
+        def perform(self, context):
+            if before is not None:
+                before(self, context)
+            result = real(self, context)
+            if after is not None:
+                after(self, context, result)
+            return result
+
+        cls.perform = perform
+
+    wrap(subs.PathJoinSubstitution, after=lambda s, c, r: _record_path(r, s, "PathJoinSubstitution"))
+    if hasattr(subs, "FileContent"):
+        wrap(subs.FileContent, before=lambda s, c: _record_path(L.perform(c, s.path), s, "FileContent"))
+
+    def find_executable(self, context):
+        if L.perform(context, self.name) == "xacro":
+            RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
+
+    wrap(subs.FindExecutable, before=find_executable)
+
+    def lookup(self, context):
+        RECORDER.add("packages", {"name": L.perform(context, self.package), "via": type(self).__name__}, self)
+
+    wrap(ros_subs.FindPackage, before=lookup)
+    if hasattr(ros_subs, "ExecutableInPackage"):
+        wrap(ros_subs.ExecutableInPackage, before=lambda s, c: RECORDER.add(
+            "packages", {"name": L.perform(c, s.package), "via": "ExecutableInPackage"}, s))
+    subs.Command.perform = _command_perform
+
+
+def _command_perform(self, context) -> str:
+    """Command: xacro runs here (real library); anything else is a run-time query, not run."""
+    text = L.perform(context, self.command)
+    words = shlex.split(text)
+    if not words:
+        raise L.launch.substitutions.SubstitutionFailure("empty command")
+    if os.path.basename(words[0]) != "xacro":
+        RECORDER.add("commands", {"command": words, "ok": True, "message": "", "runtime_only": True}, self)
+        return ""
+    key = tuple(words)
+    if key not in RECORDER.command_cache:
+        RECORDER.command_cache[key] = rt._run_xacro(words[1:])
+    ok, output, message, extra = RECORDER.command_cache[key]
+    record = {"command": words, "ok": ok, "message": message, **extra}
+    RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, self)
+    for word in words[1:]:
+        if ":=" not in word and not word.startswith("-"):
+            _record_path(word, self, "xacro input")
+            record["model"] = word
+            break
+    record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
+    RECORDER.add("commands", record, self)
+    if not ok:
+        raise L.launch.substitutions.SubstitutionFailure(f"executed command failed. Command: {text}\n{message}")
+    return output
+
+
+# --- visiting -----------------------------------------------------------------------------
+
+def _text(context, value) -> str | None:
+    if value is None:
+        return None
+    return L.perform(context, L.normalize(value))
+
+
+def _has_command(value) -> bool:
+    Command = L.launch.substitutions.Command
+    if isinstance(value, Command):
+        return True
+    if isinstance(value, (list, tuple)):
+        return any(_has_command(v) for v in value)
+    return False
+
+
+def _value_form(value) -> str:
+    ParameterValue = L.launch_ros.parameter_descriptions.ParameterValue
+    if isinstance(value, ParameterValue):
+        if value.value_type is str:
+            return "typed-str"
+        return "command-untyped" if _has_command(value.value) else "typed"
+    return "command-untyped" if _has_command(value) else "plain"
+
+
+def _value_preview(context, value):
+    ParameterValue = L.launch_ros.parameter_descriptions.ParameterValue
+    Substitution = L.launch.Substitution
+    if isinstance(value, ParameterValue):
+        value = value.value
+    if isinstance(value, (str, Substitution)) or (isinstance(value, (list, tuple)) and value and all(
+            isinstance(v, (str, Substitution)) for v in value)):
+        return L.perform(context, L.normalize(value))
+    return value
+
+
+def _parameters(context, groups, owner) -> list[dict]:
+    ParameterFile = L.launch_ros.parameter_descriptions.ParameterFile
+    out = []
+    for group in groups:
+        if isinstance(group, dict):
+            for key, value in group.items():
+                name = key if isinstance(key, str) else _text(context, key)
+                form = _value_form(value)
+                text = _value_preview(context, value)
+                out.append({"name": name, "form": form, "value_preview": str(text)[:200],
+                            "file": owner._file, "line": getattr(value, "_line", None) or owner._line})
+                if isinstance(text, str):
+                    _record_path(text, owner, "parameter")
+        else:
+            source = group.param_file if isinstance(group, ParameterFile) else group
+            path = os.fspath(source) if isinstance(source, os.PathLike) else _text(context, source)
+            _record_path(path, owner, "parameter file")
+            out.append({"name": None, "form": "file", "value_preview": path,
+                        "file": owner._file, "line": owner._line})
+    return out
+
+
+def _record_node(node, context) -> None:
+    """Node, LifecycleNode, ComposableNodeContainer: their substitutions performed, nothing started."""
+    package = _text(context, node._Node__package)
+    if package:
+        RECORDER.add("packages", {"name": package, "via": "Node package"}, node)
+    arguments = []
+    for argument in node._pkgforge_arguments:
+        text = _text(context, argument)
+        arguments.append(text)
+        _record_path(text, node, "Node arguments")
+    parameters = _parameters(context, node._pkgforge_parameters, node)
+    node._perform_substitutions(context)  # the real name, namespace, parameter and remapping rules
+    name = node._Node__expanded_node_name
+    namespace = node.expanded_node_namespace
+    RECORDER.add("nodes", {
+        "kind": "node", "package": package, "executable": _text(context, node._Node__node_executable),
+        "name": None if name == node.UNSPECIFIED_NODE_NAME else name,
+        "namespace": None if namespace == node.UNSPECIFIED_NODE_NAMESPACE else namespace,
+        "arguments": arguments, "parameters": parameters,
+        "remappings": [[a, b] for a, b in (node.expanded_remapping_rules or [])],
+    }, node)
+
+
+def _record_composable(descriptions, context) -> None:
+    for description in descriptions:
+        condition = description.condition()
+        if condition is not None and not condition.evaluate(context):
+            continue
+        package = _text(context, description.package)
+        RECORDER.add("packages", {"name": package, "via": "ComposableNode"}, description)
+        _parameters(context, _raw_parameters(description), description)
+
+
+def _raw_parameters(description) -> list:
+    return list(getattr(description, "_pkgforge_parameters", None) or [])
+
+
+def _handle(action, context, depth: int):
+    """The entities an action yields, recording what would start instead of starting it."""
+    launch, launch_ros = L.launch, L.launch_ros
+    name = type(action).__name__
+    if name in NOT_EVALUATED:
+        RECORDER.add("unsupported", {"name": name}, action)
+        return None
+    if isinstance(action, launch.actions.IncludeLaunchDescription):
+        return _include(action, context, depth)
+    if isinstance(action, launch.actions.DeclareLaunchArgument):
+        return _declare(action, context)
+    if isinstance(action, launch_ros.actions.Node):
+        _record_node(action, context)
+        if isinstance(action, launch_ros.actions.ComposableNodeContainer):
+            _record_composable(action._ComposableNodeContainer__composable_node_descriptions or [], context)
+        return None
+    if isinstance(action, launch_ros.actions.LoadComposableNodes):
+        _record_composable(action._LoadComposableNodes__composable_node_descriptions or [], context)
+        return None
+    if isinstance(action, launch.actions.ExecuteProcess):
+        cmd = [L.perform(context, part) for part in action.process_description.cmd]
+        RECORDER.add("nodes", {"kind": "process", "cmd": cmd}, action)
+        return None
+    if isinstance(action, launch.actions.TimerAction):
+        return list(action.actions)
+    if isinstance(action, launch.actions.RegisterEventHandler):
+        out = []
+        for _, entities in action.describe_conditional_sub_entities():
+            out.extend(e for e in entities if isinstance(e, launch.LaunchDescriptionEntity))
+        return out
+    if name == "SetParametersFromFile":
+        _record_path(_text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile")
+    return action.execute(context)
+
+
+def _declare(action, context):
+    default = None
+    if action.default_value is not None:
+        try:
+            default = L.perform(context, action.default_value)
+        except Exception:  # noqa: BLE001 - a default that needs a value not given: no default shown
+            default = None
+    RECORDER.arguments.setdefault(action.name, {
+        "name": action.name, "default": default, "choices": list(action.choices) if action.choices else None,
+        "file": action._file, "line": action._line,
+        "boolean": default is not None and default.lower() in ("true", "false"),
+    })
+    if action.name not in context.launch_configurations and action.default_value is None:
+        RECORDER.add("required", {"name": action.name}, action)
+        return None
+    return action.execute(context)
+
+
+def _phantom(path: str) -> bool:
+    phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
+    return bool(phantom) and os.path.abspath(path).startswith(phantom + os.sep)
+
+
+def _include(action, context, depth: int):
+    source = action.launch_description_source
+    path = L.perform(context, source._LaunchDescriptionSource__location)
+    arguments = {_text(context, k): _text(context, v) for k, v in action.launch_arguments}
+    exists = os.path.isfile(path)
+    if depth > 0:  # the file itself, included as `ros2 launch` does, is not an include
+        RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
+        _record_path(path, action, "IncludeLaunchDescription")
+    if not exists or _phantom(path):
+        return None
+    rt._LAUNCH_FILES.add(path)
+    return action.execute(context)
+
+
+def _missing_configuration(error) -> str | None:
+    match = MISSING_CONFIGURATION.search(str(error))
+    return match.group(1) if match else None
+
+
+def visit(entity, context, depth: int = 0) -> None:
+    launch = L.launch
+    if depth > MAX_DEPTH:
+        RECORDER.add("errors", {"stage": "visit", "type": "RecursionError",
+                                "message": f"launch files include each other more than {MAX_DEPTH} deep",
+                                "file": None, "line": None})
+        return
+    try:
+        if isinstance(entity, launch.Action):
+            condition = entity.condition
+            if condition is not None:
+                taken = bool(condition.evaluate(context))
+                RECORDER.add("conditions", {"condition": type(condition).__name__,
+                                            "entity": type(entity).__name__, "taken": taken}, entity)
+                if not taken:
+                    return
+            children = _handle(entity, context, depth)
+        else:
+            children = entity.visit(context)
+    except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
+        missing = _missing_configuration(error)
+        if missing is not None:
+            RECORDER.add("required", {"name": missing, "skipped": type(entity).__name__}, entity)
+            return
+        if type(error).__name__ == "PackageNotFoundError":
+            match = NOT_FOUND.search(str(error))
+            RECORDER.add("packages", {"name": match.group(1) if match else str(error).strip("'\""),
+                                      "via": type(entity).__name__, "found": False}, entity)
+            return
+        RECORDER.add("errors", {"stage": "visit", "type": type(error).__name__, "message": str(error),
+                                "file": getattr(entity, "_file", None), "line": getattr(entity, "_line", None),
+                                "entity": type(entity).__name__})
+        return
+    for child in children or []:
+        visit(child, context, depth + 1)
+
+
+# --- one file -----------------------------------------------------------------------------
+
+def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
+    """Resolve one launch file with the real libraries; the result is plain data (JSON)."""
+    from . import evaluate as builtin
+
+    builtin._watch_xacro()
+    RECORDER.__init__()
+    rt._LAUNCH_FILES.clear()
+    rt._LAUNCH_FILES.add(path)
+    environment = dict(os.environ)
+    launch = L.launch
+    common = {"engine": "ros", "distro": distro}
+    try:
+        sources = launch.launch_description_sources
+        try:
+            # loaded first, alone: a file that does not load is a load error, as in `ros2 launch`
+            first = sources.get_launch_description_from_any_launch_file(path)
+        except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
+            return {"status": "load-error", "error": builtin._error_record(path, error, "load"),
+                    **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
+
+        def run(values: dict[str, str], label: dict[str, str]) -> None:
+            nonlocal first
+            RECORDER.branch = label
+            context = launch.LaunchContext(noninteractive=True)
+            for key, value in {**overrides, **values}.items():
+                context.launch_configurations[key] = value
+            # a fresh description for each evaluation: included sources cache what they loaded
+            source = (launch.LaunchDescriptionSource(first, path) if first is not None
+                      else sources.AnyLaunchDescriptionSource(path))
+            first = None
+            visit(launch.actions.IncludeLaunchDescription(source), context)
+            _clean_scratch()
+
+        run({}, {})
+        varying = [a for a in RECORDER.arguments.values()
+                   if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
+        if varying:
+            defaults = {a.name: a.default for a in varying}
+            for kind in ITEM_KINDS:
+                for item in getattr(RECORDER, kind):
+                    if not item.branch:
+                        item.branch = dict(defaults)
+            domains = [a.choices or ["true", "false"] for a in varying]
+            for argument, domain in zip(varying, domains):
+                argument.values = list(domain)
+            names = [a.name for a in varying]
+            for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
+                assignment = dict(zip(names, values))
+                if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
+                    continue
+                run(assignment, assignment)
+        return {"status": "ok", "error": None, **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
+    finally:
+        os.environ.clear()
+        os.environ.update(environment)
+        _clean_scratch()
+
+
+def _clean_scratch() -> None:
+    """Temporary parameter files and logs go, after every evaluation."""
+    if _SCRATCH is None:
+        return
+    for name in os.listdir(_SCRATCH):
+        shutil.rmtree(os.path.join(_SCRATCH, name), ignore_errors=True)
+    os.makedirs(tempfile.tempdir, exist_ok=True)
+
+
+def error_reply(path: str, message: str, distro: str | None) -> dict:
+    """The reply for every file when the distro's libraries cannot be imported."""
+    from .records import Error
+
+    error = Error(stage="worker", type="RosEngineError", message=message, file=path)
+    return {"status": "load-error", "error": as_dict(error), "engine": "ros", "distro": distro}
