@@ -43,6 +43,13 @@ NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandl
 RECORDER = rt.RECORDER
 L = types.SimpleNamespace()  # the real libraries, once imported
 _SCRATCH: str | None = None
+# the context being visited; launch also performs substitutions in throw-away contexts to
+# introspect included files (argument names), and those are not evaluations
+_VISITING = None
+
+
+def _evaluating(context) -> bool:
+    return context is _VISITING
 
 
 # --- stand-ins for the compiled ROS packages launch_ros imports -------------------------------
@@ -309,13 +316,36 @@ def _hook_locations() -> None:
 
     def located_parse_action(self, entity):
         file = rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None
-        rt._FRONTEND_LOCATION.append((file, _entity_line(entity)))
+        line = _entity_line(entity)
+        rt._FRONTEND_LOCATION.append((file, line))
         try:
-            return parse_action(self, entity)
+            action = parse_action(self, entity)
         finally:
             rt._FRONTEND_LOCATION.pop()
+        if hasattr(action, "__dict__"):  # the element's line, whatever its children set last
+            action._file, action._line = file, line
+        return action
 
     launch.frontend.Parser.parse_action = located_parse_action
+    import launch_xml.entity
+    import launch_yaml.entity
+
+    for entity_class in (launch_xml.entity.Entity, launch_yaml.entity.Entity):
+        _locate_attributes(entity_class)
+
+
+def _locate_attributes(entity_class) -> None:
+    """A substitution parsed from an element's attribute stands on that element's line
+    (a <param>'s value on the <param>, not on its <node>)."""
+    get_attr = entity_class.get_attr
+
+    def located_get_attr(self, *args, **kwargs):
+        line = _entity_line(self)
+        if rt._FRONTEND_LOCATION and line is not None:
+            rt._FRONTEND_LOCATION[-1] = (rt._FRONTEND_LOCATION[-1][0], line)
+        return get_attr(self, *args, **kwargs)
+
+    entity_class.get_attr = located_get_attr
 
 
 def _hook_loaders() -> None:
@@ -358,10 +388,10 @@ def _hook_substitutions() -> None:
         real = cls.perform
 
         def perform(self, context):
-            if before is not None:
+            if before is not None and _evaluating(context):
                 before(self, context)
             result = real(self, context)
-            if after is not None:
+            if after is not None and _evaluating(context):
                 after(self, context, result)
             return result
 
@@ -394,8 +424,11 @@ def _command_perform(self, context) -> str:
     if not words:
         raise L.launch.substitutions.SubstitutionFailure("empty command")
     if os.path.basename(words[0]) != "xacro":
-        RECORDER.add("commands", {"command": words, "ok": True, "message": "", "runtime_only": True}, self)
+        if _evaluating(context):
+            RECORDER.add("commands", {"command": words, "ok": True, "message": "", "runtime_only": True}, self)
         return ""
+    if not _evaluating(context):
+        raise L.launch.substitutions.SubstitutionFailure("not evaluated outside the launch file's visit")
     key = tuple(words)
     if key not in RECORDER.command_cache:
         RECORDER.command_cache[key] = rt._run_xacro(words[1:])
@@ -484,14 +517,22 @@ def _record_node(node, context) -> None:
         arguments.append(text)
         _record_path(text, node, "Node arguments")
     parameters = _parameters(context, node._pkgforge_parameters, node)
-    node._perform_substitutions(context)  # the real name, namespace, parameter and remapping rules
+    record = {"kind": "node", "package": package, "executable": _text(context, node._Node__node_executable),
+              "arguments": arguments, "parameters": parameters}
+    try:
+        node._perform_substitutions(context)  # the real name, namespace, parameter and remapping rules
+    except Exception:
+        # recorded as written, and the failure (a bad name, a parameter launch_ros refuses) reported
+        RECORDER.add("nodes", {**record, "name": _text(context, node._Node__node_name),
+                               "namespace": _text(context, node._Node__node_namespace),
+                               "remappings": [[_text(context, a), _text(context, b)]
+                                              for a, b in node._Node__remappings or []]}, node)
+        raise
     name = node._Node__expanded_node_name
     namespace = node.expanded_node_namespace
     RECORDER.add("nodes", {
-        "kind": "node", "package": package, "executable": _text(context, node._Node__node_executable),
-        "name": None if name == node.UNSPECIFIED_NODE_NAME else name,
+        **record, "name": None if name == node.UNSPECIFIED_NODE_NAME else name,
         "namespace": None if namespace == node.UNSPECIFIED_NODE_NAMESPACE else namespace,
-        "arguments": arguments, "parameters": parameters,
         "remappings": [[a, b] for a, b in (node.expanded_remapping_rules or [])],
     }, node)
 
@@ -573,9 +614,8 @@ def _include(action, context, depth: int):
     path = L.perform(context, source._LaunchDescriptionSource__location)
     arguments = {_text(context, k): _text(context, v) for k, v in action.launch_arguments}
     exists = os.path.isfile(path)
-    if depth > 0:  # the file itself, included as `ros2 launch` does, is not an include
-        RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
-        _record_path(path, action, "IncludeLaunchDescription")
+    RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
+    _record_path(path, action, "IncludeLaunchDescription")
     if not exists or _phantom(path):
         return None
     rt._LAUNCH_FILES.add(path)
@@ -638,26 +678,32 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
     launch = L.launch
     common = {"engine": "ros", "distro": distro}
     try:
-        sources = launch.launch_description_sources
         try:
-            # loaded first, alone: a file that does not load is a load error, as in `ros2 launch`
-            first = sources.get_launch_description_from_any_launch_file(path)
+            first = _load(path)  # a file that does not load is a load error, as in `ros2 launch`
         except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
             return {"status": "load-error", "error": builtin._error_record(path, error, "load"),
                     **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
 
         def run(values: dict[str, str], label: dict[str, str]) -> None:
+            global _VISITING
             nonlocal first
             RECORDER.branch = label
             context = launch.LaunchContext(noninteractive=True)
             for key, value in {**overrides, **values}.items():
                 context.launch_configurations[key] = value
+            # what IncludeLaunchDescription gives the file `ros2 launch` includes, without its
+            # refusal of a required argument not given: that is recorded, what needs it skipped
+            context.extend_locals({"current_launch_file_path": path,
+                                   "current_launch_file_directory": os.path.dirname(path)})
             # a fresh description for each evaluation: included sources cache what they loaded
-            source = (launch.LaunchDescriptionSource(first, path) if first is not None
-                      else sources.AnyLaunchDescriptionSource(path))
+            description = first if first is not None else _load(path)
             first = None
-            visit(launch.actions.IncludeLaunchDescription(source), context)
-            _clean_scratch()
+            _VISITING = context
+            try:
+                visit(description, context)
+            finally:
+                _VISITING = None
+                _clean_scratch()
 
         run({}, {})
         varying = [a for a in RECORDER.arguments.values()
@@ -684,12 +730,22 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
         _clean_scratch()
 
 
+def _load(path: str):
+    """The file's LaunchDescription, loaded by the loader its name says (as `ros2 launch` tries
+    first), so that its own exception, with its line, is what a load error reports."""
+    sources = L.launch.launch_description_sources
+    if path.endswith(".py"):
+        return sources.get_launch_description_from_python_launch_file(path)
+    if path.endswith((".xml", ".yaml", ".yml")):
+        return sources.get_launch_description_from_frontend_launch_file(path)
+    return sources.get_launch_description_from_any_launch_file(path)
+
+
 def _clean_scratch() -> None:
     """Temporary parameter files and logs go, after every evaluation."""
     if _SCRATCH is None:
         return
-    for name in os.listdir(_SCRATCH):
-        shutil.rmtree(os.path.join(_SCRATCH, name), ignore_errors=True)
+    shutil.rmtree(tempfile.tempdir, ignore_errors=True)  # the log folder stays: launch keeps its file open
     os.makedirs(tempfile.tempdir, exist_ok=True)
 
 
