@@ -10,9 +10,11 @@ from __future__ import annotations
 import json
 import os
 import queue
+import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from dataclasses import dataclass
@@ -214,6 +216,10 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     scripts = os.path.dirname(sys.executable)
     env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
     env = engine.environment(env)
+    # the real engine's logs and temporary parameter files: removed here, however its workers end
+    scratch = tempfile.mkdtemp(prefix="pkgforge-launch-") if engine.name == "ros" else None
+    if scratch is not None:
+        env["PKGFORGE_SCRATCH"] = scratch
     work: queue.Queue = queue.Queue()
     for index, request in enumerate(requests):
         work.put((index, request))
@@ -246,6 +252,8 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
         leftover = processes.descendants(os.getpid()) - before
         if leftover:
             processes.reap(processes.kill_tree(leftover, skip=before), timeout=0.5)
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
     for index, reply in enumerate(replies):
         if reply is None:
             replies[index] = {"status": "crashed", "error": {"message": "not evaluated (pkgforge was stopped)",

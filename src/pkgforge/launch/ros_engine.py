@@ -234,7 +234,9 @@ def setup(prefix: str | None) -> None:
     global _SCRATCH
     if getattr(L, "launch", None) is not None:
         return
-    _SCRATCH = tempfile.mkdtemp(prefix="pkgforge-ros-")
+    # in the parent's scratch folder (it removes it however this worker ends), else in TMPDIR
+    base = os.environ.get("PKGFORGE_SCRATCH")
+    _SCRATCH = tempfile.mkdtemp(prefix="pkgforge-ros-", dir=base if base and os.path.isdir(base) else None)
     atexit.register(shutil.rmtree, _SCRATCH, True)
     os.environ["ROS_LOG_DIR"] = os.path.join(_SCRATCH, "log")
     os.environ.setdefault("ROS_HOME", os.path.join(_SCRATCH, "ros_home"))

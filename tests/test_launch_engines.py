@@ -1,0 +1,128 @@
+"""`pkgforge verify --launch-engine ros|builtin` end to end, with the real launch libraries of
+humble and jazzy laid out as a ROS prefix (tests/ros_prefix.py)."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from conftest import FIXTURES, copy_fixture, line_of, run_pkgforge, verify_report
+from ros_prefix import DISTROS, make_prefix
+
+CONFORMANCE = "conformance differs where the built-in engine does (tests/test_launch_oracle.py lists each)"
+
+
+@pytest.fixture(scope="module")
+def prefixes(tmp_path_factory) -> dict[str, Path]:
+    base = tmp_path_factory.mktemp("ros")
+    out = {}
+    for distro in DISTROS:
+        prefix, reason = make_prefix(distro, base)
+        if prefix is None:
+            print(f"real launch engine tests skipped: {reason}")
+            pytest.skip(f"no real ROS 2 launch library for {distro}: {reason}")
+        out[distro] = prefix
+    return out
+
+
+def _workspace(base: Path, name: str) -> Path:
+    """fixtures: seed000, seed001 and small_turtle's launch file in every format; or the conformance package."""
+    workspace = base / name
+    (workspace / "src").mkdir(parents=True)
+    if name == "fixtures":
+        copy_fixture("seed000/rob_description", workspace)
+        turtle = copy_fixture("seed001/small_turtle", workspace)
+        for launch in sorted((FIXTURES / "launch").iterdir()):
+            shutil.copy(launch, turtle / "launch" / f"formats_{launch.name}")
+    else:
+        package = workspace / "src" / "launch_conformance"
+        shutil.copytree(FIXTURES / "launch_conformance", package)
+        (package / "launch").mkdir()
+        for launch in list(package.iterdir()):
+            if ".launch." in launch.name:
+                launch.rename(package / "launch" / launch.name)
+    return workspace
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory, prefixes) -> dict:
+    """(workspace, engine) → the JSON report of `pkgforge verify`; each run once."""
+    base = tmp_path_factory.mktemp("engines")
+    out = {}
+    for name, distros in (("fixtures", DISTROS), ("conformance", ("jazzy",))):
+        workspace = _workspace(base, name)
+        out[name, "builtin"] = verify_report(workspace, "--no-cache", "--launch-engine", "builtin")[1]
+        for distro in distros:
+            out[name, distro] = verify_report(workspace, "--no-cache", "--launch-engine", "ros",
+                                              "--ros-prefix", str(prefixes[distro]))[1]
+        out[name] = workspace
+    return out
+
+
+def _diagnostics(report: dict) -> list[tuple]:
+    return sorted((d["code"], d["path"], d["line"], d["message"]) for d in report["diagnostics"])
+
+
+@pytest.mark.parametrize("name,distro", [("fixtures", "humble"), ("fixtures", "jazzy"), pytest.param(
+    "conformance", "jazzy", marks=pytest.mark.xfail(strict=True, reason=CONFORMANCE))])
+def test_both_engines_report_the_same_diagnostics(reports, name, distro):
+    builtin, ros = reports[name, "builtin"], reports[name, distro]
+    assert builtin["launch"] == {"engine": "builtin", "distro": None}
+    assert ros["launch"] == {"engine": "ros", "distro": distro}
+    assert _diagnostics(builtin), "the fixtures have findings to compare"
+    assert _diagnostics(ros) == _diagnostics(builtin)
+
+
+def test_the_real_engine_reports_what_only_ros_refuses(reports):
+    """jazzy's launch_ros refuses a parameter it parses as YAML into a dict: the node fails, at its line."""
+    launch = reports["conformance"] / "src" / "launch_conformance" / "launch" / "py_file_content.launch.py"
+    found = [(d["code"], d["path"], d["line"]) for d in reports["conformance", "jazzy"]["diagnostics"]
+             if d["path"].endswith("py_file_content.launch.py")]
+    assert found == [("PF301", "src/launch_conformance/launch/py_file_content.launch.py",
+                      line_of(launch, "Node(package="))]
+
+
+def _snapshot(*folders: Path) -> dict[str, str]:
+    """Every file and folder under the folders, with a digest of each file's content."""
+    out = {}
+    for folder in folders:
+        for root, dirs, files in os.walk(folder):
+            for name in dirs:
+                out[os.path.join(root, name)] = "dir"
+            for name in files:
+                path = os.path.join(root, name)
+                with open(path, "rb") as handle:
+                    out[path] = hashlib.sha1(handle.read()).hexdigest()
+    return out
+
+
+def test_the_real_engine_writes_nothing_of_the_users(tmp_path, prefixes):
+    """Home, workspace and TMPDIR are as they were: logs and parameter files lived in pkgforge's
+    temporary folders, which are gone."""
+    workspace = _workspace(tmp_path, "fixtures")
+    home, tmp = tmp_path / "home", tmp_path / "tmp"
+    home.mkdir()
+    tmp.mkdir()
+    (home / ".bashrc").write_text("# a user's file\n")
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("ROS_", "XDG_"))}
+    env.update(HOME=str(home), TMPDIR=str(tmp))
+    before = _snapshot(home, workspace, tmp)
+    result = run_pkgforge("verify", "--no-cache", "--launch-engine", "ros",
+                          "--ros-prefix", str(prefixes["jazzy"]), cwd=workspace, env=env)
+    assert result.returncode == 1, result.stdout + result.stderr  # the fixtures' findings
+    assert result.stdout.splitlines()[-1].endswith("; launch: ROS 2 jazzy"), result.stdout  # the summary says so
+    assert _snapshot(home, workspace, tmp) == before
+
+
+def test_engine_choice_errors_are_one_line(tmp_path):
+    workspace = _workspace(tmp_path, "fixtures")
+    env = {k: v for k, v in os.environ.items() if k not in ("AMENT_PREFIX_PATH", "PYTHONPATH")}
+    result = run_pkgforge("verify", "--ros-prefix", str(tmp_path / "nowhere"), cwd=workspace, env=env)
+    assert result.returncode == 2
+    assert result.stderr.strip().splitlines() == [f"pkgforge: error: --ros-prefix {tmp_path / 'nowhere'}: no such folder"]
+    result = run_pkgforge("verify", "--ros-prefix", str(workspace), cwd=workspace, env=env)
+    assert result.returncode == 2 and "holds no ROS 2 launch libraries" in result.stderr
+    assert "Traceback" not in result.stderr
