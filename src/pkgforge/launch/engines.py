@@ -19,6 +19,9 @@ ENGINE_ENV = "PKGFORGE_LAUNCH_ENGINE"
 PREFIX_ENV = "PKGFORGE_ROS_PREFIX"
 DISTRO_ENV = "PKGFORGE_ROS_DISTRO"
 CHOICES = ("auto", "ros", "builtin")
+# pure-Python modules the real launch imports; Debian's ROS packages put them here
+SYSTEM_PYTHON = "/usr/lib/python3/dist-packages"
+LAUNCH_REQUIREMENTS = {"lark": "lark", "osrf_pycommon": "osrf-pycommon", "yaml": "PyYAML"}
 KNOWN_DISTROS = ("humble", "iron", "jazzy", "kilted", "rolling")
 
 
@@ -110,6 +113,23 @@ def find_ros(ros_prefix: str | None = None, environ=os.environ) -> tuple[str | N
 
 
 
+def missing_requirements(prefix: str | None) -> list[str]:
+    """The PyPI names of what the real launch needs and neither this Python, the prefix nor
+    the system's dist-packages has."""
+    import importlib.util
+
+    folders = python_paths(prefix) if prefix else []
+    folders.append(SYSTEM_PYTHON)
+    missing = []
+    for module, name in LAUNCH_REQUIREMENTS.items():
+        if importlib.util.find_spec(module) is not None:
+            continue
+        if not any(os.path.exists(os.path.join(f, module)) or os.path.exists(os.path.join(f, module + ".py"))
+                   for f in folders):
+            missing.append(name)
+    return missing
+
+
 def choose(option: str = "auto", ros_prefix=None, environ=os.environ) -> LaunchEngine:
     """The engine for --launch-engine OPTION (--ros-prefix DIR); a clear error when ros cannot be had."""
     if option not in CHOICES:
@@ -120,6 +140,13 @@ def choose(option: str = "auto", ros_prefix=None, environ=os.environ) -> LaunchE
     if prefix_text is not None and not os.path.isdir(prefix_text):
         raise PkgforgeError(f"--ros-prefix {prefix_text}: no such folder")
     prefix, distro, how = find_ros(prefix_text, environ)
+    missing = missing_requirements(prefix) if prefix is not None else []
+    if missing:
+        if option == "auto" and prefix_text is None:
+            return BUILTIN
+        raise PkgforgeError(f"the ROS 2 launch libraries in {prefix or 'PYTHONPATH'} need "
+                            f"{', '.join(missing)}, which this Python cannot import: "
+                            f"pip install {' '.join(missing)} (or pkgforge[ros])")
     if prefix is None:
         if prefix_text is not None:
             raise PkgforgeError(f"--ros-prefix {prefix_text} holds no ROS 2 launch libraries "

@@ -246,6 +246,10 @@ def setup(prefix: str | None) -> None:
         for folder in reversed(python_paths(prefix)):
             if folder not in sys.path:
                 sys.path.insert(0, folder)
+    from .engines import SYSTEM_PYTHON
+
+    if os.path.isdir(SYSTEM_PYTHON) and SYSTEM_PYTHON not in sys.path:
+        sys.path.append(SYSTEM_PYTHON)  # lark, osrf_pycommon as Debian's ROS packages install them
     L.stand_ins = _install_stand_ins()
     import launch
     import launch.frontend
