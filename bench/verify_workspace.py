@@ -1,11 +1,14 @@
 """`pkgforge verify` against `colcon list` (and `colcon build`) on one generated workspace.
 
     .venv/bin/python bench/verify_workspace.py [--packages 200] [--repeat 9] [--keep DIR] [--with-build]
+                                               [--ros-prefix DIR | --upstream-distro jazzy]
 
 The packages are made with pkgforge's own scaffold (the code behind `pkgforge new`).
 Every command runs as a subprocess, as a user runs it, interleaved with the
 others; the table gives each one's median wall time and its median ratio to
-`colcon list` in the same round. With --with-build, `colcon build` and
+`colcon list` in the same round. With --ros-prefix (a ROS 2 distro) or --upstream-distro
+(the real launch libraries from ../shared/upstream laid out as one, as the tests do), the
+default verify runs with each launch engine too. With --with-build, `colcon build` and
 `pkgforge verify --build` run once each (cold). Asserts nothing.
 """
 
@@ -62,6 +65,8 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=9)
     parser.add_argument("--keep", type=Path, default=None, help="generate into (and keep) this folder")
     parser.add_argument("--with-build", action="store_true", help="also time colcon build and verify --build")
+    parser.add_argument("--ros-prefix", type=Path, default=None, help="time the real launch engine of this distro")
+    parser.add_argument("--upstream-distro", default=None, help="time the real launch engine of ../shared/upstream")
     args = parser.parse_args()
 
     verify = [sys.executable, "-m", "pkgforge", "verify", "--format", "json"]
@@ -74,7 +79,19 @@ def main() -> None:
         "verify (default), second run": verify,  # unchanged workspace: from the cache
     }
     with tempfile.TemporaryDirectory() as tmp:
-        root = generate(args.keep or Path(tmp), args.packages)
+        prefix = args.ros_prefix
+        if args.upstream_distro:
+            sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+            from ros_prefix import make_prefix
+
+            prefix, reason = make_prefix(args.upstream_distro, Path(tmp) / "ros")
+            if prefix is None:
+                sys.exit(f"no upstream launch libraries: {reason}")
+        if prefix is not None:
+            commands["verify, built-in launch engine"] = [*verify, "--no-cache", "--launch-engine", "builtin"]
+            commands["verify, real launch engine"] = [*verify, "--no-cache", "--launch-engine", "ros",
+                                                      "--ros-prefix", str(prefix)]
+        root = generate(args.keep or Path(tmp) / "ws", args.packages)
         for cmd in commands.values():
             timed(cmd, root)  # warm caches, write byte code
         # interleaved, so a slow spell of the machine hits every command alike
