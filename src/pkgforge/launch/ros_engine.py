@@ -280,6 +280,54 @@ def setup(prefix: str | None) -> None:
     _hook_locations()
     _hook_loaders()
     _hook_substitutions()
+    _memoize_substitution_grammar()
+    _fast_parameter_files(yaml)
+
+
+class _MemoParser:
+    """launch's substitution grammar parser, each distinct string parsed once per worker: the
+    tree is only read by the transformer, which builds fresh substitutions from it every time."""
+
+    def __init__(self, parser):
+        self.parser, self.trees = parser, {}
+
+    def parse(self, text, *args, **kwargs):
+        if args or kwargs:
+            return self.parser.parse(text, *args, **kwargs)
+        if text not in self.trees:
+            self.trees[text] = self.parser.parse(text)
+        return self.trees[text]
+
+    def __getattr__(self, name):
+        return getattr(self.parser, name)
+
+
+def _fast_parameter_files(yaml_module) -> None:
+    """launch_ros dumps a node's parameters to a temporary file with PyYAML's pure-Python
+    dumper; libyaml's writes the same document, several times faster (the file is removed)."""
+    import launch_ros.actions.node as node_module
+
+    dumper = getattr(yaml_module, "CDumper", None)  # the C twin of yaml.dump's default Dumper
+    if dumper is None or getattr(node_module, "yaml", None) is not yaml_module:
+        return
+    shim = types.SimpleNamespace(**{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")})
+    shim.dump = lambda data, stream=None, **kwargs: yaml_module.dump(data, stream, Dumper=dumper, **kwargs)
+    node_module.yaml = shim
+
+
+def _memoize_substitution_grammar() -> None:
+    """Every file is loaded again for each evaluated branch; the Earley parse of its
+    substitution strings is most of a front-end file's cost."""
+    try:
+        from launch.frontend import parse_substitution as module
+
+        if getattr(module, "_parser", None) is None:
+            with open(module.get_grammar_path()) as handle:
+                module._parser = module.Lark(handle, start="template")
+        if not isinstance(module._parser, _MemoParser):
+            module._parser = _MemoParser(module._parser)
+    except Exception:  # noqa: BLE001 - another launch layout: parsed as launch parses it
+        pass
 
 
 def _locate(cls) -> None:
