@@ -1,9 +1,9 @@
 """The real engine: a ROS 2 distro's own `launch`, `launch_xml`, `launch_yaml` and `launch_ros`.
 
 Runs only in the launch worker (`PKGFORGE_LAUNCH_ENGINE=ros`). The libraries are
-imported once per worker. Each file is loaded as `ros2 launch` loads it (an
-IncludeLaunchDescription of the file, with the launch arguments) and its
-description is visited here, entity by entity, WITHOUT starting anything: the
+imported once per worker. Each file is loaded as `ros2 launch` loads it (by the
+loader its name says, with the locals its include would give it; a required
+argument not given is recorded, not fatal) and its description is visited here, entity by entity, WITHOUT starting anything: the
 actions that would start a process (ExecuteProcess, Node, ComposableNodeContainer,
 LifecycleNode) have their substitutions performed and are recorded instead; no
 ROS graph, no DDS, and nothing written outside a temporary folder (ROS_LOG_DIR
@@ -366,6 +366,13 @@ def _hook_locations() -> None:
         node_init(self, *args, **kwargs)
 
     launch_ros.actions.Node.__init__ = __init__
+    composable_init = launch_ros.descriptions.ComposableNode.__init__
+
+    def composable(self, *args, **kwargs):
+        self._pkgforge_parameters = list(kwargs.get("parameters") or [])
+        composable_init(self, *args, **kwargs)
+
+    launch_ros.descriptions.ComposableNode.__init__ = composable
     parse_action = launch.frontend.Parser.parse_action
 
     def located_parse_action(self, entity):
