@@ -120,6 +120,7 @@ class Error(Record):
     entity: str | None = None
     package: str | None = None  # PackageNotFoundError: which package
     module: str | None = None  # ModuleNotFoundError: which module
+    limit: str | None = None  # a worker limit hit: time | cpu | memory | files (never cached)
 
 
 KINDS: dict[str, type[Record]] = {

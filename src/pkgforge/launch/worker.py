@@ -224,9 +224,10 @@ def main() -> None:
         except BaseException as error:  # noqa: BLE001 - the reply must always come
             result = {"status": "load-error", "error": _located(request, error)}
             if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
+                from pkgforge.launch.records import as_dict
                 from pkgforge.launch.runtime import RECORDER
 
-                result["errors"] = list(RECORDER.errors)
+                result["errors"] = [as_dict(e) for e in RECORDER.errors]
         _mark_limits(result, limits)
         result["request"] = request
         replies.write(json.dumps(result, default=str) + "\n")
