@@ -17,10 +17,10 @@ from ..diagnostics import Finding, Severity
 def _node_records(ctx: CheckContext):
     """(package, arguments, source position, record, resolution) of every node a launch file starts."""
     for resolution in ctx.resolutions:
-        for node in resolution.items.get("nodes", []):
-            position = ctx.source_position(resolution, node.get("file"), node.get("line"))
+        for node in resolution.nodes:
+            position = ctx.source_position(resolution, node.file, node.line)
             if position is not None:
-                yield node.get("package"), [str(a) for a in node.get("arguments") or []], position, node, resolution
+                yield node.package, [str(a) for a in node.arguments or []], position, node, resolution
 
 
 def _split_characters(arguments: list[str]) -> bool:

@@ -95,12 +95,12 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
     missing = _missing_package_of(error)
     if missing is not None:
         # the file stopped on the empty stand-in of a package not found: that lookup is the cause
-        lookup = next((p for p in RECORDER.packages if p.get("name") == missing and p.get("found") is False), None)
+        lookup = next((p for p in RECORDER.packages if p.name == missing and p.found is False), None)
         record.update(type="PackageNotFoundError", package=missing,
                       message=f"PackageNotFoundError: package '{missing}' not found")
         if lookup is not None:
-            record["file"], record["line"] = lookup.get("file"), lookup.get("line")
-            return record
+            record["file"], record["line"] = lookup.file, lookup.line
+            return as_dict(Error(**record))
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
     if getattr(error, "line", None) and type(error).__name__ == "FrontendError":

@@ -92,6 +92,7 @@ class CommandRun(Record):
     via: str | None = None
     robot: dict | None = None  # the model's structure, from the launch's own xacro run
     includes: list[str] = field(default_factory=list)
+    stderr: str = ""  # what the command wrote to stderr (Command's on_stderr rule)
 
 
 @dataclass
