@@ -93,8 +93,10 @@ class VerifyResult:
 
 def package_folders(base: Path) -> list[Path]:
     """Folders with a package.xml under base, honouring the ignore markers as colcon does."""
+    from .walk import walk
+
     found = []
-    for current, dirs, files in os.walk(base, followlinks=False):
+    for current, dirs, files in walk(base):
         if any(marker in files for marker in IGNORE_MARKERS):
             dirs[:] = []
             continue

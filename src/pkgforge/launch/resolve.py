@@ -22,6 +22,7 @@ from .. import processes
 from ..model.package import PackageModel
 from ..model.references import launch_kind
 from ..trees import InstallTree
+from ..walk import walk
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
@@ -58,7 +59,10 @@ def find_launch_files(tree: InstallTree, models: list[PackageModel]) -> tuple[li
         share = tree.share(model.share_name)
         if share is None or not share.is_dir():
             continue
-        for root, dirs, files in os.walk(share, followlinks=True):
+        # links followed only inside the share folder or back into the package's source
+        # (--symlink-install), each folder once: a link cycle is not an endless walk
+        for root, dirs, files in walk(share, follow_links=True, inside=(model.path,),
+                                      limits=model.walk_limits):
             dirs[:] = sorted(d for d in dirs if d not in ("test", "tests", "__pycache__") and not d.startswith("."))
             for name in sorted(files):
                 installed = Path(root) / name
