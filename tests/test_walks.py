@@ -30,13 +30,27 @@ def package(tmp_path, template_package) -> Path:
     return target
 
 
-def nest(folder: Path, depth: int) -> Path:
-    """depth nested folders d/d/d/... under folder (os.makedirs itself does not recurse)."""
-    path = folder
-    for _ in range(depth):
-        path = path / "d"
-        path.mkdir()
-    return path
+@pytest.fixture
+def nest(request):
+    """nest(folder, depth): depth nested folders d/d/d/... under folder, removed again after the
+    test without recursion (pytest's own clean-up of old temporary folders recurses, and would
+    fail on them in every later run, anyone's)."""
+    made = []
+
+    def make(folder: Path, depth: int) -> Path:
+        path = folder
+        for _ in range(depth):
+            path = path / "d"
+            path.mkdir()
+            made.append(path)
+        return path
+
+    yield make
+    for path in reversed(made):
+        for entry in os.scandir(path):
+            if not entry.is_dir(follow_symlinks=False):
+                os.unlink(entry.path)
+        os.rmdir(path)
 
 
 def hand_made_install(package: Path) -> Path:
@@ -85,7 +99,7 @@ def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
     assert codes(report) == [], report["diagnostics"]
 
 
-def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package):
+def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package, nest):
     deepest = nest(package / "meshes", 1000)
     (deepest / "part.stl").write_bytes(b"solid x\nendsolid x\n")
     result = run_pkgforge("verify", "--format", "json", "--no-cache", cwd=package.parent.parent,
@@ -101,7 +115,7 @@ def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package):
     assert "64 deep" in diagnostic["message"]
 
 
-def test_deep_nesting_in_an_install_base_is_reported(package):
+def test_deep_nesting_in_an_install_base_is_reported(package, nest):
     workspace = package.parent.parent
     share = hand_made_install(package)
     deepest = nest(share / "launch", 1000)

@@ -6,12 +6,13 @@ Like os.walk (top-down, the caller may prune `dirs` in place) but:
   real path stays inside the walk's top, and never twice (a link to `.` or to
   a parent is a cycle, not an endless walk);
 - bounded: at most `max_depth` folders deep and `max_files` files; where a
-  bound stops the walk, a WalkLimit says which folder and why, for the
-  folder-not-walked diagnostic (PF902).
+  bound stops the walk (or a folder cannot be read), a WalkLimit says which
+  folder and why, for the folder-not-walked diagnostic (PF902).
 """
 
 from __future__ import annotations
 
+import errno
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -22,10 +23,15 @@ MAX_DEPTH = 64
 MAX_FILES = 100_000
 
 
+UNREADABLE_HINT = ("give the folder read and search permission (chmod a+rx); colcon build cannot "
+                   "install it either")
+
+
 @dataclass(frozen=True)
 class WalkLimit:
     path: str  # the folder where the walk stopped
-    why: str  # one line: which bound
+    why: str  # one line: which bound, or why the folder cannot be read
+    hint: str | None = None  # None: the check's own hint
 
 
 def walk(top, *, follow_links: bool = False, max_depth: int = MAX_DEPTH, max_files: int = MAX_FILES,
@@ -35,8 +41,7 @@ def walk(top, *, follow_links: bool = False, max_depth: int = MAX_DEPTH, max_fil
     A followed link may lead into top or into one of the folders `inside`
     (an install tree's link back into its package's source, --symlink-install).
 
-    Unreadable folders are skipped as os.walk skips them (their files are not
-    listed; the readers of the files that matter report what they cannot read).
+    An unreadable folder is skipped, and noted in `limits` too.
     """
     top = os.fspath(top)
     try:
@@ -63,7 +68,9 @@ def walk(top, *, follow_links: bool = False, max_depth: int = MAX_DEPTH, max_fil
                             links.add(entry.name)
                     else:
                         files.append(entry.name)
-        except OSError:
+        except OSError as exc:
+            if exc.errno != errno.ENOENT:  # gone meanwhile is no problem; unreadable is
+                _note(limits, folder, f"cannot read this folder: {exc.strerror}", UNREADABLE_HINT)
             continue
         if len(files) > files_left:
             files = sorted(files)[:files_left]
@@ -101,8 +108,8 @@ def walk(top, *, follow_links: bool = False, max_depth: int = MAX_DEPTH, max_fil
         stack.extend(reversed(below))
 
 
-def _note(limits: list[WalkLimit] | None, folder: str, why: str) -> None:
+def _note(limits: list[WalkLimit] | None, folder: str, why: str, hint: str | None = None) -> None:
     if limits is not None:
-        limit = WalkLimit(folder, why)
+        limit = WalkLimit(folder, why, hint)
         if limit not in limits:
             limits.append(limit)

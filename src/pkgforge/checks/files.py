@@ -13,20 +13,34 @@ from .registry import register
           summary="a file pkgforge would read is too large or unreadable",
           explanation="pkgforge reads launch files, models and RViz configs to find what they "
                       "refer to; a file it cannot read is left out of those checks.",
-          hint="check the file; a model over 8 MB is usually an ASCII mesh export by mistake")
+          hint="make the file readable, or smaller than 8 MB")
 def file_not_read(ctx: CheckContext):
     for source in ctx.model.skipped:
         if source.problem_line is not None:
             continue  # not UTF-8: the check that parses the file (launch, model, RViz) reports it
         yield Finding(f"{ctx.relative(source.path)} not read: {source.problem}", source.path,
-                      source.problem_line)
+                      source.problem_line, hint=read_problem_hint(source.problem))
+
+
+def read_problem_hint(problem: str | None) -> str | None:
+    """The fix for why read_source could not read a file (None: the check's own hint)."""
+    problem = problem or ""
+    if "limit for reading" in problem:
+        return ("pkgforge reads files up to 8 MB: split it (xacro:include) or generate it at build "
+                "time; the file is not checked")
+    if "Permission denied" in problem or "Operation not permitted" in problem:
+        return "give read permission (chmod a+r FILE, and a+x on its folders): colcon and ROS read it too"
+    if "not valid UTF-8" in problem:
+        return "save the file as UTF-8"
+    return None
 
 
 @register("PF902", "folder-not-walked", "warning", area="files",
-          summary="a folder nests too deep or holds too many files for pkgforge to look at all of it",
+          summary="a folder cannot be read, or nests too deep or holds too many files to look at all of it",
           explanation="pkgforge walks a package (and its installed share folder) at most 64 folders "
                       "deep and over at most 100000 files, so that a folder copied into itself or a "
-                      "runaway export cannot stall a verify; what lies beyond is not checked.",
+                      "runaway export cannot stall a verify; what lies beyond is not checked. A "
+                      "folder it may not read is not checked either (and colcon cannot install it).",
           hint="remove the accidental nesting or the stray files, or move them out of the package "
                "(or mark a folder with COLCON_IGNORE)")
 def folder_not_walked(ctx: CheckContext):
@@ -42,4 +56,4 @@ def folder_not_walked(ctx: CheckContext):
         if any(path == seen or seen in path.parents or path in seen.parents for seen in shown):
             continue  # the same nesting, met by another walk
         shown.add(path)
-        yield Finding(limit.why, path)
+        yield Finding(limit.why, path, hint=limit.hint)

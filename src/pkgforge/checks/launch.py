@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import difflib
+import os
 from pathlib import Path
 
 from ..diagnostics import Finding
 from .context import CheckContext
 from .install import install_fix
 from .registry import register
+from ..walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these; a declared rviz2 brings their displays
@@ -81,6 +83,15 @@ def missing_file(ctx: CheckContext):
     yield from _missing_paths(ctx, want_source=False)
 
 
+def _unreadable_folder(owner, source: Path) -> Path | None:
+    """The folder of owner's source that the walk could not read and that holds source."""
+    for limit in [*owner.walk_limits, *owner.layout.walk_limits]:
+        folder = Path(limit.path)
+        if limit.hint == UNREADABLE_HINT and folder in source.parents and owner.path in folder.parents:
+            return folder
+    return None
+
+
 def _missing_paths(ctx: CheckContext, *, want_source: bool):
     # one defect, one diagnostic: the first line of a file that names the path, "and N more"
     found: dict[tuple, list] = {}
@@ -94,7 +105,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             package, relative, _ = located
             owner = ctx.model_for_share(package)
             source = owner.path / relative if owner is not None else None
-            in_source = source is not None and source.exists()
+            in_source = source is not None and os.path.exists(source)
             if in_source != want_source:
                 continue
             position = ctx.source_position(resolution, item.get("file"), item.get("line"))
@@ -112,10 +123,16 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
         more = (f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
                 if len(lines) > 1 else "")
         shown = f"share/{package}/{relative}"
+        source = owner.path / relative if owner is not None else None
         if want_source:
             yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
                           f"install rule covers it{_branch_note(item, resolution)}{more}", path, line,
                           hint=install_fix(owner, relative.split('/')[0]))
+        elif owner is not None and _unreadable_folder(owner, source) is not None:
+            folder = _unreadable_folder(owner, source)
+            yield Finding(f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
+                          f"cannot be read{_branch_note(item, resolution)}{more}", path, line,
+                          hint=UNREADABLE_HINT)
         else:
             hint = None
             if owner is not None:

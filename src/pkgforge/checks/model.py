@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections import Counter
 from pathlib import Path
 
@@ -9,6 +10,7 @@ from ..diagnostics import Finding
 from ..meshes import resolve_uri, unreadable
 from .context import CheckContext
 from .install import install_fix
+from .files import read_problem_hint
 from .registry import register
 
 
@@ -33,7 +35,8 @@ def xacro_error(ctx: CheckContext):
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
             yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
-                          *_where(ctx, result, error.get("file"), error.get("line")))
+                          *_where(ctx, result, error.get("file"), error.get("line")),
+                          hint=error.get("hint") or read_problem_hint(error.get("message")))
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
     seen = set()
     for resolution in ctx.resolutions:
@@ -150,7 +153,7 @@ def mesh_not_found(ctx: CheckContext):
                           *position, hint="fix the package name in the URI")
         elif lookup.status == "missing":
             owner = ctx.model_for_share(lookup.package) if lookup.package else None
-            in_source = owner is not None and (owner.path / lookup.relative).is_file()
+            in_source = owner is not None and os.path.isfile(owner.path / lookup.relative)
             if in_source:
                 yield Finding(f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
                               f"{lookup.package} but no install rule covers it", *position,

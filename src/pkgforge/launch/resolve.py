@@ -101,7 +101,7 @@ def source_of(installed: Path, tree: InstallTree, model: PackageModel | None) ->
     if entry is not None and entry.source is not None:
         return entry.source
     candidate = model.path / relative
-    return candidate if candidate.is_file() else None
+    return candidate if os.path.isfile(candidate) else None  # no PermissionError
 
 
 @dataclass(frozen=True)
