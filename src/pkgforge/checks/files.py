@@ -57,3 +57,19 @@ def folder_not_walked(ctx: CheckContext):
             continue  # the same nesting, met by another walk
         shown.add(path)
         yield Finding(limit.why, path, hint=limit.hint)
+
+
+def untree(ctx: CheckContext, text: str) -> str:
+    """text with paths in pkgforge's temporary install tree of this package shown as the source
+    files they come from (a message names the user's file, not a folder that is gone)."""
+    import re
+
+    share = ctx.tree.share(ctx.model.share_name) if ctx.tree is not None else None
+    if share is None or str(share) not in text:
+        return text
+
+    def source(match) -> str:
+        found = ctx.own_source(match.group(0))
+        return ctx.relative(found) if found is not None else match.group(0)
+
+    return re.sub(re.escape(str(share)) + r"/[^\s'\"\]]+", source, text)

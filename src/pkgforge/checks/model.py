@@ -9,8 +9,8 @@ from pathlib import Path
 from ..diagnostics import Finding
 from ..meshes import resolve_uri, unreadable
 from .context import CheckContext
-from .install import install_fix
-from .files import read_problem_hint
+from .install import install_fix, link_hint
+from .files import read_problem_hint, untree
 from .registry import register
 
 
@@ -34,7 +34,7 @@ def xacro_error(ctx: CheckContext):
         error = result.error or {}
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
-            yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
+            yield Finding(f"xacro {result.installed.name}: {untree(ctx, str(error.get('message')))}",
                           *_where(ctx, result, error.get("file"), error.get("line")),
                           hint=error.get("hint") or read_problem_hint(error.get("message")))
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -154,10 +154,14 @@ def mesh_not_found(ctx: CheckContext):
         elif lookup.status == "missing":
             owner = ctx.model_for_share(lookup.package) if lookup.package else None
             in_source = owner is not None and os.path.isfile(owner.path / lookup.relative)
-            if in_source:
+            linked = link_hint(owner, lookup.relative) if owner is not None else None
+            if linked is not None:
+                yield Finding(f"{mesh['uri']} ({where}) is not in the install tree: {linked[0]}", *position,
+                              hint=linked[1])
+            elif in_source:
                 yield Finding(f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
                               f"{lookup.package} but no install rule covers it", *position,
-                              hint=install_fix(owner, lookup.relative.split("/")[0]))
+                              hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative))
             else:
                 yield Finding(f"{mesh['uri']} ({where}) does not exist", *position,
                               hint="fix the file name in the URI")
@@ -206,7 +210,8 @@ def mesh_unreadable(ctx: CheckContext):
         if lookup.status == "found":
             problem = unreadable(lookup.path)
             if problem:
-                yield Finding(f"{mesh['uri']}: {problem}", *_where(ctx, result, mesh.get("file"), mesh.get("line")))
+                yield Finding(f"{mesh['uri']}: {problem}", *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                              hint=read_problem_hint(problem))
 
 
 @register("PF406", "model-needs-arguments", "info", area="model",

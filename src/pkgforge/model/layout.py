@@ -160,7 +160,8 @@ def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
                     layout.missing.append(MissingSource(value, rule.mode, rule.path, arg.line, arg.column))
                 continue
             into = destination if value.endswith("/") else posixpath.join(destination, source.name)
-            installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/"))
+            # as written: a trailing slash (contents, not the folder) matters to the fix hints
+            installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/") + "/")
             for full, relative in _directory_files(source, rule, layout.walk_limits):
                 layout.add(posixpath.normpath(posixpath.join(into, relative)), full,
                            rule.path, rule.line)
