@@ -22,6 +22,18 @@ def _where(ctx: CheckContext, result, file: str | None, line: int | None):
     return (result.source or result.installed), None
 
 
+def _path_split_at_spaces(words: list[str], model: str) -> str | None:
+    """The existing path that a command line split at its spaces, starting with the word `model`."""
+    if model not in words or os.path.exists(model):
+        return None
+    start = words.index(model)
+    for end in range(start + 1, len(words)):
+        candidate = " ".join(words[start:end + 1])
+        if os.path.exists(candidate):
+            return candidate
+    return None
+
+
 @register("PF308", "xacro-error", "error", area="model",
           summary="xacro fails on the model a launch file processes",
           explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
@@ -49,6 +61,14 @@ def xacro_error(ctx: CheckContext):
             if position is None or position in seen:
                 continue
             seen.add(position)
+            spaced = _path_split_at_spaces(command.get("command") or [], command["model"])
+            if spaced is not None:
+                yield Finding(f"xacro {Path(spaced).name}: the path '{spaced}' has a space, and "
+                              "Command joins its parts into one line that it splits at spaces (ROS's "
+                              f"Command does too): xacro got '{command['model']}'", *position,
+                              hint="quote the path inside the command line, e.g. Command(['xacro \"', "
+                                   "path, '\"']), or use a workspace path without spaces")
+                continue
             message = command.get("message", "").strip().splitlines()
             yield Finding(f"xacro {Path(command['model']).name}: {message[0] if message else 'failed'}",
                           *position)

@@ -147,7 +147,12 @@ class _Worker:
 
     def ask(self, request: dict, timeout: float) -> dict:
         if self.process is None or self.process.poll() is not None:
-            self.start()
+            try:
+                self.start()
+            except OSError as exc:  # an answer too: never a thread's traceback
+                return {"status": "crashed", "error": {
+                    "message": f"cannot start the launch worker {exc.filename or sys.executable}: "
+                               f"{exc.strerror or exc}", "line": None}}
         try:
             self.process.stdin.write(json.dumps(request) + "\n")
             self.process.stdin.flush()
