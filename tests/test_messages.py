@@ -309,3 +309,19 @@ def test_unreadable_file_hints_say_permission(as_nobody, shared, file, code, wro
     for info in (d for d in report["diagnostics"] if d["code"] == "PF901"):
         assert "ASCII" not in info["hint"] and "chmod a+r" in info["hint"]
     assert "/tmp/pkgforge-tree-" not in result.stdout  # the user's file is named, not pkgforge's tree
+
+
+def test_encoding_problems_say_save_as_utf8(package):
+    launch = package / "launch" / "display.launch.py"
+    comment_line = line_of(launch, "# value_type")
+    for relative, old in (("package.xml", b"<description>"), ("rviz/display.rviz", b"Panels"),
+                          ("launch/display.launch.py", b"# value_type")):
+        path = package / relative
+        path.write_bytes(path.read_bytes().replace(old, old + b"\xe9", 1))
+    status, report = verify_report(package, "--no-cache")
+    by_code = {d["code"]: d for d in report["diagnostics"]}
+    assert set(by_code) == {"PF101", "PF501", "PF901"}, report["diagnostics"]
+    assert by_code["PF101"]["hint"] == "save the file as UTF-8"  # not "fix the element named"
+    assert by_code["PF501"]["hint"] == "save the file as UTF-8"  # not "save the config again from RViz"
+    assert (by_code["PF901"]["path"], by_code["PF901"]["line"]) == ("launch/display.launch.py", comment_line)
+    assert "UTF-8" in by_code["PF901"]["hint"] and "ASCII" not in by_code["PF901"]["hint"]

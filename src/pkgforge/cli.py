@@ -78,6 +78,10 @@ class _Group(click.Group):
             raise
         except PkgforgeError as error:
             fail(error)
+        except BrokenPipeError:  # `pkgforge verify | head`: the reader left; no message to anyone
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(1)
         except OSError as exc:
             click.echo(f"pkgforge: error: {describe_os_error(exc)}", err=True)
             if DEBUG["on"]:

@@ -15,9 +15,17 @@ from .registry import register
                       "refer to; a file it cannot read is left out of those checks.",
           hint="make the file readable, or smaller than 8 MB")
 def file_not_read(ctx: CheckContext):
+    from ..model.references import launch_kind
+
     for source in ctx.model.skipped:
         if source.problem_line is not None:
-            continue  # not UTF-8: the check that parses the file (launch, model, RViz) reports it
+            if launch_kind(source.path) is not None:
+                # pkgforge evaluates it leniently; ros2 launch may not (no check parses it strictly)
+                yield Finding(f"{ctx.relative(source.path)} not read: {source.problem}", source.path,
+                              source.problem_line,
+                              hint="save the file as UTF-8: unless a Python file declares its coding, "
+                                   "ros2 launch refuses it")
+            continue  # not UTF-8: the check that parses the file (model, RViz) reports it
         yield Finding(f"{ctx.relative(source.path)} not read: {source.problem}", source.path,
                       source.problem_line, hint=read_problem_hint(source.problem))
 
