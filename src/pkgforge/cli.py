@@ -22,7 +22,6 @@ from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS  # noqa: E402
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
 
-ISSUES_URL = "https://github.com/pkgforge/pkgforge/issues"
 # --debug (or PKGFORGE_DEBUG=1): show the traceback of an internal error
 DEBUG = {"on": bool(os.environ.get("PKGFORGE_DEBUG"))}
 
@@ -32,10 +31,14 @@ def fail(error: PkgforgeError) -> None:
     sys.exit(error.exit_code)
 
 
+def _report_note() -> str:
+    shown = "" if DEBUG["on"] else ", with the traceback that `pkgforge --debug ...` prints"
+    return f" to pkgforge's maintainers (pkgforge {__version__}{shown})"
+
+
 def internal_error(what: str, trace: str) -> None:
     """An unexpected exception inside pkgforge: exit 2, the traceback only under --debug."""
-    click.echo(f"pkgforge: internal error: {what}; please report it at {ISSUES_URL}"
-               + ("" if DEBUG["on"] else " (with the traceback --debug shows)"), err=True)
+    click.echo(f"pkgforge: internal error: {what}; please report it{_report_note()}", err=True)
     if DEBUG["on"]:
         click.echo(trace.rstrip(), err=True)
     sys.exit(2)
@@ -312,8 +315,7 @@ def report_internal_errors(result) -> None:
     """A check that crashed: its diagnostic is in the report; say so on stderr (exit 2 follows)."""
     for error in result.internal_errors:
         summary, _, trace = error.partition("\n")
-        click.echo(f"pkgforge: internal error {summary}; please report it at {ISSUES_URL}"
-                   + ("" if DEBUG["on"] else " (with the traceback --debug shows)"), err=True)
+        click.echo(f"pkgforge: internal error {summary}; please report it{_report_note()}", err=True)
         if DEBUG["on"]:
             click.echo(trace.rstrip(), err=True)
 
