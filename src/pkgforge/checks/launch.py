@@ -53,8 +53,9 @@ def launch_load_error(ctx: CheckContext):
                         "--launch-timeout")
             elif resolution.status == "crashed":
                 message = f"{resolution.launch.installed.name}: {text}"
-                hint = ("the file ended the process without a Python error: look for os._exit(), os.kill() "
-                        "or a compiled extension it imports")
+                hint = read_problem_hint(text) or (
+                    "the file ended the process without a Python error: look for os._exit(), os.kill() "
+                    "or a compiled extension it imports")
             else:
                 message = f"loading {resolution.launch.installed.name} failed: {text}"
                 hint = read_problem_hint(text)
