@@ -284,7 +284,7 @@ def test_unreadable_folder_is_located_not_an_internal_error(as_nobody, shared):
     assert "internal error" not in result.stdout + result.stderr and "Traceback" not in result.stderr
     assert result.returncode == 1, result.stdout + result.stderr
     report = json.loads(result.stdout)
-    folder = only(report, "PF902")
+    folder = only(report, "PF903")
     assert (folder["path"], folder["severity"]) == ("src/rob_description/urdf", "warning")
     assert "cannot read this folder: Permission denied" in folder["message"] and "chmod" in folder["hint"]
     missing = only(report, "PF303")

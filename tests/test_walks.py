@@ -1,5 +1,5 @@
 """Directory walks never follow a link cycle, never leave the tree, and stop at bounded depth
-(folder-not-walked, PF902) without Python recursion, in every verify mode (issue 11 item 6)."""
+(folder-not-walked, PF903) without Python recursion, in every verify mode (issue 11 item 6)."""
 
 from __future__ import annotations
 
@@ -110,7 +110,7 @@ def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package, 
 
     report = json.loads(result.stdout)
     (diagnostic,) = report["diagnostics"]
-    assert diagnostic["code"] == "PF902" and diagnostic["severity"] == "warning"
+    assert diagnostic["code"] == "PF903" and diagnostic["severity"] == "warning"
     assert diagnostic["path"] == "src/rob_description/meshes" + "/d" * 63  # 64 folders below the package
     assert "64 deep" in diagnostic["message"]
 
@@ -123,6 +123,6 @@ def test_deep_nesting_in_an_install_base_is_reported(package, nest):
     status, report = verify_report(workspace, "--install-base", "install", "--select", "PF3,PF9")
     assert status == 0
     (diagnostic,) = report["diagnostics"]
-    assert diagnostic["code"] == "PF902"
+    assert diagnostic["code"] == "PF903"
     # no source folder matches it: the folder of the install tree is named
     assert diagnostic["path"].endswith("install/share/rob_description/launch" + "/d" * 63)

@@ -7,7 +7,7 @@ Like os.walk (top-down, the caller may prune `dirs` in place) but:
   a parent is a cycle, not an endless walk);
 - bounded: at most `max_depth` folders deep and `max_files` files; where a
   bound stops the walk (or a folder cannot be read), a WalkLimit says which
-  folder and why, for the folder-not-walked diagnostic (PF902).
+  folder and why, for the folder-not-walked diagnostic (PF903).
 """
 
 from __future__ import annotations

@@ -43,7 +43,7 @@ def read_problem_hint(problem: str | None) -> str | None:
     return None
 
 
-@register("PF902", "folder-not-walked", "warning", area="files",
+@register("PF903", "folder-not-walked", "warning", area="files",
           summary="a folder cannot be read, or nests too deep or holds too many files to look at all of it",
           explanation="pkgforge walks a package (and its installed share folder) at most 64 folders "
                       "deep and over at most 100000 files, so that a folder copied into itself or a "
