@@ -5,6 +5,7 @@ from __future__ import annotations
 import ast
 import os
 import re
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -51,16 +52,81 @@ def test_existing_folder_is_refused_and_unchanged(tmp_path):
     assert (target / "package.xml").read_text() == "mine"
 
 
-def test_force_replaces_generated_files_and_keeps_the_users(tmp_path):
+def test_force_lists_edited_files_and_replaces_them_only_when_given_twice(tmp_path):
     target = tmp_path / "rob_description"
     target.mkdir()
     (target / "package.xml").write_text("old")
     (target / "notes.txt").write_text("keep me")
     result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", cwd=tmp_path)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert "--force would replace 1 file(s)" in result.stderr and "\n  package.xml\n" in result.stderr
+    assert "twice" in result.stderr and "Traceback" not in result.stderr
+    assert listing(tmp_path) == ["rob_description", "rob_description/notes.txt", "rob_description/package.xml"]
+    assert (target / "package.xml").read_text() == "old"
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", "--force", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
-    assert "package.xml (overwritten)" in result.stdout
+    assert "package.xml (replaced)" in result.stdout
     assert (target / "notes.txt").read_text() == "keep me"
     assert "<name>rob_description</name>" in (target / "package.xml").read_text()
+    # the same files again: nothing differs, so one --force is enough, and each is listed unchanged
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "package.xml (unchanged)" in result.stdout and "(replaced)" not in result.stdout
+
+
+def test_force_adds_missing_files_and_keeps_identical_ones(tmp_path):
+    run_pkgforge("new", "rob_description", *MAINTAINER, cwd=tmp_path)
+    target = tmp_path / "rob_description"
+    (target / "rviz" / "display.rviz").unlink()
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", "--ci", "github", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "  rviz/display.rviz\n" in result.stdout and "  .github/workflows/pkgforge.yml\n" in result.stdout
+    assert "  CMakeLists.txt (unchanged)\n" in result.stdout
+    assert (target / "rviz" / "display.rviz").is_file()
+
+
+def test_new_honours_the_umask(tmp_path):
+    for mask, folder_mode, file_mode in ((0o022, 0o755, 0o644), (0o027, 0o750, 0o640)):
+        destination = tmp_path / f"m{mask:o}"
+        script = (f"import os, sys; os.umask({mask}); sys.argv = ['pkgforge', 'new', 'rob_description', "
+                  f"*{MAINTAINER!r}, '--destination', {str(destination)!r}]; "
+                  "from pkgforge.cli import main; main()")
+        result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path)
+        assert result.returncode == 0, result.stderr
+        package = destination / "rob_description"
+        assert package.stat().st_mode & 0o777 == folder_mode
+        assert (package / "urdf").stat().st_mode & 0o777 == folder_mode
+        assert (package / "package.xml").stat().st_mode & 0o777 == file_mode
+
+
+def test_force_never_writes_through_a_link_out_of_the_package(tmp_path):
+    run_pkgforge("new", "rob_description", *MAINTAINER, cwd=tmp_path)
+    target = tmp_path / "rob_description"
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "keep.txt").write_text("mine")
+    shutil.rmtree(target / "urdf")
+    (target / "urdf").symlink_to(elsewhere)
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", "--force", cwd=tmp_path)
+    assert result.returncode == 2
+    assert f"{target / 'urdf'} is a symbolic link to {elsewhere}" in result.stderr
+    assert "nothing written" in result.stderr and "Traceback" not in result.stderr
+    assert listing(elsewhere) == ["keep.txt"]
+    # the package folder itself a link to another folder
+    linked = tmp_path / "other" / "rob_description"
+    linked.parent.mkdir()
+    linked.symlink_to(elsewhere)
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", "--destination", "other",
+                          cwd=tmp_path)
+    assert result.returncode == 2 and "is a symbolic link" in result.stderr, result.stderr
+    assert listing(elsewhere) == ["keep.txt"]
+
+
+def test_too_long_a_name_is_one_line_exit_2(tmp_path):
+    result = run_pkgforge("new", "a" * 250, *MAINTAINER, cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and "250 characters" in result.stderr, result.stderr
+    assert listing(tmp_path) == []
 
 
 def test_failure_half_way_leaves_nothing_behind(tmp_path, monkeypatch):

@@ -22,9 +22,26 @@ from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS  # noqa: E402
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
 
+# --debug (or PKGFORGE_DEBUG=1): show the traceback of an internal error
+DEBUG = {"on": bool(os.environ.get("PKGFORGE_DEBUG"))}
+
+
 def fail(error: PkgforgeError) -> None:
     click.echo(f"pkgforge: error: {error}", err=True)
     sys.exit(error.exit_code)
+
+
+def _report_note() -> str:
+    shown = "" if DEBUG["on"] else ", with the traceback that `pkgforge --debug ...` prints"
+    return f" to pkgforge's maintainers (pkgforge {__version__}{shown})"
+
+
+def internal_error(what: str, trace: str) -> None:
+    """An unexpected exception inside pkgforge: exit 2, the traceback only under --debug."""
+    click.echo(f"pkgforge: internal error: {what}; please report it{_report_note()}", err=True)
+    if DEBUG["on"]:
+        click.echo(trace.rstrip(), err=True)
+    sys.exit(2)
 
 
 class _Group(click.Group):
@@ -50,11 +67,42 @@ class _Group(click.Group):
             atexit._run_exitfuncs()
             os._exit(stop.code)
 
+    def invoke(self, ctx):
+        """Every command's errors end as one line and exit 2: a PkgforgeError as it says, an
+        OSError located at its file, anything else as an internal error (traceback under --debug)."""
+        import traceback
+
+        from .errors import describe_os_error
+
+        try:
+            return super().invoke(ctx)
+        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort,
+                SystemExit, KeyboardInterrupt):
+            raise
+        except PkgforgeError as error:
+            fail(error)
+        except BrokenPipeError:  # `pkgforge verify | head`: the reader left; no message to anyone
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(1)
+        except OSError as exc:
+            click.echo(f"pkgforge: error: {describe_os_error(exc)}", err=True)
+            if DEBUG["on"]:
+                click.echo(traceback.format_exc().rstrip(), err=True)
+            sys.exit(2)
+        except RecursionError as exc:
+            internal_error(f"RecursionError: {exc} (input nested too deep)", traceback.format_exc())
+        except Exception as exc:  # noqa: BLE001 - a bug in pkgforge: never a bare traceback
+            internal_error(f"{type(exc).__name__}: {exc}", traceback.format_exc())
+
 
 @click.group(cls=_Group, context_settings=CONTEXT_SETTINGS)
 @click.version_option(__version__, "--version", prog_name="pkgforge")
-def main() -> None:
+@click.option("--debug", is_flag=True, help="On an internal error, print its traceback.")
+def main(debug) -> None:
     """Scaffold, build and verify ROS 2 robot description packages."""
+    if debug:
+        DEBUG["on"] = True
 
 
 class MemorySize(click.ParamType):
@@ -95,8 +143,10 @@ class MemorySize(click.ParamType):
 @click.option("--license", "license_", default="Apache-2.0", show_default=True,
               help="License identifier for package.xml.")
 @click.option("--description", default="", help="package.xml description.")
-@click.option("--force", is_flag=True,
-              help="Write into an existing package folder, replacing the generated files.")
+@click.option("--force", count=True,
+              help="Write into an existing package folder: add missing generated files; files that "
+                   "differ from what pkgforge writes are listed and refused unless given twice "
+                   "(--force --force). Other files stay.")
 @click.option("--ci", type=click.Choice(CI_SYSTEMS), multiple=True,
               help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.")
 def new(name, distro, build_type, launch_format, destination, maintainer_name,
@@ -114,7 +164,8 @@ def new(name, distro, build_type, launch_format, destination, maintainer_name,
     shown = os.path.relpath(created.path)
     click.echo(f"created {spec.build_type} package '{spec.name}' for ROS 2 {spec.distro.name} in {shown}/")
     for relative in created.files:
-        mark = " (overwritten)" if relative in created.overwritten else ""
+        mark = " (replaced)" if relative in created.overwritten else \
+            " (unchanged)" if relative in created.unchanged else ""
         click.echo(f"  {relative}{mark}")
     click.echo("next:\n"
                f"  pkgforge build            # colcon build into install/\n"
@@ -263,7 +314,17 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
             junit_xml.write_text(render("junit", result, strict=strict), encoding="utf-8")
         except OSError as exc:
             fail(PkgforgeError(f"cannot write {junit_xml}: {exc.strerror}"))
+    report_internal_errors(result)
     sys.exit(result.exit_code(strict))
+
+
+def report_internal_errors(result) -> None:
+    """A check that crashed: its diagnostic is in the report; say so on stderr (exit 2 follows)."""
+    for error in result.internal_errors:
+        summary, _, trace = error.partition("\n")
+        click.echo(f"pkgforge: internal error {summary}; please report it{_report_note()}", err=True)
+        if DEBUG["on"]:
+            click.echo(trace.rstrip(), err=True)
 
 
 @main.command("verify-files", context_settings=CONTEXT_SETTINGS)
@@ -294,6 +355,7 @@ def verify_files(files, strict):
         result.root = Path.cwd()  # paths as the repository shows them
         if result.diagnostics:
             click.echo(render("text", result, color=sys.stdout.isatty()), nl=False)
+        report_internal_errors(result)
         status = max(status, result.exit_code(strict))
     sys.exit(status)
 

@@ -57,3 +57,5 @@ class PackageReport:
     path: Path
     build_type: str
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # bugs in pkgforge met while checking the package ("summary\ntraceback"): verify exits 2
+    internal_errors: list[str] = field(default_factory=list)

@@ -20,3 +20,32 @@ class BuildFailed(PkgforgeError):
         super().__init__(message)
         self.failures = failures or []
         self.status = status
+
+
+# what to do about the OSErrors a user can cause, by errno name
+_OS_FIXES = {
+    "EACCES": "check its permissions (ls -l) or run as its owner",
+    "EPERM": "check its permissions (ls -l) or run as its owner",
+    "EROFS": "the file system is read-only: choose another folder",
+    "ENOSPC": "the disk is full: free some space",
+    "EDQUOT": "the disk quota is used up: free some space",
+    "ENAMETOOLONG": "use a shorter name or a shallower folder",
+    "ELOOP": "a symbolic link points back to itself: fix or remove it",
+    "ENOENT": "check the path",
+    "ENOTDIR": "a part of the path is a file, not a folder",
+    "EISDIR": "it is a folder where a file is expected",
+    "EMFILE": "too many open files: raise the limit (ulimit -n)",
+}
+
+
+def describe_os_error(exc: OSError) -> str:
+    """One located line for an OSError: the file, what went wrong, what to do."""
+    import errno
+
+    where = exc.filename if exc.filename is not None else None
+    if exc.filename2 is not None:
+        where = f"{exc.filename} -> {exc.filename2}"
+    what = exc.strerror or str(exc)
+    fix = _OS_FIXES.get(errno.errorcode.get(exc.errno or 0, ""), "")
+    text = f"{where}: {what}" if where is not None else what
+    return f"{text}; {fix}" if fix else text

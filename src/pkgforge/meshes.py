@@ -53,7 +53,7 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
 
 
 def _check(path: Path, package: str | None, relative: str | None) -> MeshLookup:
-    if path.is_file():
+    if os.path.isfile(path):
         return MeshLookup("found", path, package, relative)
     parent = path.parent
     if parent.is_dir():

@@ -16,6 +16,7 @@ from pathlib import Path
 from .launch.resolve import run_requests, source_of
 from .model.package import PackageModel
 from .trees import InstallTree
+from .walk import walk
 
 MODEL_FOLDERS = ("urdf", "description", "robots", "xacro")
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro")
@@ -45,7 +46,8 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
         return []
     candidates, included = [], set()
     for folder in MODEL_FOLDERS:
-        for root, dirs, files in os.walk(share / folder, followlinks=True):
+        for root, dirs, files in walk(share / folder, follow_links=True, inside=(model.path,),
+                                      limits=model.walk_limits):
             dirs.sort()
             for name in sorted(files):
                 if name.endswith(MODEL_SUFFIXES):

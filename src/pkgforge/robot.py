@@ -86,7 +86,22 @@ def _expand(path: str, mappings: dict[str, str]):
 
 def _recursion_error(xacro, path: str) -> dict:
     stack = list(getattr(xacro, "filestack", None) or [path])
-    repeated = next((f for f in stack if stack.count(f) > 1), stack[-1])
+    repeated = next((f for f in stack if stack.count(f) > 1), None)
+    # xacro leaves the macros it was expanding on its macrostack when it fails
+    macros = list(getattr(xacro, "macrostack", None) or [])
+    names = [m.body.getAttribute("name") if getattr(m, "body", None) is not None else "" for m in macros]
+    looping = next((i for i, n in enumerate(names) if n and names.count(n) > 1), None)
+    if repeated is None and looping is not None:
+        name = names[looping].removeprefix("xacro:")
+        history = getattr(macros[looping], "history", None) or [[]]
+        file = (history[-1][-1] if history[-1] else None) or stack[-1]
+        return {"status": "error", "error": {
+            "message": f"macro {name} calls itself (directly or through another macro) and nothing ends "
+                       "the calls: xacro recursed without end", "file": file,
+            "line": _line_matching(file, re.compile(rf"<xacro:{re.escape(name)}[\s/>]")), "stage": "xacro",
+            "hint": f"give the call of {name} inside its own body an xacro:if/xacro:unless that becomes "
+                    "false (a counter parameter), or call another macro"}}
+    repeated = repeated or stack[-1]
     return {"status": "error", "error": {
         "message": f"{os.path.basename(repeated)} includes itself (directly or through another file): "
                    "xacro recursed without end", "file": repeated,
@@ -128,6 +143,17 @@ def _xacro_location(exc, path: str, filestack: list):
     elif package:
         line = _line_mentioning(file, f"$(find {package.group(1)}")
     return file, line
+
+
+def _line_matching(path: str, pattern) -> int | None:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            for number, line in enumerate(handle, start=1):
+                if pattern.search(line):
+                    return number
+    except OSError:
+        return None
+    return None
 
 
 def _line_mentioning(path: str, text: str) -> int | None:

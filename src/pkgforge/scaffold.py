@@ -218,32 +218,95 @@ def _validate_manifest(manifest: bytes) -> None:
 class CreatedPackage:
     path: Path
     files: list[str]
-    overwritten: list[str]
+    overwritten: list[str]  # replaced: their content differed
+    unchanged: list[str] = field(default_factory=list)  # already exactly what pkgforge writes
 
 
-def create_package(spec: PackageSpec, destination: Path, *, force: bool = False) -> CreatedPackage:
+# The longest name pkgforge writes is the staging folder `.NAME.pkgforge-XXXXXXXX`
+# (NAME + 19); most file systems allow 255 bytes per name.
+MAX_NAME_LENGTH = 200
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _symlink_out(target: Path, relative: str) -> Path | None:
+    """The first existing symlink on target/relative (target included) whose real path leaves
+    target's folder: writing there would land outside the destination."""
+    inside = os.path.realpath(target.parent if target.is_symlink() else target)
+    path = target
+    for part in ("", *Path(relative).parts):
+        path = path / part if part else path
+        if path.is_symlink():
+            real = os.path.realpath(path)
+            if path == target or not (real == inside or real.startswith(inside + os.sep)):
+                return path
+        elif not path.exists():
+            return None
+    return None
+
+
+def create_package(spec: PackageSpec, destination: Path, *, force: int = 0) -> CreatedPackage:
     """Render into a temporary folder beside the target, then move into place.
 
     Without `force` an existing target is refused and left untouched. With
-    `force` the generated files replace their namesakes; the user's other
-    files in the folder stay.
+    `force` (once) missing files are added, files already holding exactly what
+    pkgforge writes stay, and a generated file the user edited is refused, all
+    listed before anything is written; with `force` twice edited files are
+    replaced too. The user's other files in the folder always stay. Nothing is
+    ever written through a symbolic link that leads out of the target folder.
+    Folders and files get the modes the umask gives (like mkdir and touch).
     """
-    destination = destination.resolve()
+    if len(spec.name) > MAX_NAME_LENGTH:
+        raise PkgforgeError(f"the name is {len(spec.name)} characters long; files named after it would pass "
+                            f"the file system's 255-byte limit: use at most {MAX_NAME_LENGTH}")
+    destination = destination.absolute()
     target = destination / spec.name
-    if target.exists() and not force:
+    if (target.exists() or target.is_symlink()) and not force:
         raise PkgforgeError(
             f"{target} already exists; pkgforge does not touch it without --force "
-            "(which replaces the generated files and keeps any others)"
+            "(which adds the missing generated files and keeps any others)"
         )
+    if target.is_symlink():
+        raise PkgforgeError(f"{target} is a symbolic link (to {os.path.realpath(target)}): pkgforge does not "
+                            "write through it; give the real folder with --destination")
     if target.exists() and not target.is_dir():
         raise PkgforgeError(f"{target} exists and is not a folder")
     files = render_files(spec)
+    overwritten, unchanged = [], []
+    if target.exists():
+        for relative in sorted(files):
+            link = _symlink_out(target, relative)
+            if link is not None:
+                raise PkgforgeError(f"{link} is a symbolic link to {os.path.realpath(link)}, outside {target}: "
+                                    f"pkgforge does not write {relative} through it (nothing written)")
+            final = target / relative
+            if final.is_dir() and not final.is_symlink():
+                raise PkgforgeError(f"{final} is a folder where pkgforge writes a file (nothing written)")
+            if final.exists() or final.is_symlink():
+                try:
+                    same = not final.is_symlink() and final.read_bytes() == files[relative]
+                except OSError as exc:
+                    raise PkgforgeError(f"cannot read {final}: {exc.strerror}") from exc
+                (unchanged if same else overwritten).append(relative)
+        if overwritten and force < 2:
+            listed = "\n".join(f"  {relative}" for relative in overwritten)
+            raise PkgforgeError(
+                f"--force would replace {len(overwritten)} file(s) in {target} that differ from what "
+                f"pkgforge writes now (edited, or generated with other options):\n{listed}\n"
+                "nothing was written; pass --force twice to replace them, or move them away first")
+    mask = _umask()
     try:
         destination.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{spec.name}.pkgforge-", dir=destination))
     except OSError as exc:
-        raise PkgforgeError(f"cannot create the destination {destination}: {exc.strerror}") from exc
-    staging = Path(tempfile.mkdtemp(prefix=f".{spec.name}.pkgforge-", dir=destination))
+        raise PkgforgeError(f"cannot create the package in {destination}: {exc.strerror} "
+                            "(choose a folder you can write to with --destination)") from exc
     try:
+        os.chmod(staging, 0o777 & ~mask)  # mkdtemp makes it 0700; it becomes the package folder
         for relative, content in files.items():
             path = staging / relative
             path.parent.mkdir(parents=True, exist_ok=True)
@@ -251,15 +314,14 @@ def create_package(spec: PackageSpec, destination: Path, *, force: bool = False)
         if not target.exists():
             os.rename(staging, target)
             return CreatedPackage(target, sorted(files), [])
-        overwritten = []
         for relative in sorted(files):
+            if relative in unchanged:
+                continue
             final = target / relative
-            if final.exists():
-                overwritten.append(relative)
             final.parent.mkdir(parents=True, exist_ok=True)
             os.replace(staging / relative, final)
-        return CreatedPackage(target, sorted(files), overwritten)
+        return CreatedPackage(target, sorted(files), overwritten, unchanged)
     except OSError as exc:
-        raise PkgforgeError(f"cannot write the package to {target}: {exc}") from exc
+        raise PkgforgeError(f"cannot write the package to {target}: {exc.strerror or exc}") from exc
     finally:
         shutil.rmtree(staging, ignore_errors=True)

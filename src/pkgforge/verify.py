@@ -97,7 +97,13 @@ class VerifyResult:
     def count(self, severity: Severity) -> int:
         return sum(1 for d in self.diagnostics if d.severity == severity)
 
+    @property
+    def internal_errors(self) -> list[str]:
+        return [error for report in self.reports for error in report.internal_errors]
+
     def exit_code(self, strict: bool) -> int:
+        if self.internal_errors:
+            return 2  # verify could not run completely: a bug in pkgforge
         worst = max((d.severity for d in self.diagnostics), default=None)
         if worst == Severity.ERROR or (strict and worst == Severity.WARNING):
             return 1
@@ -108,8 +114,10 @@ class VerifyResult:
 
 def package_folders(base: Path) -> list[Path]:
     """Folders with a package.xml under base, honouring the ignore markers as colcon does."""
+    from .walk import walk
+
     found = []
-    for current, dirs, files in os.walk(base, followlinks=False):
+    for current, dirs, files in walk(base):
         if any(marker in files for marker in IGNORE_MARKERS):
             dirs[:] = []
             continue
@@ -202,10 +210,24 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
             continue
         try:
             diagnostics = check.run(context)
+        except OSError as exc:  # a file the check had to look at cannot be read: located, not a crash
+            from .checks.registry import REGISTRY
+            from .errors import describe_os_error
+
+            where = Path(exc.filename) if isinstance(exc.filename, str) else model.path
+            diagnostics = [REGISTRY["PF901"].diagnostic(model.name, Finding(
+                f"not read while checking {check.name}: {describe_os_error(exc)}", where,
+                hint="make the file (and its folders) readable; checks that need it are incomplete"))]
         except Exception as exc:  # a bug in one check must not hide the others' results
+            import traceback
+
+            report.internal_errors.append(
+                f"in check {check.name} ({check.code}) on {model.name}: {type(exc).__name__}: {exc}\n"
+                + traceback.format_exc())
             diagnostics = [check.diagnostic(model.name, Finding(
                 f"internal error in check {check.name}: {type(exc).__name__}: {exc}", model.path,
-                severity=Severity.WARNING, hint="please report this to pkgforge"))]
+                severity=Severity.ERROR, hint="a bug in pkgforge: please report it (pkgforge --debug "
+                                              "verify shows the traceback)"))]
         for diagnostic in diagnostics:
             key = (diagnostic.code, str(diagnostic.path), diagnostic.line, diagnostic.message)
             if key in seen or model.suppressed(diagnostic.path, diagnostic.line, {check.code, check.name}):
@@ -284,7 +306,10 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     jobs = options.jobs or os.cpu_count() or 1
     cache, keys, hits = None, {}, {}
     if options.use_cache and options.mode == "predicted":
-        cache, keys, hits = _cache_lookup(workspace, config, options)
+        try:
+            cache, keys, hits = _cache_lookup(workspace, config, options)
+        except OSError:  # a cache folder this user may not write: verify without the cache
+            cache, keys, hits = None, {}, {}
         if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
             codes = set().union(*(codes for _, codes in hits.values()))
@@ -300,11 +325,14 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     result = run(root, workspace, config, todo, models, everything, options) if todo else \
         VerifyResult(root, [], set())
     if cache is not None:
-        for report in result.reports:
-            if report.path in keys and report.path not in result.unstable:
-                cache.store(report.path, keys[report.path], report, result.externals.get(report.path, set()),
-                            config.for_package(report.name, report.path).codes())
-        cache.save_index()
+        try:
+            for report in result.reports:
+                if report.path in keys and report.path not in result.unstable and not report.internal_errors:
+                    cache.store(report.path, keys[report.path], report, result.externals.get(report.path, set()),
+                                config.for_package(report.name, report.path).codes())
+            cache.save_index()
+        except OSError:
+            pass  # the results stand; the next run verifies again
     result.reports = sorted(result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path)))
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
     result.engine, result.distro = engine.name, engine.distro
@@ -355,6 +383,30 @@ def _targets(folder: Path, workspace: Workspace, config: Config, options: Verify
     from .distro_data import target_distros
 
     return target_distros(folder, workspace.root.resolve(), options.distro, config.distro_for(folder))[0]
+
+
+def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list]) -> None:
+    """A --launch-arg value outside the choices its launch file declares is a usage error (exit 2),
+    not one launch-load-error per place the value reaches. The choices are the launch file's own
+    code (computed, or from an included file), so only its evaluation knows them: this runs on the
+    resolutions, before any check."""
+    problems = []
+    for package_resolutions in resolutions.values():
+        for resolution in package_resolutions:
+            by_installed = {str(resolution.launch.installed): resolution.launch.source}
+            for argument in resolution.arguments:
+                name, choices = argument.get("name"), argument.get("choices")
+                if name not in values or not choices or values[name] in choices:
+                    continue
+                where = by_installed.get(argument.get("file")) or argument.get("file") or "?"
+                where = os.path.relpath(where) if os.path.isabs(str(where)) else where
+                line = f":{argument['line']}" if argument.get("line") else ""
+                problem = (f"--launch-arg {name}:={values[name]}: '{name}' allows only "
+                           f"{', '.join(map(str, choices))} (declared at {where}{line})")
+                if problem not in problems:
+                    problems.append(problem)
+    if problems:
+        raise PkgforgeError("\n".join(problems))
 
 
 def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageTarget],
@@ -411,6 +463,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             raise
     read: dict[Path, set[str]] = {}
     try:
+        check_launch_arguments(options.launch_arguments, resolutions)
         by_share = {m.share_name: m for m in models.values()}
         reports = []
         for target in targets:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -84,7 +85,7 @@ class CheckContext:
             from ..meshes import resolve_uri
 
             return resolve_uri(reference, self.tree).status in ("found", "unchecked")
-        return Path(reference).is_file()
+        return os.path.isfile(reference)
 
     def static_line(self, path: Path, package: str, relative: str, near: int | None = None) -> int | None:
         """The line where the file names package/relative literally, if it does (the one
@@ -134,9 +135,9 @@ class CheckContext:
                 uri = mesh["uri"]
                 if uri.startswith("package://"):
                     package, _, relative = uri[len("package://"):].partition("/")
-                    if package in own and (self.model.path / relative).is_file() \
+                    if package in own and os.path.isfile(self.model.path / relative) \
                             and self.tree.share(package) is not None \
-                            and not (self.tree.share(package) / relative).exists():
+                            and not os.path.exists(self.tree.share(package) / relative):
                         folders.add(relative.split("/")[0])
         for resolution in self.resolutions:
             for item in resolution.paths:
@@ -144,6 +145,6 @@ class CheckContext:
                     continue
                 located = self.tree.locate(item.path)
                 if located and located[0] in (self.model.share_name, self.model.name) \
-                        and (self.model.path / located[1]).exists():
+                        and os.path.exists(self.model.path / located[1]):
                     folders.add(located[1].split("/")[0])
         return folders

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..diagnostics import Finding, Severity
 from ..model.package import RESOURCE_FOLDERS, PackageModel
 from .context import CheckContext
+from .files import read_problem_hint
 from .registry import register
 
 RESOURCE_SUFFIXES = (".urdf", ".xacro", ".rviz", ".stl", ".dae", ".obj", ".sdf", ".world",
@@ -21,15 +23,64 @@ def _where(path: Path, line: int | None, model: PackageModel) -> str:
     return f"{shown}:{line}" if line else str(shown)
 
 
-def install_fix(model: PackageModel, folder: str) -> str:
-    """How to install `folder`: extend the existing rule, or add one."""
+def linked_folder(model: PackageModel, relative: str) -> tuple[str, str, bool] | None:
+    """(folder, link target, target exists) for the first symbolic link on the way to `relative` in
+    the package's source; None when no link is on the way. pkgforge's tree, like CMake's
+    install(DIRECTORY), installs a link as the link itself, not what it points to."""
+    path = model.path
+    parts = relative.split("/")
+    for index, part in enumerate(parts[:-1]):
+        path = path / part
+        if os.path.islink(path):
+            try:
+                target = os.readlink(path)
+            except OSError:
+                return None
+            return "/".join(parts[:index + 1]), target, os.path.exists(path)
+        if not os.path.isdir(path):
+            return None
+    return None
+
+
+def link_hint(model: PackageModel, relative: str) -> tuple[str, str] | None:
+    """(what is wrong, the fix) when a symbolic link stands between the package and `relative`."""
+    found = linked_folder(model, relative)
+    if found is None:
+        return None
+    folder, target, exists = found
+    if not exists:
+        return (f"{folder} is a symbolic link to {target}, which does not exist",
+                f"restore {target} (git keeps the link, not what it points to; was it committed?) or "
+                f"replace the link {folder} by the folder itself")
+    return (f"{folder} is a symbolic link to {target}: the install keeps the link, so the file is found "
+            f"only if {target} is installed too",
+            f"replace the link {folder} by the folder itself, or install what it points to at the same "
+            "relative place")
+
+
+def install_fix(model: PackageModel, folder: str, file: str | None = None) -> str:
+    """How to install `folder` (for `file` in it, when known): extend the existing rule, or add one."""
     rules = model.layout.directory_rules
     share = f"share/{model.share_name}"
     if model.setup_py is not None:
+        for entry in model.layout.destinations:
+            if entry.destination == f"{share}/{folder}":
+                # an entry for the folder exists: its file list (a glob) misses the file
+                name = Path(file).name if file else f"the files of {folder}/"
+                return (f"the data_files entry at {_where(entry.path, entry.line, model)} installs into "
+                        f"{share}/{folder} but does not list {name}: glob() is case-sensitive and matches "
+                        f"only what its pattern names (*.STL is not *.stl); use glob('{folder}/*') or fix "
+                        "the pattern")
         line = next((line for _, line, _, _ in rules), None)
         where = f"setup.py:{line}" if line else "setup.py"
         return (f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*')) "
                 f"to data_files in {where}")
+    for path, line, folders, destination in rules:
+        if f"{folder}/" in folders:
+            into = destination or "the install prefix"
+            return (f"'{folder}/' with a trailing slash installs the folder's contents into {into}/, "
+                    f"not into {into}/{folder}/: write {folder} without the slash in "
+                    f"install(DIRECTORY ...) at {_where(path, line, model)}")
     for path, line, folders, destination in rules:
         if destination == share:
             return (f"add {folder} to install(DIRECTORY {' '.join(folders)} ...) at "
@@ -141,7 +192,8 @@ def cmake_invalid(ctx: CheckContext):
     for error in cmake.syntax_errors:
         yield Finding(f"CMake syntax: {error.message}", error.path, error.line, error.column)
     for source in cmake.unreadable:
-        yield Finding(f"{source.path.name} {source.problem}", source.path, source.problem_line)
+        yield Finding(f"{source.path.name}: {source.problem}", source.path, source.problem_line,
+                      hint=read_problem_hint(source.problem))
     if not cmake.syntax_errors and not cmake.unreadable and cmake.project_command is None:
         yield Finding("CMakeLists.txt has no project() call", model.path / "CMakeLists.txt", 1,
                       hint=f"add cmake_minimum_required(VERSION 3.10) and project({model.name} NONE)")

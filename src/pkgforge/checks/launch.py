@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import difflib
+import os
 from pathlib import Path
 
 from ..diagnostics import Finding
 from .context import CheckContext
-from .install import install_fix
+from .files import read_problem_hint, untree
+from .install import install_fix, link_hint
 from .registry import register
 from ..launch.records import PackageLookup, Record
+from ..walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these; a declared rviz2 brings their displays
@@ -41,13 +44,26 @@ def launch_load_error(ctx: CheckContext):
             position = ctx.source_position(resolution, error.file, error.line)
             if position is None:
                 position = (resolution.launch.source or resolution.launch.installed, None)
+            hint = None
+            text = str(error.message or "")
+            text = untree(ctx, text)  # name the user's files, not pkgforge's tree
             if resolution.status == "timeout":
-                message = f"{resolution.launch.installed.name} {error.message}"
+                message = f"{resolution.launch.installed.name} {text}"
+                hint = ("look for what runs at load time without end: a loop, a blocking call (input(), a "
+                        "socket, a subprocess that waits), a sleep; if the machine is only busy, raise "
+                        "--launch-timeout")
             elif resolution.status == "crashed":
-                message = f"{resolution.launch.installed.name}: {error.message}"
+                message = f"{resolution.launch.installed.name}: {text}"
+                hint = read_problem_hint(text) or (
+                    "the file ended the process without a Python error: look for os._exit(), os.kill() "
+                    "or a compiled extension it imports")
             else:
-                message = f"loading {resolution.launch.installed.name} failed: {error.message}"
-            yield Finding(message, *position)
+                message = f"loading {resolution.launch.installed.name} failed: {text}"
+                hint = read_problem_hint(text)
+                if hint is None and position[1] is None:
+                    hint = ("the error names no line of this file: run `pkgforge verify --explain-launch "
+                            "FILE` to see how far it got")
+            yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
@@ -82,6 +98,15 @@ def missing_file(ctx: CheckContext):
     yield from _missing_paths(ctx, want_source=False)
 
 
+def _unreadable_folder(owner, source: Path) -> Path | None:
+    """The folder of owner's source that the walk could not read and that holds source."""
+    for limit in [*owner.walk_limits, *owner.layout.walk_limits]:
+        folder = Path(limit.path)
+        if limit.hint == UNREADABLE_HINT and folder in source.parents and owner.path in folder.parents:
+            return folder
+    return None
+
+
 def _missing_paths(ctx: CheckContext, *, want_source: bool):
     # one defect, one diagnostic: the first line of a file that names the path, "and N more"
     found: dict[tuple, list] = {}
@@ -95,7 +120,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             package, relative, _ = located
             owner = ctx.model_for_share(package)
             source = owner.path / relative if owner is not None else None
-            in_source = source is not None and source.exists()
+            in_source = source is not None and os.path.exists(source)
             if in_source != want_source:
                 continue
             position = ctx.source_position(resolution, item.file, item.line)
@@ -113,10 +138,23 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
         more = (f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
                 if len(lines) > 1 else "")
         shown = f"share/{package}/{relative}"
-        if want_source:
-            yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but no "
-                          f"install rule covers it{_branch_note(item, resolution)}{more}", path, line,
-                          hint=install_fix(owner, relative.split('/')[0]))
+        source = owner.path / relative if owner is not None else None
+        linked = link_hint(owner, relative) if owner is not None else None
+        if linked is not None:
+            if want_source == os.path.exists(source):  # report it once, under either code
+                yield Finding(f"{shown} is not in the install tree: {linked[0]}"
+                              f"{_branch_note(item, resolution)}{more}", path, line, hint=linked[1])
+        elif want_source:
+            elsewhere = next((d for d, f in owner.layout.files.items() if f.source == source), None)
+            why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
+            yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but "
+                          f"{why}{_branch_note(item, resolution)}{more}", path, line,
+                          hint=install_fix(owner, relative.split('/')[0], relative))
+        elif owner is not None and _unreadable_folder(owner, source) is not None:
+            folder = _unreadable_folder(owner, source)
+            yield Finding(f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
+                          f"cannot be read{_branch_note(item, resolution)}{more}", path, line,
+                          hint=UNREADABLE_HINT)
         else:
             hint = None
             if owner is not None:
@@ -195,9 +233,15 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
 
     if replacement(name) is not None:
         return f"use {replacement(name)[0]}: {replacement(name)[1]}"
-    candidates = sorted(set(ctx.workspace) | ctx.model.manifest.declared() | {ctx.model.path.name})
+    own = ctx.model.manifest.name or ctx.model.name
+    if name == ctx.model.path.name and name != own:
+        return (f"'{name}' is the name of the folder; the package is named '{own}' (package.xml "
+                f"<name>), and lookups use that: write '{own}', or rename one to match the other")
+    # candidates are package names only: a folder's name is no package (the lookup of a folder
+    # named unlike its package is this very mistake), and never the wrong name itself
+    candidates = sorted((set(ctx.workspace) | ctx.model.manifest.declared() | {own}) - {name})
     near = difflib.get_close_matches(name, candidates, n=3, cutoff=0.5)
-    near += [n for n in load().close_names(name, n=3) if n not in near]
+    near += [n for n in load().close_names(name, n=3) if n not in near and n != name]
     return f"did you mean {', '.join(near[:3])}?" if near else "check the name against package.xml <name>"
 
 

@@ -7,6 +7,7 @@ from ..model.manifest import GENERIC_OVERLAPS, RUN_TAGS
 from ..model.references import launch_kind
 from ..names import REP144_RULE, rep144_problem
 from .context import CheckContext
+from .files import read_problem_hint
 from .registry import register
 
 # Used by a package without being named in any file it ships.
@@ -28,7 +29,7 @@ IMPLICIT_USES = {
 def manifest_invalid(ctx: CheckContext):
     manifest = ctx.model.manifest
     for message, line in manifest.problems:
-        yield Finding(message, manifest.path, line)
+        yield Finding(message, manifest.path, line, hint=read_problem_hint(message))
     if not manifest.problems and manifest.format is not None and manifest.format < 2:
         yield Finding(f"package.xml uses format {manifest.format}; ROS 2 tools expect format 2 or 3",
                       manifest.path, manifest.root_line,

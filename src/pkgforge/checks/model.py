@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import os
 from collections import Counter
 from pathlib import Path
 
 from ..diagnostics import Finding
 from ..meshes import resolve_uri, unreadable
 from .context import CheckContext
-from .install import install_fix
+from .install import install_fix, link_hint
+from .files import read_problem_hint, untree
 from .registry import register
 
 
@@ -18,6 +20,18 @@ def _where(ctx: CheckContext, result, file: str | None, line: int | None):
     if own is not None:
         return own, line
     return (result.source or result.installed), None
+
+
+def _path_split_at_spaces(words: list[str], model: str) -> str | None:
+    """The existing path that a command line split at its spaces, starting with the word `model`."""
+    if model not in words or os.path.exists(model):
+        return None
+    start = words.index(model)
+    for end in range(start + 1, len(words)):
+        candidate = " ".join(words[start:end + 1])
+        if os.path.exists(candidate):
+            return candidate
+    return None
 
 
 @register("PF308", "xacro-error", "error", area="model",
@@ -32,8 +46,9 @@ def xacro_error(ctx: CheckContext):
         error = result.error or {}
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
-            yield Finding(f"xacro {result.installed.name}: {error.get('message')}",
-                          *_where(ctx, result, error.get("file"), error.get("line")))
+            yield Finding(f"xacro {result.installed.name}: {untree(ctx, str(error.get('message')))}",
+                          *_where(ctx, result, error.get("file"), error.get("line")),
+                          hint=error.get("hint") or read_problem_hint(error.get("message")))
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
     seen = set()
     for resolution in ctx.resolutions:
@@ -46,6 +61,14 @@ def xacro_error(ctx: CheckContext):
             if position is None or position in seen:
                 continue
             seen.add(position)
+            spaced = _path_split_at_spaces(command.command or [], command.model)
+            if spaced is not None:
+                yield Finding(f"xacro {Path(spaced).name}: the path '{spaced}' has a space, and "
+                              "Command joins its parts into one line that it splits at spaces (ROS's "
+                              f"Command does too): xacro got '{command.model}'", *position,
+                              hint="quote the path inside the command line, e.g. Command(['xacro \"', "
+                                   "path, '\"']), or use a workspace path without spaces")
+                continue
             message = command.message.strip().splitlines()
             yield Finding(f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}",
                           *position)
@@ -150,11 +173,15 @@ def mesh_not_found(ctx: CheckContext):
                           *position, hint="fix the package name in the URI")
         elif lookup.status == "missing":
             owner = ctx.model_for_share(lookup.package) if lookup.package else None
-            in_source = owner is not None and (owner.path / lookup.relative).is_file()
-            if in_source:
+            in_source = owner is not None and os.path.isfile(owner.path / lookup.relative)
+            linked = link_hint(owner, lookup.relative) if owner is not None else None
+            if linked is not None:
+                yield Finding(f"{mesh['uri']} ({where}) is not in the install tree: {linked[0]}", *position,
+                              hint=linked[1])
+            elif in_source:
                 yield Finding(f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
                               f"{lookup.package} but no install rule covers it", *position,
-                              hint=install_fix(owner, lookup.relative.split("/")[0]))
+                              hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative))
             else:
                 yield Finding(f"{mesh['uri']} ({where}) does not exist", *position,
                               hint="fix the file name in the URI")
@@ -203,7 +230,8 @@ def mesh_unreadable(ctx: CheckContext):
         if lookup.status == "found":
             problem = unreadable(lookup.path)
             if problem:
-                yield Finding(f"{mesh['uri']}: {problem}", *_where(ctx, result, mesh.get("file"), mesh.get("line")))
+                yield Finding(f"{mesh['uri']}: {problem}", *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                              hint=read_problem_hint(problem))
 
 
 @register("PF406", "model-needs-arguments", "info", area="model",

@@ -6,6 +6,7 @@ from ..diagnostics import Finding
 from ..rviz import ROBOT_MODEL
 from .context import CheckContext
 from .model import link_names, root_link
+from .files import read_problem_hint
 from .registry import register
 
 # frames another node (localization, odometry) publishes; fine when no link has the name
@@ -19,7 +20,8 @@ EXTERNAL_FRAMES = ("map", "odom", "world", "earth")
 def rviz_invalid(ctx: CheckContext):
     for config in ctx.rviz_configs:
         if config.error:
-            yield Finding(f"{config.path.name}: {config.error}", config.path, config.error_line)
+            yield Finding(f"{config.path.name}: {config.error}", config.path, config.error_line,
+                          hint=read_problem_hint(config.error))
 
 
 @register("PF502", "rviz-no-description", "error", area="rviz",

@@ -26,6 +26,7 @@ from ..model.references import launch_kind
 from ..trees import InstallTree
 from .engines import BUILTIN, LaunchEngine
 from .records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
+from ..walk import walk
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
@@ -41,7 +42,10 @@ def find_launch_files(tree: InstallTree, models: list[PackageModel]) -> tuple[li
         share = tree.share(model.share_name)
         if share is None or not share.is_dir():
             continue
-        for root, dirs, files in os.walk(share, followlinks=True):
+        # links followed only inside the share folder or back into the package's source
+        # (--symlink-install), each folder once: a link cycle is not an endless walk
+        for root, dirs, files in walk(share, follow_links=True, inside=(model.path,),
+                                      limits=model.walk_limits):
             dirs[:] = sorted(d for d in dirs if d not in ("test", "tests", "__pycache__") and not d.startswith("."))
             for name in sorted(files):
                 installed = Path(root) / name
@@ -80,7 +84,7 @@ def source_of(installed: Path, tree: InstallTree, model: PackageModel | None) ->
     if entry is not None and entry.source is not None:
         return entry.source
     candidate = model.path / relative
-    return candidate if candidate.is_file() else None
+    return candidate if os.path.isfile(candidate) else None  # no PermissionError
 
 
 @dataclass(frozen=True)
@@ -126,7 +130,12 @@ class _Worker:
 
     def ask(self, request: dict, timeout: float) -> dict:
         if self.process is None or self.process.poll() is not None:
-            self.start()
+            try:
+                self.start()
+            except OSError as exc:  # an answer too: never a thread's traceback
+                return {"status": "crashed", "error": {
+                    "message": f"cannot start the launch worker {exc.filename or sys.executable}: "
+                               f"{exc.strerror or exc}", "line": None}}
         try:
             self.process.stdin.write(json.dumps(request) + "\n")
             self.process.stdin.flush()

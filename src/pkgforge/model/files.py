@@ -5,20 +5,22 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from ..walk import WalkLimit, walk
+
 # Never part of what a package installs or refers to.
 SKIPPED_DIRS = {"build", "install", "log", "__pycache__", "node_modules", "test", "tests"}
 
 
-def walk_files(root: Path) -> list[Path]:
+def walk_files(root: Path, limits: list[WalkLimit] | None = None) -> list[Path]:
     """Every file of the package, not descending into nested packages or build folders."""
-    return [Path(name) for name in walk_file_names(root)]
+    return [Path(name) for name in walk_file_names(root, limits)]
 
 
-def walk_file_names(root: Path) -> list[str]:
+def walk_file_names(root: Path, limits: list[WalkLimit] | None = None) -> list[str]:
     """walk_files as relative path strings (the cache's fast path builds no Path objects)."""
     files = []
     top = str(root)
-    for current, dirs, names in os.walk(top, followlinks=False):
+    for current, dirs, names in walk(top, limits=limits):
         relative_dir = os.path.relpath(current, top)
         keep = []
         for d in sorted(dirs):

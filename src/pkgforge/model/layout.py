@@ -12,6 +12,7 @@ from pathlib import Path
 from .cmake import BINARY_DIR, INSTALL_PREFIX, CMakeModel, InstallRule, Unknown
 from .cmake_syntax import Argument
 from .setup_py import SetupPyModel
+from ..walk import WalkLimit, walk
 
 INDEX_MARKER = "share/ament_index/resource_index/packages/{name}"
 
@@ -59,6 +60,8 @@ class InstallLayout:
     unknown: list[tuple[Path, int, str]] = field(default_factory=list)
     # the rules that install folders, for fix hints: (path, line, installed top-level folders)
     directory_rules: list[tuple[Path, int, tuple[str, ...], str]] = field(default_factory=list)
+    # where a walk of an installed folder stopped (too deep, too many files)
+    walk_limits: list[WalkLimit] = field(default_factory=list)
 
     def add(self, destination: str, source: Path | None, rule_path: Path | None, rule_line: int | None):
         self.files.setdefault(destination, InstalledFile(destination, source, rule_path, rule_line))
@@ -96,12 +99,12 @@ def _matches(pattern_kind: str, pattern: str, name: str, full: str) -> bool:
         return False
 
 
-def _directory_files(source: Path, rule: InstallRule):
+def _directory_files(source: Path, rule: InstallRule, limits: list[WalkLimit]):
     """(file, path relative to source) that install(DIRECTORY) copies, honouring patterns."""
     excludes = [p for p in rule.patterns if p.exclude]
     includes = [p for p in rule.patterns if not p.exclude]
     top = str(source)
-    for root, dirs, files in os.walk(top, followlinks=False):
+    for root, dirs, files in walk(top, limits=limits):
         relative_root = os.path.relpath(root, top)
         if excludes:
             dirs[:] = [d for d in dirs if not any(
@@ -157,8 +160,9 @@ def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
                     layout.missing.append(MissingSource(value, rule.mode, rule.path, arg.line, arg.column))
                 continue
             into = destination if value.endswith("/") else posixpath.join(destination, source.name)
-            installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/"))
-            for full, relative in _directory_files(source, rule):
+            # as written: a trailing slash (contents, not the folder) matters to the fix hints
+            installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/") + "/")
+            for full, relative in _directory_files(source, rule, layout.walk_limits):
                 layout.add(posixpath.normpath(posixpath.join(into, relative)), full,
                            rule.path, rule.line)
         else:

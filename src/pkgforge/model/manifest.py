@@ -91,7 +91,7 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
     """Build the Manifest; `parsed_package` is catkin_pkg's result when colcon already parsed it."""
     manifest = Manifest(source.path)
     if source.text is None:
-        manifest.problems.append((f"package.xml {source.problem}", source.problem_line))
+        manifest.problems.append((f"package.xml: {source.problem}", source.problem_line))
         return manifest
     parser = etree.XMLParser(resolve_entities=False, no_network=True, remove_comments=True,
                              remove_pis=True, huge_tree=False)

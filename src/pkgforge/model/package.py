@@ -32,6 +32,8 @@ class PackageModel:
     references: list[Reference] = field(default_factory=list)
     sources: dict[Path, SourceFile] = field(default_factory=dict)  # every file read
     skipped: list[SourceFile] = field(default_factory=list)  # too large or unreadable
+    # where a walk of the package (or of its installed share folder) stopped: folder-not-walked
+    walk_limits: list = field(default_factory=list)
 
     @property
     def share_name(self) -> str:
@@ -78,7 +80,7 @@ def load_package(path: Path, *, colcon_type: str | None = None, parsed_by_colcon
     model = PackageModel(name=manifest.name or path.name, path=path, build_type=build_type,
                          manifest=manifest)
     model.sources[manifest_source.path] = manifest_source
-    model.files = _walk_files(path)
+    model.files = _walk_files(path, model.walk_limits)
 
     if (path / "CMakeLists.txt").exists() and build_type not in ("ament_python",):
         model.cmake = load_cmake(path)

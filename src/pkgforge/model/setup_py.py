@@ -16,6 +16,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..walk import walk
 from .source import SourceFile
 
 
@@ -249,7 +250,7 @@ class _Evaluator:
             return sorted(os.path.relpath(f, self.package_path) for f in found)
         if name == "os.walk":
             return [(os.path.relpath(root, self.package_path), dirs, files)
-                    for root, dirs, files in os.walk(self.package_path / args[0])]
+                    for root, dirs, files in walk(self.package_path / args[0])]  # bounded, no recursion
         if name in self.functions:
             return self.local_function(self.functions[name], node, args)
         raise Unevaluable(node, f"{name or 'this'}() is not evaluated")

@@ -1,0 +1,128 @@
+"""Directory walks never follow a link cycle, never leave the tree, and stop at bounded depth
+(folder-not-walked, PF903) without Python recursion, in every verify mode (issue 11 item 6)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from conftest import MAINTAINER, run_pkgforge, verify_report
+
+# a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
+HANG_GUARD = 240
+
+
+@pytest.fixture(scope="module")
+def template_package(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("template")
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=folder)
+    assert result.returncode == 0, result.stderr
+    return folder / "rob_description"
+
+
+@pytest.fixture
+def package(tmp_path, template_package) -> Path:
+    target = tmp_path / "ws" / "src" / "rob_description"
+    shutil.copytree(template_package, target)
+    return target
+
+
+@pytest.fixture
+def nest(request):
+    """nest(folder, depth): depth nested folders d/d/d/... under folder, removed again after the
+    test without recursion (pytest's own clean-up of old temporary folders recurses, and would
+    fail on them in every later run, anyone's)."""
+    made = []
+
+    def make(folder: Path, depth: int) -> Path:
+        path = folder
+        for _ in range(depth):
+            path = path / "d"
+            path.mkdir()
+            made.append(path)
+        return path
+
+    yield make
+    for path in reversed(made):
+        for entry in os.scandir(path):
+            if not entry.is_dir(follow_symlinks=False):
+                os.unlink(entry.path)
+        os.rmdir(path)
+
+
+def hand_made_install(package: Path) -> Path:
+    """A merged install folder as colcon builds it for the package (without running colcon)."""
+    install = package.parent.parent / "install"
+    index = install / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True)
+    (index / package.name).touch()
+    (install / ".colcon_install_layout").write_text("merged\n")
+    share = install / "share" / package.name
+    for folder in ("launch", "urdf", "meshes", "rviz"):
+        shutil.copytree(package / folder, share / folder)
+    shutil.copy(package / "package.xml", share)
+    return share
+
+
+def codes(report: dict, minimum: str = "warning") -> list[tuple]:
+    order = ["info", "warning", "error"]
+    return sorted((d["code"], d["path"]) for d in report["diagnostics"]
+                  if order.index(d["severity"]) >= order.index(minimum))
+
+
+def test_link_cycles_in_a_real_build_end(package):
+    workspace = package.parent.parent
+    os.symlink(".", package / "meshes" / "self")
+    os.symlink(".", package / "launch" / "a")
+    os.symlink(".", package / "launch" / "b")  # two links to '.': 2**40 paths when followed
+    result = run_pkgforge("verify", "--build", "--format", "json", cwd=workspace, timeout=HANG_GUARD)
+    assert "Traceback" not in result.stderr, result.stderr
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert '"diagnostics": []' in result.stdout
+
+
+def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
+    workspace = package.parent.parent
+    share = hand_made_install(package)
+    os.symlink(".", share / "launch" / "a")
+    os.symlink("..", share / "launch" / "up")
+    # a folder outside the install tree: its launch file must never be loaded
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    (outside / "evil.launch.py").write_text("raise RuntimeError('walked out of the tree')\n")
+    os.symlink(outside, share / "launch" / "out")
+    status, report = verify_report(workspace, "--install-base", "install", "--select", "PF3,PF9")
+    assert not any("walked out of the tree" in d["message"] for d in report["diagnostics"])
+    assert codes(report) == [], report["diagnostics"]
+
+
+def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package, nest):
+    deepest = nest(package / "meshes", 1000)
+    (deepest / "part.stl").write_bytes(b"solid x\nendsolid x\n")
+    result = run_pkgforge("verify", "--format", "json", "--no-cache", cwd=package.parent.parent,
+                          timeout=HANG_GUARD)
+    assert "Traceback" not in result.stderr and "RecursionError" not in result.stdout, result.stderr
+    assert result.returncode == 0, result.stdout + result.stderr
+    import json
+
+    report = json.loads(result.stdout)
+    (diagnostic,) = report["diagnostics"]
+    assert diagnostic["code"] == "PF903" and diagnostic["severity"] == "warning"
+    assert diagnostic["path"] == "src/rob_description/meshes" + "/d" * 63  # 64 folders below the package
+    assert "64 deep" in diagnostic["message"]
+
+
+def test_deep_nesting_in_an_install_base_is_reported(package, nest):
+    workspace = package.parent.parent
+    share = hand_made_install(package)
+    deepest = nest(share / "launch", 1000)
+    (deepest / "x.launch.py").write_text("raise RuntimeError('too deep to be seen')\n")
+    status, report = verify_report(workspace, "--install-base", "install", "--select", "PF3,PF9")
+    assert status == 0
+    (diagnostic,) = report["diagnostics"]
+    assert diagnostic["code"] == "PF903"
+    # no source folder matches it: the folder of the install tree is named
+    assert diagnostic["path"].endswith("install/share/rob_description/launch" + "/d" * 63)
