@@ -14,6 +14,7 @@ file is xfail(strict=True) with the difference as the reason.
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 from pathlib import Path
@@ -138,6 +139,8 @@ def prefixes(tmp_path_factory) -> dict[str, Path]:
         prefix, reason = make_prefix(distro, base)
         if prefix is None:
             print(f"oracle skipped: {reason}")
+            if os.environ.get("CI"):  # CI has shared/ beside the clone: a skip there hides a broken setup
+                pytest.fail(f"the oracle must run in CI: {reason}")
             pytest.skip(f"no real ROS 2 launch library for {distro}: {reason}")
         out[distro] = prefix
     return out
