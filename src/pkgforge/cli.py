@@ -469,5 +469,5 @@ def checks(fmt):
         click.echo(checks_markdown(), nl=False)
         return
     for check in all_checks():
-        fix = {None: "-", "safe": "fix", "unsafe": "unsafe"}[check.fix]
+        fix = check.fix or "-"
         click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {fix:<6} {check.summary}")

@@ -500,18 +500,22 @@ def _replace_scalar(node, value: str) -> Edit:
 
 
 def _find_display(node, line: int):
+    """The mapping whose Class value stands at `line` (a display, possibly in a group)."""
     import yaml
 
-    entries = _mapping(node)
-    if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
-        return node
-    for _, (_, value) in entries.items():
-        children = value.value if isinstance(value, (yaml.SequenceNode, yaml.MappingNode)) else []
-        for child in children:
-            child = child[1] if isinstance(child, tuple) else child
-            found = _find_display(child, line)
-            if found is not None:
-                return found
+    if isinstance(node, yaml.MappingNode):
+        entries = _mapping(node)
+        if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
+            return node
+        children = [value for _, value in node.value]
+    elif isinstance(node, yaml.SequenceNode):
+        children = node.value
+    else:
+        return None
+    for child in children:
+        found = _find_display(child, line)
+        if found is not None:
+            return found
     return None
 
 
