@@ -422,6 +422,8 @@ GLOB_TEMPLATE = re.compile(
 
 
 def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
+    """A data_files entry for `folder`, written as the entries for the other folders are:
+    (destination, glob('folder/*')) tuples, or *helper('folder') calls."""
     source = ctx.files.get(model.setup_py.source.path)
     try:
         tree = ast.parse(source.text)
@@ -433,26 +435,46 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
     if not isinstance(data_files, ast.List):
         raise Unfixable("setup.py's data_files is not a list written out in setup()")
     installed = {f for _, _, folders, _ in model.layout.directory_rules for f in folders}
-    template = None
+    templates = []  # (element, folder it installs, its text with that folder replaced by the new one)
     for element in data_files.elts:
-        if not isinstance(element, ast.Tuple) or len(element.elts) != 2:
-            continue
-        text = ast.get_source_segment(source.text, element)
-        files_text = ast.get_source_segment(source.text, element.elts[1])
-        for existing in installed:
+        text = ast.get_source_segment(source.text, element) or ""
+        for existing in sorted(installed):
             pattern = re.compile(rf"(?<=['\"/]){re.escape(existing)}(?=['\"/])")
-            if text and files_text and GLOB_TEMPLATE.match(pattern.sub("@", files_text)):
-                template = (element, pattern, text)
-    if template is None:
+            if isinstance(element, ast.Tuple) and len(element.elts) == 2:
+                files_text = ast.get_source_segment(source.text, element.elts[1]) or ""
+                usable = bool(GLOB_TEMPLATE.match(pattern.sub("@", files_text)))
+            elif isinstance(element, ast.Starred) and isinstance(element.value, ast.Call):
+                arguments = element.value.args
+                usable = len(arguments) == 1 and isinstance(arguments[0], ast.Constant) \
+                    and arguments[0].value == existing and not element.value.keywords
+            else:
+                usable = False
+            if usable:
+                templates.append((element, existing, pattern.sub(folder, text)))
+                break
+    if not templates:
         raise Unfixable("no data_files entry of the form (destination, glob('folder/*')) to follow; "
                         f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*'))")
-    element, pattern, text = template
-    new = pattern.sub(folder, text)
+    names = [name for _, name, _ in templates]
+    following = next((t for t in templates if t[1] > folder), None) if names == sorted(names) else None
+    fix = Fix(f"added {folder} to data_files in setup.py")
+    if following is not None:
+        element, _, new = following
+        start = source.offset_utf8(element.lineno, element.col_offset)
+        if source.is_blank_before(start):
+            line_start = source.line_start(element.lineno)
+            fix.add(source.path, Edit(line_start, line_start,
+                                      source.indentation(element.lineno) + new + "," + source.eol, folder))
+        else:
+            fix.add(source.path, Edit(start, start, new + ", ", folder))
+        fix.description += f":{element.lineno}"
+        return fix
+    element, _, new = templates[-1]
     start = source.offset_utf8(element.lineno, element.col_offset)
     end = source.offset_utf8(element.end_lineno, element.end_col_offset)
     rest = source.text[end:source.line_end(element.end_lineno)]
     comma = rest.lstrip(" \t").startswith(",")
-    fix = Fix(f"added {folder} to data_files in setup.py:{element.lineno}")
+    fix.description += f":{element.end_lineno + 1}"
     if source.is_blank_before(start):
         indent = source.indentation(element.lineno)
         offset = source.line_end(element.end_lineno)
