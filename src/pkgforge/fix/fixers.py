@@ -772,12 +772,17 @@ def _jsp_python(source: SourceText, line: int, package: str) -> Fix:
         siblings.sort(key=lambda n: (n.lineno, n.col_offset))
         index = siblings.index(arguments)
         start, end = _span(source, arguments)
-        if index + 1 < len(siblings):  # up to the next argument, so its layout takes this one's place
-            end = _span(source, siblings[index + 1])[0]
-        elif index > 0:  # the last argument: from the end of the one before
-            start = _span(source, siblings[index - 1])[1]
+        rest = source.text[end:source.line_end(arguments.end_lineno)]
+        alone = source.is_blank_before(start) and re.fullmatch(r"\s*,?\s*(#.*)?\s*", rest)
+        previous = siblings[index - 1] if index > 0 else None
+        following = siblings[index + 1] if index + 1 < len(siblings) else None
+        if alone:  # the keyword has its own line(s): they go
+            start, end = source.line_start(arguments.lineno), source.line_end(arguments.end_lineno)
+        elif previous is not None and previous.end_lineno == arguments.lineno:
+            start = _span(source, previous)[1]  # `, arguments=[...]`: what follows keeps its place
+        elif following is not None and following.lineno == arguments.end_lineno:
+            end = _span(source, following)[0]  # `arguments=[...], ` up to the next argument
         else:
-            rest = source.text[end:]
             end += len(rest) - len(rest.lstrip(" \t,"))
         fix = Fix(f"removed arguments=... from the {package} node")
         fix.add(source.path, Edit(start, end, ""))
