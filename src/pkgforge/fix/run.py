@@ -82,6 +82,10 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
         except Unfixable as exc:
             run.not_fixed.append((diagnostic, str(exc)))
             continue
+        except Exception as exc:  # a bug in one fixer must not stop the others
+            run.not_fixed.append((diagnostic, f"internal error in the fixer: {type(exc).__name__}: {exc} "
+                                              "(please report this to pkgforge)"))
+            continue
         if _clashes(fix, out.edits):
             out.deferred.append(diagnostic)
             continue
@@ -101,10 +105,17 @@ def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
     return False
 
 
-def run_fix(path: Path, options: FixOptions, *, shown_root: Path | None = None) -> FixRun:
+def run_fix(path: Path, options: FixOptions, *, shown_root: Path | None = None,
+            _first: list | None = None) -> FixRun:
     shown_root = shown_root or Path.cwd()
+    if options.diff:
+        mirrored = _diff_on_a_copy(path, options, shown_root)
+        if mirrored is not None:
+            return mirrored
     verify_options = dataclasses.replace(options.verify, mode="predicted", install_base=None, use_cache=False)
     result = verify(path, verify_options)
+    if _first is not None:
+        _first.append(result)
     run = FixRun(result, diff_mode=options.diff)
     previous: set | None = None
     for number in range(1, MAX_PASSES + 1):
@@ -171,3 +182,82 @@ def _shown(path: Path, root: Path) -> str:
         return Path(os.path.relpath(path, root)).as_posix()
     except ValueError:
         return str(path)
+
+
+# --- --diff: every pass on a copy, so the diff is what `pkgforge fix` would write -----------------
+
+COPY_LIMIT_FILES = 20000
+COPY_LIMIT_BYTES = 512 * 1024 * 1024
+SKIPPED = {".git", ".hg", ".svn", "__pycache__"}
+ROOT_OUTPUTS = {"build", "install", "log"}
+
+
+def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun | None:
+    """Run the fix passes on a temporary copy of what verify reads; None when it is too large to copy
+    (then --diff shows the first pass only)."""
+    import shutil
+    import tempfile
+
+    from ..workspace import locate
+
+    workspace = locate(path)
+    root, base = workspace.root, workspace.base_path
+    files, size = 0, 0
+    for folder, dirs, names in __import__("os").walk(base):
+        dirs[:] = [d for d in dirs if d not in SKIPPED and not (Path(folder) == root and d in ROOT_OUTPUTS)]
+        files += len(names)
+        size += sum((Path(folder) / n).lstat().st_size for n in names)
+        if files > COPY_LIMIT_FILES or size > COPY_LIMIT_BYTES:
+            return None
+    with tempfile.TemporaryDirectory(prefix="pkgforge-fix-diff-") as temporary:
+        copy_root = Path(temporary) / "ws"
+        copy_base = copy_root / base.relative_to(root)
+
+        def ignore(folder, names):
+            return [n for n in names if n in SKIPPED or (Path(folder) == root and n in ROOT_OUTPUTS)]
+
+        shutil.copytree(base, copy_base, symlinks=True, ignore=ignore)
+        if (root / "pkgforge.toml").is_file() and not (copy_root / "pkgforge.toml").exists():
+            shutil.copy2(root / "pkgforge.toml", copy_root / "pkgforge.toml")
+        copy_path = copy_root / path.resolve().relative_to(root)
+        writing = dataclasses.replace(options, diff=False)
+        first: list[VerifyResult] = []
+        run = run_fix(copy_path, writing, shown_root=shown_root, _first=first)
+
+        def back(file: Path) -> Path:
+            try:
+                return root / Path(file).relative_to(copy_root)
+            except ValueError:
+                return Path(file)
+
+        out = FixRun(_remap(first[0], back), diff_mode=True, passes=run.passes)
+        out.result.root = path.resolve()
+        out.fixed = [Applied(_moved(a.diagnostic, back), a.description) for a in run.fixed]
+        out.not_fixed = [(_moved(d, back), why) for d, why in run.not_fixed]
+        out.unsafe_available = [_moved(d, back) for d in run.unsafe_available]
+        out.failures = [Outcome(back(o.path), o.written, o.problem) for o in run.failures]
+        diffs = []
+        for written in sorted(run.files_written):
+            original = back(written)
+            before = original.read_bytes().decode("utf-8")
+            after = written.read_bytes().decode("utf-8")
+            diffs.append(unified_diff(original, before.removeprefix("\ufeff"), after.removeprefix("\ufeff"),
+                                      _shown(original, shown_root)))
+        out.diff = "".join(diffs)
+        return out
+
+
+def _moved(diagnostic: Diagnostic, back) -> Diagnostic:
+    return dataclasses.replace(diagnostic, path=back(diagnostic.path),
+                               message=diagnostic.message, hint=diagnostic.hint)
+
+
+def _remap(result: VerifyResult, back) -> VerifyResult:
+    from ..diagnostics import PackageReport
+
+    reports = []
+    for report in result.reports:
+        moved = PackageReport(report.name, back(report.path), report.build_type,
+                              [_moved(d, back) for d in report.diagnostics])
+        reports.append(moved)
+    return VerifyResult(back(result.root), reports, result.checks_run)
