@@ -213,6 +213,11 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
     return [k.strip() for value in values for k in value.split(",") if k.strip()]
 
 
+def _into_meta(ctx, param, value):
+    """verify's --fix options: kept in the context, not in verify()'s signature."""
+    ctx.meta[param.name] = value
+
+
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
 @click.option("--format", "fmt", type=click.Choice(FORMATS),
@@ -257,12 +262,13 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
 @click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
-@click.option("--fix", "apply_fixes", is_flag=True,
+@click.option("--fix", is_flag=True, expose_value=False, callback=_into_meta,
               help="Apply the fixes of what verify finds: the same as `pkgforge fix PATH`.")
-@click.option("--unsafe-fixes", is_flag=True, help="With --fix: also apply the fixes marked unsafe.")
+@click.option("--unsafe-fixes", is_flag=True, expose_value=False, callback=_into_meta,
+              help="With --fix: also apply the fixes marked unsafe.")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
            launch_timeout, worker_memory, launch_engine, ros_prefix, no_cache, target_distro, explain_launch,
-           explain_model, apply_fixes, unsafe_fixes):
+           explain_model):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -274,6 +280,8 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
 
     if build_tree and install_base is not None:
         fail(PkgforgeError("--build and --install-base exclude each other: build, or read an existing tree"))
+    meta = click.get_current_context().meta
+    apply_fixes, unsafe_fixes = meta.get("fix", False), meta.get("unsafe_fixes", False)
     if unsafe_fixes and not apply_fixes:
         fail(PkgforgeError("--unsafe-fixes goes with --fix"))
     if apply_fixes:
