@@ -350,6 +350,55 @@ def report_internal_errors(result) -> None:
             click.echo(trace.rstrip(), err=True)
 
 
+@main.command("verify-files", context_settings=CONTEXT_SETTINGS)
+@click.argument("files", nargs=-1, type=click.Path(path_type=Path))
+@click.option("--strict", is_flag=True, help="Treat warnings as errors.")
+def verify_files(files, strict):
+    """Verify the packages that hold FILES (pre-commit passes the staged files).
+
+    Each package found above a file is verified once, in the fast default mode.
+    """
+    from .config import Selection
+    from .report import render
+    from .verify import VerifyOptions, verify as run_verify
+
+    packages = []
+    for file in files:
+        folder = file.resolve().parent
+        while folder != folder.parent and not (folder / "package.xml").is_file():
+            folder = folder.parent
+        if (folder / "package.xml").is_file() and folder not in packages:
+            packages.append(folder)
+    status = 0
+    for package in packages:
+        try:
+            result = run_verify(package, VerifyOptions(Selection(), strict=strict))
+        except PkgforgeError as error:
+            fail(error)
+        result.root = Path.cwd()  # paths as the repository shows them
+        if result.diagnostics:
+            click.echo(render("text", result, color=sys.stdout.isatty()), nl=False)
+        report_internal_errors(result)
+        status = max(status, result.exit_code(strict))
+    sys.exit(status)
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.option("--format", "fmt", type=click.Choice(["text", "markdown"]), default="text",
+              show_default=True, help="markdown writes docs/checks.md.")
+def checks(fmt):
+    """List every check: code, name, default severity and what it finds."""
+    from .checks.registry import all_checks
+    from .docs import checks_markdown
+
+    if fmt == "markdown":
+        click.echo(checks_markdown(), nl=False)
+        return
+    for check in all_checks():
+        fix = check.fix or "-"
+        click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {fix:<6} {check.summary}")
+
+
 def _launch_arguments(launch_args) -> dict[str, str]:
     arguments = {}
     for text in launch_args:
@@ -430,52 +479,3 @@ def fix(paths, diff, unsafe_fixes, select, ignore, strict, jobs, launch_args, la
     """
     run_fix_command(paths, select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=diff, strict=strict,
                     jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout)
-
-
-@main.command("verify-files", context_settings=CONTEXT_SETTINGS)
-@click.argument("files", nargs=-1, type=click.Path(path_type=Path))
-@click.option("--strict", is_flag=True, help="Treat warnings as errors.")
-def verify_files(files, strict):
-    """Verify the packages that hold FILES (pre-commit passes the staged files).
-
-    Each package found above a file is verified once, in the fast default mode.
-    """
-    from .config import Selection
-    from .report import render
-    from .verify import VerifyOptions, verify as run_verify
-
-    packages = []
-    for file in files:
-        folder = file.resolve().parent
-        while folder != folder.parent and not (folder / "package.xml").is_file():
-            folder = folder.parent
-        if (folder / "package.xml").is_file() and folder not in packages:
-            packages.append(folder)
-    status = 0
-    for package in packages:
-        try:
-            result = run_verify(package, VerifyOptions(Selection(), strict=strict))
-        except PkgforgeError as error:
-            fail(error)
-        result.root = Path.cwd()  # paths as the repository shows them
-        if result.diagnostics:
-            click.echo(render("text", result, color=sys.stdout.isatty()), nl=False)
-        report_internal_errors(result)
-        status = max(status, result.exit_code(strict))
-    sys.exit(status)
-
-
-@main.command(context_settings=CONTEXT_SETTINGS)
-@click.option("--format", "fmt", type=click.Choice(["text", "markdown"]), default="text",
-              show_default=True, help="markdown writes docs/checks.md.")
-def checks(fmt):
-    """List every check: code, name, default severity and what it finds."""
-    from .checks.registry import all_checks
-    from .docs import checks_markdown
-
-    if fmt == "markdown":
-        click.echo(checks_markdown(), nl=False)
-        return
-    for check in all_checks():
-        fix = check.fix or "-"
-        click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {fix:<6} {check.summary}")

@@ -315,7 +315,7 @@ def robot_description_not_string(ctx: CheckContext):
                     position = ctx.source_position(resolution, parameter.file, parameter.line)
                     if position is not None:
                         yield Finding("robot_description is a Command() that launch_ros will parse as YAML",
-                                      *position, fix={"parameter": "robot_description"})
+                                      *position)
 
 
 @register("PF309", "launch-argument-required", "info", area="launch",

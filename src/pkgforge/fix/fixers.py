@@ -747,22 +747,22 @@ def _import_edit(source: SourceText, tree: ast.Module, module: str, name: str) -
 @fixer("jsp-model-argument")
 def fix_jsp_argument(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     source = ctx.files.get(diagnostic.path)
-    package = (diagnostic.fix or {}).get("package") or "joint_state_publisher"
     name = source.path.name
     if name.endswith(".py"):
-        return _jsp_python(source, diagnostic.line or 0, package)
+        return _jsp_python(source, diagnostic.line or 0)
     if name.endswith(".xml"):
-        return _jsp_xml(source, diagnostic.line or 0, package)
+        return _jsp_xml(source, diagnostic.line or 0)
     raise Unfixable("only Python and XML launch files are edited")
 
 
-def _jsp_python(source: SourceText, line: int, package: str) -> Fix:
+def _jsp_python(source: SourceText, line: int) -> Fix:
     tree = _python(source)
     for call in _containing_calls(tree, line, "Node"):
         keywords = {k.arg: k for k in call.keywords if k.arg}
         given = keywords.get("package")
         if given is None or not isinstance(given.value, ast.Constant) or given.value.value not in JSP_PACKAGES:
             continue
+        package = given.value.value
         arguments = keywords.get("arguments")
         if arguments is None:
             raise Unfixable("the node's arguments are not given as arguments=[...]")
@@ -787,14 +787,17 @@ def _jsp_python(source: SourceText, line: int, package: str) -> Fix:
         fix = Fix(f"removed arguments=... from the {package} node")
         fix.add(source.path, Edit(start, end, ""))
         return fix
-    raise Unfixable(f"cannot find the {package} Node(...) at line {line}")
+    raise Unfixable(f"cannot find the joint_state_publisher Node(...) at line {line}")
 
 
-def _jsp_xml(source: SourceText, line: int, package: str) -> Fix:
+def _jsp_xml(source: SourceText, line: int) -> Fix:
     start = source.line_start(line)
     match = re.compile(r"<node\b[^>]*>", re.S).search(source.text, start)
-    if match is None or source.line_of(match.start()) != line or package not in match.group(0):
-        raise Unfixable(f"cannot find the {package} <node> at line {line}")
+    package = re.search(r"""\bpkg\s*=\s*["']([^"']*)["']""", match.group(0)) if match else None
+    if match is None or source.line_of(match.start()) != line or package is None \
+            or package.group(1) not in JSP_PACKAGES:
+        raise Unfixable(f"cannot find the joint_state_publisher <node> at line {line}")
+    package = package.group(1)
     attribute = re.search(r"""\s+args\s*=\s*("[^"]*"|'[^']*')""", match.group(0))
     if attribute is None:
         raise Unfixable("the node has no args attribute")
