@@ -591,3 +591,40 @@ def test_pre_commit_fix_hook_beside_verify():
     assert hook["entry"] == "pkgforge fix" and hook["pass_filenames"] and hook["language"] == "python"
     assert hook["files"] == hooks["pkgforge-verify"]["files"]
     assert re.search(hook["files"], "src/rob/package.xml")
+
+
+def _fixed(name: str, path: Path, line: int, data: dict | None = None) -> str:
+    """The text of path after the fixer of check `name` ran for a finding at `line` (in-process)."""
+    from pkgforge.diagnostics import Diagnostic, Severity
+    from pkgforge.fix.edits import FileSet, apply
+    from pkgforge.fix.fixers import FIXERS, FixContext
+
+    diagnostic = Diagnostic("PF000", name, Severity.ERROR, "p", path, line, None, "m", "h", fix=data)
+    files = FileSet()
+    fix = FIXERS[name](diagnostic, FixContext(files))
+    return apply(files.get(path).text, fix.edits[path])
+
+
+def test_rviz_description_added_where_the_display_has_none(tmp_path):
+    rviz = tmp_path / "display.rviz"
+    rviz.write_text("Visualization Manager:\n  Displays:\n    - Alpha: 1\n      Class: rviz_default_plugins/RobotModel\n"
+                    "      Enabled: true\n      Name: RobotModel\n")
+    assert _fixed("rviz-no-description", rviz, 4, {"display_line": 4}) == (
+        "Visualization Manager:\n  Displays:\n    - Alpha: 1\n      Class: rviz_default_plugins/RobotModel\n"
+        "      Description Source: Topic\n      Description Topic:\n        Depth: 5\n"
+        "        Durability Policy: Transient Local\n        History Policy: Keep Last\n"
+        "        Reliability Policy: Reliable\n        Value: /robot_description\n"
+        "      Enabled: true\n      Name: RobotModel\n")
+
+
+def test_robot_description_command_inline_in_the_node(tmp_path):
+    launch = tmp_path / "x.launch.py"
+    launch.write_text('"""Doc."""\nfrom launch_ros.actions import Node\n\n\ndef generate_launch_description():\n'
+                      "    return LaunchDescription([Node(\n        package='robot_state_publisher',\n"
+                      "        parameters=[{'robot_description': Command(['xacro ', 'm'])}],\n    )])\n")
+    assert _fixed("robot-description-not-string", launch, 6) == (
+        '"""Doc."""\nfrom launch_ros.actions import Node\n'
+        "from launch_ros.parameter_descriptions import ParameterValue\n\n\ndef generate_launch_description():\n"
+        "    return LaunchDescription([Node(\n        package='robot_state_publisher',\n"
+        "        parameters=[{'robot_description': ParameterValue(Command(['xacro ', 'm']), value_type=str)}],\n"
+        "    )])\n")

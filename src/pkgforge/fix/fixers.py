@@ -706,9 +706,10 @@ def _robot_description_command(tree, line: int):
     if calls:
         return calls[0]
     # the line of the node or the dict: follow 'robot_description': <Command or a name bound to one>
-    for node in ast.walk(tree):
-        if not isinstance(node, ast.Dict) or not (node.lineno <= line <= node.end_lineno):
-            continue
+    around = [n for n in ast.walk(tree) if isinstance(n, (ast.Dict, ast.Call)) and n.lineno <= line <= n.end_lineno]
+    inner = sorted(around, key=lambda n: n.end_lineno - n.lineno)[:1]
+    dicts = [n for n in ast.walk(inner[0]) if isinstance(n, ast.Dict)] if inner else []
+    for node in dicts:
         for key, value in zip(node.keys, node.values):
             if isinstance(key, ast.Constant) and key.value == "robot_description":
                 if isinstance(value, ast.Call) and _call_name(value) == "Command":
