@@ -628,3 +628,17 @@ def test_robot_description_command_inline_in_the_node(tmp_path):
         "    return LaunchDescription([Node(\n        package='robot_state_publisher',\n"
         "        parameters=[{'robot_description': ParameterValue(Command(['xacro ', 'm']), value_type=str)}],\n"
         "    )])\n")
+
+
+def test_a_symlinked_file_stays_a_symlink(tmp_path):
+    from pkgforge.fix.edits import Edit, SourceText, apply, write_atomically
+
+    target = tmp_path / "shared.rviz"
+    target.write_text("Fixed Frame: map\n")
+    target.chmod(0o640)
+    link = tmp_path / "display.rviz"
+    link.symlink_to(target.name)
+    source = SourceText(link)
+    assert write_atomically(source, apply(source.text, [Edit(13, 16, "base_link")])).written
+    assert link.is_symlink() and target.read_text() == "Fixed Frame: base_link\n"
+    assert oct(target.stat().st_mode & 0o777) == "0o640"

@@ -163,20 +163,22 @@ def unified_diff(path: Path, before: str, after: str, shown: str) -> str:
 
 
 def write_atomically(source: SourceText, new_text: str) -> Outcome:
-    """Write new_text over source.path if the file still holds what was read; never half-written."""
-    path = source.path
+    """Write new_text over source.path if the file still holds what was read; never half-written.
+
+    A symbolic link stays one: the file it points to is written."""
+    path = Path(os.path.realpath(source.path))
     try:
         current = path.read_bytes()
     except OSError as exc:
-        return Outcome(path, False, f"cannot read it again: {exc.strerror or exc}")
+        return Outcome(source.path, False, f"cannot read it again: {exc.strerror or exc}")
     if current != source.data:
-        return Outcome(path, False, "it changed since pkgforge read it; run pkgforge fix again")
+        return Outcome(source.path, False, "it changed since pkgforge read it; run pkgforge fix again")
     try:
         info = path.stat()
     except OSError as exc:
-        return Outcome(path, False, f"cannot stat it: {exc.strerror or exc}")
+        return Outcome(source.path, False, f"cannot stat it: {exc.strerror or exc}")
     if not os.access(path, os.W_OK) or not (info.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH)):
-        return Outcome(path, False, "it is read-only")
+        return Outcome(source.path, False, "it is read-only")
     data = (source.bom + new_text).encode("utf-8")
     temporary = None
     try:
@@ -191,16 +193,16 @@ def write_atomically(source: SourceText, new_text: str) -> Outcome:
         os.replace(temporary, path)
         temporary = None
     except _Changed:
-        return Outcome(path, False, "it changed since pkgforge read it; run pkgforge fix again")
+        return Outcome(source.path, False, "it changed since pkgforge read it; run pkgforge fix again")
     except OSError as exc:
-        return Outcome(path, False, f"cannot write it: {exc.strerror or exc}")
+        return Outcome(source.path, False, f"cannot write it: {exc.strerror or exc}")
     finally:
         if temporary is not None:
             try:
                 os.unlink(temporary)
             except OSError:
                 pass
-    return Outcome(path, True)
+    return Outcome(source.path, True)
 
 
 class _Changed(Exception):

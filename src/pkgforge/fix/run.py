@@ -11,6 +11,7 @@ nothing. With --diff there is one pass and nothing is written.
 from __future__ import annotations
 
 import dataclasses
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -69,6 +70,7 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
     """The edits of every fixable diagnostic, merged per file."""
     context = FixContext(files)
     out = _Plan()
+    roots = [report.path.resolve() for report in result.reports]
     for diagnostic in result.diagnostics:
         kind = fix_kind(diagnostic)
         function = FIXERS.get(diagnostic.name)
@@ -86,6 +88,10 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             run.not_fixed.append((diagnostic, f"internal error in the fixer: {type(exc).__name__}: {exc} "
                                               "(please report this to pkgforge)"))
             continue
+        outside = [p for p in fix.edits if not any(_inside(Path(os.path.realpath(p)), r) for r in roots)]
+        if outside:
+            run.not_fixed.append((diagnostic, f"the fix edits {outside[0]}, outside the package(s) being fixed"))
+            continue
         if _clashes(fix, out.edits):
             out.deferred.append(diagnostic)
             continue
@@ -94,6 +100,14 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             merged.extend(e for e in edits if e not in merged)
         out.fixes.append((diagnostic, fix))
     return out
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    try:
+        path.relative_to(folder)
+        return True
+    except ValueError:
+        return False
 
 
 def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
