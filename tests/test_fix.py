@@ -642,3 +642,36 @@ def test_a_symlinked_file_stays_a_symlink(tmp_path):
     assert write_atomically(source, apply(source.text, [Edit(13, 16, "base_link")])).written
     assert link.is_symlink() and target.read_text() == "Fixed Frame: base_link\n"
     assert oct(target.stat().st_mode & 0o777) == "0o640"
+
+
+def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
+    """A fixer whose edit leaves package.xml unparsable (a stand-in fixer, the rest real): nothing written."""
+    import dataclasses
+
+    from pkgforge.checks.registry import REGISTRY, all_checks
+    from pkgforge.config import Selection
+    from pkgforge.fix import fixers
+    from pkgforge.fix.edits import Edit
+    from pkgforge.fix.run import FixOptions, run_fix
+    from pkgforge.verify import VerifyOptions
+
+    package = copy_fixture("seed001/small_turtle", tmp_path)
+    package = package.rename(package.with_name("turtle"))
+    manifest = package / "package.xml"
+    before = manifest.read_bytes()
+    all_checks()
+    monkeypatch.setitem(REGISTRY, "PF104", dataclasses.replace(REGISTRY["PF104"], fix="safe"))
+
+    def breaking(diagnostic, context):
+        source = context.files.get(manifest)
+        start = source.text.index("</package>")
+        fix = fixers.Fix("drops </package>")
+        fix.add(manifest, Edit(start, start + len("</package>"), ""))
+        return fix
+
+    monkeypatch.setitem(fixers.FIXERS, "folder-name-mismatch", breaking)
+    run = run_fix(package, FixOptions(VerifyOptions(Selection(["folder-name-mismatch"], []))))
+    assert manifest.read_bytes() == before
+    assert run.fixed == [] and run.files_written == set()
+    (diagnostic, why), = run.not_fixed
+    assert diagnostic.name == "folder-name-mismatch" and why.startswith("the fix would leave the file unparsable")
