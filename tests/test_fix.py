@@ -216,8 +216,9 @@ def test_seeds_fixed_then_build_verifies_without_errors(seeds):
     fixed = sorted(line.split(": ")[1].split()[0] for line in result.stdout.splitlines() if line.startswith("fixed src/"))
     assert fixed == ["PF103", "PF201", "PF201", "PF302", "PF305", "PF305", "PF305", "PF305", "PF306", "PF306",
                      "PF307", "PF403", "PF502", "PF503"]
-    assert "remaining, by code:\n  PF104 folder-name-mismatch [warning] ×1\n  PF107 unused-exec-depend [info] ×1" \
-        in result.stdout
+    remaining = result.stdout.split("remaining, by code:\n")[1].split("\nsrc/")[0].splitlines()
+    assert remaining and all(line.startswith("  PF") and "[error]" not in line for line in remaining), remaining
+    assert "  PF104 folder-name-mismatch" in "\n".join(remaining)  # no automatic fix: a rename touches everything
 
     # idempotent: a second run finds nothing to fix and changes no byte
     again = fix(seeds, "--unsafe-fixes")
@@ -229,7 +230,7 @@ def test_seeds_fixed_then_build_verifies_without_errors(seeds):
     report = json.loads(built.stdout)
     assert built.returncode == 0, built.stdout + built.stderr
     assert [d for d in report["diagnostics"] if d["severity"] == "error"] == []
-    assert {d["code"] for d in report["diagnostics"]} == {"PF104", "PF107"}  # no launch file failed to load
+    assert not {"PF301", "PF308", "PF311"} & {d["code"] for d in report["diagnostics"]}  # every launch file loaded
     install = seeds / "build" / "pkgforge-verify" / "install" / "share"
     assert (install / "robot_description" / "rviz" / "display.rviz").is_file()
     assert (install / "small_turtle" / "launch" / "display.launch.py").is_file()
