@@ -343,7 +343,7 @@ def styled(tmp_path) -> Path:
 
 def test_styles_clean_before_the_defects(styled):
     result = run_pkgforge("verify", cwd=styled)
-    assert result.returncode == 0 and result.stdout.endswith("0 errors, 0 warnings, 0 infos in 1 packages\n"), \
+    assert result.returncode == 0 and result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages"), \
         result.stdout
 
 
