@@ -9,7 +9,7 @@ from pathlib import Path
 from ..diagnostics import Finding
 from .context import CheckContext
 from .files import read_problem_hint, untree
-from .install import install_fix, link_hint
+from .install import install_fix, install_fix_data, link_hint
 from .registry import register
 from ..launch.records import PackageLookup, Record
 from ..walk import UNREADABLE_HINT
@@ -80,7 +80,7 @@ def _share_reference(ctx: CheckContext, path: str):
     return located
 
 
-@register("PF302", "uninstalled-reference", "error", area="launch",
+@register("PF302", "uninstalled-reference", "error", area="launch", fix="safe",
           summary="a launch file resolves a path that the install rules leave out",
           explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
                       "looks (user story 1: the RViz config was never installed, RViz started empty).",
@@ -149,7 +149,8 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
             yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but "
                           f"{why}{_branch_note(item, resolution)}{more}", path, line,
-                          hint=install_fix(owner, relative.split('/')[0], relative))
+                          hint=install_fix(owner, relative.split('/')[0], relative),
+                          fix=install_fix_data(owner, relative.split('/')[0]))
         elif owner is not None and _unreadable_folder(owner, source) is not None:
             folder = _unreadable_folder(owner, source)
             yield Finding(f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
@@ -245,7 +246,7 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     return f"did you mean {', '.join(near[:3])}?" if near else "check the name against package.xml <name>"
 
 
-@register("PF305", "missing-exec-depend", "error", area="launch",
+@register("PF305", "missing-exec-depend", "error", area="launch", fix="safe",
           summary="a package used at run time is not an exec_depend",
           explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
                       "machine the node, file or tool is missing (user story 6).",
@@ -271,10 +272,11 @@ def missing_exec_depend(ctx: CheckContext):
         yield Finding(f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
                       path, line, hint=f"add <exec_depend>{name}</exec_depend> to package.xml"
                                        + (f" (after line {model.manifest.last_dependency_line()})"
-                                          if model.manifest.last_dependency_line() else ""))
+                                          if model.manifest.last_dependency_line() else ""),
+                      fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)})
 
 
-@register("PF306", "jsp-model-argument", "error", area="launch",
+@register("PF306", "jsp-model-argument", "error", area="launch", fix="safe",
           summary="joint_state_publisher is given the robot model as an argument",
           explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
                       "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
@@ -296,7 +298,7 @@ def jsp_model_argument(ctx: CheckContext):
                                    "robot_state_publisher publishes /robot_description")
 
 
-@register("PF307", "robot-description-not-string", "warning", area="launch",
+@register("PF307", "robot-description-not-string", "warning", area="launch", fix="safe",
           summary="robot_description comes from Command() without ParameterValue(..., value_type=str)",
           explanation="launch_ros parses a parameter's text as YAML; the xacro output then fails to "
                       "load whenever it looks like YAML (since Jazzy launch refuses it).",
