@@ -390,7 +390,10 @@ def _plan_shadow(plan: _Plan, source: Path, relative: str) -> None:
             if is_dir:
                 real = os.path.realpath(entry.path)
                 if entry.is_symlink() and (real == top or real.startswith(top + os.sep)):
-                    # a link inside the install base (`self -> .`): the same link inside the shadow
+                    parent = os.path.realpath(folder)
+                    if parent == real or parent.startswith(real + os.sep):
+                        continue  # a link to a folder holding it (`self -> .`): a cycle, left out
+                    # another folder of the install base: the same link inside the shadow
                     inside = os.path.join(relative, os.path.relpath(real, top))
                     plan.link(target, os.path.relpath(inside, os.path.dirname(target)))
                 elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES:
