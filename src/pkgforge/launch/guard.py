@@ -51,10 +51,6 @@ _state: dict = {"root": None, "root_pid": None, "locator": None, "spawned_at": (
 _busy = threading.local()
 
 
-def installed() -> bool:
-    return _state["root"] is not None
-
-
 def install(root: str | None = None) -> bool:
     """Install the guard for the temporary folder `root` (default: $PKGFORGE_SANDBOX); idempotent."""
     if _state["root"] is not None:
