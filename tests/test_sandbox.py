@@ -162,3 +162,34 @@ def test_the_tree_holds_copies_not_links_to_the_source(tmp_path):
     finally:
         tree.close()
     assert not Path(tree.root).exists()
+
+
+def test_the_guard_reaches_child_python_processes(tmp_path):
+    """A Python process started with the worker's environment (guard_site on PYTHONPATH) gets the
+    guard before its first line: writes outside the folder and signals to its parent are refused
+    and logged; files of its own inside the folder are written."""
+    import json
+    import signal
+    import subprocess
+    import sys
+
+    import pkgforge.launch.guard as guard
+
+    sandbox, user = tmp_path / "sandbox", tmp_path / "user.txt"
+    sandbox.mkdir()
+    user.write_text("mine\n")
+    site = Path(guard.__file__).parent / "guard_site"
+    env = dict(os.environ, PYTHONPATH=str(site), PKGFORGE_SANDBOX=str(sandbox))
+    env.pop(guard.ROOT_PID_VARIABLE, None)
+    script = (f"import os, signal\n"
+              f"open({str(sandbox / 'own.txt')!r}, 'w').write('ok')\n"
+              f"for action in (lambda: open({str(user)!r}, 'w'), lambda: os.remove({str(user)!r}),\n"
+              f"               lambda: os.kill(os.getppid(), signal.{signal.Signals.SIGTERM.name})):\n"
+              f"    try:\n        action()\n    except PermissionError as error:\n        print(error)\n")
+    result = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.count("pkgforge refused") == 3, result.stdout
+    assert user.read_text() == "mine\n" and (sandbox / "own.txt").read_text() == "ok"
+    logged = [json.loads(line) for line in (sandbox / guard.LOG_NAME).read_text().splitlines()]
+    assert [(r["operation"], r["path"]) for r in logged] == [
+        ("write", str(user)), ("delete", str(user)), (f"send signal {int(signal.SIGTERM)} to", f"process {os.getpid()}")]
