@@ -446,7 +446,11 @@ def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
 def each_alone(workspace: Path, cases: list[Case], *mode: str) -> dict[str, list[str]]:
     """A batch failed: which cases fail on their own (a workspace with just that package)."""
     failing = {}
+    by_package: dict[str, list[Case]] = {}
     for case in cases:
+        by_package.setdefault(case.name, []).append(case)
+    for package_cases in by_package.values():
+        case = Case(package_cases[0].name, package_cases[0].base, "; ".join(c.what for c in package_cases))
         alone = workspace.parent / f"alone-{case.name}"
         (alone / "src").mkdir(parents=True)
         shutil.move(str(workspace / "src" / case.name), alone / "src" / case.name)
@@ -513,19 +517,26 @@ def test_campaign_build_mode(bases, tmp_path):
     workspace = tmp_path / "ws"
     (workspace / "src").mkdir(parents=True)
     src = workspace / "src"
+    # a colcon build costs seconds per package: several broken inputs share each package here
+    parameters = {"fraction": 0.5, "positions": [10, 200, 400], "values": [0x20, 0x41, 0xFF]}
+    damage = {
+        "cbasepy": [("launch.py", "truncate"), ("urdf", "bom"), ("rviz", "flip"), ("stl", "empty")],
+        "cbasexml": [("launch.xml", "flip"), "link cycle", "link out of the tree"],
+        "cbaseyaml": [("launch.yaml", "utf-16"), ("urdf", "truncate"), "mesh replaced by a link out"],
+    }
     cases = []
-    for kind, mutation in (("launch.py", "truncate"), ("launch.xml", "flip"), ("launch.yaml", "utf-16"),
-                           ("urdf", "truncate"), ("rviz", "flip"), ("stl", "empty"), ("urdf", "bom")):
-        base = {"launch.xml": "cbasexml", "launch.yaml": "cbaseyaml"}.get(kind, "cbasepy")
+    for base, inputs in damage.items():
         name, package = campaign.package(src, base)
-        parameters = {"fraction": 0.5, "positions": [10, 200, 400], "values": [0x20, 0x41, 0xFF]}
-        cases.append(Case(name, base, apply_bytes(package, kind, mutation, parameters)))
-    for what in ("link cycle", "link out of the tree", "mesh replaced by a link out"):
-        name, package = campaign.package(src, "cbasepy")
-        structural(package, what, campaign.outside)
-        cases.append(Case(name, "cbasepy", what))
+        done = []
+        for item in inputs:
+            if isinstance(item, tuple):
+                done.append(apply_bytes(package, *item, parameters))
+            else:
+                structural(package, item, campaign.outside)
+                done.append(item)
+        cases += [Case(name, base, what) for what in done]
+    name, package = campaign.package(src, "cbasepy")
     for file in ("writes.launch.py", "kill.launch.py", "loop.launch.py"):
-        name, package = campaign.package(src, "cbasepy")
         (package / "launch" / file).write_text(HOSTILE_LAUNCH[file])
         cases.append(Case(name, "cbasepy", f"hostile {file}"))
     try:
