@@ -20,8 +20,8 @@ installed before any user code runs:
 Child Python processes (a launch file's `subprocess.run(['xacro', ..., '-o', p])`)
 get the same guard: guard_site/ is first on their PYTHONPATH and its
 sitecustomize loads this file. Standard library only, so any Python 3 can load it.
-Refusals are appended as JSON lines to PKGFORGE_SANDBOX/.refused, which the
-worker reads after each request and reports.
+Refusals are appended as JSON lines to PKGFORGE_SANDBOX/.refused-<worker pid>,
+which the worker reads after each request and reports.
 
 An audit hook is not a security boundary against a determined attacker (ctypes
 can call libc directly); with the copied tree it closes the accidental and
@@ -40,7 +40,7 @@ SANDBOX_VARIABLE = "PKGFORGE_SANDBOX"
 ROOT_PID_VARIABLE = "PKGFORGE_SANDBOX_PID"
 # entries of SANDBOX/install not changed since this time (ns) are the install tree pkgforge made
 SEALED_VARIABLE = "PKGFORGE_SANDBOX_SEALED"
-LOG_NAME = ".refused"
+LOG_NAME = ".refused-{pid}"  # one per worker (workers share the folder): its pid
 MARKER = "pkgforge refused"
 # devices a launch file may open for writing (its prints, /dev/null redirections)
 ALLOWED_DEVICES = ("/dev/null", "/dev/zero", "/dev/stdout", "/dev/stderr", "/dev/tty", "/dev/full")
@@ -71,6 +71,11 @@ def install(root: str | None = None) -> bool:
     return True
 
 
+def log_path() -> str:
+    """The log of the worker this process belongs to (it, or a process below it)."""
+    return os.path.join(_state["root"] or "", LOG_NAME.format(pid=_state["root_pid"]))
+
+
 def set_locator(locator) -> None:
     """A callable → (file, line) of the user code running now (the worker's launch file frames)."""
     _state["locator"] = locator
@@ -90,7 +95,7 @@ def take() -> list[dict]:
 
 def _collect() -> None:
     """Move the log's records to the pending list; a child's are placed where it was started."""
-    path = os.path.join(_state["root"] or "", LOG_NAME)
+    path = log_path()
     _busy.active = True
     try:
         with open(path, "r+", encoding="utf-8") as log:
@@ -225,7 +230,7 @@ def _record(kind: str, operation: str, path: str) -> None:
     if locator is not None:
         record["file"], record["line"] = locator() or (None, None)
     try:
-        with open(os.path.join(_state["root"], LOG_NAME), "a", encoding="utf-8") as log:
+        with open(log_path(), "a", encoding="utf-8") as log:
             log.write(json.dumps(record) + "\n")
     except OSError:
         pass
