@@ -395,12 +395,12 @@ def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list])
         for resolution in package_resolutions:
             by_installed = {str(resolution.launch.installed): resolution.launch.source}
             for argument in resolution.arguments:
-                name, choices = argument.get("name"), argument.get("choices")
+                name, choices = argument.name, argument.choices  # typed records (launch/records.py)
                 if name not in values or not choices or values[name] in choices:
                     continue
-                where = by_installed.get(argument.get("file")) or argument.get("file") or "?"
+                where = by_installed.get(argument.file) or argument.file or "?"
                 where = os.path.relpath(where) if os.path.isabs(str(where)) else where
-                line = f":{argument['line']}" if argument.get("line") else ""
+                line = f":{argument.line}" if argument.line else ""
                 problem = (f"--launch-arg {name}:={values[name]}: '{name}' allows only "
                            f"{', '.join(map(str, choices))} (declared at {where}{line})")
                 if problem not in problems:
