@@ -13,6 +13,7 @@ from .install import install_fix, install_fix_data, link_hint
 from .registry import register
 from ..launch.records import PackageLookup, Record
 from ..walk import UNREADABLE_HINT
+from .sandbox import SANDBOX_TYPES, stopped_by_guard
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these; a declared rviz2 brings their displays
@@ -41,6 +42,8 @@ def launch_load_error(ctx: CheckContext):
     for resolution in ctx.resolutions:
         error = resolution.error
         if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
+            if stopped_by_guard(resolution):
+                continue  # launch-writes-files says what was refused, and that loading stopped there
             position = ctx.source_position(resolution, error.file, error.line)
             if position is None:
                 position = (resolution.launch.source or resolution.launch.installed, None)
@@ -65,6 +68,8 @@ def launch_load_error(ctx: CheckContext):
                             "FILE` to see how far it got")
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
+            if item.type in SANDBOX_TYPES:
+                continue  # launch-writes-files reports what the worker's guard refused
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
             position = ctx.source_position(resolution, item.file, item.line)
