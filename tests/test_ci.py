@@ -109,11 +109,39 @@ def test_gitlab_pipeline(tmp_path, distro):
     assert job["artifacts"]["reports"]["junit"] == "pkgforge-junit.xml"
 
 
+def test_generated_ci_installs_this_distribution_pinned(tmp_path):
+    """`pip install pkgforge` would install an unrelated PyPI project: every generated CI file
+    installs this project's own distribution, pinned to the version that wrote it."""
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10
+        import tomli as tomllib
+
+    from pkgforge import DISTRIBUTION, __version__
+
+    project = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    assert (project["name"], project["version"]) == (DISTRIBUTION, __version__)
+    assert DISTRIBUTION != "pkgforge"
+    result = run_pkgforge("new", "rob", *MAINTAINER, "--ci", "github", "--ci", "gitlab", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    workflow = yaml.safe_load((tmp_path / "rob" / ".github" / "workflows" / "pkgforge.yml").read_text())
+    pipeline = yaml.safe_load((tmp_path / "rob" / ".gitlab-ci.yml").read_text())
+    lines = [line for step in workflow["jobs"]["verify"]["steps"] for line in step.get("run", "").splitlines()]
+    lines += pipeline["pkgforge"]["before_script"] + pipeline["pkgforge"]["script"]
+    installs = [line for line in lines if "pip install" in line]
+    expected = f"/opt/pkgforge/bin/pip install '{DISTRIBUTION}=={__version__}'"
+    assert installs == [expected, expected]
+    # the README shows the same lines, and no bare `pkgforge` install
+    readme = (REPO / "README.md").read_text()
+    assert expected in readme
+    assert not re.search(r"pip install '?pkgforge\b", readme)
+
+
 # --- pre-commit ------------------------------------------------------------------------------
 
 def test_pre_commit_hook_definition():
     hooks = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
-    (hook,) = hooks
+    hook = next(h for h in hooks if h["id"] == "pkgforge-verify")  # pkgforge-fix beside it: test_fix.py
     assert hook["id"] == "pkgforge-verify" and hook["language"] == "python" and hook["pass_filenames"]
     assert hook["entry"] == "pkgforge verify-files"
     assert re.search(hook["files"], "src/rob/launch/display.launch.py")
@@ -138,7 +166,7 @@ def test_readme_plain_shell_recipe(tmp_path):
     readme = (REPO / "README.md").read_text()
     block = re.search(r"### Plain shell.*?```sh\n(.*?)```", readme, re.S).group(1)
     lines = [line for line in block.splitlines() if line.strip()]
-    assert lines[0].startswith("python3 -m venv .venv && .venv/bin/pip install 'pkgforge[ament]'")
+    assert lines[0].startswith("python3 -m venv .venv && .venv/bin/pip install 'ros-pkgforge[ament]'")
     for name in ("a_description", "b_description"):
         assert run_pkgforge("new", name, *MAINTAINER, "--destination", "src", cwd=tmp_path).returncode == 0
     # the install line is what this test environment already did; the rest runs as written

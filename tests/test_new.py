@@ -200,8 +200,9 @@ def test_templates_ship_in_the_wheel(tmp_path):
         capture_output=True, text=True, timeout=300,
     )
     assert result.returncode == 0, result.stderr
-    (wheel,) = tmp_path.glob("pkgforge-*.whl")
+    (wheel,) = tmp_path.glob("ros_pkgforge-*.whl")  # the distribution's own name, not PyPI's `pkgforge`
     names = zipfile.ZipFile(wheel).namelist()
+    assert "pkgforge/__init__.py" in names  # the import package keeps its name
     for template in ("package/package.xml.j2", "package/CMakeLists.txt.j2",
                      "package/launch/display.launch.py.j2", "package/rviz/display.rviz.j2"):
         assert f"pkgforge/templates/{template}" in names

@@ -152,6 +152,8 @@ def externals(context) -> set[str]:
                 found.add(str(lookup.path))
     own = str(context.model.path) + os.sep
     temporary = [str(p) + os.sep for p in (tree.prefixes if tree is not None else [])]
+    if tree is not None and getattr(tree, "root", None) is not None:
+        temporary.append(str(tree.root) + os.sep)
     out = set()
     for path in found:
         located = tree.locate(path) if tree is not None else None
@@ -162,7 +164,7 @@ def externals(context) -> set[str]:
             other = context.models.get(package)
             if other is not None:
                 out.update(str(other.path / name) for name in BUILD_FILES)
-        real = os.path.realpath(path)
+        real = tree.origin(path) if tree is not None else os.path.realpath(path)  # a copy → the user's file
         if not real.startswith(own) and not any(real.startswith(t) for t in temporary):
             out.add(real)
     return out

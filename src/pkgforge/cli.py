@@ -213,6 +213,11 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
     return [k.strip() for value in values for k in value.split(",") if k.strip()]
 
 
+def _into_meta(ctx, param, value):
+    """verify's --fix options: kept in the context, not in verify()'s signature."""
+    ctx.meta[param.name] = value
+
+
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
 @click.option("--format", "fmt", type=click.Choice(FORMATS),
@@ -257,6 +262,10 @@ def _split_keys(values: tuple[str, ...]) -> list[str]:
 @click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
+@click.option("--fix", is_flag=True, expose_value=False, callback=_into_meta,
+              help="Apply the fixes of what verify finds: the same as `pkgforge fix PATH`.")
+@click.option("--unsafe-fixes", is_flag=True, expose_value=False, callback=_into_meta,
+              help="With --fix: also apply the fixes marked unsafe.")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
            launch_timeout, worker_memory, launch_engine, ros_prefix, no_cache, target_distro, explain_launch,
            explain_model):
@@ -271,6 +280,20 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
 
     if build_tree and install_base is not None:
         fail(PkgforgeError("--build and --install-base exclude each other: build, or read an existing tree"))
+    meta = click.get_current_context().meta
+    apply_fixes, unsafe_fixes = meta.get("fix", False), meta.get("unsafe_fixes", False)
+    if unsafe_fixes and not apply_fixes:
+        fail(PkgforgeError("--unsafe-fixes goes with --fix"))
+    if apply_fixes:
+        others = [name for name, given in (("--build", build_tree), ("--install-base", install_base is not None),
+                                           ("--format", fmt != "text"), ("--output", output is not None),
+                                           ("--junit-xml", junit_xml is not None),
+                                           ("--explain-launch", explain_launch is not None),
+                                           ("--explain-model", explain_model is not None)) if given]
+        if others:
+            fail(PkgforgeError(f"--fix runs verify's default mode and prints text: drop {', '.join(others)}"))
+        run_fix_command((path,), select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=False,
+                        strict=strict, jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout)
     arguments = {}
     for text in launch_args:
         name, sep, value = text.partition(":=")
@@ -372,4 +395,87 @@ def checks(fmt):
         click.echo(checks_markdown(), nl=False)
         return
     for check in all_checks():
-        click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {check.summary}")
+        fix = check.fix or "-"
+        click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {fix:<6} {check.summary}")
+
+
+def _launch_arguments(launch_args) -> dict[str, str]:
+    arguments = {}
+    for text in launch_args:
+        name, sep, value = text.partition(":=")
+        if not sep or not name:
+            fail(PkgforgeError(f"--launch-arg '{text}' is not NAME:=VALUE"))
+        arguments[name] = value
+    return arguments
+
+
+def _fix_targets(paths) -> list[Path]:
+    """What to fix: each PATH as given; a file stands for the package that holds it."""
+    targets: list[Path] = []
+    for path in paths or (Path("."),):
+        if path.is_file():
+            folder = path.resolve().parent
+            while folder != folder.parent and not (folder / "package.xml").is_file():
+                folder = folder.parent
+            if not (folder / "package.xml").is_file():
+                continue  # a staged file outside any package
+            path = folder
+        if path not in targets:
+            targets.append(path)
+    return targets
+
+
+def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, launch_args,
+                    launch_timeout) -> None:
+    """`pkgforge fix` and `pkgforge verify --fix`: fix, then report what was fixed and what remains."""
+    from .config import Selection
+    from .fix.report import render_fix
+    from .fix.run import FixOptions, run_fix
+    from .verify import VerifyOptions
+
+    options = FixOptions(VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs,
+                                       strict=strict, launch_timeout=launch_timeout,
+                                       launch_arguments=_launch_arguments(launch_args)),
+                         unsafe=unsafe_fixes, diff=diff)
+    status = 0
+    for target in _fix_targets(paths):
+        try:
+            run = run_fix(target, options)
+        except PkgforgeError as error:
+            fail(error)
+        run.result.root = Path.cwd()  # paths as the user's shell shows them
+        report, diff_text = render_fix(run, strict=strict)
+        if diff:
+            click.echo(diff_text, nl=False)
+            click.echo(report, nl=False, err=True)
+        else:
+            click.echo(report, nl=False)
+        status = max(status, run.exit_code(strict))
+    sys.exit(status)
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("paths", nargs=-1, type=click.Path(path_type=Path))
+@click.option("--diff", is_flag=True, help="Print the fixes as a unified diff; write nothing.")
+@click.option("--unsafe-fixes", is_flag=True,
+              help="Also apply the fixes marked unsafe (`pkgforge checks` shows which).")
+@click.option("--select", multiple=True, metavar="CHECKS",
+              help="Run (and fix) only these checks: codes, code prefixes (PF2) or names; comma-separated.")
+@click.option("--ignore", multiple=True, metavar="CHECKS",
+              help="Skip these checks: codes, code prefixes or names; comma-separated.")
+@click.option("--strict", is_flag=True, help="Exit 1 on any warning that remains.")
+@click.option("--jobs", "-j", type=click.IntRange(1), default=None,
+              help="Packages and launch files processed at once [default: the number of cores].")
+@click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
+              help="A launch argument's value for every launch file. Repeatable.")
+@click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
+              help="Seconds one launch file may take to load and resolve.")
+def fix(paths, diff, unsafe_fixes, select, ignore, strict, jobs, launch_args, launch_timeout):
+    """Verify PATH (default mode), apply the fixes of what it finds, and report what remains.
+
+    PATH is a package, a workspace root or its src/, or files (each stands for its package;
+    what the pre-commit hook passes). Exit status: 0 no errors remain, 1 errors remain or a
+    file could not be written, 2 fix could not run.
+    """
+    run_fix_command(paths, select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=diff, strict=strict,
+                    jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout)

@@ -31,6 +31,8 @@ class Finding:
     column: int | None = None
     hint: str | None = None  # None: the check's own hint
     severity: Severity | None = None  # None: the check's default
+    # what `pkgforge fix` needs to fix it (plain data, e.g. {"dependency": "xacro"}); None: no fix
+    fix: dict | None = field(default=None, compare=False, hash=False)
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,8 @@ class Diagnostic:
     column: int | None
     message: str
     hint: str
+    # the finding's fix data (pkgforge fix); not part of any report
+    fix: dict | None = field(default=None, compare=False, hash=False, repr=False)
 
     def sort_key(self) -> tuple:
         return (self.package, str(self.path), self.line or 0, self.column or 0, self.code, self.message)

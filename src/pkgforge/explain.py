@@ -14,7 +14,7 @@ OK, MISSING, UNCHECKED = "✓", "✗", "·"
 
 
 def _installed_path(file: Path, tree, models) -> tuple[Path, str]:
-    file = file.resolve()
+    file = Path(tree.in_tree(str(file.resolve())))  # the user's install base → the worker's shadow of it
     if tree.locate(str(file)) is not None:
         return file, tree.locate(str(file))[0]
     for model in models:

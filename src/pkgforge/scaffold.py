@@ -14,6 +14,7 @@ from pathlib import Path
 import jinja2
 from catkin_pkg.package import InvalidPackage, parse_package_string
 
+from . import DISTRIBUTION, __version__
 from .distros import DISTROS, Distro, default_distro
 from .errors import PkgforgeError
 from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
@@ -86,6 +87,8 @@ class PackageSpec:
             "spec": self,
             "name": self.name,
             "distro": self.distro,
+            # what generated CI files install: this distribution, pinned to the version that wrote them
+            "pkgforge_requirement": f"{DISTRIBUTION}=={__version__}",
             "description": self.description
             or f"Robot description of {self.name}: URDF/xacro model, meshes, launch files and RViz configuration.",
         }

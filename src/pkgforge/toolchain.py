@@ -64,7 +64,7 @@ def detect() -> Toolchain:
     if (own / AMENT_CMAKE_CONFIG).exists():
         return Toolchain("wheels", (own,), scripts)
     raise PkgforgeError(
-        "no ament_cmake found: install it with `pip install 'pkgforge[ament]'` "
+        "no ament_cmake found: install it with `pip install 'ros-pkgforge[ament]'` "
         "(ROS-free wheels) or source a ROS 2 distro (`source /opt/ros/<distro>/setup.bash`)"
     )
 
@@ -72,5 +72,5 @@ def detect() -> Toolchain:
 def require_cmake(env: dict[str, str]) -> None:
     if shutil.which("cmake", path=env["PATH"]) is None:
         raise PkgforgeError(
-            "cmake not found: `pip install 'pkgforge[ament]'` brings it, or `apt-get install cmake`"
+            "cmake not found: `pip install 'ros-pkgforge[ament]'` brings it, or `apt-get install cmake`"
         )

@@ -5,6 +5,14 @@
 - built: a real colcon build into a pkgforge-owned base (`--build`);
 - existing: the user's own `colcon build` output, merged or isolated (`--install-base`).
 
+The worker never sees the user's files through this tree: each is materialised
+in a pkgforge-owned temporary folder (tmpfs /dev/shm when it has room), small
+files copied, large meshes and images (over LINK_THRESHOLD) left as links that
+the worker's guard (launch/guard.py) copies before any write through them. For
+`--build` and `--install-base` the worker sees such a shadow of the install
+base, never the install base itself; `locate` works on the shadow, `origin` and
+`in_tree` map between the shadow and the user's paths.
+
 Declared dependencies that are in none of these (robot_state_publisher, rviz2 …
 on a machine without ROS) get a phantom prefix: an empty share folder and an
 index marker, so lookups succeed as they would on the robot while pkgforge knows
@@ -14,7 +22,9 @@ that nothing under it can be checked.
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +45,12 @@ class InstallTree:
     # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS) → their prefix
     system_packages: dict[str, Path] = field(default_factory=dict)
     _temporary: tempfile.TemporaryDirectory | None = None
+    root: Path | None = None  # pkgforge's temporary folder: the only place the worker may write
+    shadows: dict[str, str] = field(default_factory=dict)  # shadow prefix → the user's prefix
+    copied: dict[str, str] = field(default_factory=dict)  # file in the tree → the user's file it copies
+    _plan: object | None = None  # how the tree was made (trees._Plan), to restore what a launch file changed
+    _stamps: dict = field(default_factory=dict)
+    sealed: int = 0  # time (ns) the tree was complete: entries older than it are pkgforge's
 
     def share(self, package: str) -> Path | None:
         """The package's share folder in the tree (workspace packages)."""
@@ -56,6 +72,25 @@ class InstallTree:
                 return package, rest.replace(os.sep, "/"), prefix
         return None
 
+    def origin(self, path: str) -> str:
+        """The user's file a path of the tree stands for (itself, resolved, when none)."""
+        normal = os.path.normpath(path)
+        source = self.copied.get(normal)
+        if source is not None:
+            return os.path.realpath(source)
+        for shadow, user in self.shadows.items():
+            if normal.startswith(shadow + os.sep):
+                return os.path.realpath(user + normal[len(shadow):])
+        return os.path.realpath(path)
+
+    def in_tree(self, path: str) -> str:
+        """A path in the user's install base → the same path in the tree the worker sees."""
+        normal = os.path.normpath(path)
+        for shadow, user in self.shadows.items():
+            if normal == user or normal.startswith(user + os.sep):
+                return shadow + normal[len(user):]
+        return path
+
     def is_phantom(self, path: str) -> bool:
         return self.phantom is not None and os.path.normpath(path).startswith(str(self.phantom) + os.sep)
 
@@ -69,7 +104,22 @@ class InstallTree:
         env["AMENT_PREFIX_PATH"] = value
         if self.phantom is not None:
             env["PKGFORGE_PHANTOM_PREFIX"] = str(self.phantom)
+        if self.root is not None:
+            env["PKGFORGE_SANDBOX"] = str(self.root)  # the worker's guard allows writes only here
+            # and refuses changes to what is installed there, as made (launch/guard.py)
+            env["PKGFORGE_SANDBOX_SEALED"] = str(self.sealed)
         return env
+
+    def restore(self) -> int:
+        """Undo what launch files changed in the tree (they may write to their share folder), so
+        the checks after them read the user's files; → how many entries were put back."""
+        if self._plan is None or self.root is None:
+            return 0
+        changed = self._plan.restore(self.root, self._stamps)
+        if changed:
+            self._stamps = self._plan.stamps(self.root)
+            self.sealed = time.time_ns()
+        return changed
 
     def close(self) -> None:
         if self._temporary is not None:
@@ -107,25 +157,261 @@ def _add_phantoms(tree: InstallTree, models: list[PackageModel], root: Path) -> 
     tree.phantom_packages = set(missing)
 
 
+# --- materialising a tree ------------------------------------------------------------------
+
+# A file up to this size is copied into the tree. Over it, a mesh or image (LINKED_SUFFIXES)
+# stays a link to the user's file, which the worker's guard replaces by a copy before any
+# write through it. Text files (launch, URDF, xacro, YAML, RViz) are always copied: they are
+# what launch files write to, and they are small. 1 MiB: the scaffold's and most tutorial
+# meshes are far below it, copying 1 MiB on tmpfs costs well under a millisecond, and the
+# real robots' meshes that are above it (tens of MB) would make every verify copy hundreds of MB.
+LINK_THRESHOLD = 1 << 20
+LINKED_SUFFIXES = frozenset({
+    ".stl", ".dae", ".obj", ".ply", ".glb", ".gltf", ".3ds", ".fbx", ".blend", ".mesh", ".ogre",
+    ".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm", ".tga", ".dds", ".ktx", ".exr",
+    ".hdr", ".so", ".a", ".bin", ".db3", ".mcap", ".bag", ".pcd", ".bt", ".ot"})
+SHM = "/dev/shm"
+SHM_MARGIN = 32 << 20  # leave this much of tmpfs free
+# a shadow of an install base copies at most this many files, this deep; past it, links
+SHADOW_MAX_FILES = 100_000
+SHADOW_MAX_DEPTH = 64
+PREFIX = "pkgforge-tree-"
+
+
+def _fast_folder(needed: int) -> str | None:
+    """/dev/shm when it is a writable, executable tmpfs with room to spare, else None (the temp dir)."""
+    try:
+        info = os.statvfs(SHM)
+    except OSError:
+        return None
+    if info.f_flag & (os.ST_RDONLY | os.ST_NOEXEC) or not os.access(SHM, os.W_OK | os.X_OK):
+        return None
+    return SHM if info.f_bavail * info.f_frsize >= 2 * needed + SHM_MARGIN else None
+
+
+def _sweep(folder: str) -> None:
+    """Remove trees of pkgforge runs that were killed before they could (tmpfs holds them in memory)."""
+    import shutil
+
+    try:
+        names = [n for n in os.listdir(folder) if n.startswith(PREFIX)]
+    except OSError:
+        return
+    for name in names:
+        pid = name[len(PREFIX):].split("-", 1)[0]
+        if not pid.isdigit() or int(pid) == os.getpid() or os.path.exists(f"/proc/{pid}"):
+            continue
+        path = os.path.join(folder, name)
+        try:
+            if os.stat(path).st_uid == os.getuid():
+                shutil.rmtree(path, ignore_errors=True)
+        except OSError:
+            pass
+
+
+def _temporary(needed: int) -> tuple[tempfile.TemporaryDirectory, Path]:
+    folder = _fast_folder(needed)
+    if folder is not None:
+        _sweep(folder)
+    temporary = tempfile.TemporaryDirectory(prefix=f"{PREFIX}{os.getpid()}-", dir=folder)
+    return temporary, Path(os.path.realpath(temporary.name))
+
+
+def _linked(name: str, size: int) -> bool:
+    return size > LINK_THRESHOLD and os.path.splitext(name)[1].lower() in LINKED_SUFFIXES
+
+
+def _copy(source: str, target: str, info: os.stat_result) -> bool:
+    """Copy a regular file (False: it is not one, or unreadable); the copy is the tree's, writable."""
+    try:
+        handle = os.open(source, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)  # a FIFO must not block
+    except OSError:
+        return False
+    try:
+        if not stat.S_ISREG(os.fstat(handle).st_mode):
+            return False
+        out = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC,
+                      (info.st_mode & 0o777) | 0o600)
+        try:
+            while os.sendfile(out, handle, None, 1 << 24):
+                pass
+        finally:
+            os.close(out)
+        return True
+    except OSError:
+        return False
+    finally:
+        os.close(handle)
+
+
+class _Plan:
+    """Folders, files and links to create under a root not chosen yet (its size decides where)."""
+
+    def __init__(self) -> None:
+        self.folders: set[str] = set()
+        self.files: dict[str, tuple[str | None, os.stat_result | None]] = {}  # target → (source, stat)
+        self.links: dict[str, str] = {}  # target → link text
+        self.bytes = 0
+
+    def folder(self, relative: str) -> None:
+        while relative and relative not in self.folders:
+            self.folders.add(relative)
+            relative = os.path.dirname(relative)
+
+    def file(self, relative: str, source: str | None, info: os.stat_result | None = None) -> None:
+        if relative in self.files or relative in self.links:
+            return
+        self.folder(os.path.dirname(relative))
+        if source is not None and info is None:
+            try:
+                info = os.stat(source)
+            except OSError:
+                info = None
+        if info is not None and stat.S_ISREG(info.st_mode) and not _linked(relative, info.st_size):
+            self.bytes += info.st_size
+        self.files[relative] = (source, info)
+
+    def link(self, relative: str, text: str) -> None:
+        if relative not in self.files:
+            self.folder(os.path.dirname(relative))
+            self.links[relative] = text
+
+    def build(self, root: Path) -> dict[str, str]:
+        """Create everything under root; → {file in the tree: the user's file it stands for}."""
+        base = str(root)
+        for folder in sorted(self.folders):  # a parent sorts before its children
+            os.mkdir(os.path.join(base, folder))
+        origins = {}
+        for relative, (source, _) in self.files.items():
+            self._place(base, relative)
+            if source is not None:
+                origins[os.path.join(base, relative)] = source
+        for relative in self.links:
+            self._place(base, relative)
+        return origins
+
+    def _place(self, base: str, relative: str) -> None:
+        target = os.path.join(base, relative)
+        if relative in self.links:
+            os.symlink(self.links[relative], target)
+            return
+        source, info = self.files[relative]
+        if source is None:
+            os.close(os.open(target, os.O_WRONLY | os.O_CREAT | os.O_CLOEXEC, 0o644))
+        elif info is None:  # missing or a dangling link: missing here too, and a write lands here
+            os.symlink(os.path.join(base, ".missing", relative), target)
+        elif not stat.S_ISREG(info.st_mode) or _linked(relative, info.st_size) or not _copy(source, target, info):
+            os.symlink(os.path.realpath(source), target)
+
+    def stamps(self, root: Path) -> dict[str, tuple]:
+        """What each created entry is now, to see later whether a launch file changed it."""
+        base = str(root)
+        out = {}
+        for relative in [*self.files, *self.links]:
+            try:
+                info = os.lstat(os.path.join(base, relative))
+            except OSError:
+                continue
+            out[relative] = (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns)
+        return out
+
+    def restore(self, root: Path, stamps: dict[str, tuple]) -> int:
+        """Put back every entry a launch file changed or removed; → how many."""
+        import shutil
+
+        base = str(root)
+        changed = 0
+        for relative, stamp in stamps.items():
+            target = os.path.join(base, relative)
+            try:
+                info = os.lstat(target)
+                if (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns) == stamp:
+                    continue
+                if stat.S_ISDIR(info.st_mode):
+                    shutil.rmtree(target)
+                else:
+                    os.unlink(target)
+            except FileNotFoundError:
+                pass
+            os.makedirs(os.path.dirname(target), exist_ok=True)
+            self._place(base, relative)
+            changed += 1
+        return changed
+
+
 def predicted_tree(models: list[PackageModel]) -> InstallTree:
-    temporary = tempfile.TemporaryDirectory(prefix="pkgforge-tree-")
-    root = Path(temporary.name)
-    prefix = root / "install"
-    prefix.mkdir()
+    plan = _Plan()
+    plan.folder("install")
     for model in models:
         for destination, installed in model.layout.files.items():
-            target = prefix / destination
-            target.parent.mkdir(parents=True, exist_ok=True)
-            if target.exists() or target.is_symlink():
-                continue
-            if installed.source is None:
-                target.touch()
-            else:
-                target.symlink_to(installed.source)
-    tree = InstallTree("predicted", [prefix], _temporary=temporary)
-    tree.packages = _index(tree.prefixes)
-    _add_phantoms(tree, models, root)
+            plan.file(os.path.normpath(os.path.join("install", destination)),
+                      None if installed.source is None else str(installed.source))
+    temporary, root = _temporary(plan.bytes)
+    try:
+        copied = plan.build(root)
+        tree = InstallTree("predicted", [root / "install"], _temporary=temporary, root=root, copied=copied,
+                           _plan=plan, _stamps=plan.stamps(root), sealed=time.time_ns())
+        tree.packages = _index(tree.prefixes)
+        _add_phantoms(tree, models, root)
+    except BaseException:
+        temporary.cleanup()
+        raise
     return tree
+
+
+def _plan_shadow(plan: _Plan, source: Path, relative: str) -> None:
+    """Mirror the folder `source` at `relative`: no walk through a link cycle, bounded in files
+    and depth (past the bounds, a link to the user's folder, which the guard protects)."""
+    top = os.path.realpath(source)
+    seen: set[tuple[int, int]] = set()
+    stack = [(str(source), relative, 0)]
+    count = 0
+    while stack:
+        folder, here, depth = stack.pop()
+        try:
+            info = os.stat(folder)
+        except OSError:
+            continue
+        if (info.st_dev, info.st_ino) in seen:
+            plan.link(here, os.path.realpath(folder))  # a second way into a folder already mirrored
+            continue
+        seen.add((info.st_dev, info.st_ino))
+        plan.folder(here)
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            continue
+        for entry in entries:
+            target = os.path.join(here, entry.name)
+            try:
+                is_dir = entry.is_dir()  # follows links
+            except OSError:
+                is_dir = False
+            if is_dir:
+                real = os.path.realpath(entry.path)
+                if entry.is_symlink() and (real == top or real.startswith(top + os.sep)):
+                    parent = os.path.realpath(folder)
+                    if parent == real or parent.startswith(real + os.sep):
+                        continue  # a link to a folder holding it (`self -> .`): a cycle, left out
+                    # another folder of the install base: the same link inside the shadow
+                    inside = os.path.join(relative, os.path.relpath(real, top))
+                    plan.link(target, os.path.relpath(inside, os.path.dirname(target)))
+                elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES:
+                    plan.link(target, real)
+                else:
+                    stack.append((entry.path, target, depth + 1))
+                continue
+            count += 1
+            if count > SHADOW_MAX_FILES:
+                plan.link(target, os.path.realpath(entry.path))
+                continue
+            try:
+                info = entry.stat()
+            except OSError:
+                info = None
+            if info is not None and not stat.S_ISREG(info.st_mode):
+                continue  # a pipe, socket or device: nothing a launch file resolves
+            plan.file(target, entry.path, info)
 
 
 def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree:
@@ -140,11 +426,20 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
         prefixes = [install_base]
     if not prefixes:
         raise PkgforgeError(f"--install-base {install_base} holds no ament index: is it a colcon install folder?")
-    tree = InstallTree("existing", prefixes)
-    tree.packages = _index(prefixes)
-    temporary = tempfile.TemporaryDirectory(prefix="pkgforge-tree-")
-    tree._temporary = temporary
-    _add_phantoms(tree, models, Path(temporary.name))
+    plan = _Plan()
+    _plan_shadow(plan, install_base, "install")
+    temporary, root = _temporary(plan.bytes)
+    try:
+        copied = plan.build(root)
+        shadows = {os.path.normpath(root / "install" / p.relative_to(install_base)): str(p) for p in prefixes}
+        tree = InstallTree("existing", [Path(p) for p in shadows], _temporary=temporary, root=root,
+                           shadows=shadows, copied=copied, _plan=plan, _stamps=plan.stamps(root),
+                           sealed=time.time_ns())
+        tree.packages = _index(tree.prefixes)
+        _add_phantoms(tree, models, root)
+    except BaseException:
+        temporary.cleanup()
+        raise
     return tree
 
 

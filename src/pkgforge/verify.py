@@ -450,6 +450,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                 resolutions.setdefault(resolution.launch.package, []).append(resolution)
             for launch in ros1_files:
                 ros1.setdefault(launch.package, []).append(launch)
+            tree.restore()  # the checks read the user's files, not what a launch file wrote over them
             to_process = robot_models.collect(tree, checked, resolutions)
             pending = sum(1 for r in to_process if r.robot is None)
             for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,

@@ -88,7 +88,12 @@ def install_fix(model: PackageModel, folder: str, file: str | None = None) -> st
     return f"add install(DIRECTORY {folder} DESTINATION share/${{PROJECT_NAME}}) to CMakeLists.txt"
 
 
-@register("PF201", "install-missing-directory", "error", area="install",
+def install_fix_data(model: PackageModel, folder: str) -> dict:
+    """What `pkgforge fix` needs to install `folder` of `model`."""
+    return {"install_folder": folder, "package_path": str(model.path)}
+
+
+@register("PF201", "install-missing-directory", "error", area="install", fix="unsafe",
           summary="an install rule names a source folder that does not exist",
           explanation="CMake stops at install time with 'file INSTALL cannot find' (user story 2: "
                       "a tutorial's install rule lists worlds/ and models/ the package lacks).",
@@ -102,7 +107,8 @@ def install_missing_directory(ctx: CheckContext):
                       missing.path, missing.line, missing.column,
                       hint=f"remove '{missing.text}' from the install rule at "
                            f"{_where(missing.path, missing.line, model)}, or create {missing.text}/ "
-                           "with a file in it (git keeps no empty folder)")
+                           "with a file in it (git keeps no empty folder)",
+                      fix={"folder": missing.text})
 
 
 @register("PF207", "install-missing-file", "error", area="install",
@@ -120,7 +126,7 @@ def install_missing_file(ctx: CheckContext):
                       missing.path, missing.line, missing.column)
 
 
-@register("PF202", "directory-not-installed", "warning", area="install",
+@register("PF202", "directory-not-installed", "warning", area="install", fix="safe",
           summary="a folder of run-time resources is covered by no install rule",
           explanation="Launch files resolve paths in install/share/<pkg>/, not in src/: a folder "
                       "left out of the install rules is simply absent at run time, with no error "
@@ -152,7 +158,8 @@ def directory_not_installed(ctx: CheckContext):
         else:
             message = f"{folder}/ holds {len(files)} file(s) but no install rule covers it"
             severity = None
-        yield Finding(message, model.path / folder, None, hint=install_fix(model, folder), severity=severity)
+        yield Finding(message, model.path / folder, None, hint=install_fix(model, folder), severity=severity,
+                      fix=install_fix_data(model, folder))
 
 
 @register("PF203", "install-wrong-destination", "error", area="install",

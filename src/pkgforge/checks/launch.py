@@ -9,10 +9,11 @@ from pathlib import Path
 from ..diagnostics import Finding
 from .context import CheckContext
 from .files import read_problem_hint, untree
-from .install import install_fix, link_hint
+from .install import install_fix, install_fix_data, link_hint
 from .registry import register
 from ..launch.records import PackageLookup, Record
 from ..walk import UNREADABLE_HINT
+from .sandbox import SANDBOX_TYPES, stopped_by_guard
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these; a declared rviz2 brings their displays
@@ -41,6 +42,8 @@ def launch_load_error(ctx: CheckContext):
     for resolution in ctx.resolutions:
         error = resolution.error
         if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
+            if stopped_by_guard(resolution):
+                continue  # launch-writes-files says what was refused, and that loading stopped there
             position = ctx.source_position(resolution, error.file, error.line)
             if position is None:
                 position = (resolution.launch.source or resolution.launch.installed, None)
@@ -65,6 +68,8 @@ def launch_load_error(ctx: CheckContext):
                             "FILE` to see how far it got")
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
+            if item.type in SANDBOX_TYPES:
+                continue  # launch-writes-files reports what the worker's guard refused
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
             position = ctx.source_position(resolution, item.file, item.line)
@@ -80,7 +85,7 @@ def _share_reference(ctx: CheckContext, path: str):
     return located
 
 
-@register("PF302", "uninstalled-reference", "error", area="launch",
+@register("PF302", "uninstalled-reference", "error", area="launch", fix="safe",
           summary="a launch file resolves a path that the install rules leave out",
           explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
                       "looks (user story 1: the RViz config was never installed, RViz started empty).",
@@ -149,7 +154,8 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
             yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but "
                           f"{why}{_branch_note(item, resolution)}{more}", path, line,
-                          hint=install_fix(owner, relative.split('/')[0], relative))
+                          hint=install_fix(owner, relative.split('/')[0], relative),
+                          fix=install_fix_data(owner, relative.split('/')[0]))
         elif owner is not None and _unreadable_folder(owner, source) is not None:
             folder = _unreadable_folder(owner, source)
             yield Finding(f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
@@ -245,7 +251,7 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     return f"did you mean {', '.join(near[:3])}?" if near else "check the name against package.xml <name>"
 
 
-@register("PF305", "missing-exec-depend", "error", area="launch",
+@register("PF305", "missing-exec-depend", "error", area="launch", fix="safe",
           summary="a package used at run time is not an exec_depend",
           explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
                       "machine the node, file or tool is missing (user story 6).",
@@ -271,10 +277,11 @@ def missing_exec_depend(ctx: CheckContext):
         yield Finding(f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
                       path, line, hint=f"add <exec_depend>{name}</exec_depend> to package.xml"
                                        + (f" (after line {model.manifest.last_dependency_line()})"
-                                          if model.manifest.last_dependency_line() else ""))
+                                          if model.manifest.last_dependency_line() else ""),
+                      fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)})
 
 
-@register("PF306", "jsp-model-argument", "error", area="launch",
+@register("PF306", "jsp-model-argument", "error", area="launch", fix="safe",
           summary="joint_state_publisher is given the robot model as an argument",
           explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
                       "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
@@ -296,7 +303,7 @@ def jsp_model_argument(ctx: CheckContext):
                                    "robot_state_publisher publishes /robot_description")
 
 
-@register("PF307", "robot-description-not-string", "warning", area="launch",
+@register("PF307", "robot-description-not-string", "warning", area="launch", fix="safe",
           summary="robot_description comes from Command() without ParameterValue(..., value_type=str)",
           explanation="launch_ros parses a parameter's text as YAML; the xacro output then fails to "
                       "load whenever it looks like YAML (since Jazzy launch refuses it).",

@@ -50,7 +50,7 @@ def package_name_invalid(ctx: CheckContext):
         yield Finding(f"invalid package name: {problem}", manifest.path, manifest.name_line)
 
 
-@register("PF103", "project-name-mismatch", "error", area="manifest",
+@register("PF103", "project-name-mismatch", "error", area="manifest", fix="safe",
           summary="CMake project() differs from package.xml <name>",
           explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
                       "ament index, while every tool looks the package up by its package.xml "
@@ -66,7 +66,8 @@ def project_name_mismatch(ctx: CheckContext):
         yield Finding(
             f"project({cmake.project_name}) but package.xml names the package '{model.manifest.name}'",
             command.path, command.line, command.column,
-            hint=f"write project({model.manifest.name} ...): package.xml <name> decides the package name")
+            hint=f"write project({model.manifest.name} ...): package.xml <name> decides the package name",
+            fix={"name": model.manifest.name})
 
 
 @register("PF104", "folder-name-mismatch", "info", area="manifest",

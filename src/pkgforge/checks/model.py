@@ -9,7 +9,7 @@ from pathlib import Path
 from ..diagnostics import Finding
 from ..meshes import resolve_uri, unreadable
 from .context import CheckContext
-from .install import install_fix, link_hint
+from .install import install_fix, install_fix_data, link_hint
 from .files import read_problem_hint, untree
 from .registry import register
 
@@ -149,7 +149,7 @@ def _meshes(ctx: CheckContext):
             yield result, mesh, resolve_uri(mesh["uri"], ctx.tree, result.installed)
 
 
-@register("PF402", "mesh-not-found", "error", area="model",
+@register("PF402", "mesh-not-found", "error", area="model", fix="safe",
           summary="a mesh or texture URI does not resolve to a file in the install tree",
           explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
                       "folder never installed, a typo, or a path leaving its package shows an empty "
@@ -181,13 +181,14 @@ def mesh_not_found(ctx: CheckContext):
             elif in_source:
                 yield Finding(f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
                               f"{lookup.package} but no install rule covers it", *position,
-                              hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative))
+                              hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative),
+                              fix=install_fix_data(owner, lookup.relative.split("/")[0]))
             else:
                 yield Finding(f"{mesh['uri']} ({where}) does not exist", *position,
                               hint="fix the file name in the URI")
 
 
-@register("PF403", "mesh-case-mismatch", "error", area="model",
+@register("PF403", "mesh-case-mismatch", "error", area="model", fix="safe",
           summary="a mesh URI differs from the file's name only in letter case",
           explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
                       "Linux does not, and the link shows nothing (user story 7).",
@@ -197,7 +198,8 @@ def mesh_case_mismatch(ctx: CheckContext):
         if lookup.status == "case":
             yield Finding(f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
                           *_where(ctx, result, mesh.get("file"), mesh.get("line")),
-                          hint=f"write {lookup.real_name} in the URI (or rename the file)")
+                          hint=f"write {lookup.real_name} in the URI (or rename the file)",
+                          fix={"uri": mesh["uri"], "real_name": lookup.real_name})
 
 
 @register("PF404", "mesh-source-path", "warning", area="model",

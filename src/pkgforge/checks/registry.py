@@ -22,6 +22,9 @@ class Check:
     hint: str  # how to fix it, when the finding has no hint of its own
     area: str
     function: Callable[..., Iterable[Finding]] | None
+    # `pkgforge fix`: None (no automatic fix), "safe" (cannot change behaviour beyond the
+    # defect: applied by default) or "unsafe" (applied with --unsafe-fixes)
+    fix: str | None = None
 
     def run(self, context) -> list[Diagnostic]:
         if self.function is None:
@@ -34,7 +37,7 @@ class Check:
             code=self.code, name=self.name,
             severity=finding.severity or self.severity,
             package=package, path=finding.path, line=finding.line, column=finding.column,
-            message=finding.message, hint=finding.hint or self.hint,
+            message=finding.message, hint=finding.hint or self.hint, fix=finding.fix,
         )
 
 
@@ -69,17 +72,28 @@ def _user_paths(finding: Finding, context) -> Finding:
 
 
 REGISTRY: dict[str, Check] = {}
+FIX_KINDS = (None, "safe", "unsafe")
+# Checks whose fixer (src/pkgforge/fix/) needs nothing from the finding, so the fix holds
+# even where the check's own @register does not say it (a check added on another branch).
+DEFAULT_FIXES = {"find-package-undeclared": "safe"}
 
 
 def register(code: str, name: str, severity: str, *, summary: str, explanation: str, hint: str,
-             area: str) -> Callable:
-    """Register a check function; `severity` is the default: error, warning or info."""
+             area: str, fix: str | None = None) -> Callable:
+    """Register a check function; `severity` is the default: error, warning or info.
+
+    `fix`: whether `pkgforge fix` can fix its findings: None, "safe" or "unsafe"
+    (src/pkgforge/fix/ holds the fixer, keyed by the check's name).
+    """
+    fix = fix or DEFAULT_FIXES.get(name)
+    if fix not in FIX_KINDS:
+        raise ValueError(f"check {code} {name}: fix must be one of {FIX_KINDS}, not {fix!r}")
 
     def decorate(function: Callable | None) -> Callable | None:
         if code in REGISTRY or any(c.name == name for c in REGISTRY.values()):
             raise ValueError(f"check {code} {name} registered twice")
         REGISTRY[code] = Check(code, name, Severity.parse(severity), summary, explanation, hint,
-                               area, function)
+                               area, function, fix)
         return function
 
     return decorate

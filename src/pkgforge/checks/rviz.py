@@ -24,7 +24,7 @@ def rviz_invalid(ctx: CheckContext):
                           hint=read_problem_hint(config.error))
 
 
-@register("PF502", "rviz-no-description", "error", area="rviz",
+@register("PF502", "rviz-no-description", "error", area="rviz", fix="safe",
           summary="a RobotModel display has no description to show",
           explanation="No error anywhere, TF fine, and RViz shows no robot until someone sets "
                       "Description Topic by hand (user story 5).",
@@ -38,13 +38,15 @@ def rviz_no_description(ctx: CheckContext):
                 file = display["file"] or ""
                 if not file or not ctx.file_exists_for_rviz(file):
                     yield Finding(f"RobotModel '{display['name']}' reads Description File '{file}', which does not "
-                                  "exist", config.path, display["file_line"] or display["line"])
+                                  "exist", config.path, display["file_line"] or display["line"],
+                                  fix={"display_line": display["line"]})
             elif not (display["topic"] or "").strip():
                 yield Finding(f"RobotModel '{display['name']}' has no Description Topic: RViz shows no robot",
-                              config.path, display["topic_line"] or display["line"])
+                              config.path, display["topic_line"] or display["line"],
+                              fix={"display_line": display["line"]})
 
 
-@register("PF503", "rviz-fixed-frame-unknown", "warning", area="rviz",
+@register("PF503", "rviz-fixed-frame-unknown", "warning", area="rviz", fix="unsafe",
           summary="the Fixed Frame is not a link of the model the same launch file publishes",
           explanation="RViz shows 'Fixed Frame [x] does not exist' and draws nothing relative to it.",
           hint="set Fixed Frame to a link of the model, e.g. its root link")
@@ -56,8 +58,10 @@ def rviz_fixed_frame_unknown(ctx: CheckContext):
             continue
         if frame in EXTERNAL_FRAMES:
             continue
-        example = root_link(ctx, launch) or sorted(links)[0]
+        root = root_link(ctx, launch)
+        example = root or sorted(links)[0]
         yield Finding(f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
                       config.path, config.fixed_frame_line,
                       hint=f"use a link of the model (its root is {example}); frames such as map, odom or world that "
-                           "another node publishes are accepted when no link has the name")
+                           "another node publishes are accepted when no link has the name",
+                      fix={"frame": root} if root else None)

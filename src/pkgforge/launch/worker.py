@@ -12,6 +12,9 @@ file, so it is reported at the line that was running, naming the limit and the
 option that raises it. The worker is a child subreaper, so what a launch file
 starts (even double-forked and setsid) stays below it until the parent kills
 the whole tree.
+
+Before any user code runs, the write and signal guard (guard.py) is installed
+here and, through PYTHONPATH, in every Python process a launch file starts.
 """
 
 from __future__ import annotations
@@ -179,7 +182,59 @@ def _located(request: dict, error: BaseException) -> dict:
     return record
 
 
+def _install_guard() -> bool:
+    """The guard, for the temporary folder the parent named; its children get it through PYTHONPATH."""
+    from pkgforge.launch import guard
+
+    if not guard.install():
+        return False
+    root = os.environ[guard.SANDBOX_VARIABLE]
+    temporary = os.path.join(root, "tmp")
+    os.makedirs(temporary, exist_ok=True)
+    # tempfile in a launch file (and in its children) writes inside the folder
+    os.environ["TMPDIR"] = temporary
+    import tempfile
+
+    tempfile.tempdir = None
+    os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
+    site = str(Path(guard.__file__).resolve().parent / "guard_site")
+    os.environ["PYTHONPATH"] = site + (os.pathsep + os.environ["PYTHONPATH"] if os.environ.get("PYTHONPATH") else "")
+
+    def where():
+        from pkgforge.launch import runtime
+
+        file, line = runtime.here()
+        if file is None:  # a construct being visited (a Command running): where it was written
+            frame = sys._getframe(1)
+            while frame is not None and file is None:
+                owner = frame.f_locals.get("self")
+                file, line = getattr(owner, "_file", None), getattr(owner, "_line", None)
+                frame = frame.f_back
+        return file, line
+
+    guard.set_locator(where)
+    return True
+
+
+def _refusals(result: dict, request: dict) -> None:
+    """What the guard refused, or saw overwritten in the tree, while answering: located records."""
+    from pkgforge.launch import guard
+
+    for record in guard.take():
+        if "model" in request:
+            continue  # pkgforge's own xacro run on a model: no launch file to blame
+        if record["kind"] == "installed":
+            kind = "TreeWrite"
+        else:
+            kind = "RefusedSignal" if record["operation"].startswith("send signal") else "RefusedWrite"
+        via = " (in a process it started)" if record.get("child") else ""
+        result.setdefault("errors", []).append({
+            "stage": "sandbox", "type": kind, "message": f"{record['operation']}: {record['path']}{via}",
+            "file": record.get("file") or request.get("file"), "line": record.get("line")})
+
+
 def main() -> None:
+    guarded = _install_guard()
     limits = _read_limits()
     replies = os.fdopen(os.dup(1), "w", buffering=1)
     devnull = os.open(os.devnull, os.O_WRONLY)
@@ -229,6 +284,8 @@ def main() -> None:
 
                 result["errors"] = [as_dict(e) for e in RECORDER.errors]
         _mark_limits(result, limits)
+        if guarded:
+            _refusals(result, request)
         result["request"] = request
         replies.write(json.dumps(result, default=str) + "\n")
 

@@ -40,6 +40,9 @@ class CMakeSyntaxError(Exception):
         super().__init__(message)
         self.message, self.path, self.line, self.column = message, path, line, column
 
+    def __reduce__(self):  # models cross process boundaries (parallel loading) with their errors
+        return type(self), (self.message, self.path, self.line, self.column)
+
 
 class _Scanner:
     def __init__(self, text: str, path: Path):

@@ -1,0 +1,46 @@
+"""What `pkgforge fix` prints: what it fixed, what it could not, and what remains, by code."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+from ..report.text import location, render
+
+
+def render_fix(run, *, strict: bool = False) -> tuple[str, str]:
+    """(the report, the diff): with --diff the report goes to stderr, the diff to stdout."""
+    root = run.result.root
+    lines = []
+    verb = "would fix" if _diff_mode(run) else "fixed"
+    for applied in run.fixed:
+        d = applied.diagnostic
+        lines.append(f"{verb} {location(d, root)}: {d.code} {d.name}: {applied.description}")
+    for outcome in run.failures:
+        lines.append(f"pkgforge: error: {_shown(outcome.path, root)} not written: {outcome.problem}")
+    for d, why in run.not_fixed:
+        lines.append(f"not fixed {location(d, root)}: {d.code} {d.name}: {why}")
+    if run.unsafe_available:
+        counts = Counter(f"{d.code} {d.name}" for d in run.unsafe_available)
+        lines.append(f"{len(run.unsafe_available)} unsafe fix(es) not applied (--unsafe-fixes applies them): "
+                     + ", ".join(f"{k} ×{n}" for k, n in sorted(counts.items())))
+    if run.fixed and not _diff_mode(run):
+        lines.append(f"fixed {len(run.fixed)} problem(s) in {len(run.files_written)} file(s)")
+    remaining = Counter((d.code, d.name, d.severity.label) for d in run.result.diagnostics)
+    title = "found" if _diff_mode(run) else "remaining"
+    if remaining:
+        lines.append(f"{title}, by code:")
+        for (code, name, severity), count in sorted(remaining.items()):
+            lines.append(f"  {code} {name} [{severity}] ×{count}")
+    text = "\n".join(lines) + ("\n" if lines else "")
+    detail = render(run.result, color=False, strict=strict)
+    return text + detail, run.diff
+
+
+def _diff_mode(run) -> bool:
+    return getattr(run, "diff_mode", False)
+
+
+def _shown(path, root) -> str:
+    from ..report import relative
+
+    return relative(path, root)

@@ -1,0 +1,277 @@
+"""`pkgforge fix`: verify (default mode), apply the fixes the findings carry, verify again.
+
+Each pass verifies, asks each diagnostic's fixer for edits, merges the edits of
+every file (a fix whose edits overlap another's waits for the next pass),
+parses each edited file again, and writes it atomically. A fix can uncover a
+finding that had been hidden (rviz/ installed, its config is read): passes
+repeat until one has nothing left to apply, so a second `pkgforge fix` changes
+nothing. With --diff there is one pass and nothing is written.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..diagnostics import Diagnostic
+from ..verify import VerifyOptions, VerifyResult, verify
+from .edits import Edit, FileSet, Outcome, Unfixable, apply, parse_problem, unified_diff, write_atomically
+from .fixers import FIXERS, Fix, FixContext
+
+MAX_PASSES = 4
+
+
+@dataclass
+class FixOptions:
+    verify: VerifyOptions = field(default_factory=VerifyOptions)
+    unsafe: bool = False
+    diff: bool = False
+
+
+@dataclass
+class Applied:
+    diagnostic: Diagnostic
+    description: str
+
+
+@dataclass
+class FixRun:
+    result: VerifyResult  # what remains (with --diff: what verify found)
+    fixed: list[Applied] = field(default_factory=list)
+    not_fixed: list[tuple[Diagnostic, str]] = field(default_factory=list)  # (diagnostic, why)
+    unsafe_available: list[Diagnostic] = field(default_factory=list)
+    failures: list[Outcome] = field(default_factory=list)  # files that could not be written
+    diff: str = ""
+    diff_mode: bool = False
+    files_written: set[Path] = field(default_factory=set)
+    passes: int = 0
+
+    def exit_code(self, strict: bool) -> int:
+        return 1 if self.failures else self.result.exit_code(strict)
+
+
+@dataclass
+class _Plan:
+    fixes: list[tuple[Diagnostic, Fix]] = field(default_factory=list)
+    edits: dict[Path, list[Edit]] = field(default_factory=dict)
+    deferred: list[Diagnostic] = field(default_factory=list)
+
+
+def fix_kind(diagnostic: Diagnostic) -> str | None:
+    from ..checks.registry import all_checks
+
+    check = next((c for c in all_checks() if c.code == diagnostic.code), None)
+    return check.fix if check is not None else None
+
+
+def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Plan:
+    """The edits of every fixable diagnostic, merged per file."""
+    context = FixContext(files)
+    out = _Plan()
+    roots = [report.path.resolve() for report in result.reports]
+    for diagnostic in result.diagnostics:
+        kind = fix_kind(diagnostic)
+        function = FIXERS.get(diagnostic.name)
+        if kind is None or function is None:
+            continue
+        if kind == "unsafe" and not unsafe:
+            run.unsafe_available.append(diagnostic)
+            continue
+        try:
+            fix = function(diagnostic, context)
+        except Unfixable as exc:
+            run.not_fixed.append((diagnostic, str(exc)))
+            continue
+        except Exception as exc:  # a bug in one fixer must not stop the others
+            run.not_fixed.append((diagnostic, f"internal error in the fixer: {type(exc).__name__}: {exc} "
+                                              "(please report this to pkgforge)"))
+            continue
+        outside = [p for p in fix.edits if not any(_inside(Path(os.path.realpath(p)), r) for r in roots)]
+        if outside:
+            run.not_fixed.append((diagnostic, f"the fix edits {outside[0]}, outside the package(s) being fixed"))
+            continue
+        if _clashes(fix, out.edits):
+            out.deferred.append(diagnostic)
+            continue
+        for path, edits in fix.edits.items():
+            merged = out.edits.setdefault(path, [])
+            merged.extend(e for e in edits if e not in merged)
+        out.fixes.append((diagnostic, fix))
+    return out
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    try:
+        path.relative_to(folder)
+        return True
+    except ValueError:
+        return False
+
+
+def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
+    for path, new in fix.edits.items():
+        for edit in new:
+            for other in edits.get(path, []):
+                if edit != other and edit.start < other.end and other.start < edit.end:
+                    return True
+    return False
+
+
+def run_fix(path: Path, options: FixOptions, *, shown_root: Path | None = None,
+            _first: list | None = None) -> FixRun:
+    shown_root = shown_root or Path.cwd()
+    if options.diff:
+        mirrored = _diff_on_a_copy(path, options, shown_root)
+        if mirrored is not None:
+            return mirrored
+    verify_options = dataclasses.replace(options.verify, mode="predicted", install_base=None, use_cache=False)
+    result = verify(path, verify_options)
+    if _first is not None:
+        _first.append(result)
+    run = FixRun(result, diff_mode=options.diff)
+    previous: set | None = None
+    for number in range(1, MAX_PASSES + 1):
+        run.passes = number
+        run.not_fixed, run.unsafe_available = [], []
+        files = FileSet()
+        planned = plan(result, files, options.unsafe, run)
+        keys = {(d.code, str(d.path), d.line, d.message) for d, _ in planned.fixes}
+        if not planned.fixes or keys == previous:
+            break
+        previous = keys
+        new_texts, broken = {}, {}
+        for file, edits in planned.edits.items():
+            source = files.get(file)
+            text = apply(source.text, edits)
+            if text == source.text:
+                continue
+            problem = parse_problem(file, text)
+            if problem is not None and parse_problem(file, source.text) is None:
+                broken[file] = problem
+                continue
+            new_texts[file] = text
+        applied = []
+        for diagnostic, fix in planned.fixes:
+            bad = [broken[p] for p in fix.edits if p in broken]
+            if bad:
+                run.not_fixed.append((diagnostic, f"the fix would leave the file unparsable ({bad[0]}); "
+                                                  "nothing written"))
+            else:
+                applied.append((diagnostic, fix))
+        if options.diff:
+            run.diff = "".join(unified_diff(p, files.get(p).text, t, _shown(p, shown_root))
+                               for p, t in sorted(new_texts.items()))
+            run.fixed = [Applied(d, f.description) for d, f in applied]
+            return run
+        failed = set()
+        for file, text in sorted(new_texts.items()):
+            outcome = write_atomically(files.get(file), text)
+            if outcome.written:
+                run.files_written.add(file)
+            else:
+                run.failures.append(outcome)
+                failed.add(file)
+        for diagnostic, fix in applied:
+            if any(p in failed for p in fix.edits):
+                continue
+            if all(p in broken or p in new_texts for p in fix.edits) or not fix.edits:
+                run.fixed.append(Applied(diagnostic, fix.description))
+        if failed or not (set(new_texts) - failed):
+            result = verify(path, verify_options) if set(new_texts) - failed else result
+            break
+        result = verify(path, verify_options)
+    run.result = result
+    # what is left unfixable is judged on the final result
+    run.not_fixed = [(d, why) for d, why in run.not_fixed if d in result.diagnostics]
+    run.unsafe_available = [d for d in run.unsafe_available if d in result.diagnostics]
+    return run
+
+
+def _shown(path: Path, root: Path) -> str:
+    import os
+
+    try:
+        return Path(os.path.relpath(path, root)).as_posix()
+    except ValueError:
+        return str(path)
+
+
+# --- --diff: every pass on a copy, so the diff is what `pkgforge fix` would write -----------------
+
+COPY_LIMIT_FILES = 20000
+COPY_LIMIT_BYTES = 512 * 1024 * 1024
+SKIPPED = {".git", ".hg", ".svn", "__pycache__"}
+ROOT_OUTPUTS = {"build", "install", "log"}
+
+
+def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun | None:
+    """Run the fix passes on a temporary copy of what verify reads; None when it is too large to copy
+    (then --diff shows the first pass only)."""
+    import shutil
+    import tempfile
+
+    from ..workspace import locate
+
+    workspace = locate(path)
+    root, base = workspace.root, workspace.base_path
+    files, size = 0, 0
+    for folder, dirs, names in __import__("os").walk(base):
+        dirs[:] = [d for d in dirs if d not in SKIPPED and not (Path(folder) == root and d in ROOT_OUTPUTS)]
+        files += len(names)
+        size += sum((Path(folder) / n).lstat().st_size for n in names)
+        if files > COPY_LIMIT_FILES or size > COPY_LIMIT_BYTES:
+            return None
+    with tempfile.TemporaryDirectory(prefix="pkgforge-fix-diff-") as temporary:
+        copy_root = Path(temporary) / "ws"
+        copy_base = copy_root / base.relative_to(root)
+
+        def ignore(folder, names):
+            return [n for n in names if n in SKIPPED or (Path(folder) == root and n in ROOT_OUTPUTS)]
+
+        shutil.copytree(base, copy_base, symlinks=True, ignore=ignore)
+        if (root / "pkgforge.toml").is_file() and not (copy_root / "pkgforge.toml").exists():
+            shutil.copy2(root / "pkgforge.toml", copy_root / "pkgforge.toml")
+        copy_path = copy_root / path.resolve().relative_to(root)
+        writing = dataclasses.replace(options, diff=False)
+        first: list[VerifyResult] = []
+        run = run_fix(copy_path, writing, shown_root=shown_root, _first=first)
+
+        def back(file: Path) -> Path:
+            try:
+                return root / Path(file).relative_to(copy_root)
+            except ValueError:
+                return Path(file)
+
+        out = FixRun(_remap(first[0], back), diff_mode=True, passes=run.passes)
+        out.result.root = path.resolve()
+        out.fixed = [Applied(_moved(a.diagnostic, back), a.description) for a in run.fixed]
+        out.not_fixed = [(_moved(d, back), why) for d, why in run.not_fixed]
+        out.unsafe_available = [_moved(d, back) for d in run.unsafe_available]
+        out.failures = [Outcome(back(o.path), o.written, o.problem) for o in run.failures]
+        diffs = []
+        for written in sorted(run.files_written):
+            original = back(written)
+            before = original.read_bytes().decode("utf-8")
+            after = written.read_bytes().decode("utf-8")
+            diffs.append(unified_diff(original, before.removeprefix("\ufeff"), after.removeprefix("\ufeff"),
+                                      _shown(original, shown_root)))
+        out.diff = "".join(diffs)
+        return out
+
+
+def _moved(diagnostic: Diagnostic, back) -> Diagnostic:
+    return dataclasses.replace(diagnostic, path=back(diagnostic.path),
+                               message=diagnostic.message, hint=diagnostic.hint)
+
+
+def _remap(result: VerifyResult, back) -> VerifyResult:
+    from ..diagnostics import PackageReport
+
+    reports = []
+    for report in result.reports:
+        moved = PackageReport(report.name, back(report.path), report.build_type,
+                              [_moved(d, back) for d in report.diagnostics])
+        reports.append(moved)
+    return VerifyResult(back(result.root), reports, result.checks_run)

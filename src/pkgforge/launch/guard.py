@@ -1,0 +1,336 @@
+"""The write and signal guard of the launch worker and of every Python process it starts.
+
+Launch files and xacro are user code, and verify must never change the user's
+files. The install tree the worker sees is pkgforge's own temporary copy (see
+trees.py); this guard is the second layer, an audit hook (`sys.addaudithook`)
+installed before any user code runs:
+
+- a write-type operation (open for writing, remove, rename, mkdir, chmod, chown,
+  truncate, utime, symlink, link, rmtree ...) on a path outside pkgforge's
+  temporary folder (PKGFORGE_SANDBOX) is refused with PermissionError and
+  recorded; so is one that changes an installed file of the tree as pkgforge
+  made it (launch files run side by side in one tree, and the checks read it
+  after them); files a launch file creates in the tree are its own to change;
+  a write through a symlink inside the folder that points out of it (one a
+  launch file made) first replaces the link with a private copy
+  (copy-on-write), then proceeds;
+- a signal (os.kill, os.killpg) to a process that is neither the worker nor one
+  of its descendants is refused the same way: a launch file cannot kill pkgforge.
+
+Child Python processes (a launch file's `subprocess.run(['xacro', ..., '-o', p])`)
+get the same guard: guard_site/ is first on their PYTHONPATH and its
+sitecustomize loads this file. Standard library only, so any Python 3 can load it.
+Refusals are appended as JSON lines to PKGFORGE_SANDBOX/.refused-<worker pid>,
+which the worker reads after each request and reports.
+
+An audit hook is not a security boundary against a determined attacker (ctypes
+can call libc directly); with the copied tree it closes the accidental and
+ordinary ways a launch file writes to the user's files.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sys
+import threading
+
+SANDBOX_VARIABLE = "PKGFORGE_SANDBOX"
+ROOT_PID_VARIABLE = "PKGFORGE_SANDBOX_PID"
+# entries of SANDBOX/install not changed since this time (ns) are the install tree pkgforge made
+SEALED_VARIABLE = "PKGFORGE_SANDBOX_SEALED"
+LOG_NAME = ".refused-{pid}"  # one per worker (workers share the folder): its pid
+MARKER = "pkgforge refused"
+# devices a launch file may open for writing (its prints, /dev/null redirections)
+ALLOWED_DEVICES = ("/dev/null", "/dev/zero", "/dev/stdout", "/dev/stderr", "/dev/tty", "/dev/full")
+WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND
+SPAWN_EVENTS = {"subprocess.Popen", "os.system", "os.posix_spawn", "os.exec", "os.spawn", "os.startfile"}
+
+_state: dict = {"root": None, "root_pid": None, "locator": None, "spawned_at": (None, None), "pending": []}
+_busy = threading.local()
+
+
+def install(root: str | None = None) -> bool:
+    """Install the guard for the temporary folder `root` (default: $PKGFORGE_SANDBOX); idempotent."""
+    if _state["root"] is not None:
+        return True
+    root = root or os.environ.get(SANDBOX_VARIABLE)
+    if not root:
+        return False
+    _state["root"] = os.path.realpath(root)
+    sealed = os.environ.get(SEALED_VARIABLE, "")
+    _state["sealed"] = int(sealed) if sealed.isdigit() else None
+    pid = os.environ.get(ROOT_PID_VARIABLE)
+    if not pid or not pid.isdigit():
+        pid = str(os.getpid())
+        os.environ[ROOT_PID_VARIABLE] = pid  # the worker: its children inherit it
+    _state["root_pid"] = int(pid)
+    sys.dont_write_bytecode = True  # byte code of a user module would land beside its source
+    sys.addaudithook(_hook)
+    return True
+
+
+def log_path() -> str:
+    """The log of the worker this process belongs to (it, or a process below it)."""
+    return os.path.join(_state["root"] or "", LOG_NAME.format(pid=_state["root_pid"]))
+
+
+def set_locator(locator) -> None:
+    """A callable → (file, line) of the user code running now (the worker's launch file frames)."""
+    _state["locator"] = locator
+
+
+def take() -> list[dict]:
+    """What was refused or overwritten since the last call, by this process and its children."""
+    _collect()
+    records, _state["pending"] = _state["pending"], []
+    _state["spawned_at"] = (None, None)
+    unique = {}
+    for record in records:
+        unique.setdefault((record["kind"], record["operation"], record["path"], record.get("file"),
+                           record.get("line")), record)
+    return list(unique.values())
+
+
+def _collect() -> None:
+    """Move the log's records to the pending list; a child's are placed where it was started."""
+    path = log_path()
+    _busy.active = True
+    try:
+        with open(path, "r+", encoding="utf-8") as log:
+            lines = log.read().splitlines()
+            log.seek(0)
+            log.truncate()
+    except OSError:
+        lines = []
+    finally:
+        _busy.active = False
+    for line in lines:
+        try:
+            record = json.loads(line)
+        except ValueError:
+            continue
+        if record.get("file") is None and record.get("pid") != os.getpid():
+            record["file"], record["line"] = _state["spawned_at"]
+            record["child"] = True
+        _state["pending"].append(record)
+
+
+# --- the hook ---------------------------------------------------------------------------------
+
+def _hook(event: str, args: tuple) -> None:
+    handler = _HANDLERS.get(event)
+    if handler is None:
+        if event in SPAWN_EVENTS and _state["locator"] is not None and not getattr(_busy, "active", False):
+            _collect()  # what the previous child did belongs to where it was started
+            _busy.active = True
+            try:
+                where = _state["locator"]()
+                _state["spawned_at"] = where if where and where[0] else (None, None)
+            finally:
+                _busy.active = False
+        return
+    if getattr(_busy, "active", False):
+        return  # the guard's own file work (copy-on-write, the log)
+    _busy.active = True
+    try:
+        handler(*args)
+    finally:
+        _busy.active = False
+
+
+def _path(value, dir_fd=None) -> str | None:
+    """An absolute path for an audited path argument; None for a file descriptor."""
+    if isinstance(value, int):
+        return None
+    try:
+        value = os.fsdecode(value)
+    except TypeError:
+        return None
+    if not os.path.isabs(value):
+        try:
+            base = os.getcwd()
+        except OSError:
+            base = "/"
+        if isinstance(dir_fd, int) and dir_fd >= 0:
+            try:
+                base = os.readlink(f"/proc/self/fd/{dir_fd}")
+            except OSError:
+                pass
+        value = os.path.join(base, value)
+    return os.path.normpath(value)
+
+
+def _inside(real: str) -> bool:
+    root = _state["root"]
+    return real == root or real.startswith(root + os.sep)
+
+
+def _location(path: str) -> str:
+    """Where the entry itself is (its folder's real path, its own name): links not followed."""
+    folder, name = os.path.split(path)
+    return os.path.join(os.path.realpath(folder), name)
+
+
+def _check(path: str | None, operation: str, *, follow: bool, creates: bool = False,
+           needs: bool = False) -> None:
+    """Allow the operation on `path`, copy a linked file first, or refuse. An operation the
+    system itself fails (creating what exists, removing what does not) changes nothing: allowed."""
+    if path is None or path in ALLOWED_DEVICES or path.startswith("/dev/fd/") or path.startswith("/proc/self/fd/"):
+        return
+    location = _location(path)
+    exists = os.path.lexists(location)
+    if creates and exists or needs and not exists:
+        return
+    if not _inside(location):
+        _refuse(operation, path)
+    if exists and _installed(location):
+        _refuse(operation, location, "verify keeps the installed files as the install rules made them "
+                                     "(other launch files and the checks read them)", kind="installed")
+    if follow and os.path.islink(location):
+        real = os.path.realpath(location)
+        if not _inside(real):
+            _copy_on_write(location, real)
+
+
+def _installed(location: str) -> bool:
+    """An entry of the install tree as pkgforge made it (not one a launch file made since)."""
+    sealed = _state.get("sealed")
+    if not sealed or not location.startswith(os.path.join(_state["root"], "install") + os.sep):
+        return False
+    try:
+        return os.lstat(location).st_mtime_ns <= sealed
+    except OSError:
+        return False
+
+
+def _copy_on_write(link: str, target: str) -> None:
+    """Replace a link out of the temporary folder by a private copy of what it points to."""
+    temporary = f"{link}.pkgforge-copy-{os.getpid()}"
+    try:
+        if os.path.isfile(target):
+            shutil.copyfile(target, temporary)
+            os.replace(temporary, link)
+        elif not os.path.exists(target):
+            os.unlink(link)  # a dangling link: the write creates a file here, not there
+        else:
+            _refuse("write through a link to", link)
+    except OSError:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        _refuse("write through a link to", link)
+
+
+def _record(kind: str, operation: str, path: str) -> None:
+    record = {"kind": kind, "pid": os.getpid(), "operation": operation, "path": path}
+    locator = _state["locator"]
+    if locator is not None:
+        record["file"], record["line"] = locator() or (None, None)
+    try:
+        with open(log_path(), "a", encoding="utf-8") as log:
+            log.write(json.dumps(record) + "\n")
+    except OSError:
+        pass
+
+
+def _refuse(operation: str, path: str, reason: str = "verify never changes files outside its temporary "
+                                                     "install tree", kind: str = "refused") -> None:
+    _record(kind, operation, path)
+    raise PermissionError(1, f"{MARKER} to {operation} {path}: {reason}")
+
+
+def _open(path, mode, flags) -> None:
+    if isinstance(flags, int) and flags & WRITE_FLAGS or isinstance(mode, str) and set(mode) & set("wax+"):
+        _check(_path(path), "write", follow=True)
+
+
+def _truncate(path, *rest) -> None:
+    _check(_path(path), "truncate", follow=True)
+
+
+def _two(operation: str, *, follow_source: bool = False):
+    def handler(source, destination, *rest):
+        source_fd = rest[0] if rest else None
+        destination_fd = rest[1] if len(rest) > 1 else None
+        if follow_source:  # a hard link to a file out of the folder would write through to it
+            path = _path(source, source_fd)
+            if path is not None and not _inside(os.path.realpath(path)):
+                _refuse(operation, path)
+        else:
+            _check(_path(source, source_fd), operation, follow=False, needs=True)
+        _check(_path(destination, destination_fd), operation, follow=False)
+    return handler
+
+
+def _one(operation: str, *, follow: bool, dir_fd: int | None = None, **when):
+    def handler(path, *rest):
+        fd = rest[dir_fd - 1] if dir_fd is not None and len(rest) >= dir_fd else None
+        _check(_path(path, fd), operation, follow=follow, **when)
+    return handler
+
+
+def _symlink(source, destination, dir_fd=None, *rest) -> None:
+    _check(_path(destination, dir_fd), "create a link at", follow=False, creates=True)
+
+
+def _descendant(pid: int) -> bool:
+    """The worker itself, or a process below it."""
+    root = _state["root_pid"]
+    for _ in range(128):
+        if pid == root:
+            return True
+        if pid <= 1:
+            return False
+        try:
+            with open(f"/proc/{pid}/stat", "rb") as stat:
+                pid = int(stat.read().rsplit(b")", 1)[1].split()[1])
+        except (OSError, ValueError, IndexError):
+            return False
+    return False
+
+
+def _kill(pid, signal, *rest) -> None:
+    if not isinstance(pid, int):
+        return
+    if pid == 0 or (pid > 0 and _descendant(pid)):
+        return
+    if pid < -1 and (-pid == os.getpgrp() or _descendant(-pid)):
+        return
+    _refuse_signal(pid, signal)
+
+
+def _killpg(pgid, signal, *rest) -> None:
+    if isinstance(pgid, int) and (pgid in (0, os.getpgrp()) or _descendant(pgid)):
+        return
+    _refuse_signal(-pgid if isinstance(pgid, int) else pgid, signal)
+
+
+def _refuse_signal(pid, signal) -> None:
+    _refuse(f"send signal {int(signal) if isinstance(signal, int) else signal} to", f"process {pid}",
+            "it is not a process the launch file started")
+
+
+_HANDLERS = {
+    "open": _open,
+    "os.remove": _one("delete", follow=False, dir_fd=1, needs=True),
+    "os.rmdir": _one("delete", follow=False, dir_fd=1, needs=True),
+    "os.mkdir": _one("create a folder at", follow=False, dir_fd=2, creates=True),
+    "os.mkfifo": _one("create a pipe at", follow=False, dir_fd=2),
+    "os.mknod": _one("create a device at", follow=False, dir_fd=3),
+    "os.chmod": _one("change the mode of", follow=True, dir_fd=2),
+    "os.chown": _one("change the owner of", follow=True, dir_fd=3),
+    "os.chflags": _one("change the flags of", follow=True),
+    "os.truncate": _truncate,
+    "os.utime": _one("change the times of", follow=True, dir_fd=3),
+    "os.setxattr": _one("change the attributes of", follow=True),
+    "os.removexattr": _one("change the attributes of", follow=True),
+    "shutil.rmtree": _one("delete", follow=False, dir_fd=1, needs=True),
+    "os.rename": _two("rename"),
+    "os.link": _two("create a hard link to", follow_source=True),
+    "os.symlink": _symlink,
+    "os.kill": _kill,
+    "os.killpg": _killpg,
+}
