@@ -393,7 +393,9 @@ def launch_not_installed(ctx: CheckContext):
     installed = ctx.model.layout.installed_sources()
     for resolution in ctx.resolutions:
         launch = resolution.launch
-        if not is_uninstalled(launch):
+        # a workspace may hold two folders with one package name (colcon refuses to build it; verify
+        # still reports both): resolutions are grouped by name, so keep this folder's files only
+        if not is_uninstalled(launch) or not launch.source.is_relative_to(ctx.model.path):
             continue
         relative = launch.source.relative_to(ctx.model.path)
         folder = relative.parts[0] if len(relative.parts) > 1 else None
