@@ -21,3 +21,17 @@ def test_valid_names(name):
 ])
 def test_invalid_names_say_why(name, reason):
     assert reason in rep144_problem(name)
+
+
+@pytest.mark.parametrize("name, suggestion", [
+    ("Bad-Name", "bad_name"),  # the hint once said 'bad-name', itself invalid
+    ("Rob", "rob"),
+    ("rob-desc", "rob_desc"),
+])
+def test_the_suggested_name_is_valid(name, suggestion):
+    assert f"(try '{suggestion}')" in rep144_problem(name)
+    assert rep144_problem(suggestion) is None
+
+
+def test_no_suggestion_when_no_simple_fix_is_valid():
+    assert "try" not in rep144_problem("Rob__X")

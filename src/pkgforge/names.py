@@ -21,13 +21,23 @@ def rep144_problem(name: str) -> str | None:
     if not REP144_PATTERN.match(name):
         if name[0].isdigit():
             return f"'{name}' starts with a digit"
+        suggestion = _suggestion(name)
+        try_it = f" (try '{suggestion}')" if suggestion else ""
         if name != name.lower():
-            return f"'{name}' has upper-case letters (try '{name.lower()}')"
+            return f"'{name}' has upper-case letters{try_it}"
         if "-" in name:
-            return f"'{name}' has '-' (try '{name.replace('-', '_')}')"
+            return f"'{name}' has '-'{try_it}"
         return f"'{name}' has characters other than a-z, 0-9 and '_'"
     if "__" in name:
         return f"'{name}' has a double underscore"
     if name.endswith("_"):
         return f"'{name}' ends with '_'"
     return None
+
+
+def _suggestion(name: str) -> str | None:
+    """A valid name close to `name` (lower case, '-' as '_'), or None when that is not valid either:
+    a hint must never suggest another invalid name."""
+    candidate = name.lower().replace("-", "_")
+    return candidate if REP144_PATTERN.match(candidate) and "__" not in candidate \
+        and not candidate.endswith("_") else None
