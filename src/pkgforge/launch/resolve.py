@@ -226,7 +226,9 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
     env = engine.environment(env)
     # the real engine's logs and temporary parameter files: removed here, however its workers end
-    scratch = tempfile.mkdtemp(prefix="pkgforge-launch-") if engine.name == "ros" else None
+    # inside the tree's sandbox when there is one: the worker's guard refuses writes anywhere else
+    scratch = tempfile.mkdtemp(prefix="pkgforge-launch-", dir=env.get("PKGFORGE_SANDBOX")) \
+        if engine.name == "ros" else None
     if scratch is not None:
         env["PKGFORGE_SCRATCH"] = scratch
     work: queue.Queue = queue.Queue()
