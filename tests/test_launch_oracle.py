@@ -53,9 +53,6 @@ NOT_IN_HUMBLE = {C + f for f in ("py_all_any.launch.py", "py_equals_typed.launch
 LOAD_ERRORS = {(d, f) for d in DISTROS for f in FILES if f.startswith(C + "error_") and "bad_node" not in f} | \
     {("humble", f) for f in NOT_IN_HUMBLE}
 
-UNTYPED = ("ROS refuses the untyped xacro output as a parameter (launch_ros parses it as YAML and the "
-           "model's '<!-- NAME: a base ...' comment is a YAML mapping error): robot_state_publisher never "
-           "starts; the built-in engine accepts it")
 HUMBLE_ONLY = "the name does not exist in humble (ImportError/unknown substitution in ROS); the built-in engine has it"
 PACKAGE_FIRST = "ROS records a node's package before its arguments/parameters fail; the built-in engine loses it"
 # Where the built-in engine differs from ROS today: (distro or None for both, file) → the difference.
@@ -68,7 +65,6 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
         "Command(['ros2 param get ...']) is a run-time query: not executed, recorded as run-time only; the built-in engine runs it and fails",
     ('humble', C + 'py_equals_typed.launch.py'): HUMBLE_ONLY,
     ('humble', C + 'py_file_content.launch.py'): HUMBLE_ONLY,
-    ('jazzy', C + 'py_file_content.launch.py'): "ROS parses a parameter's FileContent as YAML (a dict: TypeError)",
     (None, C + 'py_find_package_share_find.launch.py'):
         'FindPackageShare(...).find(package) takes only the package name in ROS',
     (None, C + 'py_load_as_module.launch.py'): 'load_python_launch_file_as_module returns a stub',
@@ -96,8 +92,6 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
         "param from: the built-in engine puts the lookup on the node's line, ROS on the param's",
     (None, 'rob_description/launch/display.launch.py'):
         'the built-in engine records get_package_share_directory() calls of the launch file; the real engine does not yet',
-    (None, 'v_humble_xml/launch/display.launch.xml'): UNTYPED,
-    (None, 'v_humble_yaml/launch/display.launch.yaml'): UNTYPED,
 }
 
 
