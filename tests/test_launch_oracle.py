@@ -59,16 +59,12 @@ PACKAGE_FIRST = "ROS records a node's package before its arguments/parameters fa
 # h1-builtin is making the built-in engine faithful; each entry goes when it agrees.
 KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
     (None, C + 'error_bad_node_name.launch.py'): "ROS refuses the node name 'bad name' (InvalidNodeNameException)",
-    ('humble', C + 'py_all_any.launch.py'): HUMBLE_ONLY,
     ('humble', C + 'py_boolean_substitutions.launch.py'): "humble's OrSubstitution refuses '0' (not a bool)",
     (None, C + 'py_command_runtime_query.launch.py'):
         "Command(['ros2 param get ...']) is a run-time query: not executed, recorded as run-time only; the built-in engine runs it and fails",
-    ('humble', C + 'py_equals_typed.launch.py'): HUMBLE_ONLY,
-    ('humble', C + 'py_file_content.launch.py'): HUMBLE_ONLY,
     (None, C + 'py_find_package_share_find.launch.py'):
         'FindPackageShare(...).find(package) takes only the package name in ROS',
     (None, C + 'py_load_as_module.launch.py'): 'load_python_launch_file_as_module returns a stub',
-    ('humble', C + 'py_not_equals_if_else.launch.py'): HUMBLE_ONLY,
     (None, C + 'py_set_parameter.launch.py'):
         "SetParameter/<set_parameter>: the built-in engine lists the global parameter among the node's parameters; the real engine records the node's own (launch_ros passes global ones on the command line)",
     (None, C + 'py_unknown_package.launch.py'): PACKAGE_FIRST,
@@ -180,11 +176,15 @@ def evaluations(prefixes, oracle_workspace) -> dict:
         assert not missing, f"not installed, so not evaluated: {missing}"
         chosen = [by_name[f] for f in FILES]
         out = {}
-        engines = {"builtin": BUILTIN}
-        engines.update({d: LaunchEngine("ros", str(p), d, "test") for d, p in prefixes.items()})
-        for label, engine in engines.items():
-            for name, resolution in zip(FILES, resolve(chosen, tree, jobs=2, timeout=60, engine=engine)):
-                out[label, name] = _canonical(resolution)
+        for distro, prefix in prefixes.items():
+            # the built-in engine held to the same distro's names (PKGFORGE_LAUNCH_DISTRO, read by its workers)
+            engines = {f"builtin-{distro}": BUILTIN, distro: LaunchEngine("ros", str(prefix), distro, "test")}
+            for label, engine in engines.items():
+                with pytest.MonkeyPatch.context() as patch:
+                    patch.setenv("PKGFORGE_LAUNCH_DISTRO", distro)
+                    resolutions = resolve(chosen, tree, jobs=2, timeout=60, engine=engine)
+                for name, resolution in zip(FILES, resolutions):
+                    out[label, name] = _canonical(resolution)
         return out
     finally:
         tree.close()
@@ -192,7 +192,7 @@ def evaluations(prefixes, oracle_workspace) -> dict:
 
 @pytest.mark.parametrize("distro,file", _params())
 def test_both_engines_give_the_same_records(evaluations, distro, file):
-    real, builtin = evaluations[distro, file], evaluations["builtin", file]
+    real, builtin = evaluations[distro, file], evaluations[f"builtin-{distro}", file]
     assert real["status"] == ("load-error" if (distro, file) in LOAD_ERRORS else "ok"), real["error"]
     differences = {kind: {"ros": _differing(real[kind], builtin[kind]),
                           "built-in": _differing(builtin[kind], real[kind])}
