@@ -86,8 +86,6 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
     (None, C + 'xml_unknown_package.launch.xml'): PACKAGE_FIRST,
     (None, C + 'yaml_param_file.launch.yaml'):
         "param from: the built-in engine puts the lookup on the node's line, ROS on the param's",
-    (None, 'rob_description/launch/display.launch.py'):
-        'the built-in engine records get_package_share_directory() calls of the launch file; the real engine does not yet',
 }
 
 

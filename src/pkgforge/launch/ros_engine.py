@@ -732,6 +732,9 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
     from . import evaluate as builtin
 
     builtin._watch_xacro()
+    # the launch file's own ament_index lookups, recorded (and a package not found here standing
+    # in as an empty one) as the built-in engine does; launch_ros's own lookups are left alone
+    builtin._watch_ament()
     RECORDER.__init__()
     rt._LAUNCH_FILES.clear()
     rt._LAUNCH_FILES.add(path)
