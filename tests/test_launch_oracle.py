@@ -58,15 +58,12 @@ PACKAGE_FIRST = "ROS records a node's package before its arguments/parameters fa
 # Where the built-in engine differs from ROS today: (distro or None for both, file) → the difference.
 # h1-builtin is making the built-in engine faithful; each entry goes when it agrees.
 KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
-    (None, C + 'error_bad_node_name.launch.py'): "ROS refuses the node name 'bad name' (InvalidNodeNameException)",
     ('humble', C + 'py_boolean_substitutions.launch.py'): "humble's OrSubstitution refuses '0' (not a bool)",
     (None, C + 'py_command_runtime_query.launch.py'):
         "Command(['ros2 param get ...']) is a run-time query: not executed, recorded as run-time only; the built-in engine runs it and fails",
     (None, C + 'py_find_package_share_find.launch.py'):
         'FindPackageShare(...).find(package) takes only the package name in ROS',
     (None, C + 'py_load_as_module.launch.py'): 'load_python_launch_file_as_module returns a stub',
-    (None, C + 'py_set_parameter.launch.py'):
-        "SetParameter/<set_parameter>: the built-in engine lists the global parameter among the node's parameters; the real engine records the node's own (launch_ros passes global ones on the command line)",
     (None, C + 'py_unknown_package.launch.py'): PACKAGE_FIRST,
     (None, C + 'py_xacro_module.launch.py'):
         'FindPackageShare(...).find(package) takes only the package name in ROS',
@@ -81,8 +78,6 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
         '<node_container>/<composable_node> are not in the built-in front end',
     (None, C + 'xml_param_file.launch.xml'):
         '<param from=...>: the built-in engine puts parameter files after the values (ROS keeps the element order) and on the <node> line',
-    (None, C + 'xml_set_parameter.launch.xml'):
-        "SetParameter/<set_parameter>: the built-in engine lists the global parameter among the node's parameters; the real engine records the node's own (launch_ros passes global ones on the command line)",
     (None, C + 'xml_unknown_package.launch.xml'): PACKAGE_FIRST,
     (None, C + 'yaml_param_file.launch.yaml'):
         "param from: the built-in engine puts the lookup on the node's line, ROS on the param's",

@@ -82,23 +82,15 @@ class _Message:
     Response = types.SimpleNamespace
 
 
-_NODE_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _NAMESPACE = re.compile(r"^/([A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*)?$")
 
 
-class InvalidNodeNameException(ValueError):
-    pass
+InvalidNodeNameException = rt.InvalidNodeNameException
+_validate_node_name = rt.validate_node_name
 
 
 class InvalidNamespaceException(ValueError):
     pass
-
-
-def _validate_node_name(name):
-    if not _NODE_NAME.match(name or ""):
-        raise InvalidNodeNameException(f"Invalid node name: node name must not be empty, contain only "
-                                       f"alphanumerics and underscores, and not start with a number: '{name}'")
-    return True
 
 
 def _validate_namespace(namespace):
@@ -577,7 +569,12 @@ def _record_node(node, context) -> None:
         text = _text(context, argument)
         arguments.append(text)
         _record_path(text, node, "Node arguments")
-    parameters = _parameters(context, node._pkgforge_parameters, node)
+    # SetParameter's global parameters, which launch_ros gives every node in scope
+    parameters = [{"name": group[0], "form": "plain", "value_preview": str(group[1])[:200],
+                   "file": node._file, "line": node._line}
+                  for group in context.launch_configurations.get("global_params") or []
+                  if isinstance(group, tuple)]
+    parameters += _parameters(context, node._pkgforge_parameters, node)
     record = {"kind": "node", "package": package, "executable": _text(context, node._Node__node_executable),
               "arguments": arguments, "parameters": parameters}
     try:

@@ -1197,12 +1197,29 @@ class Node(ExecuteProcess):
 
     def visit(self, context):
         package = self._package(context)
-        RECORDER.add("nodes", self.record(context, package), self)
-        # recorded as written; then the parameter rules launch_ros applies when it starts the node
+        record = self.record(context, package)
+        RECORDER.add("nodes", record, self)
+        # recorded as written; then the rules launch_ros applies when it starts the node
+        if self.node_name is not None:
+            validate_node_name(record["name"])
         for group in self.parameters:
             if isinstance(group, collections.abc.Mapping):
                 for name, value in _flatten(group, None, context):
                     _check_parameter_value(context, name, value)
+
+
+class InvalidNodeNameException(ValueError):
+    """rclpy.exceptions.InvalidNodeNameException (rclpy is not needed: rmw's rule, below)."""
+
+
+def validate_node_name(name) -> bool:
+    """rclpy.validate_node_name: alphanumerics and underscores, not starting with a digit."""
+    import re
+
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name or ""):
+        raise InvalidNodeNameException(f"Invalid node name: node name must not be empty, contain only "
+                                       f"alphanumerics and underscores, and not start with a number: '{name}'")
+    return True
 
 
 class LifecycleNode(Node):
@@ -1441,6 +1458,11 @@ class SetParameter(Action):
     def visit(self, context):
         name = perform(context, self.name)
         value = _perform_value(context, self.value)
+        if _has_substitution(self.value):  # evaluate_parameter_dict: the text read as YAML
+            import yaml
+
+            _check_parameter_value(context, name, self.value)
+            value = yaml.safe_load(value or "''")
         context.launch_configurations.setdefault("global_params", []).append((name, value))
 
 
