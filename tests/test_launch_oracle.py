@@ -69,11 +69,7 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
         'FindPackageShare(...).find(package) takes only the package name in ROS',
     ('humble', C + 'xml_boolean_substitutions.launch.xml'): "humble's $(or) refuses '0' (not a bool)",
     ('humble', C + 'xml_equals.launch.xml'): HUMBLE_ONLY,
-    (None, C + 'xml_eval_dirname_filename.launch.xml'):
-        '$(eval) with a quoted expression fails in the built-in front end',
     ('humble', C + 'xml_file_content.launch.xml'): HUMBLE_ONLY,
-    (None, C + 'xml_log.launch.xml'):
-        '<log> is not evaluated by the built-in engine (ROS: $(var who) is unset there)',
     (None, C + 'xml_node_container.launch.xml'):
         '<node_container>/<composable_node> are not in the built-in front end',
     (None, C + 'xml_param_file.launch.xml'):

@@ -33,7 +33,10 @@ def parse_substitution(text: str) -> list:
     """`a$(var x)b` → [TextSubstitution('a'), LaunchConfiguration('x'), TextSubstitution('b')]."""
     parts, index, buffer = [], 0, []
     while index < len(text):
-        if text.startswith("$(", index):
+        if text[index] == "\\" and index + 1 < len(text):
+            buffer.append(text[index + 1])  # launch's escapes: \$ \' \( ... are the character itself
+            index += 2
+        elif text.startswith("$(", index):
             if buffer:
                 parts.append(rt.TextSubstitution(text="".join(buffer)))
                 buffer = []
@@ -52,6 +55,9 @@ def _matching_paren(text: str, open_index: int) -> int:
     depth, quote, index = 0, None, open_index
     while index < len(text):
         char = text[index]
+        if char == "\\":
+            index += 2  # an escaped character neither quotes nor closes
+            continue
         if quote:
             if char == quote:
                 quote = None
@@ -70,7 +76,16 @@ def _matching_paren(text: str, open_index: int) -> int:
 def _split_arguments(body: str) -> list[str]:
     args, current, quote, depth = [], [], None, 0
     quoted = False  # '' is an argument too (an empty string)
+    escaped = False
     for char in body:
+        if escaped:  # kept with its backslash: parse_substitution of the argument reads it
+            current.append(char)
+            escaped = False
+            continue
+        if char == "\\":
+            current.append(char)
+            escaped = True
+            continue
         if quote:
             if char == quote and depth == 0:
                 quote = None

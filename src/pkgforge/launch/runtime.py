@@ -919,6 +919,10 @@ class LogInfo(Action):
         super().__init__(**kwargs)
         self.msg = normalize(msg)
 
+    def visit(self, context):
+        perform_substitutions(context, self.msg)  # as launch logs it: its substitutions are performed
+        return None
+
 
 class TimerAction(Action):
     """Its actions would start after `period`: they are checked like any other."""
