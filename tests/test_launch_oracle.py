@@ -70,13 +70,7 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
     ('humble', C + 'xml_boolean_substitutions.launch.xml'): "humble's $(or) refuses '0' (not a bool)",
     ('humble', C + 'xml_equals.launch.xml'): HUMBLE_ONLY,
     ('humble', C + 'xml_file_content.launch.xml'): HUMBLE_ONLY,
-    (None, C + 'xml_node_container.launch.xml'):
-        '<node_container>/<composable_node> are not in the built-in front end',
-    (None, C + 'xml_param_file.launch.xml'):
-        '<param from=...>: the built-in engine puts parameter files after the values (ROS keeps the element order) and on the <node> line',
     (None, C + 'xml_unknown_package.launch.xml'): PACKAGE_FIRST,
-    (None, C + 'yaml_param_file.launch.yaml'):
-        "param from: the built-in engine puts the lookup on the node's line, ROS on the param's",
 }
 
 
