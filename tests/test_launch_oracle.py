@@ -61,12 +61,7 @@ KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
     ('humble', C + 'py_boolean_substitutions.launch.py'): "humble's OrSubstitution refuses '0' (not a bool)",
     (None, C + 'py_command_runtime_query.launch.py'):
         "Command(['ros2 param get ...']) is a run-time query: not executed, recorded as run-time only; the built-in engine runs it and fails",
-    (None, C + 'py_find_package_share_find.launch.py'):
-        'FindPackageShare(...).find(package) takes only the package name in ROS',
-    (None, C + 'py_load_as_module.launch.py'): 'load_python_launch_file_as_module returns a stub',
     (None, C + 'py_unknown_package.launch.py'): PACKAGE_FIRST,
-    (None, C + 'py_xacro_module.launch.py'):
-        'FindPackageShare(...).find(package) takes only the package name in ROS',
     ('humble', C + 'xml_boolean_substitutions.launch.xml'): "humble's $(or) refuses '0' (not a bool)",
     ('humble', C + 'xml_equals.launch.xml'): HUMBLE_ONLY,
     ('humble', C + 'xml_file_content.launch.xml'): HUMBLE_ONLY,

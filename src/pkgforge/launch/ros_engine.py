@@ -421,7 +421,13 @@ def _hook_loaders() -> None:
         finally:
             rt._FRONTEND_LOCATION.pop()
 
-    replacements = {real_python: from_python, real_frontend: from_frontend}
+    real_module = python.load_python_launch_file_as_module
+
+    def as_module(path, *args, **kwargs):  # a launch file loaded by another one: user code too
+        rt._LAUNCH_FILES.add(os.fspath(path))
+        return real_module(path, *args, **kwargs)
+
+    replacements = {real_python: from_python, real_frontend: from_frontend, real_module: as_module}
     for name, module in list(sys.modules.items()):
         if name.split(".")[0] in ("launch", "launch_xml", "launch_yaml", "launch_ros") and module is not None:
             for attribute, value in list(vars(module).items()):
@@ -464,10 +470,26 @@ def _hook_substitutions() -> None:
         RECORDER.add("packages", {"name": L.perform(context, self.package), "via": type(self).__name__}, self)
 
     wrap(ros_subs.FindPackage, before=lookup)
+    for cls, kind in ((ros_subs.FindPackageShare, "share"), (ros_subs.FindPackagePrefix, "prefix")):
+        _direct_find(cls, kind)
     if hasattr(ros_subs, "ExecutableInPackage"):
         wrap(ros_subs.ExecutableInPackage, before=lambda s, c: RECORDER.add(
             "packages", {"name": L.perform(c, s.package), "via": "ExecutableInPackage"}, s))
     subs.Command.perform = _command_perform
+
+
+def _direct_find(cls, kind: str) -> None:
+    """`FindPackageShare(...).find(name)` called by the launch file itself: the lookup recorded
+    (a package not found here standing in as an empty one), as for get_package_share_directory();
+    launch_ros's own call from perform() is left alone (perform records it)."""
+    real = cls.find
+
+    def find(self, package_name):
+        if sys._getframe(1).f_code.co_filename in rt._LAUNCH_FILES:
+            return rt.lookup_package(package_name, cls.__name__, rt.here(), kind)
+        return real(self, package_name)
+
+    cls.find = find
 
 
 def _command_perform(self, context) -> str:
