@@ -444,7 +444,8 @@ def _typed_bool(context, subs) -> bool:
     import yaml
 
     text = perform_substitutions(context, subs)
-    value = {"1": "true", "0": "false"}.get(text, text)
+    # '1'/'0' are booleans from Iron on; humble's launch reads them as YAML integers (refused)
+    value = text if _api_distro() == "humble" else {"1": "true", "0": "false"}.get(text, text)
     try:
         output = yaml.safe_load(value) if value else value
     except yaml.YAMLError as error:
