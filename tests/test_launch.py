@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import FIXTURES, VARIANTS, at_least, copy_fixture, edit, line_of, run_pkgforge, verify_report
+from conftest import FIXTURES, VARIANTS, at_least, copy_fixture, edit, line_of, new_package, run_pkgforge, verify_report
 
 verify = verify_report
 
@@ -254,3 +254,20 @@ def test_launch_arg_fixes_a_branch(tmp_path):
     assert status == 0
     bad = run_pkgforge("verify", package, "--launch-arg", "gui", cwd=tmp_path)
     assert bad.returncode == 2 and "NAME:=VALUE" in bad.stderr
+
+
+@pytest.mark.parametrize("fmt,marker", [("xml", '<node pkg="robot_state_publisher"'),
+                                        ("yaml", "- node:")])  # the node's first line, as ROS reports it
+def test_untyped_model_that_is_not_yaml_stops_robot_state_publisher(tmp_path, fmt, marker):
+    """Humble's front ends have no type="str": launch_ros reads the xacro output as YAML, and a
+    'NAME: text' comment in the model is a YAML error, so robot_state_publisher never starts."""
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "hb", "--distro", "humble", "--launch-format", fmt)
+    model = package / "urdf" / "hb.urdf.xacro"
+    edit(model, "<!-- hb, a base", "<!-- hb: a base")
+    status, report = verify(package)
+    launch = package / "launch" / f"display.launch.{fmt}"
+    assert status == 1
+    assert found(report) == [("PF301", "launch-load-error", f"launch/display.launch.{fmt}", line_of(launch, marker))]
+    message = at_least(report, "error")[0]["message"]
+    assert "using yaml rules: yaml.safe_load() failed" in message and "\n" not in message, message

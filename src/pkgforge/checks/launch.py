@@ -74,8 +74,17 @@ def launch_load_error(ctx: CheckContext):
                 continue  # xacro-error reports it with xacro's message
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
-                yield Finding(f"{item.entity or 'an action'} failed: {item.type}: {item.message}"
+                yield Finding(f"{item.entity or 'an action'} failed: {item.type}: {_one_line(item.message)}"
                               f"{_branch_note(item, resolution)}", *position)
+
+
+def _one_line(message: str) -> str:
+    """An error's message on one line: a long quoted value (a whole xacro output that launch_ros
+    could not read as YAML) shortened to its start."""
+    import re
+
+    message = re.sub(r"'([^']{60})[^']{20,}'", lambda m: f"'{m.group(1)}...'", message, flags=re.S)
+    return " ".join(part.strip() for part in message.splitlines() if part.strip())
 
 
 def _share_reference(ctx: CheckContext, path: str):

@@ -33,7 +33,10 @@ def parse_substitution(text: str) -> list:
     """`a$(var x)b` → [TextSubstitution('a'), LaunchConfiguration('x'), TextSubstitution('b')]."""
     parts, index, buffer = [], 0, []
     while index < len(text):
-        if text.startswith("$(", index):
+        if text[index] == "\\" and index + 1 < len(text):
+            buffer.append(text[index + 1])  # launch's escapes: \$ \' \( ... are the character itself
+            index += 2
+        elif text.startswith("$(", index):
             if buffer:
                 parts.append(rt.TextSubstitution(text="".join(buffer)))
                 buffer = []
@@ -52,6 +55,9 @@ def _matching_paren(text: str, open_index: int) -> int:
     depth, quote, index = 0, None, open_index
     while index < len(text):
         char = text[index]
+        if char == "\\":
+            index += 2  # an escaped character neither quotes nor closes
+            continue
         if quote:
             if char == quote:
                 quote = None
@@ -70,7 +76,16 @@ def _matching_paren(text: str, open_index: int) -> int:
 def _split_arguments(body: str) -> list[str]:
     args, current, quote, depth = [], [], None, 0
     quoted = False  # '' is an argument too (an empty string)
+    escaped = False
     for char in body:
+        if escaped:  # kept with its backslash: parse_substitution of the argument reads it
+            current.append(char)
+            escaped = False
+            continue
+        if char == "\\":
+            current.append(char)
+            escaped = True
+            continue
         if quote:
             if char == quote and depth == 0:
                 quote = None
@@ -379,6 +394,11 @@ def _entity(element: Element, path: str):
 
 
 def _composable(element: Element):
+    with _located_at(element):
+        return _composable_here(element)
+
+
+def _composable_here(element: Element):
     return rt.ComposableNode(package=element.sub("pkg"), plugin=element.sub("plugin"), name=element.sub("name"),
                              namespace=element.sub("namespace"), parameters=_parameters(element),
                              remappings=[(r.sub("from"), r.sub("to")) for r in element.named("remap")])
@@ -393,16 +413,40 @@ def _arguments(text) -> list:
 
 
 def _parameters(element: Element) -> list:
-    values, files = {}, []
+    """As launch_ros's front end: one group per <param>, in the elements' order (a parameter file
+    or a one-entry dict, nested <param>s as a nested dict), each located at its own line."""
+    out = []
     for param in element.named("param"):
-        if param.get("from") is not None:
-            files.append(rt.ParameterFile(param.sub("from")))
-            continue
-        rt._FRONTEND_LOCATION.append((rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None,
-                                      param.line))
-        try:
-            value_type = str if param.get("type") in ("str", "string") else None
-            values[param.get("name")] = rt.ParameterValue(param.sub("value") or [], value_type=value_type)
-        finally:
-            rt._FRONTEND_LOCATION.pop()
-    return ([values] if values else []) + files
+        with _located_at(param):
+            if param.get("from") is not None:
+                out.append(rt.ParameterFile(param.sub("from")))
+            else:
+                out.append(_parameter_dict([param]))
+    return out
+
+
+def _parameter_dict(params: list) -> dict:
+    values = {}
+    for param in params:
+        with _located_at(param):
+            nested = param.named("param")
+            if nested:
+                values[param.get("name")] = _parameter_dict(nested)
+            else:
+                value_type = str if param.get("type") in ("str", "string") else None
+                values[param.get("name")] = rt.ParameterValue(param.sub("value") or [], value_type=value_type)
+    return values
+
+
+class _located_at:
+    """What is built inside is located at the element's line (in the same file)."""
+
+    def __init__(self, element: Element):
+        self.where = (rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None, element.line)
+
+    def __enter__(self):
+        rt._FRONTEND_LOCATION.append(self.where)
+
+    def __exit__(self, *exc):
+        rt._FRONTEND_LOCATION.pop()
+        return False

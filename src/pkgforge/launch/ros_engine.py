@@ -82,23 +82,15 @@ class _Message:
     Response = types.SimpleNamespace
 
 
-_NODE_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _NAMESPACE = re.compile(r"^/([A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*)?$")
 
 
-class InvalidNodeNameException(ValueError):
-    pass
+InvalidNodeNameException = rt.InvalidNodeNameException
+_validate_node_name = rt.validate_node_name
 
 
 class InvalidNamespaceException(ValueError):
     pass
-
-
-def _validate_node_name(name):
-    if not _NODE_NAME.match(name or ""):
-        raise InvalidNodeNameException(f"Invalid node name: node name must not be empty, contain only "
-                                       f"alphanumerics and underscores, and not start with a number: '{name}'")
-    return True
 
 
 def _validate_namespace(namespace):
@@ -429,7 +421,13 @@ def _hook_loaders() -> None:
         finally:
             rt._FRONTEND_LOCATION.pop()
 
-    replacements = {real_python: from_python, real_frontend: from_frontend}
+    real_module = python.load_python_launch_file_as_module
+
+    def as_module(path, *args, **kwargs):  # a launch file loaded by another one: user code too
+        rt._LAUNCH_FILES.add(os.fspath(path))
+        return real_module(path, *args, **kwargs)
+
+    replacements = {real_python: from_python, real_frontend: from_frontend, real_module: as_module}
     for name, module in list(sys.modules.items()):
         if name.split(".")[0] in ("launch", "launch_xml", "launch_yaml", "launch_ros") and module is not None:
             for attribute, value in list(vars(module).items()):
@@ -472,10 +470,26 @@ def _hook_substitutions() -> None:
         RECORDER.add("packages", {"name": L.perform(context, self.package), "via": type(self).__name__}, self)
 
     wrap(ros_subs.FindPackage, before=lookup)
+    for cls, kind in ((ros_subs.FindPackageShare, "share"), (ros_subs.FindPackagePrefix, "prefix")):
+        _direct_find(cls, kind)
     if hasattr(ros_subs, "ExecutableInPackage"):
         wrap(ros_subs.ExecutableInPackage, before=lambda s, c: RECORDER.add(
             "packages", {"name": L.perform(c, s.package), "via": "ExecutableInPackage"}, s))
     subs.Command.perform = _command_perform
+
+
+def _direct_find(cls, kind: str) -> None:
+    """`FindPackageShare(...).find(name)` called by the launch file itself: the lookup recorded
+    (a package not found here standing in as an empty one), as for get_package_share_directory();
+    launch_ros's own call from perform() is left alone (perform records it)."""
+    real = cls.find
+
+    def find(self, package_name):
+        if sys._getframe(1).f_code.co_filename in rt._LAUNCH_FILES:
+            return rt.lookup_package(package_name, cls.__name__, rt.here(), kind)
+        return real(self, package_name)
+
+    cls.find = find
 
 
 def _command_perform(self, context) -> str:
@@ -577,7 +591,12 @@ def _record_node(node, context) -> None:
         text = _text(context, argument)
         arguments.append(text)
         _record_path(text, node, "Node arguments")
-    parameters = _parameters(context, node._pkgforge_parameters, node)
+    # SetParameter's global parameters, which launch_ros gives every node in scope
+    parameters = [{"name": group[0], "form": "plain", "value_preview": str(group[1])[:200],
+                   "file": node._file, "line": node._line}
+                  for group in context.launch_configurations.get("global_params") or []
+                  if isinstance(group, tuple)]
+    parameters += _parameters(context, node._pkgforge_parameters, node)
     record = {"kind": "node", "package": package, "executable": _text(context, node._Node__node_executable),
               "arguments": arguments, "parameters": parameters}
     try:
@@ -732,6 +751,9 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
     from . import evaluate as builtin
 
     builtin._watch_xacro()
+    # the launch file's own ament_index lookups, recorded (and a package not found here standing
+    # in as an empty one) as the built-in engine does; launch_ros's own lookups are left alone
+    builtin._watch_ament()
     RECORDER.__init__()
     rt._LAUNCH_FILES.clear()
     rt._LAUNCH_FILES.add(path)

@@ -444,7 +444,8 @@ def _typed_bool(context, subs) -> bool:
     import yaml
 
     text = perform_substitutions(context, subs)
-    value = {"1": "true", "0": "false"}.get(text, text)
+    # '1'/'0' are booleans from Iron on; humble's launch reads them as YAML integers (refused)
+    value = text if _api_distro() == "humble" else {"1": "true", "0": "false"}.get(text, text)
     try:
         output = yaml.safe_load(value) if value else value
     except yaml.YAMLError as error:
@@ -919,6 +920,10 @@ class LogInfo(Action):
         super().__init__(**kwargs)
         self.msg = normalize(msg)
 
+    def visit(self, context):
+        perform_substitutions(context, self.msg)  # as launch logs it: its substitutions are performed
+        return None
+
 
 class TimerAction(Action):
     """Its actions would start after `period`: they are checked like any other."""
@@ -1197,7 +1202,29 @@ class Node(ExecuteProcess):
 
     def visit(self, context):
         package = self._package(context)
-        RECORDER.add("nodes", self.record(context, package), self)
+        record = self.record(context, package)
+        RECORDER.add("nodes", record, self)
+        # recorded as written; then the rules launch_ros applies when it starts the node
+        if self.node_name is not None:
+            validate_node_name(record["name"])
+        for group in self.parameters:
+            if isinstance(group, collections.abc.Mapping):
+                for name, value in _flatten(group, None, context):
+                    _check_parameter_value(context, name, value)
+
+
+class InvalidNodeNameException(ValueError):
+    """rclpy.exceptions.InvalidNodeNameException (rclpy is not needed: rmw's rule, below)."""
+
+
+def validate_node_name(name) -> bool:
+    """rclpy.validate_node_name: alphanumerics and underscores, not starting with a digit."""
+    import re
+
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name or ""):
+        raise InvalidNodeNameException(f"Invalid node name: node name must not be empty, contain only "
+                                       f"alphanumerics and underscores, and not start with a number: '{name}'")
+    return True
 
 
 class LifecycleNode(Node):
@@ -1258,6 +1285,81 @@ def _evaluate_parameters(context, group, node) -> list[dict]:
         _record_path(path, node, "parameter file")
         out.append({"name": None, "form": "file", "value_preview": path, "file": node._file, "line": node._line})
     return out
+
+
+def _check_parameter_value(context, name: str, value) -> None:
+    """launch_ros's typing of a parameter given as substitutions: the text is read as YAML and
+    must give a scalar or a uniform list; otherwise the node does not start (the same error)."""
+    import yaml
+
+    if isinstance(value, ParameterValue):
+        if value.value_type is not None or not _is_substitutions(value.value):
+            return
+        text = perform(context, value.value)
+        if not text:
+            return
+        described = f"Failed to convert '{text}' using yaml rules"
+        try:
+            output = yaml.safe_load(text)
+        except Exception as error:  # noqa: BLE001 - launch's own rule
+            raise ValueError(f"{described}: yaml.safe_load() failed\n{error}") from None
+        if not _allowed_value(output):
+            raise ValueError(f"{described}: output type is not allowed, got {type(output)}")
+        return
+    if not _is_substitutions(value) or not _has_substitution(value):
+        return
+    text = perform(context, value) or "''"
+    wrap = ("If the parameter is meant to be a string, try wrapping it in "
+            "launch_ros.parameter_descriptions.ParameterValue(value, value_type=str)")
+    try:
+        output = yaml.safe_load(text)
+    except yaml.YAMLError:
+        raise TypeError(f"Unable to parse the value of parameter {name} as yaml. {wrap}") from None
+    if type(output) in (bool, int, float, str, bytes):
+        return
+    jazzy = _api_distro() != "humble"
+    if isinstance(output, collections.abc.Sequence):
+        if not _uniform(output):
+            raise TypeError("Expected a non-empty sequence, with items of uniform type. Allowed sequence "
+                            "item types are bool, int, float, str." +
+                            (f' Got inconsistent input for "{name}"' if jazzy else ""))
+        return
+    got = f'{type(output)} for "{name}". ' if jazzy else f"{type(output)}."
+    raise TypeError("Allowed value types are bytes, bool, int, float, str, Sequence[bool], Sequence[int], "
+                    f"Sequence[float], Sequence[str]. Got {got}{wrap}")
+
+
+def _api_distro() -> str:
+    from . import api
+
+    return api.distro()
+
+
+def _is_substitutions(value) -> bool:
+    if isinstance(value, (str, Substitution)):
+        return True
+    return isinstance(value, (list, tuple)) and bool(value) and \
+        all(isinstance(v, (str, Substitution)) for v in value)
+
+
+def _has_substitution(value) -> bool:
+    if isinstance(value, Substitution):
+        return True
+    return isinstance(value, (list, tuple)) and any(isinstance(v, Substitution) for v in value)
+
+
+def _uniform(sequence) -> bool:
+    if not sequence or type(sequence[0]) not in (bool, int, float, str):
+        return False
+    return all(isinstance(item, type(sequence[0])) for item in sequence)
+
+
+def _allowed_value(output) -> bool:
+    """launch.utilities.type_utils: a scalar, or a list of one scalar type."""
+    if not isinstance(output, list):
+        return isinstance(output, (int, float, bool, str))
+    member = next((type(x) for x in output if type(x) is not str), str)
+    return member in (int, float, bool, str) and all(isinstance(x, member) for x in output)
 
 
 def _value_form(value) -> str:
@@ -1361,6 +1463,11 @@ class SetParameter(Action):
     def visit(self, context):
         name = perform(context, self.name)
         value = _perform_value(context, self.value)
+        if _has_substitution(self.value):  # evaluate_parameter_dict: the text read as YAML
+            import yaml
+
+            _check_parameter_value(context, name, self.value)
+            value = yaml.safe_load(value or "''")
         context.launch_configurations.setdefault("global_params", []).append((name, value))
 
 
