@@ -174,7 +174,9 @@ SHM = "/dev/shm"
 SHM_MARGIN = 32 << 20  # leave this much of tmpfs free
 # a shadow of an install base copies at most this many files, this deep; past it, links
 SHADOW_MAX_FILES = 100_000
-SHADOW_MAX_DEPTH = 64
+# one level past the walker's bound (walk.MAX_DEPTH), so the walk over the shadow meets its own
+# bound first and reports it (PF903), as it did over the user's tree
+SHADOW_MAX_DEPTH = 65
 PREFIX = "pkgforge-tree-"
 
 
@@ -396,6 +398,11 @@ def _plan_shadow(plan: _Plan, source: Path, relative: str) -> None:
                     # another folder of the install base: the same link inside the shadow
                     inside = os.path.join(relative, os.path.relpath(real, top))
                     plan.link(target, os.path.relpath(inside, os.path.dirname(target)))
+                elif entry.is_symlink():
+                    # a link out of the install base stays a link: the walks decide whether to follow it
+                    # (into the package's own source, for --symlink-install; never elsewhere), and the
+                    # worker's guard refuses writes through it
+                    plan.link(target, real)
                 elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES:
                     plan.link(target, real)
                 else:
