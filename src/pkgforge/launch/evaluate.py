@@ -14,11 +14,10 @@ import sys
 import traceback
 
 from . import runtime
-from .records import ITEM_KINDS, Error, as_dict
+from .records import Error, as_dict, evaluate_branches
 from .runtime import (RECORDER, Action, LaunchContext, LaunchDescription, LaunchDescriptionEntity,
                       Recorder, Unresolved)
 
-MAX_BRANCHES = 16
 MAX_DEPTH = 32
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
 _module_counter = itertools.count()
@@ -251,24 +250,7 @@ def evaluate(path: str, overrides: dict[str, str]) -> dict:
         context.launch_configurations.update(values)
         visit([description], context)
 
-    run({}, {})
-    varying = [a for a in RECORDER.arguments.values()
-               if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
-    if varying:
-        defaults = {a.name: a.default for a in varying}
-        for kind in ITEM_KINDS:
-            for item in getattr(RECORDER, kind):
-                if not item.branch:
-                    item.branch = dict(defaults)
-        domains = [a.choices or ["true", "false"] for a in varying]
-        for argument, domain in zip(varying, domains):
-            argument.values = list(domain)
-        names = [a.name for a in varying]
-        for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
-            assignment = dict(zip(names, values))
-            if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
-                continue
-            run(assignment, assignment)
+    evaluate_branches(RECORDER, path, overrides, run)
     return {"status": "ok", "error": None, **_dump(RECORDER)}
 
 

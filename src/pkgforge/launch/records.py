@@ -10,6 +10,7 @@ fails loudly instead of being read as missing.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -264,3 +265,32 @@ def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
     resolution.branch_names = sorted(b for b in labels if b)
     resolution.branches = max(1, len(resolution.branch_names))
     return resolution
+
+
+MAX_BRANCHES = 16
+
+
+def evaluate_branches(recorder, path: str, overrides: dict[str, str], run) -> None:
+    """Visit once with the defaults, then once per other value of every argument of `path` that has
+    choices or a true/false default (at most MAX_BRANCHES). Both engines branch through this one
+    function, so their records can only differ in what a visit records, never in which visits run.
+    `run(values, label)` performs one visit."""
+    run({}, {})
+    varying = [a for a in recorder.arguments.values()
+               if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
+    if not varying:
+        return
+    defaults = {a.name: a.default for a in varying}
+    for kind in ITEM_KINDS:
+        for item in getattr(recorder, kind):
+            if not item.branch:
+                item.branch = dict(defaults)
+    domains = [a.choices or ["true", "false"] for a in varying]
+    for argument, domain in zip(varying, domains):
+        argument.values = list(domain)
+    names = [a.name for a in varying]
+    for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
+        assignment = dict(zip(names, values))
+        if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
+            continue
+        run(assignment, assignment)

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import atexit
 import enum
-import itertools
 import os
 import re
 import shlex
@@ -31,9 +30,8 @@ import types
 
 from . import runtime as rt
 from .engines import python_paths
-from .records import ITEM_KINDS, as_dict
+from .records import as_dict, evaluate_branches
 
-MAX_BRANCHES = 16
 MAX_DEPTH = 32
 MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
@@ -788,24 +786,7 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
                 _VISITING = None
                 _clean_scratch()
 
-        run({}, {})
-        varying = [a for a in RECORDER.arguments.values()
-                   if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
-        if varying:
-            defaults = {a.name: a.default for a in varying}
-            for kind in ITEM_KINDS:
-                for item in getattr(RECORDER, kind):
-                    if not item.branch:
-                        item.branch = dict(defaults)
-            domains = [a.choices or ["true", "false"] for a in varying]
-            for argument, domain in zip(varying, domains):
-                argument.values = list(domain)
-            names = [a.name for a in varying]
-            for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
-                assignment = dict(zip(names, values))
-                if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
-                    continue
-                run(assignment, assignment)
+        evaluate_branches(RECORDER, path, overrides, run)
         return {"status": "ok", "error": None, **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
     finally:
         os.environ.clear()
