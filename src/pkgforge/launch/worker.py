@@ -249,7 +249,7 @@ def main() -> None:
         try:
             import ament_index_python.packages  # noqa: F401
         except ImportError:
-            sys.path.append(str(API.parent / "api_ament"))
+            sys.path.append(str(API_AMENT))
         from pkgforge.launch import ros_engine
 
         try:
