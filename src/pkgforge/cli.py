@@ -399,6 +399,25 @@ def checks(fmt):
         click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {fix:<6} {check.summary}")
 
 
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("check")
+def rule(check):
+    """Explain one check, by code (PF302) or name (uninstalled-reference): why, an example, the fix."""
+    import difflib
+
+    from .checks.registry import all_checks, find_check
+    from .docs import rule_text
+
+    found = find_check(check)
+    if found is None:
+        keys = [c.code for c in all_checks()] + [c.name for c in all_checks()]
+        close = difflib.get_close_matches(check.strip(), keys, n=3) or \
+            difflib.get_close_matches(check.strip().upper(), keys, n=3)
+        also = f" (did you mean {', '.join(close)}?)" if close else ""
+        fail(PkgforgeError(f"no check is coded or named '{check}'{also}; `pkgforge checks` lists them"))
+    click.echo(rule_text(found), nl=False)
+
+
 def _launch_arguments(launch_args) -> dict[str, str]:
     arguments = {}
     for text in launch_args:

@@ -35,7 +35,7 @@ NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
-TREE_AREAS = ("launch", "model", "rviz", "build")
+TREE_AREAS = ("launch", "model", "rviz")
 
 
 @dataclass(frozen=True)
@@ -417,7 +417,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
 
     jobs = options.jobs or os.cpu_count() or 1
     codes = {t.path: config.for_package(t.name, t.path).codes() for t in targets}
-    tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS}
+    tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS} | {BUILD_FAILED}
     checked = [models[t.path] for t in targets]
 
     tree = None

@@ -34,7 +34,7 @@ def _path_split_at_spaces(words: list[str], model: str) -> str | None:
     return None
 
 
-@register("PF308", "xacro-error", "error", area="model",
+@register("PF308", "xacro-error", "error", area="launch",
           summary="xacro fails on the model a launch file processes",
           explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
                       "message says why (an include that does not resolve, an undefined property, "

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-FORMATS = ("text", "json", "junit", "sarif", "github")
+FORMATS = ("text", "json", "junit", "sarif", "github", "gitlab")
 
 
 def relative(path: Path, root: Path) -> str:
@@ -14,7 +14,8 @@ def relative(path: Path, root: Path) -> str:
 
 
 def render(fmt: str, result, *, color: bool = False, strict: bool = False) -> str:
-    from . import github, json_report, junit, sarif, text
+    from . import github, gitlab, json_report, junit, sarif, text
 
-    module = {"text": text, "json": json_report, "junit": junit, "sarif": sarif, "github": github}[fmt]
+    module = {"text": text, "json": json_report, "junit": junit, "sarif": sarif, "github": github,
+              "gitlab": gitlab}[fmt]
     return module.render(result, color=color, strict=strict)
