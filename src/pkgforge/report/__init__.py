@@ -5,6 +5,26 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+COLOR_CHOICES = ("auto", "always", "never")
+
+
+def use_color(choice: str | None, stream) -> bool:
+    """--color always/never as given; auto (or None): NO_COLOR set (and not empty) never,
+    FORCE_COLOR set (not empty, 0 or false) always, else when the stream is a terminal."""
+    if choice == "always":
+        return True
+    if choice == "never":
+        return False
+    if os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("FORCE_COLOR", "").strip().lower() not in ("", "0", "false"):
+        return True
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
 FORMATS = ("text", "json", "junit", "sarif", "github", "gitlab")
 
 
