@@ -28,8 +28,8 @@ class VerifyVerb(VerbExtensionPoint):
         satisfies_version(VerbExtensionPoint.EXTENSION_POINT_VERSION, "^1.0")
 
     def add_arguments(self, *, parser):  # noqa: D102
-        parser.add_argument("--build-base", default="build",
-                            help="The base path for all build directories (default: build)")
+        # no --build-base: verify reads only the install tree colcon built (it declared one and
+        # ignored it; an option that does nothing misleads)
         parser.add_argument("--install-base", default="install",
                             help="The install tree to check, merged or isolated (default: install)")
         add_packages_arguments(parser)
