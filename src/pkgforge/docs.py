@@ -64,12 +64,14 @@ def _indent(snippet: str) -> str:
 
 def rule_text(check: Check) -> str:
     """`pkgforge rule CODE|NAME`: one check, as `ruff rule` or `catkin_lint --help-problem` show one."""
+    import textwrap
+
     lines = [f"{check.code} {check.name} ({check.severity.label}, area {check.area})", "",
-             f"{check.summary[0].upper()}{check.summary[1:]}. {check.explanation}"]
+             textwrap.fill(f"{check.summary[0].upper()}{check.summary[1:]}. {check.explanation}", 88)]
     if check.bad:
         lines += ["", "Example:", "", _indent(check.bad)]
     if check.good:
         lines += ["", "Fixed:", "", _indent(check.good)]
-    lines += ["", f"Fix: {check.hint}.", f"Automatic fix: {FIX_WORDS[check.fix]}.",
+    lines += ["", textwrap.fill(f"Fix: {check.hint}.", 88), f"Automatic fix: {FIX_WORDS[check.fix]}.",
               f"Documentation: {help_uri(check)}"]
     return "\n".join(lines) + "\n"
