@@ -238,7 +238,8 @@ def read_config(path: Path) -> dict:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise PkgforgeError(f"{path}: invalid TOML: {exc}; fix the syntax at that line") from exc
+        where = str(exc).replace("(at end of document)", f"(at end of document, line {max(1, len(text.splitlines()))})")
+        raise PkgforgeError(f"{path}: invalid TOML: {where}; fix the syntax at that line") from exc
     validate(data, path, text)
     verify = data.get("verify", {})
     for key in ("select", "ignore"):
