@@ -47,7 +47,12 @@ def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900
         cwd=cwd, capture_output=True, text=True, timeout=timeout,
         stdin=subprocess.DEVNULL, env=env,
     )
-    PRINTED_CODES.update(re.findall(r"\bPF\d{3}\b", (result.stdout or "") + (result.stderr or "")))
+    printed = (result.stdout or "") + (result.stderr or "")
+    words = list(map(str, args))
+    for option, value in zip(words, words[1:]):  # and the report files it wrote
+        if option in ("--output", "-o", "--junit-xml") and (Path(cwd) / value).is_file():
+            printed += (Path(cwd) / value).read_text(errors="replace")
+    PRINTED_CODES.update(re.findall(r"\bPF\d{3}\b", printed))
     return result
 
 

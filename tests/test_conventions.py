@@ -191,19 +191,22 @@ def defective(tmp_path_factory):
     return package, json.loads(result.stdout)
 
 
-# (code, file in the package, text on the line, or None for a diagnostic of the whole file, severity)
+# (code, file in the package, text on the line, or None for a diagnostic of the whole file, severity);
+# each marked with its code, a literal: test_every_check_code_is_triggered_by_an_end_to_end_test reads it
 UNTESTED = [
-    ("PF309", "launch/extra.launch.py", "DeclareLaunchArgument('world')", "info"),
-    ("PF311", "launch/nav.launch.py", "from nav2_common.launch import", "info"),
-    ("PF312", "launch/old.launch", None, "info"),
-    ("PF404", "urdf/meshes.urdf", "file://", "warning"),
-    ("PF405", "urdf/meshes.urdf", "broken.stl", "error"),
-    ("PF406", "urdf/parts.urdf.xacro", "$(arg prefix)", "info"),
+    pytest.param("PF309", "launch/extra.launch.py", "DeclareLaunchArgument('world')", "info",
+                 marks=pytest.mark.triggers("PF309"), id="PF309"),
+    pytest.param("PF311", "launch/nav.launch.py", "from nav2_common.launch import", "info",
+                 marks=pytest.mark.triggers("PF311"), id="PF311"),
+    pytest.param("PF312", "launch/old.launch", None, "info", marks=pytest.mark.triggers("PF312"), id="PF312"),
+    pytest.param("PF404", "urdf/meshes.urdf", "file://", "warning", marks=pytest.mark.triggers("PF404"), id="PF404"),
+    pytest.param("PF405", "urdf/meshes.urdf", "broken.stl", "error", marks=pytest.mark.triggers("PF405"), id="PF405"),
+    pytest.param("PF406", "urdf/parts.urdf.xacro", "$(arg prefix)", "info",
+                 marks=pytest.mark.triggers("PF406"), id="PF406"),
 ]
 
 
-@pytest.mark.parametrize("code, relative, text, severity", [
-    pytest.param(*case, marks=pytest.mark.triggers(case[0]), id=case[0]) for case in UNTESTED])
+@pytest.mark.parametrize("code, relative, text, severity", UNTESTED)
 def test_untested_check_found_at_its_line(defective, code, relative, text, severity):
     package, report = defective
     line = line_of(package / relative, text) if text else None
@@ -213,7 +216,7 @@ def test_untested_check_found_at_its_line(defective, code, relative, text, sever
 
 def test_each_defect_is_one_diagnostic(defective):
     _, report = defective
-    assert sorted(d["code"] for d in report["diagnostics"]) == sorted(case[0] for case in UNTESTED)
+    assert sorted(d["code"] for d in report["diagnostics"]) == sorted(case.values[0] for case in UNTESTED)
 
 
 # --- pkgforge.toml: validated, severity per check --------------------------------------------
