@@ -137,18 +137,28 @@ def _distros(value) -> bool:
     return isinstance(value, str) or (isinstance(value, list) and all(isinstance(v, str) for v in value))
 
 
-PACKAGE_KEYS = {"ignore": (_strings, "a list of check codes or names")}
+SEVERITIES = ("error", "warning", "info")
+
+
+@dataclass(frozen=True)
+class Entries:
+    """A table whose keys are the user's (package names, checks); each value follows `each`."""
+
+    each: object  # a table's schema (dict) or (test, what it must be)
+    key_is_check: bool = False  # each key must name a check (code, code prefix or name)
+
+
 SCHEMA = {
     "verify": {
         "select": (_strings, "a list of check codes, code prefixes or names"),
         "ignore": (_strings, "a list of check codes, code prefixes or names"),
         "distro": (_distros, "a ROS 2 distro name, or a list of them"),
-        "packages": "PACKAGES",
+        "packages": Entries({"ignore": (_strings, "a list of check codes or names")}),  # workspace file only
     },
     # check code, code prefix or name = "error" | "warning" | "info"
-    "severity": "SEVERITY",
+    "severity": Entries((lambda level: isinstance(level, str) and level.lower() in SEVERITIES,
+                         f"one of {', '.join(map(repr, SEVERITIES))}"), key_is_check=True),
 }
-SEVERITIES = ("error", "warning", "info")
 
 
 def key_line(text: str, dotted: str) -> int | None:
@@ -174,9 +184,13 @@ def key_line(text: str, dotted: str) -> int | None:
     return None
 
 
-def _problem(path: Path, text: str, dotted: str, what: str) -> PkgforgeError:
+def _at(text: str, dotted: str) -> str:
     line = key_line(text, dotted)
-    return PkgforgeError(f"{path}{f':{line}' if line else ''}: {what}")
+    return f":{line}" if line else ""
+
+
+def _problem(path: Path, text: str, dotted: str, what: str) -> PkgforgeError:
+    return PkgforgeError(f"{path}{_at(text, dotted)}: {what}")
 
 
 def _unknown(path: Path, text: str, dotted: str, known) -> PkgforgeError:
@@ -190,44 +204,25 @@ def _unknown(path: Path, text: str, dotted: str, known) -> PkgforgeError:
 
 def validate(data: dict, path: Path, text: str) -> None:
     """Every key known and of the right type: exit 2 naming the key, the file and its line."""
-    def table(value, schema: dict, prefix: str) -> None:
-        for key, item in value.items():
-            dotted = f"{prefix}{key}"
-            if key not in schema:
-                raise _unknown(path, text, dotted, schema)
-            rule = schema[key]
-            if isinstance(rule, dict):
-                if not isinstance(item, dict):
-                    raise _problem(path, text, dotted, f"'{dotted}' must be a table ([{dotted}])")
-                table(item, rule, dotted + ".")
-            elif rule == "PACKAGES":
-                if not isinstance(item, dict):
-                    raise _problem(path, text, dotted, f"'{dotted}' must be a table of packages")
-                for package, own in item.items():
-                    where = f"{dotted}.{package}"
-                    if not isinstance(own, dict):
-                        raise _problem(path, text, where, f"'{where}' must be a table ([{where}])")
-                    table(own, PACKAGE_KEYS, where + ".")
-            elif rule == "SEVERITY":
-                if not isinstance(item, dict):
-                    raise _problem(path, text, dotted, f"'{dotted}' must be a table ([{dotted}])")
-                for check, level in item.items():
-                    where = f"{dotted}.{check}"
-                    validate_keys([check], f"{path}{_at(text, where)}: {where}")
-                    if not isinstance(level, str) or level.lower() not in SEVERITIES:
-                        raise _problem(path, text, where, f"'{where}' must be one of "
-                                                          f"{', '.join(map(repr, SEVERITIES))}, not {level!r}")
-            else:
-                check, expected = rule
-                if not check(item):
-                    raise _problem(path, text, dotted, f"'{dotted}' must be {expected}, not {item!r}")
+    def value(item, rule, dotted: str) -> None:
+        if isinstance(rule, (dict, Entries)) and not isinstance(item, dict):
+            raise _problem(path, text, dotted, f"'{dotted}' must be a table ([{dotted}])")
+        if isinstance(rule, dict):
+            for key, own in item.items():
+                if key not in rule:
+                    raise _unknown(path, text, f"{dotted}.{key}".lstrip("."), rule)
+                value(own, rule[key], f"{dotted}.{key}".lstrip("."))
+        elif isinstance(rule, Entries):
+            for key, own in item.items():
+                if rule.key_is_check:
+                    validate_keys([key], f"{path}{_at(text, f'{dotted}.{key}')}: {dotted}.{key}")
+                value(own, rule.each, f"{dotted}.{key}")
+        else:
+            test, expected = rule
+            if not test(item):
+                raise _problem(path, text, dotted, f"'{dotted}' must be {expected}, not {item!r}")
 
-    table(data, SCHEMA, "")
-
-
-def _at(text: str, dotted: str) -> str:
-    line = key_line(text, dotted)
-    return f":{line}" if line else ""
+    value(data, SCHEMA, "")
 
 
 def read_config(path: Path) -> dict:
