@@ -161,6 +161,9 @@ SCHEMA = {
 }
 
 
+KEY = r"""(?:"[^"]*"|'[^']*'|[A-Za-z0-9_\-]+)"""  # a TOML key: quoted or bare
+
+
 def key_line(text: str, dotted: str) -> int | None:
     """The line that sets `dotted` (a.b.c) in TOML text: its `[a.b]` header or its `c = ...`."""
     import re
@@ -177,8 +180,7 @@ def key_line(text: str, dotted: str) -> int | None:
             if table == want:
                 return number
             continue
-        assignment = re.match(r"\s*((?:\"[^\"]*\"|'[^']*'|[A-Za-z0-9_\-]+)(?:\s*\.\s*(?:\"[^\"]*\"|'[^']*'|[A-Za-z0-9_\-]+))*)\s*=",
-                              line)
+        assignment = re.match(rf"\s*({KEY}(?:\s*\.\s*{KEY})*)\s*=", line)
         if assignment and table + parts(assignment.group(1)) == want:
             return number
     return None

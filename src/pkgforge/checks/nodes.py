@@ -56,7 +56,8 @@ def node_arguments_string(ctx: CheckContext):
                "Node(package='robot_state_publisher', executable='robot_state_publisher', arguments=[urdf_file])"),
           good=("# launch/display.launch.py\n"
                 "Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
-                "     parameters=[{'robot_description': ParameterValue(Command(['xacro ', urdf_file]), value_type=str)}])"),
+                "     parameters=[{'robot_description':\n"
+                "         ParameterValue(Command(['xacro ', urdf_file]), value_type=str)}])"),
           summary="robot_state_publisher is given the robot model file as a command-line argument",
           explanation="Reading the URDF from a file argument is deprecated in robot_state_publisher "
                       "and removed in Rolling: the node then starts with no model (an error when "
