@@ -33,13 +33,40 @@ VARIANTS = {
 MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "test@example.com"]
 
 
+# every check code a real pkgforge run printed in this session: a test marked
+# @pytest.mark.triggers(CODE) must have made pkgforge print CODE (see _triggers_printed)
+PRINTED_CODES: set[str] = set()
+
+
 def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900):
     """Run the installed pkgforge in a subprocess, as a user would."""
-    return subprocess.run(
+    import re
+
+    result = subprocess.run(
         [sys.executable, "-m", "pkgforge", *map(str, args)],
         cwd=cwd, capture_output=True, text=True, timeout=timeout,
         stdin=subprocess.DEVNULL, env=env,
     )
+    printed = (result.stdout or "") + (result.stderr or "")
+    words = list(map(str, args))
+    for option, value in zip(words, words[1:]):  # and the report files it wrote
+        if option in ("--output", "-o", "--junit-xml") and (Path(cwd) / value).is_file():
+            printed += (Path(cwd) / value).read_text(errors="replace")
+    PRINTED_CODES.update(re.findall(r"\bPF\d{3}\b", printed))
+    return result
+
+
+@pytest.fixture(autouse=True)
+def _triggers_printed(request):
+    """A test marked @pytest.mark.triggers(CODE) ran the real pkgforge and it printed CODE
+    (tests/test_conventions.py counts the marks: every check code needs one)."""
+    yield
+    marker = request.node.get_closest_marker("triggers")
+    if marker is not None:
+        missing = sorted(set(marker.args) - PRINTED_CODES)
+        if missing:
+            pytest.fail(f"{request.node.nodeid} is marked triggers({', '.join(missing)}) but no "
+                        f"pkgforge it ran (conftest.run_pkgforge) printed {', '.join(missing)}")
 
 
 def new_package(workspace: Path, name: str, *options: str) -> Path:

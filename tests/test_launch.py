@@ -83,6 +83,7 @@ def test_rviz_not_installed_is_an_uninstalled_reference(tmp_path, style, marker)
     assert "rviz" in diagnostic["hint"] and "CMakeLists.txt:" in diagnostic["hint"]
 
 
+@pytest.mark.triggers("PF304")
 def test_package_looked_up_by_the_wrong_name_is_unknown(tmp_path):
     package = humble_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
@@ -114,6 +115,7 @@ def test_missing_exec_depend_found_through_the_gui_branch(tmp_path, fmt, marker)
     assert diagnostic["hint"].startswith("add <exec_depend>joint_state_publisher_gui</exec_depend>")
 
 
+@pytest.mark.triggers("PF306")
 def test_jsp_given_the_model_as_an_argument(tmp_path):
     package = jazzy_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
@@ -125,6 +127,7 @@ def test_jsp_given_the_model_as_an_argument(tmp_path):
                               line_of(launch, 'package="joint_state_publisher_gui"'))]
 
 
+@pytest.mark.triggers("PF307")
 def test_robot_description_without_value_type(tmp_path):
     package = jazzy_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
@@ -137,6 +140,7 @@ def test_robot_description_without_value_type(tmp_path):
                               line_of(launch, "robot_description_content = Command("))]
 
 
+@pytest.mark.triggers("PF308")
 def test_xacro_error_names_xacros_message(tmp_path):
     package = jazzy_package(tmp_path)
     (package / "urdf" / "small_turtle.urdf").write_text(
@@ -172,6 +176,7 @@ BROKEN = {
 }
 
 
+@pytest.mark.triggers("PF301")
 def test_broken_launch_files_are_reported_and_the_rest_verified(tmp_path):
     for name, (code, _, _) in BROKEN.items():
         result = run_pkgforge("new", f"b_{name}", "--maintainer-email", "t@example.com",

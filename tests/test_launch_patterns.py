@@ -107,6 +107,7 @@ def test_every_pattern_gives_exactly_what_ros_gives(pattern_bot, jazzy_report):
     assert found == expected_jazzy(package), json.dumps(jazzy_report, indent=1)
 
 
+@pytest.mark.triggers("PF310")
 def test_messages_name_the_cause(jazzy_report):
     messages = {(d["code"], Path(d["path"]).name): d["message"] for d in jazzy_report}
     assert messages[("PF301", "bool_default.launch.py")].endswith("TypeError: 'bool' object is not iterable")
@@ -132,6 +133,7 @@ def test_humble_lacks_the_names_jazzy_added(pattern_bot):
     assert "Unknown substitution: equals" in errors[(path, line)]
 
 
+@pytest.mark.triggers("PF315")
 def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
     package = copy_fixture(FIXTURE, tmp_path)
     cmake = package / "CMakeLists.txt"

@@ -78,6 +78,7 @@ def test_clean_across_two_packages(workspace):
     assert found(report) == []
 
 
+@pytest.mark.triggers("PF402")
 def test_meshes_folder_not_installed(workspace):
     cmake = rob(workspace) / "CMakeLists.txt"
     edit(cmake, "DIRECTORY launch meshes rviz urdf", "DIRECTORY launch rviz urdf")
@@ -89,6 +90,7 @@ def test_meshes_folder_not_installed(workspace):
     assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in report["diagnostics"][0]["hint"]
 
 
+@pytest.mark.triggers("PF403")
 def test_mesh_case_mismatch(workspace):
     meshes = rob(workspace) / "meshes"
     (meshes / "arm.stl").rename(meshes / "arm.STL")
@@ -99,6 +101,7 @@ def test_mesh_case_mismatch(workspace):
     assert "arm.STL" in report["diagnostics"][0]["hint"]
 
 
+@pytest.mark.triggers("PF305")
 def test_find_of_an_undeclared_package(workspace):
     edit(rob(workspace) / "package.xml", "  <exec_depend>base_description</exec_depend>\n", "")
     model = rob(workspace) / "urdf" / "rob_description.urdf.xacro"
@@ -119,6 +122,7 @@ def test_include_of_a_missing_file(workspace):
     assert "plates.xacro" in report["diagnostics"][0]["message"]
 
 
+@pytest.mark.triggers("PF401")
 def test_joint_with_a_missing_child_link(workspace):
     model = rob(workspace) / "urdf" / "rob_description.urdf.xacro"
     edit(model, '<child link="arm_link"/>', '<child link="arm"/>')
@@ -131,6 +135,7 @@ def test_joint_with_a_missing_child_link(workspace):
     assert {d["code"] for d in report["diagnostics"]} == {"PF401"}
 
 
+@pytest.mark.triggers("PF502")
 def test_robot_model_with_an_empty_description_topic(workspace):
     config = rob(workspace) / "rviz" / "display.rviz"
     edit(config, "        Value: /robot_description", '        Value: ""')
@@ -140,6 +145,7 @@ def test_robot_model_with_an_empty_description_topic(workspace):
                               line_of(config, "Description Topic:"))]
 
 
+@pytest.mark.triggers("PF503")
 def test_fixed_frame_not_in_the_model(workspace):
     config = rob(workspace) / "rviz" / "display.rviz"
     edit(config, "Fixed Frame: base_link", "Fixed Frame: base_footprint")
@@ -155,6 +161,7 @@ def test_fixed_frame_map_is_accepted(workspace):
     assert found(verify(workspace)[1]) == []
 
 
+@pytest.mark.triggers("PF501")
 def test_rviz_config_that_is_not_rviz(workspace):
     config = rob(workspace) / "rviz" / "display.rviz"
     config.write_text("Panels: [\n  - oops\n")

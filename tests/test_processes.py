@@ -270,6 +270,7 @@ def test_worker_that_kills_itself_is_reported_and_pkgforge_goes_on(limits_worksp
 
 # --- verify --build on a failing build ---------------------------------------------------------
 
+@pytest.mark.triggers("PF902")
 def test_failing_build_still_reports_everything(tmp_path):
     """Two packages that fail differently: each gets build-failed, the static checks still run,
     and every report file asked for is written."""

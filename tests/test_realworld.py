@@ -198,6 +198,7 @@ def test_a_real_package_outside_the_old_list_is_missing_exec_depend(every_distro
     assert hints == {"rviz": "declare rviz2 instead", "join_state_publisher": "did you mean joint_state_publisher?"}
 
 
+@pytest.mark.triggers("PF108")
 def test_gazebo_ros_on_jazzy_is_package_not_in_distro(jazzy, workspace):
     manifest = src(workspace, "distro_description", "package.xml")
     launch = src(workspace, "distro_description", "launch/display.launch.py")
@@ -264,6 +265,7 @@ def test_unknown_package_is_a_name_in_no_distro(tmp_path):
 
 # --- 4. new checks ---------------------------------------------------------------------------
 
+@pytest.mark.triggers("PF109")
 def test_find_package_undeclared(every_distro, workspace):
     cmake = src(workspace, "find_description", "CMakeLists.txt")
     manifest = src(workspace, "find_description", "package.xml")
@@ -274,6 +276,7 @@ def test_find_package_undeclared(every_distro, workspace):
     assert diagnostic["hint"] == f"change package.xml:{declared} to <depend>xacro</depend>"
 
 
+@pytest.mark.triggers("PF313", "PF314")
 def test_node_arguments_string_and_rsp_model_argument(every_distro, workspace):
     launch = src(workspace, "args_description", "launch/display.launch.py")
     assert findings(every_distro, "args_description") == [
@@ -291,6 +294,7 @@ def test_rsp_model_argument_is_an_error_on_rolling(workspace):
     assert [d["severity"] for d in report["diagnostics"]] == ["error"]
 
 
+@pytest.mark.triggers("PF209")
 def test_package_not_installed_from_the_install_base(tmp_path, variants_workspace):
     """A package that failed to build is absent from the install base: an error, not a clean report.
     The session's built variants are the install base; v_jazzy is in it, broken_description not."""
@@ -307,6 +311,7 @@ def test_package_not_installed_from_the_install_base(tmp_path, variants_workspac
 
 # --- 5. precision ----------------------------------------------------------------------------
 
+@pytest.mark.triggers("PF303")
 def test_one_defect_one_diagnostic_and_user_paths(every_distro, workspace):
     launch = src(workspace, "precise_description", "launch/display.launch.py")
     manifest = src(workspace, "precise_description", "package.xml")

@@ -106,6 +106,7 @@ def hostile_workspace(tmp_path_factory) -> Path:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("mode", [[], ["--build"], ["--install-base", "install"]], ids=["predicted", "build", "install-base"])
+@pytest.mark.triggers("PF316")
 def test_verify_changes_nothing_of_the_users(hostile_workspace, mode):
     workspace = hostile_workspace
     package = workspace / "src" / "victim"

@@ -60,6 +60,7 @@ def test_manifest_invalid_missing_license(package):
     assert 'license' in report["diagnostics"][0]["message"]
 
 
+@pytest.mark.triggers("PF101")
 def test_manifest_invalid_truncated(package):
     manifest = package / "package.xml"
     manifest.write_text("\n".join(manifest.read_text().splitlines()[:8]) + "\n")
@@ -81,6 +82,7 @@ def test_manifest_invalid_not_utf8(package):
     assert f"not valid UTF-8: byte 0xff at line {description_line}" in report["diagnostics"][0]["message"]
 
 
+@pytest.mark.triggers("PF102")
 def test_package_name_invalid(tmp_path, template_package):
     target = tmp_path / "src" / "Rob_description"
     shutil.copytree(template_package, target)
@@ -94,6 +96,7 @@ def test_package_name_invalid(tmp_path, template_package):
     assert "upper-case" in report["diagnostics"][0]["message"]
 
 
+@pytest.mark.triggers("PF103")
 def test_project_name_mismatch(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "project(rob_description NONE)", "project(robot_description NONE)")
@@ -107,6 +110,7 @@ def test_project_name_mismatch(package):
             line_of(model, "$(find rob_description)")) in findings(report)
 
 
+@pytest.mark.triggers("PF104")
 def test_folder_name_mismatch(package):
     renamed = package.with_name("rob_desc")
     package.rename(renamed)
@@ -118,6 +122,7 @@ def test_folder_name_mismatch(package):
                                  line_of(renamed / "package.xml", "<name>"))]
 
 
+@pytest.mark.triggers("PF105")
 def test_build_type_missing(package):
     manifest = package / "package.xml"
     content = manifest.read_text()
@@ -129,6 +134,7 @@ def test_build_type_missing(package):
     assert "<build_type>ament_cmake</build_type>" in report["diagnostics"][0]["hint"]
 
 
+@pytest.mark.triggers("PF106")
 def test_duplicate_dependency(package):
     manifest = package / "package.xml"
     edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
@@ -149,6 +155,7 @@ def test_duplicate_generic_dependency_is_an_error(package):
                                  line_of(manifest, "<exec_depend>rviz2"))]
 
 
+@pytest.mark.triggers("PF107")
 def test_unused_exec_depend(package):
     manifest = package / "package.xml"
     edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
@@ -159,6 +166,7 @@ def test_unused_exec_depend(package):
                                  line_of(manifest, "gazebo_ros"))]
 
 
+@pytest.mark.triggers("PF201")
 def test_install_missing_directory_seed001(tmp_path):
     package = copy_fixture("seed001/small_turtle", tmp_path)
     status, report = verify_json(package)
@@ -170,6 +178,7 @@ def test_install_missing_directory_seed001(tmp_path):
     assert [d["column"] for d in report["diagnostics"]] == [26, 45]
 
 
+@pytest.mark.triggers("PF202")
 def test_directory_not_installed_referenced_is_an_error(package):
     """Without launch resolution (issue 4's checks alone) the folder is reported."""
     cmake = package / "CMakeLists.txt"
@@ -183,6 +192,7 @@ def test_directory_not_installed_referenced_is_an_error(package):
     assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in diagnostic["hint"]
 
 
+@pytest.mark.triggers("PF302")
 def test_folder_a_launch_file_needs_is_reported_at_the_launch_line(package):
     """With launch resolution, the launch file's line is where the problem shows."""
     cmake = package / "CMakeLists.txt"
@@ -227,6 +237,7 @@ def test_seed000_shape_with_launch_resolution(tmp_path):
             line_of(package / "package.xml", "<name>")) in findings(report)
 
 
+@pytest.mark.triggers("PF203")
 def test_install_wrong_destination(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "ament_package()", "install(DIRECTORY urdf DESTINATION share)\nament_package()")
@@ -244,18 +255,21 @@ def test_cmake_invalid_unterminated_argument(package):
     assert "unterminated quoted argument" in report["diagnostics"][0]["message"]
 
 
+@pytest.mark.triggers("PF204")
 def test_cmake_invalid_empty_file(package):
     (package / "CMakeLists.txt").write_text("")
     status, report = verify_json(package)
     assert ("PF204", "cmake-invalid", "error", "CMakeLists.txt", 1) in findings(report)
 
 
+@pytest.mark.triggers("PF205")
 def test_ament_package_missing(package):
     edit(package / "CMakeLists.txt", "ament_package()", "")
     status, report = verify_json(package)
     assert findings(report) == [("PF205", "ament-package-missing", "error", "CMakeLists.txt", None)]
 
 
+@pytest.mark.triggers("PF206")
 def test_install_rule_unevaluated(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "ament_package()", "install(DIRECTORY $ENV{EXTRA} DESTINATION share/${PROJECT_NAME})\nament_package()")
@@ -265,6 +279,7 @@ def test_install_rule_unevaluated(package):
                                  line_of(cmake, "$ENV{EXTRA}"))]
 
 
+@pytest.mark.triggers("PF207")
 def test_install_missing_file(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "ament_package()", "install(FILES README.md DESTINATION share/${PROJECT_NAME})\nament_package()")
@@ -273,6 +288,7 @@ def test_install_missing_file(package):
                                  line_of(cmake, "README.md"))]
 
 
+@pytest.mark.triggers("PF208")
 def test_setup_py_invalid(tmp_path):
     result = run_pkgforge("new", "rob_py", *MAINTAINER, "--build-type", "ament_python",
                           "--destination", "src", cwd=tmp_path)
@@ -300,6 +316,7 @@ def test_ament_python_data_files_missing_folder(tmp_path):
     assert "data_files in setup.py" in report["diagnostics"][0]["hint"]
 
 
+@pytest.mark.triggers("PF901")
 def test_file_not_read_for_a_50mb_file(package):
     (package / "urdf" / "huge.urdf").write_bytes(b"<robot>" + b" " * 50_000_000)
     status, report = verify_json(package)

@@ -99,6 +99,7 @@ def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
     assert codes(report) == [], report["diagnostics"]
 
 
+@pytest.mark.triggers("PF903")
 def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package, nest):
     deepest = nest(package / "meshes", 1000)
     (deepest / "part.stl").write_bytes(b"solid x\nendsolid x\n")

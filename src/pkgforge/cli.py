@@ -16,7 +16,7 @@ import click  # noqa: E402
 from . import __version__  # noqa: E402
 from .distros import DISTROS, NEWEST_LTS, default_distro  # noqa: E402
 from .errors import PkgforgeError  # noqa: E402
-from .report import FORMATS  # noqa: E402
+from .report import COLOR_CHOICES, FORMATS  # noqa: E402
 from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS  # noqa: E402
 
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
@@ -209,6 +209,13 @@ def build(path, build_base, install_base, packages_select, build_tests, no_stubs
     click.echo(f"built {len(result.packages)} package(s) into {os.path.relpath(result.install_base)}/")
 
 
+def color_option(function):
+    """--color, for every command whose output can be coloured."""
+    return click.option("--color", "color", type=click.Choice(COLOR_CHOICES), default="auto", show_default=True,
+                        help="Colour the text report: auto (a terminal, unless NO_COLOR is set or "
+                             "FORCE_COLOR is), always or never.")(function)
+
+
 def _split_keys(values: tuple[str, ...]) -> list[str]:
     return [k.strip() for value in values for k in value.split(",") if k.strip()]
 
@@ -231,6 +238,7 @@ def _into_meta(ctx, param, value):
 @click.option("--ignore", multiple=True, metavar="CHECKS",
               help="Skip these checks: codes, code prefixes or names; comma-separated.")
 @click.option("--strict", is_flag=True, help="Treat warnings as errors (exit 1 on any warning).")
+@color_option
 @click.option("--jobs", "-j", type=click.IntRange(1), default=None,
               help="Packages verified at once [default: the number of cores].")
 @click.option("--build", "build_tree", is_flag=True,
@@ -266,7 +274,7 @@ def _into_meta(ctx, param, value):
               help="Apply the fixes of what verify finds: the same as `pkgforge fix PATH`.")
 @click.option("--unsafe-fixes", is_flag=True, expose_value=False, callback=_into_meta,
               help="With --fix: also apply the fixes marked unsafe.")
-def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tree, install_base, launch_args,
+def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, build_tree, install_base, launch_args,
            launch_timeout, worker_memory, launch_engine, ros_prefix, no_cache, target_distro, explain_launch,
            explain_model):
     """Check the package(s) at PATH against their install tree.
@@ -293,7 +301,8 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
         if others:
             fail(PkgforgeError(f"--fix runs verify's default mode and prints text: drop {', '.join(others)}"))
         run_fix_command((path,), select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=False,
-                        strict=strict, jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout)
+                        strict=strict, jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout,
+                        color=color)
     arguments = {}
     for text in launch_args:
         name, sep, value = text.partition(":=")
@@ -319,7 +328,9 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
         result = run_verify(path, options)
     except PkgforgeError as error:
         fail(error)
-    color = fmt == "text" and output is None and sys.stdout.isatty() and "NO_COLOR" not in os.environ
+    from .report import use_color
+
+    color = fmt == "text" and output is None and use_color(color, sys.stdout)
     text = render(fmt, result, color=color, strict=strict)
     if output is not None:
         try:
@@ -330,7 +341,7 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, jobs, build_tre
             from .report.text import summary
             click.echo(summary(result), err=True)
     else:
-        click.echo(text, nl=False)
+        click.echo(text, nl=False, color=color)
     if junit_xml is not None:
         try:
             junit_xml.parent.mkdir(parents=True, exist_ok=True)
@@ -353,15 +364,17 @@ def report_internal_errors(result) -> None:
 @main.command("verify-files", context_settings=CONTEXT_SETTINGS)
 @click.argument("files", nargs=-1, type=click.Path(path_type=Path))
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
-def verify_files(files, strict):
+@color_option
+def verify_files(files, strict, color):
     """Verify the packages that hold FILES (pre-commit passes the staged files).
 
     Each package found above a file is verified once, in the fast default mode.
     """
     from .config import Selection
-    from .report import render
+    from .report import render, use_color
     from .verify import VerifyOptions, verify as run_verify
 
+    color = use_color(color, sys.stdout)
     packages = []
     for file in files:
         folder = file.resolve().parent
@@ -377,7 +390,7 @@ def verify_files(files, strict):
             fail(error)
         result.root = Path.cwd()  # paths as the repository shows them
         if result.diagnostics:
-            click.echo(render("text", result, color=sys.stdout.isatty()), nl=False)
+            click.echo(render("text", result, color=color), nl=False, color=color)
         report_internal_errors(result)
         status = max(status, result.exit_code(strict))
     sys.exit(status)
@@ -397,6 +410,25 @@ def checks(fmt):
     for check in all_checks():
         fix = check.fix or "-"
         click.echo(f"{check.code}  {check.name:<28} {check.severity.label:<8} {fix:<6} {check.summary}")
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("check")
+def rule(check):
+    """Explain one check, by code (PF302) or name (uninstalled-reference): why, an example, the fix."""
+    import difflib
+
+    from .checks.registry import all_checks, find_check
+    from .docs import rule_text
+
+    found = find_check(check)
+    if found is None:
+        keys = [c.code for c in all_checks()] + [c.name for c in all_checks()]
+        close = difflib.get_close_matches(check.strip(), keys, n=3) or \
+            difflib.get_close_matches(check.strip().upper(), keys, n=3)
+        also = f" (did you mean {', '.join(close)}?)" if close else ""
+        fail(PkgforgeError(f"no check is coded or named '{check}'{also}; `pkgforge checks` lists them"))
+    click.echo(rule_text(found), nl=False)
 
 
 def _launch_arguments(launch_args) -> dict[str, str]:
@@ -426,11 +458,12 @@ def _fix_targets(paths) -> list[Path]:
 
 
 def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, launch_args,
-                    launch_timeout) -> None:
+                    launch_timeout, color="auto") -> None:
     """`pkgforge fix` and `pkgforge verify --fix`: fix, then report what was fixed and what remains."""
     from .config import Selection
     from .fix.report import render_fix
     from .fix.run import FixOptions, run_fix
+    from .report import use_color
     from .verify import VerifyOptions
 
     options = FixOptions(VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs,
@@ -444,12 +477,13 @@ def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, 
         except PkgforgeError as error:
             fail(error)
         run.result.root = Path.cwd()  # paths as the user's shell shows them
-        report, diff_text = render_fix(run, strict=strict)
+        shown = use_color(color, sys.stderr if diff else sys.stdout)
+        report, diff_text = render_fix(run, strict=strict, color=shown)
         if diff:
             click.echo(diff_text, nl=False)
-            click.echo(report, nl=False, err=True)
+            click.echo(report, nl=False, err=True, color=shown)
         else:
-            click.echo(report, nl=False)
+            click.echo(report, nl=False, color=shown)
         status = max(status, run.exit_code(strict))
     sys.exit(status)
 
@@ -464,13 +498,14 @@ def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, 
 @click.option("--ignore", multiple=True, metavar="CHECKS",
               help="Skip these checks: codes, code prefixes or names; comma-separated.")
 @click.option("--strict", is_flag=True, help="Exit 1 on any warning that remains.")
+@color_option
 @click.option("--jobs", "-j", type=click.IntRange(1), default=None,
               help="Packages and launch files processed at once [default: the number of cores].")
 @click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
               help="A launch argument's value for every launch file. Repeatable.")
 @click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
               help="Seconds one launch file may take to load and resolve.")
-def fix(paths, diff, unsafe_fixes, select, ignore, strict, jobs, launch_args, launch_timeout):
+def fix(paths, diff, unsafe_fixes, select, ignore, strict, color, jobs, launch_args, launch_timeout):
     """Verify PATH (default mode), apply the fixes of what it finds, and report what remains.
 
     PATH is a package, a workspace root or its src/, or files (each stands for its package;
@@ -478,4 +513,4 @@ def fix(paths, diff, unsafe_fixes, select, ignore, strict, jobs, launch_args, la
     file could not be written, 2 fix could not run.
     """
     run_fix_command(paths, select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=diff, strict=strict,
-                    jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout)
+                    jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout, color=color)

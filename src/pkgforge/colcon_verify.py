@@ -17,7 +17,7 @@ from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
 from .processes import DEFAULT_WORKER_MEMORY
-from .report import FORMATS
+from .report import COLOR_CHOICES, FORMATS
 
 
 class VerifyVerb(VerbExtensionPoint):
@@ -28,8 +28,8 @@ class VerifyVerb(VerbExtensionPoint):
         satisfies_version(VerbExtensionPoint.EXTENSION_POINT_VERSION, "^1.0")
 
     def add_arguments(self, *, parser):  # noqa: D102
-        parser.add_argument("--build-base", default="build",
-                            help="The base path for all build directories (default: build)")
+        # no --build-base: verify reads only the install tree colcon built (it declared one and
+        # ignored it; an option that does nothing misleads)
         parser.add_argument("--install-base", default="install",
                             help="The install tree to check, merged or isolated (default: install)")
         add_packages_arguments(parser)
@@ -38,6 +38,9 @@ class VerifyVerb(VerbExtensionPoint):
         parser.add_argument("--pkgforge-format", choices=FORMATS, default="text",
                             help="Output format on standard output (default: text)")
         parser.add_argument("--strict", action="store_true", help="Treat warnings as errors")
+        parser.add_argument("--color", choices=COLOR_CHOICES, default="auto",
+                            help="Colour the text report: auto (a terminal, unless NO_COLOR is set or FORCE_COLOR "
+                                 "is), always or never (default: auto)")
         parser.add_argument("--pkgforge-select", action="append", default=[], metavar="CHECKS",
                             help="Run only these checks (codes, prefixes or names; comma-separated)")
         parser.add_argument("--pkgforge-ignore", action="append", default=[], metavar="CHECKS",
@@ -88,7 +91,10 @@ class VerifyVerb(VerbExtensionPoint):
             # 2, as `pkgforge verify`: could not run (colcon turns a returned string into 1)
             print(f"colcon verify: {error}", file=sys.stderr)
             return 2
-        sys.stdout.write(render(args.pkgforge_format, result, color=sys.stdout.isatty(), strict=args.strict))
+        from .report import use_color
+
+        color = args.pkgforge_format == "text" and use_color(args.color, sys.stdout)
+        sys.stdout.write(render(args.pkgforge_format, result, color=color, strict=args.strict))
         if args.junit_xml:
             Path(args.junit_xml).parent.mkdir(parents=True, exist_ok=True)
             Path(args.junit_xml).write_text(render("junit", result, strict=args.strict), encoding="utf-8")

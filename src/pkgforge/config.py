@@ -8,6 +8,8 @@ pkgforge.toml, at the workspace root or a package root:
     distro = "jazzy"                     # or a list: the ROS 2 distros the package targets
     [verify.packages.rob_description]   # workspace file only
     ignore = ["folder-name-mismatch"]
+    [severity]                           # per check: code, code prefix or name
+    PF203 = "warning"                    # error, warning or info; a package's file wins
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .checks.registry import all_checks
+from .diagnostics import Severity
 from .errors import PkgforgeError
 
 if sys.version_info >= (3, 11):
@@ -31,10 +34,41 @@ CONFIG_FILE = "pkgforge.toml"
 class Selection:
     select: list[str] = field(default_factory=list)  # empty: every check
     ignore: list[str] = field(default_factory=list)
+    # [severity] of pkgforge.toml: check code, code prefix or name -> error, warning or info
+    severity: dict[str, str] = field(default_factory=dict)
 
     def key(self) -> str:
-        """The selection as text, for cache keys (with pkgforge's version, it decides the codes)."""
-        return f"{sorted(self.select)}|{sorted(self.ignore)}"
+        """The selection as text, for cache keys (with pkgforge's version, it decides the codes
+        and the severities a cached report holds)."""
+        return f"{sorted(self.select)}|{sorted(self.ignore)}|{sorted(self.severity.items())}"
+
+    def severity_of(self, check) -> Severity | None:
+        """The severity pkgforge.toml sets for this check: its code or name, else its longest
+        matching code prefix; None: the check's own."""
+        best: tuple[int, str] | None = None
+        for key, level in self.severity.items():
+            if not _matches(check, key):
+                continue
+            rank = 100 if key.strip() in (check.code, check.name) or key.strip().upper() == check.code \
+                else len(key.strip())
+            if best is None or rank > best[0]:
+                best = (rank, level)
+        return Severity.parse(best[1]) if best else None
+
+    def apply_severity(self, report) -> None:
+        """Rewrite the severity of the report's diagnostics as [severity] says (exit code follows)."""
+        if not self.severity:
+            return
+        from dataclasses import replace
+
+        from .checks.registry import REGISTRY
+
+        changed = []
+        for diagnostic in report.diagnostics:
+            check = REGISTRY.get(diagnostic.code)
+            level = self.severity_of(check) if check is not None else None
+            changed.append(replace(diagnostic, severity=level) if level is not None else diagnostic)
+        report.diagnostics = changed
 
     def codes(self) -> set[str]:
         checks = all_checks()
@@ -71,13 +105,16 @@ class Config:
         select = list(self.cli.select or verify.get("select", []))
         ignore = list(self.cli.ignore) + list(verify.get("ignore", []))
         ignore += list(verify.get("packages", {}).get(name, {}).get("ignore", []))
+        severity = {key: str(level).lower() for key, level in self.workspace.get("severity", {}).items()}
         own = package_path / CONFIG_FILE
         if own.is_file() and own != self.workspace_file:
-            own_verify = read_config(own).get("verify", {})
+            own_config = read_config(own)
+            own_verify = own_config.get("verify", {})
             ignore += list(own_verify.get("ignore", []))
             if not self.cli.select and own_verify.get("select"):
                 select = list(own_verify["select"])
-        return Selection(select, ignore)
+            severity.update({key: str(level).lower() for key, level in own_config.get("severity", {}).items()})
+        return Selection(select, ignore, severity)
 
     def distro_for(self, package_path: Path):
         """[verify] distro of the package's pkgforge.toml, else the workspace's; None if neither."""
@@ -89,30 +126,129 @@ class Config:
         return self.workspace.get("verify", {}).get("distro")
 
 
+# What pkgforge.toml may hold: a key not here (a misspelling) is an error, not silently ignored.
+# A value is checked by the function at its key; a dict is a table of known keys; PACKAGES is
+# a table whose keys are package names, each a table of PACKAGE_KEYS.
+def _strings(value) -> bool:
+    return isinstance(value, list) and all(isinstance(v, str) for v in value)
+
+
+def _distros(value) -> bool:
+    return isinstance(value, str) or (isinstance(value, list) and all(isinstance(v, str) for v in value))
+
+
+SEVERITIES = ("error", "warning", "info")
+
+
+@dataclass(frozen=True)
+class Entries:
+    """A table whose keys are the user's (package names, checks); each value follows `each`."""
+
+    each: object  # a table's schema (dict) or (test, what it must be)
+    key_is_check: bool = False  # each key must name a check (code, code prefix or name)
+
+
+SCHEMA = {
+    "verify": {
+        "select": (_strings, "a list of check codes, code prefixes or names"),
+        "ignore": (_strings, "a list of check codes, code prefixes or names"),
+        "distro": (_distros, "a ROS 2 distro name, or a list of them"),
+        "packages": Entries({"ignore": (_strings, "a list of check codes or names")}),  # workspace file only
+    },
+    # check code, code prefix or name = "error" | "warning" | "info"
+    "severity": Entries((lambda level: isinstance(level, str) and level.lower() in SEVERITIES,
+                         f"one of {', '.join(map(repr, SEVERITIES))}"), key_is_check=True),
+}
+
+
+KEY = r"""(?:"[^"]*"|'[^']*'|[A-Za-z0-9_\-]+)"""  # a TOML key: quoted or bare
+
+
+def key_line(text: str, dotted: str) -> int | None:
+    """The line that sets `dotted` (a.b.c) in TOML text: its `[a.b]` header or its `c = ...`."""
+    import re
+
+    def parts(name: str) -> list[str]:
+        return [p.strip().strip('"').strip("'") for p in re.findall(r'"[^"]*"|\'[^\']*\'|[^.]+', name)]
+
+    want = parts(dotted)
+    table: list[str] = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        header = re.match(r"\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(#.*)?$", line)
+        if header:
+            table = parts(header.group(1))
+            if table == want:
+                return number
+            continue
+        assignment = re.match(rf"\s*({KEY}(?:\s*\.\s*{KEY})*)\s*=", line)
+        if assignment and table + parts(assignment.group(1)) == want:
+            return number
+    return None
+
+
+def _at(text: str, dotted: str) -> str:
+    line = key_line(text, dotted)
+    return f":{line}" if line else ""
+
+
+def _problem(path: Path, text: str, dotted: str, what: str) -> PkgforgeError:
+    return PkgforgeError(f"{path}{_at(text, dotted)}: {what}")
+
+
+def _unknown(path: Path, text: str, dotted: str, known) -> PkgforgeError:
+    import difflib
+
+    name = dotted.rpartition(".")[2]
+    close = difflib.get_close_matches(name, list(known), n=1)
+    also = f"did you mean '{close[0]}'? " if close else ""
+    return _problem(path, text, dotted, f"unknown key '{dotted}' ({also}known here: {', '.join(known)})")
+
+
+def validate(data: dict, path: Path, text: str) -> None:
+    """Every key known and of the right type: exit 2 naming the key, the file and its line."""
+    def value(item, rule, dotted: str) -> None:
+        if isinstance(rule, (dict, Entries)) and not isinstance(item, dict):
+            raise _problem(path, text, dotted, f"'{dotted}' must be a table ([{dotted}])")
+        if isinstance(rule, dict):
+            for key, own in item.items():
+                if key not in rule:
+                    raise _unknown(path, text, f"{dotted}.{key}".lstrip("."), rule)
+                value(own, rule[key], f"{dotted}.{key}".lstrip("."))
+        elif isinstance(rule, Entries):
+            for key, own in item.items():
+                if rule.key_is_check:
+                    validate_keys([key], f"{path}{_at(text, f'{dotted}.{key}')}: {dotted}.{key}")
+                value(own, rule.each, f"{dotted}.{key}")
+        else:
+            test, expected = rule
+            if not test(item):
+                raise _problem(path, text, dotted, f"'{dotted}' must be {expected}, not {item!r}")
+
+    value(data, SCHEMA, "")
+
+
 def read_config(path: Path) -> dict:
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise PkgforgeError(f"{path}: cannot read: {exc}") from exc
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise PkgforgeError(f"{path}: invalid TOML: {exc}") from exc
+        where = str(exc).replace("(at end of document)", f"(at end of document, line {max(1, len(text.splitlines()))})")
+        raise PkgforgeError(f"{path}: invalid TOML: {where}; fix the syntax at that line") from exc
+    validate(data, path, text)
     verify = data.get("verify", {})
-    if not isinstance(verify, dict):
-        raise PkgforgeError(f"{path}: [verify] must be a table")
     for key in ("select", "ignore"):
-        value = verify.get(key, [])
-        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-            raise PkgforgeError(f"{path}: verify.{key} must be a list of check codes or names")
-        validate_keys(value, f"{path}: verify.{key}")
+        validate_keys(verify.get(key, []), f"{path}{_at(text, 'verify.' + key)}: verify.{key}")
     distro = verify.get("distro")
     if distro is not None:
         from .distros import DISTROS
 
         chosen = [distro] if isinstance(distro, str) else distro
-        if not isinstance(chosen, list) or not chosen or \
-                any(not isinstance(d, str) or d not in DISTROS for d in chosen):
-            raise PkgforgeError(f"{path}: verify.distro must name active ROS 2 distros "
-                                f"({', '.join(DISTROS)}), as a string or a list")
+        if not chosen or any(d not in DISTROS for d in chosen):
+            raise PkgforgeError(f"{path}{_at(text, 'verify.distro')}: verify.distro must name active ROS 2 "
+                                f"distros ({', '.join(DISTROS)}), as a string or a list")
     for package, table in verify.get("packages", {}).items():
         validate_keys(list(table.get("ignore", [])), f"{path}: verify.packages.{package}.ignore")
     return data

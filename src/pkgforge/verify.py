@@ -35,7 +35,7 @@ NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
-TREE_AREAS = ("launch", "model", "rviz", "build")
+TREE_AREAS = ("launch", "model", "rviz")
 
 
 @dataclass(frozen=True)
@@ -416,8 +416,9 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     from .checks.registry import all_checks
 
     jobs = options.jobs or os.cpu_count() or 1
-    codes = {t.path: config.for_package(t.name, t.path).codes() for t in targets}
-    tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS}
+    selections = {t.path: config.for_package(t.name, t.path) for t in targets}
+    codes = {path: selection.codes() for path, selection in selections.items()}
+    tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS} | {BUILD_FAILED}
     checked = [models[t.path] for t in targets]
 
     tree = None
@@ -479,6 +480,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             reports.append(run_checks(context, codes[target.path]))
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
                 _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})
+            selections[target.path].apply_severity(reports[-1])  # [severity] of pkgforge.toml
             if options.use_cache and tree is not None:
                 from .cache import externals as read_elsewhere
 

@@ -16,7 +16,12 @@ ERROR_LINE = re.compile(r"CMake Error|Traceback \(most recent call last\)|\berro
 
 
 # verify.py reports it from the build's outcome (no check function reads a context)
-register("PF902", "build-failed", "error", area="build",
+register("PF902", "build-failed", "error", area="run",
+         bad=("# CMakeLists.txt\n"
+              "find_package(ament_cmake REQUIRED)\n"
+              "add_subdirectory(missing)  # CMake Error"),
+         good=("# CMakeLists.txt\n"
+               "find_package(ament_cmake REQUIRED)"),
          summary="colcon could not build the package (`verify --build`)",
          explanation="Nothing it would install exists, so its launch files, models and RViz configs "
                      "were not checked against a built tree; every check that needs no tree still ran.",

@@ -9,7 +9,9 @@ from .context import CheckContext
 from .registry import register
 
 
-@register("PF901", "file-not-read", "info", area="files",
+@register("PF901", "file-not-read", "info", area="run",
+          bad="# urdf/robot.urdf: 20 MB (a mesh pasted into the model) or mode 000",
+          good="# urdf/robot.urdf: the mesh as a file in meshes/, the model readable and small",
           summary="a file pkgforge would read is too large or unreadable",
           explanation="pkgforge reads launch files, models and RViz configs to find what they "
                       "refer to; a file it cannot read is left out of those checks.",
@@ -43,7 +45,9 @@ def read_problem_hint(problem: str | None) -> str | None:
     return None
 
 
-@register("PF903", "folder-not-walked", "warning", area="files",
+@register("PF903", "folder-not-walked", "warning", area="run",
+          bad="# meshes/meshes/meshes/...: a folder copied into itself, 64 levels deep",
+          good="# meshes/: the accidental copy removed",
           summary="a folder cannot be read, or nests too deep or holds too many files to look at all of it",
           explanation="pkgforge walks a package (and its installed share folder) at most 64 folders "
                       "deep and over at most 100000 files, so that a folder copied into itself or a "

@@ -94,6 +94,10 @@ def install_fix_data(model: PackageModel, folder: str) -> dict:
 
 
 @register("PF201", "install-missing-directory", "error", area="install", fix="unsafe",
+          bad=("# CMakeLists.txt (the package has no worlds/)\n"
+               "install(DIRECTORY launch urdf worlds DESTINATION share/${PROJECT_NAME})"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"),
           summary="an install rule names a source folder that does not exist",
           explanation="CMake stops at install time with 'file INSTALL cannot find' (user story 2: "
                       "a tutorial's install rule lists worlds/ and models/ the package lacks).",
@@ -112,6 +116,10 @@ def install_missing_directory(ctx: CheckContext):
 
 
 @register("PF207", "install-missing-file", "error", area="install",
+          bad=("# CMakeLists.txt (there is no README.txt)\n"
+               "install(FILES README.txt DESTINATION share/${PROJECT_NAME})"),
+          good=("# CMakeLists.txt\n"
+                "install(FILES README.md DESTINATION share/${PROJECT_NAME})"),
           summary="an install rule or data_files entry names a file that does not exist",
           explanation="The build stops at install time (CMake) or setuptools fails on the "
                       "missing file or on a folder listed as a file.",
@@ -127,6 +135,10 @@ def install_missing_file(ctx: CheckContext):
 
 
 @register("PF202", "directory-not-installed", "warning", area="install", fix="safe",
+          bad=("# CMakeLists.txt (rviz/display.rviz is used by launch/display.launch.py)\n"
+               "install(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
           summary="a folder of run-time resources is covered by no install rule",
           explanation="Launch files resolve paths in install/share/<pkg>/, not in src/: a folder "
                       "left out of the install rules is simply absent at run time, with no error "
@@ -163,6 +175,10 @@ def directory_not_installed(ctx: CheckContext):
 
 
 @register("PF203", "install-wrong-destination", "error", area="install",
+          bad=("# CMakeLists.txt\n"
+               "install(DIRECTORY urdf DESTINATION share)"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
           summary="resources are installed outside share/<package>",
           explanation="FindPackageShare, $(find pkg) and package:// all resolve to "
                       "share/<package>/; resources installed elsewhere are never found.",
@@ -187,6 +203,13 @@ def install_wrong_destination(ctx: CheckContext):
 
 
 @register("PF204", "cmake-invalid", "error", area="install",
+          bad=("# CMakeLists.txt\n"
+               "cmake_minimum_required(VERSION 3.8)\n"
+               "find_package(ament_cmake REQUIRED"),
+          good=("# CMakeLists.txt\n"
+                "cmake_minimum_required(VERSION 3.8)\n"
+                "project(rob_description NONE)\n"
+                "find_package(ament_cmake REQUIRED)"),
           summary="CMakeLists.txt cannot be read, or has no project()",
           explanation="CMake stops at configure time; pkgforge cannot predict the install tree "
                       "either.",
@@ -207,6 +230,11 @@ def cmake_invalid(ctx: CheckContext):
 
 
 @register("PF205", "ament-package-missing", "error", area="install",
+          bad=("# CMakeLists.txt\n"
+               "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})\n"
+                "ament_package()"),
           summary="an ament_cmake package never calls ament_package()",
           explanation="ament_package() installs package.xml and the ament index marker; without "
                       "them FindPackageShare, get_package_share_directory and `ros2 launch` "
@@ -223,6 +251,10 @@ def ament_package_missing(ctx: CheckContext):
 
 
 @register("PF206", "install-rule-unevaluated", "info", area="install",
+          bad=("# CMakeLists.txt\n"
+               "install(DIRECTORY $ENV{MODEL_DIR} DESTINATION share/${PROJECT_NAME})"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
           summary="pkgforge cannot tell what an install rule installs",
           explanation="The rule depends on something pkgforge does not evaluate (an environment "
                       "variable, a variable set outside the package, a call it does not model); "
@@ -235,6 +267,12 @@ def install_rule_unevaluated(ctx: CheckContext):
 
 
 @register("PF208", "setup-py-invalid", "error", area="install",
+          bad=("# setup.py\n"
+               "from setuptools import setup\n"
+               "setup(name='rob_description',"),
+          good=("# setup.py\n"
+                "from setuptools import setup\n"
+                "setup(name='rob_description')"),
           summary="setup.py cannot be parsed, or calls no setup()",
           explanation="colcon builds ament_python packages by running setup.py.",
           hint="fix setup.py at the named line")
@@ -250,6 +288,10 @@ def setup_py_invalid(ctx: CheckContext):
 
 
 @register("PF209", "package-not-installed", "error", area="install",
+          bad=("$ colcon build            # rob_description fails to build\n"
+               "$ pkgforge verify . --install-base install"),
+          good=("$ colcon build            # fixed: every package builds\n"
+                "$ pkgforge verify . --install-base install"),
           summary="--install-base: a verified package is missing from the install base",
           explanation="colcon installs a package only when its build succeeds: a package absent "
                       "from the install base most often failed to build (or was skipped), and "

@@ -34,6 +34,13 @@ def _branch_note(item: Record, resolution) -> str:
 
 
 @register("PF301", "launch-load-error", "error", area="launch",
+          bad=("# launch/display.launch.py\n"
+               "def generate_launch_description():\n"
+               "    return LaunchDescription([Node(package='rviz2')])  # Node is not imported"),
+          good=("# launch/display.launch.py\n"
+                "from launch_ros.actions import Node\n"
+                "def generate_launch_description():\n"
+                "    return LaunchDescription([Node(package='rviz2', executable='rviz2')])"),
           summary="a launch file raises, fails to import, or runs past the time limit",
           explanation="`ros2 launch` would stop at the same place; nothing after it starts.",
           hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
@@ -95,6 +102,10 @@ def _share_reference(ctx: CheckContext, path: str):
 
 
 @register("PF302", "uninstalled-reference", "error", area="launch", fix="safe",
+          bad=("# launch/display.launch.py (rviz/ is not in the install rules)\n"
+               "rviz = PathJoinSubstitution([FindPackageShare('rob_description'), 'rviz', 'display.rviz'])"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
           summary="a launch file resolves a path that the install rules leave out",
           explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
                       "looks (user story 1: the RViz config was never installed, RViz started empty).",
@@ -104,6 +115,10 @@ def uninstalled_reference(ctx: CheckContext):
 
 
 @register("PF303", "missing-file", "error", area="launch",
+          bad=("# launch/display.launch.py (the file is urdf/robot.urdf.xacro)\n"
+               "model = PathJoinSubstitution([FindPackageShare('rob_description'), 'urdf', 'robot.xacro'])"),
+          good=("# launch/display.launch.py\n"
+                "model = PathJoinSubstitution([FindPackageShare('rob_description'), 'urdf', 'robot.urdf.xacro'])"),
           summary="a launch file resolves a path that exists nowhere",
           explanation="Neither the install tree nor the package's source has the file: a typo in a "
                       "file or folder name, or a file never committed.",
@@ -223,6 +238,10 @@ def _looked_up(ctx: CheckContext):
 
 
 @register("PF304", "unknown-package", "error", area="launch",
+          bad=("# launch/display.launch.py (the package is rob_description)\n"
+               "FindPackageShare('robot_description')"),
+          good=("# launch/display.launch.py\n"
+                "FindPackageShare('rob_description')"),
           summary="a launch file looks up a package that exists nowhere",
           explanation="The package is not in the workspace, not declared in package.xml, not "
                       "installed and released in no active ROS 2 distro: almost always a typo or a "
@@ -261,6 +280,10 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
 
 
 @register("PF305", "missing-exec-depend", "error", area="launch", fix="safe",
+          bad=("# launch/display.launch.py (package.xml has no exec_depend on rviz2)\n"
+               "Node(package='rviz2', executable='rviz2')"),
+          good=("<!-- package.xml -->\n"
+                "<exec_depend>rviz2</exec_depend>"),
           summary="a package used at run time is not an exec_depend",
           explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
                       "machine the node, file or tool is missing (user story 6).",
@@ -291,6 +314,11 @@ def missing_exec_depend(ctx: CheckContext):
 
 
 @register("PF306", "jsp-model-argument", "error", area="launch", fix="safe",
+          bad=("# launch/display.launch.py\n"
+               "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui',\n"
+               "     arguments=[model])"),
+          good=("# launch/display.launch.py\n"
+                "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui')"),
           summary="joint_state_publisher is given the robot model as an argument",
           explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
                       "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
@@ -313,6 +341,10 @@ def jsp_model_argument(ctx: CheckContext):
 
 
 @register("PF307", "robot-description-not-string", "warning", area="launch", fix="safe",
+          bad=("# launch/display.launch.py\n"
+               "parameters=[{'robot_description': Command(['xacro ', model])}]"),
+          good=("# launch/display.launch.py\n"
+                "parameters=[{'robot_description': ParameterValue(Command(['xacro ', model]), value_type=str)}]"),
           summary="robot_description comes from Command() without ParameterValue(..., value_type=str)",
           explanation="launch_ros parses a parameter's text as YAML; the xacro output then fails to "
                       "load whenever it looks like YAML (since Jazzy launch refuses it).",
@@ -333,6 +365,10 @@ def robot_description_not_string(ctx: CheckContext):
 
 
 @register("PF309", "launch-argument-required", "info", area="launch",
+          bad=("# launch/display.launch.py\n"
+               "DeclareLaunchArgument('model')"),
+          good=("# launch/display.launch.py\n"
+                "DeclareLaunchArgument('model', default_value='robot.urdf.xacro')"),
           summary="a launch argument has no default, and no value was given",
           explanation="What depends on it is skipped, not guessed. Give a value with "
                       "--launch-arg name:=value to check it.",
@@ -350,6 +386,10 @@ def launch_argument_required(ctx: CheckContext):
 
 
 @register("PF310", "unsupported-launch-api", "info", area="launch",
+          bad=("# launch/display.launch.py\n"
+               "log_dir = LaunchLogDir()"),
+          good=("# launch/display.launch.py\n"
+                "# (nothing to fix: check this part by running the launch file)"),
           summary="a launch file uses a real launch API that pkgforge does not evaluate",
           explanation="The construct is recorded and skipped; what it would do is not checked.",
           hint="nothing to fix; check this part by running the launch file")
@@ -364,6 +404,9 @@ def unsupported_launch_api(ctx: CheckContext):
 
 
 @register("PF311", "launch-unevaluated", "info", area="launch",
+          bad=("# launch/bringup.launch.py (nav2_common is declared, not installed here)\n"
+               "from nav2_common.launch import RewrittenYaml"),
+          good="$ pkgforge verify . --install-base install   # on a machine with nav2_common installed",
           summary="a launch file imports a module of a package that is declared but not installed here",
           explanation="Not the launch file's fault: the package is simply not on this machine. Its "
                       "literal package and path references are still checked, statically.",
@@ -379,6 +422,10 @@ def launch_unevaluated(ctx: CheckContext):
 
 
 @register("PF312", "ros1-launch-file", "info", area="launch",
+          bad=("# CMakeLists.txt (launch/display.launch is a roslaunch XML file)\n"
+               "install(FILES launch/display.launch DESTINATION share/${PROJECT_NAME}/launch)"),
+          good=("# CMakeLists.txt (ported to launch/display.launch.xml)\n"
+                "install(FILES launch/display.launch.xml DESTINATION share/${PROJECT_NAME}/launch)"),
           summary="a ROS 1 .launch file is installed",
           explanation="ROS 2 launches .launch.py, .launch.xml and .launch.yaml files; a roslaunch "
                       "file is left over from a ROS 1 package.",
@@ -389,6 +436,10 @@ def ros1_launch_file(ctx: CheckContext):
 
 
 @register("PF315", "launch-not-installed", "warning", area="launch",
+          bad=("# CMakeLists.txt (launch/ also holds gazebo.launch.py)\n"
+               "install(FILES launch/display.launch.py DESTINATION share/${PROJECT_NAME}/launch)"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})"),
           summary="a launch file in the source is left out of the install rules",
           explanation="`ros2 launch <pkg> <file>` looks in install/share/<pkg>/ and cannot find it. pkgforge "
                       "evaluates it from the source, so what it references is still checked. Reported "

@@ -22,6 +22,14 @@ IMPLICIT_USES = {
 
 
 @register("PF101", "manifest-invalid", "error", area="manifest",
+          bad=("<!-- package.xml -->\n"
+               "<package format=\"3\">\n"
+               "  <name>rob_description</name>\n"
+               "  <version>0.1</version>"),
+          good=("<!-- package.xml -->\n"
+                "<package format=\"3\">\n"
+                "  <name>rob_description</name>\n"
+                "  <version>0.1.0</version>"),
           summary="package.xml cannot be read, or is not a valid format 2/3 manifest",
           explanation="colcon, rosdep and ament read package.xml first; a manifest they reject "
                       "means the package is skipped or fails before anything is built.",
@@ -37,6 +45,10 @@ def manifest_invalid(ctx: CheckContext):
 
 
 @register("PF102", "package-name-invalid", "error", area="manifest",
+          bad=("<!-- package.xml -->\n"
+               "<name>Rob-Description</name>"),
+          good=("<!-- package.xml -->\n"
+                "<name>rob_description</name>"),
           summary="the package name breaks REP 144",
           explanation="ROS 2 tools and the build farm refuse names outside REP 144; "
                       "some accept them locally and fail later.",
@@ -51,6 +63,10 @@ def package_name_invalid(ctx: CheckContext):
 
 
 @register("PF103", "project-name-mismatch", "error", area="manifest", fix="safe",
+          bad=("# CMakeLists.txt (package.xml: <name>rob_description</name>)\n"
+               "project(robot_description NONE)"),
+          good=("# CMakeLists.txt\n"
+                "project(rob_description NONE)"),
           summary="CMake project() differs from package.xml <name>",
           explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
                       "ament index, while every tool looks the package up by its package.xml "
@@ -71,6 +87,8 @@ def project_name_mismatch(ctx: CheckContext):
 
 
 @register("PF104", "folder-name-mismatch", "info", area="manifest",
+          bad="# folder src/rob_description/, package.xml: <name>robot_description</name>",
+          good="# folder src/robot_description/, package.xml: <name>robot_description</name>",
           summary="the package folder's name differs from package.xml <name>",
           explanation="Nothing breaks by itself (many repositories name folders differently on "
                       "purpose); it matters only when a file uses the folder name as a package "
@@ -90,6 +108,13 @@ def folder_name_mismatch(ctx: CheckContext):
 
 
 @register("PF105", "build-type-missing", "error", area="manifest",
+          bad=("<!-- package.xml -->\n"
+               "<export>\n"
+               "</export>"),
+          good=("<!-- package.xml -->\n"
+                "<export>\n"
+                "  <build_type>ament_cmake</build_type>\n"
+                "</export>"),
           summary="package.xml has no <export><build_type>",
           explanation="Without it colcon takes the package for a catkin (ROS 1) package, "
                       "which a ROS 2 workspace cannot build.",
@@ -107,6 +132,11 @@ def build_type_missing(ctx: CheckContext):
 
 
 @register("PF106", "duplicate-dependency", "warning", area="manifest",
+          bad=("<!-- package.xml -->\n"
+               "<depend>xacro</depend>\n"
+               "<exec_depend>xacro</exec_depend>"),
+          good=("<!-- package.xml -->\n"
+                "<exec_depend>xacro</exec_depend>"),
           summary="a dependency is declared twice",
           explanation="An exact repeat is noise; <depend> beside <build_depend>, "
                       "<build_export_depend> or <exec_depend> of the same package makes "
@@ -136,6 +166,10 @@ def duplicate_dependency(ctx: CheckContext):
 
 
 @register("PF107", "unused-exec-depend", "info", area="manifest",
+          bad=("<!-- package.xml (nothing in the package uses tf2_ros) -->\n"
+               "<exec_depend>tf2_ros</exec_depend>"),
+          good=("<!-- package.xml -->\n"
+                "<!-- the exec_depend removed -->"),
           summary="an exec_depend that nothing in the package uses",
           explanation="A run-time dependency no launch file, model, RViz config, ros2_control or "
                       "plugin YAML, <plugin> element or Python module of the package names is "
@@ -200,6 +234,10 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
 
 
 @register("PF108", "package-not-in-distro", "error", area="manifest",
+          bad=("<!-- package.xml, targeting jazzy -->\n"
+               "<exec_depend>gazebo_ros</exec_depend>"),
+          good=("<!-- package.xml -->\n"
+                "<exec_depend>ros_gz_sim</exec_depend>"),
           summary="a package used or declared is not released for the target ROS 2 distro",
           explanation="rosdep and the binary packages install only what is released for the "
                       "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
@@ -244,6 +282,10 @@ def package_not_in_distro(ctx: CheckContext):
 
 
 @register("PF109", "find-package-undeclared", "error", area="manifest",
+          bad=("# CMakeLists.txt (package.xml declares no urdf)\n"
+               "find_package(urdf REQUIRED)"),
+          good=("<!-- package.xml -->\n"
+                "<build_depend>urdf</build_depend>"),
           summary="CMakeLists.txt calls find_package() on a ROS package that package.xml does not "
                   "declare for the build",
           explanation="rosdep installs only declared build dependencies: on a clean machine (a "

@@ -34,7 +34,11 @@ def _path_split_at_spaces(words: list[str], model: str) -> str | None:
     return None
 
 
-@register("PF308", "xacro-error", "error", area="model",
+@register("PF308", "xacro-error", "error", area="launch",
+          bad=("<!-- urdf/robot.urdf.xacro -->\n"
+               "<xacro:include filename=\"$(find rob_description)/urdf/arm.xacro\"/>  <!-- no such file -->"),
+          good=("<!-- urdf/robot.urdf.xacro -->\n"
+                "<xacro:include filename=\"$(find rob_description)/urdf/arm.urdf.xacro\"/>"),
           summary="xacro fails on the model a launch file processes",
           explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
                       "message says why (an include that does not resolve, an undefined property, "
@@ -81,6 +85,17 @@ def xacro_error(ctx: CheckContext):
 
 
 @register("PF401", "urdf-invalid", "error", area="model",
+          bad=("<!-- urdf/robot.urdf -->\n"
+               "<robot name=\"rob\">\n"
+               "  <link name=\"base\"/>\n"
+               "  <joint name=\"j\" type=\"fixed\"><parent link=\"base\"/><child link=\"arm\"/></joint>\n"
+               "</robot>"),
+          good=("<!-- urdf/robot.urdf -->\n"
+                "<robot name=\"rob\">\n"
+                "  <link name=\"base\"/>\n"
+                "  <link name=\"arm\"/>\n"
+                "  <joint name=\"j\" type=\"fixed\"><parent link=\"base\"/><child link=\"arm\"/></joint>\n"
+                "</robot>"),
           summary="a processed model is not a usable URDF",
           explanation="robot_state_publisher refuses it (or publishes a broken TF tree): no <robot>, "
                       "duplicate names, a joint whose parent or child link does not exist, more than "
@@ -150,6 +165,10 @@ def _meshes(ctx: CheckContext):
 
 
 @register("PF402", "mesh-not-found", "error", area="model", fix="safe",
+          bad=("<!-- urdf/robot.urdf (meshes/ is not installed) -->\n"
+               "<mesh filename=\"package://rob_description/meshes/base.stl\"/>"),
+          good=("# CMakeLists.txt\n"
+                "install(DIRECTORY launch meshes urdf DESTINATION share/${PROJECT_NAME})"),
           summary="a mesh or texture URI does not resolve to a file in the install tree",
           explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
                       "folder never installed, a typo, or a path leaving its package shows an empty "
@@ -189,6 +208,10 @@ def mesh_not_found(ctx: CheckContext):
 
 
 @register("PF403", "mesh-case-mismatch", "error", area="model", fix="safe",
+          bad=("<!-- urdf/robot.urdf (the file is meshes/base.STL) -->\n"
+               "<mesh filename=\"package://rob_description/meshes/base.stl\"/>"),
+          good=("<!-- urdf/robot.urdf -->\n"
+                "<mesh filename=\"package://rob_description/meshes/base.STL\"/>"),
           summary="a mesh URI differs from the file's name only in letter case",
           explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
                       "Linux does not, and the link shows nothing (user story 7).",
@@ -203,6 +226,10 @@ def mesh_case_mismatch(ctx: CheckContext):
 
 
 @register("PF404", "mesh-source-path", "warning", area="model",
+          bad=("<!-- urdf/robot.urdf -->\n"
+               "<mesh filename=\"file:///home/me/ws/src/rob_description/meshes/base.stl\"/>"),
+          good=("<!-- urdf/robot.urdf -->\n"
+                "<mesh filename=\"package://rob_description/meshes/base.stl\"/>"),
           summary="a file:// mesh URI points into a source tree",
           explanation="It works on the machine that built the package and nowhere else: installed "
                       "packages must not refer to src/.",
@@ -223,6 +250,8 @@ def mesh_source_path(ctx: CheckContext):
 
 
 @register("PF405", "mesh-unreadable", "error", area="model",
+          bad="# meshes/base.stl: an STL cut short (fewer triangles than its header says)",
+          good="# meshes/base.stl: exported again from the CAD tool",
           summary="a mesh file is not a readable mesh of its kind",
           explanation="A truncated STL, a .dae that is not COLLADA, an OBJ with no vertices: the "
                       "visualizer fails on it or shows nothing.",
@@ -237,6 +266,10 @@ def mesh_unreadable(ctx: CheckContext):
 
 
 @register("PF406", "model-needs-arguments", "info", area="model",
+          bad=("<!-- urdf/robot.urdf.xacro -->\n"
+               "<xacro:arg name=\"prefix\"/>"),
+          good=("<!-- urdf/robot.urdf.xacro -->\n"
+                "<xacro:arg name=\"prefix\" default=\"\"/>"),
           summary="a model needs xacro arguments that nothing gives it",
           explanation="It was checked only with the values a launch file passes; on its own it cannot "
                       "be processed.",

@@ -29,6 +29,10 @@ def _split_characters(arguments: list[str]) -> bool:
 
 
 @register("PF313", "node-arguments-string", "error", area="launch",
+          bad=("# launch/display.launch.py\n"
+               "Node(package='rviz2', executable='rviz2', arguments='-d ' + config)"),
+          good=("# launch/display.launch.py\n"
+                "Node(package='rviz2', executable='rviz2', arguments=['-d', config])"),
           summary="a Node's arguments is a string, not a list",
           explanation="launch_ros iterates `arguments`: a string becomes one argument per character "
                       "(`-d x.rviz` reaches the program as '-', 'd', ' ', 'x', ...), and the node "
@@ -48,6 +52,12 @@ def node_arguments_string(ctx: CheckContext):
 
 
 @register("PF314", "rsp-model-argument", "warning", area="launch",
+          bad=("# launch/display.launch.py\n"
+               "Node(package='robot_state_publisher', executable='robot_state_publisher', arguments=[urdf_file])"),
+          good=("# launch/display.launch.py\n"
+                "Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
+                "     parameters=[{'robot_description':\n"
+                "         ParameterValue(Command(['xacro ', urdf_file]), value_type=str)}])"),
           summary="robot_state_publisher is given the robot model file as a command-line argument",
           explanation="Reading the URDF from a file argument is deprecated in robot_state_publisher "
                       "and removed in Rolling: the node then starts with no model (an error when "

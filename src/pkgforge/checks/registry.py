@@ -25,6 +25,15 @@ class Check:
     # `pkgforge fix`: None (no automatic fix), "safe" (cannot change behaviour beyond the
     # defect: applied by default) or "unsafe" (applied with --unsafe-fixes)
     fix: str | None = None
+    # `pkgforge rule`: a short snippet that triggers the check and the same snippet fixed
+    # (first line: the file, as a comment in its own syntax)
+    bad: str | None = None
+    good: str | None = None
+
+    @property
+    def anchor(self) -> str:
+        """The check's heading anchor in docs/checks.md (GitHub's slug of `## PF101 name`)."""
+        return f"{self.code.lower()}-{self.name}"
 
     def run(self, context) -> list[Diagnostic]:
         if self.function is None:
@@ -76,14 +85,20 @@ FIX_KINDS = (None, "safe", "unsafe")
 # Checks whose fixer (src/pkgforge/fix/) needs nothing from the finding, so the fix holds
 # even where the check's own @register does not say it (a check added on another branch).
 DEFAULT_FIXES = {"find-package-undeclared": "safe"}
+# A check's area follows its code's hundreds (PF3xx: launch), so `--select PF3` and the
+# catalogue's areas agree; codes are stable, so a check in the wrong area moves area, not code.
+# tests/test_conventions.py enforces it; a new hundred needs its area here.
+AREAS = {"1": "manifest", "2": "install", "3": "launch", "4": "model", "5": "rviz", "9": "run"}
 
 
 def register(code: str, name: str, severity: str, *, summary: str, explanation: str, hint: str,
-             area: str, fix: str | None = None) -> Callable:
+             area: str, fix: str | None = None, bad: str | None = None,
+             good: str | None = None) -> Callable:
     """Register a check function; `severity` is the default: error, warning or info.
 
     `fix`: whether `pkgforge fix` can fix its findings: None, "safe" or "unsafe"
     (src/pkgforge/fix/ holds the fixer, keyed by the check's name).
+    `bad`/`good`: the examples `pkgforge rule` and docs/checks.md show.
     """
     fix = fix or DEFAULT_FIXES.get(name)
     if fix not in FIX_KINDS:
@@ -93,7 +108,7 @@ def register(code: str, name: str, severity: str, *, summary: str, explanation: 
         if code in REGISTRY or any(c.name == name for c in REGISTRY.values()):
             raise ValueError(f"check {code} {name} registered twice")
         REGISTRY[code] = Check(code, name, Severity.parse(severity), summary, explanation, hint,
-                               area, function, fix)
+                               area, function, fix, bad, good)
         return function
 
     return decorate
@@ -103,3 +118,12 @@ def all_checks() -> list[Check]:
     from . import load_all  # noqa: F401  (importing the modules registers their checks)
 
     return sorted(REGISTRY.values(), key=lambda c: c.code)
+
+
+def find_check(key: str) -> Check | None:
+    """The check with this code (any case) or name; None if there is none."""
+    key = key.strip()
+    for check in all_checks():
+        if check.code == key.upper() or check.name == key:
+            return check
+    return None

@@ -14,6 +14,9 @@ EXTERNAL_FRAMES = ("map", "odom", "world", "earth")
 
 
 @register("PF501", "rviz-invalid", "error", area="rviz",
+          bad=("# rviz/display.rviz\n"
+               "Visualization Manager: [unclosed"),
+          good="# rviz/display.rviz: saved again from RViz (File > Save Config As)",
           summary="an RViz config is not YAML, or not an RViz config",
           explanation="rviz2 falls back to an empty default layout: no robot, no TF.",
           hint="save the config again from RViz (File > Save Config As)")
@@ -25,6 +28,16 @@ def rviz_invalid(ctx: CheckContext):
 
 
 @register("PF502", "rviz-no-description", "error", area="rviz", fix="safe",
+          bad=("# rviz/display.rviz\n"
+               "- Class: rviz_default_plugins/RobotModel\n"
+               "  Description Source: Topic\n"
+               "  Description Topic:\n"
+               "    Value: \"\""),
+          good=("# rviz/display.rviz\n"
+                "- Class: rviz_default_plugins/RobotModel\n"
+                "  Description Source: Topic\n"
+                "  Description Topic:\n"
+                "    Value: /robot_description"),
           summary="a RobotModel display has no description to show",
           explanation="No error anywhere, TF fine, and RViz shows no robot until someone sets "
                       "Description Topic by hand (user story 5).",
@@ -47,6 +60,12 @@ def rviz_no_description(ctx: CheckContext):
 
 
 @register("PF503", "rviz-fixed-frame-unknown", "warning", area="rviz", fix="unsafe",
+          bad=("# rviz/display.rviz (the model's links: base_link, arm)\n"
+               "Global Options:\n"
+               "  Fixed Frame: map"),
+          good=("# rviz/display.rviz\n"
+                "Global Options:\n"
+                "  Fixed Frame: base_link"),
           summary="the Fixed Frame is not a link of the model the same launch file publishes",
           explanation="RViz shows 'Fixed Frame [x] does not exist' and draws nothing relative to it.",
           hint="set Fixed Frame to a link of the model, e.g. its root link")

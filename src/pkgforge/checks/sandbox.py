@@ -32,6 +32,11 @@ def sandbox_records(resolution):
 
 
 @register("PF316", "launch-writes-files", "warning", area="launch",
+          bad=("# launch/display.launch.py\n"
+               "with open(os.path.join(share, 'urdf', 'robot.urdf'), 'w') as f:\n"
+               "    f.write(urdf)"),
+          good=("# launch/display.launch.py\n"
+                "parameters=[{'robot_description': urdf}]  # the content, no file written"),
           summary="a launch file writes files or signals processes while it is loaded",
           explanation="Whatever a launch file does at load time happens on every `ros2 launch`: "
                       "writing into its package's share folder changes install/ (and, with "

@@ -7,7 +7,7 @@ from collections import Counter
 from ..report.text import location, render
 
 
-def render_fix(run, *, strict: bool = False) -> tuple[str, str]:
+def render_fix(run, *, strict: bool = False, color: bool = False) -> tuple[str, str]:
     """(the report, the diff): with --diff the report goes to stderr, the diff to stdout."""
     root = run.result.root
     lines = []
@@ -32,7 +32,7 @@ def render_fix(run, *, strict: bool = False) -> tuple[str, str]:
         for (code, name, severity), count in sorted(remaining.items()):
             lines.append(f"  {code} {name} [{severity}] ×{count}")
     text = "\n".join(lines) + ("\n" if lines else "")
-    detail = render(run.result, color=False, strict=strict)
+    detail = render(run.result, color=color, strict=strict)
     return text + detail, run.diff
 
 

@@ -5,7 +5,27 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-FORMATS = ("text", "json", "junit", "sarif", "github")
+COLOR_CHOICES = ("auto", "always", "never")
+
+
+def use_color(choice: str | None, stream) -> bool:
+    """--color always/never as given; auto (or None): NO_COLOR set (and not empty) never,
+    FORCE_COLOR set (not empty, 0 or false) always, else when the stream is a terminal."""
+    if choice == "always":
+        return True
+    if choice == "never":
+        return False
+    if os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("FORCE_COLOR", "").strip().lower() not in ("", "0", "false"):
+        return True
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+FORMATS = ("text", "json", "junit", "sarif", "github", "gitlab")
 
 
 def relative(path: Path, root: Path) -> str:
@@ -14,7 +34,8 @@ def relative(path: Path, root: Path) -> str:
 
 
 def render(fmt: str, result, *, color: bool = False, strict: bool = False) -> str:
-    from . import github, json_report, junit, sarif, text
+    from . import github, gitlab, json_report, junit, sarif, text
 
-    module = {"text": text, "json": json_report, "junit": junit, "sarif": sarif, "github": github}[fmt]
+    module = {"text": text, "json": json_report, "junit": junit, "sarif": sarif, "github": github,
+              "gitlab": gitlab}[fmt]
     return module.render(result, color=color, strict=strict)

@@ -7,6 +7,7 @@ import json
 from .. import __version__
 from ..checks.registry import all_checks
 from ..diagnostics import Severity
+from ..docs import help_uri
 from . import relative
 
 LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
@@ -20,6 +21,7 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
         "shortDescription": {"text": c.summary},
         "fullDescription": {"text": c.explanation},
         "help": {"text": c.hint},
+        "helpUri": help_uri(c),
         "defaultConfiguration": {"level": LEVELS[c.severity]},
     } for c in checks]
     results = []
@@ -39,8 +41,7 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
         "runs": [{
-            "tool": {"driver": {"name": "pkgforge", "version": __version__,
-                                "informationUri": "https://pypi.org/project/pkgforge/", "rules": rules}},
+            "tool": {"driver": {"name": "pkgforge", "version": __version__, "rules": rules}},
             "originalUriBaseIds": {"SRCROOT": {"uri": result.root.as_uri() + "/"}},
             "results": results,
         }],
