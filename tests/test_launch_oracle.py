@@ -23,7 +23,7 @@ import pytest
 from conftest import FIXTURES, VARIANTS, copy_fixture, new_package
 from ros_prefix import DISTROS, make_prefix
 
-from pkgforge.launch.engines import BUILTIN, LaunchEngine
+from pkgforge.launch.engines import LaunchEngine, builtin
 from pkgforge.launch.records import ITEM_KINDS, as_dict
 
 CONFORMANCE = FIXTURES / "launch_conformance"
@@ -54,18 +54,12 @@ LOAD_ERRORS = {(d, f) for d in DISTROS for f in FILES if f.startswith(C + "error
     {("humble", f) for f in NOT_IN_HUMBLE}
 
 DOC = "docs/launch-builtin.md#"
-LINE = DOC + "frontend-error-line: the same load error; the built-in front end gives the element's line, lark does not"
-MISSING = DOC + "missing-package: the built-in engine stands the package in and keeps the node; the real engine loses it"
-# Intended or not-yet-unified differences, each listed in docs/launch-builtin.md with its reason:
+LINE = DOC + "frontend-error-line: the same load error at the same line; the exception's name differs"
+# Intended differences, each listed in docs/launch-builtin.md with its reason:
 # (distro or None for both, file) → the difference.
 KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
-    (None, C + 'py_command_runtime_query.launch.py'):
-        DOC + "runtime-command: a run-time query, run by neither; recorded as a run-time command (real) or "
-              "unsupported-launch-api (built-in)",
-    (None, C + 'py_unknown_package.launch.py'): MISSING,
     ('humble', C + 'xml_equals.launch.xml'): LINE,
     ('humble', C + 'xml_file_content.launch.xml'): LINE,
-    (None, C + 'xml_unknown_package.launch.xml'): MISSING,
 }
 
 
@@ -155,12 +149,10 @@ def evaluations(prefixes, oracle_workspace) -> dict:
         chosen = [by_name[f] for f in FILES]
         out = {}
         for distro, prefix in prefixes.items():
-            # the built-in engine held to the same distro's names (PKGFORGE_LAUNCH_DISTRO, read by its workers)
-            engines = {f"builtin-{distro}": BUILTIN, distro: LaunchEngine("ros", str(prefix), distro, "test")}
+            # the built-in engine held to the same distro's names, as `verify --distro` holds it
+            engines = {f"builtin-{distro}": builtin(distro), distro: LaunchEngine("ros", str(prefix), distro, "test")}
             for label, engine in engines.items():
-                with pytest.MonkeyPatch.context() as patch:
-                    patch.setenv("PKGFORGE_LAUNCH_DISTRO", distro)
-                    resolutions = resolve(chosen, tree, jobs=2, timeout=60, engine=engine)
+                resolutions = resolve(chosen, tree, jobs=2, timeout=60, engine=engine)
                 for name, resolution in zip(FILES, resolutions):
                     out[label, name] = _canonical(resolution)
         return out
@@ -200,3 +192,22 @@ def _differing(mine, theirs):
 
 def test_the_oracle_covers_at_least_60_files_per_distro():
     assert len(FILES) >= 60, len(FILES)
+
+
+def _commands(evaluations, label: str, file: str) -> list[tuple]:
+    """(program, ok, runtime_only) of each command a file's evaluation recorded."""
+    return sorted((c["command"][0], c["ok"], c["runtime_only"])
+                  for c in map(json.loads, evaluations[label, C + file]["commands"]))
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_one_command_policy_in_both_engines(evaluations, distro):
+    """records.runs_at_verify_time decides for both engines: cat of a file runs (and fails on a
+    file that is not there, as in ROS), a run-time query is recorded as run-time only, never run."""
+    for label in (distro, f"builtin-{distro}"):
+        assert _commands(evaluations, label, "py_command_cat.launch.py") == [
+            ("cat", False, False), ("cat", True, False)], label
+        assert _commands(evaluations, label, "py_command_runtime_query.launch.py") == [
+            ("ros2", True, True)], label
+        assert _commands(evaluations, label, "xml_command_runtime.launch.xml") == [
+            ("cat", True, False), ("ros2", True, True)], label
