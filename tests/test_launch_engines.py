@@ -27,10 +27,13 @@ def prefixes(tmp_path_factory) -> dict[str, Path]:
 
 
 def _workspace(base: Path, name: str) -> Path:
-    """fixtures: seed000, seed001 and small_turtle's launch file in every format; or the conformance package."""
+    """fixtures: seed000, seed001 and small_turtle's launch file in every format; patterns: issue
+    10's patterns of real packages (pattern_bot); or the conformance package."""
     workspace = base / name
     (workspace / "src").mkdir(parents=True)
-    if name == "fixtures":
+    if name == "patterns":
+        copy_fixture("launch_patterns/pattern_bot", workspace)
+    elif name == "fixtures":
         copy_fixture("seed000/rob_description", workspace)
         turtle = copy_fixture("seed001/small_turtle", workspace)
         for launch in sorted((FIXTURES / "launch").iterdir()):
@@ -50,9 +53,9 @@ def reports(tmp_path_factory, prefixes) -> dict:
     """(workspace, engine) → the JSON report of `pkgforge verify`; each run once."""
     base = tmp_path_factory.mktemp("engines")
     out = {}
-    for name, distros in (("fixtures", DISTROS), ("conformance", ("jazzy",))):
+    for name in ("fixtures", "patterns", "conformance"):
         workspace = _workspace(base, name)
-        for distro in distros:  # each engine told the same target distro
+        for distro in DISTROS:  # each engine told the same target distro
             out[name, "builtin", distro] = verify_report(workspace, "--no-cache", "--distro", distro,
                                                          "--launch-engine", "builtin")[1]
             out[name, distro] = verify_report(workspace, "--no-cache", "--distro", distro, "--launch-engine", "ros",
@@ -65,7 +68,8 @@ def _diagnostics(report: dict) -> list[tuple]:
     return sorted((d["code"], d["path"], d["line"], d["message"]) for d in report["diagnostics"])
 
 
-@pytest.mark.parametrize("name,distro", [("fixtures", "humble"), ("fixtures", "jazzy"), ("conformance", "jazzy")])
+@pytest.mark.parametrize("name", ["fixtures", "patterns", "conformance"])
+@pytest.mark.parametrize("distro", DISTROS)
 def test_both_engines_report_the_same_diagnostics(reports, name, distro):
     builtin, ros = reports[name, "builtin", distro], reports[name, distro]
     assert builtin["launch"] == {"engine": "builtin", "distro": distro}

@@ -27,6 +27,7 @@ from pkgforge.launch.engines import LaunchEngine, builtin
 from pkgforge.launch.records import ITEM_KINDS, as_dict
 
 CONFORMANCE = FIXTURES / "launch_conformance"
+PATTERNS = FIXTURES / "launch_patterns" / "pattern_bot"  # issue 10's patterns of real packages
 SUFFIXES = (".launch.py", ".launch.xml", ".launch.yaml")
 
 
@@ -39,6 +40,7 @@ def _launch_files() -> list[str]:
         files.append(f"{name}/launch/display.launch.{fmt}")
     files += [f"launch_conformance/launch/{p.name}" for p in sorted(CONFORMANCE.iterdir())
               if p.name.endswith(SUFFIXES)]
+    files += [f"pattern_bot/launch/{p.name}" for p in sorted((PATTERNS / "launch").iterdir())]
     return files
 
 
@@ -52,15 +54,20 @@ NOT_IN_HUMBLE = {C + f for f in ("py_all_any.launch.py", "py_equals_typed.launch
 # files that do not load in ROS (status load-error is what is compared)
 LOAD_ERRORS = {(d, f) for d in DISTROS for f in FILES if f.startswith(C + "error_") and "bad_node" not in f} | \
     {("humble", f) for f in NOT_IN_HUMBLE}
+P = "pattern_bot/launch/"
+# the patterns ROS refuses (bool default: TypeError; nav2_common not installed here; jazzy's own
+# front end on $(any)/$(all)), and in humble what only Iron on has ($(equals), $(file-content),
+# <push_ros_namespace>...)
+LOAD_ERRORS |= {(d, P + f) for d in DISTROS for f in ("all_any.launch.xml", "bool_default.launch.py",
+                                                      "nav2_style.launch.py")} | \
+    {("humble", P + f) for f in ("equals_typed.launch.py", "equals_typed.launch.xml", "file_content.launch.xml",
+                                 "frontend_tags.launch.xml", "frontend_tags.launch.yaml", "push_namespace.launch.xml",
+                                 "unsupported_api.launch.py")}
 
-DOC = "docs/launch-builtin.md#"
-LINE = DOC + "frontend-error-line: the same load error at the same line; the exception's name differs"
-# Intended differences, each listed in docs/launch-builtin.md with its reason:
-# (distro or None for both, file) → the difference.
-KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
-    ('humble', C + 'xml_equals.launch.xml'): LINE,
-    ('humble', C + 'xml_file_content.launch.xml'): LINE,
-}
+# Differences still found, each an xfail(strict=True) whose reason points to its entry in
+# docs/launch-builtin.md ("docs/launch-builtin.md#anchor: what differs"):
+# (distro or None for both, file) → the difference. None today: both engines agree on every file.
+KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {}
 
 
 def _params():
@@ -82,6 +89,7 @@ def oracle_workspace(tmp_path_factory) -> Path:
     turtle = copy_fixture("seed001/small_turtle", workspace)
     for launch in sorted((FIXTURES / "launch").iterdir()):
         shutil.copy(launch, turtle / "launch")
+    copy_fixture("launch_patterns/pattern_bot", workspace)
     for name, options in VARIANTS.items():
         new_package(workspace, name, *options)
     package = workspace / "src" / "launch_conformance"

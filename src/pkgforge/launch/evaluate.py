@@ -84,7 +84,12 @@ def _missing_package_of(error: BaseException) -> str | None:
 
 
 def _error_record(path: str, error: BaseException, stage: str) -> dict:
-    message = f"{type(error).__name__}: {error}"
+    shown = error
+    if type(error).__name__ == "FrontendError" and error.__cause__ is not None:
+        # the built-in front end's refusal of an element wraps what building it raised: that
+        # error (launch's own, as the real engine reports it) at the element's line
+        shown = error.__cause__
+    message = f"{type(shown).__name__}: {shown}"
     if isinstance(error, SystemExit):
         message = f"SystemExit: the launch file called sys.exit({error.code!r})"
     if isinstance(error, ImportError) and not isinstance(error, ModuleNotFoundError):
@@ -92,7 +97,7 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
         # the module lives (the distro's, or pkgforge's stand-in of it) is not the user's problem,
         # and the same refusal must read the same through both engines
         message = IMPORTED_FROM.sub("", message)
-    record = {"stage": stage, "type": type(error).__name__, "message": message,
+    record = {"stage": stage, "type": type(shown).__name__, "message": message,
               "file": path, "line": _location_in(path, error)}
     if type(error).__name__ == "PackageNotFoundError":
         match = NOT_FOUND.search(str(error))

@@ -34,8 +34,12 @@ from .records import as_dict, evaluate_branches, runs_at_verify_time
 
 MAX_DEPTH = 32
 MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
-# actions whose execution needs a running launch service or a ROS graph: recorded, not executed
-NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandler"}
+# actions whose execution needs a running launch service or a ROS graph (SetUseSimTime sets a
+# parameter of the launch's own rclpy node): recorded, not executed, as the built-in engine does
+NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandler", "SetUseSimTime"}
+# substitutions whose value exists only at run time (the run's timestamped log folder): recorded
+# as not evaluated, and what uses them skipped, as the built-in engine does
+RUN_TIME_VALUES = ("LaunchLogDir",)
 
 RECORDER = rt.RECORDER
 L = types.SimpleNamespace()  # the real libraries, once imported
@@ -487,6 +491,18 @@ def _hook_substitutions() -> None:
         wrap(ros_subs.ExecutableInPackage, before=lambda s, c: RECORDER.add(
             "packages", {"name": L.perform(c, s.package), "via": "ExecutableInPackage"}, s))
     subs.Command.perform = _command_perform
+    for name in RUN_TIME_VALUES:
+        if hasattr(subs, name):
+            getattr(subs, name).perform = _run_time_value(name)
+
+
+def _run_time_value(name: str):
+    def perform(self, context):
+        if _evaluating(context):
+            RECORDER.add("unsupported", {"name": name}, self)
+        raise rt.Unresolved(f"<{name}>")
+
+    return perform
 
 
 def _find(cls, kind: str) -> None:

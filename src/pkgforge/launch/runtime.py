@@ -1484,11 +1484,6 @@ class SetRemap(Action):
         context.launch_configurations["ros_remaps"] = remaps
 
 
-class SetUseSimTime(SetParameter):
-    def __init__(self, value, **kwargs):
-        super().__init__("use_sim_time", value, **kwargs)
-
-
 class SetParametersFromFile(Action):
     def __init__(self, filename, **kwargs):
         super().__init__(**kwargs)
@@ -1508,21 +1503,32 @@ class RosTimerAction(TimerAction):
 
 def unsupported(name: str, bases=Action) -> type:
     """A real launch API name pkgforge records instead of evaluating: an action that does
-    nothing, a substitution whose value is unknown (what uses it is skipped)."""
+    nothing, a substitution whose value is unknown (what uses it is skipped). Recorded where the
+    real engine records it: an action when visited (its condition taken, in each evaluated
+    branch), a substitution when performed, anything else when made."""
     bases = bases if isinstance(bases, tuple) else (bases,)
+    visited = any(issubclass(b, (Action, Substitution)) for b in bases)
 
     def __init__(self, *args, **kwargs):
         Located.__init__(self)
         self.condition = kwargs.get("condition")
-        RECORDER.add("unsupported", {"name": name}, self)
+        if not visited:
+            RECORDER.add("unsupported", {"name": name}, self)
 
     def visit(self, context):
+        RECORDER.add("unsupported", {"name": name}, self)
         return None
 
     def perform(self, context):
+        RECORDER.add("unsupported", {"name": name}, self)
         raise Unresolved(f"<{name}>")
 
     return type(name, bases, {"__init__": __init__, "visit": visit, "perform": perform})
+
+
+# launch_ros sets use_sim_time on the launch's own ROS node (a running rclpy node), not on
+# the nodes it starts: nothing verify can do or check (the real engine records it the same way)
+SetUseSimTime = unsupported("SetUseSimTime")
 
 
 def load_description_function(path, *args, **kwargs):
