@@ -219,3 +219,20 @@ def test_one_command_policy_in_both_engines(evaluations, distro):
             ("ros2", True, True)], label
         assert _commands(evaluations, label, "xml_command_runtime.launch.xml") == [
             ("cat", True, False), ("ros2", True, True)], label
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_a_package_not_found_keeps_what_uses_it(evaluations, distro):
+    """Issue 10, item 4, in both engines: the lookup is reported, the package stands in as an
+    empty one, and the node or process using it is still recorded, with what follows it."""
+    for label in (distro, f"builtin-{distro}"):
+        records = evaluations[label, C + "py_unknown_package.launch.py"]
+        assert sorted(json.loads(n)["package"] for n in records["nodes"]) == ["robot_state_publisher", "rviz2"]
+        assert [(p["name"], p["found"]) for p in map(json.loads, records["packages"])
+                if p["name"] == "not_a_package_here"] == [("not_a_package_here", False)], label
+        records = evaluations[label, C + "py_executable_in_package.launch.py"]
+        commands = sorted(json.loads(n)["cmd"][0].rsplit("/", 3)[-3:] for n in records["nodes"])
+        assert commands == [["echo"], ["lib", "not_a_package_here", "tool"],
+                            ["lib", "robot_state_publisher", "robot_state_publisher"]], label
+        errors = [json.loads(e)["message"] for e in records["errors"]]
+        assert len(errors) == 1 and "libexec directory" in errors[0] and "launch_conformance" in errors[0], label

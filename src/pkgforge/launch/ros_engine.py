@@ -488,8 +488,18 @@ def _hook_substitutions() -> None:
     for cls, kind in ((ros_subs.FindPackageShare, "share"), (ros_subs.FindPackagePrefix, "prefix")):
         _find(cls, kind)
     if hasattr(ros_subs, "ExecutableInPackage"):
-        wrap(ros_subs.ExecutableInPackage, before=lambda s, c: RECORDER.add(
-            "packages", {"name": L.perform(c, s.package), "via": "ExecutableInPackage"}, s))
+        real_executable = ros_subs.ExecutableInPackage.perform
+
+        def executable_perform(self, context):
+            """as the built-in engine (runtime.executable_in_package): launch_ros's checks, and a
+            package not found here standing in as an empty one"""
+            if not _evaluating(context):
+                return real_executable(self, context)
+            return rt.executable_in_package(self, L.perform(context, self.executable),
+                                            L.perform(context, self.package),
+                                            L.launch.substitutions.SubstitutionFailure)
+
+        ros_subs.ExecutableInPackage.perform = executable_perform
     subs.Command.perform = _command_perform
     for name in RUN_TIME_VALUES:
         if hasattr(subs, name):

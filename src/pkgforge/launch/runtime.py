@@ -657,9 +657,27 @@ class ExecutableInPackage(Substitution):
         self.executable, self.package = normalize(executable), normalize(package)
 
     def perform(self, context):
-        package = perform_substitutions(context, self.package)
-        prefix = lookup_package(package, "ExecutableInPackage", self, "prefix")
-        return os.path.join(prefix, "lib", package, perform_substitutions(context, self.executable))
+        return executable_in_package(self, perform_substitutions(context, self.executable),
+                                     perform_substitutions(context, self.package))
+
+
+def executable_in_package(owner, executable: str, package: str, failure: type = SubstitutionFailure) -> str:
+    """`ExecutableInPackage.perform` of both engines, as launch_ros does it: the package's prefix
+    looked up (recorded; a package not found here stands in as an empty one), then its
+    lib/<package> folder and the executable in it. A package not found, or declared and not
+    installed here (a placeholder): the path, unchecked; the rest of the file goes on."""
+    import shutil
+
+    prefix = lookup_package(package, "ExecutableInPackage", owner, "prefix")
+    libexec = os.path.join(prefix, "lib", package)
+    if prefix.startswith(MISSING_PACKAGE_ROOT) or _phantom(libexec):
+        return os.path.join(libexec, executable)
+    if not os.path.exists(libexec):
+        raise failure(f"package '{package}' found at '{prefix}', but libexec directory '{libexec}' does not exist")
+    found = shutil.which(executable, path=libexec)
+    if found is None:
+        raise failure(f"executable '{executable}' not found on the libexec directory '{libexec}' ")
+    return found
 
 
 def _record_path(path, obj, via: str) -> None:
