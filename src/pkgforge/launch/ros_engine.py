@@ -491,13 +491,12 @@ def _hook_substitutions() -> None:
         real_executable = ros_subs.ExecutableInPackage.perform
 
         def executable_perform(self, context):
-            """as the built-in engine (runtime.executable_in_package): launch_ros's checks, and a
-            package not found here standing in as an empty one"""
+            """as the built-in engine (runtime.executable_in_package): a package not found here
+            stands in as an empty one; an executable not built yet is no failure"""
             if not _evaluating(context):
                 return real_executable(self, context)
             return rt.executable_in_package(self, L.perform(context, self.executable),
-                                            L.perform(context, self.package),
-                                            L.launch.substitutions.SubstitutionFailure)
+                                            L.perform(context, self.package))
 
         ros_subs.ExecutableInPackage.perform = executable_perform
     subs.Command.perform = _command_perform
