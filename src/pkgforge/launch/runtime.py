@@ -1530,7 +1530,6 @@ def unsupported(name: str, bases=Action) -> type:
 
     def visit(self, context):
         RECORDER.add("unsupported", {"name": name}, self)
-        return None
 
     def perform(self, context):
         RECORDER.add("unsupported", {"name": name}, self)
