@@ -47,7 +47,7 @@ def test_colcon_verify_names_only_the_broken_package(built_workspace, tmp_path):
     assert result.returncode == 1, result.stdout + result.stderr
     located = re.findall(r"^(src/[^/]+)/\S+: PF\d{3} \[error\]", result.stdout, re.M)
     assert located and set(located) == {"src/small_turtle"}
-    assert result.stdout.splitlines()[-1] == "1 errors, 0 warnings, 0 infos in 4 packages; launch: built-in engine"
+    assert result.stdout.splitlines()[-1] == "1 errors, 0 warnings, 0 infos in 4 packages; launch: built-in engine (lyrical)"
     etree.XMLSchema(etree.parse(str(JUNIT_XSD))).assertValid(etree.parse(str(junit)))
     suites = etree.parse(str(junit)).getroot()
     assert sorted(s.get("name") for s in suites) == ["a_description", "b_description", "c_description",
@@ -58,7 +58,7 @@ def test_colcon_verify_names_only_the_broken_package(built_workspace, tmp_path):
 def test_colcon_verify_skip_the_broken_package(built_workspace):
     result = colcon("verify", "--packages-skip", "small_turtle", cwd=built_workspace)
     assert result.returncode == 0, result.stdout + result.stderr
-    assert result.stdout.splitlines()[-1] == "0 errors, 0 warnings, 0 infos in 3 packages; launch: built-in engine"
+    assert result.stdout.splitlines()[-1] == "0 errors, 0 warnings, 0 infos in 3 packages; launch: built-in engine (lyrical)"
 
 
 @pytest.mark.slow

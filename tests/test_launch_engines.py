@@ -4,16 +4,14 @@ humble and jazzy laid out as a ROS prefix (tests/ros_prefix.py)."""
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import shutil
 from pathlib import Path
 
 import pytest
-from conftest import FIXTURES, copy_fixture, line_of, run_pkgforge, verify_report
+from conftest import FIXTURES, copy_fixture, line_of, new_package, run_pkgforge, verify_report
 from ros_prefix import DISTROS, make_prefix
-
-CONFORMANCE = "conformance differs where the built-in engine does (tests/test_launch_oracle.py lists each)"
-
 
 @pytest.fixture(scope="module")
 def prefixes(tmp_path_factory) -> dict[str, Path]:
@@ -29,10 +27,13 @@ def prefixes(tmp_path_factory) -> dict[str, Path]:
 
 
 def _workspace(base: Path, name: str) -> Path:
-    """fixtures: seed000, seed001 and small_turtle's launch file in every format; or the conformance package."""
+    """fixtures: seed000, seed001 and small_turtle's launch file in every format; patterns: issue
+    10's patterns of real packages (pattern_bot); or the conformance package."""
     workspace = base / name
     (workspace / "src").mkdir(parents=True)
-    if name == "fixtures":
+    if name == "patterns":
+        copy_fixture("launch_patterns/pattern_bot", workspace)
+    elif name == "fixtures":
         copy_fixture("seed000/rob_description", workspace)
         turtle = copy_fixture("seed001/small_turtle", workspace)
         for launch in sorted((FIXTURES / "launch").iterdir()):
@@ -52,11 +53,12 @@ def reports(tmp_path_factory, prefixes) -> dict:
     """(workspace, engine) → the JSON report of `pkgforge verify`; each run once."""
     base = tmp_path_factory.mktemp("engines")
     out = {}
-    for name, distros in (("fixtures", DISTROS), ("conformance", ("jazzy",))):
+    for name in ("fixtures", "patterns", "conformance"):
         workspace = _workspace(base, name)
-        out[name, "builtin"] = verify_report(workspace, "--no-cache", "--launch-engine", "builtin")[1]
-        for distro in distros:
-            out[name, distro] = verify_report(workspace, "--no-cache", "--launch-engine", "ros",
+        for distro in DISTROS:  # each engine told the same target distro
+            out[name, "builtin", distro] = verify_report(workspace, "--no-cache", "--distro", distro,
+                                                         "--launch-engine", "builtin")[1]
+            out[name, distro] = verify_report(workspace, "--no-cache", "--distro", distro, "--launch-engine", "ros",
                                               "--ros-prefix", str(prefixes[distro]))[1]
         out[name] = workspace
     return out
@@ -66,11 +68,11 @@ def _diagnostics(report: dict) -> list[tuple]:
     return sorted((d["code"], d["path"], d["line"], d["message"]) for d in report["diagnostics"])
 
 
-@pytest.mark.parametrize("name,distro", [("fixtures", "humble"), ("fixtures", "jazzy"), pytest.param(
-    "conformance", "jazzy", marks=pytest.mark.xfail(strict=True, reason=CONFORMANCE))])
+@pytest.mark.parametrize("name", ["fixtures", "patterns", "conformance"])
+@pytest.mark.parametrize("distro", DISTROS)
 def test_both_engines_report_the_same_diagnostics(reports, name, distro):
-    builtin, ros = reports[name, "builtin"], reports[name, distro]
-    assert builtin["launch"] == {"engine": "builtin", "distro": None}
+    builtin, ros = reports[name, "builtin", distro], reports[name, distro]
+    assert builtin["launch"] == {"engine": "builtin", "distro": distro}
     assert ros["launch"] == {"engine": "ros", "distro": distro}
     assert _diagnostics(builtin), "the fixtures have findings to compare"
     assert _diagnostics(ros) == _diagnostics(builtin)
@@ -126,3 +128,40 @@ def test_engine_choice_errors_are_one_line(tmp_path):
     result = run_pkgforge("verify", "--ros-prefix", str(workspace), cwd=workspace, env=env)
     assert result.returncode == 2 and "holds no ROS 2 launch libraries" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+IRON_ON = """from launch import LaunchDescription
+from launch.conditions import IfCondition
+from launch.substitutions import EqualsSubstitution
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package="rviz2", executable="rviz2",
+                                   condition=IfCondition(EqualsSubstitution("1", "1.0")))])
+"""
+
+
+def test_the_built_in_engine_follows_the_target_distro(tmp_path):
+    """`verify --distro` is the built-in engine's distro: a name that exists from Iron on is an
+    ImportError, as in ROS, under humble, and none under jazzy; the report says which distro ran."""
+    workspace = tmp_path / "ws"
+    (workspace / "src").mkdir(parents=True)
+    package = new_package(workspace, "iron_bot", "--distro", "jazzy")
+    launch = package / "launch" / "equals.launch.py"
+    launch.write_text(IRON_ON)
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
+    found = {}
+    for distro in ("humble", "jazzy"):
+        result = run_pkgforge("verify", "--format", "json", "--distro", distro, "--launch-engine", "builtin",
+                              cwd=workspace, env=env)
+        assert "Traceback" not in result.stderr and result.returncode in (0, 1), result.stderr
+        report = json.loads(result.stdout)
+        assert report["launch"] == {"engine": "builtin", "distro": distro}
+        found[distro] = [(d["code"], d["path"], d["line"], d["message"]) for d in report["diagnostics"]
+                         if d["path"].endswith("equals.launch.py")]
+    assert found["humble"] == [("PF301", "src/iron_bot/launch/equals.launch.py",
+                                line_of(launch, "import EqualsSubstitution"),
+                                "loading equals.launch.py failed: ImportError: cannot import name "
+                                "'EqualsSubstitution' from 'launch.substitutions'")]
+    assert found["jazzy"] == []

@@ -23,10 +23,11 @@ import pytest
 from conftest import FIXTURES, VARIANTS, copy_fixture, new_package
 from ros_prefix import DISTROS, make_prefix
 
-from pkgforge.launch.engines import BUILTIN, LaunchEngine
+from pkgforge.launch.engines import LaunchEngine, builtin
 from pkgforge.launch.records import ITEM_KINDS, as_dict
 
 CONFORMANCE = FIXTURES / "launch_conformance"
+PATTERNS = FIXTURES / "launch_patterns" / "pattern_bot"  # issue 10's patterns of real packages
 SUFFIXES = (".launch.py", ".launch.xml", ".launch.yaml")
 
 
@@ -39,6 +40,7 @@ def _launch_files() -> list[str]:
         files.append(f"{name}/launch/display.launch.{fmt}")
     files += [f"launch_conformance/launch/{p.name}" for p in sorted(CONFORMANCE.iterdir())
               if p.name.endswith(SUFFIXES)]
+    files += [f"pattern_bot/launch/{p.name}" for p in sorted((PATTERNS / "launch").iterdir())]
     return files
 
 
@@ -52,21 +54,20 @@ NOT_IN_HUMBLE = {C + f for f in ("py_all_any.launch.py", "py_equals_typed.launch
 # files that do not load in ROS (status load-error is what is compared)
 LOAD_ERRORS = {(d, f) for d in DISTROS for f in FILES if f.startswith(C + "error_") and "bad_node" not in f} | \
     {("humble", f) for f in NOT_IN_HUMBLE}
+P = "pattern_bot/launch/"
+# the patterns ROS refuses (bool default: TypeError; nav2_common not installed here; jazzy's own
+# front end on $(any)/$(all)), and in humble what only Iron on has ($(equals), $(file-content),
+# <push_ros_namespace>...)
+LOAD_ERRORS |= {(d, P + f) for d in DISTROS for f in ("all_any.launch.xml", "bool_default.launch.py",
+                                                      "nav2_style.launch.py")} | \
+    {("humble", P + f) for f in ("equals_typed.launch.py", "equals_typed.launch.xml", "file_content.launch.xml",
+                                 "frontend_tags.launch.xml", "frontend_tags.launch.yaml", "push_namespace.launch.xml",
+                                 "unsupported_api.launch.py")}
 
-DOC = "docs/launch-builtin.md#"
-LINE = DOC + "frontend-error-line: the same load error; the built-in front end gives the element's line, lark does not"
-MISSING = DOC + "missing-package: the built-in engine stands the package in and keeps the node; the real engine loses it"
-# Intended or not-yet-unified differences, each listed in docs/launch-builtin.md with its reason:
-# (distro or None for both, file) → the difference.
-KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {
-    (None, C + 'py_command_runtime_query.launch.py'):
-        DOC + "runtime-command: a run-time query, run by neither; recorded as a run-time command (real) or "
-              "unsupported-launch-api (built-in)",
-    (None, C + 'py_unknown_package.launch.py'): MISSING,
-    ('humble', C + 'xml_equals.launch.xml'): LINE,
-    ('humble', C + 'xml_file_content.launch.xml'): LINE,
-    (None, C + 'xml_unknown_package.launch.xml'): MISSING,
-}
+# Differences still found, each an xfail(strict=True) whose reason points to its entry in
+# docs/launch-builtin.md ("docs/launch-builtin.md#anchor: what differs"):
+# (distro or None for both, file) → the difference. None today: both engines agree on every file.
+KNOWN_DIFFERENCES: dict[tuple[str | None, str], str] = {}
 
 
 def _params():
@@ -88,6 +89,7 @@ def oracle_workspace(tmp_path_factory) -> Path:
     turtle = copy_fixture("seed001/small_turtle", workspace)
     for launch in sorted((FIXTURES / "launch").iterdir()):
         shutil.copy(launch, turtle / "launch")
+    copy_fixture("launch_patterns/pattern_bot", workspace)
     for name, options in VARIANTS.items():
         new_package(workspace, name, *options)
     package = workspace / "src" / "launch_conformance"
@@ -155,12 +157,10 @@ def evaluations(prefixes, oracle_workspace) -> dict:
         chosen = [by_name[f] for f in FILES]
         out = {}
         for distro, prefix in prefixes.items():
-            # the built-in engine held to the same distro's names (PKGFORGE_LAUNCH_DISTRO, read by its workers)
-            engines = {f"builtin-{distro}": BUILTIN, distro: LaunchEngine("ros", str(prefix), distro, "test")}
+            # the built-in engine held to the same distro's names, as `verify --distro` holds it
+            engines = {f"builtin-{distro}": builtin(distro), distro: LaunchEngine("ros", str(prefix), distro, "test")}
             for label, engine in engines.items():
-                with pytest.MonkeyPatch.context() as patch:
-                    patch.setenv("PKGFORGE_LAUNCH_DISTRO", distro)
-                    resolutions = resolve(chosen, tree, jobs=2, timeout=60, engine=engine)
+                resolutions = resolve(chosen, tree, jobs=2, timeout=60, engine=engine)
                 for name, resolution in zip(FILES, resolutions):
                     out[label, name] = _canonical(resolution)
         return out
@@ -200,3 +200,38 @@ def _differing(mine, theirs):
 
 def test_the_oracle_covers_at_least_60_files_per_distro():
     assert len(FILES) >= 60, len(FILES)
+
+
+def _commands(evaluations, label: str, file: str) -> list[tuple]:
+    """(program, ok, runtime_only) of each command a file's evaluation recorded."""
+    return sorted((c["command"][0], c["ok"], c["runtime_only"])
+                  for c in map(json.loads, evaluations[label, C + file]["commands"]))
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_one_command_policy_in_both_engines(evaluations, distro):
+    """records.runs_at_verify_time decides for both engines: cat of a file runs (and fails on a
+    file that is not there, as in ROS), a run-time query is recorded as run-time only, never run."""
+    for label in (distro, f"builtin-{distro}"):
+        assert _commands(evaluations, label, "py_command_cat.launch.py") == [
+            ("cat", False, False), ("cat", True, False)], label
+        assert _commands(evaluations, label, "py_command_runtime_query.launch.py") == [
+            ("ros2", True, True)], label
+        assert _commands(evaluations, label, "xml_command_runtime.launch.xml") == [
+            ("cat", True, False), ("ros2", True, True)], label
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_a_package_not_found_keeps_what_uses_it(evaluations, distro):
+    """Issue 10, item 4, in both engines: the lookup is reported, the package stands in as an
+    empty one, and the node or process using it is still recorded, with what follows it."""
+    for label in (distro, f"builtin-{distro}"):
+        records = evaluations[label, C + "py_unknown_package.launch.py"]
+        assert sorted(json.loads(n)["package"] for n in records["nodes"]) == ["robot_state_publisher", "rviz2"]
+        assert [(p["name"], p["found"]) for p in map(json.loads, records["packages"])
+                if p["name"] == "not_a_package_here"] == [("not_a_package_here", False)], label
+        records = evaluations[label, C + "py_executable_in_package.launch.py"]
+        commands = sorted(json.loads(n)["cmd"][0].rsplit("/", 3)[-3:] for n in records["nodes"])
+        assert commands == [["echo"], ["lib", "launch_conformance", "tool"], ["lib", "not_a_package_here", "tool"],
+                            ["lib", "robot_state_publisher", "robot_state_publisher"]], label
+        assert records["errors"] == [], label

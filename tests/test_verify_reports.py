@@ -76,7 +76,7 @@ def test_junit_validates(broken_workspace, tmp_path):
     output = tmp_path / "report.xml"
     result = run_pkgforge("verify", "--format", "junit", "--output", output, cwd=broken_workspace)
     assert result.returncode == 1
-    assert result.stderr.strip() == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine"
+    assert result.stderr.strip() == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
     document = etree.parse(str(output))
     etree.XMLSchema(etree.parse(str(SCHEMAS / "junit.xsd"))).assertValid(document)
     suites = {s.get("name"): s for s in document.getroot()}
@@ -105,7 +105,7 @@ def test_github_annotations(broken_workspace):
     assert all(pattern.match(line) for line in annotations), annotations
     assert "::error file=src/small_turtle/CMakeLists.txt,line=6,col=26,title=PF201 install-missing-directory::" \
         in "\n".join(annotations)
-    assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine"
+    assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
 
 
 def test_docs_checks_md_is_generated_from_the_registry():

@@ -96,7 +96,7 @@ def _command(c, tree) -> str:
 def _render(resolution, tree) -> str:
     launch = resolution.launch
     engine = (f"ROS 2 {resolution.distro or '(distro unknown)'}'s launch" if resolution.engine == "ros"
-              else "the built-in launch engine")
+              else "the built-in launch engine" + (f" ({resolution.distro})" if resolution.distro else ""))
     lines = [f"{launch.source or launch.installed}", f"  installed as {_short(str(launch.installed), tree)} "
              f"in the {tree.kind} tree, evaluated by {engine}"]
     if resolution.status != "ok":

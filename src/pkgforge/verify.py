@@ -67,7 +67,7 @@ class VerifyOptions:
         if self._engine is None:
             from .launch.engines import choose
 
-            self._engine = choose(self.launch_engine, self.ros_prefix)
+            self._engine = choose(self.launch_engine, self.ros_prefix, distro=self.distro)
         return self._engine
 
     def cache_key(self) -> str:

@@ -396,11 +396,14 @@ def launch_argument_required(ctx: CheckContext):
 def unsupported_launch_api(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
-        for item in resolution.unsupported:
+        # a run-time only Command (launch/records.runs_at_verify_time) is not run: said once, as info
+        runtime = [(f"Command '{' '.join(c.command[:3])}' (run-time only)", c)
+                   for c in resolution.commands if c.runtime_only]
+        for name, item in [(u.name, u) for u in resolution.unsupported] + runtime:
             position = ctx.source_position(resolution, item.file, item.line)
-            if position is not None and (item.name, position) not in seen:
-                seen.add((item.name, position))
-                yield Finding(f"{item.name} is not evaluated by pkgforge", *position)
+            if position is not None and (name, position) not in seen:
+                seen.add((name, position))
+                yield Finding(f"{name} is not evaluated by pkgforge", *position)
 
 
 @register("PF311", "launch-unevaluated", "info", area="launch",

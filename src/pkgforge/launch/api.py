@@ -186,7 +186,6 @@ IMPLEMENTED = {
     "launch_ros.actions.set_parameter.SetParameter": "SetParameter",
     "launch_ros.actions.set_parameters_from_file.SetParametersFromFile": "SetParametersFromFile",
     "launch_ros.actions.set_remap.SetRemap": "SetRemap",
-    "launch_ros.actions.set_use_sim_time.SetUseSimTime": "SetUseSimTime",
     "launch_ros.descriptions.composable_node.ComposableNode": "ComposableNode",
     "launch_ros.parameter_descriptions.Parameter": "Parameter",
     "launch_ros.parameter_descriptions.ParameterFile": "ParameterFile",

@@ -18,6 +18,7 @@ from ..errors import PkgforgeError
 ENGINE_ENV = "PKGFORGE_LAUNCH_ENGINE"
 PREFIX_ENV = "PKGFORGE_ROS_PREFIX"
 DISTRO_ENV = "PKGFORGE_ROS_DISTRO"
+BUILTIN_DISTRO_ENV = "PKGFORGE_LAUNCH_DISTRO"  # the distro whose API the built-in engine follows (api.py)
 CHOICES = ("auto", "ros", "builtin")
 # pure-Python modules the real launch imports; Debian's ROS packages put them here
 SYSTEM_PYTHON = "/usr/lib/python3/dist-packages"
@@ -37,6 +38,8 @@ class LaunchEngine:
         env[ENGINE_ENV] = self.name
         env.pop(PREFIX_ENV, None)
         env.pop(DISTRO_ENV, None)
+        if self.name == "builtin" and self.distro:
+            env[BUILTIN_DISTRO_ENV] = self.distro
         if self.name == "ros":
             env[PREFIX_ENV] = self.prefix or ""
             env[DISTRO_ENV] = self.distro or ""
@@ -53,11 +56,21 @@ class LaunchEngine:
     @property
     def label(self) -> str:
         if self.name == "builtin":
-            return "built-in"
+            return "built-in" + (f" ({self.distro})" if self.distro else "")
         return f"ROS 2 {self.distro or '(distro unknown)'}" + (f" from {self.prefix}" if self.prefix else "")
 
 
-BUILTIN = LaunchEngine()
+BUILTIN = LaunchEngine()  # the distro from PKGFORGE_LAUNCH_DISTRO, else api.DEFAULT_DISTRO
+
+
+def builtin(target: str | None = None, environ=os.environ) -> LaunchEngine:
+    """The built-in engine held to the target distro's launch API: --distro, else ROS_DISTRO,
+    else the default distro (distros.default_distro: the newest LTS)."""
+    from ..distros import DISTROS, default_distro
+
+    environment = environ.get("ROS_DISTRO", "")
+    distro = target or (environment if environment in DISTROS else default_distro())
+    return LaunchEngine("builtin", None, distro, "built-in")
 
 
 def python_paths(prefix: str) -> list[str]:
@@ -130,12 +143,14 @@ def missing_requirements(prefix: str | None) -> list[str]:
     return missing
 
 
-def choose(option: str = "auto", ros_prefix=None, environ=os.environ) -> LaunchEngine:
-    """The engine for --launch-engine OPTION (--ros-prefix DIR); a clear error when ros cannot be had."""
+def choose(option: str = "auto", ros_prefix=None, environ=os.environ, distro: str | None = None) -> LaunchEngine:
+    """The engine for --launch-engine OPTION (--ros-prefix DIR); a clear error when ros cannot be had.
+    `distro` (--distro) is the target the built-in engine follows; the real engine is its prefix's."""
     if option not in CHOICES:
         raise PkgforgeError(f"--launch-engine {option!r}: choose auto, ros or builtin")
+    fallback = builtin(distro, environ)
     if option == "builtin":
-        return BUILTIN
+        return fallback
     prefix_text = os.fspath(ros_prefix) if ros_prefix is not None else None
     if prefix_text is not None and not os.path.isdir(prefix_text):
         raise PkgforgeError(f"--ros-prefix {prefix_text}: no such folder")
@@ -143,7 +158,7 @@ def choose(option: str = "auto", ros_prefix=None, environ=os.environ) -> LaunchE
     missing = missing_requirements(prefix) if prefix is not None else []
     if missing:
         if option == "auto" and prefix_text is None:
-            return BUILTIN
+            return fallback
         raise PkgforgeError(f"the ROS 2 launch libraries in {prefix or 'PYTHONPATH'} need "
                             f"{', '.join(missing)}, which this Python cannot import: "
                             f"pip install {' '.join(missing)} (or pkgforge[ros])")
@@ -155,5 +170,5 @@ def choose(option: str = "auto", ros_prefix=None, environ=os.environ) -> LaunchE
         if option == "ros":
             raise PkgforgeError("--launch-engine ros: no ROS 2 distro found (" + how + "); source one, "
                                 "pass --ros-prefix /opt/ros/<distro>, or use --launch-engine builtin")
-        return BUILTIN
+        return fallback
     return LaunchEngine("ros", os.path.abspath(prefix) if prefix else "", distro, how)

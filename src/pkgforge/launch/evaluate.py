@@ -20,6 +20,7 @@ from .runtime import (RECORDER, Action, LaunchContext, LaunchDescription, Launch
 
 MAX_DEPTH = 32
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
+IMPORTED_FROM = re.compile(r" \((?:/|<)[^\n]*?\.py\)$")
 _module_counter = itertools.count()
 
 
@@ -83,10 +84,20 @@ def _missing_package_of(error: BaseException) -> str | None:
 
 
 def _error_record(path: str, error: BaseException, stage: str) -> dict:
-    message = f"{type(error).__name__}: {error}"
+    shown = error
+    if type(error).__name__ == "FrontendError" and error.__cause__ is not None:
+        # the built-in front end's refusal of an element wraps what building it raised: that
+        # error (launch's own, as the real engine reports it) at the element's line
+        shown = error.__cause__
+    message = f"{type(shown).__name__}: {shown}"
     if isinstance(error, SystemExit):
         message = f"SystemExit: the launch file called sys.exit({error.code!r})"
-    record = {"stage": stage, "type": type(error).__name__, "message": message,
+    if isinstance(error, ImportError) and not isinstance(error, ModuleNotFoundError):
+        # "cannot import name 'X' from 'launch.substitutions' (/opt/ros/.../__init__.py)": where
+        # the module lives (the distro's, or pkgforge's stand-in of it) is not the user's problem,
+        # and the same refusal must read the same through both engines
+        message = IMPORTED_FROM.sub("", message)
+    record = {"stage": stage, "type": type(shown).__name__, "message": message,
               "file": path, "line": _location_in(path, error)}
     if type(error).__name__ == "PackageNotFoundError":
         match = NOT_FOUND.search(str(error))
@@ -129,26 +140,31 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
                 if not taken:
                     continue
             children = entity.visit(context)
-        except Unresolved as missing:
-            RECORDER.add("required", {"name": missing.name, "skipped": type(entity).__name__}, entity)
-            continue
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
-            missing = _missing_package_of(error)
-            if missing is not None:  # a consequence of a lookup already reported
-                RECORDER.add("required", {"name": f"<package {missing} not found>",
-                                          "skipped": type(entity).__name__}, entity)
-                continue
-            if type(error).__name__ == "PackageNotFoundError":
-                match = NOT_FOUND.search(str(error))
-                RECORDER.add("packages", {"name": match.group(1) if match else str(error),
-                                          "via": type(entity).__name__, "found": False}, entity)
-                continue
-            record = {"stage": "visit", "type": type(error).__name__, "message": str(error),
-                      "file": entity._file, "line": entity._line, "entity": type(entity).__name__}
-            RECORDER.add("errors", record)
+            record_visit_failure(entity, error)
             continue
         if children:
             visit(list(children), context, depth + 1)
+
+
+def record_visit_failure(entity, error: Exception) -> None:
+    """What an entity's failure during the visit records; the visit goes on (both engines)."""
+    if isinstance(error, Unresolved):
+        RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
+        return
+    missing = _missing_package_of(error)
+    if missing is not None:  # a consequence of a lookup already reported
+        RECORDER.add("required", {"name": f"<package {missing} not found>",
+                                  "skipped": type(entity).__name__}, entity)
+        return
+    if type(error).__name__ == "PackageNotFoundError":
+        match = NOT_FOUND.search(str(error))
+        RECORDER.add("packages", {"name": match.group(1) if match else str(error).strip("'\""),
+                                  "via": type(entity).__name__, "found": False}, entity)
+        return
+    RECORDER.add("errors", {"stage": "visit", "type": type(error).__name__, "message": str(error),
+                            "file": getattr(entity, "_file", None), "line": getattr(entity, "_line", None),
+                            "entity": type(entity).__name__})
 
 
 def _watch_xacro() -> None:

@@ -127,7 +127,7 @@ def _substitution(body: str):
 
     exposed = api.frontend()["substitutions"]
     if name not in exposed:
-        raise FrontendError(f"Unknown substitution: {name}", None)
+        raise RuntimeError(f"Unknown substitution: {name}")  # launch's own (frontend/expose.py)
     api.resolve(exposed[name])  # the real constructor's signature is checked from here on
     if name in SUBSTITUTIONS:
         return SUBSTITUTIONS[name](args, arg)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import json
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
@@ -265,6 +266,27 @@ def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
     resolution.branch_names = sorted(b for b in labels if b)
     resolution.branches = max(1, len(resolution.branch_names))
     return resolution
+
+
+# --- which commands run at verify time: ONE decision for both engines ----------------------
+
+# programs whose output is a pure function of the files named on their command line
+PURE_COMMANDS = ("xacro", "cat")
+
+
+def runs_at_verify_time(words: list[str]) -> bool:
+    """Whether a `Command` is a pure function of files, so verify runs it (issue 10, item 4):
+    xacro, and `cat` of regular files (a device, a fifo or a folder is not a file's content).
+    Any other command (`ros2 param get`, a script) is run-time only: recorded, never run.
+    Both engines' `Command.perform` decide through this function alone."""
+    if not words or os.path.basename(words[0]) not in PURE_COMMANDS:
+        return False
+    if os.path.basename(words[0]) == "cat":
+        operands = [w for w in words[1:] if not w.startswith("-") or w == "-"]
+        # a file that does not exist is cat's own failure, as in ROS; stdin and devices are not files
+        return bool(operands) and all(w != "-" and (not os.path.exists(w) or os.path.isfile(w))
+                                      for w in operands)
+    return True
 
 
 MAX_BRANCHES = 16

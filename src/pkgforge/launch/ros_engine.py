@@ -30,13 +30,16 @@ import types
 
 from . import runtime as rt
 from .engines import python_paths
-from .records import as_dict, evaluate_branches
+from .records import as_dict, evaluate_branches, runs_at_verify_time
 
 MAX_DEPTH = 32
 MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
-NOT_FOUND = re.compile(r"package '([^']+)' not found")
-# actions whose execution needs a running launch service or a ROS graph: recorded, not executed
-NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandler"}
+# actions whose execution needs a running launch service or a ROS graph (SetUseSimTime sets a
+# parameter of the launch's own rclpy node): recorded, not executed, as the built-in engine does
+NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandler", "SetUseSimTime"}
+# substitutions whose value exists only at run time (the run's timestamped log folder): recorded
+# as not evaluated, and what uses them skipped, as the built-in engine does
+RUN_TIME_VALUES = ("LaunchLogDir",)
 
 RECORDER = rt.RECORDER
 L = types.SimpleNamespace()  # the real libraries, once imported
@@ -371,6 +374,14 @@ def _hook_locations() -> None:
         rt._FRONTEND_LOCATION.append((file, line))
         try:
             action = parse_action(self, entity)
+        except Exception as error:
+            # the innermost element that failed: ROS's own front end does not say where
+            if getattr(error, "_pkgforge_location", None) is None and line is not None:
+                try:
+                    error._pkgforge_location = (file, line)
+                except AttributeError:
+                    pass
+            raise
         finally:
             rt._FRONTEND_LOCATION.pop()
         if hasattr(action, "__dict__"):  # the element's line, whatever its children set last
@@ -433,9 +444,7 @@ def _hook_loaders() -> None:
                     setattr(module, attribute, replacements[value])
 
 
-def _record_path(path, obj, via: str) -> None:
-    if isinstance(path, str) and path and os.path.isabs(path):
-        RECORDER.add("paths", {"path": path, "via": via, "exists": os.path.exists(path)}, obj)
+_record_path = rt._record_path
 
 
 def _hook_substitutions() -> None:
@@ -464,25 +473,59 @@ def _hook_substitutions() -> None:
 
     wrap(subs.FindExecutable, before=find_executable)
 
-    def lookup(self, context):
-        RECORDER.add("packages", {"name": L.perform(context, self.package), "via": type(self).__name__}, self)
+    real_perform = ros_subs.FindPackage.perform
 
-    wrap(ros_subs.FindPackage, before=lookup)
+    def find_perform(self, context):
+        if not _evaluating(context):
+            return real_perform(self, context)
+        self._pkgforge_performing = True
+        try:
+            return real_perform(self, context)
+        finally:
+            self._pkgforge_performing = False
+
+    ros_subs.FindPackage.perform = find_perform
     for cls, kind in ((ros_subs.FindPackageShare, "share"), (ros_subs.FindPackagePrefix, "prefix")):
-        _direct_find(cls, kind)
+        _find(cls, kind)
     if hasattr(ros_subs, "ExecutableInPackage"):
-        wrap(ros_subs.ExecutableInPackage, before=lambda s, c: RECORDER.add(
-            "packages", {"name": L.perform(c, s.package), "via": "ExecutableInPackage"}, s))
+        real_executable = ros_subs.ExecutableInPackage.perform
+
+        def executable_perform(self, context):
+            """as the built-in engine (runtime.executable_in_package): a package not found here
+            stands in as an empty one; an executable not built yet is no failure"""
+            if not _evaluating(context):
+                return real_executable(self, context)
+            return rt.executable_in_package(self, L.perform(context, self.executable),
+                                            L.perform(context, self.package))
+
+        ros_subs.ExecutableInPackage.perform = executable_perform
     subs.Command.perform = _command_perform
+    for name in RUN_TIME_VALUES:
+        if hasattr(subs, name):
+            getattr(subs, name).perform = _run_time_value(name)
 
 
-def _direct_find(cls, kind: str) -> None:
-    """`FindPackageShare(...).find(name)` called by the launch file itself: the lookup recorded
-    (a package not found here standing in as an empty one), as for get_package_share_directory();
-    launch_ros's own call from perform() is left alone (perform records it)."""
+def _run_time_value(name: str):
+    def perform(self, context):
+        if _evaluating(context):
+            RECORDER.add("unsupported", {"name": name}, self)
+        raise rt.Unresolved(f"<{name}>")
+
+    return perform
+
+
+def _find(cls, kind: str) -> None:
+    """FindPackageShare/FindPackagePrefix's lookup, as the built-in engine does it
+    (runtime.lookup_package): recorded, and a package not found here reported and standing in as
+    an empty one, so the node using it and every later use in the file are still checked
+    (issue 10, item 4). Performed in the visit: at the substitution's place; called by the launch
+    file itself (`FindPackageShare('p').find('p')`): at that call's place; anything else (launch
+    introspecting in a throw-away context) is the real lookup."""
     real = cls.find
 
     def find(self, package_name):
+        if getattr(self, "_pkgforge_performing", False):
+            return rt.lookup_package(package_name, cls.__name__, self, kind)
         if sys._getframe(1).f_code.co_filename in rt._LAUNCH_FILES:
             return rt.lookup_package(package_name, cls.__name__, rt.here(), kind)
         return real(self, package_name)
@@ -491,33 +534,17 @@ def _direct_find(cls, kind: str) -> None:
 
 
 def _command_perform(self, context) -> str:
-    """Command: xacro runs here (real library); anything else is a run-time query, not run."""
+    """Command as the built-in engine performs it (runtime.command_output, one policy for both):
+    what is a pure function of files runs here (xacro with the real library); any other command
+    is recorded as run-time only."""
     text = L.perform(context, self.command)
-    words = shlex.split(text)
-    if not words:
-        raise L.launch.substitutions.SubstitutionFailure("empty command")
-    if os.path.basename(words[0]) != "xacro":
-        if _evaluating(context):
-            RECORDER.add("commands", {"command": words, "ok": True, "message": "", "runtime_only": True}, self)
-        return ""
+    on_stderr = L.perform(context, self.on_stderr) if hasattr(self, "on_stderr") else "fail"
     if not _evaluating(context):
-        raise L.launch.substitutions.SubstitutionFailure("not evaluated outside the launch file's visit")
-    key = tuple(words)
-    if key not in RECORDER.command_cache:
-        RECORDER.command_cache[key] = rt._run_xacro(words[1:])
-    ok, output, message, extra = RECORDER.command_cache[key]
-    record = {"command": words, "ok": ok, "message": message, **extra}
-    RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, self)
-    for word in words[1:]:
-        if ":=" not in word and not word.startswith("-"):
-            _record_path(word, self, "xacro input")
-            record["model"] = word
-            break
-    record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
-    RECORDER.add("commands", record, self)
-    if not ok:
-        raise L.launch.substitutions.SubstitutionFailure(f"executed command failed. Command: {text}\n{message}")
-    return output
+        # launch performing substitutions in a throw-away context: nothing runs, nothing recorded
+        if runs_at_verify_time(shlex.split(text)):
+            raise L.launch.substitutions.SubstitutionFailure("not evaluated outside the launch file's visit")
+        return ""
+    return rt.command_output(self, text, on_stderr, L.launch.substitutions.SubstitutionFailure)
 
 
 # --- visiting -----------------------------------------------------------------------------
@@ -729,14 +756,9 @@ def visit(entity, context, depth: int = 0) -> None:
         if missing is not None:
             RECORDER.add("required", {"name": missing, "skipped": type(entity).__name__}, entity)
             return
-        if type(error).__name__ == "PackageNotFoundError":
-            match = NOT_FOUND.search(str(error))
-            RECORDER.add("packages", {"name": match.group(1) if match else str(error).strip("'\""),
-                                      "via": type(entity).__name__, "found": False}, entity)
-            return
-        RECORDER.add("errors", {"stage": "visit", "type": type(error).__name__, "message": str(error),
-                                "file": getattr(entity, "_file", None), "line": getattr(entity, "_line", None),
-                                "entity": type(entity).__name__})
+        from .evaluate import record_visit_failure
+
+        record_visit_failure(entity, error)
         return
     for child in children or []:
         visit(child, context, depth + 1)
@@ -762,7 +784,7 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
         try:
             first = _load(path)  # a file that does not load is a load error, as in `ros2 launch`
         except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
-            return {"status": "load-error", "error": builtin._error_record(path, error, "load"),
+            return {"status": "load-error", "error": _load_error(path, error),
                     **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
 
         def run(values: dict[str, str], label: dict[str, str]) -> None:
@@ -792,6 +814,19 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
         os.environ.clear()
         os.environ.update(environment)
         _clean_scratch()
+
+
+def _load_error(path: str, error: BaseException) -> dict:
+    """A file ROS refuses to load: ROS's own exception, at the element that failed in a front-end
+    file (lark wraps a substitution's error in a VisitError; the error itself is what is said)."""
+    from . import evaluate as builtin
+
+    cause = getattr(error, "orig_exc", None) if type(error).__name__ == "VisitError" else None
+    record = builtin._error_record(path, cause if isinstance(cause, Exception) else error, "load")
+    located = getattr(error, "_pkgforge_location", None)
+    if located is not None and record["line"] is None:
+        record["file"], record["line"] = located[0] or path, located[1]
+    return record
 
 
 def _load(path: str):

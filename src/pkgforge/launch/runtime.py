@@ -91,7 +91,7 @@ class Unresolved(Exception):
 
 # --- the record -----------------------------------------------------------------------------
 
-from .records import Recorder  # noqa: E402  (the record format both engines share)
+from .records import Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
 
 
 RECORDER = Recorder()
@@ -284,19 +284,12 @@ class PythonExpression(Substitution):
         return str(eval(perform_substitutions(context, self.expression), {}, names))
 
 
-# commands whose output is a pure function of files: run at verify time
-PURE_COMMANDS = {"xacro", "cat"}
 MISSING_PACKAGE_ROOT = "/nonexistent-pkgforge-missing-package"
 
 
-def _pure(words: list[str]) -> bool:
-    return os.path.basename(words[0]) in PURE_COMMANDS
-
-
 class Command(Substitution):
-    """Runs only what is a pure function of files (xacro, cat); any other command (a
-    `ros2 param get`, a script) is run-time only: recorded as not evaluated, and its output
-    stands in as a placeholder so the rest is still checked."""
+    """Runs only what is a pure function of files (records.runs_at_verify_time); any other
+    command (a `ros2 param get`, a script) is run-time only: recorded, not run."""
 
     def __init__(self, command, *, on_stderr="fail"):
         super().__init__()
@@ -304,47 +297,52 @@ class Command(Substitution):
         self.on_stderr = normalize(on_stderr)
 
     def perform(self, context):
-        text = perform_substitutions(context, self.command)
-        words = shlex.split(text)
-        on_stderr = perform_substitutions(context, self.on_stderr)
-        if on_stderr not in ("fail", "ignore", "warn", "capture"):
-            raise SubstitutionFailure("expected 'on_stderr' to be one of: 'fail', 'ignore', 'warn' or 'capture'")
-        if not words or not _pure(words):
-            shown = " ".join(words[:3]) if words else ""
-            RECORDER.add("unsupported", {"name": f"Command '{shown}' (run-time only)"}, self)
-            return f"<output of {shown} at run time>"
-        if any(w.startswith(MISSING_PACKAGE_ROOT) for w in words):
-            raise Unresolved(f"<{words[0]} of a file in a package not found>")
-        key = tuple(words)
-        if key not in RECORDER.command_cache:
-            RECORDER.command_cache[key] = _run_command(words)
-        ok, output, message, extra = RECORDER.command_cache[key]
-        stderr = extra.get("stderr", "")
-        extra = {k: v for k, v in extra.items() if k != "stderr"}
-        failure = None
-        if ok and stderr and on_stderr == "fail":
-            # launch fails a Command that writes to stderr unless on_stderr says otherwise
-            failure = f"executed command showed stderr output. Command: {text}\nCaptured stderr output:\n{stderr}"
-            first = stderr.strip().splitlines()[0] if stderr.strip() else ""
-            ok, message = False, (f"{first} (written to stderr: Command's on_stderr='fail' stops the launch; "
-                                  "fix the warning or pass on_stderr='warn')")
-        elif ok and stderr and on_stderr == "capture":
-            output = output + stderr
-        record = {"command": words, "ok": ok, "message": message, **extra}
-        if os.path.basename(words[0]) == "xacro":
-            RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, self)
-            for word in words[1:]:
-                if ":=" not in word and not word.startswith("-"):
-                    _record_path(word, self, "xacro input")
-                    record["model"] = word
-                    break
-            record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
-        RECORDER.add("commands", record, self)
-        if not ok:
-            if failure is not None:
-                raise SubstitutionFailure(failure)
-            raise SubstitutionFailure(f"executed command failed. Command: {text}\n{message}")
-        return output
+        return command_output(self, perform_substitutions(context, self.command),
+                              perform_substitutions(context, self.on_stderr))
+
+
+def command_output(owner, text: str, on_stderr: str, failure: type = SubstitutionFailure) -> str:
+    """`Command.perform` of both engines (the real engine's Command calls it too, with launch's
+    own SubstitutionFailure): launch's on_stderr rule; a command verify may run is run (once per
+    file) and recorded; a run-time only one is recorded as such and its output is '' ."""
+    words = shlex.split(text)
+    if not words:
+        raise failure("empty command")
+    if on_stderr not in ("fail", "ignore", "warn", "capture"):
+        raise failure("expected 'on_stderr' to be one of: 'fail', 'ignore', 'warn' or 'capture'")
+    if not runs_at_verify_time(words):
+        RECORDER.add("commands", {"command": words, "ok": True, "message": "", "runtime_only": True}, owner)
+        return ""
+    if any(w.startswith(MISSING_PACKAGE_ROOT) for w in words):
+        raise Unresolved(f"<{words[0]} of a file in a package not found>")
+    key = tuple(words)
+    if key not in RECORDER.command_cache:
+        RECORDER.command_cache[key] = _run_command(words)
+    ok, output, message, extra = RECORDER.command_cache[key]
+    stderr = extra.get("stderr", "")
+    extra = {k: v for k, v in extra.items() if k != "stderr"}
+    problem = None
+    if ok and stderr and on_stderr == "fail":
+        # launch fails a Command that writes to stderr unless on_stderr says otherwise
+        problem = f"executed command showed stderr output. Command: {text}\nCaptured stderr output:\n{stderr}"
+        first = stderr.strip().splitlines()[0] if stderr.strip() else ""
+        ok, message = False, (f"{first} (written to stderr: Command's on_stderr='fail' stops the launch; "
+                              "fix the warning or pass on_stderr='warn')")
+    elif ok and stderr and on_stderr == "capture":
+        output = output + stderr
+    record = {"command": words, "ok": ok, "message": message, **extra}
+    if os.path.basename(words[0]) == "xacro":
+        RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, owner)
+        for word in words[1:]:
+            if ":=" not in word and not word.startswith("-"):
+                _record_path(word, owner, "xacro input")
+                record["model"] = word
+                break
+        record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
+    RECORDER.add("commands", record, owner)
+    if not ok:
+        raise failure(problem if problem is not None else f"executed command failed. Command: {text}\n{message}")
+    return output
 
 
 def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
@@ -659,13 +657,28 @@ class ExecutableInPackage(Substitution):
         self.executable, self.package = normalize(executable), normalize(package)
 
     def perform(self, context):
-        package = perform_substitutions(context, self.package)
-        prefix = lookup_package(package, "ExecutableInPackage", self, "prefix")
-        return os.path.join(prefix, "lib", package, perform_substitutions(context, self.executable))
+        return executable_in_package(self, perform_substitutions(context, self.executable),
+                                     perform_substitutions(context, self.package))
 
 
-def _record_path(path: str, obj, via: str) -> None:
-    if path and os.path.isabs(path) and not path.startswith(MISSING_PACKAGE_ROOT):
+def executable_in_package(owner, executable: str, package: str) -> str:
+    """`ExecutableInPackage.perform` of both engines: the package's prefix looked up (recorded; a
+    package not found here stands in as an empty one) and the executable in its lib/<package>
+    folder, found there or not. launch_ros refuses an executable that is not there; verify does
+    not: a predicted install tree holds no build products, so an executable missing from it says
+    nothing about the real install (the package's build installs it)."""
+    import shutil
+
+    prefix = lookup_package(package, "ExecutableInPackage", owner, "prefix")
+    libexec = os.path.join(prefix, "lib", package)
+    found = shutil.which(executable, path=libexec) if os.path.isdir(libexec) else None
+    return found or os.path.join(libexec, executable)
+
+
+def _record_path(path, obj, via: str) -> None:
+    """An absolute path the launch file resolves, recorded (both engines); none under a package
+    not found here (that lookup is reported already)."""
+    if isinstance(path, str) and path and os.path.isabs(path) and not path.startswith(MISSING_PACKAGE_ROOT):
         RECORDER.add("paths", {"path": path, "via": via, "exists": os.path.exists(path)}, obj)
 
 
@@ -1484,11 +1497,6 @@ class SetRemap(Action):
         context.launch_configurations["ros_remaps"] = remaps
 
 
-class SetUseSimTime(SetParameter):
-    def __init__(self, value, **kwargs):
-        super().__init__("use_sim_time", value, **kwargs)
-
-
 class SetParametersFromFile(Action):
     def __init__(self, filename, **kwargs):
         super().__init__(**kwargs)
@@ -1508,21 +1516,31 @@ class RosTimerAction(TimerAction):
 
 def unsupported(name: str, bases=Action) -> type:
     """A real launch API name pkgforge records instead of evaluating: an action that does
-    nothing, a substitution whose value is unknown (what uses it is skipped)."""
+    nothing, a substitution whose value is unknown (what uses it is skipped). Recorded where the
+    real engine records it: an action when visited (its condition taken, in each evaluated
+    branch), a substitution when performed, anything else when made."""
     bases = bases if isinstance(bases, tuple) else (bases,)
+    visited = any(issubclass(b, (Action, Substitution)) for b in bases)
 
     def __init__(self, *args, **kwargs):
         Located.__init__(self)
         self.condition = kwargs.get("condition")
-        RECORDER.add("unsupported", {"name": name}, self)
+        if not visited:
+            RECORDER.add("unsupported", {"name": name}, self)
 
     def visit(self, context):
-        return None
+        RECORDER.add("unsupported", {"name": name}, self)
 
     def perform(self, context):
+        RECORDER.add("unsupported", {"name": name}, self)
         raise Unresolved(f"<{name}>")
 
     return type(name, bases, {"__init__": __init__, "visit": visit, "perform": perform})
+
+
+# launch_ros sets use_sim_time on the launch's own ROS node (a running rclpy node), not on
+# the nodes it starts: nothing verify can do or check (the real engine records it the same way)
+SetUseSimTime = unsupported("SetUseSimTime")
 
 
 def load_description_function(path, *args, **kwargs):

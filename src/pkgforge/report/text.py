@@ -28,7 +28,7 @@ def summary(result) -> str:
 def engine_note(result) -> str:
     """Which launch engine evaluated the launch files."""
     if getattr(result, "engine", "builtin") != "ros":
-        return "; launch: built-in engine"
+        return "; launch: built-in engine" + (f" ({result.distro})" if getattr(result, "distro", None) else "")
     return f"; launch: ROS 2 {result.distro or '(distro unknown)'}"
 
 
