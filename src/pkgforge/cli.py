@@ -211,6 +211,34 @@ def finish_with_verify(package: Path, notes) -> None:
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("path", type=click.Path(path_type=Path))
+@click.option("--destination", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Folder to create the ROS 2 package in [default: beside PATH, as NAME, or NAME_ros2 "
+                   "when NAME exists]. Never overwritten.")
+@click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py", show_default=True,
+              help="Format of the converted launch files.")
+@click.option("--distro", type=click.Choice(list(DISTROS)), default=default_distro,
+              show_default=f"ROS_DISTRO, else {NEWEST_LTS}", help="ROS 2 distribution the package targets.")
+@click.option("--gazebo", is_flag=True,
+              help="Convert Gazebo Classic (gazebo_ros empty_world.launch, spawn_model) to Gazebo with "
+                   "ros_gz_sim instead of leaving it out.")
+def migrate(path, destination, launch_format, distro, gazebo):
+    """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
+    from .migrate.notes import Notes
+    from .migrate.package import migrate as run_migrate
+
+    try:
+        created, notes, source = run_migrate(path, destination, launch_format=launch_format, distro=distro,
+                                             gazebo=gazebo, notes_factory=Notes)
+    except PkgforgeError as error:
+        fail(error)
+    click.echo(f"migrated {os.path.relpath(source)} to ROS 2 {distro} in {os.path.relpath(created.path)}/")
+    for relative in created.files:
+        click.echo(f"  {relative}")
+    finish_with_verify(created.path, notes)
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
 @click.option("--build-base", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Build folder [default: build/ in the workspace root].")

@@ -90,7 +90,7 @@ class PackageSpec:
 
     @property
     def launch_comment(self) -> str:
-        return " and ".join(self.launch_files or (self.launch_file,))
+        return ", ".join(self.launch_files or (self.launch_file,))
 
     @property
     def all_maintainers(self) -> tuple[tuple[str, str], ...]:

@@ -54,6 +54,10 @@ EXECUTABLES: dict[tuple[str, str], tuple[str, str]] = {
     ("joint_state_publisher", "joint_state_publisher_gui"): ("joint_state_publisher_gui",
                                                              "joint_state_publisher_gui"),
 }
+# ROS 1 command-line tools started as nodes: ROS 2 has them as `ros2 ...` commands, not nodes
+COMMAND_NODES: dict[str, str] = {
+    "rostopic": "ros2 topic", "rosservice": "ros2 service", "rosparam": "ros2 param", "rosbag": "ros2 bag",
+}
 # Gazebo Classic's spawner → Gazebo's (with --gazebo)
 GAZEBO_SPAWNER = ("gazebo_ros", "spawn_model")
 GZ_SPAWNER = ("ros_gz_sim", "create")
