@@ -188,6 +188,13 @@ def _py_condition(condition) -> str:
 def to_python(actions: list, source: str) -> str:
     body: list[str] = []
 
+    def call(name: str, fields: list[str], condition, indent: str) -> None:
+        if condition:
+            fields = [*fields, f"condition={_py_condition(condition)}"]
+        body.append(f"{indent}{name}(")
+        body.extend(f"{indent}    {f}," for f in fields)
+        body.append(f"{indent}),")
+
     def emit(items, indent: str) -> None:
         for action in items:
             if isinstance(action, Arg):
@@ -223,20 +230,12 @@ def to_python(actions: list, source: str) -> str:
                     fields.append("parameters=[" + ", ".join(params) + "]")
                 if action.remaps:
                     fields.append("remappings=[" + ", ".join(f"({a!r}, {b!r})" for a, b in action.remaps) + "]")
-                if action.condition:
-                    fields.append(f"condition={_py_condition(action.condition)}")
-                body.append(f"{indent}Node(")
-                body.extend(f"{indent}    {f}," for f in fields)
-                body.append(f"{indent}),")
+                call("Node", fields, action.condition, indent)
             elif isinstance(action, Include):
                 fields = [f"AnyLaunchDescriptionSource({py(action.path)})"]
                 if action.arguments:
                     fields.append("launch_arguments=[" + ", ".join(f"({k!r}, {py(v)})" for k, v in action.arguments) + "]")
-                if action.condition:
-                    fields.append(f"condition={_py_condition(action.condition)}")
-                body.append(f"{indent}IncludeLaunchDescription(")
-                body.extend(f"{indent}    {f}," for f in fields)
-                body.append(f"{indent}),")
+                call("IncludeLaunchDescription", fields, action.condition, indent)
             elif isinstance(action, Group):
                 body.append(f"{indent}GroupAction(")
                 if action.condition:
@@ -272,29 +271,12 @@ def to_python(actions: list, source: str) -> str:
 
 
 def used_packages(actions: list) -> set[str]:
-    """Packages the converted file starts or looks up, and whether it runs xacro."""
-    found: set[str] = set()
+    """Packages the converted file starts or looks up (xacro where it runs it)."""
+    from .roslaunch import nodes, token_lists
 
-    def parts_of(items):
-        for action in items:
-            if isinstance(action, Arg):
-                yield action.default or []
-            elif isinstance(action, Node):
-                found.add(action.package)
-                yield from action.arguments
-                for param in action.params:
-                    if param.kind == "description":
-                        found.add("xacro")
-                    yield param.value or []
-                if action.condition:
-                    yield action.condition[1]
-            elif isinstance(action, Include):
-                yield action.path
-                for _, value in action.arguments:
-                    yield value
-            elif isinstance(action, Group):
-                yield from parts_of(action.actions)
-
-    for parts in parts_of(actions):
-        found |= {p[1] for p in parts if p[0] == "find"}
+    found = {p[1] for parts in token_lists(actions) for p in parts if p[0] == "find"}
+    for node in nodes(actions):
+        found.add(node.package)
+        if any(param.kind == "description" for param in node.params):
+            found.add("xacro")
     return found

@@ -52,8 +52,7 @@ def _files(source: Path) -> list[str]:
 
 
 def _is_ros1_launch(relative: str) -> bool:
-    return relative.endswith(".launch") or (relative.endswith(".xml") and relative.startswith("launch/")
-                                            and not relative.endswith(".launch.xml"))
+    return relative.endswith(".launch")
 
 
 def _models(source: Path, files: list[str], notes):

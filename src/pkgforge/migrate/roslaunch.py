@@ -188,7 +188,13 @@ class Reader:
                 actions.extend(result if isinstance(result, list) else [result])
         return actions
 
+    def required(self, element, *names: str) -> None:
+        missing = [n for n in names if not element.get(n)]
+        if missing:
+            raise Unconvertible(f"it has no {', '.join(missing)}= attribute")
+
     def read_arg(self, element):
+        self.required(element, "name")
         name = element.get("name")
         if element.get("value") is not None:
             return Arg(name, tokens(element.get("value")), element.get("doc"), element.sourceline, fixed=True)
@@ -217,6 +223,7 @@ class Reader:
         return None
 
     def read_param(self, element):
+        self.required(element, "name")
         name = element.get("name", "")
         if name.lstrip("/") == "robot_description":
             self.description = (self.description_of(element) or self.value(element, "value") or [],
@@ -233,6 +240,7 @@ class Reader:
         raise Unconvertible("global <rosparam>: ROS 2 has no global parameters (load it in a node's <param from>)")
 
     def read_include(self, element):
+        self.required(element, "file")
         path = tokens(element.get("file"))
         arguments = [(a.get("name"), tokens(a.get("value", a.get("default", ""))))
                      for a in element if isinstance(a.tag, str) and a.tag == "arg"]
@@ -262,6 +270,7 @@ class Reader:
         return Include(renamed, element.sourceline, arguments, condition)
 
     def read_node(self, element):
+        self.required(element, "pkg", "type")
         package, executable = element.get("pkg"), element.get("type")
         line = element.sourceline
         if (package, executable) == table.GAZEBO_SPAWNER:
@@ -350,14 +359,14 @@ class Reader:
 
     def finish(self, actions: list) -> None:
         """Global robot_description → robot_state_publisher's parameter; use_gui → which publisher."""
-        nodes = list(_nodes(actions))
+        found = list(nodes(actions))
         if self.description is not None:
             description, line, _ = self.description
-            publishers = [n for n in nodes if n.package == "robot_state_publisher"]
+            publishers = [n for n in found if n.package == "robot_state_publisher"]
             for node in publishers:
                 if not any(p.name == "robot_description" for p in node.params):
                     node.params.insert(0, Param("robot_description", description, "description"))
-            if not publishers and not any(n.package == "ros_gz_sim" for n in nodes):
+            if not publishers and not any(n.package == "ros_gz_sim" for n in found):
                 self.notes.add("migrate-dropped", "global robot_description left out: no robot_state_publisher "
                                "here to publish it", self.path, line)
         if self.use_gui is None:
@@ -384,34 +393,30 @@ def _node_places(actions: list):
             yield from _node_places(action.actions)
 
 
-def _nodes(actions: list):
+def nodes(actions: list):
     for _, node in _node_places(actions):
         yield node
 
 
+def token_lists(actions: list):
+    """Every token list in actions: defaults, arguments, parameters, conditions, includes."""
+    for action in actions:
+        condition = getattr(action, "condition", None)
+        if condition:
+            yield condition[1]
+        if isinstance(action, Arg):
+            yield action.default or []
+        elif isinstance(action, Node):
+            yield from action.arguments
+            yield from (param.value or [] for param in action.params)
+        elif isinstance(action, Include):
+            yield action.path
+            yield from (value for _, value in action.arguments)
+        elif isinstance(action, Group):
+            yield action.namespace or []
+            yield from token_lists(action.actions)
+
+
 def _variables(actions: list) -> set[str]:
     """Names of the launch arguments anything in actions reads."""
-    names: set[str] = set()
-
-    def scan(parts) -> None:
-        names.update(p[1] for p in parts or [] if p[0] == "var")
-
-    for action in actions:
-        if isinstance(action, Arg):
-            scan(action.default)
-        elif isinstance(action, Node):
-            for word in action.arguments:
-                scan(word)
-            for param in action.params:
-                scan(param.value)
-            scan(action.condition[1] if action.condition else None)
-        elif isinstance(action, Include):
-            scan(action.path)
-            for _, value in action.arguments:
-                scan(value)
-            scan(action.condition[1] if action.condition else None)
-        elif isinstance(action, Group):
-            scan(action.namespace)
-            scan(action.condition[1] if action.condition else None)
-            names |= _variables(action.actions)
-    return names
+    return {p[1] for parts in token_lists(actions) for p in parts if p[0] == "var"}
