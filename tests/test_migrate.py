@@ -242,3 +242,45 @@ def test_from_urdf_missing_mesh_writes_nothing(tmp_path):
                           "--destination", tmp_path / "out", cwd=tmp_path)
     assert forced.returncode == 1  # written without it; verify reports the mesh
     assert "PF402" in forced.stdout and "PF801 [warning] mesh '../meshes/link2.STL' not found" in forced.stdout
+
+
+TUTORIAL = """<launch>
+  <arg name="model" default="$(find robot_arm)/urdf/robot_arm.urdf"/>
+  <arg name="gui" default="true" />
+  <arg name="rvizconfig" default="$(find robot_arm)/urdf.rviz" />
+  <param name="robot_description" command="$(find xacro)/xacro $(arg model)" />
+  <node if="$(arg gui)" name="joint_state_publisher" pkg="joint_state_publisher_gui" type="joint_state_publisher_gui" />
+  <node unless="$(arg gui)" name="joint_state_publisher" pkg="joint_state_publisher" type="joint_state_publisher" />
+  <node name="robot_state_publisher" pkg="robot_state_publisher" type="robot_state_publisher">
+    <remap from="joint_states" to="/arm/joint_states"/>
+  </node>
+  <group ns="tools">
+    <node name="rviz" pkg="rviz" type="rviz" args="-d $(arg rvizconfig)">
+      <rosparam command="load" file="$(find robot_arm)/config/joint_names_robot_arm.yaml"/>
+    </node>
+  </group>
+  <machine name="robot" address="robot.local"/>
+</launch>
+"""
+
+
+@pytest.mark.parametrize("launch_format", ["py", "xml", "yaml"])
+def test_urdf_tutorial_style_launch(tmp_path, launch_format):
+    """Arguments with defaults, if/unless, a remap, a group with a namespace, a node's rosparam file,
+    and an RViz config named through an argument (which follows the config to rviz/)."""
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / "launch" / "display.launch").write_text(TUTORIAL)
+    (tmp_path / "ws" / "src").mkdir(parents=True)
+    result = run_pkgforge("migrate", package, "--destination", "src", "--launch-format", launch_format,
+                          cwd=tmp_path / "ws")
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "0 errors, 0 warnings" in result.stdout, result.stdout
+    launch = package / "launch/display.launch"
+    assert f"../ros1/robot_arm/launch/display.launch:{line_of(launch, '<machine')}: PF801 [warning] <machine> has " \
+           "no ROS 2 launch equivalent: left out (migrate-dropped)" in result.stdout
+    explain = run_pkgforge("verify", "--explain-launch", f"src/robot_arm/launch/display.launch.{launch_format}",
+                           cwd=tmp_path / "ws")
+    out = explain.stdout
+    assert "rviz2/rviz2 args ['-d', 'share/robot_arm/rviz/urdf.rviz']" in out, out
+    assert "✓ share/robot_arm/config/joint_names_robot_arm.yaml" in out and "✗" not in out
+    assert "joint_state_publisher_gui/joint_state_publisher_gui" in out and "[gui:=false]" in out

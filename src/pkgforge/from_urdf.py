@@ -229,10 +229,10 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
                     len({r.source.resolve() for r in assets if r.kind == "mesh"}), missing)
 
 
-def missing_message(missing: list[Reference]) -> str:
+def missing_message(missing: list[Reference], *, force: bool = True) -> str:
     lines = [f"{r.file}:{r.line}: {r.kind} '{r.uri}' not found: {r.problem}" for r in missing]
     return ("\n".join(lines) + f"\n{len(missing)} file(s) the model names cannot be found: nothing written; "
-            "copy them beside the model, or pass --force to write the package without them")
+            "copy them where the model says" + (", or pass --force to write the package without them" if force else ""))
 
 
 def new_from_urdf(spec_options: dict, model: Path, destination: Path, *, force: int = 0,

@@ -21,9 +21,12 @@ class Notes:
         self.diagnostics.append(check.diagnostic(self.package, Finding(message, Path(path), line, hint=hint)))
 
     def render(self, root: Path) -> str:
-        from ..report.text import location
+        import os
 
         lines = []
         for d in sorted(self.diagnostics, key=Diagnostic.sort_key):
-            lines.append(f"{location(d, root)}: {d.code} [{d.severity.label}] {d.message} ({d.name})")
+            shown = os.path.relpath(d.path, root)
+            where = ":".join([d.path.as_posix() if shown.startswith("../../") else shown,
+                              *([str(d.line)] if d.line is not None else [])])
+            lines.append(f"{where}: {d.code} [{d.severity.label}] {d.message} ({d.name})")
         return "\n".join(lines) + ("\n" if lines else "")

@@ -98,7 +98,7 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
     files = _files(source)
     links, root, missing = _models(source, files, notes)
     if missing:
-        raise PkgforgeError(missing_message(missing))
+        raise PkgforgeError(missing_message(missing, force=False))
     base = make_spec(name, distro=distro, launch_format=launch_format,
                      maintainer_name=package.maintainers[0].name if package.maintainers else None,
                      maintainer_email=package.maintainers[0].email if package.maintainers else None)
@@ -112,7 +112,7 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
             moved[relative] = f"rviz/{relative}"
 
     def rename_launch(parts: list) -> list:
-        return _rewrite(parts, name, moved, foreign_launch=f".launch.{launch_format}")
+        return _rewrite(parts, name, moved, foreign_launch=".launch.py")  # other packages' ROS 2 launch files
 
     output: dict[str, bytes] = {}
     used: set[str] = set()
@@ -220,10 +220,12 @@ def _rewrite(parts: list, name: str, moved: dict[str, str], foreign_launch: str)
 
 def _rewrite_all(actions: list, name: str, moved: dict[str, str], source: Path, generated: dict, notes, path) -> None:
     """References to moved files follow them; an RViz config the source lacks is generated in rviz/."""
-    from .roslaunch import Group, Node
+    from .roslaunch import Arg, Group, Node
 
     for action in actions:
-        if isinstance(action, Group):
+        if isinstance(action, Arg) and action.default:
+            action.default = _rewrite(action.default, name, moved, ".launch.py")
+        elif isinstance(action, Group):
             _rewrite_all(action.actions, name, moved, source, generated, notes, path)
         elif isinstance(action, Node):
             action.arguments = [_rewrite(w, name, moved, ".launch.py") for w in action.arguments]
