@@ -175,7 +175,7 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
     model = model.absolute()
     if not model.is_file():
         raise PkgforgeError(f"{model}: no such file; give the .urdf or .urdf.xacro to import")
-    if not (model.name.endswith((".urdf", ".xacro"))):
+    if not model.name.lower().endswith((".urdf", ".xacro")):
         raise PkgforgeError(f"{model}: not a .urdf or .urdf.xacro file")
     models: dict[Path, str] = {}  # model file → its name in urdf/
     references: list[Reference] = []
