@@ -149,16 +149,32 @@ class MemorySize(click.ParamType):
                    "(--force --force). Other files stay.")
 @click.option("--ci", type=click.Choice(CI_SYSTEMS), multiple=True,
               help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.")
+@click.option("--from-urdf", "from_urdf", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              metavar="FILE", help="Bring in this .urdf/.urdf.xacro (a CAD export) with every mesh and "
+                                   "texture it names, instead of the example robot; then verify.")
+@click.option("--mesh-uri", type=click.Choice(["package", "find"]), default="package", show_default=True,
+              help="With --from-urdf: rewrite mesh URIs as package://NAME/meshes/... or "
+                   "file://$(find NAME)/meshes/....")
 def new(name, distro, build_type, launch_format, destination, maintainer_name,
-        maintainer_email, license_, description, force, ci):
+        maintainer_email, license_, description, force, ci, from_urdf, mesh_uri):
     """Create a robot description package NAME that builds and shows in RViz2."""
     from .scaffold import create_package, default_destination, make_spec
 
+    options = dict(name=name, distro=distro, build_type=build_type, launch_format=launch_format,
+                   maintainer_name=maintainer_name, maintainer_email=maintainer_email,
+                   license=license_, description=description, ci=tuple(dict.fromkeys(ci)))
+    notes = None
     try:
-        spec = make_spec(name, distro=distro, build_type=build_type, launch_format=launch_format,
-                         maintainer_name=maintainer_name, maintainer_email=maintainer_email,
-                         license=license_, description=description, ci=tuple(dict.fromkeys(ci)))
-        created = create_package(spec, destination or default_destination(Path.cwd()), force=force)
+        if from_urdf is not None:
+            from .from_urdf import new_from_urdf
+
+            created, notes, imported = new_from_urdf(options, from_urdf,
+                                                     destination or default_destination(Path.cwd()),
+                                                     force=force, uri_style=mesh_uri)
+            spec = make_spec(**options)
+        else:
+            spec = make_spec(**options)
+            created = create_package(spec, destination or default_destination(Path.cwd()), force=force)
     except PkgforgeError as error:
         fail(error)
     shown = os.path.relpath(created.path)
@@ -171,6 +187,55 @@ def new(name, distro, build_type, launch_format, destination, maintainer_name,
                f"  pkgforge build            # colcon build into install/\n"
                f"  pkgforge verify {shown}\n"
                f"  ros2 launch {spec.name} display.launch.{spec.launch_format}")
+    if notes is not None:
+        click.echo(f"imported {from_urdf} with {imported.meshes} mesh(es); {len(imported.files)} file(s) "
+                   "in urdf/ and meshes/")
+        finish_with_verify(created.path, notes)
+
+
+def finish_with_verify(package: Path, notes) -> None:
+    """`migrate` and `new --from-urdf`: what changed, then verify's report on the result; verify's exit status."""
+    from .config import Selection
+    from .report import render
+    from .verify import VerifyOptions, verify as run_verify
+
+    click.echo(notes.render(Path.cwd()), nl=False)
+    click.echo(f"verify {os.path.relpath(package)}:")
+    try:
+        result = run_verify(package, VerifyOptions(Selection()))
+    except PkgforgeError as error:
+        fail(error)
+    click.echo(render("text", result), nl=False)
+    report_internal_errors(result)
+    sys.exit(result.exit_code(False))
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("path", type=click.Path(path_type=Path))
+@click.option("--destination", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Folder to create the ROS 2 package in [default: beside PATH, as NAME, or NAME_ros2 "
+                   "when NAME exists]. Never overwritten.")
+@click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py", show_default=True,
+              help="Format of the converted launch files.")
+@click.option("--distro", type=click.Choice(list(DISTROS)), default=default_distro,
+              show_default=f"ROS_DISTRO, else {NEWEST_LTS}", help="ROS 2 distribution the package targets.")
+@click.option("--gazebo", is_flag=True,
+              help="Convert Gazebo Classic (gazebo_ros empty_world.launch, spawn_model) to Gazebo with "
+                   "ros_gz_sim instead of leaving it out.")
+def migrate(path, destination, launch_format, distro, gazebo):
+    """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
+    from .migrate.notes import Notes
+    from .migrate.package import migrate as run_migrate
+
+    try:
+        created, notes, source = run_migrate(path, destination, launch_format=launch_format, distro=distro,
+                                             gazebo=gazebo, notes_factory=Notes)
+    except PkgforgeError as error:
+        fail(error)
+    click.echo(f"migrated {os.path.relpath(source)} to ROS 2 {distro} in {os.path.relpath(created.path)}/")
+    for relative in created.files:
+        click.echo(f"  {relative}")
+    finish_with_verify(created.path, notes)
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)

@@ -20,36 +20,9 @@ from pathlib import Path
 
 DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
 
-# ROS 1 names, renamed packages and Gazebo Classic → what a ROS 2 package uses instead, and why.
-# One table, one place; it is consulted only for a name not released for the target distro.
-REPLACEMENTS: dict[str, tuple[str, str]] = {
-    # ROS 1 packages with a ROS 2 successor
-    "rviz": ("rviz2", "rviz is ROS 1; ROS 2 has rviz2"),
-    "roslaunch": ("ros2launch", "roslaunch is ROS 1; ROS 2 launches with ros2launch (launch, launch_ros)"),
-    "rospy": ("rclpy", "rospy is ROS 1; ROS 2 has rclpy"),
-    "roscpp": ("rclcpp", "roscpp is ROS 1; ROS 2 has rclcpp"),
-    "actionlib": ("rclcpp_action", "actionlib is ROS 1; ROS 2 has actions in rclcpp_action/rclpy"),
-    "actionlib_msgs": ("action_msgs", "actionlib_msgs is ROS 1; ROS 2 has action_msgs"),
-    "catkin": ("ament_cmake", "catkin is ROS 1; ROS 2 builds with ament_cmake"),
-    "rosbag": ("rosbag2", "rosbag is ROS 1; ROS 2 has rosbag2"),
-    "roslib": ("ament_index_python", "roslib is ROS 1; ROS 2 finds packages with ament_index_python"),
-    "rospack": ("ament_index_python", "rospack is ROS 1; ROS 2 finds packages with ament_index_python"),
-    "tf": ("tf2_ros", "tf is ROS 1; ROS 2 has tf2_ros"),
-    "message_generation": ("rosidl_default_generators", "message_generation is ROS 1"),
-    "message_runtime": ("rosidl_default_runtime", "message_runtime is ROS 1"),
-    "gazebo_ros_control": ("gz_ros2_control", "gazebo_ros_control is ROS 1 (Gazebo Classic)"),
-    "joint_state_controller": ("joint_state_broadcaster", "joint_state_controller is ROS 1"),
-    # Gazebo Classic is gone after Humble; Gazebo (gz) replaces it
-    "gazebo_ros": ("ros_gz_sim", "Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo "
-                                 "with ros_gz_sim"),
-    "gazebo_plugins": ("ros_gz_sim", "Gazebo Classic plugins are released for Humble only"),
-    "gazebo_ros_pkgs": ("ros_gz", "Gazebo Classic is released for Humble only; use ros_gz"),
-    "gazebo_ros2_control": ("gz_ros2_control", "Gazebo Classic is released for Humble only"),
-    "ros_ign_gazebo": ("ros_gz_sim", "ros_ign_* was renamed ros_gz_*"),
-    "ros_ign_bridge": ("ros_gz_bridge", "ros_ign_* was renamed ros_gz_*"),
-    "ros_ign": ("ros_gz", "ros_ign_* was renamed ros_gz_*"),
-    "ign_ros2_control": ("gz_ros2_control", "ign_ros2_control was renamed gz_ros2_control"),
-}
+# ROS 1 names, renamed packages and Gazebo Classic → their ROS 2 successors: one table, kept
+# with every other ROS 1 → ROS 2 name in migrate/table.py.
+from .migrate.table import PACKAGES as REPLACEMENTS  # noqa: E402
 
 
 @dataclass(frozen=True)

@@ -60,23 +60,49 @@ class PackageSpec:
     description: str = ""
     version: str = "0.0.0"
     ci: tuple[str, ...] = field(default=())
+    # an existing robot brought in (`new --from-urdf`, `migrate`): its model file (in urdf/),
+    # the RViz Fixed Frame, the folders it has, more exec_depends and the people of its manifest
+    model_name: str | None = None
+    fixed_frame: str = "base_link"
+    resource_folders: tuple[str, ...] | None = None
+    extra_exec_depends: tuple[str, ...] = ()
+    launch_files: tuple[str, ...] = ()
+    maintainers: tuple[tuple[str, str], ...] = ()
+    licenses: tuple[str, ...] = ()
+    authors: tuple[tuple[str, str | None], ...] = ()
+    urls: tuple[tuple[str, str], ...] = ()
 
     @property
     def folders(self) -> tuple[str, ...]:
         """Resource folders the package gets; each one is installed to share/<name>/."""
-        return ("launch", "meshes", "rviz", "urdf")
+        return self.resource_folders or ("launch", "meshes", "rviz", "urdf")
 
     @property
     def exec_depends(self) -> list[str]:
-        return sorted(set(BASE_EXEC_DEPENDS) | set(LAUNCH_FORMAT_DEPENDS[self.launch_format]))
+        if self.launch_files:  # migrated: what its launch files use, no more
+            return sorted(set(self.extra_exec_depends))
+        return sorted(set(BASE_EXEC_DEPENDS) | set(LAUNCH_FORMAT_DEPENDS[self.launch_format])
+                      | set(self.extra_exec_depends))
 
     @property
     def launch_file(self) -> str:
         return f"launch/display.launch.{self.launch_format}"
 
     @property
+    def launch_comment(self) -> str:
+        return ", ".join(self.launch_files or (self.launch_file,))
+
+    @property
+    def all_maintainers(self) -> tuple[tuple[str, str], ...]:
+        return self.maintainers or ((self.maintainer_name, self.maintainer_email),)
+
+    @property
+    def all_licenses(self) -> tuple[str, ...]:
+        return self.licenses or (self.license,)
+
+    @property
     def model_file(self) -> str:
-        return f"urdf/{self.name}.urdf.xacro"
+        return f"urdf/{self.model_name or self.name + '.urdf.xacro'}"
 
     @property
     def mesh_file(self) -> str:
@@ -129,6 +155,7 @@ def make_spec(
     license: str = "Apache-2.0",
     description: str = "",
     ci: tuple[str, ...] = (),
+    **more,
 ) -> PackageSpec:
     """Validate options into a PackageSpec; bad input raises PkgforgeError."""
     problem = rep144_problem(name)
@@ -164,6 +191,7 @@ def make_spec(
         license=license.strip(),
         description=description.strip(),
         ci=tuple(ci),
+        **more,
     )
 
 
@@ -252,7 +280,8 @@ def _symlink_out(target: Path, relative: str) -> Path | None:
     return None
 
 
-def create_package(spec: PackageSpec, destination: Path, *, force: int = 0) -> CreatedPackage:
+def create_package(spec: PackageSpec, destination: Path, *, force: int = 0,
+                   files: dict[str, bytes] | None = None, folder: str | None = None) -> CreatedPackage:
     """Render into a temporary folder beside the target, then move into place.
 
     Without `force` an existing target is refused and left untouched. With
@@ -267,7 +296,7 @@ def create_package(spec: PackageSpec, destination: Path, *, force: int = 0) -> C
         raise PkgforgeError(f"the name is {len(spec.name)} characters long; files named after it would pass "
                             f"the file system's 255-byte limit: use at most {MAX_NAME_LENGTH}")
     destination = destination.absolute()
-    target = destination / spec.name
+    target = destination / (folder or spec.name)
     if (target.exists() or target.is_symlink()) and not force:
         raise PkgforgeError(
             f"{target} already exists; pkgforge does not touch it without --force "
@@ -278,7 +307,7 @@ def create_package(spec: PackageSpec, destination: Path, *, force: int = 0) -> C
                             "write through it; give the real folder with --destination")
     if target.exists() and not target.is_dir():
         raise PkgforgeError(f"{target} exists and is not a folder")
-    files = render_files(spec)
+    files = render_files(spec) if files is None else files
     overwritten, unchanged = [], []
     if target.exists():
         for relative in sorted(files):

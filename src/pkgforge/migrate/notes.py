@@ -1,0 +1,32 @@
+"""What migrate and new --from-urdf changed or left out: diagnostics with the registry's codes."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..diagnostics import Diagnostic, Finding
+
+
+@dataclass
+class Notes:
+    package: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    def add(self, name: str, message: str, path: Path, line: int | None = None, hint: str | None = None) -> None:
+        from ..checks.registry import REGISTRY, all_checks
+
+        all_checks()
+        check = next(c for c in REGISTRY.values() if c.name == name)
+        self.diagnostics.append(check.diagnostic(self.package, Finding(message, Path(path), line, hint=hint)))
+
+    def render(self, root: Path) -> str:
+        import os
+
+        lines = []
+        for d in sorted(self.diagnostics, key=Diagnostic.sort_key):
+            shown = os.path.relpath(d.path, root)
+            where = ":".join([d.path.as_posix() if shown.startswith("../../") else shown,
+                              *([str(d.line)] if d.line is not None else [])])
+            lines.append(f"{where}: {d.code} [{d.severity.label}] {d.message} ({d.name})")
+        return "\n".join(lines) + ("\n" if lines else "")
