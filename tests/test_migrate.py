@@ -54,6 +54,7 @@ def migrated(tmp_path_factory):
     return root, workspace, outputs
 
 
+@pytest.mark.triggers("PF801", "PF802", "PF803", "PF804", "PF805", "PF806")
 def test_migrate_reports_every_change_at_its_line(migrated):
     root, _, outputs = migrated
     out = outputs["py"].stdout
