@@ -441,12 +441,15 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             codes = {path: selected - tree_codes | (selected & {BUILD_FAILED})
                      for path, selected in codes.items()}
     if tree is not None:
+        from .launch.zygote import Zygote
+
+        zygote = Zygote()  # one fork server for the launch files' and the models' workers
         try:  # a signal or an error: the temporary tree goes too
             launch_files, ros1_files = find_launch_files(tree, checked)
             launch_files += source_only(checked, launch_files)  # evaluated from the source
             for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
                                       arguments=options.launch_arguments, limits=limits,
-                                      engine=options.engine(),
+                                      engine=options.engine(), zygote=zygote,
                                       on_done=progress.counter("launch files", len(launch_files))):
                 resolutions.setdefault(resolution.launch.package, []).append(resolution)
             for launch in ros1_files:
@@ -455,18 +458,22 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             to_process = robot_models.collect(tree, checked, resolutions)
             pending = sum(1 for r in to_process if r.robot is None)
             for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
-                                               on_done=progress.counter("robot models", pending), limits=limits):
+                                               on_done=progress.counter("robot models", pending), limits=limits,
+                                               zygote=zygote):
                 model_results.setdefault(result.package, []).append(result)
+            zygote.close()
             rviz = rviz_configs(tree, checked, resolutions)
             progress.clear()
         except BaseException:
             progress.clear()
+            zygote.close()
             tree.close()
             raise
     read: dict[Path, set[str]] = {}
     try:
         check_launch_arguments(options.launch_arguments, resolutions)
         by_share = {m.share_name: m for m in models.values()}
+        shared: dict = {}  # what every package's checks would otherwise build again (CheckContext.shared)
         reports = []
         for target in targets:
             model = models[target.path]
@@ -476,7 +483,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                                    ros1.get(model.name, []), model_results.get(model.name, []),
                                    configs, launches, distros=model.manifest.distros,
                                    install_base=options.install_base if options.mode == "install-base"
-                                   else None)
+                                   else None, shared=shared)
             reports.append(run_checks(context, codes[target.path]))
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
                 _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})
