@@ -213,6 +213,25 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
             "(os._exit or a crash in an extension module)")
 
 
+def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, str]:
+    """A launch worker's environment: `env` (the tree's) with the real xacro and python3 first on
+    PATH, and the engine's variables."""
+    env = dict(env)
+    env["PATH"] = os.path.dirname(sys.executable) + os.pathsep + env.get("PATH", "")
+    return engine.environment(env)
+
+
+def start_zygote(engine: LaunchEngine) -> Zygote:
+    """The run's fork server, started now (from the main thread), so that its imports overlap
+    discovery and model loading; the tree's variables come with each worker."""
+    zygote = Zygote()
+    try:
+        zygote.ensure(worker_environment(dict(os.environ), engine))
+    except OSError:
+        pass  # run_requests tries again, and each worker says why it could not start
+    return zygote
+
+
 def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
                  timeout: float = DEFAULT_TIMEOUT, on_done=None, limits: WorkerLimits | None = None,
                  engine: LaunchEngine = BUILTIN, zygote: Zygote | None = None) -> list[dict]:
@@ -229,10 +248,7 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     limits = WorkerLimits(timeout, limits.memory if limits is not None else DEFAULT_WORKER_MEMORY)
     processes.become_subreaper()
     before = processes.descendants(os.getpid())
-    env = tree.environment()
-    scripts = os.path.dirname(sys.executable)
-    env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
-    env = engine.environment(env)
+    env = worker_environment(tree.environment(), engine)
     # the real engine's logs and temporary parameter files: removed here, however its workers end
     # inside the tree's sandbox when there is one: the worker's guard refuses writes anywhere else
     scratch = tempfile.mkdtemp(prefix="pkgforge-launch-", dir=env.get("PKGFORGE_SANDBOX")) \
