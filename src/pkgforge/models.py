@@ -82,21 +82,23 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
                     jobs[key].robot, jobs[key].includes = command.robot, list(command.includes)
                 jobs[key].origins.append({"launch": resolution.launch, "file": command.file,
                                           "line": command.line})
+    fed = {key[:2] for key in jobs}  # (package, model) a launch file feeds to xacro
     for model in models:
         for path in _installed_models(tree, model):
             key = (model.name, os.path.normpath(path), ())
-            if not any(k[:2] == key[:2] for k in jobs):
+            if key[:2] not in fed:
+                fed.add(key[:2])
                 jobs[key] = ModelResult(model.name, path, source_of(path, tree, model), {})
     return list(jobs.values())
 
 
 def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float,
-            on_done=None, limits=None) -> list[ModelResult]:
+            on_done=None, limits=None, zygote=None) -> list[ModelResult]:
     """Run xacro on the models whose structure no launch file's xacro run already gave."""
     pending = [r for r in results if r.robot is None]
     requests = [{"model": str(r.installed), "mappings": r.mappings} for r in pending]
     for result, reply in zip(pending, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done,
-                                                    limits=limits)):
+                                                    limits=limits, zygote=zygote)):
         result.status = reply.get("status", "crashed")
         result.error = reply.get("error")
         result.robot = reply.get("robot")

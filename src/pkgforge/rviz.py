@@ -8,6 +8,7 @@ from pathlib import Path
 import yaml
 
 from .model.source import read_source
+from .yamlnodes import compose
 
 ROBOT_MODEL = "rviz_default_plugins/RobotModel"
 
@@ -44,7 +45,7 @@ def read_rviz(path: Path) -> RvizConfig:
         config.error, config.error_line = source.problem, source.problem_line
         return config
     try:
-        document = yaml.compose(source.text)
+        document = compose(source.text)
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         config.error = f"not valid YAML: {getattr(error, 'problem', None) or error}"

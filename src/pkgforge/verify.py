@@ -314,16 +314,21 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
             codes = set().union(*(codes for _, codes in hits.values()))
             return VerifyResult(root, reports, codes, engine=engine.name, distro=engine.distro)
-    if workspace.package_path is not None:
-        targets, models, everything = load_one_package(workspace)
-    else:
-        targets, models = load_models(workspace, jobs)
-        everything = {model.name: path for path, model in models.items()}
-    if not targets:
-        raise PkgforgeError(f"no package found under {root}")
-    todo = [t for t in targets if t.path not in hits]
-    result = run(root, workspace, config, todo, models, everything, options) if todo else \
-        VerifyResult(root, [], set())
+    zygote = _early_zygote(options, engine)
+    try:
+        if workspace.package_path is not None:
+            targets, models, everything = load_one_package(workspace)
+        else:
+            targets, models = load_models(workspace, jobs)
+            everything = {model.name: path for path, model in models.items()}
+        if not targets:
+            raise PkgforgeError(f"no package found under {root}")
+        todo = [t for t in targets if t.path not in hits]
+        result = run(root, workspace, config, todo, models, everything, options, zygote) if todo else \
+            VerifyResult(root, [], set())
+    finally:
+        if zygote is not None:
+            zygote.close()
     if cache is not None:
         try:
             for report in result.reports:
@@ -337,6 +342,22 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
     result.engine, result.distro = engine.name, engine.distro
     return result
+
+
+def _early_zygote(options: VerifyOptions, engine):
+    """The launch workers' fork server, started before discovery so that its imports run beside
+    it (pipelined); None when launch files will not be evaluated (--select without them, --build,
+    whose colcon build takes long enough)."""
+    if options.mode == "build":
+        return None
+    if options.selection.select:  # (without, some package may select launch checks in pkgforge.toml)
+        from .checks.registry import all_checks
+
+        if not options.selection.codes() & {c.code for c in all_checks() if c.area in TREE_AREAS}:
+            return None
+    from .launch.resolve import start_zygote
+
+    return start_zygote(engine)
 
 
 def cache_folder(workspace: Workspace) -> Path:
@@ -410,8 +431,10 @@ def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list])
 
 
 def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageTarget],
-        models: dict[Path, PackageModel], everything: dict[str, Path], options: VerifyOptions) -> VerifyResult:
-    """Verify the targets; `models` holds every package the install tree needs."""
+        models: dict[Path, PackageModel], everything: dict[str, Path], options: VerifyOptions,
+        zygote=None) -> VerifyResult:
+    """Verify the targets; `models` holds every package the install tree needs. `zygote`: the
+    launch workers' fork server, when one was started already (closed here)."""
     from .checks.context import CheckContext
     from .checks.registry import all_checks
 
@@ -441,12 +464,16 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             codes = {path: selected - tree_codes | (selected & {BUILD_FAILED})
                      for path, selected in codes.items()}
     if tree is not None:
+        from .launch.zygote import Zygote
+
+        # one fork server for the launch files' and the models' workers
+        zygote = zygote if zygote is not None else Zygote()
         try:  # a signal or an error: the temporary tree goes too
             launch_files, ros1_files = find_launch_files(tree, checked)
             launch_files += source_only(checked, launch_files)  # evaluated from the source
             for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
                                       arguments=options.launch_arguments, limits=limits,
-                                      engine=options.engine(),
+                                      engine=options.engine(), zygote=zygote,
                                       on_done=progress.counter("launch files", len(launch_files))):
                 resolutions.setdefault(resolution.launch.package, []).append(resolution)
             for launch in ros1_files:
@@ -455,18 +482,22 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             to_process = robot_models.collect(tree, checked, resolutions)
             pending = sum(1 for r in to_process if r.robot is None)
             for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
-                                               on_done=progress.counter("robot models", pending), limits=limits):
+                                               on_done=progress.counter("robot models", pending), limits=limits,
+                                               zygote=zygote):
                 model_results.setdefault(result.package, []).append(result)
+            zygote.close()
             rviz = rviz_configs(tree, checked, resolutions)
             progress.clear()
         except BaseException:
             progress.clear()
+            zygote.close()
             tree.close()
             raise
     read: dict[Path, set[str]] = {}
     try:
         check_launch_arguments(options.launch_arguments, resolutions)
         by_share = {m.share_name: m for m in models.values()}
+        shared: dict = {}  # what every package's checks would otherwise build again (CheckContext.shared)
         reports = []
         for target in targets:
             model = models[target.path]
@@ -476,7 +507,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                                    ros1.get(model.name, []), model_results.get(model.name, []),
                                    configs, launches, distros=model.manifest.distros,
                                    install_base=options.install_base if options.mode == "install-base"
-                                   else None)
+                                   else None, shared=shared)
             reports.append(run_checks(context, codes[target.path]))
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
                 _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})

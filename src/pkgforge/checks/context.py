@@ -27,6 +27,9 @@ class CheckContext:
     rviz_launches: list = field(default_factory=list)  # (RvizConfig, LaunchFile) a launch passes with -d
     distros: tuple = ()  # the ROS 2 distros the package targets; empty: every active distro
     install_base: Path | None = None  # --install-base, when verifying against one
+    # one dict for every context of a run (the workspace and the tree are the same for each):
+    # the package-name sets built once per run, not once per package
+    shared: dict = field(default_factory=dict)
 
     def relative(self, path: Path) -> str:
         try:
@@ -52,16 +55,24 @@ class CheckContext:
         released for the target distros (any active distro when there is no target)."""
         from ..distro_data import released_set
 
-        # a name declared somewhere (a phantom in the tree) but released only for other distros
-        # is package-not-in-distro's, not a real package here
-        foreign = released_set(()) - released_set(self.distros)
-        return set(self.workspace) | (self.tree_packages() - foreign) | released_set(self.distros)
+        key = ("real", self.distros)
+        if key not in self.shared:
+            # a name declared somewhere (a phantom in the tree) but released only for other distros
+            # is package-not-in-distro's, not a real package here
+            foreign = released_set(()) - released_set(self.distros)
+            self.shared[key] = frozenset(set(self.workspace) | (self.tree_packages() - foreign)
+                                         | released_set(self.distros))
+        return self.shared[key]
 
     def known_packages(self) -> set[str]:
         """Names that are no typo: real packages, released in any distro, or declared here."""
         from ..distro_data import released_set
 
-        return self.real_packages() | released_set(()) | self.model.manifest.declared()
+        key = ("known", self.distros)
+        if key not in self.shared:
+            self.shared[key] = self.real_packages() | released_set(())
+        known, declared = self.shared[key], self.model.manifest.declared()
+        return known if declared <= known else known | declared
 
     # --- locations ----------------------------------------------------------------------------
 

@@ -302,11 +302,12 @@ def find_package_undeclared(ctx: CheckContext):
 
     build = manifest.build_dependencies() | {d.name for d in manifest.active_dependencies()
                                              if d.tag in ("test_depend", "build_export_depend")}
-    ros_packages = set(ctx.workspace) | released_set(())
+    released = released_set(())  # with the workspace's: the ROS packages (no set built per package)
     reported = set()
     after = manifest.last_dependency_line()
     for name, command in model.cmake.find_packages:
-        if name in build or name in reported or name not in ros_packages or name in (model.name,):
+        if name in build or name in reported or (name not in ctx.workspace and name not in released) \
+                or name in (model.name,):
             continue
         reported.add(name)
         other = next((d for d in manifest.active_dependencies() if d.name == name), None)

@@ -235,9 +235,11 @@ def mesh_case_mismatch(ctx: CheckContext):
                       "packages must not refer to src/.",
           hint="use package://<package>/<path> for an installed mesh")
 def mesh_source_path(ctx: CheckContext):
-    sources = [m.path for m in ctx.models.values()] + [ctx.model.path]
+    sources = None  # built only for a file:// URI: not once per package of the workspace
     for result, mesh, lookup in _meshes(ctx):
         if mesh["uri"].startswith("file://") and lookup.path is not None:
+            if sources is None:
+                sources = [m.path for m in ctx.models.values()] + [ctx.model.path]
             for folder in sources:
                 try:
                     relative = lookup.path.relative_to(folder)

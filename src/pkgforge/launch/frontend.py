@@ -248,7 +248,9 @@ def parse_file(path: str, kind: str):
         element = _from_xml(root)
     else:
         try:
-            document = yaml.compose(data.decode("utf-8"))
+            from ..yamlnodes import compose  # libyaml; the same nodes and errors
+
+            document = compose(data.decode("utf-8"))
         except yaml.YAMLError as error:
             mark = getattr(error, "problem_mark", None)
             raise FrontendError(f"not valid YAML: {error}", mark.line + 1 if mark else None) from None

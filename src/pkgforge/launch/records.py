@@ -1,7 +1,7 @@
 """What a launch evaluation produces: one typed record format for both engines.
 
 The worker (built-in engine or the real ROS launch libraries) fills a Recorder
-with these records, serialises them with `dataclasses.asdict`, and the parent
+with these records, serialises them with `as_dict`, and the parent
 rebuilds them with `from_dict`; the checks read typed attributes. A key that
 no record has raises at once (in the worker and in the parent): a renamed key
 fails loudly instead of being read as missing.
@@ -138,10 +138,20 @@ class RecordKeyError(KeyError):
     """A record built from a key no record of that kind has."""
 
 
+_FIELD_NAMES: dict[type, frozenset[str]] = {}
+
+
+def _field_names(cls: type) -> frozenset[str]:
+    names = _FIELD_NAMES.get(cls)
+    if names is None:
+        names = _FIELD_NAMES[cls] = frozenset(f.name for f in dataclasses.fields(cls))
+    return names
+
+
 def from_dict(cls: type, data: dict):
     """A record from plain data; an unknown key raises RecordKeyError."""
-    names = {f.name: f for f in dataclasses.fields(cls)}
-    unknown = set(data) - set(names)
+    names = _field_names(cls)
+    unknown = set(data) - names
     if unknown:
         raise RecordKeyError(f"{cls.__name__} has no field {', '.join(sorted(unknown))}")
     values = dict(data)
@@ -152,7 +162,18 @@ def from_dict(cls: type, data: dict):
 
 
 def as_dict(record) -> dict:
-    return dataclasses.asdict(record)
+    """The record as plain data, for serialising at once: what dataclasses.asdict gives, but
+    sharing the record's values instead of deep-copying them (a CommandRun's robot structure
+    is large, and every record is dumped in the worker and identified in the parent)."""
+    return {f.name: _plain(getattr(record, f.name)) for f in dataclasses.fields(record)}
+
+
+def _plain(value):
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return as_dict(value)
+    if isinstance(value, (list, tuple)) and any(dataclasses.is_dataclass(v) for v in value):
+        return type(value)(_plain(v) for v in value)
+    return value
 
 
 def identity(record: Record) -> str:

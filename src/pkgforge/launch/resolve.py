@@ -26,6 +26,7 @@ from ..model.references import launch_kind
 from ..trees import InstallTree
 from .engines import BUILTIN, LaunchEngine
 from .records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
+from .zygote import ForkedProcess, Zygote
 from ..walk import walk
 
 DEFAULT_TIMEOUT = 10.0
@@ -102,20 +103,24 @@ class _Worker:
     """One worker subprocess, in its own session and process group; stopping it kills
     everything below it too (processes.kill_tree), including detached children."""
 
-    def __init__(self, env: dict[str, str], limits: WorkerLimits | None = None):
+    def __init__(self, env: dict[str, str], limits: WorkerLimits | None = None, zygote: Zygote | None = None):
         self.env = env
         self.limits = limits or WorkerLimits()
-        self.process: subprocess.Popen | None = None
+        self.zygote = zygote
+        self.process: subprocess.Popen | ForkedProcess | None = None
         self.replies: queue.Queue = queue.Queue()
 
     def start(self) -> None:
         if processes.cancelled.is_set():
             raise _Cancelled()
         env = dict(self.env, PKGFORGE_WORKER_LIMITS=self.limits.environment())
-        self.process = subprocess.Popen(
-            [sys.executable, "-m", "pkgforge.launch.worker"], stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, text=True, errors="replace",
-            start_new_session=True)
+        if self.zygote is not None:  # forked after its imports: the same worker, started sooner
+            self.process = self.zygote.spawn(env)
+        else:
+            self.process = subprocess.Popen(
+                [sys.executable, "-m", "pkgforge.launch.worker"], stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, text=True, errors="replace",
+                start_new_session=True)
         self.replies = queue.Queue()
         threading.Thread(target=self._read, args=(self.process, self.replies), daemon=True).start()
 
@@ -208,23 +213,42 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
             "(os._exit or a crash in an extension module)")
 
 
+def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, str]:
+    """A launch worker's environment: `env` (the tree's) with the real xacro and python3 first on
+    PATH, and the engine's variables."""
+    env = dict(env)
+    env["PATH"] = os.path.dirname(sys.executable) + os.pathsep + env.get("PATH", "")
+    return engine.environment(env)
+
+
+def start_zygote(engine: LaunchEngine) -> Zygote:
+    """The run's fork server, started now (from the main thread), so that its imports overlap
+    discovery and model loading; the tree's variables come with each worker."""
+    zygote = Zygote()
+    try:
+        zygote.ensure(worker_environment(dict(os.environ), engine))
+    except OSError:
+        pass  # run_requests tries again, and each worker says why it could not start
+    return zygote
+
+
 def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
                  timeout: float = DEFAULT_TIMEOUT, on_done=None, limits: WorkerLimits | None = None,
-                 engine: LaunchEngine = BUILTIN) -> list[dict]:
+                 engine: LaunchEngine = BUILTIN, zygote: Zygote | None = None) -> list[dict]:
     """Each request answered by a worker subprocess, in order; a hang or crash is an answer too.
 
-    Every worker, and everything the launch files started, is gone when this returns
-    (or raises: a signal stops pkgforge, see processes.py).
+    Workers are forked from `zygote` (the run's fork server; without one, a fork server for
+    this call). Every worker, and everything the launch files started, is gone when this
+    returns (or raises: a signal stops pkgforge, see processes.py).
     """
     if not requests:
         return []
+    own = zygote is None
+    zygote = Zygote() if own else zygote
     limits = WorkerLimits(timeout, limits.memory if limits is not None else DEFAULT_WORKER_MEMORY)
     processes.become_subreaper()
     before = processes.descendants(os.getpid())
-    env = tree.environment()
-    scripts = os.path.dirname(sys.executable)
-    env["PATH"] = scripts + os.pathsep + env.get("PATH", "")  # the real xacro, python3
-    env = engine.environment(env)
+    env = worker_environment(tree.environment(), engine)
     # the real engine's logs and temporary parameter files: removed here, however its workers end
     # inside the tree's sandbox when there is one: the worker's guard refuses writes anywhere else
     scratch = tempfile.mkdtemp(prefix="pkgforge-launch-", dir=env.get("PKGFORGE_SANDBOX")) \
@@ -237,7 +261,7 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     replies: list[dict | None] = [None] * len(requests)
 
     def run() -> None:
-        worker = _Worker(env, limits)
+        worker = _Worker(env, limits, zygote)
         try:
             while not processes.cancelled.is_set():
                 try:
@@ -254,13 +278,19 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
 
     threads = [threading.Thread(target=run, daemon=True) for _ in range(max(1, min(jobs, len(requests))))]
     try:
+        try:
+            zygote.ensure(env)
+        except OSError:
+            pass  # each worker says it could not start
         for thread in threads:
             thread.start()
         for thread in threads:
             thread.join()
     finally:
+        if own:
+            zygote.close()
         # anything a worker left that escaped its tree (re-parented here) is killed too
-        leftover = processes.descendants(os.getpid()) - before
+        leftover = processes.descendants(os.getpid()) - before - {zygote.pid}
         if leftover:
             processes.reap(processes.kill_tree(leftover, skip=before), timeout=0.5)
         if scratch is not None:
@@ -275,10 +305,10 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
 def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
             timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None,
             on_done=None, limits: WorkerLimits | None = None,
-            engine: LaunchEngine = BUILTIN) -> list[Resolution]:
+            engine: LaunchEngine = BUILTIN, zygote: Zygote | None = None) -> list[Resolution]:
     requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
     replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done, limits=limits,
-                           engine=engine)
+                           engine=engine, zygote=zygote)
     for reply in replies:  # a timeout or a crash is the engine's too
         reply.setdefault("engine", engine.name)
         reply.setdefault("distro", engine.distro)

@@ -233,6 +233,30 @@ def _refusals(result: dict, request: dict) -> None:
             "file": record.get("file") or request.get("file"), "line": record.get("line")})
 
 
+def preload() -> None:
+    """Import ahead what main() imports, with no other effect: the fork server (zygote.py) runs
+    this once, and every worker forked from it starts with these modules loaded."""
+    import resource  # noqa: F401
+    import tempfile  # noqa: F401
+
+    from pkgforge import processes  # noqa: F401
+    from pkgforge.launch import guard, records  # noqa: F401
+
+    if os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin") != "ros":
+        from pkgforge.launch import api
+
+        api._distro_data()  # the list of launch names: read once, not by every worker
+    try:
+        import ament_index_python.packages  # noqa: F401
+    except ImportError:
+        pass  # main() puts pkgforge's stand-in on the path
+    import xacro  # noqa: F401
+    import yaml  # noqa: F401
+
+    from pkgforge.launch import evaluate  # noqa: F401
+    from pkgforge import robot  # noqa: F401
+
+
 def main() -> None:
     guarded = _install_guard()
     limits = _read_limits()
@@ -291,4 +315,9 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:2] == ["--fork-server"]:  # workers forked after these imports (zygote.py)
+        from pkgforge.launch.zygote import serve
+
+        serve(int(sys.argv[2]))
+    else:
+        main()

@@ -174,9 +174,11 @@ def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
     controller_manager node (`controller_manager: {ros__parameters: ...}`) use controller_manager."""
     import yaml
 
+    from ..yamlnodes import compose_all
+
     found: list[Reference] = []
     try:
-        documents = list(yaml.compose_all(source.text, Loader=yaml.SafeLoader))
+        documents = compose_all(source.text)
     except yaml.YAMLError:
         return found
     for document in documents:
@@ -203,8 +205,10 @@ def _yaml_scalars(text: str):
     """(key or None, scalar value, line) for every scalar of every YAML document."""
     import yaml
 
+    from ..yamlnodes import compose_all
+
     try:
-        documents = list(yaml.compose_all(text, Loader=yaml.SafeLoader))
+        documents = compose_all(text)
     except yaml.YAMLError:
         return
     todo = [(None, document) for document in documents if document is not None]

@@ -1,0 +1,294 @@
+"""Launch workers forked from one process that has imported them already (a fork server).
+
+A fresh worker interpreter imports about 120 modules (the launch stand-ins,
+lxml, xacro, yaml, the evaluator) before its first file: a quarter of the
+workers' time on a workspace of scaffolded packages. The fork server
+(`python -m pkgforge.launch.worker --fork-server`) imports them once, then
+forks one child per worker the parent asks for. A child is what
+`python -m pkgforge.launch.worker` would be, started the same way: its own
+session, the parent's pipes on stdin and stdout, stderr on /dev/null, the
+environment the parent gives it; then worker.main() runs in it as in a fresh
+interpreter (the guard, the limits, the subreaper, the parent-death signal:
+its parent is the server, which itself dies with pkgforge). Nothing of a
+launch file runs in the server: it only imports, forks and reports exits.
+
+The parent side (`Zygote`) starts the server (ensure(), from the main thread) and hands
+each child's pipes over a Unix socket (SCM_RIGHTS); the server reports every
+child's exit status, so `ForkedProcess` answers poll() and wait() as a
+subprocess.Popen does.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import queue
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+LIMITS_VARIABLE = "PKGFORGE_WORKER_LIMITS"
+START_TIMEOUT = 60.0  # seconds for the server to fork a child (it imports first)
+
+
+# --- the server -----------------------------------------------------------------------------
+
+def serve(channel: int) -> None:
+    """The fork server's loop on the socket `channel`; returns when the parent closes it."""
+    import selectors
+
+    from pkgforge.processes import die_with_parent
+
+    parent = os.getppid()
+    die_with_parent(parent)
+    sys.dont_write_bytecode = True  # as in a worker: nothing written beside any module
+    from pkgforge.launch import worker
+
+    worker.preload()
+    sock = socket.socket(fileno=channel)
+    wake_read, wake_write = os.pipe()
+    os.set_blocking(wake_write, False)
+    signal.set_wakeup_fd(wake_write)
+    signal.signal(signal.SIGCHLD, lambda *_: None)
+    selector = selectors.DefaultSelector()
+    selector.register(sock, selectors.EVENT_READ)
+    selector.register(wake_read, selectors.EVENT_READ)
+    while True:
+        for key, _ in selector.select():
+            if key.fileobj is wake_read:
+                os.read(wake_read, 4096)
+                continue
+            try:
+                message, fds, _, _ = socket.recv_fds(sock, 1 << 20, 2)
+            except OSError:
+                message, fds = b"", []
+            if not message:
+                return  # the parent is done (its children were stopped before)
+            pid = os.fork()
+            if pid == 0:
+                _child(json.loads(message), fds, sock, (wake_read, wake_write))
+            for fd in fds:
+                os.close(fd)
+            sock.send(json.dumps({"pid": pid}).encode())
+        _report_exits(sock)
+
+
+def _report_exits(sock: socket.socket) -> None:
+    while True:
+        try:
+            pid, status = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+        sock.send(json.dumps({"exit": pid, "code": os.waitstatus_to_exitcode(status)}).encode())
+
+
+def _child(request: dict, fds: list[int], sock: socket.socket, wake: tuple[int, int]) -> None:
+    """In the forked child: become a worker as `python -m pkgforge.launch.worker` would. Never returns."""
+    code = 1
+    try:
+        signal.set_wakeup_fd(-1)
+        signal.signal(signal.SIGCHLD, signal.SIG_DFL)
+        sock.close()
+        for fd in wake:
+            os.close(fd)
+        os.setsid()
+        stdin, stdout = fds
+        os.dup2(stdin, 0)
+        os.dup2(stdout, 1)
+        os.close(stdin)
+        os.close(stdout)
+        env = dict(request["env"])
+        limits = json.loads(env.get(LIMITS_VARIABLE) or "{}")
+        limits["parent"] = os.getppid()  # dies with the server, which dies with pkgforge
+        env[LIMITS_VARIABLE] = json.dumps(limits)
+        os.environ.clear()
+        os.environ.update(env)
+        sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
+        from pkgforge.launch import worker
+
+        worker.main()
+        code = 0
+    except SystemExit as stop:
+        code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
+    except BaseException:  # noqa: BLE001 - a worker's own failure: the parent sees its exit
+        code = 1
+    finally:
+        try:
+            import atexit
+
+            atexit._run_exitfuncs()  # what the interpreter would run at exit (the ros engine's scratch)
+        finally:
+            os._exit(code)
+
+
+# --- the parent's side ----------------------------------------------------------------------
+
+class _Server:
+    """One running fork server: its process, its socket, the replies and exits it reported."""
+
+    def __init__(self, env: dict[str, str]):
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        try:
+            self.process = subprocess.Popen(
+                [sys.executable, "-m", "pkgforge.launch.worker", "--fork-server", str(theirs.fileno())],
+                pass_fds=[theirs.fileno()], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL, env={k: v for k, v in env.items() if k != LIMITS_VARIABLE},
+                start_new_session=True)
+        except BaseException:
+            ours.close()
+            raise
+        finally:
+            theirs.close()
+        self.sock = ours
+        self.forks: queue.Queue = queue.Queue()
+        self.exits: dict[int, int] = {}
+        self.changed = threading.Condition()
+        self.gone = False
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        while True:
+            try:
+                data = self.sock.recv(1 << 16)
+            except OSError:
+                data = b""
+            if not data:
+                break
+            message = json.loads(data)
+            if "exit" in message:
+                with self.changed:
+                    self.exits[message["exit"]] = message["code"]
+                    self.changed.notify_all()
+            else:
+                self.forks.put(message)
+        with self.changed:
+            self.gone = True
+            self.changed.notify_all()
+        self.forks.put(None)
+
+    def fork(self, env: dict[str, str]) -> ForkedProcess:
+        """A new child with `env`, piped to this process; OSError when none came."""
+        stdin_read, stdin_write = os.pipe()
+        stdout_read, stdout_write = os.pipe()
+        reply, cause = None, ""
+        try:
+            socket.send_fds(self.sock, [json.dumps({"env": env}).encode()], [stdin_read, stdout_write])
+            reply = self.forks.get(timeout=START_TIMEOUT)
+        except (OSError, queue.Empty) as error:
+            cause = f": {error}" if str(error) else ""
+        finally:
+            os.close(stdin_read)
+            os.close(stdout_write)
+        if not reply or "pid" not in reply:
+            os.close(stdin_write)
+            os.close(stdout_read)
+            raise OSError(f"the launch workers' fork server ({sys.executable}) did not start a worker{cause}")
+        return ForkedProcess(self, reply["pid"], stdin_write, stdout_read)
+
+    def exit_code(self, pid: int, timeout: float | None) -> int | None:
+        """The child's exit status (negative: the signal), waiting up to `timeout` seconds."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        with self.changed:
+            while pid not in self.exits:
+                if self.gone:  # the server died: its children came to pkgforge (the subreaper)
+                    return _collect_orphan(pid)
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    return None
+                self.changed.wait(0.5 if left is None else min(left, 0.5))
+            return self.exits[pid]
+
+    def stop(self) -> None:
+        try:
+            self.sock.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+        try:
+            self.process.wait(timeout=2.0)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+        self.sock.close()
+
+
+def _collect_orphan(pid: int) -> int:
+    try:
+        _, status = os.waitpid(pid, 0)
+        return os.waitstatus_to_exitcode(status)
+    except ChildProcessError:
+        return -signal.SIGKILL
+
+
+class Zygote:
+    """The fork server of one verify run (started again should it die); workers come from spawn()."""
+
+    def __init__(self):
+        self._server: _Server | None = None
+        self._lock = threading.Lock()
+
+    @property
+    def pid(self) -> int | None:
+        return self._server.process.pid if self._server is not None else None
+
+    def ensure(self, env: dict[str, str]) -> None:
+        """Start the server unless it runs. From the thread that lives longest (the main one): the
+        server's parent-death signal fires when the thread that started it ends."""
+        with self._lock:
+            if self._server is not None and self._server.gone:
+                self._server.stop()
+                self._server = None
+            if self._server is None:
+                self._server = _Server(env)
+
+    def spawn(self, env: dict[str, str]) -> ForkedProcess:
+        """A new worker with `env`, its stdin and stdout piped here (as subprocess.Popen would);
+        OSError when none can be had."""
+        with self._lock:
+            if self._server is None or self._server.gone:
+                raise OSError(f"the launch workers' fork server ({sys.executable}) is not running")
+            return self._server.fork(env)
+
+    def close(self) -> None:
+        """End the server (its workers were stopped already)."""
+        with self._lock:
+            server, self._server = self._server, None
+        if server is not None:
+            server.stop()
+
+
+def _ended(pid: int) -> bool:
+    """Whether the process has exited (a zombie, or gone)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as handle:
+            stat = handle.read()
+    except OSError:
+        return True
+    return stat[stat.rfind(b")") + 2:][:1] in (b"Z", b"X")
+
+
+class ForkedProcess:
+    """A worker forked by the server, with the part of subprocess.Popen the pool uses."""
+
+    def __init__(self, server: _Server, pid: int, stdin: int, stdout: int):
+        self.server, self.pid, self.returncode = server, pid, None
+        self.stdin = open(stdin, "w", encoding="utf-8", errors="replace")
+        self.stdout = open(stdout, encoding="utf-8", errors="replace")
+
+    def poll(self) -> int | None:
+        if self.returncode is None:
+            self.returncode = self.server.exit_code(self.pid, 0)
+            if self.returncode is None and _ended(self.pid):
+                self.returncode = self.server.exit_code(self.pid, 5.0)
+        return self.returncode
+
+    def wait(self, timeout: float | None = None) -> int:
+        if self.returncode is None:
+            self.returncode = self.server.exit_code(self.pid, timeout)
+            if self.returncode is None:
+                raise subprocess.TimeoutExpired(f"launch worker {self.pid}", timeout)
+        return self.returncode
