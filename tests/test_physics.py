@@ -131,3 +131,16 @@ def test_example_robot_data_models_have_no_physical_errors(model):
     # the meshes did resolve (the scale check compared real sizes): the robot is 0.3 to 2 m
     low, high = world_bounds(data["robot"], _resolver(context, result))
     assert 0.3 < max(h - lo for lo, h in zip(low, high)) < 2.0
+
+
+def test_explain_model_shows_mass_size_and_mesh_bounds(tmp_path):
+    from conftest import run_pkgforge
+
+    package = physics_package(tmp_path, None)
+    result = run_pkgforge("verify", ".", "--explain-model", package / "urdf" / "robot.urdf", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert "mass: 1 kg total (1 of 2 links have a mass)" in lines
+    assert any(line.startswith("size: 0.2 × 0.2 × 0.4 m ") for line in lines), lines
+    assert ("     visual ✓ package://phys_description/meshes/link.stl  [0.05 × 0.05 × 0.3 m in the file, "
+            "12 triangles]") in lines
