@@ -59,6 +59,15 @@ def _mesh_info(path: str, size: int, mtime: int) -> MeshInfo | None:
     return None
 
 
+def _numpy():
+    """numpy when installed (the `view` extra): big meshes read in milliseconds; else pure Python."""
+    try:
+        import numpy
+    except ImportError:
+        return None
+    return numpy
+
+
 def _bounds(points, triangles: int) -> MeshInfo | None:
     xs, ys, zs = points
     if not xs:
@@ -70,6 +79,12 @@ def _stl(data: bytes) -> MeshInfo | None:
     if len(data) >= 84:
         (count,) = struct.unpack_from("<I", data, 80)
         if 84 + 50 * count == len(data):
+            np = _numpy()
+            if np is not None and count:
+                records = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)),
+                                                                ("a", "<u2")]), count=count, offset=84)
+                vertices = records["v"].reshape(-1, 3).astype(float)
+                return MeshInfo(tuple(vertices.min(axis=0).tolist()), tuple(vertices.max(axis=0).tolist()), count)
             xs, ys, zs = [], [], []
             for record in struct.iter_unpack("<12fH", data[84:]):
                 xs += record[3:12:3]
@@ -82,36 +97,122 @@ def _stl(data: bytes) -> MeshInfo | None:
 
 
 def _collada(data: bytes) -> MeshInfo | None:
+    """Bounds of the geometry the visual scene places (node matrices and <unit> applied)."""
     from lxml import etree
 
     root = etree.fromstring(data, etree.XMLParser(huge_tree=True, remove_comments=True))
-    unit = 1.0
-    triangles = 0
-    xs, ys, zs = [], [], []
-    for element in root.iter():
-        tag = element.tag.rsplit("}", 1)[-1] if isinstance(element.tag, str) else ""
-        if tag == "unit" and element.get("meter"):
-            unit = float(element.get("meter"))
-        elif tag in ("triangles", "polylist", "polygons"):
-            triangles += int(element.get("count", "0"))
-        elif tag == "vertices":
-            for source in _position_sources(root, element):
-                values = [float(v) for v in (source.text or "").split()]
-                xs += values[0::3]
-                ys += values[1::3]
-                zs += values[2::3]
-    if unit != 1.0:
-        xs, ys, zs = ([v * unit for v in column] for column in (xs, ys, zs))
-    return _bounds((xs, ys, zs), triangles)
+    unit = next((float(u.get("meter")) for u in root.iter("{*}unit") if u.get("meter")), 1.0)
+    sources = {s.get("id"): s for s in root.iter("{*}source")}
+    geometries = {}
+    for geometry in root.iter("{*}geometry"):
+        points, triangles = [], 0
+        for vertices in geometry.iter("{*}vertices"):
+            for source in _position_sources(sources, vertices):
+                points.append(_floats(source.text or ""))
+        for tag in ("triangles", "polylist", "polygons"):
+            triangles += sum(int(e.get("count", "0")) for e in geometry.iter("{*}" + tag))
+        geometries[geometry.get("id")] = (_join(points), triangles)
+    placed: list[tuple] = []
+    count = 0
+    scenes = list(root.iter("{*}visual_scene"))
+    if scenes:
+        for node in scenes[0]:
+            if isinstance(node.tag, str) and node.tag.endswith("node"):
+                count += _place(node, _scaled_identity(unit), geometries, placed)
+    else:
+        for points, triangles in geometries.values():
+            placed.append(_transform(_scaled_identity(unit), points))
+            count += triangles
+    boxes = [b for b in placed if b is not None]
+    if not boxes:
+        return None
+    return MeshInfo(tuple(min(b[0][i] for b in boxes) for i in range(3)),
+                    tuple(max(b[1][i] for b in boxes) for i in range(3)), count)
 
 
-def _position_sources(root, vertices):
+def _floats(text: str):
+    np = _numpy()
+    if np is not None:
+        return np.array(text.split(), dtype=float)
+    return [float(v) for v in text.split()]
+
+
+def _join(arrays: list):
+    """The x, y, z triples of several position arrays, as one (n, 3) array or list of triples."""
+    np = _numpy()
+    if np is not None:
+        flat = np.concatenate(arrays) if arrays else np.zeros(0)
+        return flat[: len(flat) // 3 * 3].reshape(-1, 3)
+    values = [v for array in arrays for v in array]
+    return list(zip(values[0::3], values[1::3], values[2::3]))
+
+
+def _transform(m, points) -> tuple | None:
+    """(low, high) of the points under the 4x4 matrix m, or None when there are none."""
+    if len(points) == 0:
+        return None
+    np = _numpy()
+    if np is not None:
+        moved = points @ np.asarray(m, dtype=float)[:3, :3].T + np.asarray(m, dtype=float)[:3, 3]
+        return tuple(moved.min(axis=0).tolist()), tuple(moved.max(axis=0).tolist())
+    moved = [(m[0][0] * x + m[0][1] * y + m[0][2] * z + m[0][3],
+              m[1][0] * x + m[1][1] * y + m[1][2] * z + m[1][3],
+              m[2][0] * x + m[2][1] * y + m[2][2] * z + m[2][3]) for x, y, z in points]
+    return tuple(min(p[i] for p in moved) for i in range(3)), tuple(max(p[i] for p in moved) for i in range(3))
+
+
+def _scaled_identity(unit: float) -> list[list[float]]:
+    return [[unit, 0, 0, 0], [0, unit, 0, 0], [0, 0, unit, 0], [0, 0, 0, 1]]
+
+
+def _matmul4(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def _node_matrix(node) -> list[list[float]]:
+    matrix = _scaled_identity(1.0)
+    for child in node:
+        tag = child.tag.rsplit("}", 1)[-1] if isinstance(child.tag, str) else ""
+        values = [float(v) for v in (child.text or "").split()] if tag in (
+            "matrix", "translate", "rotate", "scale") else None
+        if tag == "matrix" and len(values) == 16:
+            local = [values[0:4], values[4:8], values[8:12], values[12:16]]
+        elif tag == "translate" and len(values) == 3:
+            local = [[1, 0, 0, values[0]], [0, 1, 0, values[1]], [0, 0, 1, values[2]], [0, 0, 0, 1]]
+        elif tag == "scale" and len(values) == 3:
+            local = [[values[0], 0, 0, 0], [0, values[1], 0, 0], [0, 0, values[2], 0], [0, 0, 0, 1]]
+        elif tag == "rotate" and len(values) == 4:
+            r = axis_angle(values[:3], math.radians(values[3]))
+            local = [[*r[0], 0], [*r[1], 0], [*r[2], 0], [0, 0, 0, 1]]
+        else:
+            continue
+        matrix = _matmul4(matrix, local)
+    return matrix
+
+
+def _place(node, parent, geometries, placed: list, depth: int = 0) -> int:
+    """Add the bounds of the node's geometry (and its children's) in the scene's frame."""
+    if depth > 64:
+        return 0
+    matrix = _matmul4(parent, _node_matrix(node))
+    count = 0
+    for child in node:
+        tag = child.tag.rsplit("}", 1)[-1] if isinstance(child.tag, str) else ""
+        if tag == "instance_geometry":
+            points, triangles = geometries.get((child.get("url") or "").lstrip("#"), ([], 0))
+            count += triangles
+            placed.append(_transform(matrix, points))
+        elif tag == "node":
+            count += _place(child, matrix, geometries, placed, depth + 1)
+    return count
+
+
+def _position_sources(sources: dict, vertices):
     for child in vertices:
         if isinstance(child.tag, str) and child.tag.endswith("input") and child.get("semantic") == "POSITION":
-            wanted = (child.get("source") or "").lstrip("#")
-            for source in root.iter("{*}source"):
-                if source.get("id") == wanted:
-                    yield from source.iter("{*}float_array")
+            source = sources.get((child.get("source") or "").lstrip("#"))
+            if source is not None:
+                yield from source.iter("{*}float_array")
 
 
 def _obj(data: bytes) -> MeshInfo | None:
