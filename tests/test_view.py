@@ -151,3 +151,21 @@ def test_verify_artifacts_writes_the_images_and_a_summary(tmp_path):
     summary = (out / "summary.md").read_text()
     assert "![front](phys_description-robot-front.png)" in summary
     assert "size 0.2 x 0.2 x 0.4 m" in summary
+
+
+def test_without_the_view_extra_verify_still_works_and_says_how_to_install(tmp_path):
+    import os
+
+    _physics_package(tmp_path)
+    hidden = tmp_path / "no-numpy"
+    (hidden / "numpy").mkdir(parents=True)
+    (hidden / "numpy" / "__init__.py").write_text("raise ImportError('hidden by the test')\n")
+    env = {**os.environ, "PYTHONPATH": str(hidden)}
+    out = tmp_path / "artifacts"
+    result = run_pkgforge("verify", ".", "--artifacts", out, cwd=tmp_path, env=env)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "pip install 'ros-pkgforge[view]'" in result.stderr and "Traceback" not in result.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["phys_description-robot-tree.svg", "summary.md", "view.json"]
+    view = run_pkgforge("view", ".", "-o", tmp_path / "out", cwd=tmp_path, env=env)
+    assert view.returncode == 2 and "pip install 'ros-pkgforge[view]'" in view.stderr
+    assert not (tmp_path / "out").exists()

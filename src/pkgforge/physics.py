@@ -12,6 +12,7 @@ import math
 import os
 import re
 import struct
+import threading
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -48,6 +49,7 @@ def _mesh_info(path: str, size: int, mtime: int) -> MeshInfo | None:
     try:
         with open(path, "rb") as handle:
             data = handle.read()
+        _STATE.large = len(data) > NUMPY_ABOVE
         if suffix == ".stl":
             return _stl(data)
         if suffix == ".dae":
@@ -59,8 +61,14 @@ def _mesh_info(path: str, size: int, mtime: int) -> MeshInfo | None:
     return None
 
 
+NUMPY_ABOVE = 1 << 20  # numpy (when installed) for bigger mesh files; below, its import costs more
+_STATE = threading.local()
+
+
 def _numpy():
-    """numpy when installed (the `view` extra): big meshes read in milliseconds; else pure Python."""
+    """numpy for a big mesh when installed (the `view` extra); else None: pure Python."""
+    if not getattr(_STATE, "large", False):
+        return None
     try:
         import numpy
     except ImportError:

@@ -62,14 +62,23 @@ def _one_model(file: Path, artifacts: Artifacts, options) -> None:
     if installed is not None or _package_folder(file) is None:
         from ..trees import InstallTree, _index
 
+        import tempfile
+        import time
+
         prefixes = [installed[0]] if installed else []
-        tree = InstallTree("existing", prefixes)
+        # xacro is user code: its worker may write only in an empty temporary folder (launch/guard.py)
+        sandbox = tempfile.TemporaryDirectory(prefix="pkgforge-view-")
+        tree = InstallTree("existing", prefixes, _temporary=sandbox, root=Path(sandbox.name),
+                           sealed=time.time_ns())
         tree.packages = _index(prefixes)
-        package = installed[1] if installed else file.parent.name
-        result = robot_models.ModelResult(package, file, file, dict(options.launch_arguments))
-        (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout,
-                                         limits=WorkerLimits(options.launch_timeout, options.worker_memory))
-        _render(artifacts, tree, result)
+        try:
+            package = installed[1] if installed else file.parent.name
+            result = robot_models.ModelResult(package, file, file, dict(options.launch_arguments))
+            (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout,
+                                             limits=WorkerLimits(options.launch_timeout, options.worker_memory))
+            _render(artifacts, tree, result)
+        finally:
+            tree.close()
         return
     from ..explain import _installed
 
