@@ -69,6 +69,7 @@ def mass_not_positive(ctx: CheckContext):
                "formulas)")
 def inertia_invalid(ctx: CheckContext):
     for result, robot in _robots(ctx):
+        moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
         for link in robot["links"]:
             inertial = link.get("inertial")
             if inertial is None or inertial.get("inertia") is None or not (inertial.get("mass") or 0) > 0:
@@ -77,7 +78,9 @@ def inertia_invalid(ctx: CheckContext):
             scale = max(abs(m) for m in moments) or 1.0
             tolerance = 1e-9 * scale
             shown = ", ".join(f"{m:.4g}" for m in moments)
-            if moments[0] <= 0:
+            # all zero: a point mass, fine on a frame fixed to its parent (sensor frames, tool0)
+            point = not any(moments)
+            if moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
                 yield Finding(f"link '{link['name']}': inertia not positive definite (principal moments "
                               f"{shown})", *_at(ctx, result, link, inertial.get("line")))
             elif moments[2] > moments[0] + moments[1] + tolerance:
