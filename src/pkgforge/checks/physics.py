@@ -39,6 +39,8 @@ def _root(robot) -> str | None:
 
 
 @register("PF601", "mass-not-positive", "error", area="physics",
+          bad='<inertial><mass value="0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>',
+          good='<inertial><mass value="1.2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>',
           summary="a link's <inertial> has a mass that is zero, negative or not a number",
           explanation="Physics engines divide by the mass: Gazebo refuses the model or the link "
                       "accelerates without bound. (Mass 0 with a zero inertia on a link fixed to its "
@@ -61,6 +63,8 @@ def mass_not_positive(ctx: CheckContext):
 
 
 @register("PF602", "inertia-invalid", "error", area="physics",
+          bad='<inertia ixx="0.001" iyy="0.001" izz="0.02" ixy="0" ixz="0" iyz="0"/>  <!-- 0.02 > 0.001 + 0.001 -->',
+          good='<inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/>',
           summary="a link's inertia tensor is not positive definite or breaks the triangle inequality",
           explanation="No rigid body has such an inertia: simulators reject it or the link spins and "
                       "explodes (every principal moment must be > 0 and each at most the sum of the "
@@ -90,6 +94,8 @@ def inertia_invalid(ctx: CheckContext):
 
 
 @register("PF603", "collision-without-inertial", "warning", area="physics",
+          bad='<link name="arm">\n  <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>\n</link>',
+          good='<link name="arm">\n  <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>\n  <inertial><mass value="1"/><inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/></inertial>\n</link>',
           summary="a link has collision geometry but no <inertial>",
           explanation="Gazebo drops links without inertia (and their collisions with them): the part "
                       "the model shows does not collide.",
@@ -104,6 +110,8 @@ def collision_without_inertial(ctx: CheckContext):
 
 
 @register("PF604", "root-link-inertia", "warning", area="physics",
+          bad='<link name="base_link">  <!-- the root -->\n  <inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>\n</link>',
+          good='<link name="base_footprint"/>\n<joint name="base_joint" type="fixed"><parent link="base_footprint"/><child link="base_link"/></joint>',
           summary="the root link has an <inertial>",
           explanation="KDL cannot give the root link an inertia: robot_state_publisher warns on every "
                       "start and the mass is lost to dynamics solvers.",
@@ -118,6 +126,8 @@ def root_link_inertia(ctx: CheckContext):
 
 
 @register("PF605", "joint-limit-invalid", "error", area="physics",
+          bad='<limit lower="1.57" upper="-1.57" velocity="0" effort="10"/>',
+          good='<limit lower="-1.57" upper="1.57" velocity="1.0" effort="10"/>',
           summary="a revolute or prismatic joint's <limit> is missing, reversed (lower > upper), or has "
                   "zero or negative velocity or effort",
           explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
@@ -147,6 +157,8 @@ def joint_limit_invalid(ctx: CheckContext):
 
 
 @register("PF606", "continuous-joint-limits", "warning", area="physics",
+          bad='<joint name="wheel" type="continuous">\n  <limit lower="-3.14" upper="3.14" velocity="5" effort="2"/>\n</joint>',
+          good='<joint name="wheel" type="continuous">\n  <limit velocity="5" effort="2"/>\n</joint>',
           summary="a continuous joint has position limits",
           explanation="A continuous joint turns without end: urdfdom ignores its lower/upper, so the "
                       "limits the author meant are not applied anywhere.",
@@ -162,6 +174,8 @@ def continuous_joint_limits(ctx: CheckContext):
 
 
 @register("PF607", "joint-axis-zero", "error", area="physics",
+          bad='<axis xyz="0 0 0"/>',
+          good='<axis xyz="0 0 1"/>',
           summary="a joint's axis is the zero vector",
           explanation="A zero axis gives the joint no direction of motion: urdfdom refuses it and "
                       "the joint cannot move.",
@@ -193,6 +207,8 @@ def _sizes(robot, resolve):
 
 
 @register("PF608", "mesh-scale-suspect", "warning", area="physics",
+          bad='<mesh filename="package://rob_description/meshes/arm.stl"/>  <!-- exported in mm -->',
+          good='<mesh filename="package://rob_description/meshes/arm.stl" scale="0.001 0.001 0.001"/>',
           summary="a mesh is about 1000 times bigger (or smaller) than the rest of the model",
           explanation="A CAD export in millimetres read as metres makes the robot 1000x too big: RViz "
                       "shows a giant or nothing, and collisions and inertias are wrong.",
@@ -225,6 +241,8 @@ def mesh_scale_suspect(ctx: CheckContext):
 
 
 @register("PF609", "collision-mesh-heavy", "warning", area="physics",
+          bad='<collision><geometry><mesh filename="package://rob_description/meshes/arm_visual.dae"/></geometry></collision>',
+          good='<collision><geometry><mesh filename="package://rob_description/meshes/arm_convex.stl"/></geometry></collision>',
           summary=f"a collision mesh has more than {COLLISION_TRIANGLES} triangles",
           explanation="Collision checking (Gazebo, MoveIt) costs per triangle: a detailed visual mesh "
                       "used as collision geometry makes simulation and planning slow.",
