@@ -94,6 +94,9 @@ def test_github_workflow(tmp_path, distro):
     assert "pkgforge build ." in runs
     assert "pkgforge verify . --install-base install --format github --junit-xml pkgforge-junit.xml" in runs
     assert any(step.get("uses", "").startswith("actions/upload-artifact") for step in job["steps"])
+    assert "--artifacts pkgforge-view" in runs and 'pkgforge-view/summary.md >> "$GITHUB_STEP_SUMMARY"' in runs
+    assert {"name": "pkgforge-view", "path": "pkgforge-view", "if-no-files-found": "ignore"} in \
+        [step.get("with") for step in job["steps"]]
 
 
 @pytest.mark.parametrize("distro", ["kilted", "lyrical", "rolling"])
@@ -107,6 +110,8 @@ def test_gitlab_pipeline(tmp_path, distro):
     assert f". /opt/ros/{distro}/setup.sh" in script and "pkgforge build ." in script
     assert "pkgforge verify . --install-base install --junit-xml" in script
     assert job["artifacts"]["reports"]["junit"] == "pkgforge-junit.xml"
+    assert '--artifacts "$CI_PROJECT_DIR/pkgforge-view"' in script
+    assert job["artifacts"]["paths"] == ["pkgforge-view/"]
 
 
 def test_generated_ci_installs_this_distribution_pinned(tmp_path):
@@ -129,7 +134,8 @@ def test_generated_ci_installs_this_distribution_pinned(tmp_path):
     lines = [line for step in workflow["jobs"]["verify"]["steps"] for line in step.get("run", "").splitlines()]
     lines += pipeline["pkgforge"]["before_script"] + pipeline["pkgforge"]["script"]
     installs = [line for line in lines if "pip install" in line]
-    expected = f"/opt/pkgforge/bin/pip install '{DISTRIBUTION}=={__version__}'"
+    # with the view extra: --artifacts renders the robot's pictures
+    expected = f"/opt/pkgforge/bin/pip install '{DISTRIBUTION}[view]=={__version__}'"
     assert installs == [expected, expected]
     # the README shows the same lines, and no bare `pkgforge` install
     readme = (REPO / "README.md").read_text()

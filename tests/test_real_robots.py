@@ -82,9 +82,11 @@ def test_real_robots_verify_without_errors(tmp_path, robot_prefix):
     result = run_pkgforge("verify", "--format", "json", cwd=tmp_path, env=env)
     assert "Traceback" not in result.stderr
     report = json.loads(result.stdout)
-    problems = [(d["package"], d["code"]) for d in report["diagnostics"] if d["severity"] != "info"]
+    # root-link-inertia (PF604, a warning) is true of several of them: KDL ignores the root's inertia
+    problems = [(d["package"], d["code"]) for d in report["diagnostics"]
+                if d["severity"] != "info" and d["code"] != "PF604"]
     # a real defect in the wheel: TALOS writes package:///example-robot-data/... (three slashes)
-    talos = [d for d in report["diagnostics"] if d["package"] == "talos_wrap_description"]
+    talos = [d for d in report["diagnostics"] if d["package"] == "talos_wrap_description" and d["code"] != "PF604"]
     assert talos and all(d["code"] == "PF402" and "names no package" in d["message"] for d in talos)
     assert len({d["line"] for d in talos}) == len(talos)  # each at its own <mesh> line
     assert [p for p in problems if p[0] != "talos_wrap_description"] == []

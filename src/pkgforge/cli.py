@@ -335,13 +335,16 @@ def _into_meta(ctx, param, value):
 @click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
               metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
                                    "(xacro arguments from --launch-arg).")
+@click.option("--artifacts", "artifacts_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
+              metavar="DIR", help="Also write pictures of every processed robot model into DIR (four "
+                                  "views, kinematic tree SVG, summary.md), as `pkgforge view` does.")
 @click.option("--fix", is_flag=True, expose_value=False, callback=_into_meta,
               help="Apply the fixes of what verify finds: the same as `pkgforge fix PATH`.")
 @click.option("--unsafe-fixes", is_flag=True, expose_value=False, callback=_into_meta,
               help="With --fix: also apply the fixes marked unsafe.")
 def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, build_tree, install_base, launch_args,
            launch_timeout, worker_memory, launch_engine, ros_prefix, no_cache, target_distro, explain_launch,
-           explain_model):
+           explain_model, artifacts_dir):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -390,7 +393,18 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
 
             click.echo(explain_model_file(path, explain_model, options), nl=False)
             return
+        artifacts = None
+        if artifacts_dir is not None:
+            from .view import Artifacts
+
+            # the pictures come from the models this run processes: no cached results
+            artifacts = Artifacts(artifacts_dir)
+            options.on_models, options.use_cache = artifacts, False
+            if artifacts.missing:
+                click.echo(f"pkgforge: --artifacts writes the kinematic trees only; {artifacts.missing}", err=True)
         result = run_verify(path, options)
+        if artifacts is not None:
+            artifacts.finish()
     except PkgforgeError as error:
         fail(error)
     from .report import use_color
@@ -415,6 +429,46 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
             fail(PkgforgeError(f"cannot write {junit_xml}: {exc.strerror}"))
     report_internal_errors(result)
     sys.exit(result.exit_code(strict))
+
+
+@main.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("target", default=".", metavar="[PATH|PACKAGE|MODEL]")
+@click.option("-o", "--output", "out", type=click.Path(file_okay=False, path_type=Path),
+              default=Path("pkgforge-view"), show_default=True, help="Folder for the images.")
+@click.option("--joint", "joints", multiple=True, metavar="NAME:=VALUE",
+              help="A joint position (radians or metres) instead of zero. Repeatable.")
+@click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
+              help="A launch argument's value (xacro arguments of a model file). Repeatable.")
+@click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
+              help="Seconds one launch file or model may take to process.")
+@click.option("--no-frame", is_flag=True, help="Do not draw the root link's frame.")
+def view(target, out, joints, launch_args, launch_timeout, no_frame):
+    """Render each robot model verify processes: four views (front, side, top, iso) as PNG and the
+    kinematic tree as SVG, headless (no display, no GPU).
+
+    TARGET is a package or workspace folder, a package name, or one .urdf/.xacro file
+    (in a workspace package, or installed in a ROS prefix's share/<package>/).
+    """
+    from .verify import VerifyOptions
+    from .view import Artifacts, parse_joints
+    from .view.command import run_view
+
+    try:
+        artifacts = Artifacts(out, parse_joints(joints), frame=not no_frame)
+        if artifacts.missing:
+            raise PkgforgeError(artifacts.missing)
+        options = VerifyOptions(launch_timeout=launch_timeout, launch_arguments=_launch_arguments(launch_args))
+        run_view(target, artifacts, options)
+        artifacts.finish()
+    except PkgforgeError as error:
+        fail(error)
+    for problem in artifacts.problems:
+        click.echo(f"pkgforge: warning: {problem}", err=True)
+    if not artifacts.entries:
+        fail(PkgforgeError(f"no robot model to render under {target} (verify says why: pkgforge verify {target})"))
+    for entry in artifacts.entries:
+        files = [i["file"] for i in entry["images"]] + [entry["tree"]]
+        click.echo(f"{entry['model']}: {', '.join(str(out / f) for f in files)}")
 
 
 def report_internal_errors(result) -> None:

@@ -159,6 +159,7 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
             lines.append("a macro library: no links of its own (checked through the models that include it)")
             return "\n".join(lines) + "\n"
         lines.append(f"robot {robot.get('name')}: {len(links)} links, {len(joints)} joints")
+        lines += _model_numbers(robot, tree, installed)
         meshes: dict[str, list] = {}
         for mesh in robot.get("meshes", []):
             meshes.setdefault(mesh.get("link"), []).append(mesh)
@@ -172,6 +173,8 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
                 lookup = resolve_uri(mesh["uri"], tree, installed)
                 mark = {"found": OK, "unchecked": UNCHECKED}.get(lookup.status, MISSING)
                 note = "" if lookup.status in ("found", "unchecked") else f"  ({lookup.status})"
+                if lookup.status == "found":
+                    note = _mesh_note(lookup.path)
                 lines.append(f"{indent}{mesh['kind']} {mark} {mesh['uri']}{note}")
 
         def walk(link: str, indent: str, seen: set) -> None:
@@ -189,3 +192,37 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
             mesh_lines(root, "  ")
             walk(root, "", {root})
         return "\n".join(lines) + "\n"
+
+
+def _size(low, high) -> str:
+    return " × ".join(f"{h - lo:.3g}" for lo, h in zip(low, high)) + " m"
+
+
+def _model_numbers(robot: dict, tree, installed: Path) -> list[str]:
+    """Total mass and size (the same numbers `pkgforge view` writes on its images)."""
+    from .physics import total_mass, world_bounds
+    from .meshes import resolve_uri
+
+    def resolve(uri):
+        lookup = resolve_uri(uri, tree, installed)
+        return lookup.path if lookup.status == "found" else None
+
+    with_mass = sum(1 for link in robot.get("links", []) if (link.get("inertial") or {}).get("mass"))
+    lines = [f"mass: {total_mass(robot):.4g} kg total ({with_mass} of {len(robot.get('links', []))} links "
+             "have a mass)"]
+    bounds = world_bounds(robot, resolve)
+    if bounds is None:
+        lines.append("size: no visual geometry")
+    else:
+        lines.append(f"size: {_size(*bounds)} (x × y × z of the visual geometry at the zero pose, "
+                     "in the root link's frame)")
+    return lines
+
+
+def _mesh_note(path) -> str:
+    from .physics import mesh_info
+
+    info = mesh_info(str(path))
+    if info is None:
+        return "  (bounds not read)"
+    return f"  [{_size(info.low, info.high)} in the file, {info.triangles} triangles]"

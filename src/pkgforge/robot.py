@@ -198,10 +198,12 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
              "links": [], "joints": [], "meshes": []}
     if root.tag != "robot":
         return robot
+    materials = _materials(root)
     for link in root.findall("link"):
         name = link.get("name")
         file, line = where(link, "link", name)
-        robot["links"].append({"name": name, "file": file, "line": line})
+        robot["links"].append({"name": name, "file": file, "line": line,
+                               **_physical_link(link, materials, plain and line)})
         for kind in ("visual", "collision"):
             for part in link.findall(kind):
                 for mesh in part.iter(*GEOMETRY_URI_TAGS):
@@ -222,5 +224,94 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
         robot["joints"].append({
             "name": name, "type": joint.get("type"), "file": file, "line": line,
             "parent": parent.get("link") if parent is not None else None,
-            "child": child.get("link") if child is not None else None})
+            "child": child.get("link") if child is not None else None,
+            **_physical_joint(joint, plain and line)})
     return robot
+
+
+# --- the numbers physics and rendering need (pkgforge.physics, pkgforge.view) -------------------
+
+def _numbers(text: str | None, count: int) -> list[float] | None:
+    """`count` floats from a space-separated attribute; None when absent or not numbers."""
+    if text is None:
+        return None
+    try:
+        values = [float(word) for word in text.split()]
+    except ValueError:
+        return None
+    return values if len(values) == count else None
+
+
+def _number(text: str | None) -> float | None:
+    values = _numbers(text, 1)
+    return values[0] if values else None
+
+
+def _origin(element) -> dict:
+    origin = element.find("origin") if element is not None else None
+    if origin is None:
+        return {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
+    return {"xyz": _numbers(origin.get("xyz", "0 0 0"), 3) or [0.0, 0.0, 0.0],
+            "rpy": _numbers(origin.get("rpy", "0 0 0"), 3) or [0.0, 0.0, 0.0]}
+
+
+def _color(material) -> list[float] | None:
+    color = material.find("color") if material is not None else None
+    return _numbers(color.get("rgba"), 4) if color is not None else None
+
+
+def _materials(root) -> dict[str, list[float]]:
+    return {m.get("name"): _color(m) for m in root.findall("material") if m.get("name") and _color(m)}
+
+
+def _geometry(part) -> dict | None:
+    geometry = part.find("geometry")
+    shape = next(iter(geometry), None) if geometry is not None else None
+    if shape is None or not isinstance(shape.tag, str):
+        return None
+    if shape.tag == "box":
+        return {"type": "box", "size": _numbers(shape.get("size"), 3)}
+    if shape.tag in ("cylinder", "capsule"):
+        return {"type": shape.tag, "radius": _number(shape.get("radius")), "length": _number(shape.get("length"))}
+    if shape.tag == "sphere":
+        return {"type": "sphere", "radius": _number(shape.get("radius"))}
+    if shape.tag == "mesh":
+        return {"type": "mesh", "uri": shape.get("filename"),
+                "scale": _numbers(shape.get("scale"), 3) or [1.0, 1.0, 1.0]}
+    return {"type": shape.tag}
+
+
+def _physical_link(link, materials: dict, line) -> dict:
+    """A link's inertial and its visual/collision shapes, as plain numbers."""
+    def line_of(element):
+        return element.sourceline if line else None
+
+    inertial = link.find("inertial")
+    data = {"inertial": None, "visuals": [], "collisions": []}
+    if inertial is not None:
+        mass, tensor = inertial.find("mass"), inertial.find("inertia")
+        data["inertial"] = {
+            "mass": _number(mass.get("value")) if mass is not None else None,
+            "inertia": None if tensor is None else {
+                k: _number(tensor.get(k)) or 0.0 for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
+            "origin": _origin(inertial), "line": line_of(inertial)}
+    for kind, key in (("visual", "visuals"), ("collision", "collisions")):
+        for part in link.findall(kind):
+            material = part.find("material") if kind == "visual" else None
+            color = _color(material) or (materials.get(material.get("name")) if material is not None else None)
+            shape = part.find("geometry")
+            data[key].append({"geometry": _geometry(part), "origin": _origin(part), "color": color,
+                              "line": line_of(next(iter(shape), part) if shape is not None else part)})
+    return data
+
+
+def _physical_joint(joint, line) -> dict:
+    axis, limit = joint.find("axis"), joint.find("limit")
+    return {
+        "origin": _origin(joint),
+        "axis": None if axis is None else _numbers(axis.get("xyz", "1 0 0"), 3),
+        "limit": None if limit is None else {
+            "lower": _number(limit.get("lower")), "upper": _number(limit.get("upper")),
+            "velocity": _number(limit.get("velocity")), "effort": _number(limit.get("effort")),
+            "line": limit.sourceline if line else None},
+    }

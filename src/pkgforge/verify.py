@@ -35,7 +35,7 @@ NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
-TREE_AREAS = ("launch", "model", "rviz")
+TREE_AREAS = ("launch", "model", "physics", "rviz")
 
 
 @dataclass(frozen=True)
@@ -61,6 +61,8 @@ class VerifyOptions:
     launch_engine: str = "auto"  # auto | ros | builtin
     ros_prefix: Path | None = None
     _engine: object | None = field(default=None, repr=False, compare=False)
+    # called with (tree, [models.ModelResult]) while the install tree is open (`view`, --artifacts)
+    on_models: object | None = field(default=None, repr=False, compare=False)
 
     def engine(self):
         """The launch engine these options choose (launch.engines.LaunchEngine), found once."""
@@ -486,6 +488,8 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                                                zygote=zygote):
                 model_results.setdefault(result.package, []).append(result)
             zygote.close()
+            if options.on_models is not None:
+                options.on_models(tree, [r for results in model_results.values() for r in results])
             rviz = rviz_configs(tree, checked, resolutions)
             progress.clear()
         except BaseException:

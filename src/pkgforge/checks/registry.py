@@ -88,7 +88,8 @@ DEFAULT_FIXES = {"find-package-undeclared": "safe"}
 # A check's area follows its code's hundreds (PF3xx: launch), so `--select PF3` and the
 # catalogue's areas agree; codes are stable, so a check in the wrong area moves area, not code.
 # tests/test_conventions.py enforces it; a new hundred needs its area here.
-AREAS = {"1": "manifest", "2": "install", "3": "launch", "4": "model", "5": "rviz", "8": "migrate", "9": "run"}
+AREAS = {"1": "manifest", "2": "install", "3": "launch", "4": "model", "5": "rviz", "6": "physics", "8": "migrate",
+         "9": "run"}
 
 
 def register(code: str, name: str, severity: str, *, summary: str, explanation: str, hint: str,

@@ -1,0 +1,150 @@
+"""`pkgforge view` and `verify --artifacts`: pictures of the robot models verify processes.
+
+Each model that verify processed (the same xacro run, the same install tree)
+becomes four PNG views (front, side, top, iso) and its kinematic tree as SVG,
+with a view.json that says what was written and at what scale. Rendering
+needs the `view` extra (numpy, Pillow, trimesh); the SVG tree needs nothing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+
+from ..errors import PkgforgeError
+from .tree_svg import tree_svg
+
+VIEW_NAMES = ("front", "side", "top", "iso")
+INSTALL_HINT = "pip install 'ros-pkgforge[view]'"
+
+
+def missing_renderer() -> str | None:
+    """Why the images cannot be rendered here (a module of the `view` extra is missing), or None."""
+    for module in ("numpy", "PIL", "trimesh"):
+        try:
+            __import__(module)
+        except ImportError:
+            return f"rendering images needs {module} (the `view` extra): {INSTALL_HINT}"
+    return None
+
+
+def parse_joints(texts) -> dict[str, float]:
+    joints = {}
+    for text in texts:
+        name, sep, value = text.partition(":=")
+        try:
+            joints[name] = float(value)
+        except ValueError:
+            sep = ""
+        if not sep or not name:
+            raise PkgforgeError(f"--joint '{text}' is not NAME:=VALUE with a number (radians or metres)")
+    return joints
+
+
+def _stem(result) -> str:
+    name = re.sub(r"\.(urdf|xacro)$", "", re.sub(r"\.xacro$", "", result.installed.name))
+    extra = "-" + "-".join(f"{k}_{v}" for k, v in sorted(result.mappings.items())) if result.mappings else ""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{result.package}-{name}{extra}")
+
+
+class Artifacts:
+    """Writes the pictures of every processed model into `out` (the verify hook)."""
+
+    def __init__(self, out: Path, joints: dict[str, float] | None = None, *, frame: bool = True,
+                 images: bool = True):
+        self.out, self.joints, self.frame = out, joints or {}, frame
+        self.missing = missing_renderer() if images else "images not asked for"
+        self.written: list[Path] = []
+        self.entries: list[dict] = []
+        self.problems: list[str] = []
+        self.used_joints: set[str] = set()
+
+    def __call__(self, tree, results) -> None:
+        from ..meshes import resolve_uri
+
+        try:
+            self.out.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise PkgforgeError(f"cannot write {self.out}: {error.strerror}") from None
+        seen = set()
+        for result in results:
+            robot = result.robot or {}
+            if result.status != "ok" or robot.get("root_tag") != "robot" or not robot.get("links"):
+                continue
+            stem = _stem(result)
+            if stem in seen:
+                continue
+            seen.add(stem)
+
+            def resolve(uri, result=result):
+                lookup = resolve_uri(uri, tree, result.installed)
+                return lookup.path if lookup.status == "found" else None
+
+            self.model(robot, resolve, stem, str(result.source or result.installed))
+
+    def model(self, robot: dict, resolve, stem: str, source: str) -> None:
+        names = {j.get("name") for j in robot.get("joints", [])}
+        positions = {k: v for k, v in self.joints.items() if k in names}
+        self.used_joints |= set(positions)
+        entry = {"model": source, "robot": robot.get("name"), "joints": positions, "images": []}
+        svg = self.out / f"{stem}-tree.svg"
+        self._write(svg, tree_svg(robot).encode("utf-8"))
+        entry["tree"] = svg.name
+        if self.missing is None:
+            from . import raster, scene as scenes
+
+            scene = scenes.build(robot, resolve, positions)
+            self.problems += [f"{source}: {p}" for p in scene.problems]
+            for view in VIEW_NAMES:
+                image, info = raster.render(scene, view, title=str(robot.get("name") or stem), frame=self.frame)
+                path = self.out / f"{stem}-{view}.png"
+                self._save(path, image)
+                entry["images"].append({**info, "file": path.name})
+            entry["size"] = raster.size_text(scene)
+        self.entries.append(entry)
+
+    def _write(self, path: Path, data: bytes) -> None:
+        """Whole or not at all: a temporary file renamed into place."""
+        temporary = path.with_name(f".{path.name}.tmp")
+        try:
+            temporary.write_bytes(data)
+            os.replace(temporary, path)
+        except OSError as error:
+            temporary.unlink(missing_ok=True)
+            raise PkgforgeError(f"cannot write {path}: {error.strerror}") from None
+        self.written.append(path)
+
+    def _save(self, path: Path, image) -> None:
+        import io
+
+        buffer = io.BytesIO()
+        image.save(buffer, format="PNG", optimize=False)
+        self._write(path, buffer.getvalue())
+
+    def finish(self) -> Path:
+        """view.json (what was written, at what scale) and a Markdown page for a CI job summary."""
+        unknown = set(self.joints) - self.used_joints
+        if unknown:
+            raise PkgforgeError(f"--joint {', '.join(sorted(unknown))}: no processed model has such a joint")
+        index = self.out / "view.json"
+        self._write(index, json.dumps({"models": self.entries, "problems": self.problems}, indent=2).encode())
+        self._write(self.out / "summary.md", summary_markdown(self.entries, self.missing).encode("utf-8"))
+        return index
+
+
+def summary_markdown(entries: list[dict], missing: str | None, link_base: str = "") -> str:
+    lines = ["## Robot models", ""]
+    if not entries:
+        lines.append("No robot model was processed.")
+    for entry in entries:
+        lines += [f"### {entry['robot']} ({entry['model']})", ""]
+        if entry.get("size"):
+            lines += [entry["size"], ""]
+        if entry["images"]:
+            lines.append(" ".join(f"![{i['view']}]({link_base}{i['file']})" for i in entry["images"]))
+        elif missing:
+            lines.append(f"(no images: {missing})")
+        lines += ["", f"Kinematic tree: [{entry['tree']}]({link_base}{entry['tree']})", ""]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,98 @@
+"""What `pkgforge view TARGET` renders: a package or workspace (verify's models), one model file
+in a workspace package, a model installed in a ROS prefix (share/<package>/...), or a package name."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import PkgforgeError
+from . import Artifacts
+
+MODEL_SUFFIXES = (".urdf", ".xacro")
+
+
+def _installed_prefix(file: Path) -> tuple[Path, str] | None:
+    """(prefix, package) when FILE is inside <prefix>/share/<package>/ with a package.xml."""
+    for folder in file.parents:
+        if folder.parent.name == "share" and (folder / "package.xml").is_file():
+            return folder.parent.parent, folder.name
+    return None
+
+
+def _package_folder(file: Path) -> Path | None:
+    return next((f for f in file.parents if (f / "package.xml").is_file()), None)
+
+
+def _by_name(name: str) -> Path:
+    from ..verify import package_folders, quick_name
+    from ..workspace import locate
+
+    workspace = locate(Path.cwd())
+    for folder in package_folders(workspace.base_path):
+        if quick_name(folder) == name:
+            return folder
+    raise PkgforgeError(f"'{name}' is neither a file or folder nor a package of the workspace at "
+                        f"{workspace.root}: give a package, a workspace, or a .urdf/.xacro file")
+
+
+def run_view(target: str, artifacts: Artifacts, options) -> None:
+    """Render through verify's own model processing; `options` are VerifyOptions."""
+    path = Path(target)
+    if not path.exists():
+        path = _by_name(target)
+    path = path.resolve()
+    if path.is_file():
+        if not path.name.endswith(MODEL_SUFFIXES):
+            raise PkgforgeError(f"{path} is not a robot model (.urdf or .xacro)")
+        _one_model(path, artifacts, options)
+    else:
+        from ..config import Selection
+        from ..verify import verify
+
+        # the tree and the models only: urdf-invalid is the one check that needs them
+        options.selection, options.use_cache, options.on_models = Selection(["PF401"], []), False, artifacts
+        verify(path, options)
+
+
+def _one_model(file: Path, artifacts: Artifacts, options) -> None:
+    from .. import models as robot_models
+    from ..launch.resolve import WorkerLimits, source_of
+
+    installed = _installed_prefix(file)
+    if installed is not None or _package_folder(file) is None:
+        from ..trees import InstallTree, _index
+
+        import tempfile
+        import time
+
+        prefixes = [installed[0]] if installed else []
+        # xacro is user code: its worker may write only in an empty temporary folder (launch/guard.py)
+        sandbox = tempfile.TemporaryDirectory(prefix="pkgforge-view-")
+        tree = InstallTree("existing", prefixes, _temporary=sandbox, root=Path(sandbox.name),
+                           sealed=time.time_ns())
+        tree.packages = _index(prefixes)
+        try:
+            package = installed[1] if installed else file.parent.name
+            result = robot_models.ModelResult(package, file, file, dict(options.launch_arguments))
+            (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout,
+                                             limits=WorkerLimits(options.launch_timeout, options.worker_memory))
+            _render(artifacts, tree, result)
+        finally:
+            tree.close()
+        return
+    from ..explain import _installed
+
+    with _installed(_package_folder(file), file, options) as (tree, installed_file, package, owner):
+        result = robot_models.ModelResult(package, installed_file, source_of(installed_file, tree, owner),
+                                          dict(options.launch_arguments))
+        (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout,
+                                         limits=WorkerLimits(options.launch_timeout, options.worker_memory))
+        _render(artifacts, tree, result)
+
+
+def _render(artifacts: Artifacts, tree, result) -> None:
+    if result.status not in ("ok",):
+        error = result.error or {}
+        where = f"{error.get('file') or result.installed}:{error.get('line') or ''}".rstrip(":")
+        raise PkgforgeError(f"{where}: cannot render: {result.status}: {error.get('message') or 'no links'}")
+    artifacts(tree, [result])

@@ -1,0 +1,156 @@
+"""The physical checks (PF6xx): each case fixture triggers exactly its check; real models give no errors."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from conftest import FIXTURES, VARIANTS, line_of, new_package, verify_report
+
+CASES = FIXTURES / "physics" / "cases"
+# check name → the text of the case file at whose line the diagnostic points
+EXPECTED = {
+    "mass-not-positive": ("PF601", "<inertial>"),
+    "inertia-invalid": ("PF602", "<inertial>"),
+    "collision-without-inertial": ("PF603", '<link name="arm">'),
+    "root-link-inertia": ("PF604", "<inertial>"),
+    "joint-limit-invalid": ("PF605", "<limit "),
+    "continuous-joint-limits": ("PF606", "<limit "),
+    "joint-axis-zero": ("PF607", '<joint name="shoulder"'),
+    "mesh-scale-suspect": ("PF608", "link_mm.stl"),
+    "collision-mesh-heavy": ("PF609", "heavy.stl"),
+}
+
+
+def heavy_stl(path: Path, triangles: int = 20_001) -> None:
+    """A small but finely tessellated mesh (a collision mesh exported from a visual one)."""
+    from pkgforge.stl import binary_stl
+
+    step = 0.05 / triangles
+    path.write_bytes(binary_stl([((0.0, 0.0, 1.0), (i * step, 0.0, 0.0), ((i + 1) * step, 0.0, 0.0),
+                                  (i * step, 0.05, 0.3)) for i in range(triangles)]))
+
+
+def physics_package(tmp_path: Path, case: str | None) -> Path:
+    package = tmp_path / "src" / "phys_description"
+    shutil.copytree(FIXTURES / "physics" / "phys_description", package)
+    heavy_stl(package / "meshes" / "heavy.stl")
+    if case is not None:
+        shutil.copy(CASES / f"{case}.urdf", package / "urdf" / "robot.urdf")
+    return package
+
+
+def test_the_clean_model_has_no_diagnostic(tmp_path):
+    physics_package(tmp_path, None)
+    status, report = verify_report(tmp_path)
+    assert status == 0 and report["diagnostics"] == []
+
+
+def test_every_physical_check_has_a_case():
+    from pkgforge.checks.registry import all_checks
+
+    assert {c.name for c in all_checks() if c.area == "physics"} == set(EXPECTED)
+    assert {p.stem for p in CASES.glob("*.urdf")} == set(EXPECTED)
+
+
+@pytest.mark.parametrize("case", [
+    pytest.param("mass-not-positive", marks=pytest.mark.triggers("PF601")),
+    pytest.param("inertia-invalid", marks=pytest.mark.triggers("PF602")),
+    pytest.param("collision-without-inertial", marks=pytest.mark.triggers("PF603")),
+    pytest.param("root-link-inertia", marks=pytest.mark.triggers("PF604")),
+    pytest.param("joint-limit-invalid", marks=pytest.mark.triggers("PF605")),
+    pytest.param("continuous-joint-limits", marks=pytest.mark.triggers("PF606")),
+    pytest.param("joint-axis-zero", marks=pytest.mark.triggers("PF607")),
+    pytest.param("mesh-scale-suspect", marks=pytest.mark.triggers("PF608")),
+    pytest.param("collision-mesh-heavy", marks=pytest.mark.triggers("PF609")),
+])
+def test_each_case_triggers_exactly_its_check(tmp_path, case):
+    package = physics_package(tmp_path, case)
+    code, text = EXPECTED[case]
+    status, report = verify_report(tmp_path)
+    found = [(d["code"], d["path"], d["line"]) for d in report["diagnostics"]]
+    model = package / "urdf" / "robot.urdf"
+    assert found == [(code, "src/phys_description/urdf/robot.urdf", line_of(model, text))], found
+    assert status == (1 if report["diagnostics"][0]["severity"] == "error" else 0)
+
+
+def test_mesh_scale_hint_names_the_scale_attribute(tmp_path):
+    physics_package(tmp_path, "mesh-scale-suspect")
+    _, report = verify_report(tmp_path)
+    (diagnostic,) = report["diagnostics"]
+    assert 'scale="0.001 0.001 0.001"' in diagnostic["hint"]
+    assert "link_mm.stl" in diagnostic["message"]
+
+
+def test_scaffold_variants_have_no_physical_findings(tmp_path):
+    for variant, options in VARIANTS.items():
+        new_package(tmp_path, f"{variant}_description", *options)
+    _, report = verify_report(tmp_path, "--select", "PF6")
+    assert report["diagnostics"] == []
+    assert report["summary"]["packages"] == len(VARIANTS)
+
+
+ERD_ROBOTS = ["panda_description/urdf/panda.urdf", "ur_description/urdf/ur5_robot.urdf",
+              "go2_description/urdf/go2.urdf"]
+
+
+def erd_share() -> Path:
+    """The wheel's robots (a cmeel prefix in site-packages); the test extra installs it."""
+    from importlib import metadata
+
+    try:
+        files = metadata.distribution("example-robot-data").files or []
+    except metadata.PackageNotFoundError:
+        pytest.skip("pip install -e '.[test]' installs example-robot-data")
+    manifest = next(f for f in files if str(f).endswith("share/example-robot-data/package.xml"))
+    return Path(manifest.locate()).parent
+
+
+@pytest.mark.parametrize("model", ERD_ROBOTS)
+def test_example_robot_data_models_have_no_physical_errors(model):
+    """The checks over the structure robot.py extracts, with meshes resolved in the wheel's share/."""
+    from types import SimpleNamespace
+
+    from pkgforge import robot as robots
+    from pkgforge.checks.registry import all_checks
+    from pkgforge.diagnostics import Severity
+    from pkgforge.checks.physics import _resolver
+    from pkgforge.physics import world_bounds
+
+    share = erd_share()
+    path = share / "robots" / model
+    data = robots.process_model(str(path), {})
+    assert data["status"] == "ok"
+
+    class Tree:  # the wheel's share/ as the install tree of package example-robot-data
+        phantom_packages: set = set()
+
+        def installed_share(self, package):
+            return share if package == "example-robot-data" else None
+
+    result = SimpleNamespace(status="ok", robot=data["robot"], installed=path, source=path, origins=[])
+    context = SimpleNamespace(model_results=[result], tree=Tree(), own_source=lambda file: Path(file))
+    errors = []
+    for check in all_checks():
+        if check.area == "physics":
+            errors += [(check.code, f.message) for f in check.function(context)
+                       if (f.severity or check.severity) == Severity.ERROR]
+    assert errors == []
+    # the meshes did resolve (the scale check compared real sizes): the robot is 0.3 to 2 m
+    low, high = world_bounds(data["robot"], _resolver(context, result))
+    assert 0.3 < max(h - lo for lo, h in zip(low, high)) < 2.0
+
+
+def test_explain_model_shows_mass_size_and_mesh_bounds(tmp_path):
+    from conftest import run_pkgforge
+
+    package = physics_package(tmp_path, None)
+    result = run_pkgforge("verify", ".", "--explain-model", package / "urdf" / "robot.urdf", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert "mass: 1 kg total (1 of 2 links have a mass)" in lines
+    assert any(line.startswith("size: 0.2 × 0.2 × 0.4 m ") for line in lines), lines
+    assert ("     visual ✓ package://phys_description/meshes/link.stl  [0.05 × 0.05 × 0.3 m in the file, "
+            "12 triangles]") in lines
