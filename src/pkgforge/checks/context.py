@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..model.package import PackageModel
 
+# an ImportError raised by the built-in engine's modules (launch/api.py names them so)
+BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from '[\w.]+' \(<pkgforge launch API \((\w+)\)>")
 # pkgforge provides these in the launch worker; a missing submodule of one is a real error
 STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
 
@@ -113,13 +116,27 @@ class CheckContext:
         if error.type == "ModuleNotFoundError" and module and module not in STAND_IN_MODULES \
                 and (module in self.model.manifest.declared() or module in self.tree_packages()):
             return "unevaluated"
+        if self.newer_launch_name(resolution) is not None:
+            return "newer-api"
         return "load"
+
+    def newer_launch_name(self, resolution) -> str | None:
+        """The launch API name the built-in engine lacks where its list is only the nearest older
+        distro's (a name new in Kilted or later is real there): None where the ImportError is ROS's."""
+        from ..distro_data import active_distros
+
+        error = resolution.error
+        found = BUILTIN_IMPORT_ERROR.search(str(error.message or "")) if error is not None else None
+        if error is None or error.type != "ImportError" or found is None:
+            return None
+        listed = found.group(2)  # the distro whose list the engine used
+        return found.group(1) if any(d != listed for d in self.distros or active_distros()) else None
 
     def static_fallback(self) -> dict[Path, list]:
         """Static references of the launch files that could not be evaluated here."""
         out: dict[Path, list] = {}
         for resolution in self.resolutions:
-            if self.load_error_kind(resolution) == "unevaluated" and resolution.launch.source:
+            if self.load_error_kind(resolution) in ("unevaluated", "newer-api") and resolution.launch.source:
                 out[resolution.launch.source] = [r for r in self.model.references
                                                  if r.path == resolution.launch.source]
         return out

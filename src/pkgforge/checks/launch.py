@@ -16,10 +16,12 @@ from ..walk import UNREADABLE_HINT
 from .sandbox import SANDBOX_TYPES, stopped_by_guard
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
-# rviz2 depends on these; a declared rviz2 brings their displays
+# rviz2 depends on these: their displays come with whatever starts RViz (an rviz2 Node is checked
+# where it is started; a config that another package's launch file opens needs nothing of its own)
 RVIZ_BUILTIN = {"rviz_common", "rviz_default_plugins"}
 # uses that missing-exec-depend checks; unknown names there are xacro's or RViz's error to report
-STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "package://", "$(find)", "RViz display from"}
+# ("import": a file read statically; a module that is no ROS package is a Python library)
+STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", "RViz display from"}
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
                          "ros2launch"}
@@ -256,6 +258,8 @@ def unknown_package(ctx: CheckContext):
     for name, path, line, via, item, _ in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
+        if not name:
+            continue  # an empty launch argument (a template's caller gives the package): no name, no typo
         seen.add((name, str(path), line))
         yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
                       "and released in no ROS 2 distro", path, line, hint=_unknown_hint(ctx, name))
@@ -302,7 +306,7 @@ def missing_exec_depend(ctx: CheckContext):
         if name in own or name in declared or name in reported or name not in known \
                 or name in LAUNCH_INFRASTRUCTURE:
             continue
-        if name in RVIZ_BUILTIN and "rviz2" in declared:
+        if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
         reported.add(name)
         note = _branch_note(item, resolution) if resolution is not None else ""
@@ -404,6 +408,16 @@ def unsupported_launch_api(ctx: CheckContext):
             if position is not None and (name, position) not in seen:
                 seen.add((name, position))
                 yield Finding(f"{name} is not evaluated by pkgforge", *position)
+        newer = ctx.newer_launch_name(resolution)
+        if newer is not None and ctx.load_error_kind(resolution) == "newer-api":
+            error = resolution.error
+            position = ctx.source_position(resolution, error.file, error.line) or \
+                (resolution.launch.source or resolution.launch.installed, None)
+            yield Finding(f"{resolution.launch.installed.name} imports {newer}, which pkgforge's built-in "
+                          "engine knows only in ROS 2 releases after Jazzy (or not at all); checked "
+                          "statically instead", *position,
+                          hint="give --distro humble or jazzy if the package targets one (then a missing "
+                               "name is ROS's ImportError too), or verify where that distro is installed")
 
 
 @register("PF311", "launch-unevaluated", "info", area="launch",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from collections import Counter
 from pathlib import Path
 
@@ -50,6 +51,8 @@ def xacro_error(ctx: CheckContext):
         error = result.error or {}
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
+            if _absent_include(ctx, error.get("message")) is not None:
+                continue  # model-unevaluated says which declared package it needs
             yield Finding(f"xacro {result.installed.name}: {untree(ctx, str(error.get('message')))}",
                           *_where(ctx, result, error.get("file"), error.get("line")),
                           hint=error.get("hint") or read_problem_hint(error.get("message")))
@@ -61,6 +64,8 @@ def xacro_error(ctx: CheckContext):
                 continue
             if not Path(command.model).exists():
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
+            if _absent_include(ctx, command.message) is not None:
+                continue  # model-unevaluated
             position = ctx.source_position(resolution, command.file, command.line)
             if position is None or position in seen:
                 continue
@@ -82,6 +87,54 @@ def xacro_error(ctx: CheckContext):
             position = ctx.source_position(resolution, error.file, error.line)
             if position is not None:
                 yield Finding(f"xacro: {error.message}", *position)
+
+
+MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
+
+
+def _absent_include(ctx: CheckContext, message) -> tuple[str, str] | None:
+    """(package, file) when xacro failed only because it includes a file of a package that is
+    declared but not installed here (its share folder is an empty stand-in): ROS has the file."""
+    found = MISSING_FILE.search(str(message or ""))
+    if found is None or ctx.tree is None or ctx.tree.phantom is None:
+        return None
+    path = found.group(1)
+    if not os.path.isabs(path):  # xacro names it relative to the stand-ins' prefix
+        path = str(ctx.tree.phantom / path)
+    located = ctx.tree.locate(path) if ctx.tree.is_phantom(path) else None
+    if located is None or located[0] not in ctx.tree.phantom_packages:
+        return None
+    return located[0], located[1]
+
+
+@register("PF407", "model-unevaluated", "info", area="model",
+          summary="a model includes a file of a declared package that is not installed here",
+          explanation="Not the model's fault: the package is declared and ROS has it, but it is not on "
+                      "this machine, so xacro cannot expand the model here and nothing of it is checked.",
+          hint="verify on a machine with the dependency installed (or --install-base) to check the model")
+def model_unevaluated(ctx: CheckContext):
+    covered = set()
+    for result in ctx.model_results:
+        error = result.error or {}
+        if result.status not in ("error", "timeout", "crashed"):
+            continue
+        covered.add(str(result.installed))
+        absent = _absent_include(ctx, error.get("message"))
+        if absent is not None:
+            yield Finding(f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
+                          "not installed here; the model is not checked",
+                          *_where(ctx, result, error.get("file"), error.get("line")))
+    seen = set()
+    for resolution in ctx.resolutions:
+        for command in resolution.commands:
+            if command.ok or command.model is None or command.model in covered:
+                continue
+            absent = _absent_include(ctx, command.message)
+            position = ctx.source_position(resolution, command.file, command.line)
+            if absent is not None and position is not None and position not in seen:
+                seen.add(position)
+                yield Finding(f"{Path(command.model).name} includes {absent[1]} of {absent[0]}, a declared "
+                              "package not installed here; the model is not checked", *position)
 
 
 @register("PF401", "urdf-invalid", "error", area="model",
