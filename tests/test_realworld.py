@@ -405,3 +405,18 @@ def test_a_folder_only_uninstalled_files_refer_to_is_no_error(every_distro):
     assert findings(every_distro, "xacro_source_description") == [
         ("directory-not-installed", "meshes", None), ("directory-not-installed", "xacro", None)]
     assert found == {"meshes": "warning", "xacro": "warning"}
+
+
+def test_an_environment_variable_the_robot_setup_exports(every_distro, workspace, tmp_path):
+    """os.environ['TURTLEBOT3_MODEL'] (TurtleBot3) and os.getenv('LINOROBOT2_BASE') in a path
+    (linorobot2), not set here: launch-environment-unset (info) instead of launch-load-error and
+    missing-file; with the variables set, the files are checked and clean."""
+    robot = src(workspace, "environment_bringup", "launch/robot.launch.py")
+    description = src(workspace, "environment_bringup", "launch/description.launch.py")
+    assert findings(every_distro, "environment_bringup") == [
+        ("launch-environment-unset", "launch/description.launch.py", line_of(description, "f'{base}.urdf'")),
+        ("launch-environment-unset", "launch/robot.launch.py", line_of(robot, "os.environ["))]
+    shutil.copytree(workspace / "src" / "environment_bringup", tmp_path / "src" / "environment_bringup")
+    env = {**os.environ, "PKGFORGE_TEST_ROBOT_MODEL": "small", "PKGFORGE_TEST_ROBOT_BASE": "small"}
+    result = run_pkgforge("verify", tmp_path, "--format", "json", "--no-cache", cwd=tmp_path, env=env)
+    assert result.returncode == 0, result.stdout + result.stderr

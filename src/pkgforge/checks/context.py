@@ -118,7 +118,24 @@ class CheckContext:
             return "unevaluated"
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
+        if error.type == "KeyError" and self.unset_environment(resolution):
+            return "environment"
         return "load"
+
+    def unset_environment(self, resolution) -> list[str]:
+        """Environment variables the launch file reads without a default and that are not set
+        here, when its loading failed on one (os.environ['X'] → KeyError) or a path it resolved
+        has the text None from one (os.getenv('X'))."""
+        source = resolution.launch.source
+        if source is None or source.suffix != ".py":
+            return []
+        unset = [n for n in _environment_reads(source) if n not in os.environ]
+        error = resolution.error
+        if resolution.status == "load-error" and error is not None and error.type == "KeyError":
+            key = re.search(r"'([^']+)'", str(error.message or ""))
+            return [key.group(1)] if key and key.group(1) in unset else []
+        return unset
+
 
     def newer_launch_name(self, resolution) -> str | None:
         """The launch API name the built-in engine lacks where its list is only the nearest older
@@ -165,3 +182,26 @@ class CheckContext:
                         and os.path.exists(self.model.path / located[1]):
                     folders.add(located[1].split("/")[0])
         return folders
+
+
+def _environment_reads(source: Path) -> list[str]:
+    """Names a Python launch file reads with os.environ['X'], os.getenv('X') or os.environ.get('X')
+    without a default."""
+    import ast
+
+    try:
+        tree = ast.parse(source.read_text(encoding="utf-8", errors="replace"))
+    except (OSError, SyntaxError, ValueError):
+        return []
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Subscript) and ast.unparse(node.value) in ("os.environ", "environ"):
+            key = node.slice
+        elif isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords and \
+                ast.unparse(node.func) in ("os.getenv", "getenv", "os.environ.get", "environ.get"):
+            key = node.args[0]
+        else:
+            continue
+        if isinstance(key, ast.Constant) and isinstance(key.value, str) and key.value not in names:
+            names.append(key.value)
+    return names

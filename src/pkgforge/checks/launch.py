@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import os
+import re
 from pathlib import Path
 
 from ..diagnostics import Finding
@@ -25,6 +26,8 @@ STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", 
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
                          "ros2launch"}
+# a path part that is the text of None (an f-string of os.getenv() of a variable not set)
+NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
 
 
@@ -149,6 +152,8 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             if located is None:
                 continue
             package, relative, _ = located
+            if NONE_PART.search(relative) and ctx.unset_environment(resolution):
+                continue  # launch-environment-unset: os.getenv() gave None here
             owner = ctx.model_for_share(package)
             source = owner.path / relative if owner is not None else None
             in_source = source is not None and os.path.exists(source)
@@ -436,6 +441,30 @@ def launch_unevaluated(ctx: CheckContext):
                 (resolution.launch.source or resolution.launch.installed, None)
             yield Finding(f"{resolution.launch.installed.name} imports {error.module}, from a "
                           "package not installed here; checked statically instead", *position)
+
+
+@register("PF317", "launch-environment-unset", "info", area="launch",
+          summary="a launch file reads an environment variable that is not set here",
+          explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
+                      "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
+                      "builds paths with the text None; what depends on it is not checked.",
+          hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default")
+def launch_environment_unset(ctx: CheckContext):
+    for resolution in ctx.resolutions:
+        names = ctx.unset_environment(resolution)
+        if not names:
+            continue
+        failed = ctx.load_error_kind(resolution) == "environment"
+        none_paths = [item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)]
+        if not failed and not none_paths:
+            continue
+        error = resolution.error
+        where = (error.file, error.line) if failed else (none_paths[0].file, none_paths[0].line)
+        position = ctx.source_position(resolution, *where) or \
+            (resolution.launch.source or resolution.launch.installed, None)
+        what = "stops loading" if failed else "resolves a path with 'None' in it"
+        yield Finding(f"{resolution.launch.installed.name} {what}: environment variable "
+                      f"{' or '.join(names)} is not set here; what depends on it is not checked", *position)
 
 
 @register("PF312", "ros1-launch-file", "info", area="launch",
