@@ -26,6 +26,8 @@ STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", 
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
                          "ros2launch"}
+# a package name with an empty part: f"kuka_{family}_support" of an empty argument
+EMPTY_PART = re.compile(r"^_|__|_$")
 # a path part that is the text of None (an f-string of os.getenv() of a variable not set)
 NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
@@ -260,11 +262,12 @@ def unknown_package(ctx: CheckContext):
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
     seen = set()
-    for name, path, line, via, item, _ in _looked_up(ctx):
+    for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
-        if not name:
-            continue  # an empty launch argument (a template's caller gives the package): no name, no typo
+        if not name or (resolution is not None and EMPTY_PART.search(name)
+                        and any(a.default == "" for a in resolution.arguments)):
+            continue  # built from a launch argument left empty (a template's caller gives it): no typo
         seen.add((name, str(path), line))
         yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
                       "and released in no ROS 2 distro", path, line, hint=_unknown_hint(ctx, name))
