@@ -420,3 +420,16 @@ def test_an_environment_variable_the_robot_setup_exports(every_distro, workspace
     env = {**os.environ, "PKGFORGE_TEST_ROBOT_MODEL": "small", "PKGFORGE_TEST_ROBOT_BASE": "small"}
     result = run_pkgforge("verify", tmp_path, "--format", "json", "--no-cache", cwd=tmp_path, env=env)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_an_undeclared_find_is_one_diagnostic_without_pkgforges_folders(every_distro, workspace):
+    """$(find X) of a real package not declared (Clearpath): missing-exec-depend only, not also a
+    xacro-error at the same line; of a package released nowhere (Doosan's old name): xacro-error,
+    whose message names no folder of pkgforge's tree."""
+    base = src(workspace, "undeclared_find_description", "urdf/base.urdf.xacro")
+    arm = src(workspace, "undeclared_find_description", "urdf/arm.urdf.xacro")
+    assert findings(every_distro, "undeclared_find_description") == [
+        ("missing-exec-depend", "urdf/base.urdf.xacro", line_of(base, "$(find realsense2_description)")),
+        ("xacro-error", "urdf/arm.urdf.xacro", line_of(arm, "$(find undeclared_find_old_name)"))]
+    (error,) = by_name(every_distro, "undeclared_find_description", "xacro-error")
+    assert "searching" not in error["message"] and error["message"].count("not found") == 1

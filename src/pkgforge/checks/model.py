@@ -53,7 +53,9 @@ def xacro_error(ctx: CheckContext):
             covered.add(str(result.installed))
             if _absent_include(ctx, error.get("message")) is not None:
                 continue  # model-unevaluated says which declared package it needs
-            yield Finding(f"xacro {result.installed.name}: {untree(ctx, str(error.get('message')))}",
+            if _undeclared_find(ctx, error.get("message")):
+                continue  # one defect, one diagnostic: missing-exec-depend names the package
+            yield Finding(f"xacro {result.installed.name}: {_untree_xacro(ctx, error.get('message'))}",
                           *_where(ctx, result, error.get("file"), error.get("line")),
                           hint=error.get("hint") or read_problem_hint(error.get("message")))
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -78,15 +80,35 @@ def xacro_error(ctx: CheckContext):
                               hint="quote the path inside the command line, e.g. Command(['xacro \"', "
                                    "path, '\"']), or use a workspace path without spaces")
                 continue
-            message = command.message.strip().splitlines()
+            if _undeclared_find(ctx, command.message):
+                continue
+            message = _untree_xacro(ctx, command.message).strip().splitlines()
             yield Finding(f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}",
                           *position)
         error = resolution.error
         models = {c.model for c in resolution.commands}
         if ctx.load_error_kind(resolution) == "xacro" and error is not None and not models & covered:
             position = ctx.source_position(resolution, error.file, error.line)
-            if position is not None:
-                yield Finding(f"xacro: {error.message}", *position)
+            if position is not None and not _undeclared_find(ctx, error.message):
+                yield Finding(f"xacro: {_untree_xacro(ctx, error.message)}", *position)
+
+
+NOT_FOUND = re.compile(r"package '([^']+)' not found")
+
+
+def _undeclared_find(ctx: CheckContext, message) -> bool:
+    """xacro failed on $(find X) of a real package that package.xml does not declare."""
+    found = NOT_FOUND.search(str(message or ""))
+    manifest = ctx.model.manifest
+    return found is not None and manifest.valid and found.group(1) in ctx.real_packages() \
+        and found.group(1) not in manifest.run_dependencies()
+
+
+def _untree_xacro(ctx: CheckContext, message) -> str:
+    """xacro's message without the folders pkgforge's tree searched (ament's PackageNotFoundError
+    lists them)."""
+    text = re.sub(r",? searching: \[[^\]]*\]", "", untree(ctx, str(message)))
+    return re.sub(r'("[^"]+") \1', r"\1", text)  # xacro quotes the same message twice
 
 
 MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
