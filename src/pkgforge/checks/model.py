@@ -52,7 +52,7 @@ def xacro_error(ctx: CheckContext):
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
             if _absent_include(ctx, error.get("message")) is not None:
-                continue  # model-unevaluated says which declared package it needs
+                continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
             yield Finding(f"xacro {result.installed.name}: {_untree_xacro(ctx, error.get('message'))}",
@@ -142,7 +142,7 @@ def model_unevaluated(ctx: CheckContext):
             continue
         covered.add(str(result.installed))
         absent = _absent_include(ctx, error.get("message"))
-        if absent is not None:
+        if absent is not None and absent[0] in ctx.model.manifest.declared():
             yield Finding(f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
                           "not installed here; the model is not checked",
                           *_where(ctx, result, error.get("file"), error.get("line")))
@@ -153,7 +153,8 @@ def model_unevaluated(ctx: CheckContext):
                 continue
             absent = _absent_include(ctx, command.message)
             position = ctx.source_position(resolution, command.file, command.line)
-            if absent is not None and position is not None and position not in seen:
+            if absent is not None and absent[0] in ctx.model.manifest.declared() and position is not None \
+                    and position not in seen:
                 seen.add(position)
                 yield Finding(f"{Path(command.model).name} includes {absent[1]} of {absent[0]}, a declared "
                               "package not installed here; the model is not checked", *position)
