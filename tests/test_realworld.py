@@ -392,7 +392,8 @@ def test_a_launch_name_newer_than_jazzy(every_distro, jazzy, workspace):
     when the package may target a later distro, ROS's own ImportError when it targets Jazzy."""
     show = src(workspace, "newer_api_bringup", "launch/show.launch.py")
     line = line_of(show, "import PathSubstitution")
-    assert findings(every_distro, "newer_api_bringup") == [("unsupported-launch-api", "launch/show.launch.py", line)]
+    assert findings(every_distro, "newer_api_bringup") == [
+        ("unsupported-launch-api", "launch/show.launch.py", line)]
     assert findings(jazzy, "newer_api_bringup") == [("launch-load-error", "launch/show.launch.py", line)]
 
 

@@ -10,7 +10,8 @@ from pathlib import Path
 from ..model.package import PackageModel
 
 # an ImportError raised by the built-in engine's modules (launch/api.py names them so)
-BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from '[\w.]+' \(<pkgforge launch API \((\w+)\)>")
+BUILTIN_IMPORT_ERROR = re.compile(
+    r"cannot import name '(\w+)' from '[\w.]+' \(<pkgforge launch API \((\w+)\)>")
 # pkgforge provides these in the launch worker; a missing submodule of one is a real error
 STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
 
