@@ -140,7 +140,8 @@ class CheckContext:
 
     def newer_launch_name(self, resolution) -> str | None:
         """The launch API name the built-in engine lacks where its list is only the nearest older
-        distro's (a name new in Kilted or later is real there): None where the ImportError is ROS's."""
+        distro's and no list has it (a name new in Kilted or later, e.g. PathSubstitution, is real
+        there; a typo looks the same): None where the ImportError is ROS's."""
         from ..distro_data import active_distros
 
         error = resolution.error
@@ -148,7 +149,10 @@ class CheckContext:
         if error is None or error.type != "ImportError" or found is None:
             return None
         listed = found.group(2)  # the distro whose list the engine used
-        return found.group(1) if any(d != listed for d in self.distros or active_distros()) else None
+        later = any(d != listed for d in self.distros or active_distros())
+        if not later or found.group(1) in _launch_names():
+            return None  # the target's own list, or a real name imported from the wrong module
+        return found.group(1)
 
     def static_fallback(self) -> dict[Path, list]:
         """Static references of the launch files that could not be evaluated here."""
@@ -206,3 +210,20 @@ def _environment_reads(source: Path) -> list[str]:
         if isinstance(key, ast.Constant) and isinstance(key.value, str) and key.value not in names:
             names.append(key.value)
     return names
+
+
+_names: set | None = None
+
+
+def _launch_names() -> set[str]:
+    """Every name of launch and launch_ros in the distros the built-in engine has lists of."""
+    global _names
+    if _names is None:
+        import json
+
+        data_file = Path(__file__).resolve().parent.parent / "launch" / "api_names.json"
+        with open(data_file, encoding="utf-8") as handle:
+            data = json.load(handle)["distros"]
+        _names = {name for lists in data.values() for module in lists["modules"].values()
+                  for name in module.get("names", {})}
+    return _names

@@ -101,7 +101,8 @@ def _undeclared_find(ctx: CheckContext, message) -> bool:
     found = NOT_FOUND.search(str(message or ""))
     manifest = ctx.model.manifest
     return found is not None and manifest.valid and found.group(1) in ctx.real_packages() \
-        and found.group(1) not in manifest.run_dependencies()
+        and found.group(1) not in manifest.run_dependencies() \
+        and found.group(1) not in (ctx.model.name, ctx.model.share_name)  # its own: not a dependency
 
 
 def _untree_xacro(ctx: CheckContext, message) -> str:
