@@ -447,6 +447,9 @@ def launch_unevaluated(ctx: CheckContext):
 
 
 @register("PF317", "launch-environment-unset", "info", area="launch",
+          bad=("# launch/robot.launch.py\n"
+               "model = os.environ['TURTLEBOT3_MODEL']"),
+          good="$ TURTLEBOT3_MODEL=burger pkgforge verify .",
           summary="a launch file reads an environment variable that is not set here",
           explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
                       "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "

@@ -131,6 +131,9 @@ def _absent_include(ctx: CheckContext, message) -> tuple[str, str] | None:
 
 
 @register("PF407", "model-unevaluated", "info", area="model",
+          bad=("<!-- urdf/robot.urdf.xacro (realsense2_description is declared, not installed here) -->\n"
+               "<xacro:include filename=\"$(find realsense2_description)/urdf/_d435.urdf.xacro\"/>"),
+          good="$ pkgforge verify . --install-base install   # on a machine with realsense2_description",
           summary="a model includes a file of a declared package that is not installed here",
           explanation="Not the model's fault: the package is declared and ROS has it, but it is not on "
                       "this machine, so xacro cannot expand the model here and nothing of it is checked.",
