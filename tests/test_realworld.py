@@ -368,6 +368,7 @@ def test_rviz_own_displays_need_no_dependency_of_their_own(every_distro):
     assert findings(every_distro, "rviz_config_description") == []
 
 
+@pytest.mark.triggers("PF407")
 def test_a_declared_packages_xacro_include_absent_here_is_info(every_distro, workspace):
     """A model including a macro file of a declared, released package that is not installed here
     (pmb2 → pal_urdf_utils, turtlebot4 → irobot_create_description): model-unevaluated, at the
@@ -408,6 +409,7 @@ def test_a_folder_only_uninstalled_files_refer_to_is_no_error(every_distro):
     assert found == {"meshes": "warning", "xacro": "warning"}
 
 
+@pytest.mark.triggers("PF317")
 def test_an_environment_variable_the_robot_setup_exports(every_distro, workspace, tmp_path):
     """os.environ['TURTLEBOT3_MODEL'] (TurtleBot3) and os.getenv('LINOROBOT2_BASE') in a path
     (linorobot2), not set here: launch-environment-unset (info) instead of launch-load-error and
