@@ -9,9 +9,10 @@ from pathlib import Path
 
 from ..model.package import PackageModel
 
-# an ImportError raised by the built-in engine's modules (launch/api.py names them so)
-BUILTIN_IMPORT_ERROR = re.compile(
-    r"cannot import name '(\w+)' from '[\w.]+' \(<pkgforge launch API \((\w+)\)>")
+# an ImportError of a launch name (the built-in engine's message is ROS's own)
+BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")
+# the distros whose own launch name lists the built-in engine has (launch/api_names.json)
+GENERATED_LISTS = ("humble", "jazzy")
 # pkgforge provides these in the launch worker; a missing submodule of one is a real error
 STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
 
@@ -137,7 +138,6 @@ class CheckContext:
             return [key.group(1)] if key and key.group(1) in unset else []
         return unset
 
-
     def newer_launch_name(self, resolution) -> str | None:
         """The launch API name the built-in engine lacks where its list is only the nearest older
         distro's and no list has it (a name new in Kilted or later, e.g. PathSubstitution, is real
@@ -146,10 +146,9 @@ class CheckContext:
 
         error = resolution.error
         found = BUILTIN_IMPORT_ERROR.search(str(error.message or "")) if error is not None else None
-        if error is None or error.type != "ImportError" or found is None:
+        if error is None or error.type != "ImportError" or found is None or resolution.engine != "builtin":
             return None
-        listed = found.group(2)  # the distro whose list the engine used
-        later = any(d != listed for d in self.distros or active_distros())
+        later = any(d not in GENERATED_LISTS for d in self.distros or active_distros())
         if not later or found.group(1) in _launch_names():
             return None  # the target's own list, or a real name imported from the wrong module
         return found.group(1)
