@@ -357,3 +357,82 @@ def test_new_defaults_to_ros_distro_else_the_newest_lts(tmp_path):
     env["ROS_DISTRO"] = "humble"
     assert run_pkgforge("new", "b_rob", *MAINTAINER, "--ci", "github", cwd=tmp_path, env=env).returncode == 0
     assert "container: ros:humble" in (tmp_path / "b_rob" / ".github" / "workflows" / "pkgforge.yml").read_text()
+
+
+# --- false errors measured on real public description packages (p1-review) -------------------
+# Each fixture is a hand-written minimal package with the shape seen in real packages.
+
+def test_rviz_own_displays_need_no_dependency_of_their_own(every_distro):
+    """An RViz config whose displays are RViz's own (rviz_common, rviz_default_plugins), opened by
+    another package's launch file (urdf_launch runs rviz2): no missing-exec-depend."""
+    assert findings(every_distro, "rviz_config_description") == []
+
+
+@pytest.mark.triggers("PF407")
+def test_a_declared_packages_xacro_include_absent_here_is_info(every_distro, workspace):
+    """A model including a macro file of a declared, released package that is not installed here
+    (pmb2 → pal_urdf_utils, turtlebot4 → irobot_create_description): model-unevaluated, at the
+    include, and no xacro-error."""
+    model = src(workspace, "absent_include_description", "urdf/robot.urdf.xacro")
+    assert findings(every_distro, "absent_include_description") == [
+        ("model-unevaluated", "urdf/robot.urdf.xacro", line_of(model, "_d435.urdf.xacro"))]
+    (info,) = by_name(every_distro, "absent_include_description", "model-unevaluated")
+    assert info["severity"] == "info" and "realsense2_description" in info["message"]
+
+
+def test_a_template_argument_left_empty_and_pyyaml_are_no_unknown_package(every_distro, workspace):
+    """A bringup template whose description package is an argument defaulting to '' (abb_bringup),
+    and a file read statically (its module package is absent here) that imports PyYAML."""
+    moveit = src(workspace, "template_bringup", "launch/moveit.launch.py")
+    assert findings(every_distro, "template_bringup") == [
+        ("launch-unevaluated", "launch/moveit.launch.py", line_of(moveit, "moveit_configs_utils"))]
+
+
+def test_a_launch_name_newer_than_jazzy(every_distro, jazzy, workspace):
+    """PathSubstitution (ros2_control_demos' master, for Rolling) is not in Jazzy's launch: an info
+    when the package may target a later distro, ROS's own ImportError when it targets Jazzy."""
+    show = src(workspace, "newer_api_bringup", "launch/show.launch.py")
+    line = line_of(show, "import PathSubstitution")
+    assert findings(every_distro, "newer_api_bringup") == [
+        ("unsupported-launch-api", "launch/show.launch.py", line)]
+    assert findings(jazzy, "newer_api_bringup") == [("launch-load-error", "launch/show.launch.py", line)]
+
+
+def test_a_folder_only_uninstalled_files_refer_to_is_no_error(every_distro):
+    """xacro/ kept next to the URDF generated from it (a Unitree Go2 description): only xacro/'s own
+    files refer to xacro/ and meshes/, nothing installed does; each folder is the usual warning
+    for an uninstalled resource folder, not an error."""
+    found = {d["path"].removeprefix("src/xacro_source_description/"): d["severity"]
+             for d in by_name(every_distro, "xacro_source_description", "directory-not-installed")}
+    assert findings(every_distro, "xacro_source_description") == [
+        ("directory-not-installed", "meshes", None), ("directory-not-installed", "xacro", None)]
+    assert found == {"meshes": "warning", "xacro": "warning"}
+
+
+@pytest.mark.triggers("PF317")
+def test_an_environment_variable_the_robot_setup_exports(every_distro, workspace, tmp_path):
+    """os.environ['TURTLEBOT3_MODEL'] (TurtleBot3) and os.getenv('LINOROBOT2_BASE') in a path
+    (linorobot2), not set here: launch-environment-unset (info) instead of launch-load-error and
+    missing-file; with the variables set, the files are checked and clean."""
+    robot = src(workspace, "environment_bringup", "launch/robot.launch.py")
+    description = src(workspace, "environment_bringup", "launch/description.launch.py")
+    assert findings(every_distro, "environment_bringup") == [
+        ("launch-environment-unset", "launch/description.launch.py", line_of(description, "f'{base}.urdf'")),
+        ("launch-environment-unset", "launch/robot.launch.py", line_of(robot, "os.environ["))]
+    shutil.copytree(workspace / "src" / "environment_bringup", tmp_path / "src" / "environment_bringup")
+    env = {**os.environ, "PKGFORGE_TEST_ROBOT_MODEL": "small", "PKGFORGE_TEST_ROBOT_BASE": "small"}
+    result = run_pkgforge("verify", tmp_path, "--format", "json", "--no-cache", cwd=tmp_path, env=env)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_an_undeclared_find_is_one_diagnostic_without_pkgforges_folders(every_distro, workspace):
+    """$(find X) of a real package not declared (Clearpath): missing-exec-depend only, not also a
+    xacro-error at the same line; of a package released nowhere (Doosan's old name): xacro-error,
+    whose message names no folder of pkgforge's tree."""
+    base = src(workspace, "undeclared_find_description", "urdf/base.urdf.xacro")
+    arm = src(workspace, "undeclared_find_description", "urdf/arm.urdf.xacro")
+    assert findings(every_distro, "undeclared_find_description") == [
+        ("missing-exec-depend", "urdf/base.urdf.xacro", line_of(base, "$(find realsense2_description)")),
+        ("xacro-error", "urdf/arm.urdf.xacro", line_of(arm, "$(find undeclared_find_old_name)"))]
+    (error,) = by_name(every_distro, "undeclared_find_description", "xacro-error")
+    assert "searching" not in error["message"] and error["message"].count("not found") == 1

@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..model.package import PackageModel
 
+# an ImportError of a launch name (the built-in engine's message is ROS's own)
+BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")
+# the distros whose own launch name lists the built-in engine has (launch/api_names.json)
+GENERATED_LISTS = ("humble", "jazzy")
 # pkgforge provides these in the launch worker; a missing submodule of one is a real error
 STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
 
@@ -124,13 +129,46 @@ class CheckContext:
         if error.type == "ModuleNotFoundError" and module and module not in STAND_IN_MODULES \
                 and (module in self.model.manifest.declared() or module in self.tree_packages()):
             return "unevaluated"
+        if self.newer_launch_name(resolution) is not None:
+            return "newer-api"
+        if error.type == "KeyError" and self.unset_environment(resolution):
+            return "environment"
         return "load"
+
+    def unset_environment(self, resolution) -> list[str]:
+        """Environment variables the launch file reads without a default and that are not set
+        here, when its loading failed on one (os.environ['X'] → KeyError) or a path it resolved
+        has the text None from one (os.getenv('X'))."""
+        source = resolution.launch.source
+        if source is None or source.suffix != ".py":
+            return []
+        unset = [n for n in _environment_reads(source) if n not in os.environ]
+        error = resolution.error
+        if resolution.status == "load-error" and error is not None and error.type == "KeyError":
+            key = re.search(r"'([^']+)'", str(error.message or ""))
+            return [key.group(1)] if key and key.group(1) in unset else []
+        return unset
+
+    def newer_launch_name(self, resolution) -> str | None:
+        """The launch API name the built-in engine lacks where its list is only the nearest older
+        distro's and no list has it (a name new in Kilted or later, e.g. PathSubstitution, is real
+        there; a typo looks the same): None where the ImportError is ROS's."""
+        from ..distro_data import active_distros
+
+        error = resolution.error
+        found = BUILTIN_IMPORT_ERROR.search(str(error.message or "")) if error is not None else None
+        if error is None or error.type != "ImportError" or found is None or resolution.engine != "builtin":
+            return None
+        later = any(d not in GENERATED_LISTS for d in self.distros or active_distros())
+        if not later or found.group(1) in _launch_names():
+            return None  # the target's own list, or a real name imported from the wrong module
+        return found.group(1)
 
     def static_fallback(self) -> dict[Path, list]:
         """Static references of the launch files that could not be evaluated here."""
         out: dict[Path, list] = {}
         for resolution in self.resolutions:
-            if self.load_error_kind(resolution) == "unevaluated" and resolution.launch.source:
+            if self.load_error_kind(resolution) in ("unevaluated", "newer-api") and resolution.launch.source:
                 out[resolution.launch.source] = [r for r in self.model.references
                                                  if r.path == resolution.launch.source]
         return out
@@ -159,3 +197,43 @@ class CheckContext:
                         and os.path.exists(self.model.path / located[1]):
                     folders.add(located[1].split("/")[0])
         return folders
+
+
+def _environment_reads(source: Path) -> list[str]:
+    """Names a Python launch file reads with os.environ['X'], os.getenv('X') or os.environ.get('X')
+    without a default."""
+    import ast
+
+    try:
+        tree = ast.parse(source.read_text(encoding="utf-8", errors="replace"))
+    except (OSError, SyntaxError, ValueError):
+        return []
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Subscript) and ast.unparse(node.value) in ("os.environ", "environ"):
+            key = node.slice
+        elif isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords and \
+                ast.unparse(node.func) in ("os.getenv", "getenv", "os.environ.get", "environ.get"):
+            key = node.args[0]
+        else:
+            continue
+        if isinstance(key, ast.Constant) and isinstance(key.value, str) and key.value not in names:
+            names.append(key.value)
+    return names
+
+
+_names: set | None = None
+
+
+def _launch_names() -> set[str]:
+    """Every name of launch and launch_ros in the distros the built-in engine has lists of."""
+    global _names
+    if _names is None:
+        import json
+
+        data_file = Path(__file__).resolve().parent.parent / "launch" / "api_names.json"
+        with open(data_file, encoding="utf-8") as handle:
+            data = json.load(handle)["distros"]
+        _names = {name for lists in data.values() for module in lists["modules"].values()
+                  for name in module.get("names", {})}
+    return _names

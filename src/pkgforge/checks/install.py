@@ -153,10 +153,7 @@ def directory_not_installed(ctx: CheckContext):
     covered_by_launch = ctx.folders_reported_uninstalled()
     installed = model.layout.installed_sources()
     own_names = {model.name, model.share_name}
-    referenced: dict[str, object] = {}
-    for reference in model.references:
-        if reference.package in own_names and reference.relative:
-            referenced.setdefault(reference.relative.split("/")[0], reference)
+    referenced = _referenced_folders(model, installed, own_names)
     for folder, files in sorted(model.top_level_folders().items()):
         if folder not in RESOURCE_FOLDERS and folder not in referenced:
             continue
@@ -172,6 +169,33 @@ def directory_not_installed(ctx: CheckContext):
             severity = None
         yield Finding(message, model.path / folder, None, hint=install_fix(model, folder), severity=severity,
                       fix=install_fix_data(model, folder))
+
+
+def _referenced_folders(model, installed: set, own_names: set) -> dict[str, object]:
+    """Top-level folder → the first reference into it from a file that is used at run time: an
+    installed file, a file outside any folder, or a file of a folder so referenced. A folder that
+    only its own (or another uninstalled folder's) files refer to is not needed at run time: a
+    xacro source folder kept next to the URDF generated from it."""
+    def folder_of(path):
+        try:
+            parts = Path(path).relative_to(model.path).parts
+        except ValueError:
+            return None
+        return parts[0] if len(parts) > 1 else None
+
+    own = [r for r in model.references if r.package in own_names and r.relative]
+    referenced: dict[str, object] = {}
+    changed = True
+    while changed:
+        changed = False
+        for reference in own:
+            target = reference.relative.split("/")[0]
+            source = folder_of(reference.path)
+            used = reference.path in installed or source is None or source in referenced
+            if used and target not in referenced and target != source:
+                referenced[target] = reference
+                changed = True
+    return referenced
 
 
 @register("PF203", "install-wrong-destination", "error", area="install",

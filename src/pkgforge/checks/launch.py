@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import os
+import re
 from pathlib import Path
 
 from ..diagnostics import Finding
@@ -16,13 +17,19 @@ from ..walk import UNREADABLE_HINT
 from .sandbox import SANDBOX_TYPES, stopped_by_guard
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
-# rviz2 depends on these; a declared rviz2 brings their displays
+# rviz2 depends on these: their displays come with whatever starts RViz (an rviz2 Node is checked
+# where it is started; a config that another package's launch file opens needs nothing of its own)
 RVIZ_BUILTIN = {"rviz_common", "rviz_default_plugins"}
 # uses that missing-exec-depend checks; unknown names there are xacro's or RViz's error to report
-STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "package://", "$(find)", "RViz display from"}
+# ("import": a file read statically; a module that is no ROS package is a Python library)
+STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", "RViz display from"}
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
                          "ros2launch"}
+# a package name with an empty part: f"kuka_{family}_support" of an empty argument
+EMPTY_PART = re.compile(r"^_|__|_$")
+# a path part that is the text of None (an f-string of os.getenv() of a variable not set)
+NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
 
 
@@ -147,6 +154,8 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             if located is None:
                 continue
             package, relative, _ = located
+            if NONE_PART.search(relative) and ctx.unset_environment(resolution):
+                continue  # launch-environment-unset: os.getenv() gave None here
             owner = ctx.model_for_share(package)
             source = owner.path / relative if owner is not None else None
             in_source = source is not None and os.path.exists(source)
@@ -253,9 +262,12 @@ def unknown_package(ctx: CheckContext):
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
     seen = set()
-    for name, path, line, via, item, _ in _looked_up(ctx):
+    for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
+        if not name or (resolution is not None and EMPTY_PART.search(name)
+                        and any(a.default == "" for a in resolution.arguments)):
+            continue  # built from a launch argument left empty (a template's caller gives it): no typo
         seen.add((name, str(path), line))
         yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
                       "and released in no ROS 2 distro", path, line, hint=_unknown_hint(ctx, name))
@@ -302,7 +314,7 @@ def missing_exec_depend(ctx: CheckContext):
         if name in own or name in declared or name in reported or name not in known \
                 or name in LAUNCH_INFRASTRUCTURE:
             continue
-        if name in RVIZ_BUILTIN and "rviz2" in declared:
+        if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
         reported.add(name)
         note = _branch_note(item, resolution) if resolution is not None else ""
@@ -404,6 +416,16 @@ def unsupported_launch_api(ctx: CheckContext):
             if position is not None and (name, position) not in seen:
                 seen.add((name, position))
                 yield Finding(f"{name} is not evaluated by pkgforge", *position)
+        newer = ctx.newer_launch_name(resolution)
+        if newer is not None and ctx.load_error_kind(resolution) == "newer-api":
+            error = resolution.error
+            position = ctx.source_position(resolution, error.file, error.line) or \
+                (resolution.launch.source or resolution.launch.installed, None)
+            yield Finding(f"{resolution.launch.installed.name} imports {newer}, which pkgforge's built-in "
+                          "engine knows only in ROS 2 releases after Jazzy (or not at all); checked "
+                          "statically instead", *position,
+                          hint="give --distro humble or jazzy if the package targets one (then a missing "
+                               "name is ROS's ImportError too), or verify where that distro is installed")
 
 
 @register("PF311", "launch-unevaluated", "info", area="launch",
@@ -422,6 +444,33 @@ def launch_unevaluated(ctx: CheckContext):
                 (resolution.launch.source or resolution.launch.installed, None)
             yield Finding(f"{resolution.launch.installed.name} imports {error.module}, from a "
                           "package not installed here; checked statically instead", *position)
+
+
+@register("PF317", "launch-environment-unset", "info", area="launch",
+          bad=("# launch/robot.launch.py\n"
+               "model = os.environ['TURTLEBOT3_MODEL']"),
+          good="$ TURTLEBOT3_MODEL=burger pkgforge verify .",
+          summary="a launch file reads an environment variable that is not set here",
+          explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
+                      "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
+                      "builds paths with the text None; what depends on it is not checked.",
+          hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default")
+def launch_environment_unset(ctx: CheckContext):
+    for resolution in ctx.resolutions:
+        names = ctx.unset_environment(resolution)
+        if not names:
+            continue
+        failed = ctx.load_error_kind(resolution) == "environment"
+        none_paths = [item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)]
+        if not failed and not none_paths:
+            continue
+        error = resolution.error
+        where = (error.file, error.line) if failed else (none_paths[0].file, none_paths[0].line)
+        position = ctx.source_position(resolution, *where) or \
+            (resolution.launch.source or resolution.launch.installed, None)
+        what = "stops loading" if failed else "resolves a path with 'None' in it"
+        yield Finding(f"{resolution.launch.installed.name} {what}: environment variable "
+                      f"{' or '.join(names)} is not set here; what depends on it is not checked", *position)
 
 
 @register("PF312", "ros1-launch-file", "info", area="launch",

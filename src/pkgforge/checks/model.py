@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from collections import Counter
 from pathlib import Path
 
@@ -50,7 +51,11 @@ def xacro_error(ctx: CheckContext):
         error = result.error or {}
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
-            yield Finding(f"xacro {result.installed.name}: {untree(ctx, str(error.get('message')))}",
+            if _absent_include(ctx, error.get("message")) is not None:
+                continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
+            if _undeclared_find(ctx, error.get("message")):
+                continue  # one defect, one diagnostic: missing-exec-depend names the package
+            yield Finding(f"xacro {result.installed.name}: {_untree_xacro(ctx, error.get('message'))}",
                           *_where(ctx, result, error.get("file"), error.get("line")),
                           hint=error.get("hint") or read_problem_hint(error.get("message")))
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -61,6 +66,8 @@ def xacro_error(ctx: CheckContext):
                 continue
             if not Path(command.model).exists():
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
+            if _absent_include(ctx, command.message) is not None:
+                continue  # model-unevaluated
             position = ctx.source_position(resolution, command.file, command.line)
             if position is None or position in seen:
                 continue
@@ -73,15 +80,88 @@ def xacro_error(ctx: CheckContext):
                               hint="quote the path inside the command line, e.g. Command(['xacro \"', "
                                    "path, '\"']), or use a workspace path without spaces")
                 continue
-            message = command.message.strip().splitlines()
+            if _undeclared_find(ctx, command.message):
+                continue
+            message = _untree_xacro(ctx, command.message).strip().splitlines()
             yield Finding(f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}",
                           *position)
         error = resolution.error
         models = {c.model for c in resolution.commands}
         if ctx.load_error_kind(resolution) == "xacro" and error is not None and not models & covered:
             position = ctx.source_position(resolution, error.file, error.line)
-            if position is not None:
-                yield Finding(f"xacro: {error.message}", *position)
+            if position is not None and not _undeclared_find(ctx, error.message):
+                yield Finding(f"xacro: {_untree_xacro(ctx, error.message)}", *position)
+
+
+NOT_FOUND = re.compile(r"package '([^']+)' not found")
+
+
+def _undeclared_find(ctx: CheckContext, message) -> bool:
+    """xacro failed on $(find X) of a real package that package.xml does not declare."""
+    found = NOT_FOUND.search(str(message or ""))
+    manifest = ctx.model.manifest
+    return found is not None and manifest.valid and found.group(1) in ctx.real_packages() \
+        and found.group(1) not in manifest.run_dependencies() \
+        and found.group(1) not in (ctx.model.name, ctx.model.share_name)  # its own: not a dependency
+
+
+def _untree_xacro(ctx: CheckContext, message) -> str:
+    """xacro's message without the folders pkgforge's tree searched (ament's PackageNotFoundError
+    lists them)."""
+    text = re.sub(r",? searching: \[[^\]]*\]", "", untree(ctx, str(message)))
+    return re.sub(r'("[^"]+") \1', r"\1", text)  # xacro quotes the same message twice
+
+
+MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
+
+
+def _absent_include(ctx: CheckContext, message) -> tuple[str, str] | None:
+    """(package, file) when xacro failed only because it includes a file of a package that is
+    declared but not installed here (its share folder is an empty stand-in): ROS has the file."""
+    found = MISSING_FILE.search(str(message or ""))
+    if found is None or ctx.tree is None or ctx.tree.phantom is None:
+        return None
+    path = found.group(1)
+    if not os.path.isabs(path):  # xacro names it relative to the stand-ins' prefix
+        path = str(ctx.tree.phantom / path)
+    located = ctx.tree.locate(path) if ctx.tree.is_phantom(path) else None
+    if located is None or located[0] not in ctx.tree.phantom_packages:
+        return None
+    return located[0], located[1]
+
+
+@register("PF407", "model-unevaluated", "info", area="model",
+          bad=("<!-- urdf/robot.urdf.xacro (realsense2_description is declared, not installed here) -->\n"
+               "<xacro:include filename=\"$(find realsense2_description)/urdf/_d435.urdf.xacro\"/>"),
+          good="$ pkgforge verify . --install-base install   # on a machine with realsense2_description",
+          summary="a model includes a file of a declared package that is not installed here",
+          explanation="Not the model's fault: the package is declared and ROS has it, but it is not on "
+                      "this machine, so xacro cannot expand the model here and nothing of it is checked.",
+          hint="verify on a machine with the dependency installed (or --install-base) to check the model")
+def model_unevaluated(ctx: CheckContext):
+    covered = set()
+    for result in ctx.model_results:
+        error = result.error or {}
+        if result.status not in ("error", "timeout", "crashed"):
+            continue
+        covered.add(str(result.installed))
+        absent = _absent_include(ctx, error.get("message"))
+        if absent is not None and absent[0] in ctx.model.manifest.declared():
+            yield Finding(f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
+                          "not installed here; the model is not checked",
+                          *_where(ctx, result, error.get("file"), error.get("line")))
+    seen = set()
+    for resolution in ctx.resolutions:
+        for command in resolution.commands:
+            if command.ok or command.model is None or command.model in covered:
+                continue
+            absent = _absent_include(ctx, command.message)
+            position = ctx.source_position(resolution, command.file, command.line)
+            if absent is not None and absent[0] in ctx.model.manifest.declared() and position is not None \
+                    and position not in seen:
+                seen.add(position)
+                yield Finding(f"{Path(command.model).name} includes {absent[1]} of {absent[0]}, a declared "
+                              "package not installed here; the model is not checked", *position)
 
 
 @register("PF401", "urdf-invalid", "error", area="model",
