@@ -22,6 +22,7 @@ that nothing under it can be checked.
 from __future__ import annotations
 
 import os
+import re
 import stat
 import tempfile
 import time
@@ -51,6 +52,10 @@ class InstallTree:
     _plan: object | None = None  # how the tree was made (trees._Plan), to restore what a launch file changed
     _stamps: dict = field(default_factory=dict)
     sealed: int = 0  # time (ns) the tree was complete: entries older than it are pkgforge's
+    # the install base the user's own launch would see in place of the tree's `install` folder:
+    # theirs (--install-base), pkgforge's build in their workspace (--build), or colcon's default
+    # <workspace>/install (predicted); None: not known
+    user_install: Path | None = None
 
     def share(self, package: str) -> Path | None:
         """The package's share folder in the tree (workspace packages)."""
@@ -82,6 +87,14 @@ class InstallTree:
             if normal.startswith(shadow + os.sep):
                 return os.path.realpath(user + normal[len(shadow):])
         return os.path.realpath(path)
+
+    def as_users(self, text: str) -> str:
+        """Text (a command line, a path) with every path into the tree's install folder written as
+        the user's own install base would give it: what their launch would see, spaces included."""
+        if self.user_install is None or self.root is None:
+            return text
+        install = str(self.root / "install")
+        return re.sub(re.escape(install) + r"(?![^/\s'\"])", lambda _: str(self.user_install), text)
 
     def in_tree(self, path: str) -> str:
         """A path in the user's install base → the same path in the tree the worker sees."""
@@ -211,10 +224,24 @@ def _sweep(folder: str) -> None:
             pass
 
 
+def _plain_folder() -> str | None:
+    """The temporary folder, or the first usable one whose path has no whitespace: the tree's paths
+    go into command lines that launch splits at spaces, where the user's own would not be split."""
+    default = tempfile.gettempdir()
+    if not any(c.isspace() for c in default):
+        return None
+    for folder in ("/tmp", "/var/tmp", SHM):
+        if not any(c.isspace() for c in folder) and os.path.isdir(folder) and os.access(folder, os.W_OK | os.X_OK):
+            return folder
+    return None  # nowhere better: the tree's own spaces may then show as splits
+
+
 def _temporary(needed: int) -> tuple[tempfile.TemporaryDirectory, Path]:
     folder = _fast_folder(needed)
     if folder is not None:
         _sweep(folder)
+    else:
+        folder = _plain_folder()
     temporary = tempfile.TemporaryDirectory(prefix=f"{PREFIX}{os.getpid()}-", dir=folder)
     return temporary, Path(os.path.realpath(temporary.name))
 
@@ -341,7 +368,8 @@ class _Plan:
         return changed
 
 
-def predicted_tree(models: list[PackageModel]) -> InstallTree:
+def predicted_tree(models: list[PackageModel], user_install: Path | None = None) -> InstallTree:
+    """The tree colcon would install; `user_install`: where (colcon's default <workspace>/install)."""
     plan = _Plan()
     plan.folder("install")
     for model in models:
@@ -352,7 +380,8 @@ def predicted_tree(models: list[PackageModel]) -> InstallTree:
     try:
         copied = plan.build(root)
         tree = InstallTree("predicted", [root / "install"], _temporary=temporary, root=root, copied=copied,
-                           _plan=plan, _stamps=plan.stamps(root), sealed=time.time_ns())
+                           _plan=plan, _stamps=plan.stamps(root), sealed=time.time_ns(),
+                           user_install=user_install)
         tree.packages = _index(tree.prefixes)
         _add_phantoms(tree, models, root)
     except BaseException:
@@ -441,7 +470,7 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
         shadows = {os.path.normpath(root / "install" / p.relative_to(install_base)): str(p) for p in prefixes}
         tree = InstallTree("existing", [Path(p) for p in shadows], _temporary=temporary, root=root,
                            shadows=shadows, copied=copied, _plan=plan, _stamps=plan.stamps(root),
-                           sealed=time.time_ns())
+                           sealed=time.time_ns(), user_install=install_base)
         tree.packages = _index(tree.prefixes)
         _add_phantoms(tree, models, root)
     except BaseException:
@@ -459,5 +488,6 @@ def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTre
     run_build(workspace, options, out=out, colcon_output_to_stderr=True, quiet_failures=True)
     tree = existing_tree(options.install_base, models)
     tree.kind = "built"
+    tree.user_install = workspace.root / "install"  # where the user's own colcon build installs
     return tree
 
