@@ -32,6 +32,7 @@ from pathlib import Path
 from .errors import PkgforgeError
 from .model.package import PackageModel
 from .toolchain import prepend_path
+from .walk import MAX_DEPTH
 
 INDEX = Path("share/ament_index/resource_index/packages")
 
@@ -187,9 +188,16 @@ SHM = "/dev/shm"
 SHM_MARGIN = 32 << 20  # leave this much of tmpfs free
 # a shadow of an install base copies at most this many files, this deep; past it, links
 SHADOW_MAX_FILES = 100_000
-# one level past the walker's bound (walk.MAX_DEPTH), so the walk over the shadow meets its own
-# bound first and reports it (PF903), as it did over the user's tree
-SHADOW_MAX_DEPTH = 65
+# Folders are mirrored this deep below the install base, links past it (links out of the shadow are
+# never walked). The walks over a tree start at a share folder (install/share/<pkg>, or
+# install/<pkg>/share/<pkg> isolated) or one folder below it (share/<pkg>/urdf): the deepest top is
+# 4 below the install base, and a walk must meet its own bound (walk.MAX_DEPTH) inside real folders
+# to report it (PF903) as it does over the user's own tree.
+DEEPEST_WALK_TOP = 4
+SHADOW_MAX_DEPTH = MAX_DEPTH + DEEPEST_WALK_TOP
+# a mirrored folder's path (below the tree's root) stays this short, so that the shadow's own paths
+# (its root is longer than most install bases') are never too long for the system (PATH_MAX 4096)
+SHADOW_MAX_PATH = 3584
 PREFIX = "pkgforge-tree-"
 
 
@@ -432,7 +440,7 @@ def _plan_shadow(plan: _Plan, source: Path, relative: str) -> None:
                     # (into the package's own source, for --symlink-install; never elsewhere), and the
                     # worker's guard refuses writes through it
                     plan.link(target, real)
-                elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES:
+                elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES or len(target) > SHADOW_MAX_PATH:
                     plan.link(target, real)
                 else:
                     stack.append((entry.path, target, depth + 1))
