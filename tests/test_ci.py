@@ -15,7 +15,7 @@ import pytest
 import yaml
 from lxml import etree
 
-from conftest import MAINTAINER, edit, line_of, run_pkgforge
+from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge
 from test_launch import jazzy_package, plain_colcon_build
 
 REPO = Path(__file__).resolve().parent.parent
@@ -73,22 +73,13 @@ def test_colcon_verify_worker_memory(built_workspace):
 def test_colcon_verify_distro_as_pkgforge_verify(tmp_path):
     """--distro: the same target distro as `pkgforge verify --distro`, before ROS_DISTRO."""
     import os
-    import shutil
 
     assert run_pkgforge("new", "rob_description", *MAINTAINER, "--destination", "src", cwd=tmp_path).returncode == 0
     package = tmp_path / "src" / "rob_description"
     manifest = package / "package.xml"
     edit(manifest, "  <exec_depend>joint_state_publisher</exec_depend>\n",
          "  <exec_depend>gazebo_ros</exec_depend>\n  <exec_depend>joint_state_publisher</exec_depend>\n")
-    install = tmp_path / "install"  # as colcon builds it (merged), without a build
-    index = install / "share" / "ament_index" / "resource_index" / "packages"
-    index.mkdir(parents=True)
-    (index / "rob_description").touch()
-    (install / "COLCON_IGNORE").touch()
-    (install / ".colcon_install_layout").write_text("merged\n")
-    for folder in ("launch", "urdf", "meshes", "rviz"):
-        shutil.copytree(package / folder, install / "share" / "rob_description" / folder)
-    shutil.copy(manifest, install / "share" / "rob_description")
+    hand_made_install(package)
     env = dict(os.environ, ROS_DISTRO="humble")  # gazebo_ros is released for humble, not jazzy
 
     def run(*command):

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import MAINTAINER, edit, line_of, run_pkgforge, verify_report
+from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge, verify_report
 
 
 @pytest.fixture(scope="module")
@@ -145,13 +145,7 @@ def spaced_workspace(tmp_path, template_package, *, quoted: bool = False) -> tup
     if quoted:
         edit(package / "launch" / "display.launch.py", "Command(['xacro ', LaunchConfiguration('model')])",
              "Command(['xacro \"', LaunchConfiguration('model'), '\"'])")
-    install = workspace / "install"
-    (install / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
-    (install / "share" / "ament_index" / "resource_index" / "packages" / "rob_description").touch()
-    (install / ".colcon_install_layout").write_text("merged\n")
-    for folder in ("launch", "urdf", "meshes", "rviz"):
-        shutil.copytree(package / folder, install / "share" / "rob_description" / folder)
-    shutil.copy(package / "package.xml", install / "share" / "rob_description")
+    hand_made_install(package)
     return workspace, package
 
 

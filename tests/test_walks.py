@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import MAINTAINER, run_pkgforge, verify_report
+from conftest import MAINTAINER, hand_made_install, run_pkgforge, verify_report
 
 # a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
 HANG_GUARD = 240
@@ -51,21 +51,6 @@ def nest(request):
             if not entry.is_dir(follow_symlinks=False):
                 os.unlink(entry.path)
         os.rmdir(path)
-
-
-def hand_made_install(package: Path, layout: str = "merged") -> Path:
-    """An install folder as colcon builds it for the package (without running colcon)."""
-    install = package.parent.parent / "install"
-    prefix = install if layout == "merged" else install / package.name
-    index = prefix / "share" / "ament_index" / "resource_index" / "packages"
-    index.mkdir(parents=True)
-    (index / package.name).touch()
-    (install / ".colcon_install_layout").write_text(f"{layout}\n")
-    share = prefix / "share" / package.name
-    for folder in ("launch", "urdf", "meshes", "rviz"):
-        shutil.copytree(package / folder, share / folder)
-    shutil.copy(package / "package.xml", share)
-    return share
 
 
 def codes(report: dict, minimum: str = "warning") -> list[tuple]:
