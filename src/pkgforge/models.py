@@ -61,7 +61,7 @@ class _Shape:
     includes: list[str] = field(default_factory=list)  # the names of the files it includes
 
 
-def _shape(path: Path) -> _Shape:
+def _shape(path: Path, share: Path, package: str) -> _Shape:
     from lxml import etree
 
     try:
@@ -85,12 +85,26 @@ def _shape(path: Path) -> _Shape:
         if element.prefix != "xacro" and element.tag != f"{{{XACRO_NAMESPACE}}}{name}":
             shape.content = True  # a link, joint, material, gazebo … of its own
         elif name == "include":
-            shape.includes.append(os.path.basename(element.get("filename", "").strip()))
+            filename = element.get("filename", "").strip()
+            shape.includes.append(os.path.basename(filename))
+            if _missing_include(filename, path, share, package):
+                shape.content = True  # fails by itself, whoever includes it: processed, its line named
         elif name in XACRO_CONDITIONALS:
             stack.extend(element)
         elif name not in XACRO_DEFINITIONS:
             shape.content = True  # a macro call, xacro:element, xacro:insert_block …
     return shape
+
+
+def _missing_include(filename: str, path: Path, share: Path, package: str) -> bool:
+    """Whether an include names a file that is not there, whatever includes its file: a path
+    relative to the file, or in the package's own share folder ($(find <package>))."""
+    filename = filename.replace(f"$(find {package})", str(share))
+    if not filename or "$" in filename:
+        return False  # a property, an argument or another package: the includer decides
+    if any(c in filename for c in "*[?"):
+        return False  # a pattern (xacro globs it; no match is only a warning)
+    return not (path.parent / filename).exists()
 
 
 def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
@@ -103,7 +117,7 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
         dirs[:] = sorted(d for d in dirs if d not in SKIPPED_FOLDERS and not d.startswith("."))
         for name in sorted(files):
             if name.endswith(MODEL_SUFFIXES):
-                shapes[Path(root) / name] = _shape(Path(root) / name)
+                shapes[Path(root) / name] = _shape(Path(root) / name, share, model.share_name)
     by_name: dict[str, list[_Shape]] = {}
     for path, shape in shapes.items():
         by_name.setdefault(path.name, []).append(shape)
