@@ -97,6 +97,23 @@ def edit(path: Path, old: str, new: str) -> None:
     path.write_text(content.replace(old, new, 1))
 
 
+def hand_made_install(package: Path, layout: str = "merged") -> Path:
+    """An install folder as colcon builds it for the package, in its workspace (without running
+    colcon): the package's share folder in it."""
+    install = package.parent.parent / "install"
+    prefix = install if layout == "merged" else install / package.name
+    index = prefix / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True)
+    (index / package.name).touch()
+    (install / "COLCON_IGNORE").touch()
+    (install / ".colcon_install_layout").write_text(f"{layout}\n")
+    share = prefix / "share" / package.name
+    for folder in ("launch", "urdf", "meshes", "rviz"):
+        shutil.copytree(package / folder, share / folder)
+    shutil.copy(package / "package.xml", share)
+    return share
+
+
 def verify_report(path: Path, *args: str) -> tuple[int, dict]:
     """`pkgforge verify PATH --format json ARGS` run in PATH: (exit status, report)."""
     import json

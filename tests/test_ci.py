@@ -15,7 +15,7 @@ import pytest
 import yaml
 from lxml import etree
 
-from conftest import MAINTAINER, edit, line_of, run_pkgforge
+from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge
 from test_launch import jazzy_package, plain_colcon_build
 
 REPO = Path(__file__).resolve().parent.parent
@@ -68,6 +68,39 @@ def test_colcon_verify_worker_memory(built_workspace):
     assert result.returncode == 0, result.stdout + result.stderr
     bad = colcon("verify", "--worker-memory", "lots", cwd=built_workspace)
     assert bad.returncode != 0 and "not a size such as 2G or 512M" in bad.stderr
+
+
+def test_colcon_verify_distro_as_pkgforge_verify(tmp_path):
+    """--distro: the same target distro as `pkgforge verify --distro`, before ROS_DISTRO."""
+    import os
+
+    assert run_pkgforge("new", "rob_description", *MAINTAINER, "--destination", "src", cwd=tmp_path).returncode == 0
+    package = tmp_path / "src" / "rob_description"
+    manifest = package / "package.xml"
+    edit(manifest, "  <exec_depend>joint_state_publisher</exec_depend>\n",
+         "  <exec_depend>gazebo_ros</exec_depend>\n  <exec_depend>joint_state_publisher</exec_depend>\n")
+    hand_made_install(package)
+    env = dict(os.environ, ROS_DISTRO="humble")  # gazebo_ros is released for humble, not jazzy
+
+    def run(*command):
+        return subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300,
+                              stdin=subprocess.DEVNULL)
+
+    result = run(str(SCRIPTS / "colcon"), "verify", "--distro", "jazzy", "--pkgforge-format", "json")
+    assert result.returncode == 1, result.stdout + result.stderr
+    (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
+    assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == (
+        "PF108", "src/rob_description/package.xml", line_of(manifest, "<exec_depend>gazebo_ros<"))
+    assert "'gazebo_ros' is not released for jazzy (released for humble)" in diagnostic["message"]
+    same = run(str(SCRIPTS / "pkgforge"), "verify", ".", "--install-base", "install", "--distro", "jazzy",
+               "--format", "json", "--no-cache")
+    assert json.loads(same.stdout)["diagnostics"] == json.loads(result.stdout)["diagnostics"]
+    # without --distro, ROS_DISTRO (humble) is the target: no error
+    assert run(str(SCRIPTS / "colcon"), "verify").returncode == 0
+    bad = run(str(SCRIPTS / "colcon"), "verify", "--distro", "jazy")
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.splitlines()[-1].endswith("error: argument --distro: invalid choice: 'jazy' (choose from "
+                                                "'humble', 'jazzy', 'kilted', 'lyrical', 'rolling')")
 
 
 def test_colcon_lists_the_verb(tmp_path):

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import MAINTAINER, edit, line_of, run_pkgforge, verify_report
+from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge, verify_report
 
 
 @pytest.fixture(scope="module")
@@ -136,28 +136,76 @@ def test_launch_arg_outside_its_choices_is_a_usage_error(package):
     assert result.returncode == 0, result.stdout + result.stderr
 
 
-@pytest.mark.xfail(strict=False, reason="after h1's engine merge (0d08129) the template's Command no longer "
-                   "reaches xacro at verify time here, so no command record carries the split path; the "
-                   "PF308 text is in place (passed before that merge) but needs re-wiring to the new engine")
-def test_workspace_path_with_a_space_names_the_split(tmp_path, template_package):
+def spaced_workspace(tmp_path, template_package, *, quoted: bool = False) -> tuple[Path, Path]:
+    """A workspace under a folder whose name has a space, with an install tree as colcon makes it
+    (no build needed); `quoted`: the launch file quotes the model's path in its Command."""
     workspace = tmp_path / "with space" / "ws"
     package = workspace / "src" / "rob_description"
     shutil.copytree(template_package, package)
-    # an install tree as colcon makes it, inside the path with a space (no build needed)
-    install = workspace / "install"
-    (install / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
-    (install / "share" / "ament_index" / "resource_index" / "packages" / "rob_description").touch()
-    (install / ".colcon_install_layout").write_text("merged\n")
-    for folder in ("launch", "urdf", "meshes", "rviz"):
-        shutil.copytree(package / folder, install / "share" / "rob_description" / folder)
-    shutil.copy(package / "package.xml", install / "share" / "rob_description")
-    status, report = verify_report(workspace, "--install-base", "install", "--select", "PF3,PF4")
+    if quoted:
+        edit(package / "launch" / "display.launch.py", "Command(['xacro ', LaunchConfiguration('model')])",
+             "Command(['xacro \"', LaunchConfiguration('model'), '\"'])")
+    hand_made_install(package)
+    return workspace, package
+
+
+MODES = {"predicted": (), "install-base": ("--install-base", "install"), "build": ("--build",)}
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_workspace_path_with_a_space_names_the_split(tmp_path, template_package, mode):
+    # ROS's Command joins ['xacro ', <path>] into one line and splits it shell-like: a space in
+    # the workspace path cuts the model's path in two. pkgforge's own copy of the install tree has
+    # no space, so the check reads the line as the user's install base would give it.
+    workspace, package = spaced_workspace(tmp_path, template_package)
+    status, report = verify_report(workspace, *MODES[mode], "--no-cache", "--select", "PF3,PF4")
+    assert status == 1
     diagnostic = only(report, "PF308")
     launch = package / "launch" / "display.launch.py"
     assert (diagnostic["path"], diagnostic["line"]) == ("src/rob_description/launch/display.launch.py",
                                                         line_of(launch, "Command(['xacro '"))
-    assert "has a space" in diagnostic["message"] and f"xacro got '{tmp_path}/with'" in diagnostic["message"]
+    model = workspace / "install" / "share" / "rob_description" / "urdf" / "rob_description.urdf.xacro"
+    assert diagnostic["message"] == (
+        f"xacro rob_description.urdf.xacro: the path '{model}' has a space, and Command joins its parts "
+        "into one line that it splits at spaces (ROS's Command does too): "
+        f"xacro got '{tmp_path}/with'")
     assert "quote the path" in diagnostic["hint"]
+    assert "pkgforge-tree-" not in json.dumps(report)
+
+
+@pytest.mark.parametrize("mode", ["predicted", "install-base"])
+def test_a_quoted_path_with_a_space_is_clean(tmp_path, template_package, mode):
+    workspace, package = spaced_workspace(tmp_path, template_package, quoted=True)
+    status, report = verify_report(workspace, *MODES[mode], "--no-cache")
+    assert (status, report["diagnostics"]) == (0, [])
+
+
+def test_a_model_file_named_with_a_space_names_the_split(package):
+    # the space is in the package's own file: pkgforge's copy has it too, and its run splits as ROS's
+    (package / "urdf" / "rob_description.urdf.xacro").rename(package / "urdf" / "rob description.urdf.xacro")
+    launch = package / "launch" / "display.launch.py"
+    edit(launch, "'urdf/rob_description.urdf.xacro'", "'urdf/rob description.urdf.xacro'")
+    status, report = verify_report(package, "--no-cache", "--select", "PF3,PF4")
+    diagnostic = only(report, "PF308")
+    assert (status, diagnostic["path"], diagnostic["line"]) == (1, "launch/display.launch.py",
+                                                                line_of(launch, "Command(['xacro '"))
+    share = package.parent.parent / "install" / "share" / "rob_description" / "urdf"
+    assert diagnostic["message"] == (
+        f"xacro rob description.urdf.xacro: the path '{share}/rob description.urdf.xacro' has a space, and "
+        "Command joins its parts into one line that it splits at spaces (ROS's Command does too): "
+        f"xacro got '{share}/rob'")
+
+
+def test_a_space_in_pkgforges_own_temporary_folder_is_no_error_of_the_user(tmp_path, package):
+    # the tree is not on /dev/shm (full) and TMPDIR has a space: pkgforge puts its tree elsewhere
+    spaced = tmp_path / "tmp dir"
+    spaced.mkdir()
+    patch = (f"import os, tempfile\nos.environ['TMPDIR'] = {str(spaced)!r}\ntempfile.tempdir = None\n"
+             "import pkgforge.trees\npkgforge.trees._fast_folder = lambda needed: None\n")
+    result = run_patched(patch, "verify", str(package), "--no-cache", cwd=package)
+    assert (result.returncode, result.stderr) == (0, ""), result.stdout
+    assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine")
+    assert list(spaced.iterdir()) == []
 
 
 # --- errors: one located line, exit 2; internal errors say "please report" -------------------------

@@ -227,3 +227,90 @@ def test_explain_model(workspace):
     assert "base_link" in result.stdout and "arm_joint (revolute) → arm_link" in result.stdout
     assert "✓ package://rob_description/meshes/arm.stl" in result.stdout
     assert "✓ package://base_description/meshes/plate.stl" in result.stdout
+
+
+# --- models wherever they are installed (issue 12) ---------------------------------------------
+
+XACRO = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+ARM_MODEL = """<?xml version="1.0"?>
+<robot name="arm_bot">
+  <link name="base_link"/>
+  <link name="tool">
+    <visual>
+      <geometry>
+        <mesh filename="package://rob_description/meshes/tool.stl"/>
+      </geometry>
+    </visual>
+  </link>
+  <joint name="tool_joint" type="fixed">
+    <parent link="base_link"/>
+    <child link="tool"/>
+  </joint>
+</robot>
+"""
+GRIPPER_MACROS = f"""<?xml version="1.0"?>
+<robot {XACRO}>
+  <!-- a library: the model that includes it sets parts_dir first -->
+  <xacro:include filename="${{parts_dir}}/gripper_parts.xacro"/>
+  <xacro:property name="finger_length" value="0.05"/>
+  <xacro:macro name="gripper" params="parent">
+    <link name="finger"/>
+    <joint name="finger_joint" type="fixed">
+      <parent link="${{parent}}"/>
+      <child link="finger"/>
+    </joint>
+  </xacro:macro>
+</robot>
+"""
+CELL_MODEL = f"""<?xml version="1.0"?>
+<robot name="cell" {XACRO}>
+  <xacro:include filename="$(find rob_description)/config/cell_macros.xacro"/>
+  <link name="world"/>
+  <xacro:table parent="world"/>
+</robot>
+"""
+CELL_MACROS = f"""<?xml version="1.0"?>
+<robot {XACRO}>
+  <xacro:macro name="table" params="parent">
+    <link name="table"/>
+    <joint name="table_joint" type="fixed">
+      <parent link="${{parent}}_frame"/>
+      <child link="table"/>
+    </joint>
+  </xacro:macro>
+</robot>
+"""
+WORLD = f"""<?xml version="1.0"?>
+<sdf version="1.6" {XACRO}>
+  <world name="${{undefined_world_name}}"/>
+</sdf>
+"""
+
+
+def test_models_are_found_wherever_installed_and_macro_libraries_alone_give_nothing(workspace):
+    package = rob(workspace)
+    (package / "models" / "arm_bot").mkdir(parents=True)
+    (package / "models" / "arm_bot" / "model.urdf").write_text(ARM_MODEL)  # tool.stl does not exist
+    (package / "models" / "gripper").mkdir()
+    (package / "models" / "gripper" / "gripper_macros.xacro").write_text(GRIPPER_MACROS)
+    (package / "config").mkdir()
+    (package / "config" / "cell.urdf.xacro").write_text(CELL_MODEL)  # a joint's parent link is wrong
+    (package / "config" / "cell_macros.xacro").write_text(CELL_MACROS)
+    (package / "worlds").mkdir()
+    (package / "worlds" / "empty.world.xacro").write_text(WORLD)  # not a robot
+    (package / "top.urdf").write_text(ARM_MODEL.replace("arm_bot", "top").replace("tool.stl", "top.stl"))
+    edit(package / "CMakeLists.txt", "DIRECTORY launch meshes rviz urdf",
+         "DIRECTORY config launch meshes models rviz urdf worlds")
+    edit(package / "CMakeLists.txt", "ament_package()",
+         "install(FILES top.urdf DESTINATION share/${PROJECT_NAME})\n\nament_package()")
+    for args in [(), ("--build",)]:
+        status, report = verify(workspace, *args, "--no-cache")
+        assert status == 1
+        assert found(report) == [
+            ("PF401", "urdf-invalid", "src/rob_description/config/cell_macros.xacro",
+             line_of(package / "config" / "cell_macros.xacro", '<joint name="table_joint"')),
+            ("PF402", "mesh-not-found", "src/rob_description/models/arm_bot/model.urdf",
+             line_of(package / "models" / "arm_bot" / "model.urdf", "tool.stl")),
+            ("PF402", "mesh-not-found", "src/rob_description/top.urdf",
+             line_of(package / "top.urdf", "top.stl")),
+        ], args

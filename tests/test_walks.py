@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import MAINTAINER, run_pkgforge, verify_report
+from conftest import MAINTAINER, hand_made_install, run_pkgforge, verify_report
 
 # a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
 HANG_GUARD = 240
@@ -53,35 +53,25 @@ def nest(request):
         os.rmdir(path)
 
 
-def hand_made_install(package: Path) -> Path:
-    """A merged install folder as colcon builds it for the package (without running colcon)."""
-    install = package.parent.parent / "install"
-    index = install / "share" / "ament_index" / "resource_index" / "packages"
-    index.mkdir(parents=True)
-    (index / package.name).touch()
-    (install / ".colcon_install_layout").write_text("merged\n")
-    share = install / "share" / package.name
-    for folder in ("launch", "urdf", "meshes", "rviz"):
-        shutil.copytree(package / folder, share / folder)
-    shutil.copy(package / "package.xml", share)
-    return share
-
-
 def codes(report: dict, minimum: str = "warning") -> list[tuple]:
     order = ["info", "warning", "error"]
     return sorted((d["code"], d["path"]) for d in report["diagnostics"]
                   if order.index(d["severity"]) >= order.index(minimum))
 
 
-def test_link_cycles_in_a_real_build_end(package):
+def test_link_cycles_in_a_real_build_end_and_deep_nesting_is_named(package, nest):
     workspace = package.parent.parent
     os.symlink(".", package / "meshes" / "self")
     os.symlink(".", package / "launch" / "a")
     os.symlink(".", package / "launch" / "b")  # two links to '.': 2**40 paths when followed
+    nest(package / "urdf", 70)  # installed too: pkgforge's copy of the build reaches its walks' bound
     result = run_pkgforge("verify", "--build", "--format", "json", cwd=workspace, timeout=HANG_GUARD)
     assert "Traceback" not in result.stderr, result.stderr
     assert result.returncode == 0, result.stdout + result.stderr
-    assert '"diagnostics": []' in result.stdout
+    import json
+
+    assert [(d["code"], d["path"]) for d in json.loads(result.stdout)["diagnostics"]] == [
+        ("PF903", "src/rob_description/urdf" + "/d" * 63)]
 
 
 def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
@@ -116,16 +106,36 @@ def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package, 
     assert "64 deep" in diagnostic["message"]
 
 
-@pytest.mark.xfail(strict=False, reason="since --install-base is resolved in a copy (trees._plan_shadow), a folder "
-                   "past the depth bound is linked, not walked, and no PF903 names it; the walk stays bounded")
-def test_deep_nesting_in_an_install_base_is_reported(package, nest):
+@pytest.mark.parametrize("layout", ["merged", "isolated"])
+def test_deep_nesting_in_an_install_base_is_reported(package, nest, layout):
+    # pkgforge resolves an install base in its own copy: the copy must reach as deep as the walks
+    # over it do, or the folder past their bound is a link out, silently not walked
     workspace = package.parent.parent
-    share = hand_made_install(package)
+    share = hand_made_install(package, layout)
     deepest = nest(share / "launch", 1000)
     (deepest / "x.launch.py").write_text("raise RuntimeError('too deep to be seen')\n")
+    os.symlink(".", deepest / "self")  # a loop at the bottom, and one half-way
+    os.symlink("..", share / "launch" / Path(*["d"] * 500) / "up")
     status, report = verify_report(workspace, "--install-base", "install", "--select", "PF3,PF9")
     assert status == 0
     (diagnostic,) = report["diagnostics"]
-    assert diagnostic["code"] == "PF903"
-    # no source folder matches it: the folder of the install tree is named
-    assert diagnostic["path"].endswith("install/share/rob_description/launch" + "/d" * 63)
+    # no source folder matches it: the folder of the user's install base is named, 64 below the share
+    relative = share.relative_to(workspace)
+    assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == (
+        "PF903", f"{relative}/launch" + "/d" * 63, None)
+    assert diagnostic["message"] == ("folders nest more than 64 deep below this one: pkgforge did not "
+                                     "look inside")
+
+
+def test_deep_nesting_in_package_and_install_base_is_one_diagnostic_at_the_source(package, nest):
+    # the same nesting in the source and in the install base it was installed to: named once, at the
+    # source, as in the default mode
+    workspace = package.parent.parent
+    share = hand_made_install(package)
+    nest(package / "meshes", 200)
+    nest(share / "meshes", 200)
+    for args in [(), ("--install-base", "install")]:
+        status, report = verify_report(workspace, *args, "--no-cache", "--select", "PF3,PF9")
+        assert status == 0
+        assert [(d["code"], d["path"]) for d in report["diagnostics"]] == [
+            ("PF903", "src/rob_description/meshes" + "/d" * 63)], args

@@ -24,7 +24,7 @@ from pathlib import Path
 from . import __version__
 from .diagnostics import Diagnostic, PackageReport, Severity
 
-CACHE_FORMAT = 2
+CACHE_FORMAT = 3
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 

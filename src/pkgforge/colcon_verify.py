@@ -16,6 +16,7 @@ from colcon_core.plugin_system import satisfies_version
 from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
+from .distros import DISTROS
 from .processes import DEFAULT_WORKER_MEMORY
 from .report import COLOR_CHOICES, FORMATS
 
@@ -55,6 +56,9 @@ class VerifyVerb(VerbExtensionPoint):
                                  "pkgforge's built-in engine (builtin), or ros where found (default: auto)")
         parser.add_argument("--ros-prefix", default=None, metavar="DIR",
                             help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy)")
+        parser.add_argument("--distro", choices=list(DISTROS), default=None,
+                            help="The ROS 2 distro the packages target (default: ROS_DISTRO, pkgforge.toml "
+                                 "[verify] distro, the package's CI file, else every active distro)")
 
     def main(self, *, context):  # noqa: D102
         from .config import Selection, load_config
@@ -76,7 +80,8 @@ class VerifyVerb(VerbExtensionPoint):
         options = VerifyOptions(selection, strict=args.strict, mode="install-base",
                                 install_base=Path(args.install_base), launch_timeout=args.launch_timeout,
                                 worker_memory=args.worker_memory, launch_engine=args.launch_engine,
-                                ros_prefix=Path(args.ros_prefix) if args.ros_prefix else None)
+                                ros_prefix=Path(args.ros_prefix) if args.ros_prefix else None,
+                                distro=args.distro)
         try:
             options.engine()
             config = load_config(root, selection)

@@ -1,15 +1,20 @@
 """Which robot models to process, and their results (plain data from the worker).
 
 A model is processed when a launch file feeds it to xacro (with that launch's
-xacro arguments), and every top-level .urdf/.xacro installed in a urdf/,
-description/ or robots/ folder that no other file includes is processed on
-its own: the model a person opens in RViz by hand is checked too.
+xacro arguments), and every robot model installed anywhere in the package's
+share folder (urdf/, description/, models/<robot>/, config/, the top …) that no
+other installed file includes is processed on its own: the model a person opens
+in RViz by hand is checked too. A robot model is a .urdf or .xacro file whose
+root is <robot> and that gives the robot something outside macro definitions
+(a link, a joint, a macro call …), itself or through a file it includes; a
+macro library (only macros, properties and arguments, as xacro users write
+them for others to include) is checked through the models that include it,
+never alone. A file that is not XML at all is processed, so its error is named.
 """
 
 from __future__ import annotations
 
 import os
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,9 +23,15 @@ from .model.package import PackageModel
 from .trees import InstallTree
 from .walk import walk
 
-MODEL_FOLDERS = ("urdf", "description", "robots", "xacro")
-MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro")
-INCLUDE = re.compile(r"<xacro:include[^>]*?filename\s*=\s*[\"']([^\"']+)[\"']")
+MODEL_SUFFIXES = (".urdf", ".xacro")  # .urdf.xacro too
+# folders of a share folder whose files are no model of the package (as for launch files)
+SKIPPED_FOLDERS = ("test", "tests", "__pycache__")
+# a file larger than this is not read to classify it: processed (and reported as too large)
+CLASSIFY_MAX_BYTES = 2 * 2**20
+# xacro's own elements that give the robot nothing by themselves (if/unless: their content may)
+XACRO_DEFINITIONS = {"macro", "property", "arg", "include"}
+XACRO_CONDITIONALS = {"if", "unless"}
+XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 
 @dataclass
@@ -40,27 +51,94 @@ class ModelResult:
         return {link["name"] for link in (self.robot or {}).get("links", [])}
 
 
+@dataclass
+class _Shape:
+    """What a model file gives the robot, read without running it."""
+    # <robot> at its root, or named a URDF (.urdf, .urdf.xacro: another root is the model's defect),
+    # or not XML at all (processed all the same: the error is named)
+    robot: bool = True
+    content: bool = True  # something outside macro definitions (a link, a joint, a macro call …)
+    includes: list[str] = field(default_factory=list)  # the names of the files it includes
+
+
+def _shape(path: Path, share: Path, package: str) -> _Shape:
+    from lxml import etree
+
+    try:
+        if path.stat().st_size > CLASSIFY_MAX_BYTES:
+            return _Shape()
+        parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False,
+                                 no_network=True, huge_tree=False)
+        root = etree.parse(str(path), parser).getroot()
+    except (OSError, etree.XMLSyntaxError, ValueError):
+        return _Shape()
+    if root is None or not isinstance(root.tag, str):
+        return _Shape()
+    shape = _Shape(robot=etree.QName(root).localname == "robot" or path.name.endswith((".urdf", ".urdf.xacro")),
+                   content=False)
+    stack = list(root)
+    while stack:  # no recursion: a file nests as deep as it likes
+        element = stack.pop()
+        if not isinstance(element.tag, str):
+            continue
+        name = etree.QName(element).localname
+        if element.prefix != "xacro" and element.tag != f"{{{XACRO_NAMESPACE}}}{name}":
+            shape.content = True  # a link, joint, material, gazebo … of its own
+        elif name == "include":
+            filename = element.get("filename", "").strip()
+            shape.includes.append(os.path.basename(filename))
+            if _missing_include(filename, path, share, package):
+                shape.content = True  # fails by itself, whoever includes it: processed, its line named
+        elif name in XACRO_CONDITIONALS:
+            stack.extend(element)
+        elif name not in XACRO_DEFINITIONS:
+            shape.content = True  # a macro call, xacro:element, xacro:insert_block …
+    return shape
+
+
+def _missing_include(filename: str, path: Path, share: Path, package: str) -> bool:
+    """Whether an include names a file that is not there, whatever includes its file: a path
+    relative to the file, or in the package's own share folder ($(find <package>))."""
+    filename = filename.replace(f"$(find {package})", str(share))
+    if not filename or "$" in filename:
+        return False  # a property, an argument or another package: the includer decides
+    if any(c in filename for c in "*[?"):
+        return False  # a pattern (xacro globs it; no match is only a warning)
+    return not (path.parent / filename).exists()
+
+
 def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
+    """The robot models installed in the package's share folder that no installed file includes."""
     share = tree.share(model.share_name)
     if share is None:
         return []
-    candidates, included = [], set()
-    for folder in MODEL_FOLDERS:
-        for root, dirs, files in walk(share / folder, follow_links=True, inside=(model.path,),
-                                      limits=model.walk_limits):
-            dirs.sort()
-            for name in sorted(files):
-                if name.endswith(MODEL_SUFFIXES):
-                    path = Path(root) / name
-                    candidates.append(path)
-                    try:
-                        if path.stat().st_size < 2 * 2**20:
-                            # a file including itself is still top-level (and broken)
-                            included |= {os.path.basename(m) for m in INCLUDE.findall(
-                                path.read_text(errors="replace"))} - {name}
-                    except OSError:
-                        continue
-    return [path for path in candidates if path.name not in included]
+    shapes: dict[Path, _Shape] = {}
+    for root, dirs, files in walk(share, follow_links=True, inside=(model.path,), limits=model.walk_limits):
+        dirs[:] = sorted(d for d in dirs if d not in SKIPPED_FOLDERS and not d.startswith("."))
+        for name in sorted(files):
+            if name.endswith(MODEL_SUFFIXES):
+                shapes[Path(root) / name] = _shape(Path(root) / name, share, model.share_name)
+    by_name: dict[str, list[_Shape]] = {}
+    for path, shape in shapes.items():
+        by_name.setdefault(path.name, []).append(shape)
+    included = {name for path, shape in shapes.items() for name in shape.includes if name != path.name}
+    return [path for path, shape in shapes.items()
+            if shape.robot and path.name not in included and _gives_content(shape, by_name)]
+
+
+def _gives_content(shape: _Shape, by_name: dict[str, list[_Shape]]) -> bool:
+    """Whether the file, with the installed files it includes, gives the robot anything: a file
+    including only libraries (or files of other packages) is a library itself."""
+    seen, stack = set(), [shape]
+    while stack:
+        current = stack.pop()
+        if current.content:
+            return True
+        for name in current.includes:
+            if name not in seen:
+                seen.add(name)
+                stack.extend(by_name.get(name, []))
+    return False
 
 
 def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str, list]) -> list[ModelResult]:

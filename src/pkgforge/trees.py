@@ -22,6 +22,7 @@ that nothing under it can be checked.
 from __future__ import annotations
 
 import os
+import re
 import stat
 import tempfile
 import time
@@ -31,6 +32,7 @@ from pathlib import Path
 from .errors import PkgforgeError
 from .model.package import PackageModel
 from .toolchain import prepend_path
+from .walk import MAX_DEPTH
 
 INDEX = Path("share/ament_index/resource_index/packages")
 
@@ -51,6 +53,10 @@ class InstallTree:
     _plan: object | None = None  # how the tree was made (trees._Plan), to restore what a launch file changed
     _stamps: dict = field(default_factory=dict)
     sealed: int = 0  # time (ns) the tree was complete: entries older than it are pkgforge's
+    # the install base the user's own launch would see in place of the tree's `install` folder:
+    # theirs (--install-base), pkgforge's build in their workspace (--build), or colcon's default
+    # <workspace>/install (predicted); None: not known
+    user_install: Path | None = None
 
     def share(self, package: str) -> Path | None:
         """The package's share folder in the tree (workspace packages)."""
@@ -82,6 +88,14 @@ class InstallTree:
             if normal.startswith(shadow + os.sep):
                 return os.path.realpath(user + normal[len(shadow):])
         return os.path.realpath(path)
+
+    def as_users(self, text: str) -> str:
+        """Text (a command line, a path) with every path into the tree's install folder written as
+        the user's own install base would give it: what their launch would see, spaces included."""
+        if self.user_install is None or self.root is None:
+            return text
+        install = str(self.root / "install")
+        return re.sub(re.escape(install) + r"(?![^/\s'\"])", lambda _: str(self.user_install), text)
 
     def in_tree(self, path: str) -> str:
         """A path in the user's install base → the same path in the tree the worker sees."""
@@ -174,9 +188,16 @@ SHM = "/dev/shm"
 SHM_MARGIN = 32 << 20  # leave this much of tmpfs free
 # a shadow of an install base copies at most this many files, this deep; past it, links
 SHADOW_MAX_FILES = 100_000
-# one level past the walker's bound (walk.MAX_DEPTH), so the walk over the shadow meets its own
-# bound first and reports it (PF903), as it did over the user's tree
-SHADOW_MAX_DEPTH = 65
+# Folders are mirrored this deep below the install base, links past it (links out of the shadow are
+# never walked). The walks over a tree start at a share folder (install/share/<pkg>, or
+# install/<pkg>/share/<pkg> isolated) or one folder below it (share/<pkg>/urdf): the deepest top is
+# 4 below the install base, and a walk must meet its own bound (walk.MAX_DEPTH) inside real folders
+# to report it (PF903) as it does over the user's own tree.
+DEEPEST_WALK_TOP = 4
+SHADOW_MAX_DEPTH = MAX_DEPTH + DEEPEST_WALK_TOP
+# a mirrored folder's path (below the tree's root) stays this short, so that the shadow's own paths
+# (its root is longer than most install bases') are never too long for the system (PATH_MAX 4096)
+SHADOW_MAX_PATH = 3584
 PREFIX = "pkgforge-tree-"
 
 
@@ -211,10 +232,24 @@ def _sweep(folder: str) -> None:
             pass
 
 
+def _plain_folder() -> str | None:
+    """The temporary folder, or the first usable one whose path has no whitespace: the tree's paths
+    go into command lines that launch splits at spaces, where the user's own would not be split."""
+    default = tempfile.gettempdir()
+    if not any(c.isspace() for c in default):
+        return None
+    for folder in ("/tmp", "/var/tmp", SHM):
+        if not any(c.isspace() for c in folder) and os.path.isdir(folder) and os.access(folder, os.W_OK | os.X_OK):
+            return folder
+    return None  # nowhere better: the tree's own spaces may then show as splits
+
+
 def _temporary(needed: int) -> tuple[tempfile.TemporaryDirectory, Path]:
     folder = _fast_folder(needed)
     if folder is not None:
         _sweep(folder)
+    else:
+        folder = _plain_folder()
     temporary = tempfile.TemporaryDirectory(prefix=f"{PREFIX}{os.getpid()}-", dir=folder)
     return temporary, Path(os.path.realpath(temporary.name))
 
@@ -341,7 +376,8 @@ class _Plan:
         return changed
 
 
-def predicted_tree(models: list[PackageModel]) -> InstallTree:
+def predicted_tree(models: list[PackageModel], user_install: Path | None = None) -> InstallTree:
+    """The tree colcon would install; `user_install`: where (colcon's default <workspace>/install)."""
     plan = _Plan()
     plan.folder("install")
     for model in models:
@@ -352,7 +388,8 @@ def predicted_tree(models: list[PackageModel]) -> InstallTree:
     try:
         copied = plan.build(root)
         tree = InstallTree("predicted", [root / "install"], _temporary=temporary, root=root, copied=copied,
-                           _plan=plan, _stamps=plan.stamps(root), sealed=time.time_ns())
+                           _plan=plan, _stamps=plan.stamps(root), sealed=time.time_ns(),
+                           user_install=user_install)
         tree.packages = _index(tree.prefixes)
         _add_phantoms(tree, models, root)
     except BaseException:
@@ -403,7 +440,7 @@ def _plan_shadow(plan: _Plan, source: Path, relative: str) -> None:
                     # (into the package's own source, for --symlink-install; never elsewhere), and the
                     # worker's guard refuses writes through it
                     plan.link(target, real)
-                elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES:
+                elif depth >= SHADOW_MAX_DEPTH or count >= SHADOW_MAX_FILES or len(target) > SHADOW_MAX_PATH:
                     plan.link(target, real)
                 else:
                     stack.append((entry.path, target, depth + 1))
@@ -441,7 +478,7 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
         shadows = {os.path.normpath(root / "install" / p.relative_to(install_base)): str(p) for p in prefixes}
         tree = InstallTree("existing", [Path(p) for p in shadows], _temporary=temporary, root=root,
                            shadows=shadows, copied=copied, _plan=plan, _stamps=plan.stamps(root),
-                           sealed=time.time_ns())
+                           sealed=time.time_ns(), user_install=install_base)
         tree.packages = _index(tree.prefixes)
         _add_phantoms(tree, models, root)
     except BaseException:
@@ -459,5 +496,6 @@ def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTre
     run_build(workspace, options, out=out, colcon_output_to_stderr=True, quiet_failures=True)
     tree = existing_tree(options.install_base, models)
     tree.kind = "built"
+    tree.user_install = workspace.root / "install"  # where the user's own colcon build installs
     return tree
 

@@ -247,7 +247,7 @@ def make_tree(options: VerifyOptions, workspace: Workspace, models: list[Package
         return existing_tree(options.install_base, models)
     if options.mode == "build":
         return built_tree(workspace, models, out=sys.stderr)
-    return predicted_tree(models)
+    return predicted_tree(models, user_install=workspace.root / "install")
 
 
 def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict]:

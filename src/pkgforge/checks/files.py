@@ -65,6 +65,8 @@ def folder_not_walked(ctx: CheckContext):
             if located is not None and located[0] in (model.name, model.share_name) \
                     and (model.path / located[1]).is_dir():
                 path = model.path / located[1]
+            else:  # the folder of the user's install base, not of pkgforge's copy of it
+                path = Path(ctx.tree.origin(limit.path))
         if any(path == seen or seen in path.parents or path in seen.parents for seen in shown):
             continue  # the same nesting, met by another walk
         shown.add(path)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 from collections import Counter
 from pathlib import Path
 
@@ -35,6 +36,25 @@ def _path_split_at_spaces(words: list[str], model: str) -> str | None:
     return None
 
 
+def _split_for_the_user(tree, command) -> tuple[str, str] | None:
+    """(the user's path, the piece of it the command gets) when the command line, with pkgforge's
+    tree written as the user's install base, splits a path at a space (ROS's Command splits its
+    one line shell-like): pkgforge's own run used its tree, whose path has none."""
+    if tree is None or not command.text or command.runtime_only:
+        return None
+    users = [tree.as_users(word) for word in command.command]
+    if users == command.command:
+        return None
+    try:
+        words = shlex.split(tree.as_users(command.text))
+    except ValueError:  # an unclosed quote: the user's line fails as pkgforge's did
+        return None
+    for mine, theirs in zip(users, words):
+        if mine != theirs:
+            return mine, theirs
+    return None
+
+
 @register("PF308", "xacro-error", "error", area="launch",
           bad=("<!-- urdf/robot.urdf.xacro -->\n"
                "<xacro:include filename=\"$(find rob_description)/urdf/arm.xacro\"/>  <!-- no such file -->"),
@@ -62,9 +82,15 @@ def xacro_error(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
         for command in resolution.commands:
-            if command.ok or command.model is None or command.model in covered:
+            if command.model in covered:
                 continue
-            if not Path(command.model).exists():
+            split = _split_for_the_user(ctx.tree, command)
+            if split is None and (command.ok or command.model is None):
+                continue
+            if split is None:  # a path of the user's own files with a space (the tree has it too)
+                spaced = _path_split_at_spaces(command.command or [], command.model)
+                split = None if spaced is None else (ctx.tree.as_users(spaced), ctx.tree.as_users(command.model))
+            if split is None and not Path(command.model).exists():
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
             if _absent_include(ctx, command.message) is not None:
                 continue  # model-unevaluated
@@ -72,11 +98,12 @@ def xacro_error(ctx: CheckContext):
             if position is None or position in seen:
                 continue
             seen.add(position)
-            spaced = _path_split_at_spaces(command.command or [], command.model)
-            if spaced is not None:
-                yield Finding(f"xacro {Path(spaced).name}: the path '{spaced}' has a space, and "
+            if split is not None:
+                spaced, piece = split
+                program = os.path.basename(command.command[0]) if command.command else "the command"
+                yield Finding(f"{program} {Path(spaced).name}: the path '{spaced}' has a space, and "
                               "Command joins its parts into one line that it splits at spaces (ROS's "
-                              f"Command does too): xacro got '{command.model}'", *position,
+                              f"Command does too): {program} got '{piece}'", *position,
                               hint="quote the path inside the command line, e.g. Command(['xacro \"', "
                                    "path, '\"']), or use a workspace path without spaces")
                 continue

@@ -86,6 +86,7 @@ class Include(Record):
 @dataclass
 class CommandRun(Record):
     command: list[str] = field(default_factory=list)
+    text: str = ""  # the one line Command joined before splitting it (shell-like) into `command`
     ok: bool = True
     message: str = ""
     model: str | None = None  # the xacro input

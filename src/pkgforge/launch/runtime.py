@@ -311,7 +311,8 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
     if on_stderr not in ("fail", "ignore", "warn", "capture"):
         raise failure("expected 'on_stderr' to be one of: 'fail', 'ignore', 'warn' or 'capture'")
     if not runs_at_verify_time(words):
-        RECORDER.add("commands", {"command": words, "ok": True, "message": "", "runtime_only": True}, owner)
+        RECORDER.add("commands", {"command": words, "text": text, "ok": True, "message": "", "runtime_only": True},
+                     owner)
         return ""
     if any(w.startswith(MISSING_PACKAGE_ROOT) for w in words):
         raise Unresolved(f"<{words[0]} of a file in a package not found>")
@@ -330,7 +331,7 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
                               "fix the warning or pass on_stderr='warn')")
     elif ok and stderr and on_stderr == "capture":
         output = output + stderr
-    record = {"command": words, "ok": ok, "message": message, **extra}
+    record = {"command": words, "text": text, "ok": ok, "message": message, **extra}
     if os.path.basename(words[0]) == "xacro":
         RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, owner)
         for word in words[1:]:
