@@ -64,8 +64,11 @@ def render(scene: Scene, view: str, *, title: str, frame: bool = True, size: int
         normals = np.cross(scene.triangles[:, 1] - scene.triangles[:, 0], scene.triangles[:, 2] - scene.triangles[:, 0])
         lengths = np.linalg.norm(normals, axis=1)
         lengths[lengths == 0] = 1.0
-        _, _, forward = camera(view)
-        light = np.abs(normals @ forward) / lengths
+        right, up, forward = camera(view)
+        # a key light above and left of the viewer, not along the view: faces facing different
+        # ways get different shades (a headlight shades a box's three visible faces alike in iso)
+        key = 0.75 * forward - 0.5 * up + 0.45 * right
+        light = np.abs(normals @ (key / np.linalg.norm(key))) / lengths
         # at most 92 % bright: a white part stays distinct from the white background
         shaded = np.clip(scene.colors * (0.3 + 0.62 * light)[:, None], 0, 1)
         fills = (shaded * 255).astype(np.uint8)
