@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib.metadata
 import json
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -63,6 +64,7 @@ def test_migrate_reports_every_change_at_its_line(migrated):
 
     workspace = root / "ws"
     rviz_node, model_arg, rsp_type = 'pkg="rviz"', 'name="model"', 'type="state_publisher"'
+    root_link = '<link name="base_link">'
 
     def at(path: Path, text: str) -> str:
         return f"{os.path.relpath(path, workspace)}:{line_of(path, text)}:"
@@ -72,6 +74,8 @@ def test_migrate_reports_every_change_at_its_line(migrated):
         "robot_state_publisher/robot_state_publisher (migrate-renamed)",
         f"{at(display, rviz_node)} PF803 [info] node rviz/rviz → rviz2/rviz2 (migrate-renamed)",
         f"{at(display, 'textfile=')} PF806 [info] robot_description from textfile",
+        f"{at(source / 'urdf/robot_arm.urdf', root_link)} PF806 [info] root link base_link has "
+        "an inertia, which KDL ignores: link base_link_root added as the root, joined to it by a fixed joint",
         f"{at(display, model_arg)} PF806 [info] argument 'model' has no default and nothing uses it",
         f"{at(gazebo, 'empty_world')} PF802 [warning] Gazebo Classic's gazebo_ros launch/empty_world.launch left out",
         f"{at(gazebo, 'spawn_model')} PF802 [warning] gazebo_ros spawn_model (Gazebo Classic) left out",
@@ -106,9 +110,13 @@ def test_migrated_package_is_ros2(migrated):
     rviz = (package / "rviz" / "urdf.rviz").read_text()
     assert "rviz/" not in rviz.replace("rviz_", "") and "Value: /robot_description" in rviz
     assert "jsk_rviz_plugin" not in rviz and "Fixed Frame: base_link" in rviz
-    # models and meshes unchanged
-    assert (package / "urdf/robot_arm.urdf").read_bytes() == \
-        (workspace.parent / "ros1/robot_arm/urdf/robot_arm.urdf").read_bytes()
+    # models unchanged but for the massless root KDL asks for (PF604 root-link-inertia)
+    source_model = (workspace.parent / "ros1/robot_arm/urdf/robot_arm.urdf").read_text()
+    migrated_model = (package / "urdf/robot_arm.urdf").read_text()
+    added = ('\n  <link name="base_link_root"/>\n  <joint name="base_link_root_joint" type="fixed">\n'
+             '    <parent link="base_link_root"/>\n    <child link="base_link"/>\n  </joint>')
+    assert added in migrated_model
+    assert re.sub(r"\n  <!-- added by pkgforge:[^\n]*-->", "", migrated_model).replace(added, "") == source_model
     gazebo = (workspace / "src/robot_arm_xml/launch/gazebo.launch.xml").read_text()
     assert '<include file="$(find-pkg-share ros_gz_sim)/launch/gz_sim.launch.py">' in gazebo
     assert 'exec="create"' in gazebo and "-name robot_arm_xml" in gazebo

@@ -160,6 +160,37 @@ def root_link(root) -> str | None:
     return roots[0] if len(roots) == 1 else None
 
 
+ROBOT_START_TAG = re.compile(r"""<robot\b(?:[^>"']|"[^"]*"|'[^']*')*>""")
+
+
+def massless_root(text: str, root, path: Path, notes=None) -> str:
+    """The model with a massless root link when its root link has an <inertial>.
+
+    KDL ignores a root link's inertia and robot_state_publisher warns (PF604 root-link-inertia);
+    exporters put one on base_link. KDL's own advice is a link without inertia above it, joined by
+    a fixed joint: that is added right after <robot>, named <root>_root, so no frame the package
+    already publishes (base_footprint, world) changes. The RViz Fixed Frame stays the old root."""
+    name = root_link(root)
+    link = next((e for e in root if e.tag == "link" and e.get("name") == name), None)  # not in a macro
+    if name is None or link is None or link.find("inertial") is None:
+        return text
+    names = {e.get("name") for e in root.iter("link", "joint")}
+    new = f"{name}_root"
+    while new in names or f"{new}_joint" in names:
+        new += "_"
+    start = sum(len(line) + 1 for line in text.split("\n")[:root.sourceline - 1])
+    tag = ROBOT_START_TAG.search(text, start)
+    if tag is None:
+        return text
+    added = (f'\n  <!-- added by pkgforge: KDL ignores the inertia of a root link; {name} now hangs below '
+             f'this massless link -->\n  <link name="{new}"/>\n  <joint name="{new}_joint" type="fixed">\n'
+             f'    <parent link="{new}"/>\n    <child link="{name}"/>\n  </joint>')
+    if notes is not None:
+        notes.add("migrate-changed", f"root link {name} has an inertia, which KDL ignores: link {new} added as "
+                  "the root, joined to it by a fixed joint", path, link.sourceline)
+    return text[:tag.end()] + added + text[tag.end():]
+
+
 @dataclass
 class Imported:
     files: dict[str, bytes]  # urdf/... and meshes/..., relative to the package folder
@@ -217,6 +248,8 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
                     f"file://$(find {name})/meshes/{relative}"
             if new != reference.uri:
                 text = _line_replace(text, reference.line, reference.uri, new)
+        if current == model:
+            text = massless_root(text, roots[current], current, notes)
         files[f"urdf/{file_name}"] = text.encode("utf-8")
         if notes is not None:
             from .migrate.table import is_gazebo_classic_plugin

@@ -85,7 +85,7 @@ def _models(source: Path, files: list[str], notes):
 def migrate(source: Path, destination: Path | None, *, launch_format: str, distro: str | None,
             gazebo: bool, notes_factory):
     from ..distro_data import load
-    from ..from_urdf import missing_message
+    from ..from_urdf import _parse, massless_root, missing_message
     from ..scaffold import create_package, make_spec, render_files
     from .emit import to_python, to_xml, to_yaml, used_packages
     from .roslaunch import Reader
@@ -136,6 +136,9 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
             except UnicodeDecodeError as exc:
                 raise PkgforgeError(f"{path}: not a text file: not an RViz config (nothing written)") from exc
             output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode("utf-8")
+        elif relative.endswith((".urdf", ".xacro")) and etree.QName(_parse(path)).localname == "robot":
+            output[relative] = massless_root(path.read_text(encoding="utf-8"), _parse(path), path,
+                                             notes).encode("utf-8")
         else:
             output[relative] = path.read_bytes()
 
