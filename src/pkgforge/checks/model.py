@@ -391,7 +391,9 @@ def mesh_unreadable(ctx: CheckContext):
                 "<xacro:arg name=\"prefix\" default=\"\"/>"),
           summary="a model needs xacro arguments that nothing gives it",
           explanation="It was checked only with the values a launch file passes; on its own it cannot "
-                      "be processed.",
+                      "be processed: an argument with no value, or declared with an empty default that "
+                      "xacro fails without (an include built from it, e.g. arms/$(arg dof)dof/... that "
+                      "its launch files always set with dof:=7).",
           hint="give the xacro:arg a default, or check it through the launch file that passes it")
 def model_needs_arguments(ctx: CheckContext):
     for result in ctx.model_results:
