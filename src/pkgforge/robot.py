@@ -84,7 +84,8 @@ def _expand(path: str, mappings: dict[str, str]):
         if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
             return None, [], _recursion_error(xacro, path)
         error = _xacro_error(xacro, exc, path, mappings)
-        if not mappings and error["status"] == "error" and error["error"]["stage"] == "xacro":
+        if not mappings and error["status"] == "error" and error["error"]["stage"] == "xacro" \
+                and "type" not in error["error"]:  # a worker limit hit: no second run
             _blame_empty_arguments(xacro, path, error, arguments)
         return None, [], error
     finally:
