@@ -472,17 +472,19 @@ def test_empty_default_xacro_args_with_build(tmp_path):
     assert findings(report, "dof_bringup") == []
 
 
-def test_the_launchs_arguments_failing_are_an_error_at_the_launch_line(tmp_path):
-    """dof:=9 names a folder that does not exist: the launch's xacro run is the truth, PF308 at the
-    launch line (not in pkgforge's tree), with the arguments it gave."""
+@pytest.mark.parametrize("given, shown", [(" dof:=9", "arm.xacro dof:=9: "), ("", "arm.xacro: ")])
+def test_the_launchs_arguments_failing_are_an_error_at_the_launch_line(tmp_path, given, shown):
+    """dof:=9 names a folder that does not exist, and a launch giving no dof includes arms/dof/...:
+    the launch's xacro run is the truth, PF308 at the launch line (not in pkgforge's tree), with
+    the arguments it gave."""
     root = dof_workspace(tmp_path)
     launch = root / "src/dof_bringup/launch/arm.launch.py"
-    edit(launch, "dof:=7", "dof:=9")
+    edit(launch, "' dof:=7'", f"'{given}'")
     status, report = verify_report(root, "--no-cache")
     assert status == 1
-    assert findings(report, "dof_bringup") == [("xacro-error", "launch/arm.launch.py", line_of(launch, "dof:=9"))]
+    assert findings(report, "dof_bringup") == [("xacro-error", "launch/arm.launch.py", line_of(launch, "Command("))]
     (error,) = by_name(report, "dof_bringup", "xacro-error")
-    assert error["code"] == "PF308" and "arm.xacro dof:=9:" in error["message"] and "9dof" in error["message"]
+    assert error["code"] == "PF308" and shown in error["message"] and "No such file" in error["message"]
     assert [d["code"] for d in report["diagnostics"] if d["package"] == "dof_description"] == ["PF406"]
 
 

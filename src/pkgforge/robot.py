@@ -115,7 +115,8 @@ def _blame_empty_arguments(xacro, path: str, error: dict, declared: dict) -> Non
     if blamed:
         file, line = _declaration(path, blamed[0], xacro)
         error["status"] = "needs-arguments"
-        error["error"].update(arguments=blamed, argument=blamed[0], file=file, line=line)
+        # the failure keeps its own place (a launch file giving no value makes it an error there)
+        error["error"].update(arguments=blamed, argument=blamed[0], declared={"file": file, "line": line})
 
 
 def _recursion_error(xacro, path: str) -> dict:

@@ -401,6 +401,8 @@ def model_needs_arguments(ctx: CheckContext):
             error = result.error or {}
             position = _where(ctx, result, error.get("file"), error.get("line"))
             if error.get("arguments"):  # declared with an empty default, and xacro fails without a value
+                declared = error.get("declared") or {}
+                position = _where(ctx, result, declared.get("file"), declared.get("line"))
                 names = ", ".join(error["arguments"])
                 first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
                 yield Finding(f"{result.installed.name} needs values for the xacro argument(s) {names} (empty "
