@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import FIXTURES, MAINTAINER, line_of, new_package, run_pkgforge, verify_report
+from conftest import FIXTURES, MAINTAINER, edit, line_of, new_package, run_pkgforge, verify_report
 
 REALWORLD = FIXTURES / "realworld"
 REPO = Path(__file__).resolve().parent.parent
@@ -436,3 +436,67 @@ def test_an_undeclared_find_is_one_diagnostic_without_pkgforges_folders(every_di
         ("xacro-error", "urdf/arm.urdf.xacro", line_of(arm, "$(find undeclared_find_old_name)"))]
     (error,) = by_name(every_distro, "undeclared_find_description", "xacro-error")
     assert "searching" not in error["message"] and error["message"].count("not found") == 1
+
+
+# --- a model whose includes are built from xacro:args its launch files always set (Kinova's gen3) ----
+
+def dof_workspace(tmp_path: Path) -> Path:
+    """dof_description (arm.xacro: xacro:arg dof default '', include arms/$(arg dof)dof/...) and
+    dof_bringup (a launch running xacro on it with dof:=7)."""
+    for package in ("dof_description", "dof_bringup"):
+        shutil.copytree(REALWORLD / package, tmp_path / "src" / package)
+    return tmp_path
+
+
+@pytest.mark.triggers("PF406")
+def test_empty_default_xacro_args_are_info_and_the_launch_run_counts(every_distro, workspace):
+    """On its own with its defaults, arm.xacro includes arms/dof/urdf/...: no defect of the model,
+    a value its launch files give. PF406 names the argument at its declaration (not prefix, also
+    empty but not the cause); the launch's run with dof:=7 is clean."""
+    model = src(workspace, "dof_description", "robots/arm.xacro")
+    assert findings(every_distro, "dof_description") == [
+        ("model-needs-arguments", "robots/arm.xacro", line_of(model, '<xacro:arg name="dof"'))]
+    (info,) = by_name(every_distro, "dof_description", "model-needs-arguments")
+    assert info["severity"] == "info" and info["code"] == "PF406"
+    assert "xacro argument(s) dof (empty default" in info["message"] and "prefix" not in info["message"]
+    assert findings(every_distro, "dof_bringup") == []
+
+
+def test_empty_default_xacro_args_with_build(tmp_path):
+    root = dof_workspace(tmp_path)
+    status, report = verify_report(root, "--build", "--no-cache")
+    model = root / "src/dof_description/robots/arm.xacro"
+    assert status == 0
+    assert findings(report, "dof_description") == [
+        ("model-needs-arguments", "robots/arm.xacro", line_of(model, '<xacro:arg name="dof"'))]
+    assert findings(report, "dof_bringup") == []
+
+
+@pytest.mark.parametrize("given, shown", [(" dof:=9", "arm.xacro dof:=9: "), ("", "arm.xacro: ")])
+def test_the_launchs_arguments_failing_are_an_error_at_the_launch_line(tmp_path, given, shown):
+    """dof:=9 names a folder that does not exist, and a launch giving no dof includes arms/dof/...:
+    the launch's xacro run is the truth, PF308 at the launch line (not in pkgforge's tree), with
+    the arguments it gave."""
+    root = dof_workspace(tmp_path)
+    launch = root / "src/dof_bringup/launch/arm.launch.py"
+    edit(launch, "' dof:=7'", f"'{given}'")
+    status, report = verify_report(root, "--no-cache")
+    assert status == 1
+    assert findings(report, "dof_bringup") == [("xacro-error", "launch/arm.launch.py", line_of(launch, "Command("))]
+    (error,) = by_name(report, "dof_bringup", "xacro-error")
+    assert error["code"] == "PF308" and shown in error["message"] and "No such file" in error["message"]
+    assert [d["code"] for d in report["diagnostics"] if d["package"] == "dof_description"] == ["PF406"]
+
+
+@pytest.mark.parametrize("old, new", [
+    ('name="dof" default=""', 'name="dof" default="6"'),  # a default naming no folder
+    ("arms/$(arg dof)dof/urdf/arm_macro.xacro", "arms/7dof/urdf/arm_macros.xacro"),  # a typo, args unused
+])
+def test_a_model_failing_whatever_its_empty_arguments_is_still_an_error(tmp_path, old, new):
+    root = dof_workspace(tmp_path)
+    model = root / "src/dof_description/robots/arm.xacro"
+    edit(model, old, new)
+    status, report = verify_report(root, "--no-cache")
+    assert status == 1
+    assert findings(report, "dof_description") == [
+        ("xacro-error", "robots/arm.xacro", line_of(model, "<xacro:include"))]

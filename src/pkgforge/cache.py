@@ -24,7 +24,8 @@ from pathlib import Path
 from . import __version__
 from .diagnostics import Diagnostic, PackageReport, Severity
 
-CACHE_FORMAT = 3
+# 4: a model failing on its own for want of its empty-default xacro:args is PF406, no longer PF308
+CACHE_FORMAT = 4
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 

@@ -18,6 +18,9 @@ from lxml import etree
 GEOMETRY_URI_TAGS = ("mesh",)
 NEEDS_ARGUMENT = re.compile(r"[Uu]ndefined substitution argument (\S+)")
 MAX_MODEL_BYTES = 8 * 1024 * 1024
+# xacro:args with an empty default tried one by one when a model fails on its own (each is a run)
+MAX_BLAME_RUNS = 8
+XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
 
 
 def process_model(path: str, mappings: dict[str, str]) -> dict:
@@ -72,16 +75,48 @@ def _expand(path: str, mappings: dict[str, str]):
     real_stderr, sys.stderr = sys.stderr, stderr
     # xacro keeps module state between runs: a fresh include list for each model
     xacro.all_includes[:] = []
+    arguments = dict(mappings)  # xacro adds the model's own xacro:arg defaults to it as it reads them
     try:
-        document = xacro.process_file(path, mappings=dict(mappings))
+        document = xacro.process_file(path, mappings=arguments)
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(path)})
         return document.toxml(), includes, None
     except BaseException as exc:  # XacroException, XML errors, SystemExit from xacro's own checks
         if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
             return None, [], _recursion_error(xacro, path)
-        return None, [], _xacro_error(xacro, exc, path, mappings)
+        error = _xacro_error(xacro, exc, path, mappings)
+        if not mappings and error["status"] == "error" and error["error"]["stage"] == "xacro" \
+                and "type" not in error["error"]:  # a worker limit hit: no second run
+            _blame_empty_arguments(xacro, path, error, arguments)
+        return None, [], error
     finally:
         sys.stderr = real_stderr
+
+
+def _blame_empty_arguments(xacro, path: str, error: dict, declared: dict) -> None:
+    """A model run on its own with its defaults whose failure comes from xacro:args declared with
+    an empty default (values its launch files always give, e.g. dof:=7 naming the file to include)
+    needs those values: it becomes needs-arguments, naming them. The test: xacro run again with one
+    such argument set to a stand-in value fails otherwise (or not at all); a defect of its own
+    fails the same whatever the value."""
+    failure = (error["error"]["message"], error["error"]["file"], error["error"]["line"])
+    blamed = []
+    for name in [n for n, value in declared.items() if value == ""][:MAX_BLAME_RUNS]:
+        xacro.all_includes[:] = []
+        try:
+            xacro.process_file(path, mappings={name: f"pkgforge-stand-in-{name}"})
+            blamed.append(name)
+            continue
+        except BaseException as exc:  # noqa: BLE001 - the same kinds as the first run
+            if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
+                continue
+            again = _xacro_error(xacro, exc, path, {})["error"]
+        if (again["message"], again["file"], again["line"]) != failure:
+            blamed.append(name)
+    if blamed:
+        file, line = _declaration(path, blamed[0], xacro)
+        error["status"] = "needs-arguments"
+        # the failure keeps its own place (a launch file giving no value makes it an error there)
+        error["error"].update(arguments=blamed, argument=blamed[0], declared={"file": file, "line": line})
 
 
 def _recursion_error(xacro, path: str) -> dict:
@@ -143,6 +178,16 @@ def _xacro_location(exc, path: str, filestack: list):
     elif package:
         line = _line_mentioning(file, f"$(find {package.group(1)}")
     return file, line
+
+
+def _declaration(path: str, name: str, xacro) -> tuple[str, int | None]:
+    """The file and line of <xacro:arg name="name">: the model's own, else a file it included."""
+    pattern = re.compile(XACRO_ARG.format(re.escape(name)))
+    for file in [path, *(f for f in (getattr(xacro, "all_includes", None) or []) if f != path)]:
+        line = _line_matching(file, pattern)
+        if line is not None:
+            return file, line
+    return path, None
 
 
 def _line_matching(path: str, pattern) -> int | None:

@@ -17,10 +17,19 @@ from .registry import register
 
 
 def _where(ctx: CheckContext, result, file: str | None, line: int | None):
-    """(source path, line) in this package, falling back to the model's own source file."""
+    """(source path, line) in this package, falling back to the model's own source file, and for
+    another package's model to the launch line of this package that feeds it to xacro (pkgforge's
+    tree is no place a person edits)."""
     own = ctx.own_source(file) if file else None
     if own is not None:
         return own, line
+    if result.source is None:
+        for origin in result.origins:
+            resolution = next((r for r in ctx.resolutions if r.launch == origin["launch"]), None)
+            position = None if resolution is None else \
+                ctx.source_position(resolution, origin["file"], origin["line"])
+            if position is not None:
+                return position
     return (result.source or result.installed), None
 
 
@@ -75,7 +84,8 @@ def xacro_error(ctx: CheckContext):
                 continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
-            yield Finding(f"xacro {result.installed.name}: {_untree_xacro(ctx, error.get('message'))}",
+            given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
+            yield Finding(f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
                           *_where(ctx, result, error.get("file"), error.get("line")),
                           hint=error.get("hint") or read_problem_hint(error.get("message")))
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -381,14 +391,29 @@ def mesh_unreadable(ctx: CheckContext):
                 "<xacro:arg name=\"prefix\" default=\"\"/>"),
           summary="a model needs xacro arguments that nothing gives it",
           explanation="It was checked only with the values a launch file passes; on its own it cannot "
-                      "be processed.",
+                      "be processed: an argument with no value, or declared with an empty default that "
+                      "xacro fails without (an include built from it, e.g. arms/$(arg dof)dof/... that "
+                      "its launch files always set with dof:=7).",
           hint="give the xacro:arg a default, or check it through the launch file that passes it")
 def model_needs_arguments(ctx: CheckContext):
     for result in ctx.model_results:
         if result.status == "needs-arguments":
-            argument = (result.error or {}).get("argument")
-            yield Finding(f"{result.installed.name} needs the xacro argument '{argument}'; skipped on its own",
-                          *_where(ctx, result, (result.error or {}).get("file"), (result.error or {}).get("line")))
+            error = result.error or {}
+            position = _where(ctx, result, error.get("file"), error.get("line"))
+            if error.get("arguments"):  # declared with an empty default, and xacro fails without a value
+                declared = error.get("declared") or {}
+                position = _where(ctx, result, declared.get("file"), declared.get("line"))
+                names = ", ".join(error["arguments"])
+                first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
+                yield Finding(f"{result.installed.name} needs values for the xacro argument(s) {names} (empty "
+                              "default; on its own xacro fails: "
+                              f"{first[0] if first else 'failed'}); evaluated only through launch files that "
+                              "set them", *position,
+                              hint=f"check it through a launch file that passes {error['arguments'][0]}:=..., "
+                                   "or give the xacro:arg a default that works")
+                continue
+            yield Finding(f"{result.installed.name} needs the xacro argument '{error.get('argument')}'; "
+                          "skipped on its own", *position)
     # a model too large to process is reported by file-not-read
 
 
