@@ -260,7 +260,13 @@ def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Pa
     """
     folder = workspace.package_path.resolve()
     everything = {quick_name(p): p for p in package_folders(workspace.base_path)}
-    targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
+    from .workspace import identify_folder
+
+    descriptor = identify_folder(folder)
+    if descriptor is not None and (folder / "package.xml").exists():
+        targets = [PackageTarget(folder, descriptor.name, str(descriptor.type), True)]
+    else:
+        targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
     if not targets:
         return [], {}, everything
     models = {folder: _load(targets[0])}
