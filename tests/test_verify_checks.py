@@ -428,6 +428,22 @@ def test_verify_one_package_of_a_workspace(tmp_path):
     assert {d["package"] for d in report["diagnostics"]} == {"small_turtle"}
 
 
+def test_one_package_is_identified_as_colcons_discovery_of_the_workspace_does(tmp_path):
+    """The one-package path identifies its folder with colcon's ignore and ROS extensions only
+    (workspace.identify_folder): its name, build type and diagnostics are the whole workspace's."""
+    copy_fixture("seed000/rob_description", tmp_path)
+    copy_fixture("seed001/small_turtle", tmp_path)
+    _, whole = verify_json(tmp_path)
+    _, one = verify_json(tmp_path / "src" / "small_turtle")
+    [entry] = [p for p in whole["packages"] if p["name"] == "small_turtle"]
+    assert [(p["name"], p["build_type"]) for p in one["packages"]] == [("small_turtle", entry["build_type"])]
+
+    def seen(report):
+        return sorted((d["code"], Path(d["path"]).name, d["line"], d["message"]) for d in report["diagnostics"]
+                      if d["package"] == "small_turtle")
+    assert seen(one) == seen(whole) and seen(one)
+
+
 def test_colcon_ignore_is_honoured(tmp_path):
     copy_fixture("seed001/small_turtle", tmp_path)
     (tmp_path / "src" / "small_turtle" / "COLCON_IGNORE").touch()

@@ -82,8 +82,9 @@ class ResultCache:
         key = hashlib.sha256()
         for part in (__version__, str(CACHE_FORMAT), self.options_key, workspace_key, selection):
             key.update(part.encode() + b"\0")
+        prefix = str(folder).rstrip(os.sep) + os.sep  # (str(folder / relative), without a Path per file)
         for relative in files:
-            key.update(relative.encode() + b"\0" + (self.digest(str(folder / relative)) or "-").encode() + b"\0")
+            key.update(relative.encode() + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0")
         return key.hexdigest()
 
     # --- entries ------------------------------------------------------------------------------
@@ -114,18 +115,25 @@ class ResultCache:
             _atomic_write(self.index_path, json.dumps(self.index))
 
 
-def workspace_key(folders: list[Path]) -> str:
-    """The names and declared dependencies of every package: what lookups depend on."""
+def workspace_key(folders: list[Path], texts: dict[Path, str | None] | None = None) -> str:
+    """The names and declared dependencies of every package: what lookups depend on. `texts`:
+    the package.xml texts already read (None: unreadable), by folder."""
     names, dependencies = set(), set()
     for folder in folders:
-        try:
-            text = (folder / "package.xml").read_text(errors="replace")
-        except OSError:
+        text = texts[folder] if texts is not None and folder in texts else manifest_text(folder)
+        if text is None:
             continue
         match = NAME.search(text)
         names.add(match.group(1) if match else folder.name)
         dependencies.update(DEPENDENCY.findall(text))
     return hashlib.sha256(json.dumps([sorted(names), sorted(dependencies)]).encode()).hexdigest()
+
+
+def manifest_text(folder: Path) -> str | None:
+    try:
+        return (folder / "package.xml").read_text(errors="replace")
+    except OSError:
+        return None
 
 
 BUILD_FILES = ("package.xml", "CMakeLists.txt", "setup.py", "setup.cfg")

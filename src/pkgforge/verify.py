@@ -131,12 +131,14 @@ def package_folders(base: Path) -> list[Path]:
     return found
 
 
-def quick_name(folder: Path) -> str:
-    """The package name for the workspace index, before colcon has identified anything."""
-    try:
-        match = NAME_ELEMENT.search((folder / "package.xml").read_text(errors="replace"))
-    except OSError:
-        match = None
+def quick_name(folder: Path, text: str | None = "") -> str:
+    """The package name for the workspace index, before colcon has identified anything. `text`:
+    the package.xml already read (None: unreadable)."""
+    if text == "":
+        from .cache import manifest_text
+
+        text = manifest_text(folder)
+    match = NAME_ELEMENT.search(text) if text is not None else None
     return match.group(1) if match else folder.name
 
 
@@ -258,7 +260,13 @@ def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Pa
     """
     folder = workspace.package_path.resolve()
     everything = {quick_name(p): p for p in package_folders(workspace.base_path)}
-    targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
+    from .workspace import identify_folder
+
+    descriptor = identify_folder(folder)
+    if descriptor is not None and (folder / "package.xml").exists():
+        targets = [PackageTarget(folder, descriptor.name, str(descriptor.type), True)]
+    else:
+        targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
     if not targets:
         return [], {}, everything
     models = {folder: _load(targets[0])}
@@ -380,16 +388,17 @@ def cache_folder(workspace: Workspace) -> Path:
 
 def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
     """(cache, package folder → key, package folder → cached report) for the packages to verify."""
-    from .cache import ResultCache, workspace_key
+    from .cache import ResultCache, manifest_text, workspace_key
     from .model.files import walk_file_names
 
     cache = ResultCache(cache_folder(workspace), options.cache_key())
     every = package_folders(workspace.base_path)
     folders = [workspace.package_path.resolve()] if workspace.package_path is not None else every
-    signature = workspace_key(every)
+    texts = {folder: manifest_text(folder) for folder in every}  # each package.xml read once
+    signature = workspace_key(every, texts)
     keys, hits = {}, {}
     for folder in folders:
-        name = quick_name(folder)
+        name = quick_name(folder, texts[folder] if folder in texts else "")
         files = walk_file_names(folder)
         selection = config.for_package(name, folder)
         targets = _targets(folder, workspace, config, options)

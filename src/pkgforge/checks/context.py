@@ -55,6 +55,14 @@ class CheckContext:
             return set()
         return set(self.tree.packages) | set(self.tree.phantom_packages) | set(self.tree.system_packages)
 
+    def installed_packages(self) -> frozenset[str]:
+        """Packages the tree holds or finds already installed (built once per run, not per call)."""
+        if self.tree is None:
+            return frozenset()
+        if "installed" not in self.shared:
+            self.shared["installed"] = frozenset(set(self.tree.packages) | set(self.tree.system_packages))
+        return self.shared["installed"]
+
     def real_packages(self) -> set[str]:
         """Every name known to be a ROS package here: the workspace's, the tree's, and those
         released for the target distros (any active distro when there is no target)."""

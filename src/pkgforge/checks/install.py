@@ -327,7 +327,7 @@ def package_not_installed(ctx: CheckContext):
         return
     model = ctx.model
     if ctx.tree is not None:
-        installed = set(ctx.tree.packages)
+        installed = ctx.tree.packages  # (a mapping: membership without a copy per package)
     else:
         from ..trees import INDEX
 

@@ -218,8 +218,7 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
             hint = (f"build {name} from source in the workspace, or target "
                     f"{' or '.join(released)} (--distro, ROS_DISTRO or pkgforge.toml [verify] distro)")
         return message, hint
-    installed = set(ctx.tree.packages) | set(ctx.tree.system_packages) if ctx.tree is not None else set()
-    if not declared or name in installed:
+    if not declared or name in ctx.installed_packages():
         return None
     if better is not None:
         return (f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",

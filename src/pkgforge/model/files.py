@@ -20,8 +20,9 @@ def walk_file_names(root: Path, limits: list[WalkLimit] | None = None) -> list[s
     """walk_files as relative path strings (the cache's fast path builds no Path objects)."""
     files = []
     top = str(root)
+    cut = len(top.rstrip(os.sep)) + 1
     for current, dirs, names in walk(top, limits=limits):
-        relative_dir = os.path.relpath(current, top)
+        relative_dir = "." if current == top else current[cut:]  # (the walk joins below top: no relpath)
         keep = []
         for d in sorted(dirs):
             if d.startswith(".") or (current == top and d in SKIPPED_DIRS):
