@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -365,3 +366,70 @@ def test_file_mode_is_part_of_the_fingerprint(tmp_path, package):
     assert cache_entry(tmp_path)["key"] != key  # seen: verified again, not replayed
     assert json.loads(second.stdout) == json.loads(fresh.stdout)
     assert second.returncode == fresh.returncode
+
+
+# --- the time limit and argument combinations: the defaults decide, the others run while time remains
+
+BRANCHING = '''import time
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, OpaqueFunction
+from launch.substitutions import LaunchConfiguration
+
+NAMES = ["use_sim", "use_rviz", "use_gui", "lidar", "camera", "imu"]
+
+
+def on_branch(context):
+    if any(LaunchConfiguration(name).perform(context) == "true" for name in NAMES):
+{slow}
+    return []
+
+
+def generate_launch_description():
+{load}    return LaunchDescription([DeclareLaunchArgument(name, default_value="false") for name in NAMES]
+                             + [OpaqueFunction(function=on_branch)])
+'''
+COMBINATIONS = {
+    # every combination past the defaults takes a second: some fit in the limit, the rest do not
+    "b_slow": BRANCHING.format(slow="        time.sleep(1.0)  # slow", load=""),
+    # a combination past the defaults never ends: stopped, and said, but no error
+    "b_endless": BRANCHING.format(slow="        while True: pass  # endless", load=""),
+    # the defaults never end: the time limit's error, at the line, as ever
+    "b_load": BRANCHING.format(slow="        pass", load="    time.sleep(600)  # at load\n"),
+}
+
+
+@pytest.mark.triggers("PF318")
+def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, package):
+    for name, launch in COMBINATIONS.items():
+        package(tmp_path, launch, name)
+    result = run_pkgforge("verify", "--format", "json", "--launch-timeout", str(TIMEOUT), cwd=tmp_path)
+    assert "Traceback" not in result.stderr
+    found = {}
+    for diagnostic in json.loads(result.stdout)["diagnostics"]:
+        if diagnostic["code"] in ("PF301", "PF318"):
+            found.setdefault(diagnostic["package"], []).append(diagnostic)
+    path = "src/{0}/launch/display.launch.py".format
+    launch = tmp_path / "src" / "{}" / "launch" / "display.launch.py"
+    # the defaults never end: PF301 at the line it was running, nothing about combinations
+    (load,) = found["b_load"]
+    assert located(load) == ("PF301", path("b_load"), line_of(Path(str(launch).format("b_load")), "# at load"))
+    # a branch that never ends: the defaults' records stand, the branch is said (info) where it stopped
+    (endless,) = found["b_endless"]
+    assert located(endless) == ("PF318", path("b_endless"),
+                                line_of(Path(str(launch).format("b_endless")), "# endless"))
+    assert endless["severity"] == "info"
+    # the defaults and MAX_BRANCHES (16) others, the first (every argument true) never ending
+    assert f"1 of 17 argument combinations evaluated within the {TIMEOUT} s limit" in endless["message"]
+    assert "16 not checked" in endless["message"] and "use_sim:=true was stopped there" in endless["message"]
+    # slow branches: as many as fit, counted; no error
+    (slow,) = found["b_slow"]
+    assert slow["code"] == "PF318" and slow["path"] == path("b_slow")
+    evaluated, planned = map(int, re.search(r"(\d+) of (\d+) argument combinations", slow["message"]).groups())
+    assert planned == 17 and 1 <= evaluated < planned
+    assert f"{planned - evaluated} not checked" in slow["message"]
+    assert result.returncode == 1  # b_load's error only
+    assert not [d for d in json.loads(result.stdout)["diagnostics"]
+                if d["severity"] == "error" and d["package"] != "b_load"], result.stdout
+    # machine-dependent (what fits depends on the machine's load): never cached
+    assert not [entry for entry in cache_entries(tmp_path)
+                if entry["report"]["name"] in ("b_slow", "b_endless", "b_load")]

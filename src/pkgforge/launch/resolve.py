@@ -174,9 +174,9 @@ class _Worker:
         if not isinstance(reply, dict):
             self.stop()
             return {"status": "crashed", "error": {"message": "the launch worker gave no result", "line": None}}
-        if reply.get("status") in MACHINE_DEPENDENT or any(
+        if reply.get("status") in MACHINE_DEPENDENT or (reply.get("branching") or {}).get("stopped") or any(
                 isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]):
-            self.stop()  # a fresh worker for the next file: nothing it left running stays
+            self.stop()  # a fresh worker for the next file: nothing it (or a stopped branch) left stays
         return reply
 
     def stop(self) -> None:

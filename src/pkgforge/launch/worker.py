@@ -29,6 +29,8 @@ from pathlib import Path
 
 API_AMENT = Path(__file__).resolve().parent / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
+# the extra argument combinations start and run only until this share of --launch-timeout
+BRANCH_SHARE = 0.7
 
 
 class TimeLimit(BaseException):
@@ -114,6 +116,26 @@ def _arm(limits: dict) -> None:
             resource.setrlimit(resource.RLIMIT_CPU, (soft, hard))
     except (ValueError, OSError):
         pass
+
+
+def _budget(limits: dict):
+    """How long this request's argument combinations past the defaults may run (records.BranchBudget):
+    until BRANCH_SHARE of the time limit, leaving the rest for the reply. The defaults have the
+    whole limit: a file that finishes them is never an error for want of time for the others."""
+    import time
+
+    from pkgforge.launch.records import BranchBudget
+
+    timeout = limits.get("timeout")
+    if not timeout:
+        return None
+
+    def limit(seconds: float) -> None:
+        remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+        if remaining <= 0 or seconds < remaining:
+            signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
+
+    return BranchBudget(time.monotonic() + BRANCH_SHARE * float(timeout), (TimeLimit, CPULimit), limit, _disarm)
 
 
 def _disarm() -> None:
@@ -290,14 +312,15 @@ def main() -> None:
         try:
             try:
                 _arm(limits)
+                budget = _budget(limits)
                 if "model" in request:
                     result = process_model(request["model"], request.get("mappings", {}))
                 elif engine == "ros" and setup_error is not None:
                     result = ros_engine.error_reply(request["file"], setup_error, distro)
                 elif engine == "ros":
-                    result = ros_engine.evaluate(request["file"], request.get("arguments", {}), distro)
+                    result = ros_engine.evaluate(request["file"], request.get("arguments", {}), distro, budget)
                 else:
-                    result = evaluate(request["file"], request.get("arguments", {}))
+                    result = evaluate(request["file"], request.get("arguments", {}), budget)
             finally:
                 _disarm()
         except BaseException as error:  # noqa: BLE001 - the reply must always come
@@ -308,6 +331,8 @@ def main() -> None:
 
                 result["errors"] = [as_dict(e) for e in RECORDER.errors]
         _mark_limits(result, limits)
+        if isinstance(result.get("branching"), dict):
+            result["branching"]["limit"] = limits.get("timeout")
         if guarded:
             _refusals(result, request)
         result["request"] = request
