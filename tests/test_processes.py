@@ -399,10 +399,20 @@ COMBINATIONS = {
 
 
 @pytest.mark.triggers("PF318")
-def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, package):
+@pytest.mark.parametrize("engine", ["builtin", "ros"])
+def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, package, engine):
+    """Both engines branch through records.evaluate_branches under the same budget."""
+    options = ["--launch-engine", "builtin"]
+    if engine == "ros":
+        from ros_prefix import make_prefix
+
+        prefix, reason = make_prefix("jazzy", tmp_path / "ros")
+        if prefix is None:
+            pytest.skip(f"no real ROS 2 launch library: {reason}")
+        options = ["--launch-engine", "ros", "--ros-prefix", str(prefix)]
     for name, launch in COMBINATIONS.items():
         package(tmp_path, launch, name)
-    result = run_pkgforge("verify", "--format", "json", "--launch-timeout", str(TIMEOUT), cwd=tmp_path)
+    result = run_pkgforge("verify", "--format", "json", "--launch-timeout", str(TIMEOUT), *options, cwd=tmp_path)
     assert "Traceback" not in result.stderr
     found = {}
     for diagnostic in json.loads(result.stdout)["diagnostics"]:
