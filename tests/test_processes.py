@@ -443,3 +443,33 @@ def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, packag
     # machine-dependent (what fits depends on the machine's load): never cached
     assert not [entry for entry in cache_entries(tmp_path)
                 if entry["report"]["name"] in ("b_slow", "b_endless", "b_load")]
+
+
+# a file that finishes, slowed by a busy machine: two competitors pinned to its CPU give it a third
+# of it (at most), so its half second of CPU time takes 1.5 s or more of wall time, past the 1 s limit
+CONTENDED = launch_file('''    cpu = min(os.sched_getaffinity(0))
+    os.sched_setaffinity(0, {cpu})
+    for _ in range(2):
+        if os.fork() == 0:
+            end = time.monotonic() + 20
+            while time.monotonic() < end:
+                pass
+            os._exit(0)
+    start = time.process_time()
+    while time.process_time() - start < 0.5:  # half a second of CPU time
+        pass
+''', "import os\nimport time\n\n")
+
+
+def test_time_waiting_for_a_busy_cpu_does_not_count_against_the_limit(tmp_path, package):
+    """The wall limit grows by what the worker waited for a CPU (Linux run_delay), to at most
+    MAX_LOAD_FACTOR times it: a slow machine does not turn a finishing file into an error, while
+    a sleep or a blocking call (no CPU wanted, no wait) still stops at the limit itself."""
+    from pkgforge.processes import run_delay
+
+    if run_delay() is None:
+        pytest.skip("this kernel does not report run_delay (/proc/self/task/*/schedstat)")
+    package(tmp_path, CONTENDED, "contended")
+    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", "1", cwd=tmp_path)
+    assert "Traceback" not in result.stderr
+    assert not [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "PF301"], result.stdout

@@ -78,6 +78,11 @@ def _apply_limits(limits: dict) -> None:
     _set(resource.RLIMIT_NOFILE, OPEN_FILES)
 
     def on_alarm(signum, frame):
+        # the time it waited for a busy CPU is not its own: the limit grows by it (to a bound)
+        more = _WALL["allowance"].more() if _WALL.get("allowance") is not None else 0.0
+        if more:
+            signal.setitimer(signal.ITIMER_REAL, more)
+            return
         raise TimeLimit()
 
     def on_xcpu(signum, frame):
@@ -85,6 +90,11 @@ def _apply_limits(limits: dict) -> None:
 
     signal.signal(signal.SIGALRM, on_alarm)
     signal.signal(signal.SIGXCPU, on_xcpu)
+
+
+# this request's LoadAllowance (processes.py): None while the extra argument combinations run (their
+# own budget) and between requests
+_WALL: dict = {"allowance": None, "granted": 0.0}
 
 
 def _set(kind: int, value: int) -> None:
@@ -104,9 +114,12 @@ def _arm(limits: dict) -> None:
     process, so it is set to what was used so far plus this request's share)."""
     import resource
 
+    from pkgforge.processes import LoadAllowance
+
     timeout = limits.get("timeout")
     if not timeout:
         return
+    _WALL["allowance"], _WALL["granted"] = LoadAllowance(float(timeout)), 0.0
     signal.setitimer(signal.ITIMER_REAL, float(timeout))
     usage = resource.getrusage(resource.RUSAGE_SELF)
     soft = int(usage.ru_utime + usage.ru_stime) + math.ceil(float(timeout))
@@ -131,6 +144,7 @@ def _budget(limits: dict):
         return None
 
     def limit(seconds: float) -> None:
+        _stop_allowance()  # the branches' budget is wall time as it comes: what does not fit is said
         remaining, _ = signal.getitimer(signal.ITIMER_REAL)
         if remaining <= 0 or seconds < remaining:
             signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
@@ -138,9 +152,17 @@ def _budget(limits: dict):
     return BranchBudget(time.monotonic() + BRANCH_SHARE * float(timeout), (TimeLimit, CPULimit), limit, _disarm)
 
 
+def _stop_allowance() -> None:
+    allowance = _WALL["allowance"]
+    _WALL["allowance"] = None
+    if allowance is not None:
+        _WALL["granted"] = allowance.granted
+
+
 def _disarm() -> None:
     import resource
 
+    _stop_allowance()
     signal.setitimer(signal.ITIMER_REAL, 0)
     try:
         _, hard = resource.getrlimit(resource.RLIMIT_CPU)
@@ -156,7 +178,8 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     kind, message = error.get("type"), str(error.get("message", ""))
     timeout = limits.get("timeout")
     if kind == "TimeLimit":
-        return "time", (f"still running after the {timeout:g} s limit (an endless loop, or waiting "
+        busy = f" and {_WALL['granted']:.1f} s more it waited for a busy CPU" if _WALL["granted"] else ""
+        return "time", (f"still running after the {timeout:g} s limit{busy} (an endless loop, or waiting "
                         "for something); raise it with --launch-timeout")
     if kind == "CPULimit":
         return "cpu", f"used more than the {timeout:g} s CPU time limit; raise it with --launch-timeout"
