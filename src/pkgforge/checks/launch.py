@@ -494,7 +494,9 @@ def launch_combinations_unevaluated(ctx: CheckContext):
         stopped = branching.stopped or {}
         position = ctx.source_position(resolution, stopped.get("file"), stopped.get("line")) or \
             (resolution.launch.source or resolution.launch.installed, None)
-        how = (f"; {stopped['branch']} was stopped there" if stopped.get("branch") else "")
+        how = ""
+        if stopped.get("branch"):
+            how = f"; {stopped['branch']} was stopped" + (" at this line" if position[1] is not None else "")
         yield Finding(f"{resolution.launch.installed.name}: {branching.evaluated} of {branching.planned} "
                       f"argument combinations evaluated within the {branching.limit or 0:g} s limit "
                       f"(the defaults first); {missing} not checked{how}", *position)
