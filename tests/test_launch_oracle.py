@@ -123,7 +123,9 @@ def _canonical(resolution) -> dict:
         error.pop("branches"), error.pop("branch")
         # where the module that raised lives differs: the distro's launch, or pkgforge's
         error["message"] = re.sub(r" \((?:/|<)[^\n]*?\.py\)", "", error["message"])
+    # the same argument combinations planned by both engines; at this limit every one evaluated
     out = {"status": resolution.status, "error": error,
+           "combinations": [resolution.branching.planned, resolution.branching.evaluated],
            "arguments": sorted(json.dumps(_strip(as_dict(a)), sort_keys=True) for a in resolution.arguments)}
     for kind in ITEM_KINDS:
         out[kind] = sorted(json.dumps(_strip(as_dict(r)), sort_keys=True, default=str)

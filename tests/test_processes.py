@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -365,3 +366,110 @@ def test_file_mode_is_part_of_the_fingerprint(tmp_path, package):
     assert cache_entry(tmp_path)["key"] != key  # seen: verified again, not replayed
     assert json.loads(second.stdout) == json.loads(fresh.stdout)
     assert second.returncode == fresh.returncode
+
+
+# --- the time limit and argument combinations: the defaults decide, the others run while time remains
+
+BRANCHING = '''import time
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, OpaqueFunction
+from launch.substitutions import LaunchConfiguration
+
+NAMES = ["use_sim", "use_rviz", "use_gui", "lidar", "camera", "imu"]
+
+
+def on_branch(context):
+    if any(LaunchConfiguration(name).perform(context) == "true" for name in NAMES):
+{slow}
+    return []
+
+
+def generate_launch_description():
+{load}    return LaunchDescription([DeclareLaunchArgument(name, default_value="false") for name in NAMES]
+                             + [OpaqueFunction(function=on_branch)])
+'''
+COMBINATIONS = {
+    # every combination past the defaults takes a second: some fit in the limit, the rest do not
+    "b_slow": BRANCHING.format(slow="        time.sleep(1.0)  # slow", load=""),
+    # a combination past the defaults never ends: stopped, and said, but no error
+    "b_endless": BRANCHING.format(slow="        while True: pass  # endless", load=""),
+    # the defaults never end: the time limit's error, at the line, as ever
+    "b_load": BRANCHING.format(slow="        pass", load="    time.sleep(600)  # at load\n"),
+}
+
+
+@pytest.mark.triggers("PF318")
+@pytest.mark.parametrize("engine", ["builtin", "ros"])
+def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, package, engine):
+    """Both engines branch through records.evaluate_branches under the same budget."""
+    options = ["--launch-engine", "builtin"]
+    if engine == "ros":
+        from ros_prefix import make_prefix
+
+        prefix, reason = make_prefix("jazzy", tmp_path / "ros")
+        if prefix is None:
+            pytest.skip(f"no real ROS 2 launch library: {reason}")
+        options = ["--launch-engine", "ros", "--ros-prefix", str(prefix)]
+    for name, launch in COMBINATIONS.items():
+        package(tmp_path, launch, name)
+    result = run_pkgforge("verify", "--format", "json", "--launch-timeout", str(TIMEOUT), *options, cwd=tmp_path)
+    assert "Traceback" not in result.stderr
+    found = {}
+    for diagnostic in json.loads(result.stdout)["diagnostics"]:
+        if diagnostic["code"] in ("PF301", "PF318"):
+            found.setdefault(diagnostic["package"], []).append(diagnostic)
+    path = "src/{0}/launch/display.launch.py".format
+    launch = tmp_path / "src" / "{}" / "launch" / "display.launch.py"
+    # the defaults never end: PF301 at the line it was running, nothing about combinations
+    (load,) = found["b_load"]
+    assert located(load) == ("PF301", path("b_load"), line_of(Path(str(launch).format("b_load")), "# at load"))
+    # a branch that never ends: the defaults' records stand, the branch is said (info) where it stopped
+    (endless,) = found["b_endless"]
+    assert located(endless) == ("PF318", path("b_endless"),
+                                line_of(Path(str(launch).format("b_endless")), "# endless"))
+    assert endless["severity"] == "info"
+    # the defaults and MAX_BRANCHES (16) others, the first (every argument true) never ending
+    assert f"1 of 17 argument combinations evaluated within the {TIMEOUT} s limit" in endless["message"]
+    assert "16 not checked" in endless["message"] and "use_sim:=true was stopped at this line" in endless["message"]
+    # slow branches: as many as fit, counted; no error
+    (slow,) = found["b_slow"]
+    assert slow["code"] == "PF318" and slow["path"] == path("b_slow")
+    evaluated, planned = map(int, re.search(r"(\d+) of (\d+) argument combinations", slow["message"]).groups())
+    assert planned == 17 and 1 <= evaluated < planned
+    assert f"{planned - evaluated} not checked" in slow["message"]
+    assert result.returncode == 1  # b_load's error only
+    assert not [d for d in json.loads(result.stdout)["diagnostics"]
+                if d["severity"] == "error" and d["package"] != "b_load"], result.stdout
+    # machine-dependent (what fits depends on the machine's load): never cached
+    assert not [entry for entry in cache_entries(tmp_path)
+                if entry["report"]["name"] in ("b_slow", "b_endless", "b_load")]
+
+
+# a file that finishes, slowed by a busy machine: two competitors pinned to its CPU give it a third
+# of it (at most), so its half second of CPU time takes 1.5 s or more of wall time, past the 1 s limit
+CONTENDED = launch_file('''    cpu = min(os.sched_getaffinity(0))
+    os.sched_setaffinity(0, {cpu})
+    for _ in range(2):
+        if os.fork() == 0:
+            end = time.monotonic() + 20
+            while time.monotonic() < end:
+                pass
+            os._exit(0)
+    start = time.process_time()
+    while time.process_time() - start < 0.5:  # half a second of CPU time
+        pass
+''', "import os\nimport time\n\n")
+
+
+def test_time_waiting_for_a_busy_cpu_does_not_count_against_the_limit(tmp_path, package):
+    """The wall limit grows by what the worker waited for a CPU (Linux run_delay), to at most
+    MAX_LOAD_FACTOR times it: a slow machine does not turn a finishing file into an error, while
+    a sleep or a blocking call (no CPU wanted, no wait) still stops at the limit itself."""
+    from pkgforge.processes import run_delay
+
+    if run_delay() is None:
+        pytest.skip("this kernel does not report run_delay (/proc/self/task/*/schedstat)")
+    package(tmp_path, CONTENDED, "contended")
+    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", "1", cwd=tmp_path)
+    assert "Traceback" not in result.stderr
+    assert not [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "PF301"], result.stdout

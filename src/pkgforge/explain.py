@@ -111,6 +111,9 @@ def _render(resolution, tree) -> str:
             lines.append(f"  {argument.name} = {shown if shown is not None else '(required)'}")
     if resolution.branch_names:
         lines.append(f"evaluated for: {'; '.join(resolution.branch_names)}")
+    if resolution.unevaluated:
+        lines.append(f"not evaluated within the time limit: {resolution.unevaluated} of "
+                     f"{resolution.branching.planned} argument combinations")
     sections = [
         ("nodes", _node),
         ("packages", _package),

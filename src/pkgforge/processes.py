@@ -189,6 +189,52 @@ def install_signal_handlers() -> None:
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kmgt]?)(?:i?b)?\s*$", re.IGNORECASE)
 
 
+# the launch wall-time limit grows with the time a worker waited for a busy CPU, to at most this many
+# times --launch-timeout: a loaded machine slows a file down, it does not make it endless. Generous on
+# purpose: what the wall limit is for (a sleep, input(), a socket) waits for no CPU and gets nothing,
+# and an endless loop hits the CPU-time limit (the same seconds, whatever the load) anyway; the bound
+# is only for a worker starved outright
+MAX_LOAD_FACTOR = 10.0
+
+
+def run_delay(pid: int | str = "self") -> float | None:
+    """Seconds the threads of process `pid` were ready to run but waited for a CPU (Linux's
+    schedstat run_delay): what a busy machine added to its wall time. None where not known."""
+    total, found = 0, False
+    try:
+        tasks = os.listdir(f"/proc/{pid}/task")
+    except OSError:
+        return None
+    for task in tasks:
+        try:
+            with open(f"/proc/{pid}/task/{task}/schedstat") as handle:
+                total += int(handle.read().split()[1])
+                found = True
+        except (OSError, ValueError, IndexError):
+            continue  # a thread that ended meanwhile
+    return total / 1e9 if found else None
+
+
+class LoadAllowance:
+    """How much more wall time a process gets because it waited for a CPU since `start`:
+    `more()` grants what it waited beyond what was granted so far, up to (MAX_LOAD_FACTOR - 1)
+    times the limit in all. A process that sleeps or blocks waits for no CPU, so it gets nothing."""
+
+    def __init__(self, limit: float, pid: int | str = "self"):
+        self.pid, self.cap, self.granted = pid, (MAX_LOAD_FACTOR - 1) * limit, 0.0
+        self.start = run_delay(pid)
+
+    def more(self, least: float = 0.05) -> float:
+        now = run_delay(self.pid)
+        if now is None or self.start is None:
+            return 0.0
+        extra = min(now - self.start, self.cap) - self.granted
+        if extra < least:
+            return 0.0
+        self.granted += extra
+        return extra
+
+
 def parse_size(text: str) -> int:
     """'2G', '512M', '1.5GiB', '300000000' → bytes; ValueError otherwise."""
     match = _SIZE.match(text)

@@ -574,6 +574,8 @@ def _machine_dependent(resolutions: list, model_results: list) -> bool:
     for item in [*resolutions, *model_results]:
         if item.status in MACHINE_DEPENDENT or limit(item.error or {}):
             return True
+        if getattr(item, "unevaluated", 0):  # argument combinations the time limit left out
+            return True
         if any(limit(error) for error in getattr(item, "errors", [])):
             return True
     return False

@@ -473,6 +473,35 @@ def launch_environment_unset(ctx: CheckContext):
                       f"{' or '.join(names)} is not set here; what depends on it is not checked", *position)
 
 
+@register("PF318", "launch-combinations-unevaluated", "info", area="launch",
+          bad=("# launch/bringup.launch.py: 8 true/false arguments, each combination slow to evaluate\n"
+               "DeclareLaunchArgument('use_sim', default_value='false')  # ... and 7 more"),
+          good="$ pkgforge verify . --launch-timeout 60   # time for every combination",
+          summary="the time limit left some of a launch file's argument combinations unevaluated",
+          explanation="The defaults are evaluated under the whole --launch-timeout; the other values "
+                      "of true/false and choices arguments only while time remains. A file whose "
+                      "defaults finish is never an error for want of time: the combinations left out "
+                      "are said here, and what they would start is not checked. Machine-dependent, "
+                      "so never cached.",
+          hint="nothing is wrong with the file; raise --launch-timeout (or verify on a less busy machine) "
+               "to check every combination")
+def launch_combinations_unevaluated(ctx: CheckContext):
+    for resolution in ctx.resolutions:
+        missing = resolution.unevaluated
+        if not missing:
+            continue
+        branching = resolution.branching
+        stopped = branching.stopped or {}
+        position = ctx.source_position(resolution, stopped.get("file"), stopped.get("line")) or \
+            (resolution.launch.source or resolution.launch.installed, None)
+        how = ""
+        if stopped.get("branch"):
+            how = f"; {stopped['branch']} was stopped" + (" at this line" if position[1] is not None else "")
+        yield Finding(f"{resolution.launch.installed.name}: {branching.evaluated} of {branching.planned} "
+                      f"argument combinations evaluated within the {branching.limit or 0:g} s limit "
+                      f"(the defaults first); {missing} not checked{how}", *position)
+
+
 @register("PF312", "ros1-launch-file", "info", area="launch",
           bad=("# CMakeLists.txt (launch/display.launch is a roslaunch XML file)\n"
                "install(FILES launch/display.launch DESTINATION share/${PROJECT_NAME}/launch)"),

@@ -14,7 +14,7 @@ import sys
 import traceback
 
 from . import runtime
-from .records import Error, as_dict, evaluate_branches
+from .records import BranchBudget, Error, as_dict, evaluate_branches
 from .runtime import (RECORDER, Action, LaunchContext, LaunchDescription, LaunchDescriptionEntity,
                       Recorder, Unresolved)
 
@@ -246,8 +246,9 @@ def _watch_ament() -> None:
     packages._pkgforge_watched = True
 
 
-def evaluate(path: str, overrides: dict[str, str]) -> dict:
-    """Resolve one launch file; the result is plain data (JSON)."""
+def evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None = None) -> dict:
+    """Resolve one launch file; the result is plain data (JSON). `budget`: how long the argument
+    combinations past the defaults may run (records.evaluate_branches)."""
     _watch_xacro()
     _watch_ament()
     runtime.RECORDER.__init__()  # a fresh record for each file
@@ -266,8 +267,8 @@ def evaluate(path: str, overrides: dict[str, str]) -> dict:
         context.launch_configurations.update(values)
         visit([description], context)
 
-    evaluate_branches(RECORDER, path, overrides, run)
-    return {"status": "ok", "error": None, **_dump(RECORDER)}
+    branching = evaluate_branches(RECORDER, path, overrides, run, budget)
+    return {"status": "ok", "error": None, **_dump(RECORDER), "branching": branching.as_reply()}
 
 
 def _dump(recorder: Recorder) -> dict:

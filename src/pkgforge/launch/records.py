@@ -13,9 +13,10 @@ import dataclasses
 import itertools
 import json
 import os
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+from typing import Callable, Literal
 
 Status = Literal["ok", "load-error", "timeout", "crashed"]
 Engine = Literal["builtin", "ros"]
@@ -259,6 +260,12 @@ class Resolution:
     branch_names: list[str] = field(default_factory=list)
     engine: Engine = "builtin"
     distro: str | None = None
+    branching: Branching = field(default_factory=lambda: Branching())  # combinations evaluated in time
+
+    @property
+    def unevaluated(self) -> int:
+        """Argument combinations not evaluated because the time limit came first (machine-dependent)."""
+        return self.branching.planned - self.branching.evaluated if self.status == "ok" else 0
 
 
 STATUSES = ("ok", "load-error", "timeout", "crashed")
@@ -274,6 +281,8 @@ def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
                             [from_dict(Argument, a) for a in reply.get("arguments", [])],
                             files=list(reply.get("files", [])), engine=reply.get("engine", "builtin"),
                             distro=reply.get("distro"))
+    if isinstance(reply.get("branching"), dict):
+        resolution.branching = Branching(**reply["branching"])
     labels = set()
     for kind, cls in KINDS.items():
         merged: dict[str, Record] = {}
@@ -314,16 +323,58 @@ def runs_at_verify_time(words: list[str]) -> bool:
 MAX_BRANCHES = 16
 
 
-def evaluate_branches(recorder, path: str, overrides: dict[str, str], run) -> None:
+@dataclass
+class BranchBudget:
+    """How long a request's extra branches may run (the worker's, per request). The defaults are
+    evaluated under the full time limit; a file whose defaults finish is never an error because
+    its other argument combinations did not fit: they run only until `deadline` (time.monotonic),
+    `limit(seconds)` brings the wall-time alarm forward to it, and a branch the alarm (or the CPU
+    limit) stops, raising one of `stops`, is dropped whole and counted as not evaluated."""
+
+    deadline: float
+    stops: tuple  # the exceptions the worker's limits raise in a launch file
+    limit: Callable[[float], None]  # the wall-time alarm no later than that many seconds from now
+    release: Callable[[], None]  # the limits off again (the parent's own limit bounds the rest)
+
+
+@dataclass
+class Branching:
+    """How many argument combinations a file has (the defaults included) and how many were evaluated;
+    where the branch that ran out of time was stopped."""
+
+    planned: int = 1
+    evaluated: int = 1
+    stopped: dict | None = None  # {"file", "line", "branch"}: the branch stopped at the deadline
+    limit: float | None = None  # the time limit (s) the worker had
+
+    def as_reply(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def _mark(recorder) -> tuple:
+    return list(recorder.arguments), {kind: len(getattr(recorder, kind)) for kind in ITEM_KINDS}
+
+
+def _forget(recorder, mark: tuple) -> None:
+    """What a stopped branch recorded goes: a half-visited branch is no evaluation."""
+    names, lengths = mark
+    for name in [n for n in recorder.arguments if n not in names]:
+        del recorder.arguments[name]
+    for kind, length in lengths.items():
+        del getattr(recorder, kind)[length:]
+
+
+def evaluate_branches(recorder, path: str, overrides: dict[str, str], run,
+                      budget: BranchBudget | None = None) -> Branching:
     """Visit once with the defaults, then once per other value of every argument of `path` that has
-    choices or a true/false default (at most MAX_BRANCHES). Both engines branch through this one
-    function, so their records can only differ in what a visit records, never in which visits run.
-    `run(values, label)` performs one visit."""
+    choices or a true/false default (at most MAX_BRANCHES), while `budget` lasts. Both engines
+    branch through this one function, so their records can only differ in what a visit records,
+    never in which visits run. `run(values, label)` performs one visit."""
     run({}, {})
     varying = [a for a in recorder.arguments.values()
                if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
     if not varying:
-        return
+        return Branching()
     defaults = {a.name: a.default for a in varying}
     for kind in ITEM_KINDS:
         for item in getattr(recorder, kind):
@@ -333,8 +384,45 @@ def evaluate_branches(recorder, path: str, overrides: dict[str, str], run) -> No
     for argument, domain in zip(varying, domains):
         argument.values = list(domain)
     names = [a.name for a in varying]
-    for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES):
-        assignment = dict(zip(names, values))
-        if all(assignment[n].lower() == (defaults[n] or "").lower() for n in names):
-            continue
-        run(assignment, assignment)
+    assignments = [dict(zip(names, values)) for values in itertools.islice(itertools.product(*domains),
+                                                                            MAX_BRANCHES)]
+    assignments = [a for a in assignments
+                   if not all(a[n].lower() == (defaults[n] or "").lower() for n in names)]
+    result = Branching(planned=1 + len(assignments))
+    if budget is None:
+        for assignment in assignments:
+            run(assignment, assignment)
+        result.evaluated = result.planned
+        return result
+    current = None
+    try:  # the deadline may come between two branches too: then nothing is running, nothing is lost
+        try:
+            for assignment in assignments:
+                left = budget.deadline - time.monotonic()
+                if left <= 0:
+                    break
+                current, mark = assignment, _mark(recorder)
+                budget.limit(left)
+                run(assignment, assignment)
+                current = None
+                result.evaluated += 1
+        except budget.stops as stop:
+            if current is not None:
+                _forget(recorder, mark)
+                result.stopped = {"branch": " ".join(f"{k}:={v}" for k, v in sorted(current.items())),
+                                  **_where_stopped(stop)}
+        finally:
+            budget.release()
+    except budget.stops:
+        budget.release()
+    return result
+
+
+def _where_stopped(error: BaseException) -> dict:
+    """The launch file's line a stopped branch was running (the deepest frame in a launch file)."""
+    import traceback
+
+    from .runtime import _LAUNCH_FILES
+
+    frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in _LAUNCH_FILES]
+    return {"file": frames[-1].filename, "line": frames[-1].lineno} if frames else {"file": None, "line": None}

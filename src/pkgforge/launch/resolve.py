@@ -141,6 +141,7 @@ class _Worker:
                 return {"status": "crashed", "error": {
                     "message": f"cannot start the launch worker {exc.filename or sys.executable}: "
                                f"{exc.strerror or exc}", "line": None}}
+        allowance = processes.LoadAllowance(timeout, self.process.pid)
         try:
             self.process.stdin.write(json.dumps(request) + "\n")
             self.process.stdin.flush()
@@ -148,15 +149,24 @@ class _Worker:
             self.stop()
             return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
         # the worker stops the launch file itself at the limit, at the line it was running;
-        # past this grace the parent kills it (stuck in an extension module, signals blocked)
+        # past this grace the parent kills it (stuck in an extension module, signals blocked).
+        # Both grow the limit by the time the worker waited for a busy CPU (processes.LoadAllowance)
         deadline = time.monotonic() + timeout + KILL_GRACE
-        try:
-            line = self.replies.get(timeout=max(0.1, deadline - time.monotonic()))
-        except queue.Empty:
-            self.stop()
-            return {"status": "timeout", "error": {
-                "message": f"still running after the {timeout:g} s limit (an endless loop, or waiting "
-                           "for something); raise it with --launch-timeout", "line": None, "limit": "time"}}
+        while True:
+            try:
+                line = self.replies.get(timeout=max(0.1, deadline - time.monotonic()))
+                break
+            except queue.Empty:
+                more = allowance.more()
+                if more:
+                    deadline = time.monotonic() + more
+                    continue
+                self.stop()
+                busy = f" and {allowance.granted:.1f} s more it waited for a busy CPU" if allowance.granted else ""
+                return {"status": "timeout", "error": {
+                    "message": f"still running after the {timeout:g} s limit{busy} (an endless loop, or "
+                               "waiting for something); raise it with --launch-timeout", "line": None,
+                    "limit": "time"}}
         if line is None:
             try:  # its replies closed: it is ending (or closed them and goes on: killed below)
                 code = self.process.wait(timeout=1.0)
@@ -174,9 +184,9 @@ class _Worker:
         if not isinstance(reply, dict):
             self.stop()
             return {"status": "crashed", "error": {"message": "the launch worker gave no result", "line": None}}
-        if reply.get("status") in MACHINE_DEPENDENT or any(
+        if reply.get("status") in MACHINE_DEPENDENT or (reply.get("branching") or {}).get("stopped") or any(
                 isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]):
-            self.stop()  # a fresh worker for the next file: nothing it left running stays
+            self.stop()  # a fresh worker for the next file: nothing it (or a stopped branch) left stays
         return reply
 
     def stop(self) -> None:

@@ -766,8 +766,9 @@ def visit(entity, context, depth: int = 0) -> None:
 
 # --- one file -----------------------------------------------------------------------------
 
-def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
-    """Resolve one launch file with the real libraries; the result is plain data (JSON)."""
+def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=None) -> dict:
+    """Resolve one launch file with the real libraries; the result is plain data (JSON). `budget`
+    (records.BranchBudget): how long the argument combinations past the defaults may run."""
     from . import evaluate as builtin
 
     builtin._watch_xacro()
@@ -808,8 +809,9 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None) -> dict:
                 _VISITING = None
                 _clean_scratch()
 
-        evaluate_branches(RECORDER, path, overrides, run)
-        return {"status": "ok", "error": None, **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
+        branching = evaluate_branches(RECORDER, path, overrides, run, budget)
+        return {"status": "ok", "error": None, **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common,
+                "branching": branching.as_reply()}
     finally:
         os.environ.clear()
         os.environ.update(environment)

@@ -29,6 +29,8 @@ from pathlib import Path
 
 API_AMENT = Path(__file__).resolve().parent / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
+# the extra argument combinations start and run only until this share of --launch-timeout
+BRANCH_SHARE = 0.7
 
 
 class TimeLimit(BaseException):
@@ -76,6 +78,11 @@ def _apply_limits(limits: dict) -> None:
     _set(resource.RLIMIT_NOFILE, OPEN_FILES)
 
     def on_alarm(signum, frame):
+        # the time it waited for a busy CPU is not its own: the limit grows by it (to a bound)
+        more = _WALL["allowance"].more() if _WALL.get("allowance") is not None else 0.0
+        if more:
+            signal.setitimer(signal.ITIMER_REAL, more)
+            return
         raise TimeLimit()
 
     def on_xcpu(signum, frame):
@@ -83,6 +90,11 @@ def _apply_limits(limits: dict) -> None:
 
     signal.signal(signal.SIGALRM, on_alarm)
     signal.signal(signal.SIGXCPU, on_xcpu)
+
+
+# this request's LoadAllowance (processes.py): None while the extra argument combinations run (their
+# own budget) and between requests
+_WALL: dict = {"allowance": None, "granted": 0.0}
 
 
 def _set(kind: int, value: int) -> None:
@@ -102,9 +114,12 @@ def _arm(limits: dict) -> None:
     process, so it is set to what was used so far plus this request's share)."""
     import resource
 
+    from pkgforge.processes import LoadAllowance
+
     timeout = limits.get("timeout")
     if not timeout:
         return
+    _WALL["allowance"], _WALL["granted"] = LoadAllowance(float(timeout)), 0.0
     signal.setitimer(signal.ITIMER_REAL, float(timeout))
     usage = resource.getrusage(resource.RUSAGE_SELF)
     soft = int(usage.ru_utime + usage.ru_stime) + math.ceil(float(timeout))
@@ -116,9 +131,38 @@ def _arm(limits: dict) -> None:
         pass
 
 
+def _budget(limits: dict):
+    """How long this request's argument combinations past the defaults may run (records.BranchBudget):
+    until BRANCH_SHARE of the time limit, leaving the rest for the reply. The defaults have the
+    whole limit: a file that finishes them is never an error for want of time for the others."""
+    import time
+
+    from pkgforge.launch.records import BranchBudget
+
+    timeout = limits.get("timeout")
+    if not timeout:
+        return None
+
+    def limit(seconds: float) -> None:
+        _stop_allowance()  # the branches' budget is wall time as it comes: what does not fit is said
+        remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+        if remaining <= 0 or seconds < remaining:
+            signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
+
+    return BranchBudget(time.monotonic() + BRANCH_SHARE * float(timeout), (TimeLimit, CPULimit), limit, _disarm)
+
+
+def _stop_allowance() -> None:
+    allowance = _WALL["allowance"]
+    _WALL["allowance"] = None
+    if allowance is not None:
+        _WALL["granted"] = allowance.granted
+
+
 def _disarm() -> None:
     import resource
 
+    _stop_allowance()
     signal.setitimer(signal.ITIMER_REAL, 0)
     try:
         _, hard = resource.getrlimit(resource.RLIMIT_CPU)
@@ -134,7 +178,8 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     kind, message = error.get("type"), str(error.get("message", ""))
     timeout = limits.get("timeout")
     if kind == "TimeLimit":
-        return "time", (f"still running after the {timeout:g} s limit (an endless loop, or waiting "
+        busy = f" and {_WALL['granted']:.1f} s more it waited for a busy CPU" if _WALL["granted"] else ""
+        return "time", (f"still running after the {timeout:g} s limit{busy} (an endless loop, or waiting "
                         "for something); raise it with --launch-timeout")
     if kind == "CPULimit":
         return "cpu", f"used more than the {timeout:g} s CPU time limit; raise it with --launch-timeout"
@@ -290,14 +335,15 @@ def main() -> None:
         try:
             try:
                 _arm(limits)
+                budget = _budget(limits)
                 if "model" in request:
                     result = process_model(request["model"], request.get("mappings", {}))
                 elif engine == "ros" and setup_error is not None:
                     result = ros_engine.error_reply(request["file"], setup_error, distro)
                 elif engine == "ros":
-                    result = ros_engine.evaluate(request["file"], request.get("arguments", {}), distro)
+                    result = ros_engine.evaluate(request["file"], request.get("arguments", {}), distro, budget)
                 else:
-                    result = evaluate(request["file"], request.get("arguments", {}))
+                    result = evaluate(request["file"], request.get("arguments", {}), budget)
             finally:
                 _disarm()
         except BaseException as error:  # noqa: BLE001 - the reply must always come
@@ -308,6 +354,8 @@ def main() -> None:
 
                 result["errors"] = [as_dict(e) for e in RECORDER.errors]
         _mark_limits(result, limits)
+        if isinstance(result.get("branching"), dict):
+            result["branching"]["limit"] = limits.get("timeout")
         if guarded:
             _refusals(result, request)
         result["request"] = request
