@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import shutil
 from pathlib import Path
 
 import pytest
 
-from conftest import FIXTURES, VARIANTS, line_of, new_package, verify_report
+from conftest import FIXTURES, VARIANTS, line_of, new_package, run_pkgforge, verify_report
 
 CASES = FIXTURES / "physics" / "cases"
 # check name → the text of the case file at whose line the diagnostic points
@@ -154,3 +155,42 @@ def test_explain_model_shows_mass_size_and_mesh_bounds(tmp_path):
     assert any(line.startswith("size: 0.2 × 0.2 × 0.4 m ") for line in lines), lines
     assert ("     visual ✓ package://phys_description/meshes/link.stl  [0.05 × 0.05 × 0.3 m in the file, "
             "12 triangles]") in lines
+
+
+COLLADA_BOX = """<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit meter="1"/></asset>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="pa" count="9">0 0 0 0.3 0 0 0 0.3 0</float_array>
+      <technique_common><accessor source="#pa" count="3" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node><instance_geometry url="#g"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"""
+
+
+def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
+    """A real vendor package's .dae starts with a blank line before <?xml (assimp reads it; lxml
+    refuses): it crashed PF608 with an internal error. Its numbers are read; a .dae that is not
+    XML at all gives no numbers, and no check stops."""
+    from pkgforge.physics import mesh_info
+
+    package = physics_package(tmp_path, None)
+    (package / "meshes" / "blank_first.dae").write_text('\n<?xml version="1.0" encoding="utf-8"?>\n' + COLLADA_BOX)
+    (package / "meshes" / "not_xml.dae").write_bytes(b"\x00\x01 solid binary junk")
+    model = package / "urdf" / "robot.urdf"
+    meshes = "".join(f'<visual><geometry><mesh filename="package://phys_description/meshes/{name}"/></geometry>'
+                     f'</visual>' for name in ("blank_first.dae", "not_xml.dae"))
+    model.write_text(model.read_text().replace("<material name=\"grey\"/>\n    </visual>",
+                                                f"<material name=\"grey\"/>\n    </visual>{meshes}", 1))
+    info = mesh_info(str(package / "meshes" / "blank_first.dae"))
+    assert info is not None and info.triangles == 1
+    assert mesh_info(str(package / "meshes" / "not_xml.dae")) is None
+    result = run_pkgforge("verify", tmp_path, "--format", "json", "--no-cache", cwd=tmp_path)
+    assert "internal error" not in result.stderr and result.returncode in (0, 1), result.stderr
+    assert not [d for d in json.loads(result.stdout)["diagnostics"] if d["code"].startswith("PF6")]

@@ -53,10 +53,10 @@ def _mesh_info(path: str, size: int, mtime: int) -> MeshInfo | None:
         if suffix == ".stl":
             return _stl(data)
         if suffix == ".dae":
-            return _collada(data)
+            return _collada(data.lstrip())  # exporters leave blank lines before <?xml; assimp reads them
         if suffix == ".obj":
             return _obj(data)
-    except (OSError, ValueError, struct.error):
+    except Exception:  # noqa: BLE001 - a mesh file is the user's data: unreadable is "no numbers", never a crash
         return None
     return None
 
