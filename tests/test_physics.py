@@ -194,3 +194,20 @@ def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
     result = run_pkgforge("verify", tmp_path, "--format", "json", "--no-cache", cwd=tmp_path)
     assert "internal error" not in result.stderr and result.returncode in (0, 1), result.stderr
     assert not [d for d in json.loads(result.stdout)["diagnostics"] if d["code"].startswith("PF6")]
+
+
+def test_zero_effort_is_a_warning_zero_velocity_an_error(tmp_path):
+    """ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose (position controlled): only a
+    warning; a zero velocity stops MoveIt and controllers: an error."""
+    package = physics_package(tmp_path, "joint-limit-invalid")
+    model = package / "urdf" / "robot.urdf"
+    model.write_text(model.read_text().replace('lower="1.57" upper="-1.57" velocity="1.0" effort="10"',
+                                               'lower="-1.57" upper="1.57" velocity="1.0" effort="0"'))
+    status, report = verify_report(tmp_path, "--no-cache")
+    line = line_of(model, "<limit ")
+    assert status == 0
+    assert [(d["code"], d["severity"], d["path"], d["line"], d["message"]) for d in report["diagnostics"]] == [
+        ("PF605", "warning", "src/phys_description/urdf/robot.urdf", line, "revolute joint 'shoulder': effort limit is 0.0")]
+    model.write_text(model.read_text().replace('velocity="1.0" effort="0"', 'velocity="0" effort="10"'))
+    status, report = verify_report(tmp_path, "--no-cache")
+    assert status == 1 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [("PF605", "error")]

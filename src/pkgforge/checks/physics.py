@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import statistics
 
-from ..diagnostics import Finding
+from ..diagnostics import Finding, Severity
 from ..meshes import resolve_uri
 from .. import physics
 from .context import CheckContext
@@ -150,10 +150,16 @@ def joint_limit_invalid(ctx: CheckContext):
             if lower > upper:
                 yield Finding(f"{name}: lower limit {lower:g} > upper limit {upper:g}", *where,
                               hint="swap lower and upper")
-            for key in ("velocity", "effort"):
-                if not (limit.get(key) or 0) > 0:
-                    yield Finding(f"{name}: {key} limit is {limit.get(key)}", *where,
-                                  hint=f"set {key}= to the joint's real maximum (> 0)")
+            if not (limit.get("velocity") or 0) > 0:
+                yield Finding(f"{name}: velocity limit is {limit.get('velocity')}", *where,
+                              hint="set velocity= to the joint's real maximum (> 0)")
+            if not (limit.get("effort") or 0) > 0:
+                # ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose: they are position
+                # controlled, and RViz and MoveIt never read it. Only a simulator's effort control
+                # fails on it: a warning, not an error.
+                yield Finding(f"{name}: effort limit is {limit.get('effort')}", *where, severity=Severity.WARNING,
+                              hint="set effort= to the joint's real maximum (> 0) if the joint is simulated "
+                                   "or effort-controlled")
 
 
 @register("PF606", "continuous-joint-limits", "warning", area="physics",
