@@ -280,6 +280,17 @@ CELL_MACROS = f"""<?xml version="1.0"?>
   </xacro:macro>
 </robot>
 """
+# a piece of a robot whose include is commented out in the robot (articubot_one's depth_camera.xacro):
+# processed alone it could only fail on 'chassis'
+CAMERA_FRAGMENT = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <joint name="camera_joint" type="fixed">
+    <parent link="chassis"/>
+    <child link="camera_link"/>
+  </joint>
+  <link name="camera_link"/>
+</robot>
+"""
 WORLD = f"""<?xml version="1.0"?>
 <sdf version="1.6" {XACRO}>
   <world name="${{undefined_world_name}}"/>
@@ -296,6 +307,7 @@ def test_models_are_found_wherever_installed_and_macro_libraries_alone_give_noth
     (package / "config").mkdir()
     (package / "config" / "cell.urdf.xacro").write_text(CELL_MODEL)  # a joint's parent link is wrong
     (package / "config" / "cell_macros.xacro").write_text(CELL_MACROS)
+    (package / "config" / "depth_camera.xacro").write_text(CAMERA_FRAGMENT)  # a fragment: nothing
     (package / "worlds").mkdir()
     (package / "worlds" / "empty.world.xacro").write_text(WORLD)  # not a robot
     (package / "top.urdf").write_text(ARM_MODEL.replace("arm_bot", "top").replace("tool.stl", "top.stl"))

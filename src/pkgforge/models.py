@@ -59,6 +59,8 @@ class _Shape:
     robot: bool = True
     content: bool = True  # something outside macro definitions (a link, a joint, a macro call …)
     includes: list[str] = field(default_factory=list)  # the names of the files it includes
+    links: set[str] = field(default_factory=set)  # the links it defines (outside macro definitions)
+    parents: set[str] = field(default_factory=set)  # the parent links its joints name
 
 
 def _shape(path: Path, share: Path, package: str) -> _Shape:
@@ -84,6 +86,10 @@ def _shape(path: Path, share: Path, package: str) -> _Shape:
         name = etree.QName(element).localname
         if element.prefix != "xacro" and element.tag != f"{{{XACRO_NAMESPACE}}}{name}":
             shape.content = True  # a link, joint, material, gazebo … of its own
+            if name == "link" and element.get("name"):
+                shape.links.add(element.get("name"))
+            elif name == "joint" and element.find("parent") is not None:
+                shape.parents.add(element.find("parent").get("link") or "")
         elif name == "include":
             filename = element.get("filename", "").strip()
             shape.includes.append(os.path.basename(filename))
@@ -123,7 +129,23 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
         by_name.setdefault(path.name, []).append(shape)
     included = {name for path, shape in shapes.items() for name in shape.includes if name != path.name}
     return [path for path, shape in shapes.items()
-            if shape.robot and path.name not in included and _gives_content(shape, by_name)]
+            if shape.robot and path.name not in included and _gives_content(shape, by_name)
+            and not (path.name.endswith(".xacro") and _fragment(shape, by_name))]
+
+
+def _fragment(shape: _Shape, by_name: dict[str, list[_Shape]]) -> bool:
+    """Whether a xacro file hangs its joints on a link that neither it nor the installed files it
+    includes define (a camera.xacro on 'chassis'): a piece of a robot, meant to be included (often by
+    an include that is commented out), not a robot; processed alone it could only fail."""
+    links, seen, stack = set(), set(), [shape]
+    while stack:
+        current = stack.pop()
+        links |= current.links
+        for name in current.includes:
+            if name not in seen:
+                seen.add(name)
+                stack.extend(by_name.get(name, []))
+    return any(parent and "$" not in parent and parent not in links for parent in shape.parents)
 
 
 def _gives_content(shape: _Shape, by_name: dict[str, list[_Shape]]) -> bool:
