@@ -234,6 +234,10 @@ class LoadAllowance:
         self.granted += extra
         return extra
 
+    def stop(self) -> None:
+        """No more grants: `granted` stays what it is."""
+        self.cap = self.granted
+
 
 def parse_size(text: str) -> int:
     """'2G', '512M', '1.5GiB', '300000000' → bytes; ValueError otherwise."""

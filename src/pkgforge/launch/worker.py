@@ -79,7 +79,7 @@ def _apply_limits(limits: dict) -> None:
 
     def on_alarm(signum, frame):
         # the time it waited for a busy CPU is not its own: the limit grows by it (to a bound)
-        more = _WALL["allowance"].more() if _WALL.get("allowance") is not None else 0.0
+        more = _allowance.more() if _allowance is not None else 0.0
         if more:
             signal.setitimer(signal.ITIMER_REAL, more)
             return
@@ -92,9 +92,9 @@ def _apply_limits(limits: dict) -> None:
     signal.signal(signal.SIGXCPU, on_xcpu)
 
 
-# this request's LoadAllowance (processes.py): None while the extra argument combinations run (their
-# own budget) and between requests
-_WALL: dict = {"allowance": None, "granted": 0.0}
+# this request's LoadAllowance (processes.py), stopped while the extra argument combinations run
+# (their own budget) and between requests; None before the first request with a time limit
+_allowance = None
 
 
 def _set(kind: int, value: int) -> None:
@@ -119,7 +119,8 @@ def _arm(limits: dict) -> None:
     timeout = limits.get("timeout")
     if not timeout:
         return
-    _WALL["allowance"], _WALL["granted"] = LoadAllowance(float(timeout)), 0.0
+    global _allowance
+    _allowance = LoadAllowance(float(timeout))
     signal.setitimer(signal.ITIMER_REAL, float(timeout))
     usage = resource.getrusage(resource.RUSAGE_SELF)
     soft = int(usage.ru_utime + usage.ru_stime) + math.ceil(float(timeout))
@@ -153,10 +154,8 @@ def _budget(limits: dict):
 
 
 def _stop_allowance() -> None:
-    allowance = _WALL["allowance"]
-    _WALL["allowance"] = None
-    if allowance is not None:
-        _WALL["granted"] = allowance.granted
+    if _allowance is not None:
+        _allowance.stop()
 
 
 def _disarm() -> None:
@@ -178,7 +177,8 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     kind, message = error.get("type"), str(error.get("message", ""))
     timeout = limits.get("timeout")
     if kind == "TimeLimit":
-        busy = f" and {_WALL['granted']:.1f} s more it waited for a busy CPU" if _WALL["granted"] else ""
+        granted = _allowance.granted if _allowance is not None else 0.0
+        busy = f" and {granted:.1f} s more it waited for a busy CPU" if granted else ""
         return "time", (f"still running after the {timeout:g} s limit{busy} (an endless loop, or waiting "
                         "for something); raise it with --launch-timeout")
     if kind == "CPULimit":
