@@ -88,7 +88,7 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             run.not_fixed.append((diagnostic, f"internal error in the fixer: {type(exc).__name__}: {exc} "
                                               "(please report this to pkgforge)"))
             continue
-        outside = [p for p in fix.edits if not any(_inside(Path(os.path.realpath(p)), r) for r in roots)]
+        outside = [p for p in fix.edits if not any(Path(os.path.realpath(p)).is_relative_to(r) for r in roots)]
         if outside:
             run.not_fixed.append((diagnostic, f"the fix edits {outside[0]}, outside the package(s) being fixed"))
             continue
@@ -100,14 +100,6 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             merged.extend(e for e in edits if e not in merged)
         out.fixes.append((diagnostic, fix))
     return out
-
-
-def _inside(path: Path, folder: Path) -> bool:
-    try:
-        path.relative_to(folder)
-        return True
-    except ValueError:
-        return False
 
 
 def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
