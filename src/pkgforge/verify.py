@@ -38,6 +38,13 @@ PARALLEL_THRESHOLD = 16
 TREE_AREAS = ("launch", "model", "physics", "rviz")
 
 
+def _tree_codes() -> set[str]:
+    """The codes of the checks that need the install tree (and worker subprocesses)."""
+    from .checks.registry import all_checks
+
+    return {c.code for c in all_checks() if c.area in TREE_AREAS}
+
+
 @dataclass(frozen=True)
 class PackageTarget:
     path: Path
@@ -360,11 +367,8 @@ def _early_zygote(options: VerifyOptions, engine):
     whose colcon build takes long enough)."""
     if options.mode == "build":
         return None
-    if options.selection.select:  # (without, some package may select launch checks in pkgforge.toml)
-        from .checks.registry import all_checks
-
-        if not options.selection.codes() & {c.code for c in all_checks() if c.area in TREE_AREAS}:
-            return None
+    if options.selection.select and not options.selection.codes() & _tree_codes():
+        return None  # (without --select, some package may select launch checks in pkgforge.toml)
     from .launch.resolve import start_zygote
 
     return start_zygote(engine)
@@ -447,12 +451,11 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     """Verify the targets; `models` holds every package the install tree needs. `zygote`: the
     launch workers' fork server, when one was started already (closed here)."""
     from .checks.context import CheckContext
-    from .checks.registry import all_checks
 
     jobs = options.jobs or os.cpu_count() or 1
     selections = {t.path: config.for_package(t.name, t.path) for t in targets}
     codes = {path: selection.codes() for path, selection in selections.items()}
-    tree_codes = {c.code for c in all_checks() if c.area in TREE_AREAS} | {BUILD_FAILED}
+    tree_codes = _tree_codes() | {BUILD_FAILED}
     checked = [models[t.path] for t in targets]
 
     tree = None
