@@ -1,0 +1,46 @@
+"""The launch workers' fork server (launch/zygote.py): started early only when launch files or
+models will be evaluated, and never left running after verify, whatever way verify ends."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from pkgforge.config import Selection
+from pkgforge.errors import PkgforgeError
+from pkgforge.verify import VerifyOptions, _early_zygote, verify
+from test_processes import MARKER, marked
+
+
+def _fork_servers() -> list[int]:
+    """The live fork servers started from this test (their environment holds its marker)."""
+    return [pid for pid, command in marked(os.environ[MARKER]) if "--fork-server" in command]
+
+
+@pytest.fixture(autouse=True)
+def _marker(monkeypatch, request):
+    monkeypatch.setenv(MARKER, f"zygote-{os.getpid()}-{request.node.name}")
+
+
+def test_select_without_tree_checks_starts_no_fork_server():
+    options = VerifyOptions(selection=Selection(select=["PF1"]), launch_engine="builtin")
+    assert _early_zygote(options, options.engine()) is None
+    assert _fork_servers() == []
+
+
+def test_default_verify_starts_the_fork_server_and_close_ends_it():
+    options = VerifyOptions(launch_engine="builtin")
+    zygote = _early_zygote(options, options.engine())
+    try:
+        assert zygote is not None and _fork_servers() == [zygote.pid]
+    finally:
+        zygote.close()
+    assert _fork_servers() == []
+
+
+def test_fork_server_is_gone_when_verify_stops_with_an_error(tmp_path):
+    (tmp_path / "src").mkdir()  # a workspace with no package: discovery fails after the server started
+    with pytest.raises(PkgforgeError, match="no package found"):
+        verify(tmp_path, VerifyOptions(launch_engine="builtin", use_cache=False))
+    assert _fork_servers() == []
