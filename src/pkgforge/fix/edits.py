@@ -57,9 +57,6 @@ class SourceText:
         crlf = self.text.count("\r\n")
         return "\r\n" if crlf and crlf * 2 >= self.text.count("\n") else "\n"
 
-    def line_count(self) -> int:
-        return len(self.starts)
-
     def line_start(self, line: int) -> int:
         """Offset of the first character of a 1-based line."""
         if line < 1 or line > len(self.starts):
@@ -104,18 +101,6 @@ def apply(text: str, edits: list[Edit]) -> str:
     for edit in sorted(edits, key=lambda e: (e.start, e.end, e.order), reverse=True):
         text = text[:edit.start] + edit.text + text[edit.end:]
     return text
-
-
-def without_conflicts(edits: list[Edit]) -> tuple[list[Edit], list[Edit]]:
-    """(edits kept, edits dropped because they overlap one kept earlier); exact repeats merge."""
-    kept: list[Edit] = []
-    dropped = []
-    for edit in edits:
-        if edit in kept:
-            continue
-        clash = any(edit.start < other.end and other.start < edit.end for other in kept)
-        (dropped if clash else kept).append(edit)
-    return kept, dropped
 
 
 # --- parsing again ----------------------------------------------------------------------------

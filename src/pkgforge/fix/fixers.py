@@ -807,10 +807,6 @@ def _jsp_xml(source: SourceText, line: int) -> Fix:
     return fix
 
 
-def fixer_for(name: str):
-    return FIXERS.get(name)
-
-
 def relative_to(path: Path, base: Path) -> str:
     try:
         return os.path.relpath(path, base)
