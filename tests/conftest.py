@@ -148,3 +148,20 @@ def variants_workspace(tmp_path_factory) -> Path:
     result = run_pkgforge("build", cwd=workspace)
     assert result.returncode == 0, result.stdout + result.stderr
     return workspace
+
+
+@pytest.fixture(scope="session")
+def template_package(tmp_path_factory) -> Path:
+    """One clean `pkgforge new` package, made once; tests copy it, never change it."""
+    folder = tmp_path_factory.mktemp("template")
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=folder)
+    assert result.returncode == 0, result.stderr
+    return folder / "rob_description"
+
+
+@pytest.fixture
+def package(tmp_path, template_package) -> Path:
+    """A fresh copy of a clean package in a workspace (tmp_path), to break in one place."""
+    target = tmp_path / "src" / "rob_description"
+    shutil.copytree(template_package, target)
+    return target

@@ -15,21 +15,6 @@ import pytest
 from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge, verify_report
 
 
-@pytest.fixture(scope="module")
-def template_package(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("template")
-    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=folder)
-    assert result.returncode == 0, result.stderr
-    return folder / "rob_description"
-
-
-@pytest.fixture
-def package(tmp_path, template_package) -> Path:
-    target = tmp_path / "src" / "rob_description"
-    shutil.copytree(template_package, target)
-    return target
-
-
 def only(report: dict, code: str) -> dict:
     found = [d for d in report["diagnostics"] if d["code"] == code]
     assert len(found) == 1, report["diagnostics"]

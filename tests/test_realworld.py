@@ -500,3 +500,15 @@ def test_a_model_failing_whatever_its_empty_arguments_is_still_an_error(tmp_path
     assert status == 1
     assert findings(report, "dof_description") == [
         ("xacro-error", "robots/arm.xacro", line_of(model, "<xacro:include"))]
+
+
+@pytest.mark.triggers("PF605")
+def test_a_joint_is_placed_at_its_urdf_tag_not_its_ros2_control_mention(every_distro, workspace):
+    """Dobot's cra_description: a CAD export writes `<joint` and `name=` on lines of their own, and
+    a ros2_control block names the same joints (no type=). The finding is at the URDF joint."""
+    model = src(workspace, "exported_joint_description", "urdf/arm.urdf.xacro")
+    first = line_of(model, '    name="joint1"') - 1  # the `<joint` line above its name
+    second = line_of(model, 'type="revolute" name="joint2"')
+    assert findings(every_distro, "exported_joint_description") == [
+        ("joint-limit-invalid", "urdf/arm.urdf.xacro", first),
+        ("joint-limit-invalid", "urdf/arm.urdf.xacro", second)]

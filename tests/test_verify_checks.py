@@ -20,30 +20,6 @@ def findings(report: dict, minimum: str = "info") -> list[tuple]:
     return sorted((d["code"], d["name"], d["severity"], d["path"], d["line"]) for d in at_least(report, minimum))
 
 
-
-
-
-
-@pytest.fixture(scope="module")
-def template_package(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("template")
-    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=folder)
-    assert result.returncode == 0, result.stderr
-    return folder / "rob_description"
-
-
-@pytest.fixture
-def package(tmp_path, template_package) -> Path:
-    """A fresh copy of a clean package in a workspace, to break in one place."""
-    target = tmp_path / "src" / "rob_description"
-    shutil.copytree(template_package, target)
-    return target
-
-
-
-
-
-
 def test_clean_package_has_no_diagnostics(package):
     status, report = verify_json(package.parent.parent)
     assert status == 0

@@ -4,30 +4,14 @@
 from __future__ import annotations
 
 import os
-import shutil
 from pathlib import Path
 
 import pytest
 
-from conftest import MAINTAINER, hand_made_install, run_pkgforge, verify_report
+from conftest import hand_made_install, run_pkgforge, verify_report
 
 # a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
 HANG_GUARD = 240
-
-
-@pytest.fixture(scope="module")
-def template_package(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("template")
-    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=folder)
-    assert result.returncode == 0, result.stderr
-    return folder / "rob_description"
-
-
-@pytest.fixture
-def package(tmp_path, template_package) -> Path:
-    target = tmp_path / "ws" / "src" / "rob_description"
-    shutil.copytree(template_package, target)
-    return target
 
 
 @pytest.fixture
@@ -80,7 +64,7 @@ def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
     os.symlink(".", share / "launch" / "a")
     os.symlink("..", share / "launch" / "up")
     # a folder outside the install tree: its launch file must never be loaded
-    outside = tmp_path / "elsewhere"
+    outside = tmp_path / "elsewhere"  # beside the workspace's src/, outside its install/
     outside.mkdir()
     (outside / "evil.launch.py").write_text("raise RuntimeError('walked out of the tree')\n")
     os.symlink(outside, share / "launch" / "out")

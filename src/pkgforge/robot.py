@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import os
+import bisect
 import re
 import sys
 
@@ -214,20 +215,32 @@ def _line_mentioning(path: str, text: str) -> int | None:
 
 NAME_ATTRIBUTE = re.compile(r"<\s*(link|joint)\b[^>]*?\bname\s*=\s*[\"']([^\"'$]+)[\"']")
 MESH_ATTRIBUTE = re.compile(r"<\s*(mesh|texture)\b[^>]*?\bfilename\s*=\s*[\"']([^\"'$]+)[\"']")
+JOINT_TYPE = re.compile(r"\btype\s*=")
 
 
 def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
-    """(tag, literal name) → (file, line) across the model's files."""
+    """(tag, literal name) → (file, line) across the model's files.
+
+    A tag may span lines (SolidWorks exports write `<joint` and `name=` on lines of their
+    own), so the patterns run over the whole text. A `<joint>` without `type=` is not a
+    URDF joint but a ros2_control or transmission one naming it: never its place.
+    """
     index: dict[tuple[str, str], tuple[str, int]] = {}
     for file in files:
         try:
             with open(file, encoding="utf-8", errors="replace") as handle:
-                for number, line in enumerate(handle, start=1):
-                    for pattern in (NAME_ATTRIBUTE, MESH_ATTRIBUTE):
-                        for match in pattern.finditer(line):
-                            index.setdefault((match.group(1), match.group(2)), (file, number))
+                text = handle.read()
         except OSError:
             continue
+        newlines = [offset for offset, char in enumerate(text) if char == "\n"]
+        for pattern in (NAME_ATTRIBUTE, MESH_ATTRIBUTE):
+            for match in pattern.finditer(text):
+                end = text.find(">", match.end())
+                if match.group(1) == "joint" and not JOINT_TYPE.search(text, match.start(), end if end >= 0 else len(text)):
+                    continue
+                key = (match.group(1), match.group(2))
+                if key not in index:
+                    index[key] = (file, bisect.bisect_left(newlines, match.start()) + 1)
     return index
 
 
