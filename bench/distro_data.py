@@ -21,7 +21,7 @@ import time
 import dataclasses, functools, pathlib, re  # already imported by every verify
 import pkgforge
 t0 = time.perf_counter()
-from pkgforge import distro_data
+from pkgforge.model import distro_data
 t1 = time.perf_counter()
 data = distro_data.load()
 t2 = time.perf_counter()
@@ -40,7 +40,7 @@ def main() -> None:
     for _ in range(args.repeat):
         out = subprocess.run([sys.executable, "-c", ROUND], capture_output=True, text=True, check=True).stdout
         rows.append([float(x) for x in out.split()])
-    for index, what in enumerate(("import pkgforge.distro_data", "load() (read + parse)",
+    for index, what in enumerate(("import pkgforge.model.distro_data", "load() (read + parse)",
                                   "released_set((), ('jazzy',))")):
         values = [row[index] for row in rows]
         print(f"{what:32s} median {statistics.median(values):6.2f} ms   max {max(values):6.2f} ms")

@@ -46,7 +46,8 @@ def main() -> None:
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     os.chdir(sys.argv[1])
-    from pkgforge import models, verify
+    from pkgforge.urdf import select as models
+    from pkgforge.verify import pipeline as verify
     from pkgforge.launch import resolve
 
     timed(verify, "_cache_lookup", "cache lookup")

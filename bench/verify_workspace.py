@@ -25,7 +25,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pkgforge.scaffold import create_package, make_spec
+from pkgforge.scaffold.package import create_package
+from pkgforge.scaffold.package import make_spec
 
 SCRIPTS = Path(sysconfig.get_path("scripts"))
 

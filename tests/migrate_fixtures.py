@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pkgforge.stl import binary_stl, box_triangles
+from pkgforge.scaffold.stl import binary_stl
+from pkgforge.scaffold.stl import box_triangles
 
 LINKS = ("base_link", "link1", "link2")
 

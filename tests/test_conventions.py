@@ -78,7 +78,7 @@ def test_area_follows_the_code_prefix():
 
 
 def test_pf308_sits_in_launch_so_select_pf3_has_it():
-    from pkgforge.config import Selection
+    from pkgforge.verify.config import Selection
 
     assert "PF308" in Selection(["PF3"]).codes() and "PF308" not in Selection(["PF4"]).codes()
     assert {c.code for c in registered() if c.area == "launch"} == Selection(["PF3"]).codes()
@@ -421,7 +421,7 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
     the result must be the serial one (including a folder named unlike its package)."""
     import shutil
 
-    from pkgforge.verify import PARALLEL_THRESHOLD
+    from pkgforge.verify.pipeline import PARALLEL_THRESHOLD
 
     (tmp_path / "src").mkdir()
     first = new_package(tmp_path, "p00_description")

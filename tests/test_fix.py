@@ -649,11 +649,11 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     import dataclasses
 
     from pkgforge.checks.registry import REGISTRY, all_checks
-    from pkgforge.config import Selection
+    from pkgforge.verify.config import Selection
     from pkgforge.fix import fixers
     from pkgforge.fix.edits import Edit
     from pkgforge.fix.run import FixOptions, run_fix
-    from pkgforge.verify import VerifyOptions
+    from pkgforge.verify.pipeline import VerifyOptions
 
     package = copy_fixture("seed001/small_turtle", tmp_path)
     package = package.rename(package.with_name("turtle"))

@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 from conftest import MAINTAINER, line_of, run_pkgforge
-from pkgforge.stl import binary_stl, box_triangles
+from pkgforge.scaffold.stl import binary_stl
+from pkgforge.scaffold.stl import box_triangles
 
 MODEL = """<?xml version="1.0"?>
 <robot name="exported_robot" xmlns:xacro="http://www.ros.org/wiki/xacro">

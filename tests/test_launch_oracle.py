@@ -144,7 +144,9 @@ def _strip(data: dict) -> dict:
 def evaluations(prefixes, oracle_workspace) -> dict:
     """(engine, file) → canonical records; every file through the built-in engine and each distro."""
     from pkgforge.launch.resolve import find_launch_files, resolve
-    from pkgforge.verify import VerifyOptions, load_models, make_tree
+    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.pipeline import load_models
+    from pkgforge.verify.pipeline import make_tree
     from pkgforge.workspace import locate
 
     workspace = locate(oracle_workspace)

@@ -156,7 +156,7 @@ def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
 # --- the worker's record, for what the diagnostics do not show ---------------------------------
 
 def worker(requests: list[dict], env: dict | None = None) -> list[dict]:
-    done = subprocess.run([sys.executable, "-m", "pkgforge.launch.worker"], capture_output=True, text=True,
+    done = subprocess.run([sys.executable, "-m", "pkgforge.sandbox.worker"], capture_output=True, text=True,
                           input="".join(json.dumps(r) + "\n" for r in requests), timeout=120,
                           env=dict(os.environ, **(env or {})))
     return [json.loads(line) for line in done.stdout.splitlines()]

@@ -186,7 +186,7 @@ def test_a_space_in_pkgforges_own_temporary_folder_is_no_error_of_the_user(tmp_p
     spaced = tmp_path / "tmp dir"
     spaced.mkdir()
     patch = (f"import os, tempfile\nos.environ['TMPDIR'] = {str(spaced)!r}\ntempfile.tempdir = None\n"
-             "import pkgforge.trees\npkgforge.trees._fast_folder = lambda needed: None\n")
+             "import pkgforge.tree\npkgforge.tree._fast_folder = lambda needed: None\n")
     result = run_patched(patch, "verify", str(package), "--no-cache", cwd=package)
     assert (result.returncode, result.stderr) == (0, ""), result.stdout
     assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine")
@@ -204,10 +204,10 @@ def run_patched(patch: str, *args: str, cwd: Path) -> subprocess.CompletedProces
 
 
 def test_an_oserror_anywhere_is_one_located_line_exit_2(package):
-    patch = ("import pkgforge.verify\n"
+    patch = ("import pkgforge.verify.pipeline\n"
              "def broken(*a, **k):\n"
              "    raise PermissionError(13, 'Permission denied', '/srv/robots/x.urdf')\n"
-             "pkgforge.verify.verify = broken\n")
+             "pkgforge.verify.pipeline.verify = broken\n")
     result = run_patched(patch, "verify", str(package), cwd=package)
     assert result.returncode == 2
     assert result.stderr == ("pkgforge: error: /srv/robots/x.urdf: Permission denied; check its "
@@ -215,10 +215,10 @@ def test_an_oserror_anywhere_is_one_located_line_exit_2(package):
 
 
 def test_an_unexpected_exception_exits_2_asking_for_a_report(package):
-    patch = ("import pkgforge.verify\n"
+    patch = ("import pkgforge.verify.pipeline\n"
              "def broken(*a, **k):\n"
              "    raise KeyError('surprise')\n"
-             "pkgforge.verify.verify = broken\n")
+             "pkgforge.verify.pipeline.verify = broken\n")
     result = run_patched(patch, "verify", str(package), cwd=package)
     assert result.returncode == 2
     assert result.stderr.startswith("pkgforge: internal error: KeyError: 'surprise'; please report it")

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from pkgforge.stl import binary_stl, box_triangles
+from pkgforge.scaffold.stl import binary_stl
+from pkgforge.scaffold.stl import box_triangles
 
 from conftest import MAINTAINER, at_least, edit, line_of, run_pkgforge, verify_report
 from test_launch import humble_package

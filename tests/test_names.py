@@ -1,6 +1,6 @@
 import pytest
 
-from pkgforge.names import rep144_problem
+from pkgforge.model.names import rep144_problem
 
 
 @pytest.mark.parametrize("name", ["rob_description", "a", "robot2", "x_y_z", "r2d2_description"])

@@ -17,7 +17,7 @@ import yaml
 from catkin_pkg.package import parse_package
 from lxml import etree
 
-from pkgforge import scaffold
+from pkgforge.scaffold import package as scaffold
 from pkgforge.cli import main as cli_main
 from pkgforge.errors import PkgforgeError
 
@@ -205,10 +205,10 @@ def test_templates_ship_in_the_wheel(tmp_path):
     assert "pkgforge/__init__.py" in names  # the import package keeps its name
     for template in ("package/package.xml.j2", "package/CMakeLists.txt.j2",
                      "package/launch/display.launch.py.j2", "package/rviz/display.rviz.j2"):
-        assert f"pkgforge/templates/{template}" in names
+        assert f"pkgforge/scaffold/templates/{template}" in names
     # the released packages of every active distro, which verify reads (distro_data)
-    assert zipfile.ZipFile(wheel).read("pkgforge/data/distros.txt") == \
-        (REPO / "src" / "pkgforge" / "data" / "distros.txt").read_bytes()
+    assert zipfile.ZipFile(wheel).read("pkgforge/model/data/distros.txt") == \
+        (REPO / "src" / "pkgforge" / "model" / "data" / "distros.txt").read_bytes()
 
 
 # --- what the files say --------------------------------------------------------------------

@@ -27,7 +27,7 @@ EXPECTED = {
 
 def heavy_stl(path: Path, triangles: int = 20_001) -> None:
     """A small but finely tessellated mesh (a collision mesh exported from a visual one)."""
-    from pkgforge.stl import binary_stl
+    from pkgforge.scaffold.stl import binary_stl
 
     step = 0.05 / triangles
     path.write_bytes(binary_stl([((0.0, 0.0, 1.0), (i * step, 0.0, 0.0), ((i + 1) * step, 0.0, 0.0),
@@ -114,11 +114,11 @@ def test_example_robot_data_models_have_no_physical_errors(model):
     """The checks over the structure robot.py extracts, with meshes resolved in the wheel's share/."""
     from types import SimpleNamespace
 
-    from pkgforge import robot as robots
+    from pkgforge.urdf import robot as robots
     from pkgforge.checks.registry import all_checks
     from pkgforge.diagnostics import Severity
     from pkgforge.checks.physics import _resolver
-    from pkgforge.physics import world_bounds
+    from pkgforge.urdf.physics import world_bounds
 
     share = erd_share()
     path = share / "robots" / model
@@ -178,7 +178,7 @@ def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
     """A real vendor package's .dae starts with a blank line before <?xml (assimp reads it; lxml
     refuses): it crashed PF608 with an internal error. Its numbers are read; a .dae that is not
     XML at all gives no numbers, and no check stops."""
-    from pkgforge.physics import mesh_info
+    from pkgforge.urdf.physics import mesh_info
 
     package = physics_package(tmp_path, None)
     (package / "meshes" / "blank_first.dae").write_text('\n<?xml version="1.0" encoding="utf-8"?>\n' + COLLADA_BOX)

@@ -136,7 +136,7 @@ def test_signal_kills_every_process_and_exits_128_plus_signal(tmp_path, name, pa
     marker = uuid.uuid4().hex
     process = start_verify(tmp_path, marker)
     wait_for(marker, "sleep 7772", process)
-    assert any("pkgforge.launch.worker" in cmdline for _, cmdline in marked(marker))
+    assert any("pkgforge.sandbox.worker" in cmdline for _, cmdline in marked(marker))
     started = time.monotonic()
     process.send_signal(getattr(signal, name))
     out, err = process.communicate(timeout=60)
@@ -465,7 +465,7 @@ def test_time_waiting_for_a_busy_cpu_does_not_count_against_the_limit(tmp_path, 
     """The wall limit grows by what the worker waited for a CPU (Linux run_delay), to at most
     MAX_LOAD_FACTOR times it: a slow machine does not turn a finishing file into an error, while
     a sleep or a blocking call (no CPU wanted, no wait) still stops at the limit itself."""
-    from pkgforge.processes import run_delay
+    from pkgforge.sandbox.processes import run_delay
 
     if run_delay() is None:
         pytest.skip("this kernel does not report run_delay (/proc/self/task/*/schedstat)")

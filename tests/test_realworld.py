@@ -129,7 +129,7 @@ def test_references_in_comments_are_no_use(workspace):
 # --- 3. packages known per distro ------------------------------------------------------------
 
 def test_distro_data_every_active_distro():
-    from pkgforge.distro_data import load
+    from pkgforge.model.distro_data import load
 
     data = load()
     assert data.names == ["humble", "jazzy", "kilted", "lyrical", "rolling"]
@@ -140,7 +140,8 @@ def test_distro_data_every_active_distro():
 
 
 def test_every_replacement_is_released_where_its_name_is_not():
-    from pkgforge.distro_data import REPLACEMENTS, load
+    from pkgforge.model.distro_data import REPLACEMENTS
+    from pkgforge.model.distro_data import load
 
     data = load()
     for name, (successor, why) in REPLACEMENTS.items():
@@ -179,7 +180,7 @@ def test_distro_data_from_a_rosdistro_checkout(tmp_path):
     result = subprocess.run([sys.executable, str(REPO / "scripts" / "update-distro-data"), "--checkout",
                              str(tmp_path), "--output", str(out)], capture_output=True, text=True, timeout=60)
     assert result.returncode == 0, result.stderr
-    from pkgforge.distro_data import parse
+    from pkgforge.model.distro_data import parse
 
     data = parse(out.read_text())
     assert data.names == ["jazzy"] and sorted(data.masks) == ["ros_gz", "ros_gz_sim", "xacro"]

@@ -143,7 +143,8 @@ def test_the_tree_holds_copies_not_links_to_the_source(tmp_path):
     """The predicted tree: small files are copies (writing one cannot reach src/); a large mesh
     stays a link, and the guard copies it before a write."""
     from pkgforge.model.package import load_package
-    from pkgforge.trees import LINK_THRESHOLD, predicted_tree
+    from pkgforge.tree import LINK_THRESHOLD
+    from pkgforge.tree import predicted_tree
 
     (tmp_path / "src").mkdir()
     package = new_package(tmp_path, "copied")
@@ -174,7 +175,7 @@ def test_the_guard_reaches_child_python_processes(tmp_path):
     import subprocess
     import sys
 
-    import pkgforge.launch.guard as guard
+    import pkgforge.sandbox.guard as guard
 
     sandbox, user = tmp_path / "sandbox", tmp_path / "user.txt"
     sandbox.mkdir()

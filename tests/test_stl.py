@@ -1,6 +1,7 @@
 import struct
 
-from pkgforge.stl import binary_stl, box_triangles
+from pkgforge.scaffold.stl import binary_stl
+from pkgforge.scaffold.stl import box_triangles
 
 
 def test_box_is_a_valid_binary_stl():

@@ -11,7 +11,7 @@ import jsonschema
 import pytest
 from lxml import etree
 
-from pkgforge.docs import checks_markdown
+from pkgforge.checks.catalogue import checks_markdown
 
 from conftest import VARIANTS, copy_fixture, run_pkgforge
 

@@ -32,7 +32,8 @@ def silhouette(path: Path, area) -> tuple[int, int]:
 
 def expected_bounds(model: Path, resolve) -> tuple:
     """The model's bounds from the pure-Python numbers (robot.py, physics.py), not the renderer's."""
-    from pkgforge import physics, robot
+    from pkgforge.urdf import physics
+    from pkgforge.urdf import robot
 
     data = robot.process_model(str(model), {})
     assert data["status"] == "ok", data

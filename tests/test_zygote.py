@@ -7,9 +7,11 @@ import os
 
 import pytest
 
-from pkgforge.config import Selection
+from pkgforge.verify.config import Selection
 from pkgforge.errors import PkgforgeError
-from pkgforge.verify import VerifyOptions, _early_zygote, verify
+from pkgforge.verify.pipeline import VerifyOptions
+from pkgforge.verify.pipeline import _early_zygote
+from pkgforge.verify.pipeline import verify
 from test_processes import MARKER, marked
 
 

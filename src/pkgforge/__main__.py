@@ -1,4 +1,4 @@
-from .processes import install_signal_handlers
+from pkgforge.sandbox.processes import install_signal_handlers
 
 install_signal_handlers()  # before the slower imports: a Ctrl-C at start-up exits 130 too
 

@@ -7,17 +7,21 @@ import sys
 from pathlib import Path
 
 if sys.argv and os.path.basename(sys.argv[0]) == "pkgforge":  # the console script, before click loads:
-    from .processes import install_signal_handlers  # a Ctrl-C while starting exits 130 too
+    from pkgforge.sandbox.processes import install_signal_handlers  # a Ctrl-C while starting exits 130 too
 
     install_signal_handlers()
 
 import click  # noqa: E402
 
 from . import __version__  # noqa: E402
-from .distros import DISTROS, NEWEST_LTS, default_distro  # noqa: E402
+from pkgforge.model.distros import DISTROS
+from pkgforge.model.distros import NEWEST_LTS
+from pkgforge.model.distros import default_distro
 from .errors import PkgforgeError  # noqa: E402
 from .report import COLOR_CHOICES, FORMATS  # noqa: E402
-from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS  # noqa: E402
+from pkgforge.scaffold.kinds import BUILD_TYPES
+from pkgforge.scaffold.kinds import CI_SYSTEMS
+from pkgforge.scaffold.kinds import LAUNCH_FORMATS
 
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -46,7 +50,8 @@ def internal_error(what: str, trace: str) -> None:
 
 class _Group(click.Group):
     def main(self, args=None, *rest, **kwargs):
-        from .processes import Interrupted, install_signal_handlers
+        from pkgforge.sandbox.processes import Interrupted
+        from pkgforge.sandbox.processes import install_signal_handlers
 
         if args is None:
             # the command line itself (not a caller passing arguments, as tests do): Ctrl-C,
@@ -112,7 +117,8 @@ class MemorySize(click.ParamType):
     minimum = 256 * 2**20
 
     def convert(self, value, param, ctx):
-        from .processes import format_size, parse_size
+        from pkgforge.sandbox.processes import format_size
+        from pkgforge.sandbox.processes import parse_size
 
         if isinstance(value, int) or value is None:
             return value
@@ -158,7 +164,9 @@ class MemorySize(click.ParamType):
 def new(name, distro, build_type, launch_format, destination, maintainer_name,
         maintainer_email, license_, description, force, ci, from_urdf, mesh_uri):
     """Create a robot description package NAME that builds and shows in RViz2."""
-    from .scaffold import create_package, default_destination, make_spec
+    from pkgforge.scaffold.package import create_package
+    from pkgforge.scaffold.package import default_destination
+    from pkgforge.scaffold.package import make_spec
 
     options = dict(name=name, distro=distro, build_type=build_type, launch_format=launch_format,
                    maintainer_name=maintainer_name, maintainer_email=maintainer_email,
@@ -166,7 +174,7 @@ def new(name, distro, build_type, launch_format, destination, maintainer_name,
     notes = None
     try:
         if from_urdf is not None:
-            from .from_urdf import new_from_urdf
+            from pkgforge.scaffold.from_urdf import new_from_urdf
 
             created, notes, imported = new_from_urdf(options, from_urdf,
                                                      destination or default_destination(Path.cwd()),
@@ -195,9 +203,10 @@ def new(name, distro, build_type, launch_format, destination, maintainer_name,
 
 def finish_with_verify(package: Path, notes) -> None:
     """`migrate` and `new --from-urdf`: what changed, then verify's report on the result; verify's exit status."""
-    from .config import Selection
+    from pkgforge.verify.config import Selection
     from .report import render
-    from .verify import VerifyOptions, verify as run_verify
+    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.pipeline import verify as run_verify
 
     click.echo(notes.render(Path.cwd()), nl=False)
     click.echo(f"verify {os.path.relpath(package)}:")
@@ -257,7 +266,8 @@ def migrate(path, destination, launch_format, distro, gazebo):
 def build(path, build_base, install_base, packages_select, build_tests, no_stubs,
           parallel_workers, cmake_args):
     """Build the workspace or package at PATH with colcon (merged install)."""
-    from .build import default_options, run_build
+    from pkgforge.build.colcon import default_options
+    from pkgforge.build.colcon import run_build
     from .workspace import locate
 
     try:
@@ -350,9 +360,10 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
     1 errors found (or warnings with --strict), 2 verify could not run.
     """
-    from .config import Selection
+    from pkgforge.verify.config import Selection
     from .report import render
-    from .verify import VerifyOptions, verify as run_verify
+    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.pipeline import verify as run_verify
 
     if build_tree and install_base is not None:
         fail(PkgforgeError("--build and --install-base exclude each other: build, or read an existing tree"))
@@ -384,12 +395,12 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
                             distro=target_distro, launch_engine=launch_engine, ros_prefix=ros_prefix)
     try:
         if explain_launch is not None:
-            from .explain import explain_launch_file
+            from pkgforge.verify.explain import explain_launch_file
 
             click.echo(explain_launch_file(path, explain_launch, options), nl=False)
             return
         if explain_model is not None:
-            from .explain import explain_model_file
+            from pkgforge.verify.explain import explain_model_file
 
             click.echo(explain_model_file(path, explain_model, options), nl=False)
             return
@@ -449,7 +460,7 @@ def view(target, out, joints, launch_args, launch_timeout, no_frame):
     TARGET is a package or workspace folder, a package name, or one .urdf/.xacro file
     (in a workspace package, or installed in a ROS prefix's share/<package>/).
     """
-    from .verify import VerifyOptions
+    from pkgforge.verify.pipeline import VerifyOptions
     from .view import Artifacts, parse_joints
     from .view.command import run_view
 
@@ -489,9 +500,10 @@ def verify_files(files, strict, color):
 
     Each package found above a file is verified once, in the fast default mode.
     """
-    from .config import Selection
+    from pkgforge.verify.config import Selection
     from .report import render, use_color
-    from .verify import VerifyOptions, verify as run_verify
+    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.pipeline import verify as run_verify
 
     color = use_color(color, sys.stdout)
     packages = []
@@ -521,7 +533,7 @@ def verify_files(files, strict, color):
 def checks(fmt):
     """List every check: code, name, default severity and what it finds."""
     from .checks.registry import all_checks
-    from .docs import checks_markdown
+    from pkgforge.checks.catalogue import checks_markdown
 
     if fmt == "markdown":
         click.echo(checks_markdown(), nl=False)
@@ -538,7 +550,7 @@ def rule(check):
     import difflib
 
     from .checks.registry import all_checks, find_check
-    from .docs import rule_text
+    from pkgforge.checks.catalogue import rule_text
 
     found = find_check(check)
     if found is None:
@@ -579,11 +591,11 @@ def _fix_targets(paths) -> list[Path]:
 def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, launch_args,
                     launch_timeout, color="auto") -> None:
     """`pkgforge fix` and `pkgforge verify --fix`: fix, then report what was fixed and what remains."""
-    from .config import Selection
+    from pkgforge.verify.config import Selection
     from .fix.report import render_fix
     from .fix.run import FixOptions, run_fix
     from .report import use_color
-    from .verify import VerifyOptions
+    from pkgforge.verify.pipeline import VerifyOptions
 
     options = FixOptions(VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs,
                                        strict=strict, launch_timeout=launch_timeout,

@@ -66,7 +66,7 @@ class CheckContext:
     def real_packages(self) -> set[str]:
         """Every name known to be a ROS package here: the workspace's, the tree's, and those
         released for the target distros (any active distro when there is no target)."""
-        from ..distro_data import released_set
+        from pkgforge.model.distro_data import released_set
 
         key = ("real", self.distros)
         if key not in self.shared:
@@ -79,7 +79,7 @@ class CheckContext:
 
     def known_packages(self) -> set[str]:
         """Names that are no typo: real packages, released in any distro, or declared here."""
-        from ..distro_data import released_set
+        from pkgforge.model.distro_data import released_set
 
         key = ("known", self.distros)
         if key not in self.shared:
@@ -106,7 +106,7 @@ class CheckContext:
     def file_exists_for_rviz(self, reference: str) -> bool:
         """A Description File as RViz reads it: an absolute path, or package://."""
         if reference.startswith("package://") and self.tree is not None:
-            from ..meshes import resolve_uri
+            from pkgforge.urdf.meshes import resolve_uri
 
             return resolve_uri(reference, self.tree).status in ("found", "unchecked")
         return os.path.isfile(reference)
@@ -161,7 +161,7 @@ class CheckContext:
         """The launch API name the built-in engine lacks where its list is only the nearest older
         distro's and no list has it (a name new in Kilted or later, e.g. PathSubstitution, is real
         there; a typo looks the same): None where the ImportError is ROS's."""
-        from ..distro_data import active_distros
+        from pkgforge.model.distro_data import active_distros
 
         error = resolution.error
         found = BUILTIN_IMPORT_ERROR.search(str(error.message or "")) if error is not None else None

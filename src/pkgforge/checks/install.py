@@ -329,7 +329,7 @@ def package_not_installed(ctx: CheckContext):
     if ctx.tree is not None:
         installed = ctx.tree.packages  # (a mapping: membership without a copy per package)
     else:
-        from ..trees import INDEX
+        from pkgforge.tree import INDEX
 
         base = Path(ctx.install_base)
         installed = {p.name for p in (base / INDEX).glob("*")} | \

@@ -275,7 +275,8 @@ def unknown_package(ctx: CheckContext):
 
 def _unknown_hint(ctx: CheckContext, name: str) -> str:
     """The package's ROS 2 name, or close names from the workspace, package.xml and the distros."""
-    from ..distro_data import load, replacement
+    from pkgforge.model.distro_data import load
+    from pkgforge.model.distro_data import replacement
 
     if replacement(name) is not None:
         return f"use {replacement(name)[0]}: {replacement(name)[1]}"

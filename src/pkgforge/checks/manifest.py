@@ -5,7 +5,8 @@ from __future__ import annotations
 from ..diagnostics import Finding, Severity
 from ..model.manifest import GENERIC_OVERLAPS, RUN_TAGS
 from ..model.references import launch_kind
-from ..names import REP144_RULE, rep144_problem
+from pkgforge.model.names import REP144_RULE
+from pkgforge.model.names import rep144_problem
 from .context import CheckContext
 from .files import read_problem_hint
 from .registry import register
@@ -202,7 +203,8 @@ def unused_exec_depend(ctx: CheckContext):
 
 def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
     """(message, hint) when `name` is not released for the target distros, else None."""
-    from ..distro_data import load, replacement
+    from pkgforge.model.distro_data import load
+    from pkgforge.model.distro_data import replacement
 
     data = load()
     released = data.released_in(name)
@@ -297,7 +299,7 @@ def find_package_undeclared(ctx: CheckContext):
     manifest = model.manifest
     if model.cmake is None or not manifest.valid:
         return
-    from ..distro_data import released_set
+    from pkgforge.model.distro_data import released_set
 
     build = manifest.build_dependencies() | {d.name for d in manifest.active_dependencies()
                                              if d.tag in ("test_depend", "build_export_depend")}

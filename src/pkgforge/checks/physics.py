@@ -11,10 +11,10 @@ from __future__ import annotations
 import statistics
 
 from ..diagnostics import Finding, Severity
-from ..meshes import resolve_uri
-from .. import physics
+from pkgforge.urdf.meshes import resolve_uri
+from pkgforge.urdf import physics
 from .context import CheckContext
-from .model import _where
+from pkgforge.checks.urdf import _where
 from .registry import register
 
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 from ..diagnostics import Finding
-from ..rviz import ROBOT_MODEL
+from pkgforge.model.rviz import ROBOT_MODEL
 from .context import CheckContext
-from .model import link_names, root_link
+from pkgforge.checks.urdf import link_names
+from pkgforge.checks.urdf import root_link
 from .files import read_problem_hint
 from .registry import register
 

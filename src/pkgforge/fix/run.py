@@ -16,7 +16,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..diagnostics import Diagnostic
-from ..verify import VerifyOptions, VerifyResult, verify
+from pkgforge.verify.pipeline import VerifyOptions
+from pkgforge.verify.pipeline import VerifyResult
+from pkgforge.verify.pipeline import verify
 from .edits import Edit, FileSet, Outcome, Unfixable, apply, parse_problem, unified_diff, write_atomically
 from .fixers import FIXERS, Fix, FixContext
 

@@ -66,7 +66,8 @@ BUILTIN = LaunchEngine()  # the distro from PKGFORGE_LAUNCH_DISTRO, else api.DEF
 def builtin(target: str | None = None, environ=os.environ) -> LaunchEngine:
     """The built-in engine held to the target distro's launch API: --distro, else ROS_DISTRO,
     else the default distro (distros.default_distro: the newest LTS)."""
-    from ..distros import DISTROS, default_distro
+    from pkgforge.model.distros import DISTROS
+    from pkgforge.model.distros import default_distro
 
     environment = environ.get("ROS_DISTRO", "")
     distro = target or (environment if environment in DISTROS else default_distro())
@@ -102,7 +103,7 @@ def _pythonpath_has_launch(environ) -> bool:
 def distro_of(prefix: str | None, environ=os.environ) -> str | None:
     if prefix:
         name = os.path.basename(os.path.normpath(prefix))
-        from ..distros import DISTROS
+        from pkgforge.model.distros import DISTROS
 
         if name in DISTROS or name in ("humble", "iron", "jazzy", "kilted", "rolling"):
             return name

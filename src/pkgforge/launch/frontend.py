@@ -248,7 +248,7 @@ def parse_file(path: str, kind: str):
         element = _from_xml(root)
     else:
         try:
-            from ..yamlnodes import compose  # libyaml; the same nodes and errors
+            from pkgforge.model.yamlnodes import compose  # libyaml; the same nodes and errors
 
             document = compose(data.decode("utf-8"))
         except yaml.YAMLError as error:

@@ -20,13 +20,14 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import processes
+from pkgforge.sandbox import processes
 from ..model.package import PackageModel
 from ..model.references import launch_kind
-from ..trees import InstallTree
+from pkgforge.tree import InstallTree
 from .engines import BUILTIN, LaunchEngine
 from .records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
-from .zygote import ForkedProcess, Zygote
+from pkgforge.sandbox.zygote import ForkedProcess
+from pkgforge.sandbox.zygote import Zygote
 from ..walk import walk
 
 DEFAULT_TIMEOUT = 10.0
@@ -118,7 +119,7 @@ class _Worker:
             self.process = self.zygote.spawn(env)
         else:
             self.process = subprocess.Popen(
-                [sys.executable, "-m", "pkgforge.launch.worker"], stdin=subprocess.PIPE,
+                [sys.executable, "-m", "pkgforge.sandbox.worker"], stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, text=True, errors="replace",
                 start_new_session=True)
         self.replies = queue.Queue()

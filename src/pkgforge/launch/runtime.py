@@ -381,7 +381,7 @@ def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
     try:
         document = process_file(files[0], mappings=mappings)
         output = document.toprettyxml(indent="  ")
-        from ..robot import structure_of_output
+        from pkgforge.urdf.robot import structure_of_output
 
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
         robot = structure_of_output(files[0], output, includes)

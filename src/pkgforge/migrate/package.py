@@ -57,7 +57,10 @@ def _is_ros1_launch(relative: str) -> bool:
 
 def _models(source: Path, files: list[str], notes):
     """Links of the models in the package, the root link of the first, and missing meshes."""
-    from ..from_urdf import _parse, _references, resolve, root_link
+    from pkgforge.scaffold.from_urdf import _parse
+    from pkgforge.scaffold.from_urdf import _references
+    from pkgforge.scaffold.from_urdf import resolve
+    from pkgforge.scaffold.from_urdf import root_link
 
     links: set[str] = set()
     first_root, missing = None, []
@@ -84,9 +87,13 @@ def _models(source: Path, files: list[str], notes):
 
 def migrate(source: Path, destination: Path | None, *, launch_format: str, distro: str | None,
             gazebo: bool, notes_factory):
-    from ..distro_data import load
-    from ..from_urdf import _parse, massless_root, missing_message
-    from ..scaffold import create_package, make_spec, render_files
+    from pkgforge.model.distro_data import load
+    from pkgforge.scaffold.from_urdf import _parse
+    from pkgforge.scaffold.from_urdf import massless_root
+    from pkgforge.scaffold.from_urdf import missing_message
+    from pkgforge.scaffold.package import create_package
+    from pkgforge.scaffold.package import make_spec
+    from pkgforge.scaffold.package import render_files
     from .emit import to_python, to_xml, to_yaml, used_packages
     from .roslaunch import Reader
     from .rviz1 import convert as convert_rviz

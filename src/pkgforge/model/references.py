@@ -174,7 +174,7 @@ def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
     controller_manager node (`controller_manager: {ros__parameters: ...}`) use controller_manager."""
     import yaml
 
-    from ..yamlnodes import compose_all
+    from pkgforge.model.yamlnodes import compose_all
 
     found: list[Reference] = []
     try:
@@ -205,7 +205,7 @@ def _yaml_scalars(text: str):
     """(key or None, scalar value, line) for every scalar of every YAML document."""
     import yaml
 
-    from ..yamlnodes import compose_all
+    from pkgforge.model.yamlnodes import compose_all
 
     try:
         documents = compose_all(text)

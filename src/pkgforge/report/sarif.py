@@ -7,7 +7,7 @@ import json
 from .. import __version__
 from ..checks.registry import all_checks
 from ..diagnostics import Severity
-from ..docs import help_uri
+from pkgforge.checks.catalogue import help_uri
 from . import relative
 
 LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}

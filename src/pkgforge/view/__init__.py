@@ -62,7 +62,7 @@ class Artifacts:
         self.used_joints: set[str] = set()
 
     def __call__(self, tree, results) -> None:
-        from ..meshes import resolve_uri
+        from pkgforge.urdf.meshes import resolve_uri
 
         try:
             self.out.mkdir(parents=True, exist_ok=True)

@@ -24,7 +24,8 @@ def _package_folder(file: Path) -> Path | None:
 
 
 def _by_name(name: str) -> Path:
-    from ..verify import package_folders, quick_name
+    from pkgforge.verify.pipeline import package_folders
+    from pkgforge.verify.pipeline import quick_name
     from ..workspace import locate
 
     workspace = locate(Path.cwd())
@@ -46,8 +47,8 @@ def run_view(target: str, artifacts: Artifacts, options) -> None:
             raise PkgforgeError(f"{path} is not a robot model (.urdf or .xacro)")
         _one_model(path, artifacts, options)
     else:
-        from ..config import Selection
-        from ..verify import verify
+        from pkgforge.verify.config import Selection
+        from pkgforge.verify.pipeline import verify
 
         # the tree and the models only: urdf-invalid is the one check that needs them
         options.selection, options.use_cache, options.on_models = Selection(["PF401"], []), False, artifacts
@@ -55,12 +56,13 @@ def run_view(target: str, artifacts: Artifacts, options) -> None:
 
 
 def _one_model(file: Path, artifacts: Artifacts, options) -> None:
-    from .. import models as robot_models
+    from pkgforge.urdf import select as robot_models
     from ..launch.resolve import WorkerLimits, source_of
 
     installed = _installed_prefix(file)
     if installed is not None or _package_folder(file) is None:
-        from ..trees import InstallTree, _index
+        from pkgforge.tree import InstallTree
+        from pkgforge.tree import _index
 
         import tempfile
         import time
@@ -80,7 +82,7 @@ def _one_model(file: Path, artifacts: Artifacts, options) -> None:
         finally:
             tree.close()
         return
-    from ..explain import _installed
+    from pkgforge.verify.explain import _installed
 
     with _installed(_package_folder(file), file, options) as (tree, installed_file, package, owner):
         result = robot_models.ModelResult(package, installed_file, source_of(installed_file, tree, owner),

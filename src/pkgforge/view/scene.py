@@ -1,7 +1,7 @@
 """A robot model's visual geometry as one triangle soup in the root link's frame.
 
 Meshes (STL, COLLADA, OBJ) are loaded with trimesh; boxes, cylinders and
-spheres are made here. Link poses come from pkgforge.physics, the same
+spheres are made here. Link poses come from pkgforge.urdf.physics, the same
 kinematics `--explain-model` and the physical checks use.
 """
 
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import physics
+from pkgforge.urdf import physics
 
 DEFAULT_COLOR = (0.72, 0.74, 0.78)
 ROUND_SEGMENTS = 32

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
-from .trees import InstallTree
+from pkgforge.tree import InstallTree
 
 READ_LIMIT = 1 << 20
 

@@ -21,8 +21,8 @@ import re
 import tempfile
 from pathlib import Path
 
-from . import __version__
-from .diagnostics import Diagnostic, PackageReport, Severity
+from pkgforge import __version__
+from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
 
 # 4: a model failing on its own for want of its empty-default xacro:args is PF406, no longer PF308
 CACHE_FORMAT = 4
@@ -145,7 +145,7 @@ def externals(context) -> set[str]:
     A path into another workspace package depends on that package's build
     files too: fixing its install rules changes what exists in the tree.
     """
-    from .meshes import resolve_uri
+    from pkgforge.urdf.meshes import resolve_uri
 
     tree = context.tree
     found: set[str] = set()

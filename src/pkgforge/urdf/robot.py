@@ -287,7 +287,7 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
     return robot
 
 
-# --- the numbers physics and rendering need (pkgforge.physics, pkgforge.view) -------------------
+# --- the numbers physics and rendering need (pkgforge.urdf.physics, pkgforge.view) -------------------
 
 def _numbers(text: str | None, count: int) -> list[float] | None:
     """`count` floats from a space-separated attribute; None when absent or not numbers."""

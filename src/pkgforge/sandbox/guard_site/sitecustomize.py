@@ -15,7 +15,7 @@ def _load(name, path):
 
 def _install():
     here = os.path.dirname(os.path.abspath(__file__))
-    guard = sys.modules.get("pkgforge.launch.guard") or _load("_pkgforge_guard",
+    guard = sys.modules.get("pkgforge.sandbox.guard") or _load("_pkgforge_guard",
                                                               os.path.join(os.path.dirname(here), "guard.py"))
     guard.install()
     for folder in sys.path:  # the sitecustomize this one hides (a distribution's), if any

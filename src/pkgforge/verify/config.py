@@ -18,9 +18,9 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .checks.registry import all_checks
-from .diagnostics import Severity
-from .errors import PkgforgeError
+from pkgforge.checks.registry import all_checks
+from pkgforge.diagnostics import Severity
+from pkgforge.errors import PkgforgeError
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -61,7 +61,7 @@ class Selection:
             return
         from dataclasses import replace
 
-        from .checks.registry import REGISTRY
+        from pkgforge.checks.registry import REGISTRY
 
         changed = []
         for diagnostic in report.diagnostics:
@@ -243,7 +243,7 @@ def read_config(path: Path) -> dict:
         validate_keys(verify.get(key, []), f"{path}{_at(text, 'verify.' + key)}: verify.{key}")
     distro = verify.get("distro")
     if distro is not None:
-        from .distros import DISTROS
+        from pkgforge.model.distros import DISTROS
 
         chosen = [distro] if isinstance(distro, str) else distro
         if not chosen or any(d not in DISTROS for d in chosen):

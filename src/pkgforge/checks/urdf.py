@@ -8,12 +8,13 @@ import shlex
 from collections import Counter
 from pathlib import Path
 
-from ..diagnostics import Finding
-from ..meshes import resolve_uri, unreadable
-from .context import CheckContext
-from .install import install_fix, install_fix_data, link_hint
-from .files import read_problem_hint, untree
-from .registry import register
+from pkgforge.diagnostics import Finding
+from pkgforge.urdf.meshes import resolve_uri
+from pkgforge.urdf.meshes import unreadable
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.install import install_fix, install_fix_data, link_hint
+from pkgforge.checks.files import read_problem_hint, untree
+from pkgforge.checks.registry import register
 
 
 def _where(ctx: CheckContext, result, file: str | None, line: int | None):

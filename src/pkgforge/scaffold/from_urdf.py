@@ -18,7 +18,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from .errors import PkgforgeError
+from pkgforge.errors import PkgforgeError
 
 URI_STYLES = ("package", "find")
 FIND = re.compile(r"\$\(find ([^)\s]+)\)")
@@ -252,7 +252,7 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
             text = massless_root(text, roots[current], current, notes)
         files[f"urdf/{file_name}"] = text.encode("utf-8")
         if notes is not None:
-            from .migrate.table import is_gazebo_classic_plugin
+            from pkgforge.migrate.table import is_gazebo_classic_plugin
 
             for element in roots[current].iter("plugin"):
                 if is_gazebo_classic_plugin(element.get("filename", "")):
@@ -271,8 +271,10 @@ def missing_message(missing: list[Reference], *, force: bool = True) -> str:
 def new_from_urdf(spec_options: dict, model: Path, destination: Path, *, force: int = 0,
                   uri_style: str = "package"):
     """Write the package; returns (CreatedPackage, Notes)."""
-    from .migrate.notes import Notes
-    from .scaffold import create_package, make_spec, render_files
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.package import create_package
+    from pkgforge.scaffold.package import make_spec
+    from pkgforge.scaffold.package import render_files
 
     name = spec_options["name"]
     make_spec(**spec_options)  # a bad name or option fails before the model is read

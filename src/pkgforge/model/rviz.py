@@ -7,8 +7,8 @@ from pathlib import Path
 
 import yaml
 
-from .model.source import read_source
-from .yamlnodes import compose
+from pkgforge.model.source import read_source
+from pkgforge.model.yamlnodes import compose
 
 ROBOT_MODEL = "rviz_default_plugins/RobotModel"
 

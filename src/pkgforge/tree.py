@@ -29,10 +29,10 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import PkgforgeError
-from .model.package import PackageModel
-from .toolchain import prepend_path
-from .walk import MAX_DEPTH
+from pkgforge.errors import PkgforgeError
+from pkgforge.model.package import PackageModel
+from pkgforge.build.toolchain import prepend_path
+from pkgforge.walk import MAX_DEPTH
 
 INDEX = Path("share/ament_index/resource_index/packages")
 
@@ -488,7 +488,8 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
 
 
 def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTree:
-    from .build import BuildOptions, run_build
+    from pkgforge.build.colcon import BuildOptions
+    from pkgforge.build.colcon import run_build
 
     base = workspace.root / "build" / "pkgforge-verify"
     options = BuildOptions(build_base=base / "build", install_base=base / "install", log_base=base / "log",

@@ -3,9 +3,9 @@
 A fresh worker interpreter imports about 120 modules (the launch stand-ins,
 lxml, xacro, yaml, the evaluator) before its first file: a quarter of the
 workers' time on a workspace of scaffolded packages. The fork server
-(`python -m pkgforge.launch.worker --fork-server`) imports them once, then
+(`python -m pkgforge.sandbox.worker --fork-server`) imports them once, then
 forks one child per worker the parent asks for. A child is what
-`python -m pkgforge.launch.worker` would be, started the same way: its own
+`python -m pkgforge.sandbox.worker` would be, started the same way: its own
 session, the parent's pipes on stdin and stdout, stderr on /dev/null, the
 environment the parent gives it; then worker.main() runs in it as in a fresh
 interpreter (the guard, the limits, the subreaper, the parent-death signal:
@@ -40,12 +40,12 @@ def serve(channel: int) -> None:
     """The fork server's loop on the socket `channel`; returns when the parent closes it."""
     import selectors
 
-    from pkgforge.processes import die_with_parent
+    from pkgforge.sandbox.processes import die_with_parent
 
     parent = os.getppid()
     die_with_parent(parent)
     sys.dont_write_bytecode = True  # as in a worker: nothing written beside any module
-    from pkgforge.launch import worker
+    from pkgforge.sandbox import worker
 
     worker.preload()
     sock = socket.socket(fileno=channel)
@@ -88,7 +88,7 @@ def _report_exits(sock: socket.socket) -> None:
 
 
 def _child(request: dict, fds: list[int], sock: socket.socket, wake: tuple[int, int]) -> None:
-    """In the forked child: become a worker as `python -m pkgforge.launch.worker` would. Never returns."""
+    """In the forked child: become a worker as `python -m pkgforge.sandbox.worker` would. Never returns."""
     code = 1
     try:
         signal.set_wakeup_fd(-1)
@@ -109,7 +109,7 @@ def _child(request: dict, fds: list[int], sock: socket.socket, wake: tuple[int, 
         os.environ.clear()
         os.environ.update(env)
         sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
-        from pkgforge.launch import worker
+        from pkgforge.sandbox import worker
 
         worker.main()
         code = 0
@@ -135,7 +135,7 @@ class _Server:
         ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         try:
             self.process = subprocess.Popen(
-                [sys.executable, "-m", "pkgforge.launch.worker", "--fork-server", str(theirs.fileno())],
+                [sys.executable, "-m", "pkgforge.sandbox.worker", "--fork-server", str(theirs.fileno())],
                 pass_fds=[theirs.fileno()], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL, env={k: v for k, v in env.items() if k != LIMITS_VARIABLE},
                 start_new_session=True)

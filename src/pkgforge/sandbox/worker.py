@@ -1,4 +1,4 @@
-"""The launch worker: `python -m pkgforge.launch.worker`, one JSON request per line on stdin.
+"""The launch worker: `python -m pkgforge.sandbox.worker`, one JSON request per line on stdin.
 
 Launch files are user code: they run only here, in a subprocess the parent
 kills when one runs past its time limit. Replies go to a private copy of the
@@ -27,7 +27,7 @@ import sys
 import traceback
 from pathlib import Path
 
-API_AMENT = Path(__file__).resolve().parent / "api_ament"
+API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
 # the extra argument combinations start and run only until this share of --launch-timeout
 BRANCH_SHARE = 0.7
@@ -67,7 +67,8 @@ def _apply_limits(limits: dict) -> None:
     """Process-wide limits and the parent-death signal, before any user code runs."""
     import resource
 
-    from pkgforge.processes import become_subreaper, die_with_parent
+    from pkgforge.sandbox.processes import become_subreaper
+    from pkgforge.sandbox.processes import die_with_parent
 
     if limits.get("parent"):
         die_with_parent(int(limits["parent"]))
@@ -114,7 +115,7 @@ def _arm(limits: dict) -> None:
     process, so it is set to what was used so far plus this request's share)."""
     import resource
 
-    from pkgforge.processes import LoadAllowance
+    from pkgforge.sandbox.processes import LoadAllowance
 
     timeout = limits.get("timeout")
     if not timeout:
@@ -172,7 +173,7 @@ def _disarm() -> None:
 
 def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     """(limit, message) when an error record is a limit breach."""
-    from pkgforge.processes import format_size
+    from pkgforge.sandbox.processes import format_size
 
     kind, message = error.get("type"), str(error.get("message", ""))
     timeout = limits.get("timeout")
@@ -229,7 +230,7 @@ def _located(request: dict, error: BaseException) -> dict:
 
 def _install_guard() -> bool:
     """The guard, for the temporary folder the parent named; its children get it through PYTHONPATH."""
-    from pkgforge.launch import guard
+    from pkgforge.sandbox import guard
 
     if not guard.install():
         return False
@@ -263,7 +264,7 @@ def _install_guard() -> bool:
 
 def _refusals(result: dict, request: dict) -> None:
     """What the guard refused, or saw overwritten in the tree, while answering: located records."""
-    from pkgforge.launch import guard
+    from pkgforge.sandbox import guard
 
     for record in guard.take():
         if "model" in request:
@@ -284,8 +285,9 @@ def preload() -> None:
     import resource  # noqa: F401
     import tempfile  # noqa: F401
 
-    from pkgforge import processes  # noqa: F401
-    from pkgforge.launch import guard, records  # noqa: F401
+    from pkgforge.sandbox import processes  # noqa: F401
+    from pkgforge.sandbox import guard
+    from pkgforge.launch import records
 
     if os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin") != "ros":
         from pkgforge.launch import api
@@ -299,7 +301,7 @@ def preload() -> None:
     import yaml  # noqa: F401
 
     from pkgforge.launch import evaluate  # noqa: F401
-    from pkgforge import robot  # noqa: F401
+    from pkgforge.urdf import robot  # noqa: F401
 
 
 def main() -> None:
@@ -328,7 +330,7 @@ def main() -> None:
     else:
         _install_api()
     from pkgforge.launch.evaluate import evaluate
-    from pkgforge.robot import process_model
+    from pkgforge.urdf.robot import process_model
 
     for line in sys.stdin:
         request = json.loads(line)
@@ -364,7 +366,7 @@ def main() -> None:
 
 if __name__ == "__main__":
     if sys.argv[1:2] == ["--fork-server"]:  # workers forked after these imports (zygote.py)
-        from pkgforge.launch.zygote import serve
+        from pkgforge.sandbox.zygote import serve
 
         serve(int(sys.argv[2]))
     else:

@@ -22,7 +22,7 @@ DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
 
 # ROS 1 names, renamed packages and Gazebo Classic → their ROS 2 successors: one table, kept
 # with every other ROS 1 → ROS 2 name in migrate/table.py.
-from .migrate.table import PACKAGES as REPLACEMENTS  # noqa: E402
+from pkgforge.migrate.table import PACKAGES as REPLACEMENTS  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -151,7 +151,7 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
         return ()
     import yaml
 
-    from .distros import DISTROS
+    from pkgforge.model.distros import DISTROS
 
     names = set(DISTROS)  # the same names as the data's (a test keeps them equal), without reading it
     found: set[str] = set()
@@ -193,7 +193,7 @@ def target_distros(package_path: Path, root: Path, option: str | None, configure
     (the package folder, then its parents up to the workspace root)."""
     import os
 
-    from .distros import DISTROS
+    from pkgforge.model.distros import DISTROS
 
     names = list(DISTROS)
     if option:

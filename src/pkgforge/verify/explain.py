@@ -6,9 +6,11 @@ import os
 from contextlib import contextmanager
 from pathlib import Path
 
-from .errors import PkgforgeError
-from .verify import VerifyOptions, load_models, make_tree
-from .workspace import locate
+from pkgforge.errors import PkgforgeError
+from pkgforge.verify.pipeline import VerifyOptions
+from pkgforge.verify.pipeline import load_models
+from pkgforge.verify.pipeline import make_tree
+from pkgforge.workspace import locate
 
 OK, MISSING, UNCHECKED = "✓", "✗", "·"
 
@@ -42,7 +44,7 @@ def _installed(path: Path, file: Path, options: VerifyOptions):
 
 
 def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
-    from .launch.resolve import LaunchFile, WorkerLimits, resolve, source_of
+    from pkgforge.launch.resolve import LaunchFile, WorkerLimits, resolve, source_of
 
     with _installed(path, file, options) as (tree, installed, package, owner):
         launch = LaunchFile(package, installed, source_of(installed, tree, owner))
@@ -138,9 +140,9 @@ def _render(resolution, tree) -> str:
 
 def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
     """The model's link/joint tree with every mesh URI and whether it resolves (check_urdf, with meshes)."""
-    from . import models as robot_models
-    from .launch.resolve import source_of
-    from .meshes import resolve_uri
+    from pkgforge.urdf import select as robot_models
+    from pkgforge.launch.resolve import source_of
+    from pkgforge.urdf.meshes import resolve_uri
 
     with _installed(path, file, options) as (tree, installed, package, owner):
         result = robot_models.ModelResult(package, installed, source_of(installed, tree, owner),
@@ -203,8 +205,9 @@ def _size(low, high) -> str:
 
 def _model_numbers(robot: dict, tree, installed: Path) -> list[str]:
     """Total mass and size (the same numbers `pkgforge view` writes on its images)."""
-    from .physics import total_mass, world_bounds
-    from .meshes import resolve_uri
+    from pkgforge.urdf.physics import total_mass
+    from pkgforge.urdf.physics import world_bounds
+    from pkgforge.urdf.meshes import resolve_uri
 
     def resolve(uri):
         lookup = resolve_uri(uri, tree, installed)
@@ -223,7 +226,7 @@ def _model_numbers(robot: dict, tree, installed: Path) -> list[str]:
 
 
 def _mesh_note(path) -> str:
-    from .physics import mesh_info
+    from pkgforge.urdf.physics import mesh_info
 
     info = mesh_info(str(path))
     if info is None:

@@ -14,13 +14,19 @@ from pathlib import Path
 import jinja2
 from catkin_pkg.package import InvalidPackage, parse_package_string
 
-from . import DISTRIBUTION, __version__
-from .distros import DISTROS, Distro, default_distro
-from .errors import PkgforgeError
-from .kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
-from .names import REP144_RULE, rep144_problem
-from .resources import templates_dir
-from .stl import binary_stl, box_triangles
+from pkgforge import DISTRIBUTION
+from pkgforge import __version__
+from pkgforge.model.distros import DISTROS
+from pkgforge.model.distros import Distro
+from pkgforge.model.distros import default_distro
+from pkgforge.errors import PkgforgeError
+from pkgforge.scaffold.kinds import BUILD_TYPES
+from pkgforge.scaffold.kinds import CI_SYSTEMS
+from pkgforge.scaffold.kinds import LAUNCH_FORMATS
+from pkgforge.model.names import REP144_RULE
+from pkgforge.model.names import rep144_problem
+from pkgforge.scaffold.stl import binary_stl
+from pkgforge.scaffold.stl import box_triangles
 
 
 # catkin_pkg's own rule, so a bad address fails here, not later in CMake
@@ -197,7 +203,8 @@ def make_spec(
 
 def _environment() -> jinja2.Environment:
     env = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(templates_dir())),
+        # the templates are package data of pkgforge.scaffold, read through importlib.resources
+        loader=jinja2.PackageLoader("pkgforge.scaffold", "templates"),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
         trim_blocks=True,

@@ -18,10 +18,10 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .launch.resolve import run_requests, source_of
-from .model.package import PackageModel
-from .trees import InstallTree
-from .walk import walk
+from pkgforge.launch.resolve import run_requests, source_of
+from pkgforge.model.package import PackageModel
+from pkgforge.tree import InstallTree
+from pkgforge.walk import walk
 
 MODEL_SUFFIXES = (".urdf", ".xacro")  # .urdf.xacro too
 # folders of a share folder whose files are no model of the package (as for launch files)

@@ -16,16 +16,18 @@ from pathlib import Path
 
 from typing import TYPE_CHECKING
 
-from .config import Config, Selection, load_config
-from .diagnostics import Diagnostic, Finding, PackageReport, Severity
-from .errors import BuildFailed, PkgforgeError
-from .processes import DEFAULT_WORKER_MEMORY
-from .progress import Progress
-from .workspace import Workspace, discover, locate
+from pkgforge.verify.config import Config
+from pkgforge.verify.config import Selection
+from pkgforge.verify.config import load_config
+from pkgforge.diagnostics import Diagnostic, Finding, PackageReport, Severity
+from pkgforge.errors import BuildFailed, PkgforgeError
+from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
+from pkgforge.verify.progress import Progress
+from pkgforge.workspace import Workspace, discover, locate
 
 if TYPE_CHECKING:
-    from .checks.context import CheckContext
-    from .model.package import PackageModel
+    from pkgforge.checks.context import CheckContext
+    from pkgforge.model.package import PackageModel
 
 # The model layer (lxml, catkin_pkg) and the checks load only when something
 # must be verified: a run answered from the cache never imports them.
@@ -40,7 +42,7 @@ TREE_AREAS = ("launch", "model", "physics", "rviz")
 
 def _tree_codes() -> set[str]:
     """The codes of the checks that need the install tree (and worker subprocesses)."""
-    from .checks.registry import all_checks
+    from pkgforge.checks.registry import all_checks
 
     return {c.code for c in all_checks() if c.area in TREE_AREAS}
 
@@ -74,7 +76,7 @@ class VerifyOptions:
     def engine(self):
         """The launch engine these options choose (launch.engines.LaunchEngine), found once."""
         if self._engine is None:
-            from .launch.engines import choose
+            from pkgforge.launch.engines import choose
 
             self._engine = choose(self.launch_engine, self.ros_prefix, distro=self.distro)
         return self._engine
@@ -123,7 +125,7 @@ class VerifyResult:
 
 def package_folders(base: Path) -> list[Path]:
     """Folders with a package.xml under base, honouring the ignore markers as colcon does."""
-    from .walk import walk
+    from pkgforge.walk import walk
 
     found = []
     for current, dirs, files in walk(base):
@@ -142,7 +144,7 @@ def quick_name(folder: Path, text: str | None = "") -> str:
     """The package name for the workspace index, before colcon has identified anything. `text`:
     the package.xml already read (None: unreadable)."""
     if text == "":
-        from .cache import manifest_text
+        from pkgforge.verify.cache import manifest_text
 
         text = manifest_text(folder)
     match = NAME_ELEMENT.search(text) if text is not None else None
@@ -167,7 +169,7 @@ def find_targets(workspace: Workspace) -> list[PackageTarget]:
 
 
 def _load(target: PackageTarget) -> PackageModel:
-    from .model.package import load_package
+    from pkgforge.model.package import load_package
 
     return load_package(target.path, colcon_type=target.colcon_type, parsed_by_colcon=target.parsed_by_colcon)
 
@@ -211,7 +213,7 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
 # --- checks ---------------------------------------------------------------------------------
 
 def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
-    from .checks.registry import all_checks
+    from pkgforge.checks.registry import all_checks
 
     model = context.model
     report = PackageReport(model.name, model.path, model.build_type)
@@ -222,8 +224,8 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
         try:
             diagnostics = check.run(context)
         except OSError as exc:  # a file the check had to look at cannot be read: located, not a crash
-            from .checks.registry import REGISTRY
-            from .errors import describe_os_error
+            from pkgforge.checks.registry import REGISTRY
+            from pkgforge.errors import describe_os_error
 
             where = Path(exc.filename) if isinstance(exc.filename, str) else model.path
             diagnostics = [REGISTRY["PF901"].diagnostic(model.name, Finding(
@@ -250,7 +252,9 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
 
 
 def make_tree(options: VerifyOptions, workspace: Workspace, models: list[PackageModel]):
-    from .trees import built_tree, existing_tree, predicted_tree
+    from pkgforge.tree import built_tree
+    from pkgforge.tree import existing_tree
+    from pkgforge.tree import predicted_tree
 
     if options.mode == "install-base":
         return existing_tree(options.install_base, models)
@@ -267,7 +271,7 @@ def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Pa
     """
     folder = workspace.package_path.resolve()
     everything = {quick_name(p): p for p in package_folders(workspace.base_path)}
-    from .workspace import identify_folder
+    from pkgforge.workspace import identify_folder
 
     descriptor = identify_folder(folder)
     if descriptor is not None and (folder / "package.xml").exists():
@@ -289,8 +293,8 @@ def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Pa
 
 def rviz_configs(tree, checked: list[PackageModel], resolutions: dict) -> dict:
     """package → (its RViz configs, [(config, launch file passing it with -d)])."""
-    from .launch.resolve import source_of
-    from .rviz import read_rviz
+    from pkgforge.launch.resolve import source_of
+    from pkgforge.model.rviz import read_rviz
 
     out = {}
     for model in checked:
@@ -369,7 +373,7 @@ def _early_zygote(options: VerifyOptions, engine):
         return None
     if options.selection.select and not options.selection.codes() & _tree_codes():
         return None  # (without --select, some package may select launch checks in pkgforge.toml)
-    from .launch.resolve import start_zygote
+    from pkgforge.launch.resolve import start_zygote
 
     return start_zygote(engine)
 
@@ -392,8 +396,10 @@ def cache_folder(workspace: Workspace) -> Path:
 
 def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
     """(cache, package folder → key, package folder → cached report) for the packages to verify."""
-    from .cache import ResultCache, manifest_text, workspace_key
-    from .model.files import walk_file_names
+    from pkgforge.verify.cache import ResultCache
+    from pkgforge.verify.cache import manifest_text
+    from pkgforge.verify.cache import workspace_key
+    from pkgforge.model.files import walk_file_names
 
     cache = ResultCache(cache_folder(workspace), options.cache_key())
     every = package_folders(workspace.base_path)
@@ -416,7 +422,7 @@ def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
 
 def _targets(folder: Path, workspace: Workspace, config: Config, options: VerifyOptions) -> tuple[str, ...]:
     """The ROS 2 distros a package targets (empty: every active distro)."""
-    from .distro_data import target_distros
+    from pkgforge.model.distro_data import target_distros
 
     return target_distros(folder, workspace.root.resolve(), options.distro, config.distro_for(folder))[0]
 
@@ -450,7 +456,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         zygote=None) -> VerifyResult:
     """Verify the targets; `models` holds every package the install tree needs. `zygote`: the
     launch workers' fork server, when one was started already (closed here)."""
-    from .checks.context import CheckContext
+    from pkgforge.checks.context import CheckContext
 
     jobs = options.jobs or os.cpu_count() or 1
     selections = {t.path: config.for_package(t.name, t.path) for t in targets}
@@ -462,9 +468,9 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     build_failure: BuildFailed | None = None
     resolutions, ros1, model_results, rviz = {}, {}, {}, {}
     if any(codes[t.path] & tree_codes for t in targets):
-        from . import models as robot_models
-        from .launch.resolve import WorkerLimits, find_launch_files, resolve
-        from .launch.uninstalled import source_only
+        from pkgforge.urdf import select as robot_models
+        from pkgforge.launch.resolve import WorkerLimits, find_launch_files, resolve
+        from pkgforge.launch.uninstalled import source_only
 
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
@@ -478,7 +484,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             codes = {path: selected - tree_codes | (selected & {BUILD_FAILED})
                      for path, selected in codes.items()}
     if tree is not None:
-        from .launch.zygote import Zygote
+        from pkgforge.sandbox.zygote import Zygote
 
         # one fork server for the launch files' and the models' workers
         zygote = zygote if zygote is not None else Zygote()
@@ -529,7 +535,7 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
                 _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})
             selections[target.path].apply_severity(reports[-1])  # [severity] of pkgforge.toml
             if options.use_cache and tree is not None:
-                from .cache import externals as read_elsewhere
+                from pkgforge.verify.cache import externals as read_elsewhere
 
                 read[target.path] = read_elsewhere(context)
     finally:
@@ -551,8 +557,8 @@ def _report_build_failure(report: PackageReport, model: PackageModel, failure: B
     """One build-failed error for a package colcon could not build; when only packages outside
     the verified ones failed (a dependency) or colcon stopped before any ran, each verified
     package gets one, so a failed build never passes."""
-    from .checks.build import build_failed_finding
-    from .checks.registry import REGISTRY
+    from pkgforge.checks.build import build_failed_finding
+    from pkgforge.checks.registry import REGISTRY
 
     own = [(package, log, tail) for package, log, tail in failure.failures if package == model.name]
     if not own and not any(package in verified for package, _, _ in failure.failures):
@@ -569,7 +575,7 @@ def _report_build_failure(report: PackageReport, model: PackageModel, failure: B
 def _machine_dependent(resolutions: list, model_results: list) -> bool:
     """A result that the machine's load or limits decided: a timeout, a crashed or killed worker,
     a limit hit. Run again, it may differ, so it is never cached."""
-    from .launch.resolve import MACHINE_DEPENDENT
+    from pkgforge.launch.resolve import MACHINE_DEPENDENT
 
     def limit(error) -> bool:  # a launch record (launch.records.Error) or a model's plain data
         return bool(error.get("limit") if isinstance(error, dict) else getattr(error, "limit", None))

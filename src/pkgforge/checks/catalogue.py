@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .checks.registry import Check, all_checks
+from pkgforge.checks.registry import Check, all_checks
 
 # where the catalogue lives, relative to the repository root (and in the sdist); SARIF's helpUri
 # points at a check's anchor in it. pkgforge has no public documentation site to point at.

@@ -16,9 +16,9 @@ from colcon_core.plugin_system import satisfies_version
 from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
-from .distros import DISTROS
-from .processes import DEFAULT_WORKER_MEMORY
-from .report import COLOR_CHOICES, FORMATS
+from pkgforge.model.distros import DISTROS
+from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
+from pkgforge.report import COLOR_CHOICES, FORMATS
 
 
 class VerifyVerb(VerbExtensionPoint):
@@ -61,11 +61,15 @@ class VerifyVerb(VerbExtensionPoint):
                                  "[verify] distro, the package's CI file, else every active distro)")
 
     def main(self, *, context):  # noqa: D102
-        from .config import Selection, load_config
-        from .errors import PkgforgeError
-        from .report import render
-        from .verify import PackageTarget, VerifyOptions, _load, run
-        from .workspace import Workspace
+        from pkgforge.verify.config import Selection
+        from pkgforge.verify.config import load_config
+        from pkgforge.errors import PkgforgeError
+        from pkgforge.report import render
+        from pkgforge.verify.pipeline import PackageTarget
+        from pkgforge.verify.pipeline import VerifyOptions
+        from pkgforge.verify.pipeline import _load
+        from pkgforge.verify.pipeline import run
+        from pkgforge.workspace import Workspace
 
         args = context.args
         descriptors = get_package_descriptors(args)
@@ -96,7 +100,7 @@ class VerifyVerb(VerbExtensionPoint):
             # 2, as `pkgforge verify`: could not run (colcon turns a returned string into 1)
             print(f"colcon verify: {error}", file=sys.stderr)
             return 2
-        from .report import use_color
+        from pkgforge.report import use_color
 
         color = args.pkgforge_format == "text" and use_color(args.color, sys.stdout)
         sys.stdout.write(render(args.pkgforge_format, result, color=color, strict=args.strict))
@@ -109,7 +113,7 @@ class VerifyVerb(VerbExtensionPoint):
 def _memory(text: str) -> int | None:
     import argparse
 
-    from .processes import parse_size
+    from pkgforge.sandbox.processes import parse_size
 
     if text.strip().lower() in ("unlimited", "none"):
         return None

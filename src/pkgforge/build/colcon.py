@@ -7,9 +7,12 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import BuildFailed, PkgforgeError
-from .toolchain import Toolchain, detect, prepend_path, require_cmake
-from .workspace import Workspace, discover
+from pkgforge.errors import BuildFailed, PkgforgeError
+from pkgforge.build.toolchain import Toolchain
+from pkgforge.build.toolchain import detect
+from pkgforge.build.toolchain import prepend_path
+from pkgforge.build.toolchain import require_cmake
+from pkgforge.workspace import Workspace, discover
 
 # Build tools and test-only packages never need a stub: ament_cmake is the
 # toolchain itself, and tests are off unless asked for.

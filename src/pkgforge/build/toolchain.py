@@ -13,7 +13,7 @@ import sysconfig
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import PkgforgeError
+from pkgforge.errors import PkgforgeError
 
 AMENT_CMAKE_CONFIG = Path("share/ament_cmake/cmake/ament_cmakeConfig.cmake")
 

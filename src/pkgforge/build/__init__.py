@@ -1,0 +1,1 @@
+"""`pkgforge build`: the real colcon + ament_cmake, with or without ROS."""

@@ -1,0 +1,1 @@
+"""`pkgforge new`: writing a package (templates, kinds, placeholder meshes, `--from-urdf`)."""
