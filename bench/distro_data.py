@@ -40,13 +40,16 @@ def main() -> None:
     for _ in range(args.repeat):
         out = subprocess.run([sys.executable, "-c", ROUND], capture_output=True, text=True, check=True).stdout
         rows.append([float(x) for x in out.split()])
-    for index, what in enumerate(("import pkgforge.model.distro_data", "load() (read + parse)",
-                                  "released_set((), ('jazzy',))")):
+    for index, what in enumerate(
+        ("import pkgforge.model.distro_data", "load() (read + parse)", "released_set((), ('jazzy',))")
+    ):
         values = [row[index] for row in rows]
         print(f"{what:32s} median {statistics.median(values):6.2f} ms   max {max(values):6.2f} ms")
     totals = [sum(row) for row in rows]
-    print(f"{'total':32s} median {statistics.median(totals):6.2f} ms   max {max(totals):6.2f} ms"
-          f"   ({args.repeat} fresh interpreters)")
+    print(
+        f"{'total':32s} median {statistics.median(totals):6.2f} ms   max {max(totals):6.2f} ms"
+        f"   ({args.repeat} fresh interpreters)"
+    )
 
 
 if __name__ == "__main__":

@@ -46,9 +46,9 @@ def main() -> None:
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     os.chdir(sys.argv[1])
+    from pkgforge.launch import resolve
     from pkgforge.urdf import select as models
     from pkgforge.verify import pipeline as verify
-    from pkgforge.launch import resolve
 
     timed(verify, "_cache_lookup", "cache lookup")
     timed(verify, "load_models", "discovery + models")
@@ -72,8 +72,10 @@ def main() -> None:
     print(f"{'phase':<34}{'wall s':>8}{'CPU s':>8}", file=sys.stderr)
     for label, seconds in TIMES.items():
         print(f"{label:<34}{seconds:>8.2f}{CPU[label]:>8.2f}  ({CALLS[label]} calls)", file=sys.stderr)
-    print(f"{'total (after start-up)':<34}{total:>8.2f}{cpu():>8.2f}  load average {os.getloadavg()[0]:.1f}",
-          file=sys.stderr)
+    print(
+        f"{'total (after start-up)':<34}{total:>8.2f}{cpu():>8.2f}  load average {os.getloadavg()[0]:.1f}",
+        file=sys.stderr,
+    )
 
 
 if __name__ == "__main__":

@@ -25,8 +25,7 @@ def main() -> None:
     parser.add_argument("--packages", type=int, default=200)
     arguments = parser.parse_args()
     from pkgforge.checks.registry import all_checks
-    from pkgforge.verify.pipeline import VerifyOptions
-    from pkgforge.verify.pipeline import verify
+    from pkgforge.verify.pipeline import VerifyOptions, verify
 
     spent = {"seconds": 0.0, "calls": 0}
     for check in all_checks():
@@ -47,10 +46,12 @@ def main() -> None:
         start = time.perf_counter()
         result = verify(root, VerifyOptions(use_cache=False))
         wall = time.perf_counter() - start
-    print(f"{arguments.packages} packages: verify {wall:.2f} s wall; physical checks "
-          f"{spent['seconds'] * 1000:.1f} ms CPU in {spent['calls']} calls "
-          f"({100 * spent['seconds'] / wall:.2f} % of the run); diagnostics by code: "
-          f"{dict(Counter(d.code for d in result.diagnostics))}")
+    print(
+        f"{arguments.packages} packages: verify {wall:.2f} s wall; physical checks "
+        f"{spent['seconds'] * 1000:.1f} ms CPU in {spent['calls']} calls "
+        f"({100 * spent['seconds'] / wall:.2f} % of the run); diagnostics by code: "
+        f"{dict(Counter(d.code for d in result.diagnostics))}"
+    )
 
 
 if __name__ == "__main__":

@@ -45,8 +45,14 @@ SCRIPTS = Path(sysconfig.get_path("scripts"))
 def run(cmd: list[str], cwd: Path, ok=(0, 1), env: dict | None = None) -> tuple[float, int, float]:
     """(wall seconds, peak RSS in KiB of the largest process, CPU seconds) of one run."""
     start = time.perf_counter()
-    process = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                               stdin=subprocess.DEVNULL, env=env or ENV)
+    process = subprocess.Popen(
+        cmd,
+        cwd=cwd,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        env=env or ENV,
+    )
     _, status, usage = os.wait4(process.pid, 0)
     elapsed = time.perf_counter() - start
     code = os.waitstatus_to_exitcode(status)
@@ -62,12 +68,18 @@ def build(root: Path) -> None:
     env = dict(ENV, CMAKE_PREFIX_PATH=sys.prefix, PATH=f"{SCRIPTS}{os.pathsep}{ENV['PATH']}")
     for folder in ("build", "install", "log"):
         shutil.rmtree(root / folder, ignore_errors=True)
-    subprocess.run([str(SCRIPTS / "colcon"), "build", "--merge-install", "--cmake-args", "-DBUILD_TESTING=OFF"],
-                   cwd=root, env=env, capture_output=True, check=True)
+    subprocess.run(
+        [str(SCRIPTS / "colcon"), "build", "--merge-install", "--cmake-args", "-DBUILD_TESTING=OFF"],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        check=True,
+    )
 
 
-def measure(root: Path, count: int, rounds: int, install_base: bool, engine: list[str],
-            baseline: Path | None = None) -> list[tuple]:
+def measure(
+    root: Path, count: int, rounds: int, install_base: bool, engine: list[str], baseline: Path | None = None
+) -> list[tuple]:
     verify = [sys.executable, "-m", "pkgforge", "verify", "--format", "json", *engine]
     one = root / "src" / f"bench_{count // 2:03d}_description"
     commands = {
@@ -96,8 +108,16 @@ def measure(root: Path, count: int, rounds: int, install_base: bool, engine: lis
             cpu[name].append(used)
             memory[name] = max(memory[name], rss)
     base = times["colcon list"]
-    return [(name, statistics.median(values), statistics.median(v / b for v, b in zip(values, base)),
-             statistics.median(cpu[name]), memory[name] / 1024) for name, values in times.items()]
+    return [
+        (
+            name,
+            statistics.median(values),
+            statistics.median(v / b for v, b in zip(values, base, strict=False)),
+            statistics.median(cpu[name]),
+            memory[name] / 1024,
+        )
+        for name, values in times.items()
+    ]
 
 
 def main() -> None:
@@ -105,24 +125,43 @@ def main() -> None:
     parser.add_argument("--sizes", default="50,200,800")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--no-install-base", action="store_true", help="skip the colcon build and that row")
-    parser.add_argument("--engine", choices=("builtin", "ros"), default=None,
-                        help="pass --launch-engine to verify (default: the tool's own choice)")
+    parser.add_argument(
+        "--engine",
+        choices=("builtin", "ros"),
+        default=None,
+        help="pass --launch-engine to verify (default: the tool's own choice)",
+    )
     parser.add_argument("--keep", type=Path, default=None, help="generate into (and keep) DIR/<size>")
-    parser.add_argument("--install-base-sizes", default=None,
-                        help="sizes that get the --install-base row (default: every size; a colcon build each)")
-    parser.add_argument("--baseline-src", type=Path, default=None,
-                        help="also time each verify row with this src/ folder first on PYTHONPATH")
+    parser.add_argument(
+        "--install-base-sizes",
+        default=None,
+        help="sizes that get the --install-base row (default: every size; a colcon build each)",
+    )
+    parser.add_argument(
+        "--baseline-src",
+        type=Path,
+        default=None,
+        help="also time each verify row with this src/ folder first on PYTHONPATH",
+    )
     args = parser.parse_args()
     engine = ["--launch-engine", args.engine] if args.engine else []
-    built = None if args.install_base_sizes is None else {int(s) for s in args.install_base_sizes.split(",") if s}
-    print(f"{'packages':>8}  {'command':<37}{'median s':>10}{'x colcon list':>15}{'CPU s':>8}{'peak MiB':>10}")
+    built = (
+        None if args.install_base_sizes is None else {int(s) for s in args.install_base_sizes.split(",") if s}
+    )
+    print(
+        f"{'packages':>8}  {'command':<37}{'median s':>10}{'x colcon list':>15}{'CPU s':>8}{'peak MiB':>10}"
+    )
     for count in (int(s) for s in args.sizes.split(",")):
         with tempfile.TemporaryDirectory() as tmp:
             root = generate((args.keep / str(count)) if args.keep else Path(tmp), count)
             install_base = not args.no_install_base and (built is None or count in built)
-            for name, seconds, ratio, used, mib in measure(root, count, args.rounds, install_base, engine,
-                                                          args.baseline_src):
-                print(f"{count:>8}  {name:<37}{seconds:>10.2f}{ratio:>15.2f}{used:>8.2f}{mib:>10.0f}", flush=True)
+            for name, seconds, ratio, used, mib in measure(
+                root, count, args.rounds, install_base, engine, args.baseline_src
+            ):
+                print(
+                    f"{count:>8}  {name:<37}{seconds:>10.2f}{ratio:>15.2f}{used:>8.2f}{mib:>10.0f}",
+                    flush=True,
+                )
             print(f"{'':>8}  (load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)", flush=True)
 
 

@@ -25,8 +25,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from pkgforge.scaffold.package import create_package
-from pkgforge.scaffold.package import make_spec
+from pkgforge.scaffold.package import create_package, make_spec
 
 SCRIPTS = Path(sysconfig.get_path("scripts"))
 
@@ -39,9 +38,13 @@ def generate(root: Path, count: int) -> Path:
         name = f"bench_{i:03d}_description"
         if (src / name).exists():
             continue
-        spec = make_spec(name, maintainer_name="Bench", maintainer_email="bench@example.com",
-                         launch_format=formats[i % 3],
-                         build_type="ament_python" if i % 10 == 9 else "ament_cmake")
+        spec = make_spec(
+            name,
+            maintainer_name="Bench",
+            maintainer_email="bench@example.com",
+            launch_format=formats[i % 3],
+            build_type="ament_python" if i % 10 == 9 else "ament_cmake",
+        )
         create_package(spec, src)
     return root
 
@@ -56,7 +59,9 @@ def timed(cmd: list[str], cwd: Path, ok=(0,)) -> float:
     result = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, stdin=subprocess.DEVNULL, env=ENV)
     elapsed = time.perf_counter() - start
     if result.returncode not in ok:
-        sys.exit(f"failed ({result.returncode}): {' '.join(cmd)}\n{result.stdout[-2000:]}{result.stderr[-2000:]}")
+        sys.exit(
+            f"failed ({result.returncode}): {' '.join(cmd)}\n{result.stdout[-2000:]}{result.stderr[-2000:]}"
+        )
     return elapsed
 
 
@@ -66,8 +71,12 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=9)
     parser.add_argument("--keep", type=Path, default=None, help="generate into (and keep) this folder")
     parser.add_argument("--with-build", action="store_true", help="also time colcon build and verify --build")
-    parser.add_argument("--ros-prefix", type=Path, default=None, help="time the real launch engine of this distro")
-    parser.add_argument("--upstream-distro", default=None, help="time the real launch engine of ../shared/upstream")
+    parser.add_argument(
+        "--ros-prefix", type=Path, default=None, help="time the real launch engine of this distro"
+    )
+    parser.add_argument(
+        "--upstream-distro", default=None, help="time the real launch engine of ../shared/upstream"
+    )
     args = parser.parse_args()
 
     verify = [sys.executable, "-m", "pkgforge", "verify", "--format", "json"]
@@ -90,8 +99,14 @@ def main() -> None:
                 sys.exit(f"no upstream launch libraries: {reason}")
         if prefix is not None:
             commands["verify, built-in launch engine"] = [*verify, "--no-cache", "--launch-engine", "builtin"]
-            commands["verify, real launch engine"] = [*verify, "--no-cache", "--launch-engine", "ros",
-                                                      "--ros-prefix", str(prefix)]
+            commands["verify, real launch engine"] = [
+                *verify,
+                "--no-cache",
+                "--launch-engine",
+                "ros",
+                "--ros-prefix",
+                str(prefix),
+            ]
         root = generate(args.keep or Path(tmp) / "ws", args.packages)
         for cmd in commands.values():
             timed(cmd, root)  # warm caches, write byte code
@@ -106,8 +121,13 @@ def main() -> None:
             for folder in ("build", "install", "log"):
                 shutil.rmtree(root / folder, ignore_errors=True)
             start = time.perf_counter()
-            subprocess.run([str(SCRIPTS / "colcon"), "build", "--merge-install", "--cmake-args",
-                            "-DBUILD_TESTING=OFF"], cwd=root, env=env_build, capture_output=True, check=True)
+            subprocess.run(
+                [str(SCRIPTS / "colcon"), "build", "--merge-install", "--cmake-args", "-DBUILD_TESTING=OFF"],
+                cwd=root,
+                env=env_build,
+                capture_output=True,
+                check=True,
+            )
             once["colcon build (cold)"] = time.perf_counter() - start
             once["verify --build (cold)"] = timed([*verify, "--build"], root)
             once["verify --install-base install"] = timed([*verify, "--install-base", "install"], root)
@@ -116,7 +136,7 @@ def main() -> None:
     print(f"workspace: {args.packages} packages, {args.repeat} interleaved runs")
     print(f"{'command':<34}{'median s':>10}{'ratio to colcon list':>24}")
     for name, values in times.items():
-        ratio = statistics.median(v / b for v, b in zip(values, base))
+        ratio = statistics.median(v / b for v, b in zip(values, base, strict=False))
         print(f"{name:<34}{statistics.median(values):>10.2f}{ratio:>24.2f}")
     for name, seconds in once.items():
         print(f"{name:<34}{seconds:>10.2f}{seconds / statistics.median(base):>24.2f}")

@@ -24,8 +24,12 @@ ROOT = Path(__file__).resolve().parent.parent
 OUTPUT = ROOT / "src" / "pkgforge" / "launch" / "api_names.json"
 DISTROS = ("humble", "jazzy")
 # (folder under the distro, top-level package)
-PACKAGES = (("launch/launch", "launch"), ("launch/launch_xml", "launch_xml"),
-            ("launch/launch_yaml", "launch_yaml"), ("launch_ros/launch_ros", "launch_ros"))
+PACKAGES = (
+    ("launch/launch", "launch"),
+    ("launch/launch_xml", "launch_xml"),
+    ("launch/launch_yaml", "launch_yaml"),
+    ("launch_ros/launch_ros", "launch_ros"),
+)
 OWN = {top for _, top in PACKAGES}
 NO_DEFAULT = "<required>"
 NOT_LITERAL = "<expression>"
@@ -75,12 +79,12 @@ def signature(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list:
     out = []
     positional = args.posonlyargs + args.args
     defaults = [None] * (len(positional) - len(args.defaults)) + list(args.defaults)
-    for index, (arg, default) in enumerate(zip(positional, defaults)):
+    for index, (arg, default) in enumerate(zip(positional, defaults, strict=False)):
         kind = "POSITIONAL_ONLY" if index < len(args.posonlyargs) else "POSITIONAL_OR_KEYWORD"
         out.append([arg.arg, kind, default_of(default)])
     if args.vararg:
         out.append([args.vararg.arg, "VAR_POSITIONAL", NO_DEFAULT])
-    for arg, default in zip(args.kwonlyargs, args.kw_defaults):
+    for arg, default in zip(args.kwonlyargs, args.kw_defaults, strict=False):
         out.append([arg.arg, "KEYWORD_ONLY", default_of(default)])
     if args.kwarg:
         out.append([args.kwarg.arg, "VAR_KEYWORD", NO_DEFAULT])
@@ -138,9 +142,12 @@ def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
                     names[bound] = {"kind": kind, "module": local[bound]}
             elif isinstance(statement, ast.ClassDef):
                 for decorator in statement.decorator_list:
-                    if isinstance(decorator, ast.Call) and dotted(decorator.func) in (
-                            "expose_action", "expose_substitution") and decorator.args and \
-                            isinstance(decorator.args[0], ast.Constant):
+                    if (
+                        isinstance(decorator, ast.Call)
+                        and dotted(decorator.func) in ("expose_action", "expose_substitution")
+                        and decorator.args
+                        and isinstance(decorator.args[0], ast.Constant)
+                    ):
                         kind = "actions" if dotted(decorator.func) == "expose_action" else "substitutions"
                         exposed[kind][decorator.args[0].value] = f"{name}.{statement.name}"
                 bases = []
@@ -153,20 +160,34 @@ def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
                     bases.append(f"{resolved}.{rest}" if rest else resolved)
                 methods = {}
                 for item in statement.body:
-                    if isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef)) and \
-                            (not item.name.startswith("_") or item.name == "__init__"):
+                    if isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef)) and (
+                        not item.name.startswith("_") or item.name == "__init__"
+                    ):
                         decorators = {dotted(d) for d in item.decorator_list}
-                        kind = "property" if "property" in decorators else \
-                            "staticmethod" if "staticmethod" in decorators else \
-                            "classmethod" if "classmethod" in decorators else "method"
+                        kind = (
+                            "property"
+                            if "property" in decorators
+                            else "staticmethod"
+                            if "staticmethod" in decorators
+                            else "classmethod"
+                            if "classmethod" in decorators
+                            else "method"
+                        )
                         if kind == "property" and item.name in methods:
                             continue
                         methods[item.name] = {"kind": kind, "signature": signature(item)}
-                names[statement.name] = {"kind": "class", "bases": bases, "methods": methods,
-                                         "line": statement.lineno}
+                names[statement.name] = {
+                    "kind": "class",
+                    "bases": bases,
+                    "methods": methods,
+                    "line": statement.lineno,
+                }
             elif isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                names[statement.name] = {"kind": "function", "signature": signature(statement),
-                                         "line": statement.lineno}
+                names[statement.name] = {
+                    "kind": "function",
+                    "signature": signature(statement),
+                    "line": statement.lineno,
+                }
             elif isinstance(statement, (ast.Assign, ast.AnnAssign)):
                 targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
                 for target in targets:
@@ -176,13 +197,17 @@ def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
                             value = statement.value
                             if isinstance(value, ast.Name) and value.id in names:
                                 bound = names[value.id]
-                                entry = dict(bound) if bound["kind"] != "class" and bound["kind"] != \
-                                    "function" else {"kind": "alias", "target": f"{name}.{value.id}"}
+                                entry = (
+                                    dict(bound)
+                                    if bound["kind"] != "class" and bound["kind"] != "function"
+                                    else {"kind": "alias", "target": f"{name}.{value.id}"}
+                                )
                                 if value.id == node.id:  # `X = X`: a re-export
                                     entry = dict(bound)
                             names[node.id] = entry
-            elif isinstance(statement, ast.If) and ("TYPE_CHECKING" in ast.unparse(statement.test)
-                                                    or ast.unparse(statement.test) == "False"):
+            elif isinstance(statement, ast.If) and (
+                "TYPE_CHECKING" in ast.unparse(statement.test) or ast.unparse(statement.test) == "False"
+            ):
                 walk(statement.orelse)  # the body is only for type checkers: never run
             elif isinstance(statement, (ast.If, ast.Try)):
                 walk(statement.body)
@@ -195,8 +220,9 @@ def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
     exported = None
     if "__all__" in names:
         for statement in tree.body:
-            if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__"
-                                                         for t in statement.targets):
+            if isinstance(statement, ast.Assign) and any(
+                isinstance(t, ast.Name) and t.id == "__all__" for t in statement.targets
+            ):
                 try:
                     exported = list(ast.literal_eval(statement.value))
                 except ValueError:
@@ -204,8 +230,11 @@ def read_module(name: str, path: Path, known: set[str], exposed: dict) -> dict:
         names.pop("__all__")
     # every module-level name is importable in ROS, private ones included; keep what a launch
     # file could reasonably name: public names, and all classes/functions
-    kept = {k: v for k, v in names.items()
-            if not k.startswith("__") and (not k.startswith("_") or v["kind"] in ("class", "function"))}
+    kept = {
+        k: v
+        for k, v in names.items()
+        if not k.startswith("__") and (not k.startswith("_") or v["kind"] in ("class", "function"))
+    }
     return {"package": is_package, "all": exported, "imports": imports, "names": kept}
 
 
@@ -225,15 +254,23 @@ def generate(upstream: Path) -> dict:
             parent, _, child = module.rpartition(".")
             if parent in modules:
                 modules[parent].setdefault("submodules", []).append(child)
-        data["distros"][distro] = {"sources": " ".join(sources), "modules": dict(sorted(modules.items())),
-                                   "frontend": {k: dict(sorted(v.items())) for k, v in exposed.items()}}
+        data["distros"][distro] = {
+            "sources": " ".join(sources),
+            "modules": dict(sorted(modules.items())),
+            "frontend": {k: dict(sorted(v.items())) for k, v in exposed.items()},
+        }
     return data
 
 
 def main(argv: list[str]) -> int:
     candidates = [ROOT.parent / "shared", ROOT.parent.parent / "shared"]  # main checkout, worktree
-    upstream = Path(argv[1]) if len(argv) > 1 else next(
-        (c / "upstream" / "ros2-launch" for c in candidates if (c / "upstream").is_dir()), candidates[0])
+    upstream = (
+        Path(argv[1])
+        if len(argv) > 1
+        else next(
+            (c / "upstream" / "ros2-launch" for c in candidates if (c / "upstream").is_dir()), candidates[0]
+        )
+    )
     if not (upstream / "jazzy").is_dir():
         print(f"gen_launch_api: no {upstream}/jazzy; give the ros2-launch sources folder", file=sys.stderr)
         return 2
@@ -244,8 +281,10 @@ def main(argv: list[str]) -> int:
         lines.append(f' "{distro}": {{"sources": {json.dumps(content["sources"])},')
         lines.append(f'  "frontend": {json.dumps(content["frontend"], sort_keys=True)},')
         lines.append('  "modules": {')
-        entries = [f'  {json.dumps(m)}: {json.dumps(v, sort_keys=True, separators=(",", ":"))}'
-                   for m, v in content["modules"].items()]
+        entries = [
+            f"  {json.dumps(m)}: {json.dumps(v, sort_keys=True, separators=(',', ':'))}"
+            for m, v in content["modules"].items()
+        ]
         lines.append(",\n".join(entries))
         lines.append(" }},")
     lines[-1] = " }}"

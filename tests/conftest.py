@@ -44,12 +44,16 @@ def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900
 
     result = subprocess.run(
         [sys.executable, "-m", "pkgforge", *map(str, args)],
-        cwd=cwd, capture_output=True, text=True, timeout=timeout,
-        stdin=subprocess.DEVNULL, env=env,
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        stdin=subprocess.DEVNULL,
+        env=env,
     )
     printed = (result.stdout or "") + (result.stderr or "")
     words = list(map(str, args))
-    for option, value in zip(words, words[1:]):  # and the report files it wrote
+    for option, value in zip(words, words[1:], strict=False):  # and the report files it wrote
         if option in ("--output", "-o", "--junit-xml") and (Path(cwd) / value).is_file():
             printed += (Path(cwd) / value).read_text(errors="replace")
     PRINTED_CODES.update(re.findall(r"\bPF\d{3}\b", printed))
@@ -65,8 +69,10 @@ def _triggers_printed(request):
     if marker is not None:
         missing = sorted(set(marker.args) - PRINTED_CODES)
         if missing:
-            pytest.fail(f"{request.node.nodeid} is marked triggers({', '.join(missing)}) but no "
-                        f"pkgforge it ran (conftest.run_pkgforge) printed {', '.join(missing)}")
+            pytest.fail(
+                f"{request.node.nodeid} is marked triggers({', '.join(missing)}) but no "
+                f"pkgforge it ran (conftest.run_pkgforge) printed {', '.join(missing)}"
+            )
 
 
 def new_package(workspace: Path, name: str, *options: str) -> Path:
@@ -134,8 +140,14 @@ def at_least(report: dict, minimum: str) -> list[dict]:
 def xacro_command(model: Path, install: Path):
     """The real xacro command line tool against an install tree."""
     env = dict(os.environ, AMENT_PREFIX_PATH=str(install))
-    return subprocess.run([str(SCRIPTS / "xacro"), str(model)], capture_output=True, text=True,
-                          env=env, timeout=60, stdin=subprocess.DEVNULL)
+    return subprocess.run(
+        [str(SCRIPTS / "xacro"), str(model)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+        stdin=subprocess.DEVNULL,
+    )
 
 
 @pytest.fixture(scope="session")

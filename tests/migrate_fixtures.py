@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pkgforge.scaffold.stl import binary_stl
-from pkgforge.scaffold.stl import box_triangles
+from pkgforge.scaffold.stl import binary_stl, box_triangles
 
 LINKS = ("base_link", "link1", "link2")
 
@@ -35,7 +34,7 @@ def urdf(name: str, mesh_uri) -> str:
       </geometry>
     </collision>
   </link>''')
-    for index, (parent, child) in enumerate(zip(LINKS, LINKS[1:]), start=1):
+    for index, (parent, child) in enumerate(zip(LINKS, LINKS[1:], strict=False), start=1):
         parts.append(f'''  <joint name="joint{index}" type="revolute">
     <origin xyz="0 0 0.1" rpy="0 0 0"/>
     <parent link="{parent}"/>
@@ -145,7 +144,7 @@ def ros1_package(folder: Path, name: str, *, format_: int = 2) -> Path:
   <maintainer email="me@email.com">Exporter User</maintainer>
   <license>BSD</license>
   <buildtool_depend>catkin</buildtool_depend>
-  <{'build_depend' if format_ == 1 else 'depend'}>roslaunch</{'build_depend' if format_ == 1 else 'depend'}>
+  <{"build_depend" if format_ == 1 else "depend"}>roslaunch</{"build_depend" if format_ == 1 else "depend"}>
   <{run}>robot_state_publisher</{run}>
   <{run}>rviz</{run}>
   <{run}>joint_state_publisher</{run}>
@@ -168,9 +167,13 @@ endforeach(dir)
     (package / "launch" / "display.launch").write_text(DISPLAY.format(name=name))
     (package / "launch" / "display_xacro.launch").write_text(XACRO_DISPLAY.format(name=name))
     (package / "launch" / "gazebo.launch").write_text(GAZEBO.format(name=name))
-    (package / "config" / f"joint_names_{name}.yaml").write_text("controller_joint_names: ['', 'joint1', 'joint2', ]\n")
+    (package / "config" / f"joint_names_{name}.yaml").write_text(
+        "controller_joint_names: ['', 'joint1', 'joint2', ]\n"
+    )
     (package / "urdf.rviz").write_text(RVIZ1)
-    (package / "urdf" / f"{name}.urdf").write_text(urdf(name, lambda link: f"package://{name}/meshes/{link}.STL"))
+    (package / "urdf" / f"{name}.urdf").write_text(
+        urdf(name, lambda link: f"package://{name}/meshes/{link}.STL")
+    )
     (package / "urdf" / f"{name}.csv").write_text("Link Name,Center of Mass X\nbase_link,0\n")
     write_meshes(package / "meshes")
     (package / "textures" / "README").write_text("textures of the exported parts\n")

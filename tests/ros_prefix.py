@@ -18,8 +18,11 @@ PACKAGES = {  # package → (repository folder, folder holding setup.py, entry p
     "launch": ("launch", "launch", ""),
     "launch_xml": ("launch", "launch_xml", "[launch.frontend.parser]\nxml = launch_xml:Parser\n"),
     "launch_yaml": ("launch", "launch_yaml", "[launch.frontend.parser]\nyaml = launch_yaml:Parser\n"),
-    "launch_ros": ("launch_ros", "launch_ros",
-                   "[launch.frontend.launch_extension]\nlaunch_ros = launch_ros\n"),
+    "launch_ros": (
+        "launch_ros",
+        "launch_ros",
+        "[launch.frontend.launch_extension]\nlaunch_ros = launch_ros\n",
+    ),
 }
 
 
@@ -28,15 +31,20 @@ def upstream_root() -> tuple[Path | None, str]:
     variable = os.environ.get("PKGFORGE_UPSTREAM_LAUNCH")
     if variable:
         path = Path(variable)
-        return (path, f"$PKGFORGE_UPSTREAM_LAUNCH={variable}") if path.is_dir() else \
-            (None, f"$PKGFORGE_UPSTREAM_LAUNCH={variable} is not a folder")
+        return (
+            (path, f"$PKGFORGE_UPSTREAM_LAUNCH={variable}")
+            if path.is_dir()
+            else (None, f"$PKGFORGE_UPSTREAM_LAUNCH={variable} is not a folder")
+        )
     here = Path(__file__).resolve()
     for parent in here.parents:
         candidate = parent / "shared" / "upstream" / "ros2-launch"
         if candidate.is_dir():
             return candidate, str(candidate)
-    return None, (f"no shared/upstream/ros2-launch above {here.parent} and no $PKGFORGE_UPSTREAM_LAUNCH: "
-                  "the real launch libraries are not on this machine")
+    return None, (
+        f"no shared/upstream/ros2-launch above {here.parent} and no $PKGFORGE_UPSTREAM_LAUNCH: "
+        "the real launch libraries are not on this machine"
+    )
 
 
 def missing_requirements() -> str | None:

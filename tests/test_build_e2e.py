@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-
 import pytest
-from lxml import etree
-
 from conftest import VARIANTS, copy_fixture, run_pkgforge, xacro_command
+from lxml import etree
 
 pytestmark = pytest.mark.slow
 
@@ -15,11 +13,21 @@ pytestmark = pytest.mark.slow
 def test_variant_installs_everything(variants_workspace, name):
     install = variants_workspace / "install"
     share = install / "share" / name
-    launch_format = {"v_xml": "xml", "v_yaml": "yaml", "v_humble_xml": "xml",
-                     "v_humble_yaml": "yaml", "v_python_xml": "xml"}.get(name, "py")
-    for relative in ("package.xml", f"launch/display.launch.{launch_format}",
-                     f"urdf/{name}.urdf.xacro", "urdf/macros.xacro", "meshes/arm.stl",
-                     "rviz/display.rviz"):
+    launch_format = {
+        "v_xml": "xml",
+        "v_yaml": "yaml",
+        "v_humble_xml": "xml",
+        "v_humble_yaml": "yaml",
+        "v_python_xml": "xml",
+    }.get(name, "py")
+    for relative in (
+        "package.xml",
+        f"launch/display.launch.{launch_format}",
+        f"urdf/{name}.urdf.xacro",
+        "urdf/macros.xacro",
+        "meshes/arm.stl",
+        "rviz/display.rviz",
+    ):
         assert (share / relative).is_file(), relative
     assert (install / "share" / "ament_index" / "resource_index" / "packages" / name).is_file()
 
@@ -35,7 +43,7 @@ def test_installed_xacro_expands_and_meshes_resolve(variants_workspace, name):
     uris = [mesh.get("filename") for mesh in robot.iter("mesh")]
     assert uris == [f"package://{name}/meshes/arm.stl"]
     for uri in uris:
-        package, _, relative = uri[len("package://"):].partition("/")
+        package, _, relative = uri[len("package://") :].partition("/")
         assert (install / "share" / package / relative).is_file()
 
 
@@ -45,8 +53,9 @@ def test_seed000_shape_builds_without_ros(tmp_path):
     result = run_pkgforge("build", cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     assert "stubbed for find_package(): urdf" in result.stderr
-    assert (tmp_path / "install" / "share" / "robot_description" / "urdf"
-            / "robot_simple_description.urdf.xacro").is_file()
+    assert (
+        tmp_path / "install" / "share" / "robot_description" / "urdf" / "robot_simple_description.urdf.xacro"
+    ).is_file()
     # seed case 1: rviz/ is not in the install rule, so it is not installed
     assert not (tmp_path / "install" / "share" / "robot_description" / "rviz").exists()
 
@@ -57,7 +66,7 @@ def test_seed001_shape_fails_with_cmakes_message(tmp_path):
     result = run_pkgforge("build", cwd=tmp_path)
     output = result.stdout + result.stderr
     assert result.returncode == 1, output
-    assert 'file INSTALL cannot find' in output
+    assert "file INSTALL cannot find" in output
     assert "src/small_turtle/worlds" in output
     assert "pkgforge: error: build failed: small_turtle" in result.stderr
     assert "Traceback" not in output
@@ -71,7 +80,9 @@ def test_build_of_a_folder_without_packages_exits_2(tmp_path):
 
 
 def test_build_one_package_path_inside_a_workspace(tmp_path):
-    run = run_pkgforge("new", "only_me", "--maintainer-email", "t@example.com", "--destination", "src", cwd=tmp_path)
+    run = run_pkgforge(
+        "new", "only_me", "--maintainer-email", "t@example.com", "--destination", "src", cwd=tmp_path
+    )
     assert run.returncode == 0, run.stderr
     copy_fixture("seed001/small_turtle", tmp_path)
     result = run_pkgforge("build", "src/only_me", cwd=tmp_path)

@@ -23,13 +23,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-
 from conftest import FIXTURES, MAINTAINER, run_pkgforge
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
-
 from test_sandbox import fingerprint  # noqa: E402
 
 PER_CASE_SECONDS = 15
@@ -67,6 +65,7 @@ class Case:
 
 # --- the bases ----------------------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def bases(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("bases")
@@ -83,7 +82,7 @@ def bases(tmp_path_factory) -> Path:
 def clone(bases: Path, base: str, src: Path, name: str) -> Path:
     """A copy of a base package under a new name (in file names and contents)."""
     target = src / name
-    for root, dirs, files in os.walk(bases / base):
+    for root, _dirs, files in os.walk(bases / base):
         relative = os.path.relpath(root, bases / base).replace(base, name)
         (target / relative).mkdir(parents=True, exist_ok=True)
         for file in files:
@@ -98,9 +97,10 @@ def files_of(package: Path, kind: str) -> list[Path]:
 
 # --- mutations ----------------------------------------------------------------------------------
 
+
 def truncate(path: Path, fraction: float) -> str:
     data = path.read_bytes()
-    path.write_bytes(data[:int(len(data) * fraction)])
+    path.write_bytes(data[: int(len(data) * fraction)])
     return f"truncated to {fraction:.0%}"
 
 
@@ -108,7 +108,7 @@ def flip(path: Path, positions: list[int], values: list[int]) -> str:
     data = bytearray(path.read_bytes())
     if not data:
         return "flip of an empty file"
-    for position, value in zip(positions, values):
+    for position, value in zip(positions, values, strict=False):
         data[position % len(data)] ^= value or 1
     path.write_bytes(bytes(data))
     return f"{len(positions)} bytes flipped"
@@ -158,50 +158,73 @@ HOSTILE_LAUNCH = {
     "baseexc.launch.py": "def generate_launch_description():\n    raise KeyboardInterrupt\n",
     "returns.launch.py": "def generate_launch_description():\n    return 42\n",
     "nofunction.launch.py": "x = 1\n",
-    "kill.launch.py": ("import os, signal\nfrom launch import LaunchDescription\n"
-                       "def generate_launch_description():\n    os.kill(os.getppid(), signal.SIGTERM)\n"
-                       "    return LaunchDescription([])\n"),
-    "writes.launch.py": ("import os\nfrom launch import LaunchDescription\n"
-                         "def generate_launch_description():\n"
-                         "    open(os.path.join(os.path.dirname(__file__), '..', 'package.xml'), 'w').write('')\n"
-                         "    return LaunchDescription([])\n"),
-    "prints.launch.py": ("import sys, os\nfrom launch import LaunchDescription\n"
-                         "def generate_launch_description():\n"
-                         "    print('{\"status\": \"ok\"}'); os.write(1, b'garbage\\n'); sys.stderr.write('x')\n"
-                         "    return LaunchDescription([])\n"),
-    "self.launch.py": ("import os\nfrom launch import LaunchDescription\n"
-                       "from launch.actions import IncludeLaunchDescription\n"
-                       "from launch.launch_description_sources import PythonLaunchDescriptionSource\n"
-                       "def generate_launch_description():\n"
-                       "    return LaunchDescription([IncludeLaunchDescription(PythonLaunchDescriptionSource(__file__))])\n"),
-    "laughs.launch.xml": ('<?xml version="1.0"?>\n<!DOCTYPE l [<!ENTITY a "aaaaaaaaaa">'
-                          '<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;"><!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">'
-                          '<!ENTITY d "&c;&c;&c;&c;&c;&c;&c;&c;&c;&c;"><!ENTITY e "&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;">'
-                          '<!ENTITY f "&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;"><!ENTITY g "&f;&f;&f;&f;&f;&f;&f;&f;&f;&f;">]>\n'
-                          '<launch><arg name="x" default="&g;"/></launch>\n'),
-    "external.launch.xml": ('<?xml version="1.0"?>\n<!DOCTYPE l [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n'
-                            '<launch><arg name="x" default="&x;"/></launch>\n'),
+    "kill.launch.py": (
+        "import os, signal\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n    os.kill(os.getppid(), signal.SIGTERM)\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "writes.launch.py": (
+        "import os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    open(os.path.join(os.path.dirname(__file__), '..', 'package.xml'), 'w').write('')\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "prints.launch.py": (
+        "import sys, os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    print('{\"status\": \"ok\"}'); os.write(1, b'garbage\\n'); sys.stderr.write('x')\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "self.launch.py": (
+        "import os\nfrom launch import LaunchDescription\n"
+        "from launch.actions import IncludeLaunchDescription\n"
+        "from launch.launch_description_sources import PythonLaunchDescriptionSource\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([IncludeLaunchDescription(PythonLaunchDescriptionSource(__file__))])\n"
+    ),
+    "laughs.launch.xml": (
+        '<?xml version="1.0"?>\n<!DOCTYPE l [<!ENTITY a "aaaaaaaaaa">'
+        '<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;"><!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">'
+        '<!ENTITY d "&c;&c;&c;&c;&c;&c;&c;&c;&c;&c;"><!ENTITY e "&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;">'
+        '<!ENTITY f "&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;"><!ENTITY g "&f;&f;&f;&f;&f;&f;&f;&f;&f;&f;">]>\n'
+        '<launch><arg name="x" default="&g;"/></launch>\n'
+    ),
+    "external.launch.xml": (
+        '<?xml version="1.0"?>\n<!DOCTYPE l [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n'
+        '<launch><arg name="x" default="&x;"/></launch>\n'
+    ),
     "self.launch.xml": ('<launch><include file="$(find-pkg-share NAME)/launch/self.launch.xml"/></launch>\n'),
-    "anchors.launch.yaml": ("launch:\n- arg: &a {name: x, default: y}\n- arg: *a\n"
-                            "- let: {name: z, value: [*a, *a, *a, *a]}\n"),
+    "anchors.launch.yaml": (
+        "launch:\n- arg: &a {name: x, default: y}\n- arg: *a\n- let: {name: z, value: [*a, *a, *a, *a]}\n"
+    ),
     "notalist.launch.yaml": "launch: 7\n",
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
 }
 # hostile models: (file name, content)
 HOSTILE_XACRO = {
-    "selfinclude.urdf.xacro": ('<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
-                               '<xacro:include filename="$(find NAME)/urdf/selfinclude.urdf.xacro"/></robot>\n'),
-    "recursive.urdf.xacro": ('<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
-                             '<xacro:macro name="m"><xacro:m/></xacro:macro><xacro:m/></robot>\n'),
-    "eval.urdf.xacro": ('<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
-                        '<link name="${__import__(\'os\').remove(\'SRC/package.xml\') or \'l\'}"/></robot>\n'),
-    "bigloop.urdf.xacro": ('<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
-                           '<xacro:property name="n" value="${10**10}"/>'
-                           '<link name="${\'x\' * 1000}"/></robot>\n'),
-    "laughs.urdf": ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa">'
-                    '<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;"><!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">'
-                    '<!ENTITY d "&c;&c;&c;&c;&c;&c;&c;&c;&c;&c;"><!ENTITY e "&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;">]>'
-                    '<robot name="r"><link name="&e;"/></robot>\n'),
+    "selfinclude.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        '<xacro:include filename="$(find NAME)/urdf/selfinclude.urdf.xacro"/></robot>\n'
+    ),
+    "recursive.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        '<xacro:macro name="m"><xacro:m/></xacro:macro><xacro:m/></robot>\n'
+    ),
+    "eval.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        "<link name=\"${__import__('os').remove('SRC/package.xml') or 'l'}\"/></robot>\n"
+    ),
+    "bigloop.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        '<xacro:property name="n" value="${10**10}"/>'
+        "<link name=\"${'x' * 1000}\"/></robot>\n"
+    ),
+    "laughs.urdf": (
+        '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa">'
+        '<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;"><!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">'
+        '<!ENTITY d "&c;&c;&c;&c;&c;&c;&c;&c;&c;&c;"><!ENTITY e "&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;">]>'
+        '<robot name="r"><link name="&e;"/></robot>\n'
+    ),
     "notxml.urdf": "\x00\x01\x02 not xml at all",
 }
 
@@ -262,13 +285,28 @@ def structural(package: Path, what: str, outside: Path) -> None:
         raise AssertionError(what)
 
 
-STRUCTURAL = ("dangling link", "link cycle", "link loop", "link out of the tree", "link to a system file",
-              "mesh replaced by a link out", "urdf folder is a link up", "unreadable mesh",
-              "unreadable urdf folder", "unreadable launch file", "read-only package", "deep nesting",
-              "many files", "fifo", "launch folder is a file", "space and unicode in names")
+STRUCTURAL = (
+    "dangling link",
+    "link cycle",
+    "link loop",
+    "link out of the tree",
+    "link to a system file",
+    "mesh replaced by a link out",
+    "urdf folder is a link up",
+    "unreadable mesh",
+    "unreadable urdf folder",
+    "unreadable launch file",
+    "read-only package",
+    "deep nesting",
+    "many files",
+    "fifo",
+    "launch folder is a file",
+    "space and unicode in names",
+)
 
 
 # --- building the campaign ----------------------------------------------------------------------
+
 
 def byte_plan(rng) -> list[tuple[str, str, str, dict]]:
     """(base, kind, mutation, parameters) for every base × file kind it has × byte mutation."""
@@ -329,8 +367,9 @@ class Campaign:
             if what is None:
                 shutil.rmtree(package)
                 continue
-            cases.append(Case(name, base, what, installable=kind not in ("package.xml", "CMakeLists.txt",
-                                                                         "setup.py")))
+            cases.append(
+                Case(name, base, what, installable=kind not in ("package.xml", "CMakeLists.txt", "setup.py"))
+            )
         return cases
 
     def huge_cases(self, src: Path) -> list[Case]:
@@ -338,13 +377,17 @@ class Campaign:
         for kind in ("package.xml", "launch.py", "urdf", "stl", "rviz"):
             name, package = self.package(src, "cbasepy")
             path = files_of(package, kind)[0]
-            cases.append(Case(name, "cbasepy", f"{path.relative_to(package)}: {huge(path)}", kind != "package.xml"))
+            cases.append(
+                Case(name, "cbasepy", f"{path.relative_to(package)}: {huge(path)}", kind != "package.xml")
+            )
         return cases
 
     def hostile_cases(self, src: Path) -> list[Case]:
         cases = []
         for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO}.items():
-            base = "cbasexml" if file.endswith(".xml") else "cbaseyaml" if file.endswith(".yaml") else "cbasepy"
+            base = (
+                "cbasexml" if file.endswith(".xml") else "cbaseyaml" if file.endswith(".yaml") else "cbasepy"
+            )
             name, package = self.package(src, base)
             folder = "launch" if ".launch." in file else "urdf"
             (package / folder / file).write_text(content.replace("NAME", name).replace("SRC", str(package)))
@@ -357,7 +400,8 @@ class Campaign:
                     f"    model = get_package_share_directory({name!r}) + '/urdf/{file}'\n"
                     "    return LaunchDescription([Node(package='robot_state_publisher', executable="
                     "'robot_state_publisher', parameters=[{'robot_description': ParameterValue("
-                    "Command(['xacro ', model]), value_type=str)}])])\n")
+                    "Command(['xacro ', model]), value_type=str)}])])\n"
+                )
             cases.append(Case(name, base, f"hostile {file}"))
         return cases
 
@@ -367,9 +411,24 @@ class Campaign:
             base = list(BASES)[index % 4]
             name, package = self.package(src, base)
             structural(package, what, self.outside)
-            cases.append(Case(name, base, what, installable=what not in (
-                "urdf folder is a link up", "launch folder is a file", "unreadable urdf folder",
-                "unreadable launch file", "fifo", "link loop", "dangling link", "deep nesting")))
+            cases.append(
+                Case(
+                    name,
+                    base,
+                    what,
+                    installable=what
+                    not in (
+                        "urdf folder is a link up",
+                        "launch folder is a file",
+                        "unreadable urdf folder",
+                        "unreadable launch file",
+                        "fifo",
+                        "link loop",
+                        "dangling link",
+                        "deep nesting",
+                    ),
+                )
+            )
         return cases
 
 
@@ -399,9 +458,10 @@ def install_like_colcon(src: Path, install: Path) -> None:
 
 # --- running verify on a batch ------------------------------------------------------------------
 
+
 def readable(folder: Path) -> None:
     """Give back read permission (the permission cases), so pytest can clean up."""
-    for root, dirs, files in os.walk(folder):
+    for root, dirs, _files in os.walk(folder):
         for name in dirs:
             path = os.path.join(root, name)
             if not os.path.islink(path):
@@ -416,9 +476,26 @@ def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
     before = fingerprint(workspace, skip=("build",))
     limit = PER_CASE_SECONDS * max(1, len(cases))
     try:
-        result = subprocess.run([sys.executable, "-m", "pkgforge", "verify", ".", "--format", "json", "--no-cache",
-                                 "--launch-timeout", LAUNCH_TIMEOUT, *mode], cwd=workspace, capture_output=True,
-                                text=True, timeout=limit, stdin=subprocess.DEVNULL)
+        result = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "pkgforge",
+                "verify",
+                ".",
+                "--format",
+                "json",
+                "--no-cache",
+                "--launch-timeout",
+                LAUNCH_TIMEOUT,
+                *mode,
+            ],
+            cwd=workspace,
+            capture_output=True,
+            text=True,
+            timeout=limit,
+            stdin=subprocess.DEVNULL,
+        )
     except subprocess.TimeoutExpired:
         return [f"hang: no answer after {limit} s"]
     problems = []
@@ -466,15 +543,24 @@ def check(workspace: Path, cases: list[Case], *mode: str) -> None:
     problems = verify_batch(workspace, cases, *mode)
     if problems:
         failing = each_alone(workspace, cases, *mode)
-        raise AssertionError(f"{len(failing)} of {len(cases)} cases fail alone: "
-                             + json.dumps(failing, indent=1)[:20000] + "\nthe batch: " + "\n".join(problems)[:5000])
+        raise AssertionError(
+            f"{len(failing)} of {len(cases)} cases fail alone: "
+            + json.dumps(failing, indent=1)[:20000]
+            + "\nthe batch: "
+            + "\n".join(problems)[:5000]
+        )
 
 
 # --- the campaign -------------------------------------------------------------------------------
 
-CAMPAIGN_SETTINGS = settings(max_examples=1, derandomize=True, database=None, deadline=None,
-                             phases=[Phase.explicit, Phase.generate],
-                             suppress_health_check=list(HealthCheck))
+CAMPAIGN_SETTINGS = settings(
+    max_examples=1,
+    derandomize=True,
+    database=None,
+    deadline=None,
+    phases=[Phase.explicit, Phase.generate],
+    suppress_health_check=list(HealthCheck),
+)
 
 
 @pytest.mark.slow
@@ -495,8 +581,14 @@ def test_campaign_default_and_install_base(bases, tmp_path_factory, data):
         batches.append((workspace, campaign.byte_cases(workspace / "src", part)))
     workspace = root / "hostile"
     (workspace / "src").mkdir(parents=True)
-    batches.append((workspace, campaign.huge_cases(workspace / "src") + campaign.hostile_cases(workspace / "src")
-                    + campaign.structural_cases(workspace / "src")))
+    batches.append(
+        (
+            workspace,
+            campaign.huge_cases(workspace / "src")
+            + campaign.hostile_cases(workspace / "src")
+            + campaign.structural_cases(workspace / "src"),
+        )
+    )
     inputs = sum(len(cases) for _, cases in batches)
     assert inputs >= 300, inputs
     try:
@@ -506,7 +598,9 @@ def test_campaign_default_and_install_base(bases, tmp_path_factory, data):
             check(workspace, cases, "--install-base", "install")
     finally:
         readable(root)
-    print(f"campaign: {inputs} broken inputs, {2 * len(batches)} verify runs, 0 tracebacks, 0 hangs, 0 changes")
+    print(
+        f"campaign: {inputs} broken inputs, {2 * len(batches)} verify runs, 0 tracebacks, 0 hangs, 0 changes"
+    )
 
 
 @pytest.mark.slow

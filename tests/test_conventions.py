@@ -13,7 +13,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import MAINTAINER, SCRIPTS, line_of, new_package, run_pkgforge
 
 REPO = Path(__file__).resolve().parent.parent
@@ -28,6 +27,7 @@ def registered():
 
 
 # --- every check code is triggered by a test ---------------------------------------------------
+
 
 def marked_codes() -> dict[str, list[str]]:
     """code -> the tests marked @pytest.mark.triggers(code) (read from the source, so a test
@@ -50,7 +50,8 @@ def test_every_check_code_is_triggered_by_an_end_to_end_test():
         "these check codes are asserted by no test: "
         + "; ".join(missing)
         + ". Write an end-to-end test that runs the real pkgforge (conftest.run_pkgforge) and asserts "
-          "the code, file and line, and mark it @pytest.mark.triggers(\"PFxxx\")")
+        'the code, file and line, and mark it @pytest.mark.triggers("PFxxx")'
+    )
 
 
 def test_every_triggers_mark_names_a_registered_code():
@@ -60,6 +61,7 @@ def test_every_triggers_mark_names_a_registered_code():
 
 
 # --- the registry: area follows the code, examples -------------------------------------------
+
 
 def test_area_follows_the_code_prefix():
     """PF3xx is launch, PF4xx model, ...: `--select PF4` and the catalogue's areas agree. Codes are
@@ -72,8 +74,9 @@ def test_area_follows_the_code_prefix():
         if hundred not in AREAS:
             wrong.append(f"{check.code} {check.name}: PF{hundred}xx has no area in registry.AREAS (add it)")
         elif check.area != AREAS[hundred]:
-            wrong.append(f"{check.code} {check.name}: area '{check.area}', but PF{hundred}xx is "
-                         f"'{AREAS[hundred]}'")
+            wrong.append(
+                f"{check.code} {check.name}: area '{check.area}', but PF{hundred}xx is '{AREAS[hundred]}'"
+            )
     assert not wrong, "; ".join(wrong)
 
 
@@ -86,11 +89,13 @@ def test_pf308_sits_in_launch_so_select_pf3_has_it():
 
 def test_every_check_has_a_bad_and_a_fixed_example():
     missing = [f"{c.code} {c.name}" for c in registered() if not (c.bad and c.good) or c.bad == c.good]
-    assert not missing, ("no bad/good example in the check's register(bad=..., good=...): "
-                         + "; ".join(missing))
+    assert not missing, "no bad/good example in the check's register(bad=..., good=...): " + "; ".join(
+        missing
+    )
 
 
 # --- pkgforge rule ---------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("key", ["PF302", "pf302", "uninstalled-reference"])
 def test_rule_explains_one_check(tmp_path, key):
@@ -171,9 +176,13 @@ def defective_package(workspace: Path) -> Path:
     (package / "launch" / "nav.launch.py").write_text(NAV_LAUNCH)
     (package / "launch" / "old.launch").write_text(ROS1_LAUNCH)
     manifest = package / "package.xml"
-    manifest.write_text(manifest.read_text().replace(
-        "  <exec_depend>xacro</exec_depend>\n",
-        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>nav2_common</exec_depend>\n", 1))
+    manifest.write_text(
+        manifest.read_text().replace(
+            "  <exec_depend>xacro</exec_depend>\n",
+            "  <exec_depend>xacro</exec_depend>\n  <exec_depend>nav2_common</exec_depend>\n",
+            1,
+        )
+    )
     stl = (package / "meshes" / "arm.stl").read_bytes()
     (package / "meshes" / "source.stl").write_bytes(stl)
     (package / "meshes" / "broken.stl").write_bytes(stl[:120])  # the header promises more triangles
@@ -194,15 +203,37 @@ def defective(tmp_path_factory):
 # (code, file in the package, text on the line, or None for a diagnostic of the whole file, severity);
 # each marked with its code, a literal: test_every_check_code_is_triggered_by_an_end_to_end_test reads it
 UNTESTED = [
-    pytest.param("PF309", "launch/extra.launch.py", "DeclareLaunchArgument('world')", "info",
-                 marks=pytest.mark.triggers("PF309"), id="PF309"),
-    pytest.param("PF311", "launch/nav.launch.py", "from nav2_common.launch import", "info",
-                 marks=pytest.mark.triggers("PF311"), id="PF311"),
+    pytest.param(
+        "PF309",
+        "launch/extra.launch.py",
+        "DeclareLaunchArgument('world')",
+        "info",
+        marks=pytest.mark.triggers("PF309"),
+        id="PF309",
+    ),
+    pytest.param(
+        "PF311",
+        "launch/nav.launch.py",
+        "from nav2_common.launch import",
+        "info",
+        marks=pytest.mark.triggers("PF311"),
+        id="PF311",
+    ),
     pytest.param("PF312", "launch/old.launch", None, "info", marks=pytest.mark.triggers("PF312"), id="PF312"),
-    pytest.param("PF404", "urdf/meshes.urdf", "file://", "warning", marks=pytest.mark.triggers("PF404"), id="PF404"),
-    pytest.param("PF405", "urdf/meshes.urdf", "broken.stl", "error", marks=pytest.mark.triggers("PF405"), id="PF405"),
-    pytest.param("PF406", "urdf/parts.urdf.xacro", "$(arg prefix)", "info",
-                 marks=pytest.mark.triggers("PF406"), id="PF406"),
+    pytest.param(
+        "PF404", "urdf/meshes.urdf", "file://", "warning", marks=pytest.mark.triggers("PF404"), id="PF404"
+    ),
+    pytest.param(
+        "PF405", "urdf/meshes.urdf", "broken.stl", "error", marks=pytest.mark.triggers("PF405"), id="PF405"
+    ),
+    pytest.param(
+        "PF406",
+        "urdf/parts.urdf.xacro",
+        "$(arg prefix)",
+        "info",
+        marks=pytest.mark.triggers("PF406"),
+        id="PF406",
+    ),
 ]
 
 
@@ -221,47 +252,76 @@ def test_each_defect_is_one_diagnostic(defective):
 
 # --- pkgforge.toml: validated, severity per check --------------------------------------------
 
+
 @pytest.fixture
 def workspace(tmp_path) -> Path:
     (tmp_path / "src").mkdir()
     package = new_package(tmp_path, "rob_description")
     manifest = package / "package.xml"
-    manifest.write_text(manifest.read_text().replace(
-        "  <exec_depend>xacro</exec_depend>\n",
-        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>tf2_ros</exec_depend>\n", 1))  # PF107, info
+    manifest.write_text(
+        manifest.read_text().replace(
+            "  <exec_depend>xacro</exec_depend>\n",
+            "  <exec_depend>xacro</exec_depend>\n  <exec_depend>tf2_ros</exec_depend>\n",
+            1,
+        )
+    )  # PF107, info
     return tmp_path
 
 
-@pytest.mark.parametrize("content, line, says", [
-    ('[verify]\nselect = ["PF1"]\nignor = ["PF107"]\n', 3,
-     "unknown key 'verify.ignor' (did you mean 'ignore'? known here: select, ignore, distro, packages)"),
-    ('[verfy]\nignore = ["PF107"]\n', 1, "unknown key 'verfy' (did you mean 'verify'?"),
-    ('[verify]\nignore = "PF107"\n', 2, "'verify.ignore' must be a list of check codes, code prefixes or names, "
-                                        "not 'PF107'"),
-    ('[verify.packages]\nrob_description = 1\n', 2, "'verify.packages.rob_description' must be a table"),
-    ('[verify.packages.rob_description]\nselect = ["PF1"]\n', 2,
-     "unknown key 'verify.packages.rob_description.select'"),
-    ('\n[severity]\nPF107 = "fatal"\n', 3, "'severity.PF107' must be one of 'error', 'warning', 'info', not 'fatal'"),
-    ('[severity]\nPF1O7 = "error"\n', 2, "severity.PF1O7: no check is named or coded 'PF1O7'"),
-    ('severity = ["PF107"]\n', 1, "'severity' must be a table ([severity])"),
-])
+@pytest.mark.parametrize(
+    "content, line, says",
+    [
+        (
+            '[verify]\nselect = ["PF1"]\nignor = ["PF107"]\n',
+            3,
+            "unknown key 'verify.ignor' (did you mean 'ignore'? known here: select, ignore, distro, packages)",
+        ),
+        ('[verfy]\nignore = ["PF107"]\n', 1, "unknown key 'verfy' (did you mean 'verify'?"),
+        (
+            '[verify]\nignore = "PF107"\n',
+            2,
+            "'verify.ignore' must be a list of check codes, code prefixes or names, not 'PF107'",
+        ),
+        ("[verify.packages]\nrob_description = 1\n", 2, "'verify.packages.rob_description' must be a table"),
+        (
+            '[verify.packages.rob_description]\nselect = ["PF1"]\n',
+            2,
+            "unknown key 'verify.packages.rob_description.select'",
+        ),
+        (
+            '\n[severity]\nPF107 = "fatal"\n',
+            3,
+            "'severity.PF107' must be one of 'error', 'warning', 'info', not 'fatal'",
+        ),
+        ('[severity]\nPF1O7 = "error"\n', 2, "severity.PF1O7: no check is named or coded 'PF1O7'"),
+        ('severity = ["PF107"]\n', 1, "'severity' must be a table ([severity])"),
+    ],
+)
 def test_bad_pkgforge_toml_names_file_line_and_key(workspace, content, line, says):
     (workspace / "pkgforge.toml").write_text(content)
     result = run_pkgforge("verify", ".", cwd=workspace)
     assert result.returncode == 2 and result.stdout == "", result.stdout + result.stderr
-    assert result.stderr.startswith(f"pkgforge: error: {workspace / 'pkgforge.toml'}:{line}: {says}"), result.stderr
+    assert result.stderr.startswith(f"pkgforge: error: {workspace / 'pkgforge.toml'}:{line}: {says}"), (
+        result.stderr
+    )
     assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
 
 
-@pytest.mark.parametrize("content, line", [("[verify\n", 1), ('[verify]\nignore = ["PF107"\n', 2),
-                                           ('[verify]\nignore = []\nignore = []\n', 3)])
+@pytest.mark.parametrize(
+    "content, line",
+    [("[verify\n", 1), ('[verify]\nignore = ["PF107"\n', 2), ("[verify]\nignore = []\nignore = []\n", 3)],
+)
 def test_malformed_pkgforge_toml_is_exit_2_with_its_line(workspace, content, line):
     config = workspace / "src" / "rob_description" / "pkgforge.toml"  # a package's own file
     config.write_text(content)
     result = run_pkgforge("verify", ".", cwd=workspace)
-    assert result.returncode == 2 and "Traceback" not in result.stderr and "internal error" not in result.stderr
+    assert (
+        result.returncode == 2 and "Traceback" not in result.stderr and "internal error" not in result.stderr
+    )
     assert result.stderr.startswith(f"pkgforge: error: {config}: invalid TOML: ")
-    assert re.search(rf"\(at (line {line}, column \d+|end of document, line {line})\)", result.stderr), result.stderr
+    assert re.search(rf"\(at (line {line}, column \d+|end of document, line {line})\)", result.stderr), (
+        result.stderr
+    )
     assert result.stderr.count("\n") == 1
 
 
@@ -272,7 +332,9 @@ def test_severity_override_changes_report_and_exit_code(workspace):
     def verify(*args):
         result = run_pkgforge("verify", ".", "--format", "json", *args, cwd=workspace)
         report = json.loads(result.stdout)
-        return result.returncode, [(d["code"], d["path"], d["line"], d["severity"]) for d in report["diagnostics"]]
+        return result.returncode, [
+            (d["code"], d["path"], d["line"], d["severity"]) for d in report["diagnostics"]
+        ]
 
     assert verify() == (0, [("PF107", "src/rob_description/package.xml", line, "info")])
     (workspace / "pkgforge.toml").write_text('[severity]\nunused-exec-depend = "error"\n')
@@ -286,8 +348,15 @@ def test_severity_override_changes_report_and_exit_code(workspace):
 
 
 def colcon(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([str(SCRIPTS / "colcon"), *args], cwd=cwd, capture_output=True, text=True,
-                          timeout=600, stdin=subprocess.DEVNULL, env=env)
+    return subprocess.run(
+        [str(SCRIPTS / "colcon"), *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        stdin=subprocess.DEVNULL,
+        env=env,
+    )
 
 
 def test_colcon_verify_honours_severity_and_color(workspace):
@@ -296,7 +365,10 @@ def test_colcon_verify_honours_severity_and_color(workspace):
     args = ("verify", "--install-base", "install", "--pkgforge-select", "PF209")
     plain = colcon(*args, cwd=workspace, env=dict(os.environ, NO_COLOR="1", FORCE_COLOR="1"))
     assert plain.returncode == 1, plain.stdout + plain.stderr
-    assert plain.stdout.startswith("src/rob_description/package.xml:4: PF209 [error]") and ANSI not in plain.stdout
+    assert (
+        plain.stdout.startswith("src/rob_description/package.xml:4: PF209 [error]")
+        and ANSI not in plain.stdout
+    )
     forced = colcon(*args, "--color", "always", cwd=workspace)
     assert f"{ANSI}1mPF209{ANSI}0m" in forced.stdout
     (workspace / "pkgforge.toml").write_text('[severity]\npackage-not-installed = "warning"\n')
@@ -306,19 +378,25 @@ def test_colcon_verify_honours_severity_and_color(workspace):
 
 def test_colcon_verify_has_no_build_base_it_would_ignore(tmp_path):
     result = colcon("verify", "--help", cwd=tmp_path)
-    assert result.returncode == 0 and "--install-base" in result.stdout and "--build-base" not in result.stdout
+    assert (
+        result.returncode == 0 and "--install-base" in result.stdout and "--build-base" not in result.stdout
+    )
 
 
 # --- colour ----------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("env, args, colored", [
-    ({}, [], False),                                   # not a terminal
-    ({"FORCE_COLOR": "1"}, [], True),
-    ({"FORCE_COLOR": "0"}, [], False),
-    ({"NO_COLOR": "1", "FORCE_COLOR": "1"}, [], False),  # NO_COLOR wins
-    ({"NO_COLOR": "1"}, ["--color", "always"], True),  # the option wins
-    ({"FORCE_COLOR": "1"}, ["--color", "never"], False),
-])
+
+@pytest.mark.parametrize(
+    "env, args, colored",
+    [
+        ({}, [], False),  # not a terminal
+        ({"FORCE_COLOR": "1"}, [], True),
+        ({"FORCE_COLOR": "0"}, [], False),
+        ({"NO_COLOR": "1", "FORCE_COLOR": "1"}, [], False),  # NO_COLOR wins
+        ({"NO_COLOR": "1"}, ["--color", "always"], True),  # the option wins
+        ({"FORCE_COLOR": "1"}, ["--color", "never"], False),
+    ],
+)
 def test_color_in_every_command(workspace, env, args, colored):
     environment = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")} | env
     package_xml = "src/rob_description/package.xml"
@@ -335,6 +413,7 @@ def test_color_option_refuses_other_values(workspace):
 
 
 # --- reports: GitLab code quality, SARIF helpUri, --junit-xml ----------------------------------
+
 
 def test_gitlab_code_quality_report(workspace):
     package = workspace / "src" / "rob_description"
@@ -365,8 +444,10 @@ def test_gitlab_template_writes_the_code_quality_report(tmp_path):
 
 def github_anchors(markdown: str) -> set[str]:
     """GitHub's heading anchors: lower case, punctuation but '-' dropped, spaces to '-'."""
-    return {re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
-            for heading in re.findall(r"^#+ (.+)$", markdown, re.M)}
+    return {
+        re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
+        for heading in re.findall(r"^#+ (.+)$", markdown, re.M)
+    }
 
 
 def test_sarif_rules_point_at_their_docs_anchor(workspace):
@@ -403,7 +484,9 @@ def test_junit_xml_beside_the_text_report(workspace, tmp_path):
     (workspace / "pkgforge.toml").write_text('[severity]\nPF107 = "error"\n')
     status, text, cases = verify()
     assert status == 1 and "PF107 [error]" in text
-    assert [name for name, case in cases.items() if case.find("failure") is not None] == ["PF107 unused-exec-depend"]
+    assert [name for name, case in cases.items() if case.find("failure") is not None] == [
+        "PF107 unused-exec-depend"
+    ]
 
 
 def test_junit_xml_that_cannot_be_written_is_exit_2(workspace):
@@ -414,6 +497,7 @@ def test_junit_xml_that_cannot_be_written_is_exit_2(workspace):
 
 
 # --- parallel model loading ------------------------------------------------------------------
+
 
 @pytest.mark.triggers("PF103", "PF104")
 def test_parallel_model_loading_matches_the_serial_one(tmp_path):
@@ -432,12 +516,16 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
         for file in ("package.xml", "CMakeLists.txt"):
             (copy / file).write_text((copy / file).read_text().replace("p00_description", name))
     renamed = tmp_path / "src" / "p05_description"
-    (renamed / "package.xml").write_text((renamed / "package.xml").read_text().replace(
-        "<name>p05_description</name>", "<name>p05_robot</name>"))
+    (renamed / "package.xml").write_text(
+        (renamed / "package.xml")
+        .read_text()
+        .replace("<name>p05_description</name>", "<name>p05_robot</name>")
+    )
 
     def verify(jobs: str) -> dict:
-        result = run_pkgforge("verify", ".", "--format", "json", "--no-cache", "--select", "PF1", "-j", jobs,
-                              cwd=tmp_path)
+        result = run_pkgforge(
+            "verify", ".", "--format", "json", "--no-cache", "--select", "PF1", "-j", jobs, cwd=tmp_path
+        )
         assert result.returncode == 1, result.stdout + result.stderr
         return json.loads(result.stdout)
 
@@ -445,11 +533,14 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
     assert parallel == serial
     assert len(parallel["packages"]) == PARALLEL_THRESHOLD + 2
     found = {(d["code"], d["path"], d["line"]) for d in parallel["diagnostics"]}
-    assert found == {("PF103", "src/p05_description/CMakeLists.txt", line_of(renamed / "CMakeLists.txt", "project(")),
-                     ("PF104", "src/p05_description/package.xml", line_of(renamed / "package.xml", "<name>"))}
+    assert found == {
+        ("PF103", "src/p05_description/CMakeLists.txt", line_of(renamed / "CMakeLists.txt", "project(")),
+        ("PF104", "src/p05_description/package.xml", line_of(renamed / "package.xml", "<name>")),
+    }
 
 
 # --- packaging -------------------------------------------------------------------------------
+
 
 def test_wheel_metadata_is_honest():
     if sys.version_info >= (3, 11):
@@ -474,6 +565,7 @@ def test_shell_completion_is_documented_and_works(tmp_path):
     readme = (REPO / "README.md").read_text()
     assert 'eval "$(_PKGFORGE_COMPLETE=bash_source pkgforge)"' in readme
     env = dict(os.environ, _PKGFORGE_COMPLETE="bash_complete", COMP_WORDS="pkgforge ru", COMP_CWORD="1")
-    result = subprocess.run([str(SCRIPTS / "pkgforge")], env=env, capture_output=True, text=True, timeout=60,
-                            cwd=tmp_path)
+    result = subprocess.run(
+        [str(SCRIPTS / "pkgforge")], env=env, capture_output=True, text=True, timeout=60, cwd=tmp_path
+    )
     assert result.returncode == 0 and "plain,rule" in result.stdout.split(), result.stdout + result.stderr

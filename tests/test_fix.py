@@ -13,7 +13,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import copy_fixture, edit, new_package, run_pkgforge
 
 # --- helpers ---------------------------------------------------------------------------------------
@@ -35,8 +34,14 @@ def tree_diff(before: dict[str, bytes], after: dict[str, bytes]) -> str:
         old, new = before.get(name, b""), after.get(name, b"")
         if old != new:
             out.append(f"diff {name}\n")
-            out.extend(difflib.unified_diff(old.decode().splitlines(keepends=True),
-                                            new.decode().splitlines(keepends=True), f"a/{name}", f"b/{name}"))
+            out.extend(
+                difflib.unified_diff(
+                    old.decode().splitlines(keepends=True),
+                    new.decode().splitlines(keepends=True),
+                    f"a/{name}",
+                    f"b/{name}",
+                )
+            )
     return "".join(out)
 
 
@@ -58,21 +63,30 @@ def inject_seed_defects(workspace: Path) -> None:
     edit(rob / "rviz" / "display.rviz", "        Value: /robot_description", '        Value: ""')
     edit(rob / "rviz" / "display.rviz", "Fixed Frame: base_link", "Fixed Frame: base_footprint")
     edit(rob / "urdf" / "robot_simple_without_track.urdf.xacro", "base_link.STL", "base_link.stl")
-    edit(rob / "launch" / "display.launch.py", "        name='joint_state_publisher',\n",
-         "        name='joint_state_publisher',\n        arguments=[robot_description],\n")
+    edit(
+        rob / "launch" / "display.launch.py",
+        "        name='joint_state_publisher',\n",
+        "        name='joint_state_publisher',\n        arguments=[robot_description],\n",
+    )
     turtle = workspace / "src" / "small_turtle"
     edit(turtle / "CMakeLists.txt", "project(small_turtle)", "project(turtle_description)")
     edit(turtle / "package.xml", "  <exec_depend>robot_state_publisher</exec_depend>\n", "")
     launch = turtle / "launch" / "display.launch.py"
     edit(launch, "from launch_ros.parameter_descriptions import ParameterValue\n", "")
-    edit(launch, 'ParameterValue(Command(["xacro ", LaunchConfiguration("model")]),\n'
-                 '                                               value_type=str)',
-         'Command(["xacro ", LaunchConfiguration("model")])')
-    edit(launch, 'executable="joint_state_publisher_gui",',
-         'executable="joint_state_publisher_gui",\n                       arguments=[LaunchConfiguration("model")],')
+    edit(
+        launch,
+        'ParameterValue(Command(["xacro ", LaunchConfiguration("model")]),\n'
+        "                                               value_type=str)",
+        'Command(["xacro ", LaunchConfiguration("model")])',
+    )
+    edit(
+        launch,
+        'executable="joint_state_publisher_gui",',
+        'executable="joint_state_publisher_gui",\n                       arguments=[LaunchConfiguration("model")],',
+    )
 
 
-SEEDS_DIFF = '''\
+SEEDS_DIFF = """\
 diff src/rob_description/CMakeLists.txt
 --- a/src/rob_description/CMakeLists.txt
 +++ b/src/rob_description/CMakeLists.txt
@@ -192,10 +206,11 @@ diff src/small_turtle/package.xml
  
    <export>
      <build_type>ament_cmake</build_type>
-'''
+"""
 
 
 # --- the seeds ----------------------------------------------------------------------------------------
+
 
 @pytest.fixture
 def seeds(tmp_path) -> Path:
@@ -211,13 +226,31 @@ def test_seeds_fixed_then_build_verifies_without_errors(seeds):
     assert result.returncode == 0, result.stdout + result.stderr
     after = snapshot(seeds)
     assert tree_diff(before, after) == SEEDS_DIFF
-    fixed = sorted(line.split(": ")[1].split()[0] for line in result.stdout.splitlines() if line.startswith("fixed src/"))
+    fixed = sorted(
+        line.split(": ")[1].split()[0] for line in result.stdout.splitlines() if line.startswith("fixed src/")
+    )
     # PF305: rviz2 and robot_state_publisher (rviz2 brings RViz's own display packages)
-    assert fixed == ["PF103", "PF201", "PF201", "PF302", "PF305", "PF305", "PF306", "PF306",
-                     "PF307", "PF403", "PF502", "PF503"]
+    assert fixed == [
+        "PF103",
+        "PF201",
+        "PF201",
+        "PF302",
+        "PF305",
+        "PF305",
+        "PF306",
+        "PF306",
+        "PF307",
+        "PF403",
+        "PF502",
+        "PF503",
+    ]
     remaining = result.stdout.split("remaining, by code:\n")[1].split("\nsrc/")[0].splitlines()
-    assert remaining and all(line.startswith("  PF") and "[error]" not in line for line in remaining), remaining
-    assert "  PF104 folder-name-mismatch" in "\n".join(remaining)  # no automatic fix: a rename touches everything
+    assert remaining and all(line.startswith("  PF") and "[error]" not in line for line in remaining), (
+        remaining
+    )
+    assert "  PF104 folder-name-mismatch" in "\n".join(
+        remaining
+    )  # no automatic fix: a rename touches everything
 
     # idempotent: a second run finds nothing to fix and changes no byte
     again = fix(seeds, "--unsafe-fixes")
@@ -229,7 +262,9 @@ def test_seeds_fixed_then_build_verifies_without_errors(seeds):
     report = json.loads(built.stdout)
     assert built.returncode == 0, built.stdout + built.stderr
     assert [d for d in report["diagnostics"] if d["severity"] == "error"] == []
-    assert not {"PF301", "PF308", "PF311"} & {d["code"] for d in report["diagnostics"]}  # every launch file loaded
+    assert not {"PF301", "PF308", "PF311"} & {
+        d["code"] for d in report["diagnostics"]
+    }  # every launch file loaded
     install = seeds / "build" / "pkgforge-verify" / "install" / "share"
     assert (install / "robot_description" / "rviz" / "display.rviz").is_file()
     assert (install / "small_turtle" / "launch" / "display.launch.py").is_file()
@@ -237,23 +272,31 @@ def test_seeds_fixed_then_build_verifies_without_errors(seeds):
 
 def test_diff_writes_nothing(seeds):
     def digest() -> str:
-        return hashlib.sha256(json.dumps({k: v.hex() for k, v in snapshot(seeds).items()}).encode()).hexdigest()
+        return hashlib.sha256(
+            json.dumps({k: v.hex() for k, v in snapshot(seeds).items()}).encode()
+        ).hexdigest()
 
     before = digest()
     result = fix(seeds, "--diff", "--unsafe-fixes")
     assert digest() == before
     assert not list(seeds.rglob("*.pkgforge-fix"))
     assert result.returncode == 1  # like verify: the errors are still there
-    assert result.stdout.startswith("--- a/src/rob_description/CMakeLists.txt\n+++ b/src/rob_description/CMakeLists.txt\n")
+    assert result.stdout.startswith(
+        "--- a/src/rob_description/CMakeLists.txt\n+++ b/src/rob_description/CMakeLists.txt\n"
+    )
     assert "-  DIRECTORY launch meshes urdf\n+  DIRECTORY launch meshes rviz urdf\n" in result.stdout
-    assert "-install(DIRECTORY launch worlds urdf meshes models rviz\n+install(DIRECTORY launch urdf meshes rviz\n" \
+    assert (
+        "-install(DIRECTORY launch worlds urdf meshes models rviz\n+install(DIRECTORY launch urdf meshes rviz\n"
         in result.stdout
+    )
     assert "would fix src/small_turtle/CMakeLists.txt:2:1: PF103 project-name-mismatch" in result.stderr
     # every pass ran on a copy: applied, the diff is exactly what `pkgforge fix` writes
     if shutil.which("git") is None:
         pytest.skip("git is not installed: the diff's application is not checked")
     before = snapshot(seeds)
-    applied = subprocess.run(["git", "apply", "-"], input=result.stdout, text=True, cwd=seeds, capture_output=True)
+    applied = subprocess.run(
+        ["git", "apply", "-"], input=result.stdout, text=True, cwd=seeds, capture_output=True
+    )
     assert applied.returncode == 0, applied.stderr
     assert tree_diff(before, snapshot(seeds)) == SEEDS_DIFF
 
@@ -265,8 +308,10 @@ def test_unsafe_fixes_wait_for_the_flag_and_verify_fix_is_fix(tmp_path):
     result = fix(tmp_path)
     assert result.returncode == 1
     assert cmake.read_bytes() == before
-    assert ("2 unsafe fix(es) not applied (--unsafe-fixes applies them): PF201 install-missing-directory ×2"
-            in result.stdout)
+    assert (
+        "2 unsafe fix(es) not applied (--unsafe-fixes applies them): PF201 install-missing-directory ×2"
+        in result.stdout
+    )
     # verify --fix, given a file as the pre-commit hook does
     result = run_pkgforge("verify", "--fix", "--unsafe-fixes", "src/small_turtle", cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
@@ -277,8 +322,13 @@ def test_unsafe_fixes_wait_for_the_flag_and_verify_fix_is_fix(tmp_path):
 def test_fix_given_files_fixes_their_packages(tmp_path):
     package = copy_fixture("seed001/small_turtle", tmp_path)
     edit(package / "package.xml", "  <exec_depend>xacro</exec_depend>\n", "")
-    result = fix(tmp_path, "src/small_turtle/package.xml", "src/small_turtle/urdf/small_turtle.urdf",
-                 "--select", "missing-exec-depend")
+    result = fix(
+        tmp_path,
+        "src/small_turtle/package.xml",
+        "src/small_turtle/urdf/small_turtle.urdf",
+        "--select",
+        "missing-exec-depend",
+    )
     assert result.returncode == 0, result.stdout
     assert "  <exec_depend>xacro</exec_depend>\n" in (package / "package.xml").read_text()
     assert "worlds" in (package / "CMakeLists.txt").read_text()  # not selected: untouched
@@ -289,43 +339,43 @@ def test_fix_given_files_fixes_their_packages(tmp_path):
 PACKAGE_XML_CRLF_TABS = (
     '<?xml version="1.0"?>\r\n'
     '<package format="3">\r\n'
-    '\t<name>rob</name>\r\n'
-    '\t<version>0.0.0</version>\r\n'
-    '\t<description>Tabs, CRLF, comments between tags, depend among exec_depend</description>\r\n'
+    "\t<name>rob</name>\r\n"
+    "\t<version>0.0.0</version>\r\n"
+    "\t<description>Tabs, CRLF, comments between tags, depend among exec_depend</description>\r\n"
     '\t<maintainer email="test@example.com">a</maintainer>\r\n'
-    '\t<license>Apache-2.0</license>\r\n'
-    '\t<buildtool_depend>ament_cmake</buildtool_depend>\r\n'
-    '\t<exec_depend>joint_state_publisher</exec_depend>\r\n'
-    '\t<!-- the GUI, when gui:=true -->\r\n'
-    '\t<exec_depend>joint_state_publisher_gui</exec_depend>\r\n'
-    '\t<depend>launch</depend>\r\n'
-    '\t<exec_depend>launch_ros</exec_depend>\r\n'
-    '\t<exec_depend>robot_state_publisher</exec_depend>\r\n'
-    '\t<exec_depend>rviz2</exec_depend> <!-- RViz itself -->\r\n'
-    '\t<exec_depend>rviz_default_plugins</exec_depend>\r\n'
-    '\t<exec_depend>xacro</exec_depend>\r\n'
-    '\t<export>\r\n'
-    '\t\t<build_type>ament_cmake</build_type>\r\n'
-    '\t</export>\r\n'
-    '</package>\r\n'
+    "\t<license>Apache-2.0</license>\r\n"
+    "\t<buildtool_depend>ament_cmake</buildtool_depend>\r\n"
+    "\t<exec_depend>joint_state_publisher</exec_depend>\r\n"
+    "\t<!-- the GUI, when gui:=true -->\r\n"
+    "\t<exec_depend>joint_state_publisher_gui</exec_depend>\r\n"
+    "\t<depend>launch</depend>\r\n"
+    "\t<exec_depend>launch_ros</exec_depend>\r\n"
+    "\t<exec_depend>robot_state_publisher</exec_depend>\r\n"
+    "\t<exec_depend>rviz2</exec_depend> <!-- RViz itself -->\r\n"
+    "\t<exec_depend>rviz_default_plugins</exec_depend>\r\n"
+    "\t<exec_depend>xacro</exec_depend>\r\n"
+    "\t<export>\r\n"
+    "\t\t<build_type>ament_cmake</build_type>\r\n"
+    "\t</export>\r\n"
+    "</package>\r\n"
 )
 
 CMAKE_MULTILINE = (
-    'cmake_minimum_required(VERSION 3.10)\n'
+    "cmake_minimum_required(VERSION 3.10)\n"
     'project(\t"rob"\tNONE)\n'
-    '\n'
-    'find_package(ament_cmake REQUIRED)\n'
-    '\n'
-    'install(\n'
-    '\tDIRECTORY\n'
-    '\t\tlaunch\n'
-    '\t\tmeshes  # STL files\n'
-    '\t\trviz\n'
-    '\t\turdf\n'
-    '\tDESTINATION share/${PROJECT_NAME}\n'
-    ')\n'
-    '\n'
-    'ament_package()\n'
+    "\n"
+    "find_package(ament_cmake REQUIRED)\n"
+    "\n"
+    "install(\n"
+    "\tDIRECTORY\n"
+    "\t\tlaunch\n"
+    "\t\tmeshes  # STL files\n"
+    "\t\trviz\n"
+    "\t\turdf\n"
+    "\tDESTINATION share/${PROJECT_NAME}\n"
+    ")\n"
+    "\n"
+    "ament_package()\n"
 )
 
 
@@ -342,8 +392,9 @@ def styled(tmp_path) -> Path:
 
 def test_styles_clean_before_the_defects(styled):
     result = run_pkgforge("verify", cwd=styled)
-    assert result.returncode == 0 and result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages"), \
-        result.stdout
+    assert result.returncode == 0 and result.stdout.startswith(
+        "0 errors, 0 warnings, 0 infos in 1 packages"
+    ), result.stdout
 
 
 def test_every_fix_keeps_every_other_byte(styled):
@@ -353,23 +404,40 @@ def test_every_fix_keeps_every_other_byte(styled):
     rviz, model = package / "rviz" / "display.rviz", package / "urdf" / "rob.urdf.xacro"
     launch = package / "launch" / "display.launch.py"
     # the defects
-    manifest.write_bytes(PACKAGE_XML_CRLF_TABS.replace("\t<exec_depend>robot_state_publisher</exec_depend>\r\n", "")
-                         .replace("\t<exec_depend>xacro</exec_depend>\r\n", "").encode())
-    cmake.write_bytes(CMAKE_MULTILINE.replace('"rob"', '"robot"').replace("\t\trviz\n", "")
-                      .replace("\t\turdf\n", "\t\turdf\n\t\tworlds\n").encode())
-    rviz.write_bytes(original[rviz].replace(b"Description Source: Topic", b"Description Source: File")
-                     .replace(b"Value: /robot_description", b"Value: ''")
-                     .replace(b"Fixed Frame: base_link", b"Fixed Frame: chassis"))
+    manifest.write_bytes(
+        PACKAGE_XML_CRLF_TABS.replace("\t<exec_depend>robot_state_publisher</exec_depend>\r\n", "")
+        .replace("\t<exec_depend>xacro</exec_depend>\r\n", "")
+        .encode()
+    )
+    cmake.write_bytes(
+        CMAKE_MULTILINE.replace('"rob"', '"robot"')
+        .replace("\t\trviz\n", "")
+        .replace("\t\turdf\n", "\t\turdf\n\t\tworlds\n")
+        .encode()
+    )
+    rviz.write_bytes(
+        original[rviz]
+        .replace(b"Description Source: Topic", b"Description Source: File")
+        .replace(b"Value: /robot_description", b"Value: ''")
+        .replace(b"Fixed Frame: base_link", b"Fixed Frame: chassis")
+    )
     (package / "meshes" / "arm.stl").rename(package / "meshes" / "Arm.STL")
     launch_text = original[launch].decode()
-    typed = ("    robot_description = ParameterValue(\n        Command(['xacro ', LaunchConfiguration('model')]),"
-             " value_type=str\n    )\n")
+    typed = (
+        "    robot_description = ParameterValue(\n        Command(['xacro ', LaunchConfiguration('model')]),"
+        " value_type=str\n    )\n"
+    )
     assert typed in launch_text
     launch.write_text(
         launch_text.replace("from launch_ros.parameter_descriptions import ParameterValue\n", "")
-        .replace(typed, "    robot_description = Command(['xacro ', LaunchConfiguration('model')])  # the model\n")
-        .replace("            executable='joint_state_publisher',\n",
-                 "            executable='joint_state_publisher', arguments=[LaunchConfiguration('model')],\n"))
+        .replace(
+            typed, "    robot_description = Command(['xacro ', LaunchConfiguration('model')])  # the model\n"
+        )
+        .replace(
+            "            executable='joint_state_publisher',\n",
+            "            executable='joint_state_publisher', arguments=[LaunchConfiguration('model')],\n",
+        )
+    )
 
     result = fix(package, "--unsafe-fixes")
     assert result.returncode == 0, result.stdout + result.stderr
@@ -380,11 +448,17 @@ def test_every_fix_keeps_every_other_byte(styled):
     assert model.read_bytes() == original[model].replace(b"meshes/arm.stl", b"meshes/Arm.STL")
     assert launch.read_text() == (
         launch_text.replace("from launch_ros.parameter_descriptions import ParameterValue\n", "")
-        .replace("from launch_ros.substitutions import FindPackageShare\n",
-                 "from launch_ros.substitutions import FindPackageShare\n"
-                 "from launch_ros.parameter_descriptions import ParameterValue\n")
-        .replace(typed, "    robot_description = ParameterValue(Command(['xacro ', LaunchConfiguration('model')]), "
-                        "value_type=str)  # the model\n"))
+        .replace(
+            "from launch_ros.substitutions import FindPackageShare\n",
+            "from launch_ros.substitutions import FindPackageShare\n"
+            "from launch_ros.parameter_descriptions import ParameterValue\n",
+        )
+        .replace(
+            typed,
+            "    robot_description = ParameterValue(Command(['xacro ', LaunchConfiguration('model')]), "
+            "value_type=str)  # the model\n",
+        )
+    )
     changed = {p for p in original if p.exists() and p.read_bytes() != original[p]}
     assert changed == {model, launch}  # the rest is back to its exact bytes
 
@@ -392,21 +466,32 @@ def test_every_fix_keeps_every_other_byte(styled):
 def test_new_install_rule_after_the_last_one(tmp_path):
     package = scaffold(tmp_path, "rob")
     cmake = package / "CMakeLists.txt"
-    text = cmake.read_text().replace("  DIRECTORY launch meshes rviz urdf\n", "  DIRECTORY launch meshes urdf\n") \
-        .replace("DESTINATION share/${PROJECT_NAME}\n)", "DESTINATION share/${PROJECT_NAME}\n  PATTERN \"*.bak\" EXCLUDE\n)")
+    text = (
+        cmake.read_text()
+        .replace("  DIRECTORY launch meshes rviz urdf\n", "  DIRECTORY launch meshes urdf\n")
+        .replace(
+            "DESTINATION share/${PROJECT_NAME}\n)",
+            'DESTINATION share/${PROJECT_NAME}\n  PATTERN "*.bak" EXCLUDE\n)',
+        )
+    )
     cmake.write_text(text)
     result = fix(package, "--select", "PF2,PF3")
     assert result.returncode == 0, result.stdout
     assert cmake.read_text() == text.replace(
         '  PATTERN "*.bak" EXCLUDE\n)\n',
-        '  PATTERN "*.bak" EXCLUDE\n)\ninstall(DIRECTORY rviz DESTINATION share/${PROJECT_NAME})\n')
+        '  PATTERN "*.bak" EXCLUDE\n)\ninstall(DIRECTORY rviz DESTINATION share/${PROJECT_NAME})\n',
+    )
 
 
 def test_format_1_manifest_gets_run_depend(tmp_path):
     package = scaffold(tmp_path, "rob")
     manifest = package / "package.xml"
-    text = manifest.read_text().replace('format="3"', 'format="1"').replace("exec_depend>", "run_depend>") \
+    text = (
+        manifest.read_text()
+        .replace('format="3"', 'format="1"')
+        .replace("exec_depend>", "run_depend>")
         .replace("package_format3.xsd", "package_format1.xsd")
+    )
     manifest.write_text(text.replace("  <run_depend>xacro</run_depend>\n", ""))
     result = fix(package, "--select", "missing-exec-depend")
     assert result.returncode == 0, result.stdout
@@ -438,14 +523,16 @@ def test_setup_py_with_glob(tmp_path):
         "    maintainer_email='test@example.com',\n"
         "    description='d',\n"
         "    license='Apache-2.0',\n"
-        ")\n")
+        ")\n"
+    )
     setup.write_text(text)
     result = fix(package)
     assert result.returncode == 0, result.stdout
     assert setup.read_text() == text.replace(
         "        (os.path.join('share', package_name, 'urdf'), glob('urdf/*')),\n",
         "        (os.path.join('share', package_name, 'rviz'), glob('rviz/*')),\n"
-        "        (os.path.join('share', package_name, 'urdf'), glob('urdf/*')),\n")
+        "        (os.path.join('share', package_name, 'urdf'), glob('urdf/*')),\n",
+    )
 
 
 def test_xml_launch_jsp_args_removed(tmp_path):
@@ -455,14 +542,18 @@ def test_xml_launch_jsp_args_removed(tmp_path):
     start = text.index('<node pkg="joint_state_publisher"')
     end = text.index(">", start)
     tag = text[start:end]
-    launch.write_text(text[:start] + tag.replace('pkg="joint_state_publisher"',
-                                                 'pkg="joint_state_publisher" args="$(var model)"', 1) + text[end:])
+    launch.write_text(
+        text[:start]
+        + tag.replace('pkg="joint_state_publisher"', 'pkg="joint_state_publisher" args="$(var model)"', 1)
+        + text[end:]
+    )
     result = fix(package)
     assert result.returncode == 0, result.stdout
     assert launch.read_text() == text
 
 
 # --- refusing to write ----------------------------------------------------------------------------------
+
 
 def test_read_only_file_is_refused_cleanly(tmp_path):
     package = copy_fixture("seed001/small_turtle", tmp_path)
@@ -506,15 +597,43 @@ def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     home = top / "home"
     home.mkdir()
     os.chown(home, 65534, 65534)
-    probe = subprocess.run([setpriv, "--reuid=65534", "--regid=65534", "--clear-groups", sys.executable, "-c",
-                            "import pkgforge, pathlib, sys; pathlib.Path(sys.argv[1]).read_bytes()", str(manifest)],
-                           capture_output=True, text=True)
+    probe = subprocess.run(
+        [
+            setpriv,
+            "--reuid=65534",
+            "--regid=65534",
+            "--clear-groups",
+            sys.executable,
+            "-c",
+            "import pkgforge, pathlib, sys; pathlib.Path(sys.argv[1]).read_bytes()",
+            str(manifest),
+        ],
+        capture_output=True,
+        text=True,
+    )
     if probe.returncode != 0:
         pytest.skip(f"the unprivileged user cannot read the test files or pkgforge: {probe.stderr[-200:]}")
     env = dict(os.environ, HOME=str(home), XDG_CACHE_HOME=str(home / ".cache"))
-    result = subprocess.run([setpriv, "--reuid=65534", "--regid=65534", "--clear-groups", sys.executable,
-                             "-m", "pkgforge", "fix", "--select", "project-name-mismatch"], cwd=workspace, env=env, capture_output=True, text=True,
-                            stdin=subprocess.DEVNULL, timeout=600)
+    result = subprocess.run(
+        [
+            setpriv,
+            "--reuid=65534",
+            "--regid=65534",
+            "--clear-groups",
+            sys.executable,
+            "-m",
+            "pkgforge",
+            "fix",
+            "--select",
+            "project-name-mismatch",
+        ],
+        cwd=workspace,
+        env=env,
+        capture_output=True,
+        text=True,
+        stdin=subprocess.DEVNULL,
+        timeout=600,
+    )
     assert "Traceback" not in result.stdout + result.stderr, result.stdout + result.stderr
     assert result.returncode == 1, result.stdout + result.stderr
     assert "src/small_turtle/CMakeLists.txt not written: it is read-only" in result.stdout
@@ -532,7 +651,9 @@ def test_file_changed_since_read_is_skipped(tmp_path):
     new = apply(source.text, [Edit(10, 10, "  <name>x</name>\n")])
     path.write_text("<package>\n  <!-- edited meanwhile -->\n</package>\n")
     outcome = write_atomically(source, new)
-    assert not outcome.written and outcome.problem == "it changed since pkgforge read it; run pkgforge fix again"
+    assert (
+        not outcome.written and outcome.problem == "it changed since pkgforge read it; run pkgforge fix again"
+    )
     assert path.read_text() == "<package>\n  <!-- edited meanwhile -->\n</package>\n"
     assert [p.name for p in tmp_path.iterdir()] == ["package.xml"]
 
@@ -559,25 +680,47 @@ def test_find_package_undeclared_plugs_in(tmp_path):
     assert DEFAULT_FIXES["find-package-undeclared"] == "safe"
     package = copy_fixture("seed001/small_turtle", tmp_path)
     cmake = package / "CMakeLists.txt"
-    cmake.write_text(cmake.read_text().replace("find_package(ament_cmake REQUIRED)\n",
-                                               "find_package(ament_cmake REQUIRED)\nfind_package(urdf REQUIRED)\n"))
-    diagnostic = Diagnostic("PF109", "find-package-undeclared", Severity.ERROR, "small_turtle", cmake, 5, 1,
-                            "find_package(urdf) but package.xml does not declare urdf for the build", "")
+    cmake.write_text(
+        cmake.read_text().replace(
+            "find_package(ament_cmake REQUIRED)\n",
+            "find_package(ament_cmake REQUIRED)\nfind_package(urdf REQUIRED)\n",
+        )
+    )
+    diagnostic = Diagnostic(
+        "PF109",
+        "find-package-undeclared",
+        Severity.ERROR,
+        "small_turtle",
+        cmake,
+        5,
+        1,
+        "find_package(urdf) but package.xml does not declare urdf for the build",
+        "",
+    )
     files = FileSet()
     fix = FIXERS["find-package-undeclared"](diagnostic, FixContext(files))
     manifest = package / "package.xml"
     text = apply(files.get(manifest).text, fix.edits[manifest])
     assert text == manifest.read_text().replace(
         "  <buildtool_depend>ament_cmake</buildtool_depend>\n",
-        "  <buildtool_depend>ament_cmake</buildtool_depend>\n  <build_depend>urdf</build_depend>\n")
+        "  <buildtool_depend>ament_cmake</buildtool_depend>\n  <build_depend>urdf</build_depend>\n",
+    )
 
 
 def test_checks_list_shows_the_fix_kind():
     result = run_pkgforge("checks", cwd=Path(__file__).parent)
-    assert any(line.startswith("PF201  install-missing-directory") and " unsafe " in line
-               for line in result.stdout.splitlines())
-    assert any(line.startswith("PF305  missing-exec-depend") and " safe " in line for line in result.stdout.splitlines())
-    assert any(line.startswith("PF104  folder-name-mismatch") and " - " in line for line in result.stdout.splitlines())
+    assert any(
+        line.startswith("PF201  install-missing-directory") and " unsafe " in line
+        for line in result.stdout.splitlines()
+    )
+    assert any(
+        line.startswith("PF305  missing-exec-depend") and " safe " in line
+        for line in result.stdout.splitlines()
+    )
+    assert any(
+        line.startswith("PF104  folder-name-mismatch") and " - " in line
+        for line in result.stdout.splitlines()
+    )
 
 
 def test_pre_commit_fix_hook_beside_verify():
@@ -585,7 +728,9 @@ def test_pre_commit_fix_hook_beside_verify():
 
     import yaml
 
-    hooks = {h["id"]: h for h in yaml.safe_load((Path(__file__).parents[1] / ".pre-commit-hooks.yaml").read_text())}
+    hooks = {
+        h["id"]: h for h in yaml.safe_load((Path(__file__).parents[1] / ".pre-commit-hooks.yaml").read_text())
+    }
     assert set(hooks) == {"pkgforge-verify", "pkgforge-fix"}
     hook = hooks["pkgforge-fix"]
     assert hook["entry"] == "pkgforge fix" and hook["pass_filenames"] and hook["language"] == "python"
@@ -607,27 +752,33 @@ def _fixed(name: str, path: Path, line: int, data: dict | None = None) -> str:
 
 def test_rviz_description_added_where_the_display_has_none(tmp_path):
     rviz = tmp_path / "display.rviz"
-    rviz.write_text("Visualization Manager:\n  Displays:\n    - Alpha: 1\n      Class: rviz_default_plugins/RobotModel\n"
-                    "      Enabled: true\n      Name: RobotModel\n")
+    rviz.write_text(
+        "Visualization Manager:\n  Displays:\n    - Alpha: 1\n      Class: rviz_default_plugins/RobotModel\n"
+        "      Enabled: true\n      Name: RobotModel\n"
+    )
     assert _fixed("rviz-no-description", rviz, 4, {"display_line": 4}) == (
         "Visualization Manager:\n  Displays:\n    - Alpha: 1\n      Class: rviz_default_plugins/RobotModel\n"
         "      Description Source: Topic\n      Description Topic:\n        Depth: 5\n"
         "        Durability Policy: Transient Local\n        History Policy: Keep Last\n"
         "        Reliability Policy: Reliable\n        Value: /robot_description\n"
-        "      Enabled: true\n      Name: RobotModel\n")
+        "      Enabled: true\n      Name: RobotModel\n"
+    )
 
 
 def test_robot_description_command_inline_in_the_node(tmp_path):
     launch = tmp_path / "x.launch.py"
-    launch.write_text('"""Doc."""\nfrom launch_ros.actions import Node\n\n\ndef generate_launch_description():\n'
-                      "    return LaunchDescription([Node(\n        package='robot_state_publisher',\n"
-                      "        parameters=[{'robot_description': Command(['xacro ', 'm'])}],\n    )])\n")
+    launch.write_text(
+        '"""Doc."""\nfrom launch_ros.actions import Node\n\n\ndef generate_launch_description():\n'
+        "    return LaunchDescription([Node(\n        package='robot_state_publisher',\n"
+        "        parameters=[{'robot_description': Command(['xacro ', 'm'])}],\n    )])\n"
+    )
     assert _fixed("robot-description-not-string", launch, 6) == (
         '"""Doc."""\nfrom launch_ros.actions import Node\n'
         "from launch_ros.parameter_descriptions import ParameterValue\n\n\ndef generate_launch_description():\n"
         "    return LaunchDescription([Node(\n        package='robot_state_publisher',\n"
         "        parameters=[{'robot_description': ParameterValue(Command(['xacro ', 'm']), value_type=str)}],\n"
-        "    )])\n")
+        "    )])\n"
+    )
 
 
 def test_a_symlinked_file_stays_a_symlink(tmp_path):
@@ -649,10 +800,10 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     import dataclasses
 
     from pkgforge.checks.registry import REGISTRY, all_checks
-    from pkgforge.verify.config import Selection
     from pkgforge.fix import fixers
     from pkgforge.fix.edits import Edit
     from pkgforge.fix.run import FixOptions, run_fix
+    from pkgforge.verify.config import Selection
     from pkgforge.verify.pipeline import VerifyOptions
 
     package = copy_fixture("seed001/small_turtle", tmp_path)
@@ -673,5 +824,7 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     run = run_fix(package, FixOptions(VerifyOptions(Selection(["folder-name-mismatch"], []))))
     assert manifest.read_bytes() == before
     assert run.fixed == [] and run.files_written == set()
-    (diagnostic, why), = run.not_fixed
-    assert diagnostic.name == "folder-name-mismatch" and why.startswith("the fix would leave the file unparsable")
+    ((diagnostic, why),) = run.not_fixed
+    assert diagnostic.name == "folder-name-mismatch" and why.startswith(
+        "the fix would leave the file unparsable"
+    )

@@ -9,10 +9,9 @@ import os
 from pathlib import Path
 
 import pytest
-
 from conftest import MAINTAINER, line_of, run_pkgforge
-from pkgforge.scaffold.stl import binary_stl
-from pkgforge.scaffold.stl import box_triangles
+
+from pkgforge.scaffold.stl import binary_stl, box_triangles
 
 MODEL = """<?xml version="1.0"?>
 <robot name="exported_robot" xmlns:xacro="http://www.ros.org/wiki/xacro">
@@ -57,7 +56,7 @@ def exported(folder: Path, *, manifest: bool = True) -> Path:
     for sub in ("urdf", "meshes/visual", "textures"):
         (package / sub).mkdir(parents=True)
     if manifest:
-        (package / "package.xml").write_text("<package format=\"2\"><name>exported_robot</name></package>\n")
+        (package / "package.xml").write_text('<package format="2"><name>exported_robot</name></package>\n')
     (package / "urdf/robot.urdf.xacro").write_text(MODEL)
     (package / "urdf/parts.xacro").write_text(PARTS)
     (package / "meshes/visual/base.dae").write_text(COLLADA)
@@ -67,24 +66,44 @@ def exported(folder: Path, *, manifest: bool = True) -> Path:
     return package
 
 
-@pytest.mark.parametrize("style, uri", [("package", "package://my_robot/meshes/"),
-                                        ("find", "file://$(find my_robot)/meshes/")])
+@pytest.mark.parametrize(
+    "style, uri", [("package", "package://my_robot/meshes/"), ("find", "file://$(find my_robot)/meshes/")]
+)
 def test_xacro_export_with_includes_and_textures(tmp_path, style, uri):
     source = exported(tmp_path)
     (tmp_path / "ws/src").mkdir(parents=True)
-    result = run_pkgforge("new", "my_robot", *MAINTAINER, "--from-urdf", source / "urdf/robot.urdf.xacro",
-                          "--mesh-uri", style, cwd=tmp_path / "ws")
+    result = run_pkgforge(
+        "new",
+        "my_robot",
+        *MAINTAINER,
+        "--from-urdf",
+        source / "urdf/robot.urdf.xacro",
+        "--mesh-uri",
+        style,
+        cwd=tmp_path / "ws",
+    )
     assert result.returncode == 0, result.stdout + result.stderr
     assert "0 errors, 0 warnings, 0 infos in 1 packages" in result.stdout
     package = tmp_path / "ws/src/my_robot"
     files = sorted(p.relative_to(package).as_posix() for p in package.rglob("*") if p.is_file())
     # sub-folders below the folder they share (the exporter's package) kept, names and case kept
-    assert files == ["CMakeLists.txt", "launch/display.launch.py", "meshes/meshes/visual/Arm.STL",
-                     "meshes/meshes/visual/base.dae", "meshes/textures/skin.png", "meshes/textures/wood.png",
-                     "package.xml", "rviz/display.rviz", "urdf/parts.xacro", "urdf/robot.urdf.xacro"]
+    assert files == [
+        "CMakeLists.txt",
+        "launch/display.launch.py",
+        "meshes/meshes/visual/Arm.STL",
+        "meshes/meshes/visual/base.dae",
+        "meshes/textures/skin.png",
+        "meshes/textures/wood.png",
+        "package.xml",
+        "rviz/display.rviz",
+        "urdf/parts.xacro",
+        "urdf/robot.urdf.xacro",
+    ]
     model = (package / "urdf/robot.urdf.xacro").read_text()
     assert '<xacro:include filename="$(find my_robot)/urdf/parts.xacro"/>' in model
-    assert f'filename="{uri}meshes/visual/base.dae"' in model and f'filename="{uri}textures/wood.png"' in model
+    assert (
+        f'filename="{uri}meshes/visual/base.dae"' in model and f'filename="{uri}textures/wood.png"' in model
+    )
     assert f'filename="{uri}meshes/visual/Arm.STL"' in (package / "urdf/parts.xacro").read_text()
     assert "exported_robot" not in model.replace('robot name="exported_robot"', "")
     assert "urdf/robot.urdf.xacro" in (package / "launch/display.launch.py").read_text()
@@ -98,28 +117,45 @@ def test_package_found_in_ament_prefix_path(tmp_path):
     model.write_text((source / "urdf/robot.urdf.xacro").read_text())
     (tmp_path / "out").mkdir()
     env = dict(os.environ, AMENT_PREFIX_PATH=str(tmp_path / "prefix"))
-    result = run_pkgforge("new", "my_robot", *MAINTAINER, "--from-urdf", model, "--destination", "out",
-                          cwd=tmp_path, env=env)
+    result = run_pkgforge(
+        "new", "my_robot", *MAINTAINER, "--from-urdf", model, "--destination", "out", cwd=tmp_path, env=env
+    )
     assert result.returncode == 0, result.stdout + result.stderr
     assert (tmp_path / "out/my_robot/meshes/meshes/visual/Arm.STL").is_file()
-    without = run_pkgforge("new", "other_robot", *MAINTAINER, "--from-urdf", model, "--destination", "out",
-                           cwd=tmp_path, env={k: v for k, v in os.environ.items() if k != "AMENT_PREFIX_PATH"})
+    without = run_pkgforge(
+        "new",
+        "other_robot",
+        *MAINTAINER,
+        "--from-urdf",
+        model,
+        "--destination",
+        "out",
+        cwd=tmp_path,
+        env={k: v for k, v in os.environ.items() if k != "AMENT_PREFIX_PATH"},
+    )
     assert without.returncode == 2
     assert without.stderr.splitlines()[0] == (
         f"pkgforge: error: {model}:{line_of(model, 'xacro:include')}: include "
         "'$(find exported_robot)/urdf/parts.xacro' not found: package 'exported_robot' is found neither above "
-        "robot.urdf.xacro nor in AMENT_PREFIX_PATH")
+        "robot.urdf.xacro nor in AMENT_PREFIX_PATH"
+    )
     assert not (tmp_path / "out/other_robot").exists()
 
 
 def test_not_a_urdf(tmp_path):
     model = tmp_path / "robot.urdf"
     model.write_text("<?xml version='1.0'?>\n<sdf version='1.6'>\n</sdf>\n")
-    result = run_pkgforge("new", "my_robot", *MAINTAINER, "--from-urdf", model, "--destination", "out", cwd=tmp_path)
+    result = run_pkgforge(
+        "new", "my_robot", *MAINTAINER, "--from-urdf", model, "--destination", "out", cwd=tmp_path
+    )
     assert result.returncode == 2
     assert result.stderr.startswith(f"pkgforge: error: {model}:2: the root element is <sdf>, not <robot>")
     broken = tmp_path / "broken.urdf"
     broken.write_text("<robot name='x'>\n  <link name='a'>\n</robot>\n")
-    result = run_pkgforge("new", "my_robot", *MAINTAINER, "--from-urdf", broken, "--destination", "out", cwd=tmp_path)
-    assert result.returncode == 2 and result.stderr.startswith(f"pkgforge: error: {broken}:3: not well-formed XML")
+    result = run_pkgforge(
+        "new", "my_robot", *MAINTAINER, "--from-urdf", broken, "--destination", "out", cwd=tmp_path
+    )
+    assert result.returncode == 2 and result.stderr.startswith(
+        f"pkgforge: error: {broken}:3: not well-formed XML"
+    )
     assert not (tmp_path / "out").exists()

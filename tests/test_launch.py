@@ -10,8 +10,17 @@ import sysconfig
 from pathlib import Path
 
 import pytest
-
-from conftest import FIXTURES, VARIANTS, at_least, copy_fixture, edit, line_of, new_package, run_pkgforge, verify_report
+from conftest import (
+    FIXTURES,
+    VARIANTS,
+    at_least,
+    copy_fixture,
+    edit,
+    line_of,
+    new_package,
+    run_pkgforge,
+    verify_report,
+)
 
 verify = verify_report
 
@@ -19,18 +28,12 @@ verify = verify_report
 def found(report: dict, minimum: str = "warning") -> list[tuple]:
     return sorted((d["code"], d["name"], d["path"], d["line"]) for d in at_least(report, minimum))
 
+
 SCRIPTS = Path(sysconfig.get_path("scripts"))
 
 
-
-
-
-
-
-
-
-
 # --- fixtures: the two seed styles, clean -----------------------------------------------------
+
 
 def humble_package(workspace: Path) -> Path:
     """Seed 000's style, with its names and install rule fixed: clean."""
@@ -62,12 +65,16 @@ def test_clean_fixtures_have_no_errors(tmp_path, style):
 
 # --- each seed defect, exactly its check --------------------------------------------------------
 
-@pytest.mark.parametrize("style, marker", [
-    ("humble", "rviz_config_path = os.path.join("),
-    ("jazzy-py", 'rviz_config_path = PathJoinSubstitution('),
-    ("jazzy-xml", '<arg name="rvizconfig"'),
-    ("jazzy-yaml", 'default: "$(find-pkg-share small_turtle)/rviz/display.rviz"'),
-])
+
+@pytest.mark.parametrize(
+    "style, marker",
+    [
+        ("humble", "rviz_config_path = os.path.join("),
+        ("jazzy-py", "rviz_config_path = PathJoinSubstitution("),
+        ("jazzy-xml", '<arg name="rvizconfig"'),
+        ("jazzy-yaml", 'default: "$(find-pkg-share small_turtle)/rviz/display.rviz"'),
+    ],
+)
 def test_rviz_not_installed_is_an_uninstalled_reference(tmp_path, style, marker):
     if style == "humble":
         package = humble_package(tmp_path)
@@ -78,7 +85,9 @@ def test_rviz_not_installed_is_an_uninstalled_reference(tmp_path, style, marker)
     launch = next((package / "launch").iterdir())
     status, report = verify(package)
     assert status == 1
-    assert found(report) == [("PF302", "uninstalled-reference", f"launch/{launch.name}", line_of(launch, marker))]
+    assert found(report) == [
+        ("PF302", "uninstalled-reference", f"launch/{launch.name}", line_of(launch, marker))
+    ]
     (diagnostic,) = [d for d in report["diagnostics"] if d["code"] == "PF302"]
     assert "rviz" in diagnostic["hint"] and "CMakeLists.txt:" in diagnostic["hint"]
 
@@ -90,16 +99,27 @@ def test_package_looked_up_by_the_wrong_name_is_unknown(tmp_path):
     edit(launch, "package_name = 'rob_description'", "package_name = 'robot_description'")
     status, report = verify(package)
     assert status == 1
-    assert found(report) == [("PF304", "unknown-package", "launch/display.launch.py",
-                              line_of(launch, "get_package_share_directory(package_name)"))]
+    assert found(report) == [
+        (
+            "PF304",
+            "unknown-package",
+            "launch/display.launch.py",
+            line_of(launch, "get_package_share_directory(package_name)"),
+        )
+    ]
     (diagnostic,) = [d for d in report["diagnostics"] if d["code"] == "PF304"]
     assert "'robot_description'" in diagnostic["message"]
     assert "rob_description" in diagnostic["hint"]
 
 
-@pytest.mark.parametrize("fmt, marker", [("py", "executable=\"joint_state_publisher_gui\""),
-                                         ("xml", 'pkg="joint_state_publisher_gui"'),
-                                         ("yaml", "pkg: joint_state_publisher_gui")])
+@pytest.mark.parametrize(
+    "fmt, marker",
+    [
+        ("py", 'executable="joint_state_publisher_gui"'),
+        ("xml", 'pkg="joint_state_publisher_gui"'),
+        ("yaml", "pkg: joint_state_publisher_gui"),
+    ],
+)
 def test_missing_exec_depend_found_through_the_gui_branch(tmp_path, fmt, marker):
     package = jazzy_package(tmp_path, fmt)
     edit(package / "package.xml", "  <exec_depend>joint_state_publisher_gui</exec_depend>\n", "")
@@ -108,7 +128,7 @@ def test_missing_exec_depend_found_through_the_gui_branch(tmp_path, fmt, marker)
     assert status == 1
     expected_line = line_of(launch, marker) - (1 if fmt == "yaml" else 0)  # a YAML entity starts at its key
     if fmt == "py":
-        expected_line = line_of(launch, "ld.add_action(Node(package=\"joint_state_publisher_gui\"")
+        expected_line = line_of(launch, 'ld.add_action(Node(package="joint_state_publisher_gui"')
     assert found(report) == [("PF305", "missing-exec-depend", f"launch/{launch.name}", expected_line)]
     (diagnostic,) = report["diagnostics"]
     assert "(only with gui:=true)" in diagnostic["message"]
@@ -119,25 +139,43 @@ def test_missing_exec_depend_found_through_the_gui_branch(tmp_path, fmt, marker)
 def test_jsp_given_the_model_as_an_argument(tmp_path):
     package = jazzy_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
-    edit(launch, 'executable="joint_state_publisher_gui",',
-         'executable="joint_state_publisher_gui", arguments=[urdf_model_path],')
+    edit(
+        launch,
+        'executable="joint_state_publisher_gui",',
+        'executable="joint_state_publisher_gui", arguments=[urdf_model_path],',
+    )
     status, report = verify(package)
     assert status == 1
-    assert found(report) == [("PF306", "jsp-model-argument", "launch/display.launch.py",
-                              line_of(launch, 'package="joint_state_publisher_gui"'))]
+    assert found(report) == [
+        (
+            "PF306",
+            "jsp-model-argument",
+            "launch/display.launch.py",
+            line_of(launch, 'package="joint_state_publisher_gui"'),
+        )
+    ]
 
 
 @pytest.mark.triggers("PF307")
 def test_robot_description_without_value_type(tmp_path):
     package = jazzy_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
-    edit(launch, 'ParameterValue(Command(["xacro ", LaunchConfiguration("model")]),\n'
-                 '                                               value_type=str)',
-         'Command(["xacro ", LaunchConfiguration("model")])')
+    edit(
+        launch,
+        'ParameterValue(Command(["xacro ", LaunchConfiguration("model")]),\n'
+        "                                               value_type=str)",
+        'Command(["xacro ", LaunchConfiguration("model")])',
+    )
     status, report = verify(package)
     # the line to edit: where the Command is built, not where the node uses it
-    assert found(report) == [("PF307", "robot-description-not-string", "launch/display.launch.py",
-                              line_of(launch, "robot_description_content = Command("))]
+    assert found(report) == [
+        (
+            "PF307",
+            "robot-description-not-string",
+            "launch/display.launch.py",
+            line_of(launch, "robot_description_content = Command("),
+        )
+    ]
 
 
 @pytest.mark.triggers("PF308")
@@ -145,7 +183,8 @@ def test_xacro_error_names_xacros_message(tmp_path):
     package = jazzy_package(tmp_path)
     (package / "urdf" / "small_turtle.urdf").write_text(
         '<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-        '  <xacro:include filename="$(find small_turtle)/urdf/gone.xacro"/>\n</robot>\n')
+        '  <xacro:include filename="$(find small_turtle)/urdf/gone.xacro"/>\n</robot>\n'
+    )
     status, report = verify(package)
     assert status == 1
     # at the model's include line, where the fix goes (not at the launch line that runs xacro)
@@ -157,11 +196,20 @@ def test_import_of_a_name_ros_does_not_have(tmp_path):
     """A real mistake: PathJoinSubstitution lives in launch.substitutions, not launch_ros."""
     package = jazzy_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
-    edit(launch, "from launch_ros.substitutions import FindPackageShare",
-         "from launch_ros.substitutions import FindPackageShare, PathJoinSubstitution")
+    edit(
+        launch,
+        "from launch_ros.substitutions import FindPackageShare",
+        "from launch_ros.substitutions import FindPackageShare, PathJoinSubstitution",
+    )
     status, report = verify(package)
-    assert found(report) == [("PF301", "launch-load-error", "launch/display.launch.py",
-                              line_of(launch, "from launch_ros.substitutions import"))]
+    assert found(report) == [
+        (
+            "PF301",
+            "launch-load-error",
+            "launch/display.launch.py",
+            line_of(launch, "from launch_ros.substitutions import"),
+        )
+    ]
     assert "cannot import name 'PathJoinSubstitution'" in report["diagnostics"][0]["message"]
 
 
@@ -171,16 +219,20 @@ BROKEN = {
     "loops": ("def generate_launch_description():\n    while True:\n        pass\n", 2, "limit"),
     "exits": ("import sys\n\n\ndef generate_launch_description():\n    sys.exit(3)\n", 5, "sys.exit(3)"),
     "syntax": ("def generate_launch_description(:\n    return None\n", 1, "SyntaxError"),
-    "imports": ("import no_such_module_anywhere\n\n\ndef generate_launch_description():\n    pass\n", 1,
-                "No module named 'no_such_module_anywhere'"),
+    "imports": (
+        "import no_such_module_anywhere\n\n\ndef generate_launch_description():\n    pass\n",
+        1,
+        "No module named 'no_such_module_anywhere'",
+    ),
 }
 
 
 @pytest.mark.triggers("PF301")
 def test_broken_launch_files_are_reported_and_the_rest_verified(tmp_path):
     for name, (code, _, _) in BROKEN.items():
-        result = run_pkgforge("new", f"b_{name}", "--maintainer-email", "t@example.com",
-                              "--destination", "src", cwd=tmp_path)
+        result = run_pkgforge(
+            "new", f"b_{name}", "--maintainer-email", "t@example.com", "--destination", "src", cwd=tmp_path
+        )
         assert result.returncode == 0
         (tmp_path / "src" / f"b_{name}" / "launch" / "display.launch.py").write_text(code)
     jazzy_package(tmp_path)
@@ -192,8 +244,11 @@ def test_broken_launch_files_are_reported_and_the_rest_verified(tmp_path):
             by_package.setdefault(d["package"], []).append(d)
     for name, (_, line, text) in BROKEN.items():
         (diagnostic,) = by_package[f"b_{name}"]
-        assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == \
-            ("PF301", f"src/b_{name}/launch/display.launch.py", line)  # loops: where the limit hit it
+        assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == (
+            "PF301",
+            f"src/b_{name}/launch/display.launch.py",
+            line,
+        )  # loops: where the limit hit it
         assert text in diagnostic["message"]
     assert "small_turtle" not in by_package
     assert {p["name"] for p in report["packages"]} == {f"b_{n}" for n in BROKEN} | {"small_turtle"}
@@ -201,12 +256,18 @@ def test_broken_launch_files_are_reported_and_the_rest_verified(tmp_path):
 
 # --- the three install trees agree ------------------------------------------------------------
 
+
 def plain_colcon_build(workspace: Path) -> None:
     """What a user without ROS runs: colcon build, with the ament_cmake wheels on the prefix path."""
     env = dict(os.environ, CMAKE_PREFIX_PATH=sys.prefix, PATH=f"{SCRIPTS}{os.pathsep}{os.environ['PATH']}")
-    result = subprocess.run([str(SCRIPTS / "colcon"), "build", "--merge-install",
-                             "--cmake-args", "-DBUILD_TESTING=OFF"],
-                            cwd=workspace, env=env, capture_output=True, text=True, timeout=600)
+    result = subprocess.run(
+        [str(SCRIPTS / "colcon"), "build", "--merge-install", "--cmake-args", "-DBUILD_TESTING=OFF"],
+        cwd=workspace,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert result.returncode == 0, result.stdout + result.stderr
 
 
@@ -220,7 +281,11 @@ def test_three_modes_agree(tmp_path):
     edit(broken / "CMakeLists.txt", "launch urdf meshes rviz", "launch urdf meshes")
     plain_colcon_build(tmp_path)
     results = {}
-    for mode, args in {"predicted": (), "build": ("--build",), "existing": ("--install-base", "install")}.items():
+    for mode, args in {
+        "predicted": (),
+        "build": ("--build",),
+        "existing": ("--install-base", "install"),
+    }.items():
         status, report = verify(tmp_path, *args)
         results[mode] = (status, found(report, "info"))
     assert results["predicted"][0] == 1
@@ -243,7 +308,9 @@ def test_every_scaffold_variant_verifies_clean_in_every_mode(variants_workspace,
 def test_explain_launch(tmp_path):
     package = jazzy_package(tmp_path)
     edit(package / "CMakeLists.txt", "launch urdf meshes rviz", "launch urdf meshes")
-    result = run_pkgforge("verify", "--explain-launch", "src/small_turtle/launch/display.launch.py", cwd=tmp_path)
+    result = run_pkgforge(
+        "verify", "--explain-launch", "src/small_turtle/launch/display.launch.py", cwd=tmp_path
+    )
     assert result.returncode == 0, result.stderr
     out = result.stdout
     assert "evaluated for: gui:=false; gui:=true" in out
@@ -261,8 +328,9 @@ def test_launch_arg_fixes_a_branch(tmp_path):
     assert bad.returncode == 2 and "NAME:=VALUE" in bad.stderr
 
 
-@pytest.mark.parametrize("fmt,marker", [("xml", '<node pkg="robot_state_publisher"'),
-                                        ("yaml", "- node:")])  # the node's first line, as ROS reports it
+@pytest.mark.parametrize(
+    "fmt,marker", [("xml", '<node pkg="robot_state_publisher"'), ("yaml", "- node:")]
+)  # the node's first line, as ROS reports it
 def test_untyped_model_that_is_not_yaml_stops_robot_state_publisher(tmp_path, fmt, marker):
     """Humble's front ends have no type="str": launch_ros reads the xacro output as YAML, and a
     'NAME: text' comment in the model is a YAML error, so robot_state_publisher never starts."""
@@ -273,6 +341,8 @@ def test_untyped_model_that_is_not_yaml_stops_robot_state_publisher(tmp_path, fm
     status, report = verify(package)
     launch = package / "launch" / f"display.launch.{fmt}"
     assert status == 1
-    assert found(report) == [("PF301", "launch-load-error", f"launch/display.launch.{fmt}", line_of(launch, marker))]
+    assert found(report) == [
+        ("PF301", "launch-load-error", f"launch/display.launch.{fmt}", line_of(launch, marker))
+    ]
     message = at_least(report, "error")[0]["message"]
     assert "using yaml rules: yaml.safe_load() failed" in message and "\n" not in message, message

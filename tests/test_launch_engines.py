@@ -13,6 +13,7 @@ import pytest
 from conftest import FIXTURES, copy_fixture, line_of, new_package, run_pkgforge, verify_report
 from ros_prefix import DISTROS, make_prefix
 
+
 @pytest.fixture(scope="module")
 def prefixes(tmp_path_factory) -> dict[str, Path]:
     base = tmp_path_factory.mktemp("ros")
@@ -56,10 +57,19 @@ def reports(tmp_path_factory, prefixes) -> dict:
     for name in ("fixtures", "patterns", "conformance"):
         workspace = _workspace(base, name)
         for distro in DISTROS:  # each engine told the same target distro
-            out[name, "builtin", distro] = verify_report(workspace, "--no-cache", "--distro", distro,
-                                                         "--launch-engine", "builtin")[1]
-            out[name, distro] = verify_report(workspace, "--no-cache", "--distro", distro, "--launch-engine", "ros",
-                                              "--ros-prefix", str(prefixes[distro]))[1]
+            out[name, "builtin", distro] = verify_report(
+                workspace, "--no-cache", "--distro", distro, "--launch-engine", "builtin"
+            )[1]
+            out[name, distro] = verify_report(
+                workspace,
+                "--no-cache",
+                "--distro",
+                distro,
+                "--launch-engine",
+                "ros",
+                "--ros-prefix",
+                str(prefixes[distro]),
+            )[1]
         out[name] = workspace
     return out
 
@@ -81,10 +91,14 @@ def test_both_engines_report_the_same_diagnostics(reports, name, distro):
 def test_the_real_engine_reports_what_only_ros_refuses(reports):
     """jazzy's launch_ros refuses a parameter it parses as YAML into a dict: the node fails, at its line."""
     launch = reports["conformance"] / "src" / "launch_conformance" / "launch" / "py_file_content.launch.py"
-    found = [(d["code"], d["path"], d["line"]) for d in reports["conformance", "jazzy"]["diagnostics"]
-             if d["path"].endswith("py_file_content.launch.py")]
-    assert found == [("PF301", "src/launch_conformance/launch/py_file_content.launch.py",
-                      line_of(launch, "Node(package="))]
+    found = [
+        (d["code"], d["path"], d["line"])
+        for d in reports["conformance", "jazzy"]["diagnostics"]
+        if d["path"].endswith("py_file_content.launch.py")
+    ]
+    assert found == [
+        ("PF301", "src/launch_conformance/launch/py_file_content.launch.py", line_of(launch, "Node(package="))
+    ]
 
 
 def _snapshot(*folders: Path) -> dict[str, str]:
@@ -112,10 +126,20 @@ def test_the_real_engine_writes_nothing_of_the_users(tmp_path, prefixes):
     env = {k: v for k, v in os.environ.items() if not k.startswith(("ROS_", "XDG_"))}
     env.update(HOME=str(home), TMPDIR=str(tmp))
     before = _snapshot(home, workspace, tmp)
-    result = run_pkgforge("verify", "--no-cache", "--launch-engine", "ros",
-                          "--ros-prefix", str(prefixes["jazzy"]), cwd=workspace, env=env)
+    result = run_pkgforge(
+        "verify",
+        "--no-cache",
+        "--launch-engine",
+        "ros",
+        "--ros-prefix",
+        str(prefixes["jazzy"]),
+        cwd=workspace,
+        env=env,
+    )
     assert result.returncode == 1, result.stdout + result.stderr  # the fixtures' findings
-    assert result.stdout.splitlines()[-1].endswith("; launch: ROS 2 jazzy"), result.stdout  # the summary says so
+    assert result.stdout.splitlines()[-1].endswith("; launch: ROS 2 jazzy"), (
+        result.stdout
+    )  # the summary says so
     assert _snapshot(home, workspace, tmp) == before
 
 
@@ -124,7 +148,9 @@ def test_engine_choice_errors_are_one_line(tmp_path):
     env = {k: v for k, v in os.environ.items() if k not in ("AMENT_PREFIX_PATH", "PYTHONPATH")}
     result = run_pkgforge("verify", "--ros-prefix", str(tmp_path / "nowhere"), cwd=workspace, env=env)
     assert result.returncode == 2
-    assert result.stderr.strip().splitlines() == [f"pkgforge: error: --ros-prefix {tmp_path / 'nowhere'}: no such folder"]
+    assert result.stderr.strip().splitlines() == [
+        f"pkgforge: error: --ros-prefix {tmp_path / 'nowhere'}: no such folder"
+    ]
     result = run_pkgforge("verify", "--ros-prefix", str(workspace), cwd=workspace, env=env)
     assert result.returncode == 2 and "holds no ROS 2 launch libraries" in result.stderr
     assert "Traceback" not in result.stderr
@@ -153,15 +179,32 @@ def test_the_built_in_engine_follows_the_target_distro(tmp_path):
     env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
     found = {}
     for distro in ("humble", "jazzy"):
-        result = run_pkgforge("verify", "--format", "json", "--distro", distro, "--launch-engine", "builtin",
-                              cwd=workspace, env=env)
+        result = run_pkgforge(
+            "verify",
+            "--format",
+            "json",
+            "--distro",
+            distro,
+            "--launch-engine",
+            "builtin",
+            cwd=workspace,
+            env=env,
+        )
         assert "Traceback" not in result.stderr and result.returncode in (0, 1), result.stderr
         report = json.loads(result.stdout)
         assert report["launch"] == {"engine": "builtin", "distro": distro}
-        found[distro] = [(d["code"], d["path"], d["line"], d["message"]) for d in report["diagnostics"]
-                         if d["path"].endswith("equals.launch.py")]
-    assert found["humble"] == [("PF301", "src/iron_bot/launch/equals.launch.py",
-                                line_of(launch, "import EqualsSubstitution"),
-                                "loading equals.launch.py failed: ImportError: cannot import name "
-                                "'EqualsSubstitution' from 'launch.substitutions'")]
+        found[distro] = [
+            (d["code"], d["path"], d["line"], d["message"])
+            for d in report["diagnostics"]
+            if d["path"].endswith("equals.launch.py")
+        ]
+    assert found["humble"] == [
+        (
+            "PF301",
+            "src/iron_bot/launch/equals.launch.py",
+            line_of(launch, "import EqualsSubstitution"),
+            "loading equals.launch.py failed: ImportError: cannot import name "
+            "'EqualsSubstitution' from 'launch.substitutions'",
+        )
+    ]
     assert found["jazzy"] == []

@@ -38,8 +38,11 @@ def _launch_files() -> list[str]:
     for name, options in VARIANTS.items():
         fmt = options[options.index("--launch-format") + 1] if "--launch-format" in options else "py"
         files.append(f"{name}/launch/display.launch.{fmt}")
-    files += [f"launch_conformance/launch/{p.name}" for p in sorted(CONFORMANCE.iterdir())
-              if p.name.endswith(SUFFIXES)]
+    files += [
+        f"launch_conformance/launch/{p.name}"
+        for p in sorted(CONFORMANCE.iterdir())
+        if p.name.endswith(SUFFIXES)
+    ]
     files += [f"pattern_bot/launch/{p.name}" for p in sorted((PATTERNS / "launch").iterdir())]
     return files
 
@@ -48,21 +51,41 @@ FILES = _launch_files()
 
 C = "launch_conformance/launch/"
 # names that exist from Iron on: in humble, importing them is an error, as in ROS
-NOT_IN_HUMBLE = {C + f for f in ("py_all_any.launch.py", "py_equals_typed.launch.py", "py_file_content.launch.py",
-                                 "py_not_equals_if_else.launch.py", "xml_equals.launch.xml",
-                                 "xml_file_content.launch.xml")}
+NOT_IN_HUMBLE = {
+    C + f
+    for f in (
+        "py_all_any.launch.py",
+        "py_equals_typed.launch.py",
+        "py_file_content.launch.py",
+        "py_not_equals_if_else.launch.py",
+        "xml_equals.launch.xml",
+        "xml_file_content.launch.xml",
+    )
+}
 # files that do not load in ROS (status load-error is what is compared)
-LOAD_ERRORS = {(d, f) for d in DISTROS for f in FILES if f.startswith(C + "error_") and "bad_node" not in f} | \
-    {("humble", f) for f in NOT_IN_HUMBLE}
+LOAD_ERRORS = {
+    (d, f) for d in DISTROS for f in FILES if f.startswith(C + "error_") and "bad_node" not in f
+} | {("humble", f) for f in NOT_IN_HUMBLE}
 P = "pattern_bot/launch/"
 # the patterns ROS refuses (bool default: TypeError; nav2_common not installed here; jazzy's own
 # front end on $(any)/$(all)), and in humble what only Iron on has ($(equals), $(file-content),
 # <push_ros_namespace>...)
-LOAD_ERRORS |= {(d, P + f) for d in DISTROS for f in ("all_any.launch.xml", "bool_default.launch.py",
-                                                      "nav2_style.launch.py")} | \
-    {("humble", P + f) for f in ("equals_typed.launch.py", "equals_typed.launch.xml", "file_content.launch.xml",
-                                 "frontend_tags.launch.xml", "frontend_tags.launch.yaml", "push_namespace.launch.xml",
-                                 "unsupported_api.launch.py")}
+LOAD_ERRORS |= {
+    (d, P + f)
+    for d in DISTROS
+    for f in ("all_any.launch.xml", "bool_default.launch.py", "nav2_style.launch.py")
+} | {
+    ("humble", P + f)
+    for f in (
+        "equals_typed.launch.py",
+        "equals_typed.launch.xml",
+        "file_content.launch.xml",
+        "frontend_tags.launch.xml",
+        "frontend_tags.launch.yaml",
+        "push_namespace.launch.xml",
+        "unsupported_api.launch.py",
+    )
+}
 
 # Differences still found, each an xfail(strict=True) whose reason points to its entry in
 # docs/launch-builtin.md ("docs/launch-builtin.md#anchor: what differs"):
@@ -124,12 +147,16 @@ def _canonical(resolution) -> dict:
         # where the module that raised lives differs: the distro's launch, or pkgforge's
         error["message"] = re.sub(r" \((?:/|<)[^\n]*?\.py\)", "", error["message"])
     # the same argument combinations planned by both engines; at this limit every one evaluated
-    out = {"status": resolution.status, "error": error,
-           "combinations": [resolution.branching.planned, resolution.branching.evaluated],
-           "arguments": sorted(json.dumps(_strip(as_dict(a)), sort_keys=True) for a in resolution.arguments)}
+    out = {
+        "status": resolution.status,
+        "error": error,
+        "combinations": [resolution.branching.planned, resolution.branching.evaluated],
+        "arguments": sorted(json.dumps(_strip(as_dict(a)), sort_keys=True) for a in resolution.arguments),
+    }
     for kind in ITEM_KINDS:
-        out[kind] = sorted(json.dumps(_strip(as_dict(r)), sort_keys=True, default=str)
-                           for r in getattr(resolution, kind))
+        out[kind] = sorted(
+            json.dumps(_strip(as_dict(r)), sort_keys=True, default=str) for r in getattr(resolution, kind)
+        )
     return out
 
 
@@ -144,9 +171,7 @@ def _strip(data: dict) -> dict:
 def evaluations(prefixes, oracle_workspace) -> dict:
     """(engine, file) → canonical records; every file through the built-in engine and each distro."""
     from pkgforge.launch.resolve import find_launch_files, resolve
-    from pkgforge.verify.pipeline import VerifyOptions
-    from pkgforge.verify.pipeline import load_models
-    from pkgforge.verify.pipeline import make_tree
+    from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
     from pkgforge.workspace import locate
 
     workspace = locate(oracle_workspace)
@@ -162,10 +187,13 @@ def evaluations(prefixes, oracle_workspace) -> dict:
         out = {}
         for distro, prefix in prefixes.items():
             # the built-in engine held to the same distro's names, as `verify --distro` holds it
-            engines = {f"builtin-{distro}": builtin(distro), distro: LaunchEngine("ros", str(prefix), distro, "test")}
+            engines = {
+                f"builtin-{distro}": builtin(distro),
+                distro: LaunchEngine("ros", str(prefix), distro, "test"),
+            }
             for label, engine in engines.items():
                 resolutions = resolve(chosen, tree, jobs=2, timeout=60, engine=engine)
-                for name, resolution in zip(FILES, resolutions):
+                for name, resolution in zip(FILES, resolutions, strict=False):
                     out[label, name] = _canonical(resolution)
         return out
     finally:
@@ -176,9 +204,14 @@ def evaluations(prefixes, oracle_workspace) -> dict:
 def test_both_engines_give_the_same_records(evaluations, distro, file):
     real, builtin = evaluations[distro, file], evaluations[f"builtin-{distro}", file]
     assert real["status"] == ("load-error" if (distro, file) in LOAD_ERRORS else "ok"), real["error"]
-    differences = {kind: {"ros": _differing(real[kind], builtin[kind]),
-                          "built-in": _differing(builtin[kind], real[kind])}
-                   for kind in real if real[kind] != builtin[kind]}
+    differences = {
+        kind: {
+            "ros": _differing(real[kind], builtin[kind]),
+            "built-in": _differing(builtin[kind], real[kind]),
+        }
+        for kind in real
+        if real[kind] != builtin[kind]
+    }
     assert not differences, json.dumps(differences, indent=1)
 
 
@@ -197,8 +230,13 @@ def _differing(mine, theirs):
             out.append(record)
         else:
             same = {"file": record.get("file", "").rsplit("/", 3)[-3:] if record.get("file") else None}
-            out.append({**{k: v for k, v in record.items() if near.get(k) != v},
-                        **({"name": record["name"]} if "name" in record else {}), "where": same})
+            out.append(
+                {
+                    **{k: v for k, v in record.items() if near.get(k) != v},
+                    **({"name": record["name"]} if "name" in record else {}),
+                    "where": same,
+                }
+            )
     return out
 
 
@@ -208,8 +246,10 @@ def test_the_oracle_covers_at_least_60_files_per_distro():
 
 def _commands(evaluations, label: str, file: str) -> list[tuple]:
     """(program, ok, runtime_only) of each command a file's evaluation recorded."""
-    return sorted((c["command"][0], c["ok"], c["runtime_only"])
-                  for c in map(json.loads, evaluations[label, C + file]["commands"]))
+    return sorted(
+        (c["command"][0], c["ok"], c["runtime_only"])
+        for c in map(json.loads, evaluations[label, C + file]["commands"])
+    )
 
 
 @pytest.mark.parametrize("distro", DISTROS)
@@ -218,11 +258,16 @@ def test_one_command_policy_in_both_engines(evaluations, distro):
     file that is not there, as in ROS), a run-time query is recorded as run-time only, never run."""
     for label in (distro, f"builtin-{distro}"):
         assert _commands(evaluations, label, "py_command_cat.launch.py") == [
-            ("cat", False, False), ("cat", True, False)], label
+            ("cat", False, False),
+            ("cat", True, False),
+        ], label
         assert _commands(evaluations, label, "py_command_runtime_query.launch.py") == [
-            ("ros2", True, True)], label
+            ("ros2", True, True)
+        ], label
         assert _commands(evaluations, label, "xml_command_runtime.launch.xml") == [
-            ("cat", True, False), ("ros2", True, True)], label
+            ("cat", True, False),
+            ("ros2", True, True),
+        ], label
 
 
 @pytest.mark.parametrize("distro", DISTROS)
@@ -231,11 +276,21 @@ def test_a_package_not_found_keeps_what_uses_it(evaluations, distro):
     empty one, and the node or process using it is still recorded, with what follows it."""
     for label in (distro, f"builtin-{distro}"):
         records = evaluations[label, C + "py_unknown_package.launch.py"]
-        assert sorted(json.loads(n)["package"] for n in records["nodes"]) == ["robot_state_publisher", "rviz2"]
-        assert [(p["name"], p["found"]) for p in map(json.loads, records["packages"])
-                if p["name"] == "not_a_package_here"] == [("not_a_package_here", False)], label
+        assert sorted(json.loads(n)["package"] for n in records["nodes"]) == [
+            "robot_state_publisher",
+            "rviz2",
+        ]
+        assert [
+            (p["name"], p["found"])
+            for p in map(json.loads, records["packages"])
+            if p["name"] == "not_a_package_here"
+        ] == [("not_a_package_here", False)], label
         records = evaluations[label, C + "py_executable_in_package.launch.py"]
         commands = sorted(json.loads(n)["cmd"][0].rsplit("/", 3)[-3:] for n in records["nodes"])
-        assert commands == [["echo"], ["lib", "launch_conformance", "tool"], ["lib", "not_a_package_here", "tool"],
-                            ["lib", "robot_state_publisher", "robot_state_publisher"]], label
+        assert commands == [
+            ["echo"],
+            ["lib", "launch_conformance", "tool"],
+            ["lib", "not_a_package_here", "tool"],
+            ["lib", "robot_state_publisher", "robot_state_publisher"],
+        ], label
         assert records["errors"] == [], label

@@ -14,7 +14,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import copy_fixture, line_of, run_pkgforge
 
 FIXTURE = "launch_patterns/pattern_bot"
@@ -24,8 +23,19 @@ LAUNCH = "src/pattern_bot/launch"
 def verify(workspace: Path, distro: str = "jazzy") -> list[dict]:
     """The built-in engine held to `distro`'s launch API (verify's target distro)."""
     env = {k: v for k, v in os.environ.items() if k not in ("PKGFORGE_LAUNCH_DISTRO", "ROS_DISTRO")}
-    result = run_pkgforge("verify", workspace, "--format", "json", "--no-cache", "--distro", distro,
-                          "--launch-engine", "builtin", cwd=workspace, env=env)
+    result = run_pkgforge(
+        "verify",
+        workspace,
+        "--format",
+        "json",
+        "--no-cache",
+        "--distro",
+        distro,
+        "--launch-engine",
+        "builtin",
+        cwd=workspace,
+        env=env,
+    )
     assert "Traceback" not in result.stderr, result.stderr
     assert result.returncode in (0, 1), result.stdout + result.stderr
     return json.loads(result.stdout)["diagnostics"]
@@ -112,10 +122,13 @@ def test_every_pattern_gives_exactly_what_ros_gives(pattern_bot, jazzy_report):
 def test_messages_name_the_cause(jazzy_report):
     messages = {(d["code"], Path(d["path"]).name): d["message"] for d in jazzy_report}
     assert messages[("PF301", "bool_default.launch.py")].endswith("TypeError: 'bool' object is not iterable")
-    assert messages[("PF310", "runtime_command.launch.py")].startswith("Command 'ros2 param get' (run-time only)")
+    assert messages[("PF310", "runtime_command.launch.py")].startswith(
+        "Command 'ros2 param get' (run-time only)"
+    )
     assert messages[("PF310", "unsupported_api.launch.py")].startswith("LaunchLogDir ")
     assert messages[("PF301", "all_any.launch.xml")].endswith(
-        "AnySubstitution.__init__() got an unexpected keyword argument 'args'")
+        "AnySubstitution.__init__() got an unexpected keyword argument 'args'"
+    )
     assert "redefining global symbol: len" in messages[("PF308", "xacro_stderr.launch.py")]
     assert "\n" not in messages[("PF308", "xacro_stderr.launch.py")]
 
@@ -126,7 +139,10 @@ def test_humble_lacks_the_names_jazzy_added(pattern_bot):
     report = verify(pattern_bot, "humble")
     errors = {(d["path"], d["line"]): d["message"] for d in report if d["code"] == "PF301"}
     path, line = at(package, "equals_typed.launch.py", "from launch.substitutions import EqualsSubstitution")
-    assert "ImportError: cannot import name 'EqualsSubstitution' from 'launch.substitutions'" in errors[(path, line)]
+    assert (
+        "ImportError: cannot import name 'EqualsSubstitution' from 'launch.substitutions'"
+        in errors[(path, line)]
+    )
     path, line = at(package, "unsupported_api.launch.py", "from launch.substitutions import LaunchLogDir")
     assert "cannot import name 'LaunchLogDir'" in errors[(path, line)]
     # <equals> is no Humble substitution either
@@ -138,13 +154,18 @@ def test_humble_lacks_the_names_jazzy_added(pattern_bot):
 def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
     package = copy_fixture(FIXTURE, tmp_path)
     cmake = package / "CMakeLists.txt"
-    cmake.write_text(cmake.read_text().replace(
-        "install(DIRECTORY config launch urdf\n",
-        "install(FILES launch/find_share_find.launch.py DESTINATION share/${PROJECT_NAME}/launch)\n"
-        "install(DIRECTORY config urdf\n"))
+    cmake.write_text(
+        cmake.read_text().replace(
+            "install(DIRECTORY config launch urdf\n",
+            "install(FILES launch/find_share_find.launch.py DESTINATION share/${PROJECT_NAME}/launch)\n"
+            "install(DIRECTORY config urdf\n",
+        )
+    )
     report = verify(tmp_path)
     uninstalled = {d["path"] for d in report if d["code"] == "PF315"}
-    expected = {f"{LAUNCH}/{p.name}" for p in (package / "launch").iterdir() if p.name != "find_share_find.launch.py"}
+    expected = {
+        f"{LAUNCH}/{p.name}" for p in (package / "launch").iterdir() if p.name != "find_share_find.launch.py"
+    }
     assert uninstalled == expected
     assert all(d["line"] is None and d["severity"] == "warning" for d in report if d["code"] == "PF315")
     # evaluated all the same, from the source: what they use is checked
@@ -155,10 +176,16 @@ def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
 
 # --- the worker's record, for what the diagnostics do not show ---------------------------------
 
+
 def worker(requests: list[dict], env: dict | None = None) -> list[dict]:
-    done = subprocess.run([sys.executable, "-m", "pkgforge.sandbox.worker"], capture_output=True, text=True,
-                          input="".join(json.dumps(r) + "\n" for r in requests), timeout=120,
-                          env=dict(os.environ, **(env or {})))
+    done = subprocess.run(
+        [sys.executable, "-m", "pkgforge.sandbox.worker"],
+        capture_output=True,
+        text=True,
+        input="".join(json.dumps(r) + "\n" for r in requests),
+        timeout=120,
+        env=dict(os.environ, **(env or {})),
+    )
     return [json.loads(line) for line in done.stdout.splitlines()]
 
 
@@ -169,12 +196,20 @@ def test_namespace_and_remaps_reach_the_nodes(pattern_bot, tmp_path):
     (index / "pattern_bot").write_text("")
     (tmp_path / "share" / "pattern_bot").symlink_to(package)
     env = {"AMENT_PREFIX_PATH": str(tmp_path)}
-    xml, yaml_file = worker([{"file": str(package / "launch" / "push_namespace.launch.xml")},
-                             {"file": str(package / "launch" / "push_namespace.launch.yaml")}], env)
+    xml, yaml_file = worker(
+        [
+            {"file": str(package / "launch" / "push_namespace.launch.xml")},
+            {"file": str(package / "launch" / "push_namespace.launch.yaml")},
+        ],
+        env,
+    )
     assert xml["status"] == "ok", xml
     node = xml["nodes"][0]
-    assert (node["package"], node["namespace"], node["remappings"]) == \
-        ("robot_state_publisher", "/bot1", [["/tf", "tf"]])
+    assert (node["package"], node["namespace"], node["remappings"]) == (
+        "robot_state_publisher",
+        "/bot1",
+        [["/tf", "tf"]],
+    )
     assert yaml_file["nodes"][0]["namespace"] == "/bot2"
 
 
@@ -204,10 +239,16 @@ def test_real_module_paths_and_signatures(tmp_path):
         "    except TypeError as error:\n"
         "        errors.append(str(error))\n"
         "print(json.dumps({'missing': missing, 'same': A is B, 'errors': errors,\n"
-        "                  'context': launch.launch_context.LaunchContext.__name__}))\n")
+        "                  'context': launch.launch_context.LaunchContext.__name__}))\n"
+    )
     for distro in ("humble", "jazzy", "rolling"):
-        done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120,
-                              env=dict(os.environ, PKGFORGE_LAUNCH_DISTRO=distro))
+        done = subprocess.run(
+            [sys.executable, str(script)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            env=dict(os.environ, PKGFORGE_LAUNCH_DISTRO=distro),
+        )
         assert done.returncode == 0, done.stderr
         result = json.loads(done.stdout)
         assert result["missing"] == [] and result["same"] and result["context"] == "LaunchContext"
@@ -221,8 +262,14 @@ def test_real_module_paths_and_signatures(tmp_path):
 def test_generated_list_is_current():
     """api_names.json is what scripts/gen_launch_api.py makes of the upstream sources."""
     root = Path(__file__).resolve().parent.parent
-    upstream = next((p / "upstream" / "ros2-launch" for p in (root.parent / "shared", root.parent.parent / "shared")
-                     if (p / "upstream" / "ros2-launch" / "jazzy").is_dir()), None)
+    upstream = next(
+        (
+            p / "upstream" / "ros2-launch"
+            for p in (root.parent / "shared", root.parent.parent / "shared")
+            if (p / "upstream" / "ros2-launch" / "jazzy").is_dir()
+        ),
+        None,
+    )
     if upstream is None:
         pytest.skip("no ../shared/upstream/ros2-launch sources here")
     sys.path.insert(0, str(root / "scripts"))

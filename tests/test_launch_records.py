@@ -6,8 +6,15 @@ from pathlib import Path
 
 import pytest
 
-from pkgforge.launch.records import (Error, LaunchFile, Node, PackageLookup, Recorder, RecordKeyError,
-                                     resolution_from_reply)
+from pkgforge.launch.records import (
+    Error,
+    LaunchFile,
+    Node,
+    PackageLookup,
+    Recorder,
+    RecordKeyError,
+    resolution_from_reply,
+)
 
 
 def test_a_renamed_key_fails_loudly_in_the_worker():
@@ -23,16 +30,27 @@ def test_the_parent_rebuilds_typed_records_merged_across_branches():
     recorder = Recorder()
     for gui in ("true", "false"):
         recorder.branch = {"gui": gui}
-        recorder.add("nodes", {"kind": "node", "package": "rviz2", "file": "/x.launch.py", "line": 3,
-                               "parameters": [{"name": "a", "form": "typed-str", "value_preview": "1"}]})
+        recorder.add(
+            "nodes",
+            {
+                "kind": "node",
+                "package": "rviz2",
+                "file": "/x.launch.py",
+                "line": 3,
+                "parameters": [{"name": "a", "form": "typed-str", "value_preview": "1"}],
+            },
+        )
     recorder.add("packages", {"name": "jsp", "via": "Node package", "found": False})
     reply = {"status": "ok", "error": None, **recorder.dump(), "engine": "ros", "distro": "jazzy"}
     resolution = resolution_from_reply(LaunchFile("p", Path("/x.launch.py"), None), reply)
     (node,) = resolution.nodes
     assert isinstance(node, Node) and node.package == "rviz2" and node.parameters[0].form == "typed-str"
     assert node.branches == ["gui:=true", "gui:=false"]
-    assert resolution.packages == [PackageLookup(name="jsp", via="Node package", found=False,
-                                                 branch={"gui": "false"}, branches=["gui:=false"])]
+    assert resolution.packages == [
+        PackageLookup(
+            name="jsp", via="Node package", found=False, branch={"gui": "false"}, branches=["gui:=false"]
+        )
+    ]
     assert (resolution.engine, resolution.distro, resolution.branches) == ("ros", "jazzy", 2)
 
 
@@ -42,5 +60,7 @@ def test_a_worker_reply_with_an_unknown_status_or_key_is_refused():
         resolution_from_reply(launch, {"status": "finished"})
     with pytest.raises(RecordKeyError):
         resolution_from_reply(launch, {"status": "ok", "errors": [{"stage": "visit", "kind": "x"}]})
-    resolution = resolution_from_reply(launch, {"status": "timeout", "error": {"message": "slow", "line": None}})
+    resolution = resolution_from_reply(
+        launch, {"status": "timeout", "error": {"message": "slow", "line": None}}
+    )
     assert resolution.error == Error(message="slow")

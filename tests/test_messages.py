@@ -11,7 +11,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge, verify_report
 
 
@@ -23,12 +22,18 @@ def only(report: dict, code: str) -> dict:
 
 def test_self_calling_macro_is_named_as_such_not_an_include_loop(package):
     macros = package / "urdf" / "macros.xacro"
-    edit(macros, "    </inertial>\n  </xacro:macro>",
-         '    </inertial>\n    <xacro:box_inertial x="${x}" y="${y}" z="${z}" mass="${mass}"/>\n  </xacro:macro>')
+    edit(
+        macros,
+        "    </inertial>\n  </xacro:macro>",
+        '    </inertial>\n    <xacro:box_inertial x="${x}" y="${y}" z="${z}" mass="${mass}"/>\n  </xacro:macro>',
+    )
     status, report = verify_report(package, "--no-cache")
     assert status == 1
     diagnostic = only(report, "PF308")
-    assert (diagnostic["path"], diagnostic["line"]) == ("urdf/macros.xacro", line_of(macros, "<xacro:box_inertial x="))
+    assert (diagnostic["path"], diagnostic["line"]) == (
+        "urdf/macros.xacro",
+        line_of(macros, "<xacro:box_inertial x="),
+    )
     assert "macro box_inertial calls itself" in diagnostic["message"]
     assert "includes itself" not in diagnostic["message"]
     assert "xacro:if" in diagnostic["hint"]
@@ -40,12 +45,16 @@ def test_trailing_slash_in_install_directory_is_the_fix_named(package):
     status, report = verify_report(package, "--no-cache")
     diagnostic = only(report, "PF302")
     launch = package / "launch" / "display.launch.py"
-    assert (diagnostic["path"], diagnostic["line"]) == ("launch/display.launch.py",
-                                                        line_of(launch, "'urdf/rob_description.urdf.xacro'"))
+    assert (diagnostic["path"], diagnostic["line"]) == (
+        "launch/display.launch.py",
+        line_of(launch, "'urdf/rob_description.urdf.xacro'"),
+    )
     assert "installs it as share/rob_description/rob_description.urdf.xacro" in diagnostic["message"]
     assert "trailing slash" in diagnostic["hint"] and "without the slash" in diagnostic["hint"]
-    assert f"CMakeLists.txt:{line_of(cmake, 'DIRECTORY launch')}" in diagnostic["hint"] \
+    assert (
+        f"CMakeLists.txt:{line_of(cmake, 'DIRECTORY launch')}" in diagnostic["hint"]
         or f"CMakeLists.txt:{line_of(cmake, 'install(')}" in diagnostic["hint"]
+    )
     assert "add urdf to install" not in diagnostic["hint"]
 
 
@@ -59,8 +68,10 @@ def test_symlinked_mesh_folder_is_named_not_add_meshes(package, target_exists):
         shutil.copy(package / "meshes" / "arm.stl", package / "cad" / "visual")
     status, report = verify_report(package, "--no-cache")
     diagnostic = only(report, "PF402")
-    assert (diagnostic["path"], diagnostic["line"]) == ("urdf/rob_description.urdf.xacro",
-                                                        line_of(model, "meshes/visual/arm.stl"))
+    assert (diagnostic["path"], diagnostic["line"]) == (
+        "urdf/rob_description.urdf.xacro",
+        line_of(model, "meshes/visual/arm.stl"),
+    )
     assert "meshes/visual is a symbolic link to ../cad/visual" in diagnostic["message"]
     assert ("does not exist" in diagnostic["message"]) != target_exists
     assert "add meshes" not in diagnostic["hint"]
@@ -73,8 +84,11 @@ def test_case_sensitive_glob_in_setup_py_names_the_entry(tmp_path):
     package = tmp_path / "rob_py"
     setup = package / "setup.py"
     edit(setup, "import os\n", "import os\nfrom glob import glob\n")
-    edit(setup, "        *share_files('meshes'),\n",
-         "        (os.path.join('share', package_name, 'meshes'), glob('meshes/*.STL')),\n")
+    edit(
+        setup,
+        "        *share_files('meshes'),\n",
+        "        (os.path.join('share', package_name, 'meshes'), glob('meshes/*.STL')),\n",
+    )
     status, report = verify_report(package, "--no-cache")
     diagnostic = only(report, "PF402")
     assert f"data_files entry at setup.py:{line_of(setup, 'glob(')}" in diagnostic["hint"]
@@ -100,8 +114,11 @@ def test_unknown_package_hint_never_repeats_the_wrong_name(tmp_path, template_pa
 
 def test_timeout_hint_says_what_to_look_for_not_a_line(package):
     launch = package / "launch" / "display.launch.py"
-    edit(launch, "def generate_launch_description():\n",
-         "def generate_launch_description():\n    while True:\n        pass\n")
+    edit(
+        launch,
+        "def generate_launch_description():\n",
+        "def generate_launch_description():\n    while True:\n        pass\n",
+    )
     status, report = verify_report(package, "--no-cache", "--launch-timeout", "0.5", "--select", "PF301")
     diagnostic = only(report, "PF301")
     assert diagnostic["path"] == "launch/display.launch.py"
@@ -115,8 +132,10 @@ def test_launch_arg_outside_its_choices_is_a_usage_error(package):
     assert result.stdout == ""
     launch = package / "launch" / "display.launch.py"
     line = line_of(launch, "name='gui'") - 1  # the DeclareLaunchArgument( line
-    assert result.stderr == (f"pkgforge: error: --launch-arg gui:=maybe: 'gui' allows only true, false "
-                             f"(declared at launch/display.launch.py:{line})\n")
+    assert result.stderr == (
+        f"pkgforge: error: --launch-arg gui:=maybe: 'gui' allows only true, false "
+        f"(declared at launch/display.launch.py:{line})\n"
+    )
     result = run_pkgforge("verify", "--launch-arg", "gui:=false", "--no-cache", cwd=package)
     assert result.returncode == 0, result.stdout + result.stderr
 
@@ -128,8 +147,11 @@ def spaced_workspace(tmp_path, template_package, *, quoted: bool = False) -> tup
     package = workspace / "src" / "rob_description"
     shutil.copytree(template_package, package)
     if quoted:
-        edit(package / "launch" / "display.launch.py", "Command(['xacro ', LaunchConfiguration('model')])",
-             "Command(['xacro \"', LaunchConfiguration('model'), '\"'])")
+        edit(
+            package / "launch" / "display.launch.py",
+            "Command(['xacro ', LaunchConfiguration('model')])",
+            "Command(['xacro \"', LaunchConfiguration('model'), '\"'])",
+        )
     hand_made_install(package)
     return workspace, package
 
@@ -147,13 +169,16 @@ def test_workspace_path_with_a_space_names_the_split(tmp_path, template_package,
     assert status == 1
     diagnostic = only(report, "PF308")
     launch = package / "launch" / "display.launch.py"
-    assert (diagnostic["path"], diagnostic["line"]) == ("src/rob_description/launch/display.launch.py",
-                                                        line_of(launch, "Command(['xacro '"))
+    assert (diagnostic["path"], diagnostic["line"]) == (
+        "src/rob_description/launch/display.launch.py",
+        line_of(launch, "Command(['xacro '"),
+    )
     model = workspace / "install" / "share" / "rob_description" / "urdf" / "rob_description.urdf.xacro"
     assert diagnostic["message"] == (
         f"xacro rob_description.urdf.xacro: the path '{model}' has a space, and Command joins its parts "
         "into one line that it splits at spaces (ROS's Command does too): "
-        f"xacro got '{tmp_path}/with'")
+        f"xacro got '{tmp_path}/with'"
+    )
     assert "quote the path" in diagnostic["hint"]
     assert "pkgforge-tree-" not in json.dumps(report)
 
@@ -172,21 +197,27 @@ def test_a_model_file_named_with_a_space_names_the_split(package):
     edit(launch, "'urdf/rob_description.urdf.xacro'", "'urdf/rob description.urdf.xacro'")
     status, report = verify_report(package, "--no-cache", "--select", "PF3,PF4")
     diagnostic = only(report, "PF308")
-    assert (status, diagnostic["path"], diagnostic["line"]) == (1, "launch/display.launch.py",
-                                                                line_of(launch, "Command(['xacro '"))
+    assert (status, diagnostic["path"], diagnostic["line"]) == (
+        1,
+        "launch/display.launch.py",
+        line_of(launch, "Command(['xacro '"),
+    )
     share = package.parent.parent / "install" / "share" / "rob_description" / "urdf"
     assert diagnostic["message"] == (
         f"xacro rob description.urdf.xacro: the path '{share}/rob description.urdf.xacro' has a space, and "
         "Command joins its parts into one line that it splits at spaces (ROS's Command does too): "
-        f"xacro got '{share}/rob'")
+        f"xacro got '{share}/rob'"
+    )
 
 
 def test_a_space_in_pkgforges_own_temporary_folder_is_no_error_of_the_user(tmp_path, package):
     # the tree is not on /dev/shm (full) and TMPDIR has a space: pkgforge puts its tree elsewhere
     spaced = tmp_path / "tmp dir"
     spaced.mkdir()
-    patch = (f"import os, tempfile\nos.environ['TMPDIR'] = {str(spaced)!r}\ntempfile.tempdir = None\n"
-             "import pkgforge.tree\npkgforge.tree._fast_folder = lambda needed: None\n")
+    patch = (
+        f"import os, tempfile\nos.environ['TMPDIR'] = {str(spaced)!r}\ntempfile.tempdir = None\n"
+        "import pkgforge.tree\npkgforge.tree._fast_folder = lambda needed: None\n"
+    )
     result = run_patched(patch, "verify", str(package), "--no-cache", cwd=package)
     assert (result.returncode, result.stderr) == (0, ""), result.stdout
     assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine")
@@ -195,30 +226,45 @@ def test_a_space_in_pkgforges_own_temporary_folder_is_no_error_of_the_user(tmp_p
 
 # --- errors: one located line, exit 2; internal errors say "please report" -------------------------
 
+
 def run_patched(patch: str, *args: str, cwd: Path) -> subprocess.CompletedProcess:
     """The real command line, with one function of pkgforge replaced first (to make it fail)."""
-    script = (f"import sys\n{patch}\nsys.argv = ['pkgforge', *{list(args)!r}]\n"
-              "from pkgforge.cli import main\nmain()\n")
-    return subprocess.run([sys.executable, "-c", script], cwd=cwd, capture_output=True, text=True,
-                          timeout=300, stdin=subprocess.DEVNULL)
+    script = (
+        f"import sys\n{patch}\nsys.argv = ['pkgforge', *{list(args)!r}]\n"
+        "from pkgforge.cli import main\nmain()\n"
+    )
+    return subprocess.run(
+        [sys.executable, "-c", script],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        stdin=subprocess.DEVNULL,
+    )
 
 
 def test_an_oserror_anywhere_is_one_located_line_exit_2(package):
-    patch = ("import pkgforge.verify.pipeline\n"
-             "def broken(*a, **k):\n"
-             "    raise PermissionError(13, 'Permission denied', '/srv/robots/x.urdf')\n"
-             "pkgforge.verify.pipeline.verify = broken\n")
+    patch = (
+        "import pkgforge.verify.pipeline\n"
+        "def broken(*a, **k):\n"
+        "    raise PermissionError(13, 'Permission denied', '/srv/robots/x.urdf')\n"
+        "pkgforge.verify.pipeline.verify = broken\n"
+    )
     result = run_patched(patch, "verify", str(package), cwd=package)
     assert result.returncode == 2
-    assert result.stderr == ("pkgforge: error: /srv/robots/x.urdf: Permission denied; check its "
-                             "permissions (ls -l) or run as its owner\n")
+    assert result.stderr == (
+        "pkgforge: error: /srv/robots/x.urdf: Permission denied; check its "
+        "permissions (ls -l) or run as its owner\n"
+    )
 
 
 def test_an_unexpected_exception_exits_2_asking_for_a_report(package):
-    patch = ("import pkgforge.verify.pipeline\n"
-             "def broken(*a, **k):\n"
-             "    raise KeyError('surprise')\n"
-             "pkgforge.verify.pipeline.verify = broken\n")
+    patch = (
+        "import pkgforge.verify.pipeline\n"
+        "def broken(*a, **k):\n"
+        "    raise KeyError('surprise')\n"
+        "pkgforge.verify.pipeline.verify = broken\n"
+    )
     result = run_patched(patch, "verify", str(package), cwd=package)
     assert result.returncode == 2
     assert result.stderr.startswith("pkgforge: internal error: KeyError: 'surprise'; please report it")
@@ -229,12 +275,14 @@ def test_an_unexpected_exception_exits_2_asking_for_a_report(package):
 
 
 def test_a_crash_inside_one_check_keeps_the_others_and_exits_2(package):
-    patch = ("import pkgforge.checks.load_all\n"
-             "from pkgforge.checks.registry import REGISTRY\n"
-             "import dataclasses\n"
-             "def broken(ctx):\n"
-             "    raise ValueError('bug')\n"
-             "REGISTRY['PF104'] = dataclasses.replace(REGISTRY['PF104'], function=broken)\n")
+    patch = (
+        "import pkgforge.checks.load_all\n"
+        "from pkgforge.checks.registry import REGISTRY\n"
+        "import dataclasses\n"
+        "def broken(ctx):\n"
+        "    raise ValueError('bug')\n"
+        "REGISTRY['PF104'] = dataclasses.replace(REGISTRY['PF104'], function=broken)\n"
+    )
     edit(package / "package.xml", "  <license>Apache-2.0</license>\n", "")  # a real finding: PF101
     result = run_patched(patch, "verify", "--format", "json", "--no-cache", str(package), cwd=package)
     assert result.returncode == 2, result.stderr
@@ -264,21 +312,43 @@ def as_nobody():
     version = f"python{sys.version_info[0]}.{sys.version_info[1]}"
     env = dict(os.environ, PYTHONPATH=path, HOME="/nonexistent", XDG_CACHE_HOME="/nonexistent")
     # the virtual environment's interpreter may sit in a folder nobody cannot enter (/root)
-    for interpreter in dict.fromkeys([sys.executable, os.path.realpath(sys.executable),
-                                      getattr(sys, "_base_executable", sys.executable),
-                                      f"/usr/bin/{version}", f"/usr/local/bin/{version}"]):
+    for interpreter in dict.fromkeys(
+        [
+            sys.executable,
+            os.path.realpath(sys.executable),
+            getattr(sys, "_base_executable", sys.executable),
+            f"/usr/bin/{version}",
+            f"/usr/local/bin/{version}",
+        ]
+    ):
         # pkgforge starts workers with its own interpreter: that must work as nobody too
-        probe = subprocess.run([*NOBODY, interpreter, "-c", "import subprocess, sys; subprocess.run("
-                                "[sys.executable, '-c', 'import lxml, xacro, pkgforge.cli'], check=True)"],
-                               capture_output=True, env=env, cwd="/")
+        probe = subprocess.run(
+            [
+                *NOBODY,
+                interpreter,
+                "-c",
+                "import subprocess, sys; subprocess.run("
+                "[sys.executable, '-c', 'import lxml, xacro, pkgforge.cli'], check=True)",
+            ],
+            capture_output=True,
+            env=env,
+            cwd="/",
+        )
         if probe.returncode == 0:
             break
     else:
         pytest.skip("no Python interpreter with pkgforge's dependencies that nobody may run")
 
     def run(*args, cwd: Path):
-        return subprocess.run([*NOBODY, interpreter, "-m", "pkgforge", *map(str, args)], cwd=cwd, env=env,
-                              capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+        return subprocess.run(
+            [*NOBODY, interpreter, "-m", "pkgforge", *map(str, args)],
+            cwd=cwd,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+            stdin=subprocess.DEVNULL,
+        )
 
     return run
 
@@ -292,10 +362,10 @@ def shared(template_package):
     os.chmod(root, 0o755)
     package = root / "ws" / "src" / "rob_description"
     shutil.copytree(template_package, package)
-    for folder, dirs, files in os.walk(root):
+    for folder, _dirs, _files in os.walk(root):
         os.chmod(folder, 0o755)
     yield package
-    for folder, dirs, files in os.walk(root):
+    for folder, _dirs, files in os.walk(root):
         os.chmod(folder, 0o755)
         for name in files:
             if not os.path.islink(os.path.join(folder, name)):
@@ -309,8 +379,10 @@ def test_new_in_a_read_only_folder_is_one_line_exit_2(as_nobody, shared):
     os.chmod(read_only, 0o555)
     result = as_nobody("new", "rob_description", *MAINTAINER, cwd=read_only)
     assert result.returncode == 2, result.stdout + result.stderr
-    assert result.stderr == (f"pkgforge: error: cannot create the package in {read_only}: Permission denied "
-                             "(choose a folder you can write to with --destination)\n")
+    assert result.stderr == (
+        f"pkgforge: error: cannot create the package in {read_only}: Permission denied "
+        "(choose a folder you can write to with --destination)\n"
+    )
     assert list(read_only.iterdir()) == []
 
 
@@ -327,13 +399,16 @@ def test_unreadable_folder_is_located_not_an_internal_error(as_nobody, shared):
     assert "rob_description's folder urdf/ cannot be read" in missing["message"]
 
 
-@pytest.mark.parametrize("file, code, wrong", [
-    ("package.xml", "PF101", "the element named"),
-    ("CMakeLists.txt", "PF204", "the named line"),
-    ("rviz/display.rviz", "PF501", "save the config again"),
-    ("meshes/arm.stl", "PF405", "export the mesh again"),
-    ("launch/display.launch.py", "PF301", "fix the line named"),
-])
+@pytest.mark.parametrize(
+    "file, code, wrong",
+    [
+        ("package.xml", "PF101", "the element named"),
+        ("CMakeLists.txt", "PF204", "the named line"),
+        ("rviz/display.rviz", "PF501", "save the config again"),
+        ("meshes/arm.stl", "PF405", "export the mesh again"),
+        ("launch/display.launch.py", "PF301", "fix the line named"),
+    ],
+)
 def test_unreadable_file_hints_say_permission(as_nobody, shared, file, code, wrong):
     os.chmod(shared / file, 0)
     result = as_nobody("verify", "--format", "json", cwd=shared)
@@ -350,8 +425,11 @@ def test_unreadable_file_hints_say_permission(as_nobody, shared, file, code, wro
 def test_encoding_problems_say_save_as_utf8(package):
     launch = package / "launch" / "display.launch.py"
     comment_line = line_of(launch, "# value_type")
-    for relative, old in (("package.xml", b"<description>"), ("rviz/display.rviz", b"Panels"),
-                          ("launch/display.launch.py", b"# value_type")):
+    for relative, old in (
+        ("package.xml", b"<description>"),
+        ("rviz/display.rviz", b"Panels"),
+        ("launch/display.launch.py", b"# value_type"),
+    ):
         path = package / relative
         path.write_bytes(path.read_bytes().replace(old, old + b"\xe9", 1))
     status, report = verify_report(package, "--no-cache")

@@ -11,9 +11,8 @@ import re
 from pathlib import Path
 
 import pytest
-from lxml import etree
-
 from conftest import MAINTAINER, line_of, run_pkgforge
+from lxml import etree
 from migrate_fixtures import bare_urdf, ros1_package
 
 UR5 = "ur_description/urdf/ur5_robot.urdf"
@@ -40,12 +39,24 @@ def migrated(tmp_path_factory):
     (workspace / "src").mkdir(parents=True)
     outputs = {
         "py": run_pkgforge("migrate", arm, "--destination", "src", cwd=workspace),
-        "xml": run_pkgforge("migrate", other, "--destination", "src", "--launch-format", "xml", "--gazebo",
-                            "--distro", "jazzy", cwd=workspace),
-        "bare": run_pkgforge("new", "arm_description", *MAINTAINER, "--from-urdf", bare_urdf(root / "export"),
-                             cwd=workspace),
-        "ur5": run_pkgforge("new", "ur5_description", *MAINTAINER, "--from-urdf", robots_folder() / UR5,
-                            cwd=workspace),
+        "xml": run_pkgforge(
+            "migrate",
+            other,
+            "--destination",
+            "src",
+            "--launch-format",
+            "xml",
+            "--gazebo",
+            "--distro",
+            "jazzy",
+            cwd=workspace,
+        ),
+        "bare": run_pkgforge(
+            "new", "arm_description", *MAINTAINER, "--from-urdf", bare_urdf(root / "export"), cwd=workspace
+        ),
+        "ur5": run_pkgforge(
+            "new", "ur5_description", *MAINTAINER, "--from-urdf", robots_folder() / UR5, cwd=workspace
+        ),
     }
     for name, result in outputs.items():
         assert result.returncode == 0, (name, result.stdout, result.stderr)
@@ -60,7 +71,11 @@ def test_migrate_reports_every_change_at_its_line(migrated):
     root, _, outputs = migrated
     out = outputs["py"].stdout
     source = root / "ros1" / "robot_arm"
-    display, gazebo, rviz = source / "launch/display.launch", source / "launch/gazebo.launch", source / "urdf.rviz"
+    display, gazebo, rviz = (
+        source / "launch/display.launch",
+        source / "launch/gazebo.launch",
+        source / "urdf.rviz",
+    )
 
     workspace = root / "ws"
     rviz_node, model_arg, rsp_type = 'pkg="rviz"', 'name="model"', 'type="state_publisher"'
@@ -102,21 +117,36 @@ def test_migrated_package_is_ros2(migrated):
     assert manifest.get("format") == "3"
     assert manifest.findtext("buildtool_depend") == "ament_cmake"
     assert sorted(e.text for e in manifest.iter("exec_depend")) == [
-        "joint_state_publisher", "joint_state_publisher_gui", "launch", "launch_ros", "robot_state_publisher",
-        "rviz2", "rviz_default_plugins", "tf2_ros", "xacro"]
+        "joint_state_publisher",
+        "joint_state_publisher_gui",
+        "launch",
+        "launch_ros",
+        "robot_state_publisher",
+        "rviz2",
+        "rviz_default_plugins",
+        "tf2_ros",
+        "xacro",
+    ]
     assert "DIRECTORY config launch meshes rviz textures urdf" in (package / "CMakeLists.txt").read_text()
     assert sorted(p.name for p in (package / "launch").iterdir()) == [
-        "display.launch.py", "display_xacro.launch.py", "gazebo.launch.py"]
+        "display.launch.py",
+        "display_xacro.launch.py",
+        "gazebo.launch.py",
+    ]
     rviz = (package / "rviz" / "urdf.rviz").read_text()
     assert "rviz/" not in rviz.replace("rviz_", "") and "Value: /robot_description" in rviz
     assert "jsk_rviz_plugin" not in rviz and "Fixed Frame: base_link" in rviz
     # models unchanged but for the massless root KDL asks for (PF604 root-link-inertia)
     source_model = (workspace.parent / "ros1/robot_arm/urdf/robot_arm.urdf").read_text()
     migrated_model = (package / "urdf/robot_arm.urdf").read_text()
-    added = ('\n  <link name="base_link_root"/>\n  <joint name="base_link_root_joint" type="fixed">\n'
-             '    <parent link="base_link_root"/>\n    <child link="base_link"/>\n  </joint>')
+    added = (
+        '\n  <link name="base_link_root"/>\n  <joint name="base_link_root_joint" type="fixed">\n'
+        '    <parent link="base_link_root"/>\n    <child link="base_link"/>\n  </joint>'
+    )
     assert added in migrated_model
-    assert re.sub(r"\n  <!-- added by pkgforge:[^\n]*-->", "", migrated_model).replace(added, "") == source_model
+    assert (
+        re.sub(r"\n  <!-- added by pkgforge:[^\n]*-->", "", migrated_model).replace(added, "") == source_model
+    )
     gazebo = (workspace / "src/robot_arm_xml/launch/gazebo.launch.xml").read_text()
     assert '<include file="$(find-pkg-share ros_gz_sim)/launch/gz_sim.launch.py">' in gazebo
     assert 'exec="create"' in gazebo and "-name robot_arm_xml" in gazebo
@@ -129,22 +159,51 @@ def test_all_verify_clean_in_every_mode(migrated, mode):
     assert "Traceback" not in result.stderr
     report = json.loads(result.stdout)
     assert sorted(report["packages"][i]["name"] for i in range(len(report["packages"]))) == [
-        "arm_description", "robot_arm", "robot_arm_xml", "ur5_description"]
-    assert [(d["code"], d["path"], d["message"]) for d in report["diagnostics"]
-            if d["severity"] != "info"] == []
+        "arm_description",
+        "robot_arm",
+        "robot_arm_xml",
+        "ur5_description",
+    ]
+    assert [
+        (d["code"], d["path"], d["message"]) for d in report["diagnostics"] if d["severity"] != "info"
+    ] == []
     assert result.returncode == 0
 
 
-@pytest.mark.parametrize("package, launch, gui, config", [
-    ("robot_arm", "display.launch.py", "joint_state_publisher", "share/robot_arm/rviz/urdf.rviz"),
-    ("robot_arm", "display_xacro.launch.py", "joint_state_publisher_gui", "share/robot_arm/rviz/urdf.rviz"),
-    ("robot_arm_xml", "display.launch.xml", "joint_state_publisher", "share/robot_arm_xml/rviz/urdf.rviz"),
-    ("arm_description", "display.launch.py", "joint_state_publisher", "share/arm_description/rviz/display.rviz"),
-])
+@pytest.mark.parametrize(
+    "package, launch, gui, config",
+    [
+        ("robot_arm", "display.launch.py", "joint_state_publisher", "share/robot_arm/rviz/urdf.rviz"),
+        (
+            "robot_arm",
+            "display_xacro.launch.py",
+            "joint_state_publisher_gui",
+            "share/robot_arm/rviz/urdf.rviz",
+        ),
+        (
+            "robot_arm_xml",
+            "display.launch.xml",
+            "joint_state_publisher",
+            "share/robot_arm_xml/rviz/urdf.rviz",
+        ),
+        (
+            "arm_description",
+            "display.launch.py",
+            "joint_state_publisher",
+            "share/arm_description/rviz/display.rviz",
+        ),
+    ],
+)
 def test_converted_display_launch_resolves(migrated, package, launch, gui, config):
     _, workspace, _ = migrated
-    result = run_pkgforge("verify", "--install-base", "install", "--explain-launch",
-                          f"src/{package}/launch/{launch}", cwd=workspace)
+    result = run_pkgforge(
+        "verify",
+        "--install-base",
+        "install",
+        "--explain-launch",
+        f"src/{package}/launch/{launch}",
+        cwd=workspace,
+    )
     assert result.returncode == 0, result.stderr
     out = result.stdout
     assert "robot_state_publisher/robot_state_publisher\n      param robot_description: typed-str" in out
@@ -159,22 +218,36 @@ def test_real_robot_keeps_every_mesh(migrated):
     meshes = {e.get("filename") for e in etree.parse(str(source)).iter("mesh")}
     assert len(meshes) == 14
     package = workspace / "src/ur5_description"
-    copied = sorted(p.relative_to(package / "meshes").as_posix() for p in (package / "meshes").rglob("*")
-                    if p.is_file())
+    copied = sorted(
+        p.relative_to(package / "meshes").as_posix() for p in (package / "meshes").rglob("*") if p.is_file()
+    )
     assert copied == sorted(m.split("/meshes/ur5/")[1] for m in meshes)
     model = (package / "urdf/ur5_robot.urdf").read_text()
     assert model.count("package://ur5_description/meshes/") == 14 and "example-robot-data" not in model
     assert "Fixed Frame: world" in (package / "rviz/display.rviz").read_text()
-    explain = run_pkgforge("verify", "--install-base", "install", "--explain-model",
-                           "src/ur5_description/urdf/ur5_robot.urdf", cwd=workspace)
+    explain = run_pkgforge(
+        "verify",
+        "--install-base",
+        "install",
+        "--explain-model",
+        "src/ur5_description/urdf/ur5_robot.urdf",
+        cwd=workspace,
+    )
     assert explain.stdout.count("✓ package://ur5_description/meshes/") == 14 and "✗" not in explain.stdout
-    assert "PF802 [warning] Gazebo Classic plugin libgazebo_ros_control.so is kept as written" in outputs["ur5"].stdout
+    assert (
+        "PF802 [warning] Gazebo Classic plugin libgazebo_ros_control.so is kept as written"
+        in outputs["ur5"].stdout
+    )
 
 
 def test_bare_urdf_meshes_by_relative_path(migrated):
     _, workspace, _ = migrated
     package = workspace / "src/arm_description"
-    assert sorted(p.name for p in (package / "meshes").iterdir()) == ["base_link.STL", "link1.STL", "link2.STL"]
+    assert sorted(p.name for p in (package / "meshes").iterdir()) == [
+        "base_link.STL",
+        "link1.STL",
+        "link2.STL",
+    ]
     model = (package / "urdf/arm.urdf").read_text()
     assert 'filename="package://arm_description/meshes/link1.STL"' in model and "../meshes" not in model
     assert not (package / "urdf/macros.xacro").exists() and not (package / "meshes/arm.stl").exists()
@@ -182,6 +255,7 @@ def test_bare_urdf_meshes_by_relative_path(migrated):
 
 
 # --- bad input: a located message, exit 2, nothing written ---------------------------------------
+
 
 def _break(kind: str, package: Path) -> tuple[Path, str]:
     """Break the ROS 1 package; (the file the message names, the text at its line)."""
@@ -191,7 +265,9 @@ def _break(kind: str, package: Path) -> tuple[Path, str]:
         return manifest, "<buildtool_depend>"
     if kind == "launch-xml":
         launch = package / "launch/display.launch"
-        launch.write_text(launch.read_text().replace('<arg name="gui" default="False" />', '<arg name="gui" <'))
+        launch.write_text(
+            launch.read_text().replace('<arg name="gui" default="False" />', '<arg name="gui" <')
+        )
         return launch, '<arg name="gui" <'
     if kind == "missing-mesh":
         (package / "meshes/link1.STL").unlink()
@@ -199,11 +275,14 @@ def _break(kind: str, package: Path) -> tuple[Path, str]:
     raise AssertionError(kind)
 
 
-@pytest.mark.parametrize("kind, message", [
-    ("not-catkin", "not a catkin package (its build tool is ament_cmake, not catkin)"),
-    ("launch-xml", "not well-formed XML"),
-    ("missing-mesh", "mesh 'package://robot_arm/meshes/link1.STL' not found"),
-])
+@pytest.mark.parametrize(
+    "kind, message",
+    [
+        ("not-catkin", "not a catkin package (its build tool is ament_cmake, not catkin)"),
+        ("launch-xml", "not well-formed XML"),
+        ("missing-mesh", "mesh 'package://robot_arm/meshes/link1.STL' not found"),
+    ],
+)
 def test_migrate_bad_input_writes_nothing(tmp_path, kind, message):
     package = ros1_package(tmp_path / "ros1", "robot_arm")
     path, text = _break(kind, package)
@@ -240,17 +319,38 @@ def test_migrate_default_destination_beside_the_source(tmp_path):
 def test_from_urdf_missing_mesh_writes_nothing(tmp_path):
     model = bare_urdf(tmp_path / "export")
     (tmp_path / "export/meshes/link2.STL").unlink()
-    result = run_pkgforge("new", "arm_description", *MAINTAINER, "--from-urdf", model,
-                          "--destination", tmp_path / "out", cwd=tmp_path)
+    result = run_pkgforge(
+        "new",
+        "arm_description",
+        *MAINTAINER,
+        "--from-urdf",
+        model,
+        "--destination",
+        tmp_path / "out",
+        cwd=tmp_path,
+    )
     assert result.returncode == 2
     first = result.stderr.splitlines()[0]
-    assert first == (f"pkgforge: error: {model}:{line_of(model, 'link2.STL')}: mesh '../meshes/link2.STL' not found: "
-                     f"no file {tmp_path / 'export/urdf/../meshes/link2.STL'}")
+    assert first == (
+        f"pkgforge: error: {model}:{line_of(model, 'link2.STL')}: mesh '../meshes/link2.STL' not found: "
+        f"no file {tmp_path / 'export/urdf/../meshes/link2.STL'}"
+    )
     assert not (tmp_path / "out").exists()
-    forced = run_pkgforge("new", "arm_description", *MAINTAINER, "--from-urdf", model, "--force",
-                          "--destination", tmp_path / "out", cwd=tmp_path)
+    forced = run_pkgforge(
+        "new",
+        "arm_description",
+        *MAINTAINER,
+        "--from-urdf",
+        model,
+        "--force",
+        "--destination",
+        tmp_path / "out",
+        cwd=tmp_path,
+    )
     assert forced.returncode == 1  # written without it; verify reports the mesh
-    assert "PF402" in forced.stdout and "PF801 [warning] mesh '../meshes/link2.STL' not found" in forced.stdout
+    assert (
+        "PF402" in forced.stdout and "PF801 [warning] mesh '../meshes/link2.STL' not found" in forced.stdout
+    )
 
 
 TUTORIAL = """<launch>
@@ -280,15 +380,22 @@ def test_urdf_tutorial_style_launch(tmp_path, launch_format):
     package = ros1_package(tmp_path / "ros1", "robot_arm")
     (package / "launch" / "display.launch").write_text(TUTORIAL)
     (tmp_path / "ws" / "src").mkdir(parents=True)
-    result = run_pkgforge("migrate", package, "--destination", "src", "--launch-format", launch_format,
-                          cwd=tmp_path / "ws")
+    result = run_pkgforge(
+        "migrate", package, "--destination", "src", "--launch-format", launch_format, cwd=tmp_path / "ws"
+    )
     assert result.returncode == 0, result.stdout + result.stderr
     assert "0 errors, 0 warnings" in result.stdout, result.stdout
     launch = package / "launch/display.launch"
-    assert f"../ros1/robot_arm/launch/display.launch:{line_of(launch, '<machine')}: PF801 [warning] <machine> has " \
-           "no ROS 2 launch equivalent: left out (migrate-dropped)" in result.stdout
-    explain = run_pkgforge("verify", "--explain-launch", f"src/robot_arm/launch/display.launch.{launch_format}",
-                           cwd=tmp_path / "ws")
+    assert (
+        f"../ros1/robot_arm/launch/display.launch:{line_of(launch, '<machine')}: PF801 [warning] <machine> has "
+        "no ROS 2 launch equivalent: left out (migrate-dropped)" in result.stdout
+    )
+    explain = run_pkgforge(
+        "verify",
+        "--explain-launch",
+        f"src/robot_arm/launch/display.launch.{launch_format}",
+        cwd=tmp_path / "ws",
+    )
     out = explain.stdout
     assert "rviz2/rviz2 args ['-d', 'share/robot_arm/rviz/urdf.rviz']" in out, out
     assert "✓ share/robot_arm/config/joint_names_robot_arm.yaml" in out and "✗" not in out

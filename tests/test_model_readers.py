@@ -23,13 +23,19 @@ def write(folder: Path, files: dict[str, str]) -> Path:
 
 # --- CMake syntax ---------------------------------------------------------------------------
 
+
 def test_arguments_quoting_and_lines():
     text = 'install(\n  DIRECTORY "my dir" [=[br]acket]=] plain\\;part # comment\n  DESTINATION x)\n'
     (command,) = parse(text, Path("CMakeLists.txt"))
     assert command.name == "install" and command.line == 1
     assert [(a.text, a.kind, a.line) for a in command.args] == [
-        ("DIRECTORY", "unquoted", 2), ("my dir", "quoted", 2), ("br]acket", "bracket", 2),
-        ("plain\\;part", "unquoted", 2), ("DESTINATION", "unquoted", 3), ("x", "unquoted", 3)]
+        ("DIRECTORY", "unquoted", 2),
+        ("my dir", "quoted", 2),
+        ("br]acket", "bracket", 2),
+        ("plain\\;part", "unquoted", 2),
+        ("DESTINATION", "unquoted", 3),
+        ("x", "unquoted", 3),
+    ]
 
 
 def test_bracket_comment_and_continuation():
@@ -44,13 +50,16 @@ def test_nested_parentheses():
     assert [a.text for a in command.args] == ["(", "A", "AND", "B", ")", "OR", "C"]
 
 
-@pytest.mark.parametrize("text, line, column, message", [
-    ('install(DIRECTORY "abc DESTINATION x)', 1, 19, "unterminated quoted argument"),
-    ("project(x)\ninstall(DIRECTORY a\n", 2, 1, "missing ')'"),
-    ("#[==[ never closed", 1, 2, "unterminated bracket comment"),
-    ("set(X [[open)", 1, 7, "unterminated bracket argument"),
-    ("foo bar", 1, 5, "expected '(' after 'foo'"),
-])
+@pytest.mark.parametrize(
+    "text, line, column, message",
+    [
+        ('install(DIRECTORY "abc DESTINATION x)', 1, 19, "unterminated quoted argument"),
+        ("project(x)\ninstall(DIRECTORY a\n", 2, 1, "missing ')'"),
+        ("#[==[ never closed", 1, 2, "unterminated bracket comment"),
+        ("set(X [[open)", 1, 7, "unterminated bracket argument"),
+        ("foo bar", 1, 5, "expected '(' after 'foo'"),
+    ],
+)
 def test_syntax_errors_are_located(text, line, column, message):
     with pytest.raises(CMakeSyntaxError) as error:
         parse(text, Path("x"))
@@ -60,22 +69,28 @@ def test_syntax_errors_are_located(text, line, column, message):
 
 # --- interpretation -------------------------------------------------------------------------
 
+
 def test_variables_foreach_include_and_subdirectory(tmp_path):
-    write(tmp_path, {
-        "CMakeLists.txt": "cmake_minimum_required(VERSION 3.10)\nproject(robo NONE)\n"
-                          "set(FOLDERS launch urdf)\nlist(APPEND FOLDERS meshes)\n"
-                          "include(cmake/extra.cmake)\ninclude(GNUInstallDirs)\n"
-                          "foreach(dir ${FOLDERS})\n"
-                          "  install(DIRECTORY ${dir} DESTINATION ${CMAKE_INSTALL_DATADIR}/${PROJECT_NAME})\n"
-                          "endforeach()\nadd_subdirectory(sub)\n"
-                          "function(never_called)\n  install(DIRECTORY nothing DESTINATION share)\nendfunction()\n"
-                          "ament_package()\n",
-        "cmake/extra.cmake": "install(FILES ${CMAKE_CURRENT_SOURCE_DIR}/extra.yaml DESTINATION share/${PROJECT_NAME}/config)\n",
-        "sub/CMakeLists.txt": "install(DIRECTORY maps/ DESTINATION share/${PROJECT_NAME}/maps)\n",
-    })
+    write(
+        tmp_path,
+        {
+            "CMakeLists.txt": "cmake_minimum_required(VERSION 3.10)\nproject(robo NONE)\n"
+            "set(FOLDERS launch urdf)\nlist(APPEND FOLDERS meshes)\n"
+            "include(cmake/extra.cmake)\ninclude(GNUInstallDirs)\n"
+            "foreach(dir ${FOLDERS})\n"
+            "  install(DIRECTORY ${dir} DESTINATION ${CMAKE_INSTALL_DATADIR}/${PROJECT_NAME})\n"
+            "endforeach()\nadd_subdirectory(sub)\n"
+            "function(never_called)\n  install(DIRECTORY nothing DESTINATION share)\nendfunction()\n"
+            "ament_package()\n",
+            "cmake/extra.cmake": "install(FILES ${CMAKE_CURRENT_SOURCE_DIR}/extra.yaml DESTINATION share/${PROJECT_NAME}/config)\n",
+            "sub/CMakeLists.txt": "install(DIRECTORY maps/ DESTINATION share/${PROJECT_NAME}/maps)\n",
+        },
+    )
     model = load_cmake(tmp_path)
     assert model.project_name == "robo"
-    rules = [(r.mode, [s for s, _ in r.sources], r.destination, r.path.name, r.line) for r in model.install_rules]
+    rules = [
+        (r.mode, [s for s, _ in r.sources], r.destination, r.path.name, r.line) for r in model.install_rules
+    ]
     assert rules == [
         ("FILES", [f"{tmp_path}/extra.yaml"], "share/robo/config", "extra.cmake", 1),
         ("DIRECTORY", ["launch"], "share/robo", "CMakeLists.txt", 8),
@@ -88,46 +103,76 @@ def test_variables_foreach_include_and_subdirectory(tmp_path):
 
 
 def test_unknown_values_are_not_guessed(tmp_path):
-    write(tmp_path, {"CMakeLists.txt": "project(p NONE)\ninstall(DIRECTORY ${SOMEWHERE}/urdf DESTINATION share/p)\n"
-                                       "install(DIRECTORY urdf DESTINATION $ENV{PREFIX})\n"})
+    write(
+        tmp_path,
+        {
+            "CMakeLists.txt": "project(p NONE)\ninstall(DIRECTORY ${SOMEWHERE}/urdf DESTINATION share/p)\n"
+            "install(DIRECTORY urdf DESTINATION $ENV{PREFIX})\n"
+        },
+    )
     first, second = load_cmake(tmp_path).install_rules
     assert isinstance(first.sources[0][0], Unknown) and "${SOMEWHERE}" in first.sources[0][0].why
     assert isinstance(second.destination, Unknown)
 
 
 def test_rules_in_if_are_kept_and_marked(tmp_path):
-    write(tmp_path, {"CMakeLists.txt": "project(p NONE)\nif(BUILD_TESTING)\n"
-                                       "  install(DIRECTORY test DESTINATION share/p)\nendif()\n"})
+    write(
+        tmp_path,
+        {
+            "CMakeLists.txt": "project(p NONE)\nif(BUILD_TESTING)\n"
+            "  install(DIRECTORY test DESTINATION share/p)\nendif()\n"
+        },
+    )
     (rule,) = load_cmake(tmp_path).install_rules
     assert rule.conditional
 
 
 # --- layout ---------------------------------------------------------------------------------
 
+
 def test_directory_patterns_trailing_slash_and_rename(tmp_path):
-    write(tmp_path, {
-        "CMakeLists.txt": "project(p NONE)\n"
-                          "install(DIRECTORY meshes DESTINATION share/${PROJECT_NAME} FILES_MATCHING "
-                          "PATTERN \"*.stl\" PATTERN \"old\" EXCLUDE)\n"
-                          "install(DIRECTORY config/ DESTINATION share/${PROJECT_NAME}/params)\n"
-                          "install(FILES notes.txt DESTINATION share/${PROJECT_NAME} RENAME README)\n"
-                          "install(DIRECTORY gone urdf DESTINATION share/${PROJECT_NAME})\n"
-                          "ament_package()\n",
-        "meshes/a.stl": "x", "meshes/a.dae": "x", "meshes/old/b.stl": "x", "meshes/sub/c.stl": "x",
-        "config/x.yaml": "x", "notes.txt": "x", "urdf/r.urdf": "x",
-    })
+    write(
+        tmp_path,
+        {
+            "CMakeLists.txt": "project(p NONE)\n"
+            "install(DIRECTORY meshes DESTINATION share/${PROJECT_NAME} FILES_MATCHING "
+            'PATTERN "*.stl" PATTERN "old" EXCLUDE)\n'
+            "install(DIRECTORY config/ DESTINATION share/${PROJECT_NAME}/params)\n"
+            "install(FILES notes.txt DESTINATION share/${PROJECT_NAME} RENAME README)\n"
+            "install(DIRECTORY gone urdf DESTINATION share/${PROJECT_NAME})\n"
+            "ament_package()\n",
+            "meshes/a.stl": "x",
+            "meshes/a.dae": "x",
+            "meshes/old/b.stl": "x",
+            "meshes/sub/c.stl": "x",
+            "config/x.yaml": "x",
+            "notes.txt": "x",
+            "urdf/r.urdf": "x",
+        },
+    )
     model = load_cmake(tmp_path)
     layout = layout_from_cmake(model, tmp_path, "p")
     assert sorted(layout.files) == [
-        "share/ament_index/resource_index/packages/p", "share/p/README", "share/p/meshes/a.stl",
-        "share/p/meshes/sub/c.stl", "share/p/package.xml", "share/p/params/x.yaml", "share/p/urdf/r.urdf"]
+        "share/ament_index/resource_index/packages/p",
+        "share/p/README",
+        "share/p/meshes/a.stl",
+        "share/p/meshes/sub/c.stl",
+        "share/p/package.xml",
+        "share/p/params/x.yaml",
+        "share/p/urdf/r.urdf",
+    ]
     assert [(m.text, m.line, m.column) for m in layout.missing] == [("gone", 5, 19)]
     assert layout.exists("share/p/meshes") and not layout.exists("share/p/meshes/old")
 
 
 def test_destination_outside_the_prefix(tmp_path):
-    write(tmp_path, {"CMakeLists.txt": "project(p NONE)\ninstall(DIRECTORY urdf DESTINATION /opt/robot)\n",
-                     "urdf/r.urdf": "x"})
+    write(
+        tmp_path,
+        {
+            "CMakeLists.txt": "project(p NONE)\ninstall(DIRECTORY urdf DESTINATION /opt/robot)\n",
+            "urdf/r.urdf": "x",
+        },
+    )
     layout = layout_from_cmake(load_cmake(tmp_path), tmp_path, "p")
     (destination,) = layout.destinations
     assert destination.destination is None and destination.raw == "/opt/robot"
@@ -136,19 +181,26 @@ def test_destination_outside_the_prefix(tmp_path):
 
 # --- setup.py -------------------------------------------------------------------------------
 
+
 def test_setup_py_data_files(tmp_path):
-    write(tmp_path, {
-        "setup.py": "import os\nfrom glob import glob\nfrom setuptools import setup\n"
-                    "package_name = 'rob'\n"
-                    "setup(name=package_name, data_files=[\n"
-                    "    ('share/ament_index/resource_index/packages', ['resource/' + package_name]),\n"
-                    "    (f'share/{package_name}', ['package.xml']),\n"
-                    "    (os.path.join('share', package_name, 'launch'), glob('launch/*.py')),\n"
-                    "    (os.path.join('share', package_name, 'urdf'), glob(os.path.join('urdf', '*'))),\n"
-                    "    (os.path.join('share', package_name, 'x'), compute()),\n"
-                    "])\n",
-        "resource/rob": "", "package.xml": "<package/>", "launch/a.launch.py": "", "urdf/r.urdf": "x",
-    })
+    write(
+        tmp_path,
+        {
+            "setup.py": "import os\nfrom glob import glob\nfrom setuptools import setup\n"
+            "package_name = 'rob'\n"
+            "setup(name=package_name, data_files=[\n"
+            "    ('share/ament_index/resource_index/packages', ['resource/' + package_name]),\n"
+            "    (f'share/{package_name}', ['package.xml']),\n"
+            "    (os.path.join('share', package_name, 'launch'), glob('launch/*.py')),\n"
+            "    (os.path.join('share', package_name, 'urdf'), glob(os.path.join('urdf', '*'))),\n"
+            "    (os.path.join('share', package_name, 'x'), compute()),\n"
+            "])\n",
+            "resource/rob": "",
+            "package.xml": "<package/>",
+            "launch/a.launch.py": "",
+            "urdf/r.urdf": "x",
+        },
+    )
     model = load_setup_py(read_source(tmp_path / "setup.py"), tmp_path)
     assert model.name == "rob"
     assert [(e.destination, e.files, e.line) for e in model.entries] == [

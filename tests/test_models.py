@@ -6,22 +6,16 @@ import shutil
 from pathlib import Path
 
 import pytest
-
-from pkgforge.scaffold.stl import binary_stl
-from pkgforge.scaffold.stl import box_triangles
-
 from conftest import MAINTAINER, at_least, edit, line_of, run_pkgforge, verify_report
 from test_launch import humble_package
+
+from pkgforge.scaffold.stl import binary_stl, box_triangles
 
 verify = verify_report
 
 
 def found(report: dict, minimum: str = "info") -> list[tuple]:
     return sorted((d["code"], d["name"], d["path"], d["line"]) for d in at_least(report, minimum))
-
-
-
-
 
 
 PLATE = """<?xml version="1.0"?>
@@ -54,12 +48,18 @@ def template(tmp_path_factory) -> Path:
     (base / "urdf" / "plate.xacro").write_text(PLATE)
     (base / "meshes" / "plate.stl").write_bytes(binary_stl(box_triangles((0.2, 0.2, 0.01))))
     rob = workspace / "src" / "rob_description"
-    edit(rob / "urdf" / "rob_description.urdf.xacro", '  <xacro:include filename="$(find rob_description)/urdf/macros.xacro"/>\n',
-         '  <xacro:include filename="$(find rob_description)/urdf/macros.xacro"/>\n'
-         '  <xacro:include filename="$(find base_description)/urdf/plate.xacro"/>\n'
-         '  <xacro:plate parent="base_link"/>\n')
-    edit(rob / "package.xml", "  <exec_depend>joint_state_publisher</exec_depend>\n",
-         "  <exec_depend>base_description</exec_depend>\n  <exec_depend>joint_state_publisher</exec_depend>\n")
+    edit(
+        rob / "urdf" / "rob_description.urdf.xacro",
+        '  <xacro:include filename="$(find rob_description)/urdf/macros.xacro"/>\n',
+        '  <xacro:include filename="$(find rob_description)/urdf/macros.xacro"/>\n'
+        '  <xacro:include filename="$(find base_description)/urdf/plate.xacro"/>\n'
+        '  <xacro:plate parent="base_link"/>\n',
+    )
+    edit(
+        rob / "package.xml",
+        "  <exec_depend>joint_state_publisher</exec_depend>\n",
+        "  <exec_depend>base_description</exec_depend>\n  <exec_depend>joint_state_publisher</exec_depend>\n",
+    )
     return workspace
 
 
@@ -86,8 +86,14 @@ def test_meshes_folder_not_installed(workspace):
     model = rob(workspace) / "urdf" / "rob_description.urdf.xacro"
     status, report = verify(workspace)
     assert status == 1
-    assert found(report) == [("PF402", "mesh-not-found", "src/rob_description/urdf/rob_description.urdf.xacro",
-                              line_of(model, "meshes/arm.stl"))]
+    assert found(report) == [
+        (
+            "PF402",
+            "mesh-not-found",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "meshes/arm.stl"),
+        )
+    ]
     assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in report["diagnostics"][0]["hint"]
 
 
@@ -97,8 +103,14 @@ def test_mesh_case_mismatch(workspace):
     (meshes / "arm.stl").rename(meshes / "arm.STL")
     model = rob(workspace) / "urdf" / "rob_description.urdf.xacro"
     status, report = verify(workspace)
-    assert found(report) == [("PF403", "mesh-case-mismatch", "src/rob_description/urdf/rob_description.urdf.xacro",
-                              line_of(model, "meshes/arm.stl"))]
+    assert found(report) == [
+        (
+            "PF403",
+            "mesh-case-mismatch",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "meshes/arm.stl"),
+        )
+    ]
     assert "arm.STL" in report["diagnostics"][0]["hint"]
 
 
@@ -108,8 +120,14 @@ def test_find_of_an_undeclared_package(workspace):
     model = rob(workspace) / "urdf" / "rob_description.urdf.xacro"
     status, report = verify(workspace)
     assert status == 1
-    assert found(report) == [("PF305", "missing-exec-depend", "src/rob_description/urdf/rob_description.urdf.xacro",
-                              line_of(model, "$(find base_description)"))]
+    assert found(report) == [
+        (
+            "PF305",
+            "missing-exec-depend",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "$(find base_description)"),
+        )
+    ]
     assert report["diagnostics"][0]["hint"].startswith("add <exec_depend>base_description</exec_depend>")
 
 
@@ -118,8 +136,14 @@ def test_include_of_a_missing_file(workspace):
     edit(model, "urdf/plate.xacro", "urdf/plates.xacro")
     status, report = verify(workspace)
     assert status == 1
-    assert found(report) == [("PF308", "xacro-error", "src/rob_description/urdf/rob_description.urdf.xacro",
-                              line_of(model, "plates.xacro"))]
+    assert found(report) == [
+        (
+            "PF308",
+            "xacro-error",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "plates.xacro"),
+        )
+    ]
     assert "plates.xacro" in report["diagnostics"][0]["message"]
 
 
@@ -129,8 +153,12 @@ def test_joint_with_a_missing_child_link(workspace):
     edit(model, '<child link="arm_link"/>', '<child link="arm"/>')
     status, report = verify(workspace)
     assert status == 1
-    assert ("PF401", "urdf-invalid", "src/rob_description/urdf/rob_description.urdf.xacro",
-            line_of(model, '<joint name="arm_joint"')) in found(report)
+    assert (
+        "PF401",
+        "urdf-invalid",
+        "src/rob_description/urdf/rob_description.urdf.xacro",
+        line_of(model, '<joint name="arm_joint"'),
+    ) in found(report)
     messages = [d["message"] for d in report["diagnostics"] if d["code"] == "PF401"]
     assert "joint 'arm_joint' has child link 'arm', which does not exist" in messages
     assert {d["code"] for d in report["diagnostics"]} == {"PF401"}
@@ -142,8 +170,14 @@ def test_robot_model_with_an_empty_description_topic(workspace):
     edit(config, "        Value: /robot_description", '        Value: ""')
     status, report = verify(workspace)
     assert status == 1
-    assert found(report) == [("PF502", "rviz-no-description", "src/rob_description/rviz/display.rviz",
-                              line_of(config, "Description Topic:"))]
+    assert found(report) == [
+        (
+            "PF502",
+            "rviz-no-description",
+            "src/rob_description/rviz/display.rviz",
+            line_of(config, "Description Topic:"),
+        )
+    ]
 
 
 @pytest.mark.triggers("PF503")
@@ -152,8 +186,14 @@ def test_fixed_frame_not_in_the_model(workspace):
     edit(config, "Fixed Frame: base_link", "Fixed Frame: base_footprint")
     status, report = verify(workspace)
     assert status == 0
-    assert found(report) == [("PF503", "rviz-fixed-frame-unknown", "src/rob_description/rviz/display.rviz",
-                              line_of(config, "Fixed Frame:"))]
+    assert found(report) == [
+        (
+            "PF503",
+            "rviz-fixed-frame-unknown",
+            "src/rob_description/rviz/display.rviz",
+            line_of(config, "Fixed Frame:"),
+        )
+    ]
     assert "map, odom or world" in report["diagnostics"][0]["hint"]
 
 
@@ -172,14 +212,24 @@ def test_rviz_config_that_is_not_rviz(workspace):
 
 def test_rviz_plugin_from_an_undeclared_package(workspace):
     config = rob(workspace) / "rviz" / "display.rviz"
-    edit(config, "    - Class: rviz_default_plugins/TF\n",
-         "    - Class: nav2_rviz_plugins/GoalTool\n      Name: Goal\n    - Class: rviz_default_plugins/TF\n")
+    edit(
+        config,
+        "    - Class: rviz_default_plugins/TF\n",
+        "    - Class: nav2_rviz_plugins/GoalTool\n      Name: Goal\n    - Class: rviz_default_plugins/TF\n",
+    )
     status, report = verify(workspace)
-    assert found(report) == [("PF305", "missing-exec-depend", "src/rob_description/rviz/display.rviz",
-                              line_of(config, "nav2_rviz_plugins"))]
+    assert found(report) == [
+        (
+            "PF305",
+            "missing-exec-depend",
+            "src/rob_description/rviz/display.rviz",
+            line_of(config, "nav2_rviz_plugins"),
+        )
+    ]
 
 
 # --- the seed 000 model shape --------------------------------------------------------------
+
 
 def test_seed000_model_verifies_clean_once_installed(tmp_path):
     humble_package(tmp_path)
@@ -194,23 +244,34 @@ def test_seed000_model_with_an_include_deleted(tmp_path):
     top = package / "urdf" / "robot_simple_description.urdf.xacro"
     status, report = verify(tmp_path)
     assert status == 1
-    assert found(report, "warning") == [("PF308", "xacro-error", "src/rob_description/urdf/robot_simple_description.urdf.xacro",
-                                         line_of(top, "rviz_track.urdf.xacro"))]
+    assert found(report, "warning") == [
+        (
+            "PF308",
+            "xacro-error",
+            "src/rob_description/urdf/robot_simple_description.urdf.xacro",
+            line_of(top, "rviz_track.urdf.xacro"),
+        )
+    ]
 
 
 # --- broken models: located, no traceback ---------------------------------------------------
 
+
 def test_broken_models(workspace):
     urdf = rob(workspace) / "urdf"
     (urdf / "big.urdf").write_bytes(b'<robot name="big">' + b" " * 50_000_000 + b"</robot>")
-    (urdf / "loop.xacro").write_text('<robot name="l" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-                                     '  <link name="a"/>\n'
-                                     '  <xacro:include filename="$(find rob_description)/urdf/loop.xacro"/>\n'
-                                     '</robot>\n')
+    (urdf / "loop.xacro").write_text(
+        '<robot name="l" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="a"/>\n'
+        '  <xacro:include filename="$(find rob_description)/urdf/loop.xacro"/>\n'
+        "</robot>\n"
+    )
     (urdf / "garbage.urdf").write_bytes(bytes(range(256)) * 64)
-    (urdf / "escape.urdf").write_text('<robot name="e">\n  <link name="a">\n    <visual><geometry>\n'
-                                      '      <mesh filename="package://rob_description/../../etc/passwd"/>\n'
-                                      '    </geometry></visual>\n  </link>\n</robot>\n')
+    (urdf / "escape.urdf").write_text(
+        '<robot name="e">\n  <link name="a">\n    <visual><geometry>\n'
+        '      <mesh filename="package://rob_description/../../etc/passwd"/>\n'
+        "    </geometry></visual>\n  </link>\n</robot>\n"
+    )
     status, report = verify(workspace, "--launch-timeout", "8")
     by_file = {}
     for d in report["diagnostics"]:
@@ -222,8 +283,9 @@ def test_broken_models(workspace):
 
 
 def test_explain_model(workspace):
-    result = run_pkgforge("verify", "--explain-model", "src/rob_description/urdf/rob_description.urdf.xacro",
-                          cwd=workspace)
+    result = run_pkgforge(
+        "verify", "--explain-model", "src/rob_description/urdf/rob_description.urdf.xacro", cwd=workspace
+    )
     assert result.returncode == 0, result.stderr
     assert "base_link" in result.stdout and "arm_joint (revolute) → arm_link" in result.stdout
     assert "✓ package://rob_description/meshes/arm.stl" in result.stdout
@@ -312,18 +374,36 @@ def test_models_are_found_wherever_installed_and_macro_libraries_alone_give_noth
     (package / "worlds").mkdir()
     (package / "worlds" / "empty.world.xacro").write_text(WORLD)  # not a robot
     (package / "top.urdf").write_text(ARM_MODEL.replace("arm_bot", "top").replace("tool.stl", "top.stl"))
-    edit(package / "CMakeLists.txt", "DIRECTORY launch meshes rviz urdf",
-         "DIRECTORY config launch meshes models rviz urdf worlds")
-    edit(package / "CMakeLists.txt", "ament_package()",
-         "install(FILES top.urdf DESTINATION share/${PROJECT_NAME})\n\nament_package()")
+    edit(
+        package / "CMakeLists.txt",
+        "DIRECTORY launch meshes rviz urdf",
+        "DIRECTORY config launch meshes models rviz urdf worlds",
+    )
+    edit(
+        package / "CMakeLists.txt",
+        "ament_package()",
+        "install(FILES top.urdf DESTINATION share/${PROJECT_NAME})\n\nament_package()",
+    )
     for args in [(), ("--build",)]:
         status, report = verify(workspace, *args, "--no-cache")
         assert status == 1
         assert found(report) == [
-            ("PF401", "urdf-invalid", "src/rob_description/config/cell_macros.xacro",
-             line_of(package / "config" / "cell_macros.xacro", '<joint name="table_joint"')),
-            ("PF402", "mesh-not-found", "src/rob_description/models/arm_bot/model.urdf",
-             line_of(package / "models" / "arm_bot" / "model.urdf", "tool.stl")),
-            ("PF402", "mesh-not-found", "src/rob_description/top.urdf",
-             line_of(package / "top.urdf", "top.stl")),
+            (
+                "PF401",
+                "urdf-invalid",
+                "src/rob_description/config/cell_macros.xacro",
+                line_of(package / "config" / "cell_macros.xacro", '<joint name="table_joint"'),
+            ),
+            (
+                "PF402",
+                "mesh-not-found",
+                "src/rob_description/models/arm_bot/model.urdf",
+                line_of(package / "models" / "arm_bot" / "model.urdf", "tool.stl"),
+            ),
+            (
+                "PF402",
+                "mesh-not-found",
+                "src/rob_description/top.urdf",
+                line_of(package / "top.urdf", "top.stl"),
+            ),
         ], args

@@ -8,26 +8,32 @@ def test_valid_names(name):
     assert rep144_problem(name) is None
 
 
-@pytest.mark.parametrize("name, reason", [
-    ("Rob", "upper-case"),
-    ("rob-desc", "'-'"),
-    ("1rob", "starts with a digit"),
-    ("rob__d", "double underscore"),
-    ("rob_", "ends with '_'"),
-    ("../x", "is a path"),
-    ("", "empty"),
-    ("rob.d", "characters other than"),
-    ("_rob", "characters other than"),
-])
+@pytest.mark.parametrize(
+    "name, reason",
+    [
+        ("Rob", "upper-case"),
+        ("rob-desc", "'-'"),
+        ("1rob", "starts with a digit"),
+        ("rob__d", "double underscore"),
+        ("rob_", "ends with '_'"),
+        ("../x", "is a path"),
+        ("", "empty"),
+        ("rob.d", "characters other than"),
+        ("_rob", "characters other than"),
+    ],
+)
 def test_invalid_names_say_why(name, reason):
     assert reason in rep144_problem(name)
 
 
-@pytest.mark.parametrize("name, suggestion", [
-    ("Bad-Name", "bad_name"),  # the hint once said 'bad-name', itself invalid
-    ("Rob", "rob"),
-    ("rob-desc", "rob_desc"),
-])
+@pytest.mark.parametrize(
+    "name, suggestion",
+    [
+        ("Bad-Name", "bad_name"),  # the hint once said 'bad-name', itself invalid
+        ("Rob", "rob"),
+        ("rob-desc", "rob_desc"),
+    ],
+)
 def test_the_suggested_name_is_valid(name, suggestion):
     assert f"(try '{suggestion}')" in rep144_problem(name)
     assert rep144_problem(suggestion) is None

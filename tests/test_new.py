@@ -15,13 +15,12 @@ import click
 import pytest
 import yaml
 from catkin_pkg.package import parse_package
+from conftest import MAINTAINER, run_pkgforge
 from lxml import etree
 
-from pkgforge.scaffold import package as scaffold
 from pkgforge.cli import main as cli_main
 from pkgforge.errors import PkgforgeError
-
-from conftest import MAINTAINER, run_pkgforge
+from pkgforge.scaffold import package as scaffold
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -61,7 +60,11 @@ def test_force_lists_edited_files_and_replaces_them_only_when_given_twice(tmp_pa
     assert result.returncode == 2, result.stdout + result.stderr
     assert "--force would replace 1 file(s)" in result.stderr and "\n  package.xml\n" in result.stderr
     assert "twice" in result.stderr and "Traceback" not in result.stderr
-    assert listing(tmp_path) == ["rob_description", "rob_description/notes.txt", "rob_description/package.xml"]
+    assert listing(tmp_path) == [
+        "rob_description",
+        "rob_description/notes.txt",
+        "rob_description/package.xml",
+    ]
     assert (target / "package.xml").read_text() == "old"
     result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", "--force", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -88,9 +91,11 @@ def test_force_adds_missing_files_and_keeps_identical_ones(tmp_path):
 def test_new_honours_the_umask(tmp_path):
     for mask, folder_mode, file_mode in ((0o022, 0o755, 0o644), (0o027, 0o750, 0o640)):
         destination = tmp_path / f"m{mask:o}"
-        script = (f"import os, sys; os.umask({mask}); sys.argv = ['pkgforge', 'new', 'rob_description', "
-                  f"*{MAINTAINER!r}, '--destination', {str(destination)!r}]; "
-                  "from pkgforge.cli import main; main()")
+        script = (
+            f"import os, sys; os.umask({mask}); sys.argv = ['pkgforge', 'new', 'rob_description', "
+            f"*{MAINTAINER!r}, '--destination', {str(destination)!r}]; "
+            "from pkgforge.cli import main; main()"
+        )
         result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path)
         assert result.returncode == 0, result.stderr
         package = destination / "rob_description"
@@ -116,8 +121,9 @@ def test_force_never_writes_through_a_link_out_of_the_package(tmp_path):
     linked = tmp_path / "other" / "rob_description"
     linked.parent.mkdir()
     linked.symlink_to(elsewhere)
-    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", "--destination", "other",
-                          cwd=tmp_path)
+    result = run_pkgforge(
+        "new", "rob_description", *MAINTAINER, "--force", "--destination", "other", cwd=tmp_path
+    )
     assert result.returncode == 2 and "is a symbolic link" in result.stderr, result.stderr
     assert listing(elsewhere) == ["keep.txt"]
 
@@ -179,8 +185,9 @@ def test_bad_maintainer_email_is_refused(tmp_path):
 def test_every_option_is_in_help():
     for command in [cli_main, *cli_main.commands.values()]:
         path = [] if command is cli_main else [command.name]
-        result = subprocess.run([sys.executable, "-m", "pkgforge", *path, "--help"],
-                                capture_output=True, text=True, timeout=60)
+        result = subprocess.run(
+            [sys.executable, "-m", "pkgforge", *path, "--help"], capture_output=True, text=True, timeout=60
+        )
         assert result.returncode == 0
         for param in command.params:
             if isinstance(param, click.Option):
@@ -195,23 +202,42 @@ def test_version():
 
 def test_templates_ship_in_the_wheel(tmp_path):
     result = subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
-         "-w", str(tmp_path), str(REPO)],
-        capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "--no-build-isolation",
+            "-q",
+            "-w",
+            str(tmp_path),
+            str(REPO),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert result.returncode == 0, result.stderr
     (wheel,) = tmp_path.glob("ros_pkgforge-*.whl")  # the distribution's own name, not PyPI's `pkgforge`
     names = zipfile.ZipFile(wheel).namelist()
     assert "pkgforge/__init__.py" in names  # the import package keeps its name
-    for template in ("package/package.xml.j2", "package/CMakeLists.txt.j2",
-                     "package/launch/display.launch.py.j2", "package/rviz/display.rviz.j2"):
+    for template in (
+        "package/package.xml.j2",
+        "package/CMakeLists.txt.j2",
+        "package/launch/display.launch.py.j2",
+        "package/rviz/display.rviz.j2",
+    ):
         assert f"pkgforge/scaffold/templates/{template}" in names
     # the released packages of every active distro, which verify reads (distro_data)
-    assert zipfile.ZipFile(wheel).read("pkgforge/model/data/distros.txt") == \
-        (REPO / "src" / "pkgforge" / "model" / "data" / "distros.txt").read_bytes()
+    assert (
+        zipfile.ZipFile(wheel).read("pkgforge/model/data/distros.txt")
+        == (REPO / "src" / "pkgforge" / "model" / "data" / "distros.txt").read_bytes()
+    )
 
 
 # --- what the files say --------------------------------------------------------------------
+
 
 @pytest.fixture(scope="module")
 def jazzy_package(tmp_path_factory) -> Path:
@@ -228,8 +254,15 @@ def test_manifest(jazzy_package):
     assert package.version == "0.0.0"
     assert [str(d) for d in package.buildtool_depends] == ["ament_cmake"]
     assert sorted(str(d) for d in package.exec_depends) == [
-        "joint_state_publisher", "joint_state_publisher_gui", "launch", "launch_ros",
-        "robot_state_publisher", "rviz2", "rviz_default_plugins", "xacro"]
+        "joint_state_publisher",
+        "joint_state_publisher_gui",
+        "launch",
+        "launch_ros",
+        "robot_state_publisher",
+        "rviz2",
+        "rviz_default_plugins",
+        "xacro",
+    ]
     assert [e.content for e in package.exports if e.tagname == "build_type"] == ["ament_cmake"]
     assert [str(lic) for lic in package.licenses] == ["Apache-2.0"]
 
@@ -247,8 +280,11 @@ def test_rviz_config_shows_the_robot(jazzy_package):
     manager = config["Visualization Manager"]
     assert manager["Global Options"]["Fixed Frame"] == "base_link"
     classes = [d["Class"] for d in manager["Displays"]]
-    assert classes == ["rviz_default_plugins/Grid", "rviz_default_plugins/TF",
-                       "rviz_default_plugins/RobotModel"]
+    assert classes == [
+        "rviz_default_plugins/Grid",
+        "rviz_default_plugins/TF",
+        "rviz_default_plugins/RobotModel",
+    ]
     robot_model = manager["Displays"][2]
     assert robot_model["Description Source"] == "Topic"
     assert robot_model["Description Topic"]["Value"] == "/robot_description"
@@ -257,24 +293,38 @@ def test_rviz_config_shows_the_robot(jazzy_package):
 def test_python_launch_has_the_urdf_launch_shape(jazzy_package):
     tree = ast.parse((jazzy_package / "launch" / "display.launch.py").read_text())
     calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "Node"]
-    packages = {kw.value.value: {k.arg for k in n.keywords}
-                for n in calls for kw in n.keywords if kw.arg == "package"}
-    assert set(packages) == {"robot_state_publisher", "joint_state_publisher",
-                             "joint_state_publisher_gui", "rviz2"}
+    packages = {
+        kw.value.value: {k.arg for k in n.keywords} for n in calls for kw in n.keywords if kw.arg == "package"
+    }
+    assert set(packages) == {
+        "robot_state_publisher",
+        "joint_state_publisher",
+        "joint_state_publisher_gui",
+        "rviz2",
+    }
     # seed case 4: joint_state_publisher gets no model argument
     assert "arguments" not in packages["joint_state_publisher"]
     assert "arguments" not in packages["joint_state_publisher_gui"]
-    declared = [n.keywords for n in ast.walk(tree)
-                if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "DeclareLaunchArgument"]
+    declared = [
+        n.keywords
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "DeclareLaunchArgument"
+    ]
     assert sorted(kw.value.value for kws in declared for kw in kws if kw.arg == "name") == [
-        "gui", "model", "rvizconfig"]
+        "gui",
+        "model",
+        "rvizconfig",
+    ]
     assert "value_type=str" in (jazzy_package / "launch" / "display.launch.py").read_text()
 
 
-@pytest.mark.parametrize("distro, typed", [("humble", False), ("jazzy", True), ("lyrical", True),
-                                           ("rolling", True)])
+@pytest.mark.parametrize(
+    "distro, typed", [("humble", False), ("jazzy", True), ("lyrical", True), ("rolling", True)]
+)
 def test_xml_launch_per_distro(tmp_path, distro, typed):
-    result = run_pkgforge("new", "rob", *MAINTAINER, "--launch-format", "xml", "--distro", distro, cwd=tmp_path)
+    result = run_pkgforge(
+        "new", "rob", *MAINTAINER, "--launch-format", "xml", "--distro", distro, cwd=tmp_path
+    )
     assert result.returncode == 0, result.stderr
     root = etree.parse(str(tmp_path / "rob" / "launch" / "display.launch.xml")).getroot()
     assert root.tag == "launch"
@@ -291,10 +341,17 @@ def test_yaml_launch(tmp_path):
     assert result.returncode == 0, result.stderr
     doc = yaml.safe_load((tmp_path / "rob" / "launch" / "display.launch.yaml").read_text())
     nodes = [entry["node"] for entry in doc["launch"] if "node" in entry]
-    assert [n["pkg"] for n in nodes] == ["robot_state_publisher", "joint_state_publisher",
-                                         "joint_state_publisher_gui", "rviz2"]
-    assert nodes[0]["param"][0] == {"name": "robot_description",
-                                    "value": "$(command 'xacro $(var model)')", "type": "str"}
+    assert [n["pkg"] for n in nodes] == [
+        "robot_state_publisher",
+        "joint_state_publisher",
+        "joint_state_publisher_gui",
+        "rviz2",
+    ]
+    assert nodes[0]["param"][0] == {
+        "name": "robot_description",
+        "value": "$(command 'xacro $(var model)')",
+        "type": "str",
+    }
     assert "<exec_depend>launch_yaml</exec_depend>" in (tmp_path / "rob" / "package.xml").read_text()
 
 

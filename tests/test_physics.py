@@ -7,7 +7,6 @@ import shutil
 from pathlib import Path
 
 import pytest
-
 from conftest import FIXTURES, VARIANTS, line_of, new_package, run_pkgforge, verify_report
 
 CASES = FIXTURES / "physics" / "cases"
@@ -30,8 +29,14 @@ def heavy_stl(path: Path, triangles: int = 20_001) -> None:
     from pkgforge.scaffold.stl import binary_stl
 
     step = 0.05 / triangles
-    path.write_bytes(binary_stl([((0.0, 0.0, 1.0), (i * step, 0.0, 0.0), ((i + 1) * step, 0.0, 0.0),
-                                  (i * step, 0.05, 0.3)) for i in range(triangles)]))
+    path.write_bytes(
+        binary_stl(
+            [
+                ((0.0, 0.0, 1.0), (i * step, 0.0, 0.0), ((i + 1) * step, 0.0, 0.0), (i * step, 0.05, 0.3))
+                for i in range(triangles)
+            ]
+        )
+    )
 
 
 def physics_package(tmp_path: Path, case: str | None) -> Path:
@@ -56,17 +61,20 @@ def test_every_physical_check_has_a_case():
     assert {p.stem for p in CASES.glob("*.urdf")} == set(EXPECTED)
 
 
-@pytest.mark.parametrize("case", [
-    pytest.param("mass-not-positive", marks=pytest.mark.triggers("PF601")),
-    pytest.param("inertia-invalid", marks=pytest.mark.triggers("PF602")),
-    pytest.param("collision-without-inertial", marks=pytest.mark.triggers("PF603")),
-    pytest.param("root-link-inertia", marks=pytest.mark.triggers("PF604")),
-    pytest.param("joint-limit-invalid", marks=pytest.mark.triggers("PF605")),
-    pytest.param("continuous-joint-limits", marks=pytest.mark.triggers("PF606")),
-    pytest.param("joint-axis-zero", marks=pytest.mark.triggers("PF607")),
-    pytest.param("mesh-scale-suspect", marks=pytest.mark.triggers("PF608")),
-    pytest.param("collision-mesh-heavy", marks=pytest.mark.triggers("PF609")),
-])
+@pytest.mark.parametrize(
+    "case",
+    [
+        pytest.param("mass-not-positive", marks=pytest.mark.triggers("PF601")),
+        pytest.param("inertia-invalid", marks=pytest.mark.triggers("PF602")),
+        pytest.param("collision-without-inertial", marks=pytest.mark.triggers("PF603")),
+        pytest.param("root-link-inertia", marks=pytest.mark.triggers("PF604")),
+        pytest.param("joint-limit-invalid", marks=pytest.mark.triggers("PF605")),
+        pytest.param("continuous-joint-limits", marks=pytest.mark.triggers("PF606")),
+        pytest.param("joint-axis-zero", marks=pytest.mark.triggers("PF607")),
+        pytest.param("mesh-scale-suspect", marks=pytest.mark.triggers("PF608")),
+        pytest.param("collision-mesh-heavy", marks=pytest.mark.triggers("PF609")),
+    ],
+)
 def test_each_case_triggers_exactly_its_check(tmp_path, case):
     package = physics_package(tmp_path, case)
     code, text = EXPECTED[case]
@@ -93,8 +101,11 @@ def test_scaffold_variants_have_no_physical_findings(tmp_path):
     assert report["summary"]["packages"] == len(VARIANTS)
 
 
-ERD_ROBOTS = ["panda_description/urdf/panda.urdf", "ur_description/urdf/ur5_robot.urdf",
-              "go2_description/urdf/go2.urdf"]
+ERD_ROBOTS = [
+    "panda_description/urdf/panda.urdf",
+    "ur_description/urdf/ur5_robot.urdf",
+    "go2_description/urdf/go2.urdf",
+]
 
 
 def erd_share() -> Path:
@@ -114,10 +125,10 @@ def test_example_robot_data_models_have_no_physical_errors(model):
     """The checks over the structure robot.py extracts, with meshes resolved in the wheel's share/."""
     from types import SimpleNamespace
 
-    from pkgforge.urdf import robot as robots
+    from pkgforge.checks.physics import _resolver
     from pkgforge.checks.registry import all_checks
     from pkgforge.diagnostics import Severity
-    from pkgforge.checks.physics import _resolver
+    from pkgforge.urdf import robot as robots
     from pkgforge.urdf.physics import world_bounds
 
     share = erd_share()
@@ -136,12 +147,15 @@ def test_example_robot_data_models_have_no_physical_errors(model):
     errors = []
     for check in all_checks():
         if check.area == "physics":
-            errors += [(check.code, f.message) for f in check.function(context)
-                       if (f.severity or check.severity) == Severity.ERROR]
+            errors += [
+                (check.code, f.message)
+                for f in check.function(context)
+                if (f.severity or check.severity) == Severity.ERROR
+            ]
     assert errors == []
     # the meshes did resolve (the scale check compared real sizes): the robot is 0.3 to 2 m
     low, high = world_bounds(data["robot"], _resolver(context, result))
-    assert 0.3 < max(h - lo for lo, h in zip(low, high)) < 2.0
+    assert 0.3 < max(h - lo for lo, h in zip(low, high, strict=False)) < 2.0
 
 
 def test_explain_model_shows_mass_size_and_mesh_bounds(tmp_path):
@@ -153,8 +167,10 @@ def test_explain_model_shows_mass_size_and_mesh_bounds(tmp_path):
     lines = result.stdout.splitlines()
     assert "mass: 1 kg total (1 of 2 links have a mass)" in lines
     assert any(line.startswith("size: 0.2 × 0.2 × 0.4 m ") for line in lines), lines
-    assert ("     visual ✓ package://phys_description/meshes/link.stl  [0.05 × 0.05 × 0.3 m in the file, "
-            "12 triangles]") in lines
+    assert (
+        "     visual ✓ package://phys_description/meshes/link.stl  [0.05 × 0.05 × 0.3 m in the file, "
+        "12 triangles]"
+    ) in lines
 
 
 COLLADA_BOX = """<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -181,13 +197,20 @@ def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
     from pkgforge.urdf.physics import mesh_info
 
     package = physics_package(tmp_path, None)
-    (package / "meshes" / "blank_first.dae").write_text('\n<?xml version="1.0" encoding="utf-8"?>\n' + COLLADA_BOX)
+    (package / "meshes" / "blank_first.dae").write_text(
+        '\n<?xml version="1.0" encoding="utf-8"?>\n' + COLLADA_BOX
+    )
     (package / "meshes" / "not_xml.dae").write_bytes(b"\x00\x01 solid binary junk")
     model = package / "urdf" / "robot.urdf"
-    meshes = "".join(f'<visual><geometry><mesh filename="package://phys_description/meshes/{name}"/></geometry>'
-                     f'</visual>' for name in ("blank_first.dae", "not_xml.dae"))
-    model.write_text(model.read_text().replace("<material name=\"grey\"/>\n    </visual>",
-                                                f"<material name=\"grey\"/>\n    </visual>{meshes}", 1))
+    meshes = "".join(
+        f'<visual><geometry><mesh filename="package://phys_description/meshes/{name}"/></geometry></visual>'
+        for name in ("blank_first.dae", "not_xml.dae")
+    )
+    model.write_text(
+        model.read_text().replace(
+            '<material name="grey"/>\n    </visual>', f'<material name="grey"/>\n    </visual>{meshes}', 1
+        )
+    )
     info = mesh_info(str(package / "meshes" / "blank_first.dae"))
     assert info is not None and info.triangles == 1
     assert mesh_info(str(package / "meshes" / "not_xml.dae")) is None
@@ -201,13 +224,26 @@ def test_zero_effort_is_a_warning_zero_velocity_an_error(tmp_path):
     warning; a zero velocity stops MoveIt and controllers: an error."""
     package = physics_package(tmp_path, "joint-limit-invalid")
     model = package / "urdf" / "robot.urdf"
-    model.write_text(model.read_text().replace('lower="1.57" upper="-1.57" velocity="1.0" effort="10"',
-                                               'lower="-1.57" upper="1.57" velocity="1.0" effort="0"'))
+    model.write_text(
+        model.read_text().replace(
+            'lower="1.57" upper="-1.57" velocity="1.0" effort="10"',
+            'lower="-1.57" upper="1.57" velocity="1.0" effort="0"',
+        )
+    )
     status, report = verify_report(tmp_path, "--no-cache")
     line = line_of(model, "<limit ")
     assert status == 0
-    assert [(d["code"], d["severity"], d["path"], d["line"], d["message"]) for d in report["diagnostics"]] == [
-        ("PF605", "warning", "src/phys_description/urdf/robot.urdf", line, "revolute joint 'shoulder': effort limit is 0.0")]
+    assert [
+        (d["code"], d["severity"], d["path"], d["line"], d["message"]) for d in report["diagnostics"]
+    ] == [
+        (
+            "PF605",
+            "warning",
+            "src/phys_description/urdf/robot.urdf",
+            line,
+            "revolute joint 'shoulder': effort limit is 0.0",
+        )
+    ]
     model.write_text(model.read_text().replace('velocity="1.0" effort="0"', 'velocity="0" effort="10"'))
     status, report = verify_report(tmp_path, "--no-cache")
     assert status == 1 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [("PF605", "error")]

@@ -11,23 +11,22 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
 import time
-import shutil
 import uuid
 from pathlib import Path
 
 import pytest
-from lxml import etree
-
 from conftest import copy_fixture, line_of, run_pkgforge
+from lxml import etree
 
 MARKER = "PKGFORGE_TEST_MARKER"
 
 # a launch file that starts a child, double-forks a setsid sleeper, then does `tail`
-SPAWNING = '''import os
+SPAWNING = """import os
 import subprocess
 import time
 
@@ -43,7 +42,7 @@ def generate_launch_description():
         os._exit(0)
 {tail}
     return LaunchDescription([])
-'''
+"""
 
 
 @pytest.fixture(scope="session")
@@ -51,8 +50,9 @@ def package(tmp_path_factory):
     """make(workspace, launch text, name): a package made by `pkgforge new` (once per session,
     then copied under other names) with the given display.launch.py."""
     workspace = tmp_path_factory.mktemp("template")
-    result = run_pkgforge("new", "tpl_pkg", "--maintainer-email", "t@example.com", "--destination", "src",
-                          cwd=workspace)
+    result = run_pkgforge(
+        "new", "tpl_pkg", "--maintainer-email", "t@example.com", "--destination", "src", cwd=workspace
+    )
     assert result.returncode == 0, result.stderr
     template = workspace / "src" / "tpl_pkg"
 
@@ -115,9 +115,15 @@ def start_verify(workspace: Path, marker: str, *args: str) -> subprocess.Popen:
     """`pkgforge verify` with its temporary files in workspace/tmp (to see that none is left)."""
     (workspace / "tmp").mkdir(exist_ok=True)
     env = dict(os.environ, **{MARKER: marker}, TMPDIR=str(workspace / "tmp"))
-    return subprocess.Popen([sys.executable, "-m", "pkgforge", "verify", "--no-cache", *args], cwd=workspace,
-                            env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "pkgforge", "verify", "--no-cache", *args],
+        cwd=workspace,
+        env=env,
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def wait_for(marker: str, text: str, process: subprocess.Popen, limit: float = 120) -> None:
@@ -129,6 +135,7 @@ def wait_for(marker: str, text: str, process: subprocess.Popen, limit: float = 1
 
 
 # --- signals ----------------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("name", ["SIGINT", "SIGTERM", "SIGHUP"])
 def test_signal_kills_every_process_and_exits_128_plus_signal(tmp_path, name, package):
@@ -164,28 +171,36 @@ def test_double_forked_setsid_child_is_gone_after_verify(tmp_path, package):
 
 # --- limits, and a worker that dies: one workspace, one verify ---------------------------------
 
+
 def launch_file(body: str, imports: str = "") -> str:
-    return f"{imports}from launch import LaunchDescription\n\n\ndef generate_launch_description():\n{body}" \
-           "    return LaunchDescription([])\n"
+    return (
+        f"{imports}from launch import LaunchDescription\n\n\ndef generate_launch_description():\n{body}"
+        "    return LaunchDescription([])\n"
+    )
 
 
 LIMITS = {
     "l_memory": launch_file("    everything = bytearray(6 * 2**30)\n"),
     "l_files": launch_file("    files = [open(__file__) for _ in range(5000)]\n"),
     # the limits a launch file finds when it starts
-    "l_rlimits": launch_file("    raise RuntimeError(repr([resource.getrlimit(getattr(resource, kind))[0]\n"
-                             "                             for kind in ('RLIMIT_AS', 'RLIMIT_NOFILE', 'RLIMIT_CPU')]))\n",
-                             "import resource\n\n"),
+    "l_rlimits": launch_file(
+        "    raise RuntimeError(repr([resource.getrlimit(getattr(resource, kind))[0]\n"
+        "                             for kind in ('RLIMIT_AS', 'RLIMIT_NOFILE', 'RLIMIT_CPU')]))\n",
+        "import resource\n\n",
+    ),
     "l_wall": launch_file("    time.sleep(600)\n", "import time\n\n"),
     "l_killed": launch_file("    os.kill(os.getpid(), signal.SIGKILL)\n", "import os\nimport signal\n\n"),
 }
 TIMEOUT = 4
 # the CPU limit (SIGXCPU), verified on its own with a wall-time limit it cannot reach first: the
 # file lowers its own soft limit to 1-2 s of CPU from now
-CPU_BOUND = launch_file("    used = resource.getrusage(resource.RUSAGE_SELF)\n"
-                        "    soft, hard = resource.getrlimit(resource.RLIMIT_CPU)\n"
-                        "    resource.setrlimit(resource.RLIMIT_CPU, (int(used.ru_utime + used.ru_stime) + 2, hard))\n"
-                        "    while True: sum(range(1000))\n", "import resource\n\n")
+CPU_BOUND = launch_file(
+    "    used = resource.getrusage(resource.RUSAGE_SELF)\n"
+    "    soft, hard = resource.getrlimit(resource.RLIMIT_CPU)\n"
+    "    resource.setrlimit(resource.RLIMIT_CPU, (int(used.ru_utime + used.ru_stime) + 2, hard))\n"
+    "    while True: sum(range(1000))\n",
+    "import resource\n\n",
+)
 
 
 @pytest.fixture(scope="module")
@@ -194,8 +209,9 @@ def limits_workspace(tmp_path_factory, package) -> tuple[Path, dict[str, dict]]:
     workspace = tmp_path_factory.mktemp("limits")
     for name, launch in LIMITS.items():
         package(workspace, launch, name)
-    result = run_pkgforge("verify", "--format", "json", "--no-cache", "--launch-timeout", str(TIMEOUT),
-                          cwd=workspace)
+    result = run_pkgforge(
+        "verify", "--format", "json", "--no-cache", "--launch-timeout", str(TIMEOUT), cwd=workspace
+    )
     assert result.returncode == 1, result.stderr
     assert "Traceback" not in result.stderr
     errors: dict[str, list] = {}
@@ -225,8 +241,9 @@ def test_6_gib_allocation_is_a_located_memory_limit(limits_workspace):
 
 def test_worker_memory_option(limits_workspace):
     workspace, _ = limits_workspace
-    result = run_pkgforge("verify", "src/l_memory", "--format", "json", "--no-cache", "--worker-memory", "512M",
-                          cwd=workspace)
+    result = run_pkgforge(
+        "verify", "src/l_memory", "--format", "json", "--no-cache", "--worker-memory", "512M", cwd=workspace
+    )
     assert result.returncode == 1
     (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
     assert "512 MiB memory limit" in diagnostic["message"]
@@ -243,8 +260,9 @@ def test_open_files_limit_is_located(limits_workspace):
 
 def test_limits_are_set_before_the_launch_file_runs(limits_workspace):
     _, errors = limits_workspace
-    memory, files, cpu = json.loads(errors["l_rlimits"]["message"].rsplit("RuntimeError: ", 1)[1]
-                                    .replace("'", '"'))
+    memory, files, cpu = json.loads(
+        errors["l_rlimits"]["message"].rsplit("RuntimeError: ", 1)[1].replace("'", '"')
+    )
     assert (memory, files) == (2 * 2**30, 1024)
     assert TIMEOUT <= cpu <= TIMEOUT + 2  # this file's share: the CPU time used so far + the time limit
 
@@ -271,6 +289,7 @@ def test_worker_that_kills_itself_is_reported_and_pkgforge_goes_on(limits_worksp
 
 # --- verify --build on a failing build ---------------------------------------------------------
 
+
 @pytest.mark.triggers("PF902")
 def test_failing_build_still_reports_everything(tmp_path):
     """Two packages that fail differently: each gets build-failed, the static checks still run,
@@ -278,29 +297,53 @@ def test_failing_build_still_reports_everything(tmp_path):
     copy_fixture("seed001/small_turtle", tmp_path)  # install(DIRECTORY worlds models) that do not exist
     rob = copy_fixture("seed000/rob_description", tmp_path)
     fatal = rob / "CMakeLists.txt"
-    fatal.write_text(fatal.read_text().replace("find_package(ament_cmake REQUIRED)",
-                                               "find_package(ament_cmake REQUIRED)\nmessage(FATAL_ERROR \"not today\")"))
+    fatal.write_text(
+        fatal.read_text().replace(
+            "find_package(ament_cmake REQUIRED)",
+            'find_package(ament_cmake REQUIRED)\nmessage(FATAL_ERROR "not today")',
+        )
+    )
     static = run_pkgforge("verify", "--format", "json", "--select", "PF1,PF2,PF9", cwd=tmp_path)
-    result = run_pkgforge("verify", "--build", "--format", "json", "--output", "report.json",
-                          "--junit-xml", "out/junit.xml", cwd=tmp_path)
+    result = run_pkgforge(
+        "verify",
+        "--build",
+        "--format",
+        "json",
+        "--output",
+        "report.json",
+        "--junit-xml",
+        "out/junit.xml",
+        cwd=tmp_path,
+    )
     assert result.returncode == 1, result.stderr
     assert "Traceback" not in result.stderr
     report = json.loads((tmp_path / "report.json").read_text())
     failed = {d["package"]: d for d in report["diagnostics"] if d["code"] == "PF902"}
     assert sorted(failed) == ["robot_description", "small_turtle"]
     # every static diagnostic is there
-    static_found = {(d["code"], d["path"], d["line"], d["message"]) for d in json.loads(static.stdout)["diagnostics"]}
-    assert static_found and static_found <= {(d["code"], d["path"], d["line"], d["message"])
-                                             for d in report["diagnostics"]}
+    static_found = {
+        (d["code"], d["path"], d["line"], d["message"]) for d in json.loads(static.stdout)["diagnostics"]
+    }
+    assert static_found and static_found <= {
+        (d["code"], d["path"], d["line"], d["message"]) for d in report["diagnostics"]
+    }
     cmake = tmp_path / "src" / "small_turtle" / "CMakeLists.txt"
-    assert ("PF201", "src/small_turtle/CMakeLists.txt", line_of(cmake, "worlds")) in \
-        {(d["code"], d["path"], d["line"]) for d in report["diagnostics"]}
+    assert ("PF201", "src/small_turtle/CMakeLists.txt", line_of(cmake, "worlds")) in {
+        (d["code"], d["path"], d["line"]) for d in report["diagnostics"]
+    }
     # located: at the CMake error in the package's own file, else at its build file
-    assert (failed["robot_description"]["path"], failed["robot_description"]["line"]) == \
-        ("src/rob_description/CMakeLists.txt", line_of(fatal, "FATAL_ERROR"))
+    assert (failed["robot_description"]["path"], failed["robot_description"]["line"]) == (
+        "src/rob_description/CMakeLists.txt",
+        line_of(fatal, "FATAL_ERROR"),
+    )
     assert "not today" in failed["robot_description"]["message"]
-    assert (failed["small_turtle"]["path"], failed["small_turtle"]["line"]) == ("src/small_turtle/CMakeLists.txt", None)
-    log = tmp_path / "build" / "pkgforge-verify" / "log" / "latest_build" / "small_turtle" / "stdout_stderr.log"
+    assert (failed["small_turtle"]["path"], failed["small_turtle"]["line"]) == (
+        "src/small_turtle/CMakeLists.txt",
+        None,
+    )
+    log = (
+        tmp_path / "build" / "pkgforge-verify" / "log" / "latest_build" / "small_turtle" / "stdout_stderr.log"
+    )
     assert str(log) in failed["small_turtle"]["message"] and log.is_file()
     assert "file INSTALL cannot find" in failed["small_turtle"]["message"]
     assert failed["small_turtle"]["name"] == "build-failed" and failed["small_turtle"]["severity"] == "error"
@@ -325,9 +368,12 @@ def test_machine_dependent_results_are_not_cached(tmp_path, package):
     flag = tmp_path / "flag"
     flag.touch()
     for case, body in FLAGGED.items():
-        package(tmp_path, f"import os\n\nfrom launch import LaunchDescription\n\nFLAG = {str(flag)!r}\n\n\n"
-                          f"def generate_launch_description():\n{body}    return LaunchDescription([])\n",
-                f"c_{case}")
+        package(
+            tmp_path,
+            f"import os\n\nfrom launch import LaunchDescription\n\nFLAG = {str(flag)!r}\n\n\n"
+            f"def generate_launch_description():\n{body}    return LaunchDescription([])\n",
+            f"c_{case}",
+        )
     package(tmp_path, launch_file(""), "c_clean")
     first = run_pkgforge("verify", "--format", "json", "--launch-timeout", "2", cwd=tmp_path)
     assert first.returncode == 1, first.stderr
@@ -342,8 +388,11 @@ def test_machine_dependent_results_are_not_cached(tmp_path, package):
 
 
 def cache_entries(workspace: Path) -> list[dict]:
-    return [json.loads(p.read_text()) for p in (workspace / "build" / "pkgforge-cache").glob("*.json")
-            if p.name != "digests.json"]
+    return [
+        json.loads(p.read_text())
+        for p in (workspace / "build" / "pkgforge-cache").glob("*.json")
+        if p.name != "digests.json"
+    ]
 
 
 def cache_entry(workspace: Path) -> dict:
@@ -370,7 +419,7 @@ def test_file_mode_is_part_of_the_fingerprint(tmp_path, package):
 
 # --- the time limit and argument combinations: the defaults decide, the others run while time remains
 
-BRANCHING = '''import time
+BRANCHING = """import time
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
@@ -387,7 +436,7 @@ def on_branch(context):
 def generate_launch_description():
 {load}    return LaunchDescription([DeclareLaunchArgument(name, default_value="false") for name in NAMES]
                              + [OpaqueFunction(function=on_branch)])
-'''
+"""
 COMBINATIONS = {
     # every combination past the defaults takes a second: some fit in the limit, the rest do not
     "b_slow": BRANCHING.format(slow="        time.sleep(1.0)  # slow", load=""),
@@ -412,7 +461,9 @@ def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, packag
         options = ["--launch-engine", "ros", "--ros-prefix", str(prefix)]
     for name, launch in COMBINATIONS.items():
         package(tmp_path, launch, name)
-    result = run_pkgforge("verify", "--format", "json", "--launch-timeout", str(TIMEOUT), *options, cwd=tmp_path)
+    result = run_pkgforge(
+        "verify", "--format", "json", "--launch-timeout", str(TIMEOUT), *options, cwd=tmp_path
+    )
     assert "Traceback" not in result.stderr
     found = {}
     for diagnostic in json.loads(result.stdout)["diagnostics"]:
@@ -422,32 +473,51 @@ def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, packag
     launch = tmp_path / "src" / "{}" / "launch" / "display.launch.py"
     # the defaults never end: PF301 at the line it was running, nothing about combinations
     (load,) = found["b_load"]
-    assert located(load) == ("PF301", path("b_load"), line_of(Path(str(launch).format("b_load")), "# at load"))
+    assert located(load) == (
+        "PF301",
+        path("b_load"),
+        line_of(Path(str(launch).format("b_load")), "# at load"),
+    )
     # a branch that never ends: the defaults' records stand, the branch is said (info) where it stopped
     (endless,) = found["b_endless"]
-    assert located(endless) == ("PF318", path("b_endless"),
-                                line_of(Path(str(launch).format("b_endless")), "# endless"))
+    assert located(endless) == (
+        "PF318",
+        path("b_endless"),
+        line_of(Path(str(launch).format("b_endless")), "# endless"),
+    )
     assert endless["severity"] == "info"
     # the defaults and MAX_BRANCHES (16) others, the first (every argument true) never ending
     assert f"1 of 17 argument combinations evaluated within the {TIMEOUT} s limit" in endless["message"]
-    assert "16 not checked" in endless["message"] and "use_sim:=true was stopped at this line" in endless["message"]
+    assert (
+        "16 not checked" in endless["message"]
+        and "use_sim:=true was stopped at this line" in endless["message"]
+    )
     # slow branches: as many as fit, counted; no error
     (slow,) = found["b_slow"]
     assert slow["code"] == "PF318" and slow["path"] == path("b_slow")
-    evaluated, planned = map(int, re.search(r"(\d+) of (\d+) argument combinations", slow["message"]).groups())
+    evaluated, planned = map(
+        int, re.search(r"(\d+) of (\d+) argument combinations", slow["message"]).groups()
+    )
     assert planned == 17 and 1 <= evaluated < planned
     assert f"{planned - evaluated} not checked" in slow["message"]
     assert result.returncode == 1  # b_load's error only
-    assert not [d for d in json.loads(result.stdout)["diagnostics"]
-                if d["severity"] == "error" and d["package"] != "b_load"], result.stdout
+    assert not [
+        d
+        for d in json.loads(result.stdout)["diagnostics"]
+        if d["severity"] == "error" and d["package"] != "b_load"
+    ], result.stdout
     # machine-dependent (what fits depends on the machine's load): never cached
-    assert not [entry for entry in cache_entries(tmp_path)
-                if entry["report"]["name"] in ("b_slow", "b_endless", "b_load")]
+    assert not [
+        entry
+        for entry in cache_entries(tmp_path)
+        if entry["report"]["name"] in ("b_slow", "b_endless", "b_load")
+    ]
 
 
 # a file that finishes, slowed by a busy machine: two competitors pinned to its CPU give it a third
 # of it (at most), so its half second of CPU time takes 1.5 s or more of wall time, past the 1 s limit
-CONTENDED = launch_file('''    cpu = min(os.sched_getaffinity(0))
+CONTENDED = launch_file(
+    """    cpu = min(os.sched_getaffinity(0))
     os.sched_setaffinity(0, {cpu})
     for _ in range(2):
         if os.fork() == 0:
@@ -458,7 +528,9 @@ CONTENDED = launch_file('''    cpu = min(os.sched_getaffinity(0))
     start = time.process_time()
     while time.process_time() - start < 0.5:  # half a second of CPU time
         pass
-''', "import os\nimport time\n\n")
+""",
+    "import os\nimport time\n\n",
+)
 
 
 def test_time_waiting_for_a_busy_cpu_does_not_count_against_the_limit(tmp_path, package):

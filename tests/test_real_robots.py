@@ -16,9 +16,8 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from lxml import etree
-
 from conftest import MAINTAINER, run_pkgforge
+from lxml import etree
 
 pytestmark = pytest.mark.slow
 
@@ -38,21 +37,44 @@ def robot_prefix() -> Path:
     cache.mkdir(parents=True, exist_ok=True)
     wheels = sorted(cache.glob(f"example_robot_data-{VERSION}-*.whl"))
     if not wheels:
-        result = subprocess.run([sys.executable, "-m", "pip", "download", "--no-deps", "-q", "-d", str(cache),
-                                 f"example-robot-data=={VERSION}"], capture_output=True, text=True, timeout=900)
+        result = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "pip",
+                "download",
+                "--no-deps",
+                "-q",
+                "-d",
+                str(cache),
+                f"example-robot-data=={VERSION}",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=900,
+        )
         wheels = sorted(cache.glob(f"example_robot_data-{VERSION}-*.whl"))
         if not wheels:
             pytest.skip(f"example-robot-data could not be downloaded: {result.stderr[-500:]}")
     prefix = cache / f"example-robot-data-{VERSION}"
     folders = {ROBOTS[name].split("/")[0] for name in ROBOTS}
     marker = prefix / "share/ament_index/resource_index/packages/example-robot-data"
-    if not marker.exists() or not all((prefix / "share/example-robot-data/robots" / f).is_dir() for f in folders):
+    if not marker.exists() or not all(
+        (prefix / "share/example-robot-data/robots" / f).is_dir() for f in folders
+    ):
         with zipfile.ZipFile(wheels[0]) as wheel:
-            wanted = [n for n in wheel.namelist() if n.startswith(PREFIX_IN_WHEEL + "share/") and (
-                "/ament_index/" in n or n.endswith("example-robot-data/package.xml")
-                or any(f"/robots/{f}/" in n for f in folders))]
+            wanted = [
+                n
+                for n in wheel.namelist()
+                if n.startswith(PREFIX_IN_WHEEL + "share/")
+                and (
+                    "/ament_index/" in n
+                    or n.endswith("example-robot-data/package.xml")
+                    or any(f"/robots/{f}/" in n for f in folders)
+                )
+            ]
             for name in wanted:
-                target = prefix / name[len(PREFIX_IN_WHEEL):]
+                target = prefix / name[len(PREFIX_IN_WHEEL) :]
                 target.parent.mkdir(parents=True, exist_ok=True)
                 target.write_bytes(wheel.read(name))
     return prefix
@@ -73,9 +95,12 @@ def test_real_robots_verify_without_errors(tmp_path, robot_prefix):
         (package / "urdf" / f"{name}.urdf.xacro").write_bytes(urdf)
         (package / "meshes" / "arm.stl").unlink()  # the scaffold's mesh: the robot brings its own
         manifest = package / "package.xml"
-        manifest.write_text(manifest.read_text().replace(
-            "  <exec_depend>joint_state_publisher</exec_depend>",
-            "  <exec_depend>example-robot-data</exec_depend>\n  <exec_depend>joint_state_publisher</exec_depend>"))
+        manifest.write_text(
+            manifest.read_text().replace(
+                "  <exec_depend>joint_state_publisher</exec_depend>",
+                "  <exec_depend>example-robot-data</exec_depend>\n  <exec_depend>joint_state_publisher</exec_depend>",
+            )
+        )
         rviz = package / "rviz" / "display.rviz"
         rviz.write_text(rviz.read_text().replace("Fixed Frame: base_link", f"Fixed Frame: {root_link(urdf)}"))
     env = dict(os.environ, AMENT_PREFIX_PATH=str(robot_prefix))
@@ -83,15 +108,25 @@ def test_real_robots_verify_without_errors(tmp_path, robot_prefix):
     assert "Traceback" not in result.stderr
     report = json.loads(result.stdout)
     # root-link-inertia (PF604, a warning) is true of several of them: KDL ignores the root's inertia
-    problems = [(d["package"], d["code"]) for d in report["diagnostics"]
-                if d["severity"] != "info" and d["code"] != "PF604"]
+    problems = [
+        (d["package"], d["code"])
+        for d in report["diagnostics"]
+        if d["severity"] != "info" and d["code"] != "PF604"
+    ]
     # a real defect in the wheel: TALOS writes package:///example-robot-data/... (three slashes)
-    talos = [d for d in report["diagnostics"] if d["package"] == "talos_wrap_description" and d["code"] != "PF604"]
+    talos = [
+        d for d in report["diagnostics"] if d["package"] == "talos_wrap_description" and d["code"] != "PF604"
+    ]
     assert talos and all(d["code"] == "PF402" and "names no package" in d["message"] for d in talos)
     assert len({d["line"] for d in talos}) == len(talos)  # each at its own <mesh> line
     assert [p for p in problems if p[0] != "talos_wrap_description"] == []
     # the meshes were resolved in the installed package, not skipped
-    explain = run_pkgforge("verify", "--explain-model", "src/panda_wrap_description/urdf/panda_wrap_description.urdf.xacro",
-                           cwd=tmp_path, env=env)
+    explain = run_pkgforge(
+        "verify",
+        "--explain-model",
+        "src/panda_wrap_description/urdf/panda_wrap_description.urdf.xacro",
+        cwd=tmp_path,
+        env=env,
+    )
     assert "✓ package://example-robot-data/robots/panda_description/meshes/visual/link0.dae" in explain.stdout
     assert "✗" not in explain.stdout

@@ -12,7 +12,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import FIXTURES, MAINTAINER, edit, line_of, new_package, run_pkgforge, verify_report
 
 REALWORLD = FIXTURES / "realworld"
@@ -21,8 +20,11 @@ REPO = Path(__file__).resolve().parent.parent
 
 def findings(report: dict, package: str) -> list[tuple]:
     """(check name, path inside the package, line) of one package's diagnostics."""
-    return sorted((d["name"], d["path"].removeprefix(f"src/{package}/"), d["line"])
-                  for d in report["diagnostics"] if d["package"] == package)
+    return sorted(
+        (d["name"], d["path"].removeprefix(f"src/{package}/"), d["line"])
+        for d in report["diagnostics"]
+        if d["package"] == package
+    )
 
 
 def by_name(report: dict, package: str, name: str) -> list[dict]:
@@ -57,8 +59,18 @@ def src(workspace: Path, package: str, relative: str) -> Path:
 
 # --- 1. install idioms ------------------------------------------------------------------------
 
-@pytest.mark.parametrize("package", ["auto_description", "py_description", "cfg_description",
-                                     "cmake_python_description", "comments_description", "robot_meta"])
+
+@pytest.mark.parametrize(
+    "package",
+    [
+        "auto_description",
+        "py_description",
+        "cfg_description",
+        "cmake_python_description",
+        "comments_description",
+        "robot_meta",
+    ],
+)
 def test_clean_real_world_shapes(every_distro, package):
     """ament_auto_package(INSTALL_TO_SHARE), setup.py loops/glob/os.walk, setup.cfg data_files,
     ament_cmake_python, references only in comments, a metapackage: nothing to report."""
@@ -68,25 +80,34 @@ def test_clean_real_world_shapes(every_distro, package):
 def test_variables_foreach_and_install_files_with_one_unevaluable_rule(every_distro, workspace):
     cmake = src(workspace, "loops_description", "CMakeLists.txt")
     assert findings(every_distro, "loops_description") == [
-        ("install-rule-unevaluated", "CMakeLists.txt", line_of(cmake, "$ENV{EXTRA_ASSETS}"))]
+        ("install-rule-unevaluated", "CMakeLists.txt", line_of(cmake, "$ENV{EXTRA_ASSETS}"))
+    ]
 
 
-@pytest.mark.parametrize("package, installed", [
-    ("auto_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
-    ("loops_description", ["launch/display.launch.py", "meshes/base_link.STL", "rviz/view.rviz",
-                           "urdf/robot.urdf"]),
-    ("py_description", ["config/arm/limits.yaml", "launch/display.launch.py", "meshes/base_link.STL",
-                        "urdf/robot.urdf"]),
-    ("cfg_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
-    ("cmake_python_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
-])
+@pytest.mark.parametrize(
+    "package, installed",
+    [
+        ("auto_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
+        (
+            "loops_description",
+            ["launch/display.launch.py", "meshes/base_link.STL", "rviz/view.rviz", "urdf/robot.urdf"],
+        ),
+        (
+            "py_description",
+            ["config/arm/limits.yaml", "launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"],
+        ),
+        ("cfg_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
+        ("cmake_python_description", ["launch/display.launch.py", "meshes/base_link.STL", "urdf/robot.urdf"]),
+    ],
+)
 def test_the_predicted_install_tree_of_each_idiom(package, installed):
     from pkgforge.model.package import load_package
 
     model = load_package(REALWORLD / package)
     share = f"share/{package}/"
-    assert sorted(f[len(share):] for f in model.layout.files if f.startswith(share)) == \
-        sorted(installed + ["package.xml"])
+    assert sorted(f[len(share) :] for f in model.layout.files if f.startswith(share)) == sorted(
+        installed + ["package.xml"]
+    )
     if package == "cmake_python_description":  # ament_python_install_package(${PROJECT_NAME})
         assert "lib/python3/site-packages/cmake_python_description/tools.py" in model.layout.files
 
@@ -98,11 +119,13 @@ def test_a_setup_py_loop_over_something_unknown_is_unevaluated_not_guessed(tmp_p
     (tmp_path / "launch").mkdir()
     (tmp_path / "launch" / "a.launch.py").write_text("")
     setup = tmp_path / "setup.py"
-    setup.write_text("import os\nfrom glob import glob\nfrom setuptools import setup\n"
-                     "data_files = [('share/p', ['package.xml'])]\n"
-                     "for folder in os.listdir('.'):\n"
-                     "    data_files.append(('share/p/' + folder, glob(folder + '/*')))\n"
-                     "setup(name='p', data_files=data_files)\n")
+    setup.write_text(
+        "import os\nfrom glob import glob\nfrom setuptools import setup\n"
+        "data_files = [('share/p', ['package.xml'])]\n"
+        "for folder in os.listdir('.'):\n"
+        "    data_files.append(('share/p/' + folder, glob(folder + '/*')))\n"
+        "setup(name='p', data_files=data_files)\n"
+    )
     model = load_setup_py(read_source(setup), tmp_path)
     assert model.entries == []
     assert [line for line, _ in model.unknown] == [line_of(setup, "for folder in")]
@@ -110,23 +133,34 @@ def test_a_setup_py_loop_over_something_unknown_is_unevaluated_not_guessed(tmp_p
 
 # --- 2. references from parsers --------------------------------------------------------------
 
+
 def test_references_in_comments_are_no_use(workspace):
     from pkgforge.model.package import load_package
 
     model = load_package(workspace / "src" / "comments_description")
     names = {r.package for r in model.references}
-    assert not names & {"old_robot_description", "gazebo_ros", "rviz", "joint_state_publisher_gui",
-                        "turtlebot3_description"}
+    assert not names & {
+        "old_robot_description",
+        "gazebo_ros",
+        "rviz",
+        "joint_state_publisher_gui",
+        "turtlebot3_description",
+    }
     xacro = src(workspace, "comments_description", "urdf/robot.urdf.xacro")
     (mesh,) = [r for r in model.references if r.via == "package://"]
-    assert (mesh.path, mesh.line, mesh.relative) == (xacro, line_of(xacro, 'filename="package://comments'),
-                                                     "meshes/base_link.STL")
+    assert (mesh.path, mesh.line, mesh.relative) == (
+        xacro,
+        line_of(xacro, 'filename="package://comments'),
+        "meshes/base_link.STL",
+    )
     yaml_launch = src(workspace, "comments_description", "launch/state.launch.yaml")
-    assert [(r.package, r.line) for r in model.references if r.path == yaml_launch and r.via == "node pkg"] == [
-        ("robot_state_publisher", line_of(yaml_launch, "pkg: robot_state_publisher"))]
+    assert [
+        (r.package, r.line) for r in model.references if r.path == yaml_launch and r.via == "node pkg"
+    ] == [("robot_state_publisher", line_of(yaml_launch, "pkg: robot_state_publisher"))]
 
 
 # --- 3. packages known per distro ------------------------------------------------------------
+
 
 def test_distro_data_every_active_distro():
     from pkgforge.model.distro_data import load
@@ -140,8 +174,7 @@ def test_distro_data_every_active_distro():
 
 
 def test_every_replacement_is_released_where_its_name_is_not():
-    from pkgforge.model.distro_data import REPLACEMENTS
-    from pkgforge.model.distro_data import load
+    from pkgforge.model.distro_data import REPLACEMENTS, load
 
     data = load()
     for name, (successor, why) in REPLACEMENTS.items():
@@ -155,8 +188,19 @@ def test_distro_data_regenerates_identically_from_the_lists(tmp_path):
     if not lists.is_dir():
         pytest.skip("no rosdistro lists on this machine")
     out = tmp_path / "distros.txt"
-    result = subprocess.run([sys.executable, str(REPO / "scripts" / "update-distro-data"), "--lists", str(lists),
-                             "--output", str(out)], capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [
+            sys.executable,
+            str(REPO / "scripts" / "update-distro-data"),
+            "--lists",
+            str(lists),
+            "--output",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
     assert out.read_text() == (REPO / "src" / "pkgforge" / "data" / "distros.txt").read_text()
 
@@ -165,20 +209,53 @@ def test_distro_data_from_a_rosdistro_checkout(tmp_path):
     """The REP 143 layout: index-v4.yaml names the active ROS 2 distros, distribution.yaml their packages."""
     import yaml
 
-    (tmp_path / "index-v4.yaml").write_text(yaml.safe_dump({"type": "index", "version": 4, "distributions": {
-        "jazzy": {"distribution": ["jazzy/distribution.yaml"], "distribution_status": "active",
-                  "distribution_type": "ros2"},
-        "noetic": {"distribution": ["noetic/distribution.yaml"], "distribution_status": "end-of-life",
-                   "distribution_type": "ros1"}}}))
+    (tmp_path / "index-v4.yaml").write_text(
+        yaml.safe_dump(
+            {
+                "type": "index",
+                "version": 4,
+                "distributions": {
+                    "jazzy": {
+                        "distribution": ["jazzy/distribution.yaml"],
+                        "distribution_status": "active",
+                        "distribution_type": "ros2",
+                    },
+                    "noetic": {
+                        "distribution": ["noetic/distribution.yaml"],
+                        "distribution_status": "end-of-life",
+                        "distribution_type": "ros1",
+                    },
+                },
+            }
+        )
+    )
     (tmp_path / "jazzy").mkdir()
-    (tmp_path / "jazzy" / "distribution.yaml").write_text(yaml.safe_dump({
-        "release_platforms": {"ubuntu": ["noble"]},
-        "repositories": {"xacro": {"release": {"version": "2.0.0-1"}},
-                         "ros_gz": {"release": {"packages": ["ros_gz", "ros_gz_sim"], "version": "1.0.0-1"}},
-                         "source_only": {"source": {"type": "git"}}}}))
+    (tmp_path / "jazzy" / "distribution.yaml").write_text(
+        yaml.safe_dump(
+            {
+                "release_platforms": {"ubuntu": ["noble"]},
+                "repositories": {
+                    "xacro": {"release": {"version": "2.0.0-1"}},
+                    "ros_gz": {"release": {"packages": ["ros_gz", "ros_gz_sim"], "version": "1.0.0-1"}},
+                    "source_only": {"source": {"type": "git"}},
+                },
+            }
+        )
+    )
     out = tmp_path / "distros.txt"
-    result = subprocess.run([sys.executable, str(REPO / "scripts" / "update-distro-data"), "--checkout",
-                             str(tmp_path), "--output", str(out)], capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [
+            sys.executable,
+            str(REPO / "scripts" / "update-distro-data"),
+            "--checkout",
+            str(tmp_path),
+            "--output",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
     from pkgforge.model.distro_data import parse
 
@@ -189,14 +266,21 @@ def test_distro_data_from_a_rosdistro_checkout(tmp_path):
 def test_a_real_package_outside_the_old_list_is_missing_exec_depend(every_distro, workspace):
     launch = src(workspace, "distro_description", "launch/display.launch.py")
     manifest = src(workspace, "distro_description", "package.xml")
-    assert findings(every_distro, "distro_description") == sorted([
-        ("missing-exec-depend", "launch/display.launch.py", line_of(launch, "'foxglove_bridge'")),
-        ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>rviz</exec_depend>")),
-        ("package-not-in-distro", "package.xml", line_of(manifest, "join_state_publisher")),
-    ])
-    hints = {d["message"].split(">")[1].split("<")[0]: d["hint"]
-             for d in by_name(every_distro, "distro_description", "package-not-in-distro")}
-    assert hints == {"rviz": "declare rviz2 instead", "join_state_publisher": "did you mean joint_state_publisher?"}
+    assert findings(every_distro, "distro_description") == sorted(
+        [
+            ("missing-exec-depend", "launch/display.launch.py", line_of(launch, "'foxglove_bridge'")),
+            ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>rviz</exec_depend>")),
+            ("package-not-in-distro", "package.xml", line_of(manifest, "join_state_publisher")),
+        ]
+    )
+    hints = {
+        d["message"].split(">")[1].split("<")[0]: d["hint"]
+        for d in by_name(every_distro, "distro_description", "package-not-in-distro")
+    }
+    assert hints == {
+        "rviz": "declare rviz2 instead",
+        "join_state_publisher": "did you mean joint_state_publisher?",
+    }
 
 
 @pytest.mark.triggers("PF108")
@@ -204,14 +288,19 @@ def test_gazebo_ros_on_jazzy_is_package_not_in_distro(jazzy, workspace):
     manifest = src(workspace, "distro_description", "package.xml")
     launch = src(workspace, "distro_description", "launch/display.launch.py")
     # the condition="$ROS_DISTRO == humble" dependency does not count on jazzy, $ROS_VERSION == 1 never
-    assert findings(jazzy, "distro_description") == sorted([
-        ("missing-exec-depend", "launch/display.launch.py", line_of(launch, "'foxglove_bridge'")),
-        ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>gazebo_ros<")),
-        ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>rviz</exec_depend>")),
-        ("package-not-in-distro", "package.xml", line_of(manifest, "join_state_publisher")),
-    ])
-    (gazebo,) = [d for d in by_name(jazzy, "distro_description", "package-not-in-distro")
-                 if "gazebo_ros" in d["message"]]
+    assert findings(jazzy, "distro_description") == sorted(
+        [
+            ("missing-exec-depend", "launch/display.launch.py", line_of(launch, "'foxglove_bridge'")),
+            ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>gazebo_ros<")),
+            ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>rviz</exec_depend>")),
+            ("package-not-in-distro", "package.xml", line_of(manifest, "join_state_publisher")),
+        ]
+    )
+    (gazebo,) = [
+        d
+        for d in by_name(jazzy, "distro_description", "package-not-in-distro")
+        if "gazebo_ros" in d["message"]
+    ]
     assert "not released for jazzy (released for humble)" in gazebo["message"]
     assert gazebo["hint"].startswith("use ros_gz_sim instead")
 
@@ -221,10 +310,12 @@ def test_an_undeclared_use_not_released_for_the_target(every_distro, jazzy, work
     gazebo, ignition = line_of(launch, "'gazebo_ros'"), line_of(launch, "'ros_ign_gazebo'")
     assert findings(every_distro, "gz_use_description") == [
         ("missing-exec-depend", "launch/display.launch.py", gazebo),
-        ("missing-exec-depend", "launch/display.launch.py", ignition)]
+        ("missing-exec-depend", "launch/display.launch.py", ignition),
+    ]
     assert findings(jazzy, "gz_use_description") == [
         ("package-not-in-distro", "launch/display.launch.py", gazebo),
-        ("package-not-in-distro", "launch/display.launch.py", ignition)]
+        ("package-not-in-distro", "launch/display.launch.py", ignition),
+    ]
 
 
 @pytest.mark.parametrize("how", ["ROS_DISTRO", "pkgforge.toml", "github", "gitlab"])
@@ -239,7 +330,8 @@ def test_the_target_distro_from_environment_config_or_ci(tmp_path, how):
     elif how == "github":
         (package / ".github" / "workflows").mkdir(parents=True)
         (package / ".github" / "workflows" / "ci.yml").write_text(
-            "jobs:\n  build:\n    runs-on: ubuntu-latest\n    container: ros:jazzy-ros-base\n")
+            "jobs:\n  build:\n    runs-on: ubuntu-latest\n    container: ros:jazzy-ros-base\n"
+        )
     else:
         (package / ".gitlab-ci.yml").write_text("build:\n  image: osrf/ros:kilted-desktop\n")
     import json
@@ -266,12 +358,14 @@ def test_unknown_package_is_a_name_in_no_distro(tmp_path):
 
 # --- 4. new checks ---------------------------------------------------------------------------
 
+
 @pytest.mark.triggers("PF109")
 def test_find_package_undeclared(every_distro, workspace):
     cmake = src(workspace, "find_description", "CMakeLists.txt")
     manifest = src(workspace, "find_description", "package.xml")
     assert findings(every_distro, "find_description") == [
-        ("find-package-undeclared", "CMakeLists.txt", line_of(cmake, "find_package(xacro"))]
+        ("find-package-undeclared", "CMakeLists.txt", line_of(cmake, "find_package(xacro"))
+    ]
     (diagnostic,) = by_name(every_distro, "find_description", "find-package-undeclared")
     declared = line_of(manifest, "<exec_depend>xacro")
     assert diagnostic["hint"] == f"change package.xml:{declared} to <depend>xacro</depend>"
@@ -282,7 +376,11 @@ def test_node_arguments_string_and_rsp_model_argument(every_distro, workspace):
     launch = src(workspace, "args_description", "launch/display.launch.py")
     assert findings(every_distro, "args_description") == [
         ("node-arguments-string", "launch/display.launch.py", line_of(launch, "package='rviz2'")),
-        ("rsp-model-argument", "launch/display.launch.py", line_of(launch, "package='robot_state_publisher'")),
+        (
+            "rsp-model-argument",
+            "launch/display.launch.py",
+            line_of(launch, "package='robot_state_publisher'"),
+        ),
     ]
     (string,) = by_name(every_distro, "args_description", "node-arguments-string")
     assert string["hint"] == "write arguments=['--display-config', 'view.rviz']"
@@ -291,7 +389,9 @@ def test_node_arguments_string_and_rsp_model_argument(every_distro, workspace):
 
 
 def test_rsp_model_argument_is_an_error_on_rolling(workspace):
-    status, report = verify_report(workspace, "--no-cache", "--distro", "rolling", "--select", "rsp-model-argument")
+    status, report = verify_report(
+        workspace, "--no-cache", "--distro", "rolling", "--select", "rsp-model-argument"
+    )
     assert [d["severity"] for d in report["diagnostics"]] == ["error"]
 
 
@@ -302,15 +402,23 @@ def test_package_not_installed_from_the_install_base(tmp_path, variants_workspac
     (tmp_path / "src").mkdir()
     shutil.copytree(variants_workspace / "src" / "v_jazzy", tmp_path / "src" / "v_jazzy")
     broken = new_package(tmp_path, "broken_description")
-    status, report = verify_report(tmp_path, "--install-base", str(variants_workspace / "install"), "--no-cache")
+    status, report = verify_report(
+        tmp_path, "--install-base", str(variants_workspace / "install"), "--no-cache"
+    )
     assert status == 1
     assert [(d["package"], d["name"], d["path"], d["line"]) for d in report["diagnostics"]] == [
-        ("broken_description", "package-not-installed", "src/broken_description/package.xml",
-         line_of(broken / "package.xml", "<name>"))]
+        (
+            "broken_description",
+            "package-not-installed",
+            "src/broken_description/package.xml",
+            line_of(broken / "package.xml", "<name>"),
+        )
+    ]
     assert "colcon" in report["diagnostics"][0]["hint"]
 
 
 # --- 5. precision ----------------------------------------------------------------------------
+
 
 @pytest.mark.triggers("PF303")
 def test_one_defect_one_diagnostic_and_user_paths(every_distro, workspace):
@@ -323,7 +431,9 @@ def test_one_defect_one_diagnostic_and_user_paths(every_distro, workspace):
         ("missing-file", "launch/display.launch.py", line_of(launch, "gone.rviz")),
         ("unused-exec-depend", "package.xml", line_of(manifest, "urdf_tutorial")),
     ]
-    (gone,) = [d for d in by_name(every_distro, "precise_description", "missing-file") if "gone.rviz" in d["message"]]
+    (gone,) = [
+        d for d in by_name(every_distro, "precise_description", "missing-file") if "gone.rviz" in d["message"]
+    ]
     second = line_of(launch, "gone.rviz") + 2
     assert gone["message"].endswith(f"(and 1 more in this file: line {second})")
     assert all("pkgforge-tree-" not in d["message"] + d["hint"] for d in every_distro["diagnostics"])
@@ -351,17 +461,24 @@ def test_folder_name_mismatch_is_info(tmp_path):
 
 # --- 6. Lyrical ------------------------------------------------------------------------------
 
+
 def test_new_defaults_to_ros_distro_else_the_newest_lts(tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "ROS_DISTRO"}
     assert run_pkgforge("new", "a_rob", *MAINTAINER, "--ci", "github", cwd=tmp_path, env=env).returncode == 0
-    assert "container: ros:lyrical" in (tmp_path / "a_rob" / ".github" / "workflows" / "pkgforge.yml").read_text()
+    assert (
+        "container: ros:lyrical"
+        in (tmp_path / "a_rob" / ".github" / "workflows" / "pkgforge.yml").read_text()
+    )
     env["ROS_DISTRO"] = "humble"
     assert run_pkgforge("new", "b_rob", *MAINTAINER, "--ci", "github", cwd=tmp_path, env=env).returncode == 0
-    assert "container: ros:humble" in (tmp_path / "b_rob" / ".github" / "workflows" / "pkgforge.yml").read_text()
+    assert (
+        "container: ros:humble" in (tmp_path / "b_rob" / ".github" / "workflows" / "pkgforge.yml").read_text()
+    )
 
 
 # --- false errors measured on real public description packages (p1-review) -------------------
 # Each fixture is a hand-written minimal package with the shape seen in real packages.
+
 
 def test_rviz_own_displays_need_no_dependency_of_their_own(every_distro):
     """An RViz config whose displays are RViz's own (rviz_common, rviz_default_plugins), opened by
@@ -376,7 +493,8 @@ def test_a_declared_packages_xacro_include_absent_here_is_info(every_distro, wor
     include, and no xacro-error."""
     model = src(workspace, "absent_include_description", "urdf/robot.urdf.xacro")
     assert findings(every_distro, "absent_include_description") == [
-        ("model-unevaluated", "urdf/robot.urdf.xacro", line_of(model, "_d435.urdf.xacro"))]
+        ("model-unevaluated", "urdf/robot.urdf.xacro", line_of(model, "_d435.urdf.xacro"))
+    ]
     (info,) = by_name(every_distro, "absent_include_description", "model-unevaluated")
     assert info["severity"] == "info" and "realsense2_description" in info["message"]
 
@@ -386,7 +504,8 @@ def test_a_template_argument_left_empty_and_pyyaml_are_no_unknown_package(every_
     and a file read statically (its module package is absent here) that imports PyYAML."""
     moveit = src(workspace, "template_bringup", "launch/moveit.launch.py")
     assert findings(every_distro, "template_bringup") == [
-        ("launch-unevaluated", "launch/moveit.launch.py", line_of(moveit, "moveit_configs_utils"))]
+        ("launch-unevaluated", "launch/moveit.launch.py", line_of(moveit, "moveit_configs_utils"))
+    ]
 
 
 def test_a_launch_name_newer_than_jazzy(every_distro, jazzy, workspace):
@@ -395,7 +514,8 @@ def test_a_launch_name_newer_than_jazzy(every_distro, jazzy, workspace):
     show = src(workspace, "newer_api_bringup", "launch/show.launch.py")
     line = line_of(show, "import PathSubstitution")
     assert findings(every_distro, "newer_api_bringup") == [
-        ("unsupported-launch-api", "launch/show.launch.py", line)]
+        ("unsupported-launch-api", "launch/show.launch.py", line)
+    ]
     assert findings(jazzy, "newer_api_bringup") == [("launch-load-error", "launch/show.launch.py", line)]
 
 
@@ -403,10 +523,14 @@ def test_a_folder_only_uninstalled_files_refer_to_is_no_error(every_distro):
     """xacro/ kept next to the URDF generated from it (a Unitree Go2 description): only xacro/'s own
     files refer to xacro/ and meshes/, nothing installed does; each folder is the usual warning
     for an uninstalled resource folder, not an error."""
-    found = {d["path"].removeprefix("src/xacro_source_description/"): d["severity"]
-             for d in by_name(every_distro, "xacro_source_description", "directory-not-installed")}
+    found = {
+        d["path"].removeprefix("src/xacro_source_description/"): d["severity"]
+        for d in by_name(every_distro, "xacro_source_description", "directory-not-installed")
+    }
     assert findings(every_distro, "xacro_source_description") == [
-        ("directory-not-installed", "meshes", None), ("directory-not-installed", "xacro", None)]
+        ("directory-not-installed", "meshes", None),
+        ("directory-not-installed", "xacro", None),
+    ]
     assert found == {"meshes": "warning", "xacro": "warning"}
 
 
@@ -419,7 +543,8 @@ def test_an_environment_variable_the_robot_setup_exports(every_distro, workspace
     description = src(workspace, "environment_bringup", "launch/description.launch.py")
     assert findings(every_distro, "environment_bringup") == [
         ("launch-environment-unset", "launch/description.launch.py", line_of(description, "f'{base}.urdf'")),
-        ("launch-environment-unset", "launch/robot.launch.py", line_of(robot, "os.environ["))]
+        ("launch-environment-unset", "launch/robot.launch.py", line_of(robot, "os.environ[")),
+    ]
     shutil.copytree(workspace / "src" / "environment_bringup", tmp_path / "src" / "environment_bringup")
     env = {**os.environ, "PKGFORGE_TEST_ROBOT_MODEL": "small", "PKGFORGE_TEST_ROBOT_BASE": "small"}
     result = run_pkgforge("verify", tmp_path, "--format", "json", "--no-cache", cwd=tmp_path, env=env)
@@ -434,12 +559,14 @@ def test_an_undeclared_find_is_one_diagnostic_without_pkgforges_folders(every_di
     arm = src(workspace, "undeclared_find_description", "urdf/arm.urdf.xacro")
     assert findings(every_distro, "undeclared_find_description") == [
         ("missing-exec-depend", "urdf/base.urdf.xacro", line_of(base, "$(find realsense2_description)")),
-        ("xacro-error", "urdf/arm.urdf.xacro", line_of(arm, "$(find undeclared_find_old_name)"))]
+        ("xacro-error", "urdf/arm.urdf.xacro", line_of(arm, "$(find undeclared_find_old_name)")),
+    ]
     (error,) = by_name(every_distro, "undeclared_find_description", "xacro-error")
     assert "searching" not in error["message"] and error["message"].count("not found") == 1
 
 
 # --- a model whose includes are built from xacro:args its launch files always set (Kinova's gen3) ----
+
 
 def dof_workspace(tmp_path: Path) -> Path:
     """dof_description (arm.xacro: xacro:arg dof default '', include arms/$(arg dof)dof/...) and
@@ -456,7 +583,8 @@ def test_empty_default_xacro_args_are_info_and_the_launch_run_counts(every_distr
     empty but not the cause); the launch's run with dof:=7 is clean."""
     model = src(workspace, "dof_description", "robots/arm.xacro")
     assert findings(every_distro, "dof_description") == [
-        ("model-needs-arguments", "robots/arm.xacro", line_of(model, '<xacro:arg name="dof"'))]
+        ("model-needs-arguments", "robots/arm.xacro", line_of(model, '<xacro:arg name="dof"'))
+    ]
     (info,) = by_name(every_distro, "dof_description", "model-needs-arguments")
     assert info["severity"] == "info" and info["code"] == "PF406"
     assert "xacro argument(s) dof (empty default" in info["message"] and "prefix" not in info["message"]
@@ -469,7 +597,8 @@ def test_empty_default_xacro_args_with_build(tmp_path):
     model = root / "src/dof_description/robots/arm.xacro"
     assert status == 0
     assert findings(report, "dof_description") == [
-        ("model-needs-arguments", "robots/arm.xacro", line_of(model, '<xacro:arg name="dof"'))]
+        ("model-needs-arguments", "robots/arm.xacro", line_of(model, '<xacro:arg name="dof"'))
+    ]
     assert findings(report, "dof_bringup") == []
 
 
@@ -483,16 +612,21 @@ def test_the_launchs_arguments_failing_are_an_error_at_the_launch_line(tmp_path,
     edit(launch, "' dof:=7'", f"'{given}'")
     status, report = verify_report(root, "--no-cache")
     assert status == 1
-    assert findings(report, "dof_bringup") == [("xacro-error", "launch/arm.launch.py", line_of(launch, "Command("))]
+    assert findings(report, "dof_bringup") == [
+        ("xacro-error", "launch/arm.launch.py", line_of(launch, "Command("))
+    ]
     (error,) = by_name(report, "dof_bringup", "xacro-error")
     assert error["code"] == "PF308" and shown in error["message"] and "No such file" in error["message"]
     assert [d["code"] for d in report["diagnostics"] if d["package"] == "dof_description"] == ["PF406"]
 
 
-@pytest.mark.parametrize("old, new", [
-    ('name="dof" default=""', 'name="dof" default="6"'),  # a default naming no folder
-    ("arms/$(arg dof)dof/urdf/arm_macro.xacro", "arms/7dof/urdf/arm_macros.xacro"),  # a typo, args unused
-])
+@pytest.mark.parametrize(
+    "old, new",
+    [
+        ('name="dof" default=""', 'name="dof" default="6"'),  # a default naming no folder
+        ("arms/$(arg dof)dof/urdf/arm_macro.xacro", "arms/7dof/urdf/arm_macros.xacro"),  # a typo, args unused
+    ],
+)
 def test_a_model_failing_whatever_its_empty_arguments_is_still_an_error(tmp_path, old, new):
     root = dof_workspace(tmp_path)
     model = root / "src/dof_description/robots/arm.xacro"
@@ -500,7 +634,8 @@ def test_a_model_failing_whatever_its_empty_arguments_is_still_an_error(tmp_path
     status, report = verify_report(root, "--no-cache")
     assert status == 1
     assert findings(report, "dof_description") == [
-        ("xacro-error", "robots/arm.xacro", line_of(model, "<xacro:include"))]
+        ("xacro-error", "robots/arm.xacro", line_of(model, "<xacro:include"))
+    ]
 
 
 @pytest.mark.triggers("PF605")
@@ -512,4 +647,5 @@ def test_a_joint_is_placed_at_its_urdf_tag_not_its_ros2_control_mention(every_di
     second = line_of(model, 'type="revolute" name="joint2"')
     assert findings(every_distro, "exported_joint_description") == [
         ("joint-limit-invalid", "urdf/arm.urdf.xacro", first),
-        ("joint-limit-invalid", "urdf/arm.urdf.xacro", second)]
+        ("joint-limit-invalid", "urdf/arm.urdf.xacro", second),
+    ]

@@ -15,10 +15,9 @@ import stat
 from pathlib import Path
 
 import pytest
-
 from conftest import line_of, new_package, run_pkgforge, verify_report
 
-HOSTILE = '''\
+HOSTILE = """\
 import os, shutil, signal, subprocess, sys, tempfile
 from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
@@ -54,9 +53,9 @@ def generate_launch_description():
     subprocess.run(["xacro", os.path.join(share, "urdf", "victim.urdf.xacro"),
                     "-o", os.path.join(share, "urdf", "generated.urdf")], check=True)
     return LaunchDescription([])
-'''
+"""
 
-STOPPING = '''\
+STOPPING = """\
 import os
 from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
@@ -66,10 +65,21 @@ def generate_launch_description():
     urdf = os.path.join(get_package_share_directory("victim"), "urdf", "victim.urdf.xacro")
     open(urdf, "w").write("<robot/>")  # the tutorial pattern, aimed at the model itself
     return LaunchDescription([])
-'''
+"""
 
-OPERATIONS = ("write", "truncate", "delete", "rename", "chmod", "rmtree", "install", "share", "child", "xacro",
-              "kill")
+OPERATIONS = (
+    "write",
+    "truncate",
+    "delete",
+    "rename",
+    "chmod",
+    "rmtree",
+    "install",
+    "share",
+    "child",
+    "xacro",
+    "kill",
+)
 
 
 def fingerprint(folder: Path, skip: tuple[str, ...] = ()) -> dict[str, tuple]:
@@ -87,7 +97,11 @@ def fingerprint(folder: Path, skip: tuple[str, ...] = ()) -> dict[str, tuple]:
                 content = hashlib.sha256(Path(path).read_bytes()).hexdigest()
             else:
                 content = None
-            out[os.path.relpath(path, folder)] = (stat.S_IFMT(info.st_mode), stat.S_IMODE(info.st_mode), content)
+            out[os.path.relpath(path, folder)] = (
+                stat.S_IFMT(info.st_mode),
+                stat.S_IMODE(info.st_mode),
+                content,
+            )
     return out
 
 
@@ -97,7 +111,8 @@ def hostile_workspace(tmp_path_factory) -> Path:
     (workspace / "src").mkdir()
     package = new_package(workspace, "victim")
     (package / "launch" / "hostile.launch.py").write_text(
-        HOSTILE.format(src=str(package), install=str(workspace / "install")))
+        HOSTILE.format(src=str(package), install=str(workspace / "install"))
+    )
     (package / "launch" / "stopping.launch.py").write_text(STOPPING)
     result = run_pkgforge("build", cwd=workspace)
     assert result.returncode == 0, result.stdout + result.stderr
@@ -105,7 +120,9 @@ def hostile_workspace(tmp_path_factory) -> Path:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("mode", [[], ["--build"], ["--install-base", "install"]], ids=["predicted", "build", "install-base"])
+@pytest.mark.parametrize(
+    "mode", [[], ["--build"], ["--install-base", "install"]], ids=["predicted", "build", "install-base"]
+)
 @pytest.mark.triggers("PF316")
 def test_verify_changes_nothing_of_the_users(hostile_workspace, mode):
     workspace = hostile_workspace
@@ -121,16 +138,20 @@ def test_verify_changes_nothing_of_the_users(hostile_workspace, mode):
     for operation in OPERATIONS:
         line = line_of(hostile, f"# op:{operation}")
         assert ("PF316", "src/victim/launch/hostile.launch.py", line) in found, (operation, report)
-    by_line = {d["line"]: d["message"] for d in report["diagnostics"]
-               if d["code"] == "PF316" and d["path"].endswith("hostile.launch.py")}
+    by_line = {
+        d["line"]: d["message"]
+        for d in report["diagnostics"]
+        if d["code"] == "PF316" and d["path"].endswith("hostile.launch.py")
+    }
     assert "pkgforge refused it and kept the file unchanged" in by_line[line_of(hostile, "# op:write")]
     assert str(package / "package.xml") in by_line[line_of(hostile, "# op:write")]
     assert "through a process it starts" in by_line[line_of(hostile, "# op:child")]
     assert "installed share/victim/urdf/macros.xacro" in by_line[line_of(hostile, "# op:share")]
     assert "send signal 9" in by_line[line_of(hostile, "# op:kill")]
     # what the launch file may do is not reported, and it ran to its end
-    assert not {d["line"] for d in report["diagnostics"] if d["path"].endswith("hostile.launch.py")} - \
-        {line_of(hostile, f"# op:{operation}") for operation in OPERATIONS}
+    assert not {d["line"] for d in report["diagnostics"] if d["path"].endswith("hostile.launch.py")} - {
+        line_of(hostile, f"# op:{operation}") for operation in OPERATIONS
+    }
     # the tutorial pattern aimed at the model: refused, located, and the model still checks clean
     stopping = package / "launch" / "stopping.launch.py"
     (stop,) = [d for d in report["diagnostics"] if d["path"].endswith("stopping.launch.py")]
@@ -143,8 +164,7 @@ def test_the_tree_holds_copies_not_links_to_the_source(tmp_path):
     """The predicted tree: small files are copies (writing one cannot reach src/); a large mesh
     stays a link, and the guard copies it before a write."""
     from pkgforge.model.package import load_package
-    from pkgforge.tree import LINK_THRESHOLD
-    from pkgforge.tree import predicted_tree
+    from pkgforge.tree import LINK_THRESHOLD, predicted_tree
 
     (tmp_path / "src").mkdir()
     package = new_package(tmp_path, "copied")
@@ -155,12 +175,17 @@ def test_the_tree_holds_copies_not_links_to_the_source(tmp_path):
     try:
         share = tree.share("copied")
         assert not (share / "urdf" / "copied.urdf.xacro").is_symlink()
-        assert (share / "urdf" / "copied.urdf.xacro").read_bytes() == (package / "urdf" / "copied.urdf.xacro").read_bytes()
+        assert (share / "urdf" / "copied.urdf.xacro").read_bytes() == (
+            package / "urdf" / "copied.urdf.xacro"
+        ).read_bytes()
         assert (share / "meshes" / "big.stl").is_symlink()
         assert tree.origin(str(share / "package.xml")) == str((package / "package.xml").resolve())
         from pkgforge.launch.resolve import source_of
 
-        assert source_of(share / "urdf" / "copied.urdf.xacro", tree, model) == package / "urdf" / "copied.urdf.xacro"
+        assert (
+            source_of(share / "urdf" / "copied.urdf.xacro", tree, model)
+            == package / "urdf" / "copied.urdf.xacro"
+        )
     finally:
         tree.close()
     assert not Path(tree.root).exists()
@@ -183,16 +208,23 @@ def test_the_guard_reaches_child_python_processes(tmp_path):
     site = Path(guard.__file__).parent / "guard_site"
     env = dict(os.environ, PYTHONPATH=str(site), PKGFORGE_SANDBOX=str(sandbox))
     env.pop(guard.ROOT_PID_VARIABLE, None)
-    script = (f"import os, signal\n"
-              f"open({str(sandbox / 'own.txt')!r}, 'w').write('ok')\n"
-              f"for action in (lambda: open({str(user)!r}, 'w'), lambda: os.remove({str(user)!r}),\n"
-              f"               lambda: os.kill(os.getppid(), signal.{signal.Signals.SIGTERM.name})):\n"
-              f"    try:\n        action()\n    except PermissionError as error:\n        print(error)\n")
-    result = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=60)
+    script = (
+        f"import os, signal\n"
+        f"open({str(sandbox / 'own.txt')!r}, 'w').write('ok')\n"
+        f"for action in (lambda: open({str(user)!r}, 'w'), lambda: os.remove({str(user)!r}),\n"
+        f"               lambda: os.kill(os.getppid(), signal.{signal.Signals.SIGTERM.name})):\n"
+        f"    try:\n        action()\n    except PermissionError as error:\n        print(error)\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=60
+    )
     assert result.returncode == 0, result.stderr
     assert result.stdout.count("pkgforge refused") == 3, result.stdout
     assert user.read_text() == "mine\n" and (sandbox / "own.txt").read_text() == "ok"
     (log,) = sandbox.glob(".refused-*")  # the process started without a worker: its own pid
     logged = [json.loads(line) for line in log.read_text().splitlines()]
     assert [(r["operation"], r["path"]) for r in logged] == [
-        ("write", str(user)), ("delete", str(user)), (f"send signal {int(signal.SIGTERM)} to", f"process {os.getpid()}")]
+        ("write", str(user)),
+        ("delete", str(user)),
+        (f"send signal {int(signal.SIGTERM)} to", f"process {os.getpid()}"),
+    ]

@@ -1,7 +1,6 @@
 import struct
 
-from pkgforge.scaffold.stl import binary_stl
-from pkgforge.scaffold.stl import box_triangles
+from pkgforge.scaffold.stl import binary_stl, box_triangles
 
 
 def test_box_is_a_valid_binary_stl():

@@ -10,14 +10,15 @@ import shutil
 from pathlib import Path
 
 import pytest
-
 from conftest import FIXTURES, MAINTAINER, at_least, copy_fixture, edit, line_of, run_pkgforge, verify_report
 
 verify_json = verify_report
 
 
 def findings(report: dict, minimum: str = "info") -> list[tuple]:
-    return sorted((d["code"], d["name"], d["severity"], d["path"], d["line"]) for d in at_least(report, minimum))
+    return sorted(
+        (d["code"], d["name"], d["severity"], d["path"], d["line"]) for d in at_least(report, minimum)
+    )
 
 
 def test_clean_package_has_no_diagnostics(package):
@@ -31,9 +32,10 @@ def test_manifest_invalid_missing_license(package):
     edit(manifest, "  <license>Apache-2.0</license>\n", "")
     status, report = verify_json(package)
     assert status == 1
-    assert findings(report) == [("PF101", "manifest-invalid", "error", "package.xml",
-                                 line_of(manifest, '<package format="3">'))]
-    assert 'license' in report["diagnostics"][0]["message"]
+    assert findings(report) == [
+        ("PF101", "manifest-invalid", "error", "package.xml", line_of(manifest, '<package format="3">'))
+    ]
+    assert "license" in report["diagnostics"][0]["message"]
 
 
 @pytest.mark.triggers("PF101")
@@ -67,8 +69,9 @@ def test_package_name_invalid(tmp_path, template_package):
             path.write_text(path.read_text().replace("rob_description", "Rob_description"))
     (target / "urdf" / "rob_description.urdf.xacro").rename(target / "urdf" / "Rob_description.urdf.xacro")
     status, report = verify_json(target)
-    assert findings(report) == [("PF102", "package-name-invalid", "error", "package.xml",
-                                 line_of(target / "package.xml", "<name>"))]
+    assert findings(report) == [
+        ("PF102", "package-name-invalid", "error", "package.xml", line_of(target / "package.xml", "<name>"))
+    ]
     assert "upper-case" in report["diagnostics"][0]["message"]
 
 
@@ -77,13 +80,19 @@ def test_project_name_mismatch(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "project(rob_description NONE)", "project(robot_description NONE)")
     status, report = verify_json(package, "--select", "PF1,PF2,PF9")
-    assert findings(report) == [("PF103", "project-name-mismatch", "error", "CMakeLists.txt",
-                                 line_of(cmake, "project("))]
+    assert findings(report) == [
+        ("PF103", "project-name-mismatch", "error", "CMakeLists.txt", line_of(cmake, "project("))
+    ]
     # and what it breaks: the package installs as robot_description, so $(find rob_description) fails
     _, report = verify_json(package)
     model = package / "urdf" / "rob_description.urdf.xacro"
-    assert ("PF308", "xacro-error", "error", "urdf/rob_description.urdf.xacro",
-            line_of(model, "$(find rob_description)")) in findings(report)
+    assert (
+        "PF308",
+        "xacro-error",
+        "error",
+        "urdf/rob_description.urdf.xacro",
+        line_of(model, "$(find rob_description)"),
+    ) in findings(report)
 
 
 @pytest.mark.triggers("PF104")
@@ -94,8 +103,9 @@ def test_folder_name_mismatch(package):
     assert status == 0
     # info (issue 12): repositories name folders differently on purpose; a use of the folder
     # name as a package name is unknown-package's
-    assert findings(report) == [("PF104", "folder-name-mismatch", "info", "package.xml",
-                                 line_of(renamed / "package.xml", "<name>"))]
+    assert findings(report) == [
+        ("PF104", "folder-name-mismatch", "info", "package.xml", line_of(renamed / "package.xml", "<name>"))
+    ]
 
 
 @pytest.mark.triggers("PF105")
@@ -105,41 +115,60 @@ def test_build_type_missing(package):
     start, end = content.index("  <export>"), content.index("</export>") + len("</export>\n")
     manifest.write_text(content[:start] + content[end:])
     status, report = verify_json(package)
-    assert findings(report) == [("PF105", "build-type-missing", "error", "package.xml",
-                                 line_of(manifest, '<package format="3">'))]
+    assert findings(report) == [
+        ("PF105", "build-type-missing", "error", "package.xml", line_of(manifest, '<package format="3">'))
+    ]
     assert "<build_type>ament_cmake</build_type>" in report["diagnostics"][0]["hint"]
 
 
 @pytest.mark.triggers("PF106")
 def test_duplicate_dependency(package):
     manifest = package / "package.xml"
-    edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
-         "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n")
+    edit(
+        manifest,
+        "  <exec_depend>xacro</exec_depend>\n",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n",
+    )
     status, report = verify_json(package)
     assert status == 0
-    assert findings(report) == [("PF106", "duplicate-dependency", "warning", "package.xml",
-                                 line_of(manifest, "<exec_depend>xacro") + 1)]
+    assert findings(report) == [
+        (
+            "PF106",
+            "duplicate-dependency",
+            "warning",
+            "package.xml",
+            line_of(manifest, "<exec_depend>xacro") + 1,
+        )
+    ]
 
 
 def test_duplicate_generic_dependency_is_an_error(package):
     manifest = package / "package.xml"
-    edit(manifest, "  <exec_depend>rviz2</exec_depend>\n",
-         "  <depend>rviz2</depend>\n  <exec_depend>rviz2</exec_depend>\n")
+    edit(
+        manifest,
+        "  <exec_depend>rviz2</exec_depend>\n",
+        "  <depend>rviz2</depend>\n  <exec_depend>rviz2</exec_depend>\n",
+    )
     status, report = verify_json(package)
     assert status == 1
-    assert findings(report) == [("PF106", "duplicate-dependency", "error", "package.xml",
-                                 line_of(manifest, "<exec_depend>rviz2"))]
+    assert findings(report) == [
+        ("PF106", "duplicate-dependency", "error", "package.xml", line_of(manifest, "<exec_depend>rviz2"))
+    ]
 
 
 @pytest.mark.triggers("PF107")
 def test_unused_exec_depend(package):
     manifest = package / "package.xml"
-    edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
-         "  <exec_depend>xacro</exec_depend>\n  <exec_depend>gazebo_ros</exec_depend>\n")
+    edit(
+        manifest,
+        "  <exec_depend>xacro</exec_depend>\n",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>gazebo_ros</exec_depend>\n",
+    )
     status, report = verify_json(package)
     assert status == 0
-    assert findings(report) == [("PF107", "unused-exec-depend", "info", "package.xml",
-                                 line_of(manifest, "gazebo_ros"))]
+    assert findings(report) == [
+        ("PF107", "unused-exec-depend", "info", "package.xml", line_of(manifest, "gazebo_ros"))
+    ]
 
 
 @pytest.mark.triggers("PF201")
@@ -148,7 +177,9 @@ def test_install_missing_directory_seed001(tmp_path):
     status, report = verify_json(package)
     assert status == 1
     rule_line = line_of(package / "CMakeLists.txt", "install(DIRECTORY")
-    assert findings(report) == [("PF201", "install-missing-directory", "error", "CMakeLists.txt", rule_line)] * 2
+    assert (
+        findings(report) == [("PF201", "install-missing-directory", "error", "CMakeLists.txt", rule_line)] * 2
+    )
     messages = [d["message"] for d in report["diagnostics"]]
     assert any("'worlds'" in m for m in messages) and any("'models'" in m for m in messages)
     assert [d["column"] for d in report["diagnostics"]] == [26, 45]
@@ -163,8 +194,10 @@ def test_directory_not_installed_referenced_is_an_error(package):
     assert status == 1
     assert findings(report) == [("PF202", "directory-not-installed", "error", "rviz", None)]
     diagnostic = report["diagnostics"][0]
-    assert f"launch/display.launch.py:{line_of(package / 'launch' / 'display.launch.py', 'display.rviz')}" \
+    assert (
+        f"launch/display.launch.py:{line_of(package / 'launch' / 'display.launch.py', 'display.rviz')}"
         in diagnostic["message"]
+    )
     assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in diagnostic["hint"]
 
 
@@ -176,8 +209,15 @@ def test_folder_a_launch_file_needs_is_reported_at_the_launch_line(package):
     status, report = verify_json(package)
     assert status == 1
     launch = package / "launch" / "display.launch.py"
-    assert findings(report) == [("PF302", "uninstalled-reference", "error", "launch/display.launch.py",
-                                 line_of(launch, "'rviz', 'display.rviz'"))]
+    assert findings(report) == [
+        (
+            "PF302",
+            "uninstalled-reference",
+            "error",
+            "launch/display.launch.py",
+            line_of(launch, "'rviz', 'display.rviz'"),
+        )
+    ]
     assert f"CMakeLists.txt:{line_of(cmake, 'install(')}" in report["diagnostics"][0]["hint"]
 
 
@@ -195,8 +235,13 @@ def test_seed000_shape(tmp_path):
     status, report = verify_json(package, "--select", "PF1,PF2")
     assert status == 1
     assert findings(report, "warning") == [("PF202", "directory-not-installed", "error", "rviz", None)]
-    assert ("PF104", "folder-name-mismatch", "info", "package.xml",
-            line_of(package / "package.xml", "<name>")) in findings(report)
+    assert (
+        "PF104",
+        "folder-name-mismatch",
+        "info",
+        "package.xml",
+        line_of(package / "package.xml", "<name>"),
+    ) in findings(report)
     rviz = next(d for d in report["diagnostics"] if d["code"] == "PF202")
     assert f"CMakeLists.txt:{line_of(package / 'CMakeLists.txt', 'install(')}" in rviz["hint"]
 
@@ -206,11 +251,21 @@ def test_seed000_shape_with_launch_resolution(tmp_path):
     status, report = verify_json(package)
     launch = package / "launch" / "display.launch.py"
     assert findings(report, "warning") == [
-        ("PF302", "uninstalled-reference", "error", "launch/display.launch.py",
-         line_of(launch, "rviz_config_path = ")),
+        (
+            "PF302",
+            "uninstalled-reference",
+            "error",
+            "launch/display.launch.py",
+            line_of(launch, "rviz_config_path = "),
+        ),
     ]
-    assert ("PF104", "folder-name-mismatch", "info", "package.xml",
-            line_of(package / "package.xml", "<name>")) in findings(report)
+    assert (
+        "PF104",
+        "folder-name-mismatch",
+        "info",
+        "package.xml",
+        line_of(package / "package.xml", "<name>"),
+    ) in findings(report)
 
 
 @pytest.mark.triggers("PF203")
@@ -218,16 +273,24 @@ def test_install_wrong_destination(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "ament_package()", "install(DIRECTORY urdf DESTINATION share)\nament_package()")
     status, report = verify_json(package)
-    assert findings(report) == [("PF203", "install-wrong-destination", "error", "CMakeLists.txt",
-                                 line_of(cmake, "DESTINATION share)"))]
+    assert findings(report) == [
+        (
+            "PF203",
+            "install-wrong-destination",
+            "error",
+            "CMakeLists.txt",
+            line_of(cmake, "DESTINATION share)"),
+        )
+    ]
 
 
 def test_cmake_invalid_unterminated_argument(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "DESTINATION share/${PROJECT_NAME}", 'DESTINATION "share/${PROJECT_NAME}')
     status, report = verify_json(package)
-    assert findings(report) == [("PF204", "cmake-invalid", "error", "CMakeLists.txt",
-                                 line_of(cmake, 'DESTINATION "'))]
+    assert findings(report) == [
+        ("PF204", "cmake-invalid", "error", "CMakeLists.txt", line_of(cmake, 'DESTINATION "'))
+    ]
     assert "unterminated quoted argument" in report["diagnostics"][0]["message"]
 
 
@@ -248,37 +311,50 @@ def test_ament_package_missing(package):
 @pytest.mark.triggers("PF206")
 def test_install_rule_unevaluated(package):
     cmake = package / "CMakeLists.txt"
-    edit(cmake, "ament_package()", "install(DIRECTORY $ENV{EXTRA} DESTINATION share/${PROJECT_NAME})\nament_package()")
+    edit(
+        cmake,
+        "ament_package()",
+        "install(DIRECTORY $ENV{EXTRA} DESTINATION share/${PROJECT_NAME})\nament_package()",
+    )
     status, report = verify_json(package)
     assert status == 0
-    assert findings(report) == [("PF206", "install-rule-unevaluated", "info", "CMakeLists.txt",
-                                 line_of(cmake, "$ENV{EXTRA}"))]
+    assert findings(report) == [
+        ("PF206", "install-rule-unevaluated", "info", "CMakeLists.txt", line_of(cmake, "$ENV{EXTRA}"))
+    ]
 
 
 @pytest.mark.triggers("PF207")
 def test_install_missing_file(package):
     cmake = package / "CMakeLists.txt"
-    edit(cmake, "ament_package()", "install(FILES README.md DESTINATION share/${PROJECT_NAME})\nament_package()")
+    edit(
+        cmake,
+        "ament_package()",
+        "install(FILES README.md DESTINATION share/${PROJECT_NAME})\nament_package()",
+    )
     status, report = verify_json(package)
-    assert findings(report) == [("PF207", "install-missing-file", "error", "CMakeLists.txt",
-                                 line_of(cmake, "README.md"))]
+    assert findings(report) == [
+        ("PF207", "install-missing-file", "error", "CMakeLists.txt", line_of(cmake, "README.md"))
+    ]
 
 
 @pytest.mark.triggers("PF208")
 def test_setup_py_invalid(tmp_path):
-    result = run_pkgforge("new", "rob_py", *MAINTAINER, "--build-type", "ament_python",
-                          "--destination", "src", cwd=tmp_path)
+    result = run_pkgforge(
+        "new", "rob_py", *MAINTAINER, "--build-type", "ament_python", "--destination", "src", cwd=tmp_path
+    )
     assert result.returncode == 0
     setup = tmp_path / "src" / "rob_py" / "setup.py"
     edit(setup, "zip_safe=True,", "zip_safe=True,,")
     status, report = verify_json(tmp_path)
-    assert findings(report) == [("PF208", "setup-py-invalid", "error", "src/rob_py/setup.py",
-                                 line_of(setup, "zip_safe"))]
+    assert findings(report) == [
+        ("PF208", "setup-py-invalid", "error", "src/rob_py/setup.py", line_of(setup, "zip_safe"))
+    ]
 
 
 def test_ament_python_data_files_missing_folder(tmp_path):
-    result = run_pkgforge("new", "rob_py", *MAINTAINER, "--build-type", "ament_python",
-                          "--destination", "src", cwd=tmp_path)
+    result = run_pkgforge(
+        "new", "rob_py", *MAINTAINER, "--build-type", "ament_python", "--destination", "src", cwd=tmp_path
+    )
     assert result.returncode == 0
     setup = tmp_path / "src" / "rob_py" / "setup.py"
     edit(setup, "        *share_files('rviz'),\n", "")
@@ -287,8 +363,15 @@ def test_ament_python_data_files_missing_folder(tmp_path):
     assert "data_files in setup.py" in report["diagnostics"][0]["hint"]
     status, report = verify_json(tmp_path)
     launch = tmp_path / "src" / "rob_py" / "launch" / "display.launch.py"
-    assert findings(report) == [("PF302", "uninstalled-reference", "error", "src/rob_py/launch/display.launch.py",
-                                 line_of(launch, "'rviz', 'display.rviz'"))]
+    assert findings(report) == [
+        (
+            "PF302",
+            "uninstalled-reference",
+            "error",
+            "src/rob_py/launch/display.launch.py",
+            line_of(launch, "'rviz', 'display.rviz'"),
+        )
+    ]
     assert "data_files in setup.py" in report["diagnostics"][0]["hint"]
 
 
@@ -328,6 +411,7 @@ def test_missing_path_is_exit_2(tmp_path):
 
 # --- configuration --------------------------------------------------------------------------
 
+
 def test_select_and_ignore(tmp_path):
     copy_fixture("seed000/rob_description", tmp_path)
     _, report = verify_json(tmp_path, "--select", "PF1")
@@ -346,7 +430,8 @@ def test_unknown_check_name_is_exit_2(tmp_path):
 def test_pkgforge_toml_workspace_and_package(tmp_path):
     copy_fixture("seed000/rob_description", tmp_path)
     (tmp_path / "pkgforge.toml").write_text(
-        '[verify]\nignore = ["PF107"]\n[verify.packages.robot_description]\nignore = ["directory-not-installed", "PF302"]\n')
+        '[verify]\nignore = ["PF107"]\n[verify.packages.robot_description]\nignore = ["directory-not-installed", "PF302"]\n'
+    )
     status, report = verify_json(tmp_path)
     assert status == 0
     assert {d["code"] for d in report["diagnostics"]} == {"PF104"}
@@ -364,13 +449,19 @@ def test_bad_pkgforge_toml_is_exit_2(tmp_path):
 
 def test_inline_suppression_cmake_and_xml(package):
     cmake = package / "CMakeLists.txt"
-    edit(cmake, "ament_package()",
-         "# pkgforge: ignore=install-missing-file\ninstall(FILES README.md DESTINATION share/${PROJECT_NAME})\n"
-         "ament_package()")
+    edit(
+        cmake,
+        "ament_package()",
+        "# pkgforge: ignore=install-missing-file\ninstall(FILES README.md DESTINATION share/${PROJECT_NAME})\n"
+        "ament_package()",
+    )
     manifest = package / "package.xml"
-    edit(manifest, "  <exec_depend>xacro</exec_depend>\n",
-         "  <exec_depend>xacro</exec_depend>\n  <!-- pkgforge: ignore=PF107 -->\n"
-         "  <exec_depend>gazebo_ros</exec_depend>\n")
+    edit(
+        manifest,
+        "  <exec_depend>xacro</exec_depend>\n",
+        "  <exec_depend>xacro</exec_depend>\n  <!-- pkgforge: ignore=PF107 -->\n"
+        "  <exec_depend>gazebo_ros</exec_depend>\n",
+    )
     status, report = verify_json(package)
     assert status == 0
     assert report["diagnostics"] == []
@@ -388,8 +479,10 @@ def test_text_format(tmp_path):
     result = run_pkgforge("verify", cwd=tmp_path)
     assert result.returncode == 1
     lines = result.stdout.splitlines()
-    assert lines[0] == ("src/small_turtle/CMakeLists.txt:6:26: PF201 [error] install(DIRECTORY) names "
-                        "'worlds', which does not exist in small_turtle (install-missing-directory)")
+    assert lines[0] == (
+        "src/small_turtle/CMakeLists.txt:6:26: PF201 [error] install(DIRECTORY) names "
+        "'worlds', which does not exist in small_turtle (install-missing-directory)"
+    )
     assert lines[1].startswith("    hint: remove 'worlds' from the install rule at CMakeLists.txt:6")
     assert lines[-1] == "2 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine (lyrical)"
     assert "\x1b[" not in result.stdout  # no colour when not on a terminal
@@ -415,8 +508,12 @@ def test_one_package_is_identified_as_colcons_discovery_of_the_workspace_does(tm
     assert [(p["name"], p["build_type"]) for p in one["packages"]] == [("small_turtle", entry["build_type"])]
 
     def seen(report):
-        return sorted((d["code"], Path(d["path"]).name, d["line"], d["message"]) for d in report["diagnostics"]
-                      if d["package"] == "small_turtle")
+        return sorted(
+            (d["code"], Path(d["path"]).name, d["line"], d["message"])
+            for d in report["diagnostics"]
+            if d["package"] == "small_turtle"
+        )
+
     assert seen(one) == seen(whole) and seen(one)
 
 

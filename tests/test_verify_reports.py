@@ -9,11 +9,10 @@ from pathlib import Path
 
 import jsonschema
 import pytest
+from conftest import VARIANTS, copy_fixture, run_pkgforge
 from lxml import etree
 
 from pkgforge.checks.catalogue import checks_markdown
-
-from conftest import VARIANTS, copy_fixture, run_pkgforge
 
 REPO = Path(__file__).resolve().parent.parent
 SCHEMAS = Path(__file__).parent / "schemas"
@@ -25,27 +24,60 @@ JSON_REPORT_SCHEMA = {
     "required": ["version", "packages", "diagnostics", "summary", "launch"],
     "properties": {
         "version": {"const": 1},
-        "packages": {"type": "array", "items": {
-            "type": "object", "additionalProperties": False,
-            "required": ["name", "path", "build_type"],
-            "properties": {"name": {"type": "string"}, "path": {"type": "string"},
-                           "build_type": {"type": "string"}}}},
-        "diagnostics": {"type": "array", "items": {
-            "type": "object", "additionalProperties": False,
-            "required": ["code", "name", "severity", "package", "path", "line", "column", "message", "hint"],
-            "properties": {
-                "code": {"type": "string", "pattern": "^PF[0-9]{3}$"},
-                "name": {"type": "string", "pattern": "^[a-z0-9]+(-[a-z0-9]+)*$"},
-                "severity": {"enum": ["error", "warning", "info"]},
-                "package": {"type": "string"}, "path": {"type": "string"},
-                "line": NULLABLE_INT, "column": NULLABLE_INT,
-                "message": {"type": "string"}, "hint": {"type": "string"}}}},
-        "summary": {"type": "object", "additionalProperties": False,
-                    "required": ["errors", "warnings", "infos", "packages"],
-                    "properties": {k: {"type": "integer"} for k in ("errors", "warnings", "infos", "packages")}},
-        "launch": {"type": "object", "additionalProperties": False, "required": ["engine", "distro"],
-                   "properties": {"engine": {"enum": ["builtin", "ros"]},
-                                  "distro": {"type": ["string", "null"]}}},
+        "packages": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "additionalProperties": False,
+                "required": ["name", "path", "build_type"],
+                "properties": {
+                    "name": {"type": "string"},
+                    "path": {"type": "string"},
+                    "build_type": {"type": "string"},
+                },
+            },
+        },
+        "diagnostics": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "additionalProperties": False,
+                "required": [
+                    "code",
+                    "name",
+                    "severity",
+                    "package",
+                    "path",
+                    "line",
+                    "column",
+                    "message",
+                    "hint",
+                ],
+                "properties": {
+                    "code": {"type": "string", "pattern": "^PF[0-9]{3}$"},
+                    "name": {"type": "string", "pattern": "^[a-z0-9]+(-[a-z0-9]+)*$"},
+                    "severity": {"enum": ["error", "warning", "info"]},
+                    "package": {"type": "string"},
+                    "path": {"type": "string"},
+                    "line": NULLABLE_INT,
+                    "column": NULLABLE_INT,
+                    "message": {"type": "string"},
+                    "hint": {"type": "string"},
+                },
+            },
+        },
+        "summary": {
+            "type": "object",
+            "additionalProperties": False,
+            "required": ["errors", "warnings", "infos", "packages"],
+            "properties": {k: {"type": "integer"} for k in ("errors", "warnings", "infos", "packages")},
+        },
+        "launch": {
+            "type": "object",
+            "additionalProperties": False,
+            "required": ["engine", "distro"],
+            "properties": {"engine": {"enum": ["builtin", "ros"]}, "distro": {"type": ["string", "null"]}},
+        },
     },
 }
 
@@ -76,7 +108,10 @@ def test_junit_validates(broken_workspace, tmp_path):
     output = tmp_path / "report.xml"
     result = run_pkgforge("verify", "--format", "junit", "--output", output, cwd=broken_workspace)
     assert result.returncode == 1
-    assert result.stderr.strip() == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
+    assert (
+        result.stderr.strip()
+        == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
+    )
     document = etree.parse(str(output))
     etree.XMLSchema(etree.parse(str(SCHEMAS / "junit.xsd"))).assertValid(document)
     suites = {s.get("name"): s for s in document.getroot()}
@@ -99,19 +134,24 @@ def test_sarif_validates_against_the_oasis_schema(broken_workspace):
 
 def test_github_annotations(broken_workspace):
     lines = run_format(broken_workspace, "github").splitlines()
-    pattern = re.compile(r"^::(error|warning|notice) file=[^,:]+(,line=\d+(,col=\d+)?)?,title=PF\d{3} [a-z-]+::.+$")
+    pattern = re.compile(
+        r"^::(error|warning|notice) file=[^,:]+(,line=\d+(,col=\d+)?)?,title=PF\d{3} [a-z-]+::.+$"
+    )
     annotations = lines[:-1]
     assert len(annotations) == 5
     assert all(pattern.match(line) for line in annotations), annotations
-    assert "::error file=src/small_turtle/CMakeLists.txt,line=6,col=26,title=PF201 install-missing-directory::" \
+    assert (
+        "::error file=src/small_turtle/CMakeLists.txt,line=6,col=26,title=PF201 install-missing-directory::"
         in "\n".join(annotations)
+    )
     assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
 
 
 def test_docs_checks_md_is_generated_from_the_registry():
     documented = (REPO / "docs" / "checks.md").read_text()
-    assert documented == checks_markdown(), \
+    assert documented == checks_markdown(), (
         "docs/checks.md is stale: run `pkgforge checks --format markdown > docs/checks.md`"
+    )
 
 
 def test_checks_command_lists_the_registry():

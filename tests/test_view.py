@@ -7,7 +7,6 @@ import shutil
 from pathlib import Path
 
 import pytest
-
 from conftest import FIXTURES, new_package, run_pkgforge
 
 pytest.importorskip("trimesh", reason="the `view` extra: pip install -e '.[view]'")
@@ -32,8 +31,7 @@ def silhouette(path: Path, area) -> tuple[int, int]:
 
 def expected_bounds(model: Path, resolve) -> tuple:
     """The model's bounds from the pure-Python numbers (robot.py, physics.py), not the renderer's."""
-    from pkgforge.urdf import physics
-    from pkgforge.urdf import robot
+    from pkgforge.urdf import physics, robot
 
     data = robot.process_model(str(model), {})
     assert data["status"] == "ok", data
@@ -52,11 +50,15 @@ def assert_views_match(out: Path, stem: str, bounds) -> None:
         measured = np.array([width, height]) / info["pixels_per_metre"]
         if info["view"] in AXES:
             wanted = extent[list(AXES[info["view"]])]
-            assert np.allclose(measured, wanted, rtol=0.10, atol=2 / info["pixels_per_metre"]), \
-                (info["view"], measured, wanted)
+            assert np.allclose(measured, wanted, rtol=0.10, atol=2 / info["pixels_per_metre"]), (
+                info["view"],
+                measured,
+                wanted,
+            )
         else:  # the box's projected corners bound the silhouette from outside
-            corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
-                                for z in (low[2], high[2])])
+            corners = np.array(
+                [[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])]
+            )
             screen = project(corners, info["view"])[:, :2]
             box = screen.max(axis=0) - screen.min(axis=0)
             assert np.all(measured <= box * 1.10) and np.all(measured >= box * 0.6), (measured, box)
@@ -74,15 +76,18 @@ def test_the_scaffold_renders_in_every_view(tmp_path):
     # the size `--explain-model` gives (xacro in verify's worker, pure-Python bounds): not the renderer's
     model = package / "urdf" / "demo_description.urdf.xacro"
     explained = run_pkgforge("verify", package, "--explain-model", model, cwd=tmp_path)
-    line = next(l for l in explained.stdout.splitlines() if l.startswith("size: "))
+    line = next(each for each in explained.stdout.splitlines() if each.startswith("size: "))
     extent = [float(v) for v in line.split(" m ")[0].removeprefix("size: ").split(" × ")]
     assert_views_match(out, "demo_description-", ((0.0, 0.0, 0.0), tuple(extent)))
     svg = next(out.glob("*-tree.svg")).read_text()
     assert "arm_joint (revolute)" in svg and "axis " in svg
 
 
-ERD_ROBOTS = {"panda": "panda_description/urdf/panda.urdf", "ur5": "ur_description/urdf/ur5_robot.urdf",
-              "go2": "go2_description/urdf/go2.urdf"}
+ERD_ROBOTS = {
+    "panda": "panda_description/urdf/panda.urdf",
+    "ur5": "ur_description/urdf/ur5_robot.urdf",
+    "go2": "go2_description/urdf/go2.urdf",
+}
 
 
 @pytest.mark.parametrize("name", sorted(ERD_ROBOTS))
@@ -98,7 +103,7 @@ def test_example_robot_data_renders_in_every_view(tmp_path, name):
 
     def resolve(uri):
         prefix = "package://example-robot-data/"
-        return share / uri[len(prefix):] if uri.startswith(prefix) else None
+        return share / uri[len(prefix) :] if uri.startswith(prefix) else None
 
     assert_views_match(out, "example-robot-data-", expected_bounds(model, resolve))
 
@@ -116,8 +121,9 @@ def test_a_moved_joint_gives_a_different_image(tmp_path):
         result = run_pkgforge("view", ".", "-o", out, *extra, cwd=tmp_path)
         assert result.returncode == 0, result.stderr
         images[label] = np.asarray(Image.open(out / "phys_description-robot-top.png"))
-        assert json.loads((out / "view.json").read_text())["models"][0]["joints"] == \
-            ({"shoulder": 0.7} if extra else {})
+        assert json.loads((out / "view.json").read_text())["models"][0]["joints"] == (
+            {"shoulder": 0.7} if extra else {}
+        )
     assert (images["zero"] != images["moved"]).any()
 
 
@@ -147,8 +153,9 @@ def test_verify_artifacts_writes_the_images_and_a_summary(tmp_path):
     result = run_pkgforge("verify", ".", "--artifacts", out, cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        [f"phys_description-robot-{v}.png" for v in VIEWS] + ["phys_description-robot-tree.svg",
-                                                              "summary.md", "view.json"])
+        [f"phys_description-robot-{v}.png" for v in VIEWS]
+        + ["phys_description-robot-tree.svg", "summary.md", "view.json"]
+    )
     summary = (out / "summary.md").read_text()
     assert "![front](phys_description-robot-front.png)" in summary
     assert "size 0.2 x 0.2 x 0.4 m" in summary
@@ -166,7 +173,11 @@ def test_without_the_view_extra_verify_still_works_and_says_how_to_install(tmp_p
     result = run_pkgforge("verify", ".", "--artifacts", out, cwd=tmp_path, env=env)
     assert result.returncode == 0, result.stdout + result.stderr
     assert "pip install 'ros-pkgforge[view]'" in result.stderr and "Traceback" not in result.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["phys_description-robot-tree.svg", "summary.md", "view.json"]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "phys_description-robot-tree.svg",
+        "summary.md",
+        "view.json",
+    ]
     view = run_pkgforge("view", ".", "-o", tmp_path / "out", cwd=tmp_path, env=env)
     assert view.returncode == 2 and "pip install 'ros-pkgforge[view]'" in view.stderr
     assert not (tmp_path / "out").exists()

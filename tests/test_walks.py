@@ -7,7 +7,6 @@ import os
 from pathlib import Path
 
 import pytest
-
 from conftest import hand_made_install, run_pkgforge, verify_report
 
 # a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
@@ -39,8 +38,11 @@ def nest(request):
 
 def codes(report: dict, minimum: str = "warning") -> list[tuple]:
     order = ["info", "warning", "error"]
-    return sorted((d["code"], d["path"]) for d in report["diagnostics"]
-                  if order.index(d["severity"]) >= order.index(minimum))
+    return sorted(
+        (d["code"], d["path"])
+        for d in report["diagnostics"]
+        if order.index(d["severity"]) >= order.index(minimum)
+    )
 
 
 def test_link_cycles_in_a_real_build_end_and_deep_nesting_is_named(package, nest):
@@ -55,7 +57,8 @@ def test_link_cycles_in_a_real_build_end_and_deep_nesting_is_named(package, nest
     import json
 
     assert [(d["code"], d["path"]) for d in json.loads(result.stdout)["diagnostics"]] == [
-        ("PF903", "src/rob_description/urdf" + "/d" * 63)]
+        ("PF903", "src/rob_description/urdf" + "/d" * 63)
+    ]
 
 
 def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
@@ -77,8 +80,9 @@ def test_link_cycles_and_links_out_of_an_install_base(package, tmp_path):
 def test_deep_nesting_in_the_package_is_reported_not_a_recursion_error(package, nest):
     deepest = nest(package / "meshes", 1000)
     (deepest / "part.stl").write_bytes(b"solid x\nendsolid x\n")
-    result = run_pkgforge("verify", "--format", "json", "--no-cache", cwd=package.parent.parent,
-                          timeout=HANG_GUARD)
+    result = run_pkgforge(
+        "verify", "--format", "json", "--no-cache", cwd=package.parent.parent, timeout=HANG_GUARD
+    )
     assert "Traceback" not in result.stderr and "RecursionError" not in result.stdout, result.stderr
     assert result.returncode == 0, result.stdout + result.stderr
     import json
@@ -106,9 +110,13 @@ def test_deep_nesting_in_an_install_base_is_reported(package, nest, layout):
     # no source folder matches it: the folder of the user's install base is named, 64 below the share
     relative = share.relative_to(workspace)
     assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == (
-        "PF903", f"{relative}/launch" + "/d" * 63, None)
-    assert diagnostic["message"] == ("folders nest more than 64 deep below this one: pkgforge did not "
-                                     "look inside")
+        "PF903",
+        f"{relative}/launch" + "/d" * 63,
+        None,
+    )
+    assert diagnostic["message"] == (
+        "folders nest more than 64 deep below this one: pkgforge did not look inside"
+    )
 
 
 def test_deep_nesting_in_package_and_install_base_is_one_diagnostic_at_the_source(package, nest):
@@ -122,4 +130,5 @@ def test_deep_nesting_in_package_and_install_base_is_one_diagnostic_at_the_sourc
         status, report = verify_report(workspace, *args, "--no-cache", "--select", "PF3,PF9")
         assert status == 0
         assert [(d["code"], d["path"]) for d in report["diagnostics"]] == [
-            ("PF903", "src/rob_description/meshes" + "/d" * 63)], args
+            ("PF903", "src/rob_description/meshes" + "/d" * 63)
+        ], args

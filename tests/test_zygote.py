@@ -6,13 +6,11 @@ from __future__ import annotations
 import os
 
 import pytest
-
-from pkgforge.verify.config import Selection
-from pkgforge.errors import PkgforgeError
-from pkgforge.verify.pipeline import VerifyOptions
-from pkgforge.verify.pipeline import _early_zygote
-from pkgforge.verify.pipeline import verify
 from test_processes import MARKER, marked
+
+from pkgforge.errors import PkgforgeError
+from pkgforge.verify.config import Selection
+from pkgforge.verify.pipeline import VerifyOptions, _early_zygote, verify
 
 
 def _fork_servers() -> list[int]:

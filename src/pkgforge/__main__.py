@@ -2,6 +2,6 @@ from pkgforge.sandbox.processes import install_signal_handlers
 
 install_signal_handlers()  # before the slower imports: a Ctrl-C at start-up exits 130 too
 
-from .cli import main  # noqa: E402
+from pkgforge.cli import main  # noqa: E402
 
 main()

@@ -13,15 +13,11 @@ if sys.argv and os.path.basename(sys.argv[0]) == "pkgforge":  # the console scri
 
 import click  # noqa: E402
 
-from . import __version__  # noqa: E402
-from pkgforge.model.distros import DISTROS
-from pkgforge.model.distros import NEWEST_LTS
-from pkgforge.model.distros import default_distro
-from .errors import PkgforgeError  # noqa: E402
-from .report import COLOR_CHOICES, FORMATS  # noqa: E402
-from pkgforge.scaffold.kinds import BUILD_TYPES
-from pkgforge.scaffold.kinds import CI_SYSTEMS
-from pkgforge.scaffold.kinds import LAUNCH_FORMATS
+from pkgforge import __version__  # noqa: E402
+from pkgforge.errors import PkgforgeError  # noqa: E402
+from pkgforge.model.distros import DISTROS, NEWEST_LTS, default_distro
+from pkgforge.report import COLOR_CHOICES, FORMATS  # noqa: E402
+from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -50,8 +46,7 @@ def internal_error(what: str, trace: str) -> None:
 
 class _Group(click.Group):
     def main(self, args=None, *rest, **kwargs):
-        from pkgforge.sandbox.processes import Interrupted
-        from pkgforge.sandbox.processes import install_signal_handlers
+        from pkgforge.sandbox.processes import Interrupted, install_signal_handlers
 
         if args is None:
             # the command line itself (not a caller passing arguments, as tests do): Ctrl-C,
@@ -77,12 +72,17 @@ class _Group(click.Group):
         OSError located at its file, anything else as an internal error (traceback under --debug)."""
         import traceback
 
-        from .errors import describe_os_error
+        from pkgforge.errors import describe_os_error
 
         try:
             return super().invoke(ctx)
-        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort,
-                SystemExit, KeyboardInterrupt):
+        except (
+            click.exceptions.ClickException,
+            click.exceptions.Exit,
+            click.exceptions.Abort,
+            SystemExit,
+            KeyboardInterrupt,
+        ):
             raise
         except PkgforgeError as error:
             fail(error)
@@ -117,8 +117,7 @@ class MemorySize(click.ParamType):
     minimum = 256 * 2**20
 
     def convert(self, value, param, ctx):
-        from pkgforge.sandbox.processes import format_size
-        from pkgforge.sandbox.processes import parse_size
+        from pkgforge.sandbox.processes import format_size, parse_size
 
         if isinstance(value, int) or value is None:
             return value
@@ -129,56 +128,122 @@ class MemorySize(click.ParamType):
         except ValueError as exc:
             self.fail(str(exc), param, ctx)
         if size < self.minimum:
-            self.fail(f"{value} is below the {format_size(self.minimum)} a launch worker needs to start",
-                      param, ctx)
+            self.fail(
+                f"{value} is below the {format_size(self.minimum)} a launch worker needs to start", param, ctx
+            )
         return size
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("name")
-@click.option("--distro", type=click.Choice(list(DISTROS)), default=default_distro,
-              show_default=f"ROS_DISTRO, else {NEWEST_LTS}", help="ROS 2 distribution the package targets.")
-@click.option("--build-type", type=click.Choice(BUILD_TYPES),
-              default="ament_cmake", show_default=True, help="Package build type.")
-@click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py",
-              show_default=True, help="Format of launch/display.launch.*.")
-@click.option("--destination", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Folder to create the package in [default: ./src in a workspace root, else .].")
+@click.option(
+    "--distro",
+    type=click.Choice(list(DISTROS)),
+    default=default_distro,
+    show_default=f"ROS_DISTRO, else {NEWEST_LTS}",
+    help="ROS 2 distribution the package targets.",
+)
+@click.option(
+    "--build-type",
+    type=click.Choice(BUILD_TYPES),
+    default="ament_cmake",
+    show_default=True,
+    help="Package build type.",
+)
+@click.option(
+    "--launch-format",
+    type=click.Choice(LAUNCH_FORMATS),
+    default="py",
+    show_default=True,
+    help="Format of launch/display.launch.*.",
+)
+@click.option(
+    "--destination",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Folder to create the package in [default: ./src in a workspace root, else .].",
+)
 @click.option("--maintainer-name", default=None, help="[default: git config user.name]")
 @click.option("--maintainer-email", default=None, help="[default: git config user.email]")
-@click.option("--license", "license_", default="Apache-2.0", show_default=True,
-              help="License identifier for package.xml.")
+@click.option(
+    "--license",
+    "license_",
+    default="Apache-2.0",
+    show_default=True,
+    help="License identifier for package.xml.",
+)
 @click.option("--description", default="", help="package.xml description.")
-@click.option("--force", count=True,
-              help="Write into an existing package folder: add missing generated files; files that "
-                   "differ from what pkgforge writes are listed and refused unless given twice "
-                   "(--force --force). Other files stay.")
-@click.option("--ci", type=click.Choice(CI_SYSTEMS), multiple=True,
-              help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.")
-@click.option("--from-urdf", "from_urdf", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              metavar="FILE", help="Bring in this .urdf/.urdf.xacro (a CAD export) with every mesh and "
-                                   "texture it names, instead of the example robot; then verify.")
-@click.option("--mesh-uri", type=click.Choice(["package", "find"]), default="package", show_default=True,
-              help="With --from-urdf: rewrite mesh URIs as package://NAME/meshes/... or "
-                   "file://$(find NAME)/meshes/....")
-def new(name, distro, build_type, launch_format, destination, maintainer_name,
-        maintainer_email, license_, description, force, ci, from_urdf, mesh_uri):
+@click.option(
+    "--force",
+    count=True,
+    help="Write into an existing package folder: add missing generated files; files that "
+    "differ from what pkgforge writes are listed and refused unless given twice "
+    "(--force --force). Other files stay.",
+)
+@click.option(
+    "--ci",
+    type=click.Choice(CI_SYSTEMS),
+    multiple=True,
+    help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.",
+)
+@click.option(
+    "--from-urdf",
+    "from_urdf",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    metavar="FILE",
+    help="Bring in this .urdf/.urdf.xacro (a CAD export) with every mesh and "
+    "texture it names, instead of the example robot; then verify.",
+)
+@click.option(
+    "--mesh-uri",
+    type=click.Choice(["package", "find"]),
+    default="package",
+    show_default=True,
+    help="With --from-urdf: rewrite mesh URIs as package://NAME/meshes/... or "
+    "file://$(find NAME)/meshes/....",
+)
+def new(
+    name,
+    distro,
+    build_type,
+    launch_format,
+    destination,
+    maintainer_name,
+    maintainer_email,
+    license_,
+    description,
+    force,
+    ci,
+    from_urdf,
+    mesh_uri,
+):
     """Create a robot description package NAME that builds and shows in RViz2."""
-    from pkgforge.scaffold.package import create_package
-    from pkgforge.scaffold.package import default_destination
-    from pkgforge.scaffold.package import make_spec
+    from pkgforge.scaffold.package import create_package, default_destination, make_spec
 
-    options = dict(name=name, distro=distro, build_type=build_type, launch_format=launch_format,
-                   maintainer_name=maintainer_name, maintainer_email=maintainer_email,
-                   license=license_, description=description, ci=tuple(dict.fromkeys(ci)))
+    options = dict(
+        name=name,
+        distro=distro,
+        build_type=build_type,
+        launch_format=launch_format,
+        maintainer_name=maintainer_name,
+        maintainer_email=maintainer_email,
+        license=license_,
+        description=description,
+        ci=tuple(dict.fromkeys(ci)),
+    )
     notes = None
     try:
         if from_urdf is not None:
             from pkgforge.scaffold.from_urdf import new_from_urdf
 
-            created, notes, imported = new_from_urdf(options, from_urdf,
-                                                     destination or default_destination(Path.cwd()),
-                                                     force=force, uri_style=mesh_uri)
+            created, notes, imported = new_from_urdf(
+                options,
+                from_urdf,
+                destination or default_destination(Path.cwd()),
+                force=force,
+                uri_style=mesh_uri,
+            )
             spec = make_spec(**options)
         else:
             spec = make_spec(**options)
@@ -188,23 +253,32 @@ def new(name, distro, build_type, launch_format, destination, maintainer_name,
     shown = os.path.relpath(created.path)
     click.echo(f"created {spec.build_type} package '{spec.name}' for ROS 2 {spec.distro.name} in {shown}/")
     for relative in created.files:
-        mark = " (replaced)" if relative in created.overwritten else \
-            " (unchanged)" if relative in created.unchanged else ""
+        mark = (
+            " (replaced)"
+            if relative in created.overwritten
+            else " (unchanged)"
+            if relative in created.unchanged
+            else ""
+        )
         click.echo(f"  {relative}{mark}")
-    click.echo("next:\n"
-               f"  pkgforge build            # colcon build into install/\n"
-               f"  pkgforge verify {shown}\n"
-               f"  ros2 launch {spec.name} display.launch.{spec.launch_format}")
+    click.echo(
+        "next:\n"
+        f"  pkgforge build            # colcon build into install/\n"
+        f"  pkgforge verify {shown}\n"
+        f"  ros2 launch {spec.name} display.launch.{spec.launch_format}"
+    )
     if notes is not None:
-        click.echo(f"imported {from_urdf} with {imported.meshes} mesh(es); {len(imported.files)} file(s) "
-                   "in urdf/ and meshes/")
+        click.echo(
+            f"imported {from_urdf} with {imported.meshes} mesh(es); {len(imported.files)} file(s) "
+            "in urdf/ and meshes/"
+        )
         finish_with_verify(created.path, notes)
 
 
 def finish_with_verify(package: Path, notes) -> None:
     """`migrate` and `new --from-urdf`: what changed, then verify's report on the result; verify's exit status."""
+    from pkgforge.report import render
     from pkgforge.verify.config import Selection
-    from .report import render
     from pkgforge.verify.pipeline import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
@@ -221,24 +295,42 @@ def finish_with_verify(package: Path, notes) -> None:
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path))
-@click.option("--destination", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Folder to create the ROS 2 package in [default: beside PATH, as NAME, or NAME_ros2 "
-                   "when NAME exists]. Never overwritten.")
-@click.option("--launch-format", type=click.Choice(LAUNCH_FORMATS), default="py", show_default=True,
-              help="Format of the converted launch files.")
-@click.option("--distro", type=click.Choice(list(DISTROS)), default=default_distro,
-              show_default=f"ROS_DISTRO, else {NEWEST_LTS}", help="ROS 2 distribution the package targets.")
-@click.option("--gazebo", is_flag=True,
-              help="Convert Gazebo Classic (gazebo_ros empty_world.launch, spawn_model) to Gazebo with "
-                   "ros_gz_sim instead of leaving it out.")
+@click.option(
+    "--destination",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Folder to create the ROS 2 package in [default: beside PATH, as NAME, or NAME_ros2 "
+    "when NAME exists]. Never overwritten.",
+)
+@click.option(
+    "--launch-format",
+    type=click.Choice(LAUNCH_FORMATS),
+    default="py",
+    show_default=True,
+    help="Format of the converted launch files.",
+)
+@click.option(
+    "--distro",
+    type=click.Choice(list(DISTROS)),
+    default=default_distro,
+    show_default=f"ROS_DISTRO, else {NEWEST_LTS}",
+    help="ROS 2 distribution the package targets.",
+)
+@click.option(
+    "--gazebo",
+    is_flag=True,
+    help="Convert Gazebo Classic (gazebo_ros empty_world.launch, spawn_model) to Gazebo with "
+    "ros_gz_sim instead of leaving it out.",
+)
 def migrate(path, destination, launch_format, distro, gazebo):
     """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
-    from .migrate.notes import Notes
-    from .migrate.package import migrate as run_migrate
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.migrate.package import migrate as run_migrate
 
     try:
-        created, notes, source = run_migrate(path, destination, launch_format=launch_format, distro=distro,
-                                             gazebo=gazebo, notes_factory=Notes)
+        created, notes, source = run_migrate(
+            path, destination, launch_format=launch_format, distro=distro, gazebo=gazebo, notes_factory=Notes
+        )
     except PkgforgeError as error:
         fail(error)
     click.echo(f"migrated {os.path.relpath(source)} to ROS 2 {distro} in {os.path.relpath(created.path)}/")
@@ -249,26 +341,51 @@ def migrate(path, destination, launch_format, distro, gazebo):
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
-@click.option("--build-base", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Build folder [default: build/ in the workspace root].")
-@click.option("--install-base", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Install folder, merged layout [default: install/ in the workspace root].")
-@click.option("--packages-select", multiple=True, metavar="NAME",
-              help="Build only these packages (and what they depend on). Repeatable.")
-@click.option("--build-tests", is_flag=True,
-              help="Configure with BUILD_TESTING=ON (needs ament_lint_auto and the test tools).")
-@click.option("--no-stubs", is_flag=True,
-              help="Do not stub declared build dependencies that are not installed here.")
-@click.option("--parallel-workers", type=click.IntRange(1), default=None,
-              help="Packages built at once [default: colcon's, the number of cores].")
-@click.option("--cmake-args", "cmake_args", multiple=True, metavar="ARG",
-              help="Extra CMake argument, e.g. --cmake-args=-DFOO=1. Repeatable.")
-def build(path, build_base, install_base, packages_select, build_tests, no_stubs,
-          parallel_workers, cmake_args):
+@click.option(
+    "--build-base",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Build folder [default: build/ in the workspace root].",
+)
+@click.option(
+    "--install-base",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Install folder, merged layout [default: install/ in the workspace root].",
+)
+@click.option(
+    "--packages-select",
+    multiple=True,
+    metavar="NAME",
+    help="Build only these packages (and what they depend on). Repeatable.",
+)
+@click.option(
+    "--build-tests",
+    is_flag=True,
+    help="Configure with BUILD_TESTING=ON (needs ament_lint_auto and the test tools).",
+)
+@click.option(
+    "--no-stubs", is_flag=True, help="Do not stub declared build dependencies that are not installed here."
+)
+@click.option(
+    "--parallel-workers",
+    type=click.IntRange(1),
+    default=None,
+    help="Packages built at once [default: colcon's, the number of cores].",
+)
+@click.option(
+    "--cmake-args",
+    "cmake_args",
+    multiple=True,
+    metavar="ARG",
+    help="Extra CMake argument, e.g. --cmake-args=-DFOO=1. Repeatable.",
+)
+def build(
+    path, build_base, install_base, packages_select, build_tests, no_stubs, parallel_workers, cmake_args
+):
     """Build the workspace or package at PATH with colcon (merged install)."""
-    from pkgforge.build.colcon import default_options
-    from pkgforge.build.colcon import run_build
-    from .workspace import locate
+    from pkgforge.build.colcon import default_options, run_build
+    from pkgforge.workspace import locate
 
     try:
         workspace = locate(path)
@@ -286,9 +403,15 @@ def build(path, build_base, install_base, packages_select, build_tests, no_stubs
 
 def color_option(function):
     """--color, for every command whose output can be coloured."""
-    return click.option("--color", "color", type=click.Choice(COLOR_CHOICES), default="auto", show_default=True,
-                        help="Colour the text report: auto (a terminal, unless NO_COLOR is set or "
-                             "FORCE_COLOR is), always or never.")(function)
+    return click.option(
+        "--color",
+        "color",
+        type=click.Choice(COLOR_CHOICES),
+        default="auto",
+        show_default=True,
+        help="Colour the text report: auto (a terminal, unless NO_COLOR is set or "
+        "FORCE_COLOR is), always or never.",
+    )(function)
 
 
 def _split_keys(values: tuple[str, ...]) -> list[str]:
@@ -302,66 +425,176 @@ def _into_meta(ctx, param, value):
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
-@click.option("--format", "fmt", type=click.Choice(FORMATS),
-              default="text", show_default=True, help="Output format.")
-@click.option("--output", "-o", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Write the report to this file instead of standard output.")
-@click.option("--junit-xml", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Also write a JUnit XML report here (for CI test reports).")
-@click.option("--select", multiple=True, metavar="CHECKS",
-              help="Run only these checks: codes, code prefixes (PF2) or names; comma-separated.")
-@click.option("--ignore", multiple=True, metavar="CHECKS",
-              help="Skip these checks: codes, code prefixes or names; comma-separated.")
+@click.option(
+    "--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True, help="Output format."
+)
+@click.option(
+    "--output",
+    "-o",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the report to this file instead of standard output.",
+)
+@click.option(
+    "--junit-xml",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Also write a JUnit XML report here (for CI test reports).",
+)
+@click.option(
+    "--select",
+    multiple=True,
+    metavar="CHECKS",
+    help="Run only these checks: codes, code prefixes (PF2) or names; comma-separated.",
+)
+@click.option(
+    "--ignore",
+    multiple=True,
+    metavar="CHECKS",
+    help="Skip these checks: codes, code prefixes or names; comma-separated.",
+)
 @click.option("--strict", is_flag=True, help="Treat warnings as errors (exit 1 on any warning).")
 @color_option
-@click.option("--jobs", "-j", type=click.IntRange(1), default=None,
-              help="Packages verified at once [default: the number of cores].")
-@click.option("--build", "build_tree", is_flag=True,
-              help="Resolve against a real colcon build into build/pkgforge-verify/ "
-                   "[default: the tree predicted from the install rules].")
-@click.option("--install-base", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Resolve against an existing install folder from your own colcon build "
-                   "(merged or isolated); nothing is rebuilt.")
-@click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
-              help="A launch argument's value for every launch file. Repeatable.")
-@click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
-              help="Seconds one launch file may take to load and resolve.")
-@click.option("--worker-memory", type=MemorySize(), default="2G", show_default=True,
-              help="Memory (address space) each launch worker may use, e.g. 4G or 512M, or unlimited.")
-@click.option("--launch-engine", type=click.Choice(["auto", "ros", "builtin"]), default="auto", show_default=True,
-              help="Evaluate launch files with a ROS 2 distro's own launch libraries (ros), pkgforge's "
-                   "built-in engine (builtin), or ros where a distro is found (auto).")
-@click.option("--ros-prefix", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy) "
-                   "[default: the sourced one, else the only one in /opt/ros].")
-@click.option("--no-cache", is_flag=True,
-              help="Verify every package again instead of reusing results of unchanged ones "
-                   "(cache: build/pkgforge-cache/, safe to delete).")
-@click.option("--distro", "target_distro", type=click.Choice(list(DISTROS)), default=None,
-              help="The ROS 2 distro the packages target [default: ROS_DISTRO, pkgforge.toml "
-                   "[verify] distro, the package's CI file, else every active distro].")
-@click.option("--explain-launch", "explain_launch", type=click.Path(path_type=Path), default=None,
-              metavar="FILE", help="Print how FILE resolves in the install tree, then exit.")
-@click.option("--explain-model", "explain_model", type=click.Path(path_type=Path), default=None,
-              metavar="FILE", help="Print the model's link/joint tree with its meshes, then exit "
-                                   "(xacro arguments from --launch-arg).")
-@click.option("--artifacts", "artifacts_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
-              metavar="DIR", help="Also write pictures of every processed robot model into DIR (four "
-                                  "views, kinematic tree SVG, summary.md), as `pkgforge view` does.")
-@click.option("--fix", is_flag=True, expose_value=False, callback=_into_meta,
-              help="Apply the fixes of what verify finds: the same as `pkgforge fix PATH`.")
-@click.option("--unsafe-fixes", is_flag=True, expose_value=False, callback=_into_meta,
-              help="With --fix: also apply the fixes marked unsafe.")
-def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, build_tree, install_base, launch_args,
-           launch_timeout, worker_memory, launch_engine, ros_prefix, no_cache, target_distro, explain_launch,
-           explain_model, artifacts_dir):
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(1),
+    default=None,
+    help="Packages verified at once [default: the number of cores].",
+)
+@click.option(
+    "--build",
+    "build_tree",
+    is_flag=True,
+    help="Resolve against a real colcon build into build/pkgforge-verify/ "
+    "[default: the tree predicted from the install rules].",
+)
+@click.option(
+    "--install-base",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Resolve against an existing install folder from your own colcon build "
+    "(merged or isolated); nothing is rebuilt.",
+)
+@click.option(
+    "--launch-arg",
+    "launch_args",
+    multiple=True,
+    metavar="NAME:=VALUE",
+    help="A launch argument's value for every launch file. Repeatable.",
+)
+@click.option(
+    "--launch-timeout",
+    type=click.FloatRange(0.5),
+    default=10.0,
+    show_default=True,
+    help="Seconds one launch file may take to load and resolve.",
+)
+@click.option(
+    "--worker-memory",
+    type=MemorySize(),
+    default="2G",
+    show_default=True,
+    help="Memory (address space) each launch worker may use, e.g. 4G or 512M, or unlimited.",
+)
+@click.option(
+    "--launch-engine",
+    type=click.Choice(["auto", "ros", "builtin"]),
+    default="auto",
+    show_default=True,
+    help="Evaluate launch files with a ROS 2 distro's own launch libraries (ros), pkgforge's "
+    "built-in engine (builtin), or ros where a distro is found (auto).",
+)
+@click.option(
+    "--ros-prefix",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy) "
+    "[default: the sourced one, else the only one in /opt/ros].",
+)
+@click.option(
+    "--no-cache",
+    is_flag=True,
+    help="Verify every package again instead of reusing results of unchanged ones "
+    "(cache: build/pkgforge-cache/, safe to delete).",
+)
+@click.option(
+    "--distro",
+    "target_distro",
+    type=click.Choice(list(DISTROS)),
+    default=None,
+    help="The ROS 2 distro the packages target [default: ROS_DISTRO, pkgforge.toml "
+    "[verify] distro, the package's CI file, else every active distro].",
+)
+@click.option(
+    "--explain-launch",
+    "explain_launch",
+    type=click.Path(path_type=Path),
+    default=None,
+    metavar="FILE",
+    help="Print how FILE resolves in the install tree, then exit.",
+)
+@click.option(
+    "--explain-model",
+    "explain_model",
+    type=click.Path(path_type=Path),
+    default=None,
+    metavar="FILE",
+    help="Print the model's link/joint tree with its meshes, then exit (xacro arguments from --launch-arg).",
+)
+@click.option(
+    "--artifacts",
+    "artifacts_dir",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    metavar="DIR",
+    help="Also write pictures of every processed robot model into DIR (four "
+    "views, kinematic tree SVG, summary.md), as `pkgforge view` does.",
+)
+@click.option(
+    "--fix",
+    is_flag=True,
+    expose_value=False,
+    callback=_into_meta,
+    help="Apply the fixes of what verify finds: the same as `pkgforge fix PATH`.",
+)
+@click.option(
+    "--unsafe-fixes",
+    is_flag=True,
+    expose_value=False,
+    callback=_into_meta,
+    help="With --fix: also apply the fixes marked unsafe.",
+)
+def verify(
+    path,
+    fmt,
+    output,
+    junit_xml,
+    select,
+    ignore,
+    strict,
+    color,
+    jobs,
+    build_tree,
+    install_base,
+    launch_args,
+    launch_timeout,
+    worker_memory,
+    launch_engine,
+    ros_prefix,
+    no_cache,
+    target_distro,
+    explain_launch,
+    explain_model,
+    artifacts_dir,
+):
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
     1 errors found (or warnings with --strict), 2 verify could not run.
     """
+    from pkgforge.report import render
     from pkgforge.verify.config import Selection
-    from .report import render
     from pkgforge.verify.pipeline import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
@@ -372,16 +605,33 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
     if unsafe_fixes and not apply_fixes:
         fail(PkgforgeError("--unsafe-fixes goes with --fix"))
     if apply_fixes:
-        others = [name for name, given in (("--build", build_tree), ("--install-base", install_base is not None),
-                                           ("--format", fmt != "text"), ("--output", output is not None),
-                                           ("--junit-xml", junit_xml is not None),
-                                           ("--explain-launch", explain_launch is not None),
-                                           ("--explain-model", explain_model is not None)) if given]
+        others = [
+            name
+            for name, given in (
+                ("--build", build_tree),
+                ("--install-base", install_base is not None),
+                ("--format", fmt != "text"),
+                ("--output", output is not None),
+                ("--junit-xml", junit_xml is not None),
+                ("--explain-launch", explain_launch is not None),
+                ("--explain-model", explain_model is not None),
+            )
+            if given
+        ]
         if others:
             fail(PkgforgeError(f"--fix runs verify's default mode and prints text: drop {', '.join(others)}"))
-        run_fix_command((path,), select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=False,
-                        strict=strict, jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout,
-                        color=color)
+        run_fix_command(
+            (path,),
+            select=select,
+            ignore=ignore,
+            unsafe_fixes=unsafe_fixes,
+            diff=False,
+            strict=strict,
+            jobs=jobs,
+            launch_args=launch_args,
+            launch_timeout=launch_timeout,
+            color=color,
+        )
     arguments = {}
     for text in launch_args:
         name, sep, value = text.partition(":=")
@@ -389,10 +639,20 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
             fail(PkgforgeError(f"--launch-arg '{text}' is not NAME:=VALUE"))
         arguments[name] = value
     mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
-    options = VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs, strict=strict,
-                            mode=mode, install_base=install_base, launch_timeout=launch_timeout,
-                            launch_arguments=arguments, use_cache=not no_cache, worker_memory=worker_memory,
-                            distro=target_distro, launch_engine=launch_engine, ros_prefix=ros_prefix)
+    options = VerifyOptions(
+        Selection(_split_keys(select), _split_keys(ignore)),
+        jobs=jobs,
+        strict=strict,
+        mode=mode,
+        install_base=install_base,
+        launch_timeout=launch_timeout,
+        launch_arguments=arguments,
+        use_cache=not no_cache,
+        worker_memory=worker_memory,
+        distro=target_distro,
+        launch_engine=launch_engine,
+        ros_prefix=ros_prefix,
+    )
     try:
         if explain_launch is not None:
             from pkgforge.verify.explain import explain_launch_file
@@ -406,19 +666,21 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
             return
         artifacts = None
         if artifacts_dir is not None:
-            from .view import Artifacts
+            from pkgforge.view import Artifacts
 
             # the pictures come from the models this run processes: no cached results
             artifacts = Artifacts(artifacts_dir)
             options.on_models, options.use_cache = artifacts, False
             if artifacts.missing:
-                click.echo(f"pkgforge: --artifacts writes the kinematic trees only; {artifacts.missing}", err=True)
+                click.echo(
+                    f"pkgforge: --artifacts writes the kinematic trees only; {artifacts.missing}", err=True
+                )
         result = run_verify(path, options)
         if artifacts is not None:
             artifacts.finish()
     except PkgforgeError as error:
         fail(error)
-    from .report import use_color
+    from pkgforge.report import use_color
 
     color = fmt == "text" and output is None and use_color(color, sys.stdout)
     text = render(fmt, result, color=color, strict=strict)
@@ -428,7 +690,8 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
         except OSError as exc:
             fail(PkgforgeError(f"cannot write {output}: {exc.strerror}"))
         if fmt != "text":
-            from .report.text import summary
+            from pkgforge.report.text import summary
+
             click.echo(summary(result), err=True)
     else:
         click.echo(text, nl=False, color=color)
@@ -444,14 +707,36 @@ def verify(path, fmt, output, junit_xml, select, ignore, strict, color, jobs, bu
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("target", default=".", metavar="[PATH|PACKAGE|MODEL]")
-@click.option("-o", "--output", "out", type=click.Path(file_okay=False, path_type=Path),
-              default=Path("pkgforge-view"), show_default=True, help="Folder for the images.")
-@click.option("--joint", "joints", multiple=True, metavar="NAME:=VALUE",
-              help="A joint position (radians or metres) instead of zero. Repeatable.")
-@click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
-              help="A launch argument's value (xacro arguments of a model file). Repeatable.")
-@click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
-              help="Seconds one launch file or model may take to process.")
+@click.option(
+    "-o",
+    "--output",
+    "out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=Path("pkgforge-view"),
+    show_default=True,
+    help="Folder for the images.",
+)
+@click.option(
+    "--joint",
+    "joints",
+    multiple=True,
+    metavar="NAME:=VALUE",
+    help="A joint position (radians or metres) instead of zero. Repeatable.",
+)
+@click.option(
+    "--launch-arg",
+    "launch_args",
+    multiple=True,
+    metavar="NAME:=VALUE",
+    help="A launch argument's value (xacro arguments of a model file). Repeatable.",
+)
+@click.option(
+    "--launch-timeout",
+    type=click.FloatRange(0.5),
+    default=10.0,
+    show_default=True,
+    help="Seconds one launch file or model may take to process.",
+)
 @click.option("--no-frame", is_flag=True, help="Do not draw the root link's frame.")
 def view(target, out, joints, launch_args, launch_timeout, no_frame):
     """Render each robot model verify processes: four views (front, side, top, iso) as PNG and the
@@ -461,14 +746,16 @@ def view(target, out, joints, launch_args, launch_timeout, no_frame):
     (in a workspace package, or installed in a ROS prefix's share/<package>/).
     """
     from pkgforge.verify.pipeline import VerifyOptions
-    from .view import Artifacts, parse_joints
-    from .view.command import run_view
+    from pkgforge.view import Artifacts, parse_joints
+    from pkgforge.view.command import run_view
 
     try:
         artifacts = Artifacts(out, parse_joints(joints), frame=not no_frame)
         if artifacts.missing:
             raise PkgforgeError(artifacts.missing)
-        options = VerifyOptions(launch_timeout=launch_timeout, launch_arguments=_launch_arguments(launch_args))
+        options = VerifyOptions(
+            launch_timeout=launch_timeout, launch_arguments=_launch_arguments(launch_args)
+        )
         run_view(target, artifacts, options)
         artifacts.finish()
     except PkgforgeError as error:
@@ -476,7 +763,11 @@ def view(target, out, joints, launch_args, launch_timeout, no_frame):
     for problem in artifacts.problems:
         click.echo(f"pkgforge: warning: {problem}", err=True)
     if not artifacts.entries:
-        fail(PkgforgeError(f"no robot model to render under {target} (verify says why: pkgforge verify {target})"))
+        fail(
+            PkgforgeError(
+                f"no robot model to render under {target} (verify says why: pkgforge verify {target})"
+            )
+        )
     for entry in artifacts.entries:
         files = [i["file"] for i in entry["images"]] + [entry["tree"]]
         click.echo(f"{entry['model']}: {', '.join(str(out / f) for f in files)}")
@@ -500,8 +791,8 @@ def verify_files(files, strict, color):
 
     Each package found above a file is verified once, in the fast default mode.
     """
+    from pkgforge.report import render, use_color
     from pkgforge.verify.config import Selection
-    from .report import render, use_color
     from pkgforge.verify.pipeline import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
@@ -528,12 +819,18 @@ def verify_files(files, strict, color):
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
-@click.option("--format", "fmt", type=click.Choice(["text", "markdown"]), default="text",
-              show_default=True, help="markdown writes docs/checks.md.")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["text", "markdown"]),
+    default="text",
+    show_default=True,
+    help="markdown writes docs/checks.md.",
+)
 def checks(fmt):
     """List every check: code, name, default severity and what it finds."""
-    from .checks.registry import all_checks
     from pkgforge.checks.catalogue import checks_markdown
+    from pkgforge.checks.registry import all_checks
 
     if fmt == "markdown":
         click.echo(checks_markdown(), nl=False)
@@ -549,14 +846,15 @@ def rule(check):
     """Explain one check, by code (PF302) or name (uninstalled-reference): why, an example, the fix."""
     import difflib
 
-    from .checks.registry import all_checks, find_check
     from pkgforge.checks.catalogue import rule_text
+    from pkgforge.checks.registry import all_checks, find_check
 
     found = find_check(check)
     if found is None:
         keys = [c.code for c in all_checks()] + [c.name for c in all_checks()]
-        close = difflib.get_close_matches(check.strip(), keys, n=3) or \
-            difflib.get_close_matches(check.strip().upper(), keys, n=3)
+        close = difflib.get_close_matches(check.strip(), keys, n=3) or difflib.get_close_matches(
+            check.strip().upper(), keys, n=3
+        )
         also = f" (did you mean {', '.join(close)}?)" if close else ""
         fail(PkgforgeError(f"no check is coded or named '{check}'{also}; `pkgforge checks` lists them"))
     click.echo(rule_text(found), nl=False)
@@ -588,19 +886,27 @@ def _fix_targets(paths) -> list[Path]:
     return targets
 
 
-def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, launch_args,
-                    launch_timeout, color="auto") -> None:
+def run_fix_command(
+    paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, launch_args, launch_timeout, color="auto"
+) -> None:
     """`pkgforge fix` and `pkgforge verify --fix`: fix, then report what was fixed and what remains."""
+    from pkgforge.fix.report import render_fix
+    from pkgforge.fix.run import FixOptions, run_fix
+    from pkgforge.report import use_color
     from pkgforge.verify.config import Selection
-    from .fix.report import render_fix
-    from .fix.run import FixOptions, run_fix
-    from .report import use_color
     from pkgforge.verify.pipeline import VerifyOptions
 
-    options = FixOptions(VerifyOptions(Selection(_split_keys(select), _split_keys(ignore)), jobs=jobs,
-                                       strict=strict, launch_timeout=launch_timeout,
-                                       launch_arguments=_launch_arguments(launch_args)),
-                         unsafe=unsafe_fixes, diff=diff)
+    options = FixOptions(
+        VerifyOptions(
+            Selection(_split_keys(select), _split_keys(ignore)),
+            jobs=jobs,
+            strict=strict,
+            launch_timeout=launch_timeout,
+            launch_arguments=_launch_arguments(launch_args),
+        ),
+        unsafe=unsafe_fixes,
+        diff=diff,
+    )
     status = 0
     for target in _fix_targets(paths):
         try:
@@ -622,20 +928,44 @@ def run_fix_command(paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("paths", nargs=-1, type=click.Path(path_type=Path))
 @click.option("--diff", is_flag=True, help="Print the fixes as a unified diff; write nothing.")
-@click.option("--unsafe-fixes", is_flag=True,
-              help="Also apply the fixes marked unsafe (`pkgforge checks` shows which).")
-@click.option("--select", multiple=True, metavar="CHECKS",
-              help="Run (and fix) only these checks: codes, code prefixes (PF2) or names; comma-separated.")
-@click.option("--ignore", multiple=True, metavar="CHECKS",
-              help="Skip these checks: codes, code prefixes or names; comma-separated.")
+@click.option(
+    "--unsafe-fixes", is_flag=True, help="Also apply the fixes marked unsafe (`pkgforge checks` shows which)."
+)
+@click.option(
+    "--select",
+    multiple=True,
+    metavar="CHECKS",
+    help="Run (and fix) only these checks: codes, code prefixes (PF2) or names; comma-separated.",
+)
+@click.option(
+    "--ignore",
+    multiple=True,
+    metavar="CHECKS",
+    help="Skip these checks: codes, code prefixes or names; comma-separated.",
+)
 @click.option("--strict", is_flag=True, help="Exit 1 on any warning that remains.")
 @color_option
-@click.option("--jobs", "-j", type=click.IntRange(1), default=None,
-              help="Packages and launch files processed at once [default: the number of cores].")
-@click.option("--launch-arg", "launch_args", multiple=True, metavar="NAME:=VALUE",
-              help="A launch argument's value for every launch file. Repeatable.")
-@click.option("--launch-timeout", type=click.FloatRange(0.5), default=10.0, show_default=True,
-              help="Seconds one launch file may take to load and resolve.")
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(1),
+    default=None,
+    help="Packages and launch files processed at once [default: the number of cores].",
+)
+@click.option(
+    "--launch-arg",
+    "launch_args",
+    multiple=True,
+    metavar="NAME:=VALUE",
+    help="A launch argument's value for every launch file. Repeatable.",
+)
+@click.option(
+    "--launch-timeout",
+    type=click.FloatRange(0.5),
+    default=10.0,
+    show_default=True,
+    help="Seconds one launch file may take to load and resolve.",
+)
 def fix(paths, diff, unsafe_fixes, select, ignore, strict, color, jobs, launch_args, launch_timeout):
     """Verify PATH (default mode), apply the fixes of what it finds, and report what remains.
 
@@ -643,5 +973,15 @@ def fix(paths, diff, unsafe_fixes, select, ignore, strict, color, jobs, launch_a
     what the pre-commit hook passes). Exit status: 0 no errors remain, 1 errors remain or a
     file could not be written, 2 fix could not run.
     """
-    run_fix_command(paths, select=select, ignore=ignore, unsafe_fixes=unsafe_fixes, diff=diff, strict=strict,
-                    jobs=jobs, launch_args=launch_args, launch_timeout=launch_timeout, color=color)
+    run_fix_command(
+        paths,
+        select=select,
+        ignore=ignore,
+        unsafe_fixes=unsafe_fixes,
+        diff=diff,
+        strict=strict,
+        jobs=jobs,
+        launch_args=launch_args,
+        launch_timeout=launch_timeout,
+        color=color,
+    )

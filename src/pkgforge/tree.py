@@ -29,9 +29,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pkgforge.build.toolchain import prepend_path
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.package import PackageModel
-from pkgforge.build.toolchain import prepend_path
 from pkgforge.walk import MAX_DEPTH
 
 INDEX = Path("share/ament_index/resource_index/packages")
@@ -74,7 +74,7 @@ class InstallTree:
         for prefix in [*self.prefixes, *([self.phantom] if self.phantom else [])]:
             share = str(prefix / "share") + os.sep
             if real.startswith(share):
-                package, _, rest = real[len(share):].partition(os.sep)
+                package, _, rest = real[len(share) :].partition(os.sep)
                 return package, rest.replace(os.sep, "/"), prefix
         return None
 
@@ -86,7 +86,7 @@ class InstallTree:
             return os.path.realpath(source)
         for shadow, user in self.shadows.items():
             if normal.startswith(shadow + os.sep):
-                return os.path.realpath(user + normal[len(shadow):])
+                return os.path.realpath(user + normal[len(shadow) :])
         return os.path.realpath(path)
 
     def as_users(self, text: str) -> str:
@@ -102,7 +102,7 @@ class InstallTree:
         normal = os.path.normpath(path)
         for shadow, user in self.shadows.items():
             if normal == user or normal.startswith(user + os.sep):
-                return shadow + normal[len(user):]
+                return shadow + normal[len(user) :]
         return path
 
     def is_phantom(self, path: str) -> bool:
@@ -158,8 +158,12 @@ def _user_prefixes() -> list[Path]:
 def _add_phantoms(tree: InstallTree, models: list[PackageModel], root: Path) -> None:
     tree.system_packages = _index(_user_prefixes())
     available = set(tree.packages) | set(tree.system_packages)
-    wanted = {dep.name for model in models for dep in model.manifest.dependencies
-              if dep.tag not in ("test_depend", "doc_depend")}
+    wanted = {
+        dep.name
+        for model in models
+        for dep in model.manifest.dependencies
+        if dep.tag not in ("test_depend", "doc_depend")
+    }
     missing = sorted(name for name in wanted - available if name)
     if not missing:
         return
@@ -180,10 +184,43 @@ def _add_phantoms(tree: InstallTree, models: list[PackageModel], root: Path) -> 
 # meshes are far below it, copying 1 MiB on tmpfs costs well under a millisecond, and the
 # real robots' meshes that are above it (tens of MB) would make every verify copy hundreds of MB.
 LINK_THRESHOLD = 1 << 20
-LINKED_SUFFIXES = frozenset({
-    ".stl", ".dae", ".obj", ".ply", ".glb", ".gltf", ".3ds", ".fbx", ".blend", ".mesh", ".ogre",
-    ".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm", ".tga", ".dds", ".ktx", ".exr",
-    ".hdr", ".so", ".a", ".bin", ".db3", ".mcap", ".bag", ".pcd", ".bt", ".ot"})
+LINKED_SUFFIXES = frozenset(
+    {
+        ".stl",
+        ".dae",
+        ".obj",
+        ".ply",
+        ".glb",
+        ".gltf",
+        ".3ds",
+        ".fbx",
+        ".blend",
+        ".mesh",
+        ".ogre",
+        ".png",
+        ".jpg",
+        ".jpeg",
+        ".tif",
+        ".tiff",
+        ".bmp",
+        ".pgm",
+        ".ppm",
+        ".tga",
+        ".dds",
+        ".ktx",
+        ".exr",
+        ".hdr",
+        ".so",
+        ".a",
+        ".bin",
+        ".db3",
+        ".mcap",
+        ".bag",
+        ".pcd",
+        ".bt",
+        ".ot",
+    }
+)
 SHM = "/dev/shm"
 SHM_MARGIN = 32 << 20  # leave this much of tmpfs free
 # a shadow of an install base copies at most this many files, this deep; past it, links
@@ -221,7 +258,7 @@ def _sweep(folder: str) -> None:
     except OSError:
         return
     for name in names:
-        pid = name[len(PREFIX):].split("-", 1)[0]
+        pid = name[len(PREFIX) :].split("-", 1)[0]
         if not pid.isdigit() or int(pid) == os.getpid() or os.path.exists(f"/proc/{pid}"):
             continue
         path = os.path.join(folder, name)
@@ -239,7 +276,11 @@ def _plain_folder() -> str | None:
     if not any(c.isspace() for c in default):
         return None
     for folder in ("/tmp", "/var/tmp", SHM):
-        if not any(c.isspace() for c in folder) and os.path.isdir(folder) and os.access(folder, os.W_OK | os.X_OK):
+        if (
+            not any(c.isspace() for c in folder)
+            and os.path.isdir(folder)
+            and os.access(folder, os.W_OK | os.X_OK)
+        ):
             return folder
     return None  # nowhere better: the tree's own spaces may then show as splits
 
@@ -267,8 +308,9 @@ def _copy(source: str, target: str, info: os.stat_result) -> bool:
     try:
         if not stat.S_ISREG(os.fstat(handle).st_mode):
             return False
-        out = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC,
-                      (info.st_mode & 0o777) | 0o600)
+        out = os.open(
+            target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, (info.st_mode & 0o777) | 0o600
+        )
         try:
             while os.sendfile(out, handle, None, 1 << 24):
                 pass
@@ -337,7 +379,11 @@ class _Plan:
             os.close(os.open(target, os.O_WRONLY | os.O_CREAT | os.O_CLOEXEC, 0o644))
         elif info is None:  # missing or a dangling link: missing here too, and a write lands here
             os.symlink(os.path.join(base, ".missing", relative), target)
-        elif not stat.S_ISREG(info.st_mode) or _linked(relative, info.st_size) or not _copy(source, target, info):
+        elif (
+            not stat.S_ISREG(info.st_mode)
+            or _linked(relative, info.st_size)
+            or not _copy(source, target, info)
+        ):
             os.symlink(os.path.realpath(source), target)
 
     def stamps(self, root: Path) -> dict[str, tuple]:
@@ -382,14 +428,24 @@ def predicted_tree(models: list[PackageModel], user_install: Path | None = None)
     plan.folder("install")
     for model in models:
         for destination, installed in model.layout.files.items():
-            plan.file(os.path.normpath(os.path.join("install", destination)),
-                      None if installed.source is None else str(installed.source))
+            plan.file(
+                os.path.normpath(os.path.join("install", destination)),
+                None if installed.source is None else str(installed.source),
+            )
     temporary, root = _temporary(plan.bytes)
     try:
         copied = plan.build(root)
-        tree = InstallTree("predicted", [root / "install"], _temporary=temporary, root=root, copied=copied,
-                           _plan=plan, _stamps=plan.stamps(root), sealed=time.time_ns(),
-                           user_install=user_install)
+        tree = InstallTree(
+            "predicted",
+            [root / "install"],
+            _temporary=temporary,
+            root=root,
+            copied=copied,
+            _plan=plan,
+            _stamps=plan.stamps(root),
+            sealed=time.time_ns(),
+            user_install=user_install,
+        )
         tree.packages = _index(tree.prefixes)
         _add_phantoms(tree, models, root)
     except BaseException:
@@ -469,16 +525,27 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
     else:
         prefixes = [install_base]
     if not prefixes:
-        raise PkgforgeError(f"--install-base {install_base} holds no ament index: is it a colcon install folder?")
+        raise PkgforgeError(
+            f"--install-base {install_base} holds no ament index: is it a colcon install folder?"
+        )
     plan = _Plan()
     _plan_shadow(plan, install_base, "install")
     temporary, root = _temporary(plan.bytes)
     try:
         copied = plan.build(root)
         shadows = {os.path.normpath(root / "install" / p.relative_to(install_base)): str(p) for p in prefixes}
-        tree = InstallTree("existing", [Path(p) for p in shadows], _temporary=temporary, root=root,
-                           shadows=shadows, copied=copied, _plan=plan, _stamps=plan.stamps(root),
-                           sealed=time.time_ns(), user_install=install_base)
+        tree = InstallTree(
+            "existing",
+            [Path(p) for p in shadows],
+            _temporary=temporary,
+            root=root,
+            shadows=shadows,
+            copied=copied,
+            _plan=plan,
+            _stamps=plan.stamps(root),
+            sealed=time.time_ns(),
+            user_install=install_base,
+        )
         tree.packages = _index(tree.prefixes)
         _add_phantoms(tree, models, root)
     except BaseException:
@@ -488,15 +555,17 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
 
 
 def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTree:
-    from pkgforge.build.colcon import BuildOptions
-    from pkgforge.build.colcon import run_build
+    from pkgforge.build.colcon import BuildOptions, run_build
 
     base = workspace.root / "build" / "pkgforge-verify"
-    options = BuildOptions(build_base=base / "build", install_base=base / "install", log_base=base / "log",
-                           continue_on_error=True)
+    options = BuildOptions(
+        build_base=base / "build",
+        install_base=base / "install",
+        log_base=base / "log",
+        continue_on_error=True,
+    )
     run_build(workspace, options, out=out, colcon_output_to_stderr=True, quiet_failures=True)
     tree = existing_tree(options.install_base, models)
     tree.kind = "built"
     tree.user_install = workspace.root / "install"  # where the user's own colcon build installs
     return tree
-

@@ -23,8 +23,9 @@ MAX_DEPTH = 64
 MAX_FILES = 100_000
 
 
-UNREADABLE_HINT = ("give the folder read and search permission (chmod a+rx); colcon build cannot "
-                   "install it either")
+UNREADABLE_HINT = (
+    "give the folder read and search permission (chmod a+rx); colcon build cannot install it either"
+)
 
 
 @dataclass(frozen=True)
@@ -34,8 +35,15 @@ class WalkLimit:
     hint: str | None = None  # None: the check's own hint
 
 
-def walk(top, *, follow_links: bool = False, max_depth: int = MAX_DEPTH, max_files: int = MAX_FILES,
-         limits: list[WalkLimit] | None = None, inside: tuple = ()) -> Iterator[tuple[str, list[str], list[str]]]:
+def walk(
+    top,
+    *,
+    follow_links: bool = False,
+    max_depth: int = MAX_DEPTH,
+    max_files: int = MAX_FILES,
+    limits: list[WalkLimit] | None = None,
+    inside: tuple = (),
+) -> Iterator[tuple[str, list[str], list[str]]]:
     """(folder, sub-folder names, file names) for top and every folder under it.
 
     A followed link may lead into top or into one of the folders `inside`
@@ -84,8 +92,11 @@ def walk(top, *, follow_links: bool = False, max_depth: int = MAX_DEPTH, max_fil
                 _note(limits, folder, f"more than {max_files} files: pkgforge did not look at the rest")
             return
         if dirs and depth + 1 > max_depth:
-            _note(limits, folder, f"folders nest more than {max_depth} deep below this one: pkgforge did not "
-                                  "look inside")
+            _note(
+                limits,
+                folder,
+                f"folders nest more than {max_depth} deep below this one: pkgforge did not look inside",
+            )
             continue
         below = []
         for name in dirs:

@@ -7,7 +7,7 @@ import logging
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import PkgforgeError
+from pkgforge.errors import PkgforgeError
 
 
 @dataclass(frozen=True)
@@ -37,11 +37,16 @@ def locate(path: Path) -> Workspace:
         return Workspace(root=path.parent, base_path=path)
     for ancestor in path.parents:
         if ancestor.name == "src":
-            return Workspace(root=ancestor.parent, base_path=ancestor,
-                             package_path=path if (path / "package.xml").exists() else None)
-    return Workspace(root=path if not (path / "package.xml").exists() else path.parent,
-                     base_path=path,
-                     package_path=path if (path / "package.xml").exists() else None)
+            return Workspace(
+                root=ancestor.parent,
+                base_path=ancestor,
+                package_path=path if (path / "package.xml").exists() else None,
+            )
+    return Workspace(
+        root=path if not (path / "package.xml").exists() else path.parent,
+        base_path=path,
+        package_path=path if (path / "package.xml").exists() else None,
+    )
 
 
 def discover(base_path: Path) -> list:
@@ -80,8 +85,10 @@ def identify_folder(folder: Path):
     from collections import OrderedDict
     from importlib.metadata import entry_points
 
-    if os.environ.get("COLCON_EXTENSION_BLOCKLIST") or \
-            {e.name for e in entry_points(group="colcon_core.package_identification")} != IDENTIFICATION:
+    if (
+        os.environ.get("COLCON_EXTENSION_BLOCKLIST")
+        or {e.name for e in entry_points(group="colcon_core.package_identification")} != IDENTIFICATION
+    ):
         return None
     from colcon_core.package_identification import IgnoreLocationException, identify
     from colcon_core.package_identification.ignore import IgnorePackageIdentification
@@ -89,9 +96,20 @@ def identify_folder(folder: Path):
     from colcon_ros.package_identification.ros import RosPackageIdentification
 
     logging.getLogger("colcon").setLevel(logging.CRITICAL + 1)  # as discover(): pkgforge reports it
-    groups = OrderedDict([(1000, OrderedDict([("ignore", IgnorePackageIdentification()),
-                                              ("ignore_ament_install", IgnoreAmentInstall())])),
-                          (150, OrderedDict([("ros", RosPackageIdentification())]))])
+    groups = OrderedDict(
+        [
+            (
+                1000,
+                OrderedDict(
+                    [
+                        ("ignore", IgnorePackageIdentification()),
+                        ("ignore_ament_install", IgnoreAmentInstall()),
+                    ]
+                ),
+            ),
+            (150, OrderedDict([("ros", RosPackageIdentification())])),
+        ]
+    )
     for group in groups.values():
         for name, extension in group.items():
             extension.PACKAGE_IDENTIFICATION_NAME = name

@@ -7,11 +7,8 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pkgforge.build.toolchain import Toolchain, detect, prepend_path, require_cmake
 from pkgforge.errors import BuildFailed, PkgforgeError
-from pkgforge.build.toolchain import Toolchain
-from pkgforge.build.toolchain import detect
-from pkgforge.build.toolchain import prepend_path
-from pkgforge.build.toolchain import require_cmake
 from pkgforge.workspace import Workspace, discover
 
 # Build tools and test-only packages never need a stub: ament_cmake is the
@@ -31,7 +28,9 @@ class BuildOptions:
     packages_select: tuple[str, ...] = ()
     cmake_args: tuple[str, ...] = ()
     parallel_workers: int | None = None
-    continue_on_error: bool = False  # build every package that can be built (verify --build reports each failure)
+    continue_on_error: bool = (
+        False  # build every package that can be built (verify --build reports each failure)
+    )
     extra_env: dict[str, str] = field(default_factory=dict)
 
 
@@ -42,8 +41,9 @@ class BuildResult:
     stubbed: list[str]
 
 
-def default_options(workspace: Workspace, build_base: Path | None = None,
-                    install_base: Path | None = None) -> BuildOptions:
+def default_options(
+    workspace: Workspace, build_base: Path | None = None, install_base: Path | None = None
+) -> BuildOptions:
     return BuildOptions(
         build_base=(build_base or workspace.root / "build").resolve(),
         install_base=(install_base or workspace.root / "install").resolve(),
@@ -95,17 +95,28 @@ def write_stub_prefix(prefix: Path, names: list[str]) -> None:
         (folder / f"{name}Config.cmake").write_text(
             f"# pkgforge stub: {name} is declared in package.xml but not installed here.\n"
             f"set({name}_FOUND TRUE)\n"
-            f"set({name}_INCLUDE_DIRS \"\")\nset({name}_LIBRARIES \"\")\n"
+            f'set({name}_INCLUDE_DIRS "")\nset({name}_LIBRARIES "")\n'
         )
 
 
-def colcon_command(workspace: Workspace, options: BuildOptions, selection: list[str],
-                   cmake_args: list[str]) -> list[str]:
-    cmd = [sys.executable, "-m", "colcon", "--log-base", str(options.log_base), "build",
-           "--merge-install",
-           "--base-paths", str(workspace.base_path),
-           "--build-base", str(options.build_base),
-           "--install-base", str(options.install_base)]
+def colcon_command(
+    workspace: Workspace, options: BuildOptions, selection: list[str], cmake_args: list[str]
+) -> list[str]:
+    cmd = [
+        sys.executable,
+        "-m",
+        "colcon",
+        "--log-base",
+        str(options.log_base),
+        "build",
+        "--merge-install",
+        "--base-paths",
+        str(workspace.base_path),
+        "--build-base",
+        str(options.build_base),
+        "--install-base",
+        str(options.install_base),
+    ]
     if options.continue_on_error:
         cmd += ["--continue-on-error"]
     if options.parallel_workers:
@@ -140,8 +151,14 @@ def log_tail(log_base: Path, package: str, lines: int = LOG_TAIL_LINES) -> str:
     return "\n".join(text[-lines:])
 
 
-def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
-              colcon_output_to_stderr: bool = False, quiet_failures: bool = False) -> BuildResult:
+def run_build(
+    workspace: Workspace,
+    options: BuildOptions,
+    *,
+    out=None,
+    colcon_output_to_stderr: bool = False,
+    quiet_failures: bool = False,
+) -> BuildResult:
     """Build with colcon; raise BuildFailed (exit 1) naming the failing packages.
 
     `colcon_output_to_stderr` keeps standard output free for a report (verify --build);
@@ -166,12 +183,18 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
             stub_prefix = options.build_base / "pkgforge_stubs"
             write_stub_prefix(stub_prefix, stubbed)
             env["CMAKE_PREFIX_PATH"] = prepend_path(str(stub_prefix), env.get("CMAKE_PREFIX_PATH", ""))
-            print(f"pkgforge: not installed here, stubbed for find_package(): {', '.join(stubbed)} "
-                  "(use --no-stubs to fail instead)", file=out)
+            print(
+                f"pkgforge: not installed here, stubbed for find_package(): {', '.join(stubbed)} "
+                "(use --no-stubs to fail instead)",
+                file=out,
+            )
 
-    cmake_args = [f"-DBUILD_TESTING={'ON' if options.build_tests else 'OFF'}",
-                  f"-DPython3_EXECUTABLE={sys.executable}",
-                  *toolchain.cmake_generator_args(env), *options.cmake_args]
+    cmake_args = [
+        f"-DBUILD_TESTING={'ON' if options.build_tests else 'OFF'}",
+        f"-DPython3_EXECUTABLE={sys.executable}",
+        *toolchain.cmake_generator_args(env),
+        *options.cmake_args,
+    ]
     cmd = colcon_command(workspace, options, selection, cmake_args)
     names = selection or [d.name for d in descriptors]
     built = [d.name for d in build_closure(descriptors, selection)]  # with what they depend on
@@ -180,22 +203,38 @@ def run_build(workspace: Workspace, options: BuildOptions, *, out=None,
         (options.build_base / name / "colcon_build.rc").unlink(missing_ok=True)
     out.flush()
     try:
-        completed = subprocess.run(cmd, cwd=workspace.root, env=env, stdin=subprocess.DEVNULL,
-                                   stdout=sys.stderr if colcon_output_to_stderr else None)
+        completed = subprocess.run(
+            cmd,
+            cwd=workspace.root,
+            env=env,
+            stdin=subprocess.DEVNULL,
+            stdout=sys.stderr if colcon_output_to_stderr else None,
+        )
     except OSError as exc:
         raise PkgforgeError(f"cannot run colcon: {exc}") from exc
     if completed.returncode != 0:
         failed = failed_packages(options.build_base, built)
         if not failed:
-            raise BuildFailed(f"colcon exited with {completed.returncode}; see its output above",
-                              status=completed.returncode)
-        failures = [(package, options.log_base / "latest_build" / package / "stdout_stderr.log",
-                     log_tail(options.log_base, package)) for package in failed]
+            raise BuildFailed(
+                f"colcon exited with {completed.returncode}; see its output above",
+                status=completed.returncode,
+            )
+        failures = [
+            (
+                package,
+                options.log_base / "latest_build" / package / "stdout_stderr.log",
+                log_tail(options.log_base, package),
+            )
+            for package in failed
+        ]
         if not quiet_failures:
             for package, log, tail in failures:
                 print(f"\npkgforge: package '{package}' failed; last lines of its log ({log}):", file=out)
                 print(tail, file=out)
-        raise BuildFailed(f"build failed: {', '.join(failed)} "
-                          "(`pkgforge verify` points at the file and line of most such problems)",
-                          failures, completed.returncode)
+        raise BuildFailed(
+            f"build failed: {', '.join(failed)} "
+            "(`pkgforge verify` points at the file and line of most such problems)",
+            failures,
+            completed.returncode,
+        )
     return BuildResult(options.install_base, names, stubbed)

@@ -5,41 +5,54 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..diagnostics import Finding
-from .registry import register
+from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding
 
 TAIL_LINES = 15
 CMAKE_ERROR = re.compile(r"CMake Error at (.+?):(\d+)")
 PYTHON_FRAME = re.compile(r'File "(.+?)", line (\d+)')
 # where the log's story starts: the first error, else its last lines are shown
-ERROR_LINE = re.compile(r"CMake Error|Traceback \(most recent call last\)|\berror:|^error\b|Error:", re.IGNORECASE)
+ERROR_LINE = re.compile(
+    r"CMake Error|Traceback \(most recent call last\)|\berror:|^error\b|Error:", re.IGNORECASE
+)
 
 
 # verify.py reports it from the build's outcome (no check function reads a context)
-register("PF902", "build-failed", "error", area="run",
-         bad=("# CMakeLists.txt\n"
-              "find_package(ament_cmake REQUIRED)\n"
-              "add_subdirectory(missing)  # CMake Error"),
-         good=("# CMakeLists.txt\n"
-               "find_package(ament_cmake REQUIRED)"),
-         summary="colcon could not build the package (`verify --build`)",
-         explanation="Nothing it would install exists, so its launch files, models and RViz configs "
-                     "were not checked against a built tree; every check that needs no tree still ran.",
-         hint="fix the error in the log tail (the whole log is at the path named), or run `pkgforge verify` "
-              "without --build to check the rest against the tree predicted from the install rules")(None)
+register(
+    "PF902",
+    "build-failed",
+    "error",
+    area="run",
+    bad=("# CMakeLists.txt\nfind_package(ament_cmake REQUIRED)\nadd_subdirectory(missing)  # CMake Error"),
+    good=("# CMakeLists.txt\nfind_package(ament_cmake REQUIRED)"),
+    summary="colcon could not build the package (`verify --build`)",
+    explanation="Nothing it would install exists, so its launch files, models and RViz configs "
+    "were not checked against a built tree; every check that needs no tree still ran.",
+    hint="fix the error in the log tail (the whole log is at the path named), or run `pkgforge verify` "
+    "without --build to check the rest against the tree predicted from the install rules",
+)(None)
 
 
-def build_failed_finding(package_path: Path, build_type: str, log: Path | None, tail: str,
-                         status: int | None = None, dependency: str | None = None) -> Finding:
+def build_failed_finding(
+    package_path: Path,
+    build_type: str,
+    log: Path | None,
+    tail: str,
+    status: int | None = None,
+    dependency: str | None = None,
+) -> Finding:
     """The failure at the first CMake or Python error in the package's own files, else at its
     build file; the message ends with the last lines of colcon's log."""
     lines = [line for line in tail.splitlines() if line.strip()]
     first_error = next((i for i, line in enumerate(lines) if ERROR_LINE.search(line)), None)
-    lines = lines[first_error:first_error + TAIL_LINES] if first_error is not None else lines[-TAIL_LINES:]
+    lines = lines[first_error : first_error + TAIL_LINES] if first_error is not None else lines[-TAIL_LINES:]
     where = None if dependency else _located(package_path, tail)
     if where is None:
         name = "setup.py" if build_type == "ament_python" else "CMakeLists.txt"
-        where = (package_path / name if (package_path / name).is_file() else package_path / "package.xml", None)
+        where = (
+            package_path / name if (package_path / name).is_file() else package_path / "package.xml",
+            None,
+        )
     if log is None:
         head = f"colcon build stopped (status {status}) before building it"
     elif dependency:

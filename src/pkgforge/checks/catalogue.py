@@ -22,21 +22,28 @@ The fix column says what `pkgforge fix` does: `safe` fixes are applied by defaul
 """
 
 
-FIX_WORDS = {None: "none", "safe": "safe (`pkgforge fix`)",
-             "unsafe": "unsafe (`pkgforge fix --unsafe-fixes`)"}
+FIX_WORDS = {
+    None: "none",
+    "safe": "safe (`pkgforge fix`)",
+    "unsafe": "unsafe (`pkgforge fix --unsafe-fixes`)",
+}
 
 
 def checks_markdown() -> str:
     checks = all_checks()
-    rows = [f"| {c.code} | [{c.name}](#{c.anchor}) | {c.severity.label} | {c.fix or '-'} | "
-            f"{c.summary} |" for c in checks]
+    rows = [
+        f"| {c.code} | [{c.name}](#{c.anchor}) | {c.severity.label} | {c.fix or '-'} | {c.summary} |"
+        for c in checks
+    ]
     sections = []
     for c in checks:
-        sections.append(f"## {c.code} {c.name}\n\n"
-                        f"**Severity:** {c.severity.label}. **Area:** {c.area}. "
-                        f"**Automatic fix:** {FIX_WORDS[c.fix]}.\n\n"
-                        f"{c.summary[0].upper()}{c.summary[1:]}. {c.explanation}\n\n"
-                        f"**Fix:** {c.hint}.\n" + _examples_markdown(c))
+        sections.append(
+            f"## {c.code} {c.name}\n\n"
+            f"**Severity:** {c.severity.label}. **Area:** {c.area}. "
+            f"**Automatic fix:** {FIX_WORDS[c.fix]}.\n\n"
+            f"{c.summary[0].upper()}{c.summary[1:]}. {c.explanation}\n\n"
+            f"**Fix:** {c.hint}.\n" + _examples_markdown(c)
+        )
     return HEADER + "\n".join(rows) + "\n\n" + "\n".join(sections)
 
 
@@ -66,12 +73,19 @@ def rule_text(check: Check) -> str:
     """`pkgforge rule CODE|NAME`: one check, as `ruff rule` or `catkin_lint --help-problem` show one."""
     import textwrap
 
-    lines = [f"{check.code} {check.name} ({check.severity.label}, area {check.area})", "",
-             textwrap.fill(f"{check.summary[0].upper()}{check.summary[1:]}. {check.explanation}", 88)]
+    lines = [
+        f"{check.code} {check.name} ({check.severity.label}, area {check.area})",
+        "",
+        textwrap.fill(f"{check.summary[0].upper()}{check.summary[1:]}. {check.explanation}", 88),
+    ]
     if check.bad:
         lines += ["", "Example:", "", _indent(check.bad)]
     if check.good:
         lines += ["", "Fixed:", "", _indent(check.good)]
-    lines += ["", textwrap.fill(f"Fix: {check.hint}.", 88), f"Automatic fix: {FIX_WORDS[check.fix]}.",
-              f"Documentation: {help_uri(check)}"]
+    lines += [
+        "",
+        textwrap.fill(f"Fix: {check.hint}.", 88),
+        f"Automatic fix: {FIX_WORDS[check.fix]}.",
+        f"Documentation: {help_uri(check)}",
+    ]
     return "\n".join(lines) + "\n"

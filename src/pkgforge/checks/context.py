@@ -7,7 +7,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..model.package import PackageModel
+from pkgforge.model.package import PackageModel
 
 # an ImportError of a launch name (the built-in engine's message is ROS's own)
 BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")
@@ -73,8 +73,9 @@ class CheckContext:
             # a name declared somewhere (a phantom in the tree) but released only for other distros
             # is package-not-in-distro's, not a real package here
             foreign = released_set(()) - released_set(self.distros)
-            self.shared[key] = frozenset(set(self.workspace) | (self.tree_packages() - foreign)
-                                         | released_set(self.distros))
+            self.shared[key] = frozenset(
+                set(self.workspace) | (self.tree_packages() - foreign) | released_set(self.distros)
+            )
         return self.shared[key]
 
     def known_packages(self) -> set[str]:
@@ -91,7 +92,7 @@ class CheckContext:
 
     def own_source(self, installed: str) -> Path | None:
         """The source of an installed file of this package (a model, an include), else None."""
-        from ..launch.resolve import source_of
+        from pkgforge.launch.resolve import source_of
 
         return source_of(Path(installed), self.tree, self.model) if self.tree is not None else None
 
@@ -114,8 +115,11 @@ class CheckContext:
     def static_line(self, path: Path, package: str, relative: str, near: int | None = None) -> int | None:
         """The line where the file names package/relative literally, if it does (the one
         nearest `near` when it does on several lines)."""
-        lines = [r.line for r in self.model.references
-                 if r.path == path and r.package == package and r.relative == relative]
+        lines = [
+            r.line
+            for r in self.model.references
+            if r.path == path and r.package == package and r.relative == relative
+        ]
         if not lines:
             return None
         return min(lines, key=lambda n: (abs(n - near), n)) if near is not None else lines[0]
@@ -134,8 +138,12 @@ class CheckContext:
         if error.type == "XacroException":
             return "xacro"
         module = (error.module or "").split(".")[0]
-        if error.type == "ModuleNotFoundError" and module and module not in STAND_IN_MODULES \
-                and (module in self.model.manifest.declared() or module in self.tree_packages()):
+        if (
+            error.type == "ModuleNotFoundError"
+            and module
+            and module not in STAND_IN_MODULES
+            and (module in self.model.manifest.declared() or module in self.tree_packages())
+        ):
             return "unevaluated"
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
@@ -177,8 +185,9 @@ class CheckContext:
         out: dict[Path, list] = {}
         for resolution in self.resolutions:
             if self.load_error_kind(resolution) in ("unevaluated", "newer-api") and resolution.launch.source:
-                out[resolution.launch.source] = [r for r in self.model.references
-                                                 if r.path == resolution.launch.source]
+                out[resolution.launch.source] = [
+                    r for r in self.model.references if r.path == resolution.launch.source
+                ]
         return out
 
     def folders_reported_uninstalled(self) -> set[str]:
@@ -191,18 +200,24 @@ class CheckContext:
             for mesh in (result.robot or {}).get("meshes", []):
                 uri = mesh["uri"]
                 if uri.startswith("package://"):
-                    package, _, relative = uri[len("package://"):].partition("/")
-                    if package in own and os.path.isfile(self.model.path / relative) \
-                            and self.tree.share(package) is not None \
-                            and not os.path.exists(self.tree.share(package) / relative):
+                    package, _, relative = uri[len("package://") :].partition("/")
+                    if (
+                        package in own
+                        and os.path.isfile(self.model.path / relative)
+                        and self.tree.share(package) is not None
+                        and not os.path.exists(self.tree.share(package) / relative)
+                    ):
                         folders.add(relative.split("/")[0])
         for resolution in self.resolutions:
             for item in resolution.paths:
                 if item.exists:
                     continue
                 located = self.tree.locate(item.path)
-                if located and located[0] in (self.model.share_name, self.model.name) \
-                        and os.path.exists(self.model.path / located[1]):
+                if (
+                    located
+                    and located[0] in (self.model.share_name, self.model.name)
+                    and os.path.exists(self.model.path / located[1])
+                ):
                     folders.add(located[1].split("/")[0])
         return folders
 
@@ -220,8 +235,12 @@ def _environment_reads(source: Path) -> list[str]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Subscript) and ast.unparse(node.value) in ("os.environ", "environ"):
             key = node.slice
-        elif isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords and \
-                ast.unparse(node.func) in ("os.getenv", "getenv", "os.environ.get", "environ.get"):
+        elif (
+            isinstance(node, ast.Call)
+            and len(node.args) == 1
+            and not node.keywords
+            and ast.unparse(node.func) in ("os.getenv", "getenv", "os.environ.get", "environ.get")
+        ):
             key = node.args[0]
         else:
             continue
@@ -242,6 +261,10 @@ def _launch_names() -> set[str]:
         data_file = Path(__file__).resolve().parent.parent / "launch" / "api_names.json"
         with open(data_file, encoding="utf-8") as handle:
             data = json.load(handle)["distros"]
-        _names = {name for lists in data.values() for module in lists["modules"].values()
-                  for name in module.get("names", {})}
+        _names = {
+            name
+            for lists in data.values()
+            for module in lists["modules"].values()
+            for name in module.get("names", {})
+        }
     return _names

@@ -4,40 +4,54 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import Finding
-from .context import CheckContext
-from .registry import register
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding
 
 
-@register("PF901", "file-not-read", "info", area="run",
-          bad="# urdf/robot.urdf: 20 MB (a mesh pasted into the model) or mode 000",
-          good="# urdf/robot.urdf: the mesh as a file in meshes/, the model readable and small",
-          summary="a file pkgforge would read is too large or unreadable",
-          explanation="pkgforge reads launch files, models and RViz configs to find what they "
-                      "refer to; a file it cannot read is left out of those checks.",
-          hint="make the file readable, or smaller than 8 MB")
+@register(
+    "PF901",
+    "file-not-read",
+    "info",
+    area="run",
+    bad="# urdf/robot.urdf: 20 MB (a mesh pasted into the model) or mode 000",
+    good="# urdf/robot.urdf: the mesh as a file in meshes/, the model readable and small",
+    summary="a file pkgforge would read is too large or unreadable",
+    explanation="pkgforge reads launch files, models and RViz configs to find what they "
+    "refer to; a file it cannot read is left out of those checks.",
+    hint="make the file readable, or smaller than 8 MB",
+)
 def file_not_read(ctx: CheckContext):
-    from ..model.references import launch_kind
+    from pkgforge.model.references import launch_kind
 
     for source in ctx.model.skipped:
         if source.problem_line is not None:
             if launch_kind(source.path) is not None:
                 # pkgforge evaluates it leniently; ros2 launch may not (no check parses it strictly)
-                yield Finding(f"{ctx.relative(source.path)} not read: {source.problem}", source.path,
-                              source.problem_line,
-                              hint="save the file as UTF-8: unless a Python file declares its coding, "
-                                   "ros2 launch refuses it")
+                yield Finding(
+                    f"{ctx.relative(source.path)} not read: {source.problem}",
+                    source.path,
+                    source.problem_line,
+                    hint="save the file as UTF-8: unless a Python file declares its coding, "
+                    "ros2 launch refuses it",
+                )
             continue  # not UTF-8: the check that parses the file (model, RViz) reports it
-        yield Finding(f"{ctx.relative(source.path)} not read: {source.problem}", source.path,
-                      source.problem_line, hint=read_problem_hint(source.problem))
+        yield Finding(
+            f"{ctx.relative(source.path)} not read: {source.problem}",
+            source.path,
+            source.problem_line,
+            hint=read_problem_hint(source.problem),
+        )
 
 
 def read_problem_hint(problem: str | None) -> str | None:
     """The fix for why read_source could not read a file (None: the check's own hint)."""
     problem = problem or ""
     if "limit for reading" in problem:
-        return ("pkgforge reads files up to 8 MB: split it (xacro:include) or generate it at build "
-                "time; the file is not checked")
+        return (
+            "pkgforge reads files up to 8 MB: split it (xacro:include) or generate it at build "
+            "time; the file is not checked"
+        )
     if "Permission denied" in problem or "Operation not permitted" in problem:
         return "give read permission (chmod a+r FILE, and a+x on its folders): colcon and ROS read it too"
     if "not valid UTF-8" in problem:
@@ -45,16 +59,21 @@ def read_problem_hint(problem: str | None) -> str | None:
     return None
 
 
-@register("PF903", "folder-not-walked", "warning", area="run",
-          bad="# meshes/meshes/meshes/...: a folder copied into itself, 64 levels deep",
-          good="# meshes/: the accidental copy removed",
-          summary="a folder cannot be read, or nests too deep or holds too many files to look at all of it",
-          explanation="pkgforge walks a package (and its installed share folder) at most 64 folders "
-                      "deep and over at most 100000 files, so that a folder copied into itself or a "
-                      "runaway export cannot stall a verify; what lies beyond is not checked. A "
-                      "folder it may not read is not checked either (and colcon cannot install it).",
-          hint="remove the accidental nesting or the stray files, or move them out of the package "
-               "(or mark a folder with COLCON_IGNORE)")
+@register(
+    "PF903",
+    "folder-not-walked",
+    "warning",
+    area="run",
+    bad="# meshes/meshes/meshes/...: a folder copied into itself, 64 levels deep",
+    good="# meshes/: the accidental copy removed",
+    summary="a folder cannot be read, or nests too deep or holds too many files to look at all of it",
+    explanation="pkgforge walks a package (and its installed share folder) at most 64 folders "
+    "deep and over at most 100000 files, so that a folder copied into itself or a "
+    "runaway export cannot stall a verify; what lies beyond is not checked. A "
+    "folder it may not read is not checked either (and colcon cannot install it).",
+    hint="remove the accidental nesting or the stray files, or move them out of the package "
+    "(or mark a folder with COLCON_IGNORE)",
+)
 def folder_not_walked(ctx: CheckContext):
     model = ctx.model
     shown = set()
@@ -62,8 +81,11 @@ def folder_not_walked(ctx: CheckContext):
         path = Path(limit.path)
         if ctx.tree is not None:  # a folder of the install tree: name its source when it has one
             located = ctx.tree.locate(limit.path)
-            if located is not None and located[0] in (model.name, model.share_name) \
-                    and (model.path / located[1]).is_dir():
+            if (
+                located is not None
+                and located[0] in (model.name, model.share_name)
+                and (model.path / located[1]).is_dir()
+            ):
                 path = model.path / located[1]
             else:  # the folder of the user's install base, not of pkgforge's copy of it
                 path = Path(ctx.tree.origin(limit.path))

@@ -5,14 +5,25 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ..diagnostics import Finding, Severity
-from ..model.package import RESOURCE_FOLDERS, PackageModel
-from .context import CheckContext
-from .files import read_problem_hint
-from .registry import register
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.files import read_problem_hint
+from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding, Severity
+from pkgforge.model.package import RESOURCE_FOLDERS, PackageModel
 
-RESOURCE_SUFFIXES = (".urdf", ".xacro", ".rviz", ".stl", ".dae", ".obj", ".sdf", ".world",
-                     ".launch.py", ".launch.xml", ".launch.yaml")
+RESOURCE_SUFFIXES = (
+    ".urdf",
+    ".xacro",
+    ".rviz",
+    ".stl",
+    ".dae",
+    ".obj",
+    ".sdf",
+    ".world",
+    ".launch.py",
+    ".launch.xml",
+    ".launch.yaml",
+)
 
 
 def _where(path: Path, line: int | None, model: PackageModel) -> str:
@@ -36,7 +47,7 @@ def linked_folder(model: PackageModel, relative: str) -> tuple[str, str, bool] |
                 target = os.readlink(path)
             except OSError:
                 return None
-            return "/".join(parts[:index + 1]), target, os.path.exists(path)
+            return "/".join(parts[: index + 1]), target, os.path.exists(path)
         if not os.path.isdir(path):
             return None
     return None
@@ -49,13 +60,17 @@ def link_hint(model: PackageModel, relative: str) -> tuple[str, str] | None:
         return None
     folder, target, exists = found
     if not exists:
-        return (f"{folder} is a symbolic link to {target}, which does not exist",
-                f"restore {target} (git keeps the link, not what it points to; was it committed?) or "
-                f"replace the link {folder} by the folder itself")
-    return (f"{folder} is a symbolic link to {target}: the install keeps the link, so the file is found "
-            f"only if {target} is installed too",
-            f"replace the link {folder} by the folder itself, or install what it points to at the same "
-            "relative place")
+        return (
+            f"{folder} is a symbolic link to {target}, which does not exist",
+            f"restore {target} (git keeps the link, not what it points to; was it committed?) or "
+            f"replace the link {folder} by the folder itself",
+        )
+    return (
+        f"{folder} is a symbolic link to {target}: the install keeps the link, so the file is found "
+        f"only if {target} is installed too",
+        f"replace the link {folder} by the folder itself, or install what it points to at the same "
+        "relative place",
+    )
 
 
 def install_fix(model: PackageModel, folder: str, file: str | None = None) -> str:
@@ -67,24 +82,31 @@ def install_fix(model: PackageModel, folder: str, file: str | None = None) -> st
             if entry.destination == f"{share}/{folder}":
                 # an entry for the folder exists: its file list (a glob) misses the file
                 name = Path(file).name if file else f"the files of {folder}/"
-                return (f"the data_files entry at {_where(entry.path, entry.line, model)} installs into "
-                        f"{share}/{folder} but does not list {name}: glob() is case-sensitive and matches "
-                        f"only what its pattern names (*.STL is not *.stl); use glob('{folder}/*') or fix "
-                        "the pattern")
+                return (
+                    f"the data_files entry at {_where(entry.path, entry.line, model)} installs into "
+                    f"{share}/{folder} but does not list {name}: glob() is case-sensitive and matches "
+                    f"only what its pattern names (*.STL is not *.stl); use glob('{folder}/*') or fix "
+                    "the pattern"
+                )
         line = next((line for _, line, _, _ in rules), None)
         where = f"setup.py:{line}" if line else "setup.py"
-        return (f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*')) "
-                f"to data_files in {where}")
+        return (
+            f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*')) "
+            f"to data_files in {where}"
+        )
     for path, line, folders, destination in rules:
         if f"{folder}/" in folders:
             into = destination or "the install prefix"
-            return (f"'{folder}/' with a trailing slash installs the folder's contents into {into}/, "
-                    f"not into {into}/{folder}/: write {folder} without the slash in "
-                    f"install(DIRECTORY ...) at {_where(path, line, model)}")
+            return (
+                f"'{folder}/' with a trailing slash installs the folder's contents into {into}/, "
+                f"not into {into}/{folder}/: write {folder} without the slash in "
+                f"install(DIRECTORY ...) at {_where(path, line, model)}"
+            )
     for path, line, folders, destination in rules:
         if destination == share:
-            return (f"add {folder} to install(DIRECTORY {' '.join(folders)} ...) at "
-                    f"{_where(path, line, model)}")
+            return (
+                f"add {folder} to install(DIRECTORY {' '.join(folders)} ...) at {_where(path, line, model)}"
+            )
     return f"add install(DIRECTORY {folder} DESTINATION share/${{PROJECT_NAME}}) to CMakeLists.txt"
 
 
@@ -93,58 +115,86 @@ def install_fix_data(model: PackageModel, folder: str) -> dict:
     return {"install_folder": folder, "package_path": str(model.path)}
 
 
-@register("PF201", "install-missing-directory", "error", area="install", fix="unsafe",
-          bad=("# CMakeLists.txt (the package has no worlds/)\n"
-               "install(DIRECTORY launch urdf worlds DESTINATION share/${PROJECT_NAME})"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"),
-          summary="an install rule names a source folder that does not exist",
-          explanation="CMake stops at install time with 'file INSTALL cannot find' (user story 2: "
-                      "a tutorial's install rule lists worlds/ and models/ the package lacks).",
-          hint="create the folder or remove it from the install rule")
+@register(
+    "PF201",
+    "install-missing-directory",
+    "error",
+    area="install",
+    fix="unsafe",
+    bad=(
+        "# CMakeLists.txt (the package has no worlds/)\n"
+        "install(DIRECTORY launch urdf worlds DESTINATION share/${PROJECT_NAME})"
+    ),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"),
+    summary="an install rule names a source folder that does not exist",
+    explanation="CMake stops at install time with 'file INSTALL cannot find' (user story 2: "
+    "a tutorial's install rule lists worlds/ and models/ the package lacks).",
+    hint="create the folder or remove it from the install rule",
+)
 def install_missing_directory(ctx: CheckContext):
     model = ctx.model
     for missing in model.layout.missing:
         if missing.mode != "DIRECTORY":
             continue
-        yield Finding(f"install(DIRECTORY) names '{missing.text}', which does not exist in {model.name}",
-                      missing.path, missing.line, missing.column,
-                      hint=f"remove '{missing.text}' from the install rule at "
-                           f"{_where(missing.path, missing.line, model)}, or create {missing.text}/ "
-                           "with a file in it (git keeps no empty folder)",
-                      fix={"folder": missing.text})
+        yield Finding(
+            f"install(DIRECTORY) names '{missing.text}', which does not exist in {model.name}",
+            missing.path,
+            missing.line,
+            missing.column,
+            hint=f"remove '{missing.text}' from the install rule at "
+            f"{_where(missing.path, missing.line, model)}, or create {missing.text}/ "
+            "with a file in it (git keeps no empty folder)",
+            fix={"folder": missing.text},
+        )
 
 
-@register("PF207", "install-missing-file", "error", area="install",
-          bad=("# CMakeLists.txt (there is no README.txt)\n"
-               "install(FILES README.txt DESTINATION share/${PROJECT_NAME})"),
-          good=("# CMakeLists.txt\n"
-                "install(FILES README.md DESTINATION share/${PROJECT_NAME})"),
-          summary="an install rule or data_files entry names a file that does not exist",
-          explanation="The build stops at install time (CMake) or setuptools fails on the "
-                      "missing file or on a folder listed as a file.",
-          hint="fix the path or remove it")
+@register(
+    "PF207",
+    "install-missing-file",
+    "error",
+    area="install",
+    bad=(
+        "# CMakeLists.txt (there is no README.txt)\n"
+        "install(FILES README.txt DESTINATION share/${PROJECT_NAME})"
+    ),
+    good=("# CMakeLists.txt\ninstall(FILES README.md DESTINATION share/${PROJECT_NAME})"),
+    summary="an install rule or data_files entry names a file that does not exist",
+    explanation="The build stops at install time (CMake) or setuptools fails on the "
+    "missing file or on a folder listed as a file.",
+    hint="fix the path or remove it",
+)
 def install_missing_file(ctx: CheckContext):
     model = ctx.model
     for missing in model.layout.missing:
         if missing.mode == "DIRECTORY":
             continue
         what = "data_files" if missing.mode == "data_files" else f"install({missing.mode})"
-        yield Finding(f"{what} names '{missing.text}', which is not a file in {model.name}",
-                      missing.path, missing.line, missing.column)
+        yield Finding(
+            f"{what} names '{missing.text}', which is not a file in {model.name}",
+            missing.path,
+            missing.line,
+            missing.column,
+        )
 
 
-@register("PF202", "directory-not-installed", "warning", area="install", fix="safe",
-          bad=("# CMakeLists.txt (rviz/display.rviz is used by launch/display.launch.py)\n"
-               "install(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
-          summary="a folder of run-time resources is covered by no install rule",
-          explanation="Launch files resolve paths in install/share/<pkg>/, not in src/: a folder "
-                      "left out of the install rules is simply absent at run time, with no error "
-                      "(user story 1: rviz/ not installed, RViz starts with no config). An error "
-                      "when a file of the package refers to the folder, a warning otherwise.",
-          hint="install the folder to share/${PROJECT_NAME}")
+@register(
+    "PF202",
+    "directory-not-installed",
+    "warning",
+    area="install",
+    fix="safe",
+    bad=(
+        "# CMakeLists.txt (rviz/display.rviz is used by launch/display.launch.py)\n"
+        "install(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"
+    ),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
+    summary="a folder of run-time resources is covered by no install rule",
+    explanation="Launch files resolve paths in install/share/<pkg>/, not in src/: a folder "
+    "left out of the install rules is simply absent at run time, with no error "
+    "(user story 1: rviz/ not installed, RViz starts with no config). An error "
+    "when a file of the package refers to the folder, a warning otherwise.",
+    hint="install the folder to share/${PROJECT_NAME}",
+)
 def directory_not_installed(ctx: CheckContext):
     model = ctx.model
     if not model.layout.known or model.layout.unknown:
@@ -161,14 +211,22 @@ def directory_not_installed(ctx: CheckContext):
             continue
         reference = referenced.get(folder)
         if reference is not None:
-            message = (f"{folder}/ is not installed, but {_where(reference.path, reference.line, model)} "
-                       f"refers to {reference.relative}")
+            message = (
+                f"{folder}/ is not installed, but {_where(reference.path, reference.line, model)} "
+                f"refers to {reference.relative}"
+            )
             severity = Severity.ERROR
         else:
             message = f"{folder}/ holds {len(files)} file(s) but no install rule covers it"
             severity = None
-        yield Finding(message, model.path / folder, None, hint=install_fix(model, folder), severity=severity,
-                      fix=install_fix_data(model, folder))
+        yield Finding(
+            message,
+            model.path / folder,
+            None,
+            hint=install_fix(model, folder),
+            severity=severity,
+            fix=install_fix_data(model, folder),
+        )
 
 
 def _referenced_folders(model, installed: set, own_names: set) -> dict[str, object]:
@@ -176,6 +234,7 @@ def _referenced_folders(model, installed: set, own_names: set) -> dict[str, obje
     installed file, a file outside any folder, or a file of a folder so referenced. A folder that
     only its own (or another uninstalled folder's) files refer to is not needed at run time: a
     xacro source folder kept next to the URDF generated from it."""
+
     def folder_of(path):
         try:
             parts = Path(path).relative_to(model.path).parts
@@ -198,46 +257,62 @@ def _referenced_folders(model, installed: set, own_names: set) -> dict[str, obje
     return referenced
 
 
-@register("PF203", "install-wrong-destination", "error", area="install",
-          bad=("# CMakeLists.txt\n"
-               "install(DIRECTORY urdf DESTINATION share)"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
-          summary="resources are installed outside share/<package>",
-          explanation="FindPackageShare, $(find pkg) and package:// all resolve to "
-                      "share/<package>/; resources installed elsewhere are never found.",
-          hint="use DESTINATION share/${PROJECT_NAME}")
+@register(
+    "PF203",
+    "install-wrong-destination",
+    "error",
+    area="install",
+    bad=("# CMakeLists.txt\ninstall(DIRECTORY urdf DESTINATION share)"),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
+    summary="resources are installed outside share/<package>",
+    explanation="FindPackageShare, $(find pkg) and package:// all resolve to "
+    "share/<package>/; resources installed elsewhere are never found.",
+    hint="use DESTINATION share/${PROJECT_NAME}",
+)
 def install_wrong_destination(ctx: CheckContext):
     model = ctx.model
     share = f"share/{model.share_name}"
     for rule in model.layout.destinations:
-        resources = [s for s in rule.sources
-                     if Path(s.rstrip("/")).name in RESOURCE_FOLDERS or s.endswith(RESOURCE_SUFFIXES)
-                     or (Path(s).parts and Path(s).parts[0] in RESOURCE_FOLDERS)]
+        resources = [
+            s
+            for s in rule.sources
+            if Path(s.rstrip("/")).name in RESOURCE_FOLDERS
+            or s.endswith(RESOURCE_SUFFIXES)
+            or (Path(s).parts and Path(s).parts[0] in RESOURCE_FOLDERS)
+        ]
         if not resources:
             continue
         destination = rule.destination
         if destination is not None and (destination == share or destination.startswith(share + "/")):
             continue
         where = "outside the install prefix" if destination is None else f"to {destination}/"
-        yield Finding(f"{', '.join(resources)} installed {where}, not under {share}/",
-                      rule.path, rule.line, rule.column,
-                      hint="use DESTINATION share/${PROJECT_NAME}" if model.setup_py is None
-                      else "use os.path.join('share', package_name, ...) as the destination")
+        yield Finding(
+            f"{', '.join(resources)} installed {where}, not under {share}/",
+            rule.path,
+            rule.line,
+            rule.column,
+            hint="use DESTINATION share/${PROJECT_NAME}"
+            if model.setup_py is None
+            else "use os.path.join('share', package_name, ...) as the destination",
+        )
 
 
-@register("PF204", "cmake-invalid", "error", area="install",
-          bad=("# CMakeLists.txt\n"
-               "cmake_minimum_required(VERSION 3.8)\n"
-               "find_package(ament_cmake REQUIRED"),
-          good=("# CMakeLists.txt\n"
-                "cmake_minimum_required(VERSION 3.8)\n"
-                "project(rob_description NONE)\n"
-                "find_package(ament_cmake REQUIRED)"),
-          summary="CMakeLists.txt cannot be read, or has no project()",
-          explanation="CMake stops at configure time; pkgforge cannot predict the install tree "
-                      "either.",
-          hint="fix the syntax at the named line")
+@register(
+    "PF204",
+    "cmake-invalid",
+    "error",
+    area="install",
+    bad=("# CMakeLists.txt\ncmake_minimum_required(VERSION 3.8)\nfind_package(ament_cmake REQUIRED"),
+    good=(
+        "# CMakeLists.txt\n"
+        "cmake_minimum_required(VERSION 3.8)\n"
+        "project(rob_description NONE)\n"
+        "find_package(ament_cmake REQUIRED)"
+    ),
+    summary="CMakeLists.txt cannot be read, or has no project()",
+    explanation="CMake stops at configure time; pkgforge cannot predict the install tree either.",
+    hint="fix the syntax at the named line",
+)
 def cmake_invalid(ctx: CheckContext):
     model = ctx.model
     cmake = model.cmake
@@ -246,60 +321,77 @@ def cmake_invalid(ctx: CheckContext):
     for error in cmake.syntax_errors:
         yield Finding(f"CMake syntax: {error.message}", error.path, error.line, error.column)
     for source in cmake.unreadable:
-        yield Finding(f"{source.path.name}: {source.problem}", source.path, source.problem_line,
-                      hint=read_problem_hint(source.problem))
+        yield Finding(
+            f"{source.path.name}: {source.problem}",
+            source.path,
+            source.problem_line,
+            hint=read_problem_hint(source.problem),
+        )
     if not cmake.syntax_errors and not cmake.unreadable and cmake.project_command is None:
-        yield Finding("CMakeLists.txt has no project() call", model.path / "CMakeLists.txt", 1,
-                      hint=f"add cmake_minimum_required(VERSION 3.10) and project({model.name} NONE)")
+        yield Finding(
+            "CMakeLists.txt has no project() call",
+            model.path / "CMakeLists.txt",
+            1,
+            hint=f"add cmake_minimum_required(VERSION 3.10) and project({model.name} NONE)",
+        )
 
 
-@register("PF205", "ament-package-missing", "error", area="install",
-          bad=("# CMakeLists.txt\n"
-               "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})\n"
-                "ament_package()"),
-          summary="an ament_cmake package never calls ament_package()",
-          explanation="ament_package() installs package.xml and the ament index marker; without "
-                      "them FindPackageShare, get_package_share_directory and `ros2 launch` "
-                      "cannot find the package at all.",
-          hint="call ament_package() at the end of CMakeLists.txt")
+@register(
+    "PF205",
+    "ament-package-missing",
+    "error",
+    area="install",
+    bad=("# CMakeLists.txt\ninstall(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})\nament_package()"),
+    summary="an ament_cmake package never calls ament_package()",
+    explanation="ament_package() installs package.xml and the ament index marker; without "
+    "them FindPackageShare, get_package_share_directory and `ros2 launch` "
+    "cannot find the package at all.",
+    hint="call ament_package() at the end of CMakeLists.txt",
+)
 def ament_package_missing(ctx: CheckContext):
     model = ctx.model
     cmake = model.cmake
     if cmake is None or model.build_type != "ament_cmake" or cmake.syntax_errors or cmake.unreadable:
         return
     if cmake.ament_package_command is None:
-        yield Finding("CMakeLists.txt never calls ament_package(): the package is not registered "
-                      "in the ament index", model.path / "CMakeLists.txt", None)
+        yield Finding(
+            "CMakeLists.txt never calls ament_package(): the package is not registered in the ament index",
+            model.path / "CMakeLists.txt",
+            None,
+        )
 
 
-@register("PF206", "install-rule-unevaluated", "info", area="install",
-          bad=("# CMakeLists.txt\n"
-               "install(DIRECTORY $ENV{MODEL_DIR} DESTINATION share/${PROJECT_NAME})"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
-          summary="pkgforge cannot tell what an install rule installs",
-          explanation="The rule depends on something pkgforge does not evaluate (an environment "
-                      "variable, a variable set outside the package, a call it does not model); "
-                      "its files are left out of the predicted tree. Verify with --build or "
-                      "--install-base to check the real tree.",
-          hint="use literal paths, or verify against a real build (--build)")
+@register(
+    "PF206",
+    "install-rule-unevaluated",
+    "info",
+    area="install",
+    bad=("# CMakeLists.txt\ninstall(DIRECTORY $ENV{MODEL_DIR} DESTINATION share/${PROJECT_NAME})"),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
+    summary="pkgforge cannot tell what an install rule installs",
+    explanation="The rule depends on something pkgforge does not evaluate (an environment "
+    "variable, a variable set outside the package, a call it does not model); "
+    "its files are left out of the predicted tree. Verify with --build or "
+    "--install-base to check the real tree.",
+    hint="use literal paths, or verify against a real build (--build)",
+)
 def install_rule_unevaluated(ctx: CheckContext):
     for path, line, why in ctx.model.layout.unknown:
         yield Finding(f"cannot predict this install rule: {why}", path, line)
 
 
-@register("PF208", "setup-py-invalid", "error", area="install",
-          bad=("# setup.py\n"
-               "from setuptools import setup\n"
-               "setup(name='rob_description',"),
-          good=("# setup.py\n"
-                "from setuptools import setup\n"
-                "setup(name='rob_description')"),
-          summary="setup.py cannot be parsed, or calls no setup()",
-          explanation="colcon builds ament_python packages by running setup.py.",
-          hint="fix setup.py at the named line")
+@register(
+    "PF208",
+    "setup-py-invalid",
+    "error",
+    area="install",
+    bad=("# setup.py\nfrom setuptools import setup\nsetup(name='rob_description',"),
+    good=("# setup.py\nfrom setuptools import setup\nsetup(name='rob_description')"),
+    summary="setup.py cannot be parsed, or calls no setup()",
+    explanation="colcon builds ament_python packages by running setup.py.",
+    hint="fix setup.py at the named line",
+)
 def setup_py_invalid(ctx: CheckContext):
     setup_py = ctx.model.setup_py
     if setup_py is None:
@@ -311,17 +403,25 @@ def setup_py_invalid(ctx: CheckContext):
         yield Finding("setup.py never calls setup()", setup_py.source.path, 1)
 
 
-@register("PF209", "package-not-installed", "error", area="install",
-          bad=("$ colcon build            # rob_description fails to build\n"
-               "$ pkgforge verify . --install-base install"),
-          good=("$ colcon build            # fixed: every package builds\n"
-                "$ pkgforge verify . --install-base install"),
-          summary="--install-base: a verified package is missing from the install base",
-          explanation="colcon installs a package only when its build succeeds: a package absent "
-                      "from the install base most often failed to build (or was skipped), and "
-                      "nothing of it can be checked against the real tree.",
-          hint="look at colcon's log (log/latest_build/<package>/stdout_stderr.log), fix the build, "
-               "and build again")
+@register(
+    "PF209",
+    "package-not-installed",
+    "error",
+    area="install",
+    bad=(
+        "$ colcon build            # rob_description fails to build\n"
+        "$ pkgforge verify . --install-base install"
+    ),
+    good=(
+        "$ colcon build            # fixed: every package builds\n$ pkgforge verify . --install-base install"
+    ),
+    summary="--install-base: a verified package is missing from the install base",
+    explanation="colcon installs a package only when its build succeeds: a package absent "
+    "from the install base most often failed to build (or was skipped), and "
+    "nothing of it can be checked against the real tree.",
+    hint="look at colcon's log (log/latest_build/<package>/stdout_stderr.log), fix the build, "
+    "and build again",
+)
 def package_not_installed(ctx: CheckContext):
     if ctx.install_base is None:
         return
@@ -332,10 +432,13 @@ def package_not_installed(ctx: CheckContext):
         from pkgforge.tree import INDEX
 
         base = Path(ctx.install_base)
-        installed = {p.name for p in (base / INDEX).glob("*")} | \
-            {p.name for p in base.glob(f"*/{INDEX}/*")}
+        installed = {p.name for p in (base / INDEX).glob("*")} | {p.name for p in base.glob(f"*/{INDEX}/*")}
     if model.share_name not in installed and model.name not in installed:
-        yield Finding(f"{model.name} is not in the install base {ctx.install_base}: its build failed or "
-                      f"it was not built", model.manifest.path, model.manifest.name_line,
-                      hint=f"look at colcon's log (log/latest_build/{model.name}/stdout_stderr.log), fix "
-                           f"the build, and run colcon build again")
+        yield Finding(
+            f"{model.name} is not in the install base {ctx.install_base}: its build failed or "
+            f"it was not built",
+            model.manifest.path,
+            model.manifest.name_line,
+            hint=f"look at colcon's log (log/latest_build/{model.name}/stdout_stderr.log), fix "
+            f"the build, and run colcon build again",
+        )

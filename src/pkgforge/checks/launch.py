@@ -7,14 +7,14 @@ import os
 import re
 from pathlib import Path
 
-from ..diagnostics import Finding
-from .context import CheckContext
-from .files import read_problem_hint, untree
-from .install import install_fix, install_fix_data, link_hint
-from .registry import register
-from ..launch.records import PackageLookup, Record
-from ..walk import UNREADABLE_HINT
-from .sandbox import SANDBOX_TYPES, stopped_by_guard
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.files import read_problem_hint, untree
+from pkgforge.checks.install import install_fix, install_fix_data, link_hint
+from pkgforge.checks.registry import register
+from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
+from pkgforge.diagnostics import Finding
+from pkgforge.launch.records import PackageLookup, Record
+from pkgforge.walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these: their displays come with whatever starts RViz (an rviz2 Node is checked
@@ -24,8 +24,14 @@ RVIZ_BUILTIN = {"rviz_common", "rviz_default_plugins"}
 # ("import": a file read statically; a module that is no ROS package is a Python library)
 STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", "RViz display from"}
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
-LAUNCH_INFRASTRUCTURE = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python",
-                         "ros2launch"}
+LAUNCH_INFRASTRUCTURE = {
+    "launch",
+    "launch_ros",
+    "launch_xml",
+    "launch_yaml",
+    "ament_index_python",
+    "ros2launch",
+}
 # a package name with an empty part: f"kuka_{family}_support" of an empty argument
 EMPTY_PART = re.compile(r"^_|__|_$")
 # a path part that is the text of None (an f-string of os.getenv() of a variable not set)
@@ -40,18 +46,27 @@ def _branch_note(item: Record, resolution) -> str:
     return ""
 
 
-@register("PF301", "launch-load-error", "error", area="launch",
-          bad=("# launch/display.launch.py\n"
-               "def generate_launch_description():\n"
-               "    return LaunchDescription([Node(package='rviz2')])  # Node is not imported"),
-          good=("# launch/display.launch.py\n"
-                "from launch_ros.actions import Node\n"
-                "def generate_launch_description():\n"
-                "    return LaunchDescription([Node(package='rviz2', executable='rviz2')])"),
-          summary="a launch file raises, fails to import, or runs past the time limit",
-          explanation="`ros2 launch` would stop at the same place; nothing after it starts.",
-          hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
-               "resolved tree)")
+@register(
+    "PF301",
+    "launch-load-error",
+    "error",
+    area="launch",
+    bad=(
+        "# launch/display.launch.py\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([Node(package='rviz2')])  # Node is not imported"
+    ),
+    good=(
+        "# launch/display.launch.py\n"
+        "from launch_ros.actions import Node\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([Node(package='rviz2', executable='rviz2')])"
+    ),
+    summary="a launch file raises, fails to import, or runs past the time limit",
+    explanation="`ros2 launch` would stop at the same place; nothing after it starts.",
+    hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
+    "resolved tree)",
+)
 def launch_load_error(ctx: CheckContext):
     for resolution in ctx.resolutions:
         error = resolution.error
@@ -66,20 +81,25 @@ def launch_load_error(ctx: CheckContext):
             text = untree(ctx, text)  # name the user's files, not pkgforge's tree
             if resolution.status == "timeout":
                 message = f"{resolution.launch.installed.name} {text}"
-                hint = ("look for what runs at load time without end: a loop, a blocking call (input(), a "
-                        "socket, a subprocess that waits), a sleep; if the machine is only busy, raise "
-                        "--launch-timeout")
+                hint = (
+                    "look for what runs at load time without end: a loop, a blocking call (input(), a "
+                    "socket, a subprocess that waits), a sleep; if the machine is only busy, raise "
+                    "--launch-timeout"
+                )
             elif resolution.status == "crashed":
                 message = f"{resolution.launch.installed.name}: {text}"
                 hint = read_problem_hint(text) or (
                     "the file ended the process without a Python error: look for os._exit(), os.kill() "
-                    "or a compiled extension it imports")
+                    "or a compiled extension it imports"
+                )
             else:
                 message = f"loading {resolution.launch.installed.name} failed: {text}"
                 hint = read_problem_hint(text)
                 if hint is None and position[1] is None:
-                    hint = ("the error names no line of this file: run `pkgforge verify --explain-launch "
-                            "FILE` to see how far it got")
+                    hint = (
+                        "the error names no line of this file: run `pkgforge verify --explain-launch "
+                        "FILE` to see how far it got"
+                    )
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
             if item.type in SANDBOX_TYPES:
@@ -88,8 +108,11 @@ def launch_load_error(ctx: CheckContext):
                 continue  # xacro-error reports it with xacro's message
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
-                yield Finding(f"{item.entity or 'an action'} failed: {item.type}: {_one_line(item.message)}"
-                              f"{_branch_note(item, resolution)}", *position)
+                yield Finding(
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(item.message)}"
+                    f"{_branch_note(item, resolution)}",
+                    *position,
+                )
 
 
 def _one_line(message: str) -> str:
@@ -108,28 +131,44 @@ def _share_reference(ctx: CheckContext, path: str):
     return located
 
 
-@register("PF302", "uninstalled-reference", "error", area="launch", fix="safe",
-          bad=("# launch/display.launch.py (rviz/ is not in the install rules)\n"
-               "rviz = PathJoinSubstitution([FindPackageShare('rob_description'), 'rviz', 'display.rviz'])"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
-          summary="a launch file resolves a path that the install rules leave out",
-          explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
-                      "looks (user story 1: the RViz config was never installed, RViz started empty).",
-          hint="extend the install rule")
+@register(
+    "PF302",
+    "uninstalled-reference",
+    "error",
+    area="launch",
+    fix="safe",
+    bad=(
+        "# launch/display.launch.py (rviz/ is not in the install rules)\n"
+        "rviz = PathJoinSubstitution([FindPackageShare('rob_description'), 'rviz', 'display.rviz'])"
+    ),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
+    summary="a launch file resolves a path that the install rules leave out",
+    explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
+    "looks (user story 1: the RViz config was never installed, RViz started empty).",
+    hint="extend the install rule",
+)
 def uninstalled_reference(ctx: CheckContext):
     yield from _missing_paths(ctx, want_source=True)
 
 
-@register("PF303", "missing-file", "error", area="launch",
-          bad=("# launch/display.launch.py (the file is urdf/robot.urdf.xacro)\n"
-               "model = PathJoinSubstitution([FindPackageShare('rob_description'), 'urdf', 'robot.xacro'])"),
-          good=("# launch/display.launch.py\n"
-                "model = PathJoinSubstitution([FindPackageShare('rob_description'), 'urdf', 'robot.urdf.xacro'])"),
-          summary="a launch file resolves a path that exists nowhere",
-          explanation="Neither the install tree nor the package's source has the file: a typo in a "
-                      "file or folder name, or a file never committed.",
-          hint="fix the path in the launch file")
+@register(
+    "PF303",
+    "missing-file",
+    "error",
+    area="launch",
+    bad=(
+        "# launch/display.launch.py (the file is urdf/robot.urdf.xacro)\n"
+        "model = PathJoinSubstitution([FindPackageShare('rob_description'), 'urdf', 'robot.xacro'])"
+    ),
+    good=(
+        "# launch/display.launch.py\n"
+        "model = PathJoinSubstitution([FindPackageShare('rob_description'), 'urdf', 'robot.urdf.xacro'])"
+    ),
+    summary="a launch file resolves a path that exists nowhere",
+    explanation="Neither the install tree nor the package's source has the file: a typo in a "
+    "file or folder name, or a file never committed.",
+    hint="fix the path in the launch file",
+)
 def missing_file(ctx: CheckContext):
     yield from _missing_paths(ctx, want_source=False)
 
@@ -173,34 +212,54 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
         lines.sort(key=lambda n: (n is None, n or 0))
         line = lines[0]
         others = [str(n) for n in lines[1:] if n is not None]
-        more = (f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
-                if len(lines) > 1 else "")
+        more = (
+            f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
+            if len(lines) > 1
+            else ""
+        )
         shown = f"share/{package}/{relative}"
         source = owner.path / relative if owner is not None else None
         linked = link_hint(owner, relative) if owner is not None else None
         if linked is not None:
             if want_source == os.path.exists(source):  # report it once, under either code
-                yield Finding(f"{shown} is not in the install tree: {linked[0]}"
-                              f"{_branch_note(item, resolution)}{more}", path, line, hint=linked[1])
+                yield Finding(
+                    f"{shown} is not in the install tree: {linked[0]}{_branch_note(item, resolution)}{more}",
+                    path,
+                    line,
+                    hint=linked[1],
+                )
         elif want_source:
             elsewhere = next((d for d, f in owner.layout.files.items() if f.source == source), None)
             why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
-            yield Finding(f"{shown} is not installed: {relative} is in the source of {package} but "
-                          f"{why}{_branch_note(item, resolution)}{more}", path, line,
-                          hint=install_fix(owner, relative.split('/')[0], relative),
-                          fix=install_fix_data(owner, relative.split('/')[0]))
+            yield Finding(
+                f"{shown} is not installed: {relative} is in the source of {package} but "
+                f"{why}{_branch_note(item, resolution)}{more}",
+                path,
+                line,
+                hint=install_fix(owner, relative.split("/")[0], relative),
+                fix=install_fix_data(owner, relative.split("/")[0]),
+            )
         elif owner is not None and _unreadable_folder(owner, source) is not None:
             folder = _unreadable_folder(owner, source)
-            yield Finding(f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
-                          f"cannot be read{_branch_note(item, resolution)}{more}", path, line,
-                          hint=UNREADABLE_HINT)
+            yield Finding(
+                f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
+                f"cannot be read{_branch_note(item, resolution)}{more}",
+                path,
+                line,
+                hint=UNREADABLE_HINT,
+            )
         else:
             hint = None
             if owner is not None:
                 near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
                 hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
-            yield Finding(f"{shown} does not exist, in the install tree or in {package}'s source"
-                          f"{_branch_note(item, resolution)}{more}", path, line, hint=hint)
+            yield Finding(
+                f"{shown} does not exist, in the install tree or in {package}'s source"
+                f"{_branch_note(item, resolution)}{more}",
+                path,
+                line,
+                hint=hint,
+            )
 
 
 def _looked_up(ctx: CheckContext):
@@ -212,7 +271,8 @@ def _looked_up(ctx: CheckContext):
                 yield item.name, position[0], position[1], item.via, item, resolution
         for item in resolution.includes:
             located = _share_reference(ctx, item.path) or (
-                ctx.tree.locate(item.path) if ctx.tree is not None else None)
+                ctx.tree.locate(item.path) if ctx.tree is not None else None
+            )
             position = ctx.source_position(resolution, item.file, item.line)
             if located is not None and position is not None:
                 yield located[0], position[0], position[1], "included launch file", item, resolution
@@ -220,8 +280,15 @@ def _looked_up(ctx: CheckContext):
         if resolution.status == "load-error" and error is not None and error.package:
             position = ctx.source_position(resolution, error.file, error.line)
             if position is not None:
-                yield error.package, position[0], position[1], "lookup", PackageLookup(found=False), resolution
-    for path, references in ctx.static_fallback().items():
+                yield (
+                    error.package,
+                    position[0],
+                    position[1],
+                    "lookup",
+                    PackageLookup(found=False),
+                    resolution,
+                )
+    for references in ctx.static_fallback().values():
         for reference in references:
             yield reference.package, reference.path, reference.line, reference.via, None, None
     # models: $(find pkg) and package://pkg, as written and as xacro expanded them
@@ -233,7 +300,7 @@ def _looked_up(ctx: CheckContext):
     for result in ctx.model_results:
         for mesh in (result.robot or {}).get("meshes", []):
             if mesh["uri"].startswith("package://"):
-                package = mesh["uri"][len("package://"):].split("/")[0]
+                package = mesh["uri"][len("package://") :].split("/")[0]
                 own = ctx.own_source(mesh.get("file") or "")
                 # a mesh written in another package's file: this model's file, no line
                 source, line = (own, mesh.get("line")) if own else (result.source or result.installed, None)
@@ -241,49 +308,66 @@ def _looked_up(ctx: CheckContext):
     # a Python launch file that imports a ROS package's module needs that package at run time
     evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
     for reference in ctx.model.references:
-        if reference.via == "import" and reference.path in evaluated \
-                and reference.package not in LAUNCH_INFRASTRUCTURE:
+        if (
+            reference.via == "import"
+            and reference.path in evaluated
+            and reference.package not in LAUNCH_INFRASTRUCTURE
+        ):
             yield reference.package, reference.path, reference.line, "import of", None, None
 
 
-@register("PF304", "unknown-package", "error", area="launch",
-          bad=("# launch/display.launch.py (the package is rob_description)\n"
-               "FindPackageShare('robot_description')"),
-          good=("# launch/display.launch.py\n"
-                "FindPackageShare('rob_description')"),
-          summary="a launch file looks up a package that exists nowhere",
-          explanation="The package is not in the workspace, not declared in package.xml, not "
-                      "installed and released in no active ROS 2 distro: almost always a typo or a "
-                      "package renamed (user story 3: "
-                      "`robot_description` looked up in package `rob_description`).",
-          hint="fix the package name")
+@register(
+    "PF304",
+    "unknown-package",
+    "error",
+    area="launch",
+    bad=(
+        "# launch/display.launch.py (the package is rob_description)\nFindPackageShare('robot_description')"
+    ),
+    good=("# launch/display.launch.py\nFindPackageShare('rob_description')"),
+    summary="a launch file looks up a package that exists nowhere",
+    explanation="The package is not in the workspace, not declared in package.xml, not "
+    "installed and released in no active ROS 2 distro: almost always a typo or a "
+    "package renamed (user story 3: "
+    "`robot_description` looked up in package `rob_description`).",
+    hint="fix the package name",
+)
 def unknown_package(ctx: CheckContext):
     if not ctx.model.manifest.valid:
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
     seen = set()
-    for name, path, line, via, item, resolution in _looked_up(ctx):
+    for name, path, line, via, _item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
-        if not name or (resolution is not None and EMPTY_PART.search(name)
-                        and any(a.default == "" for a in resolution.arguments)):
+        if not name or (
+            resolution is not None
+            and EMPTY_PART.search(name)
+            and any(a.default == "" for a in resolution.arguments)
+        ):
             continue  # built from a launch argument left empty (a template's caller gives it): no typo
         seen.add((name, str(path), line))
-        yield Finding(f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
-                      "and released in no ROS 2 distro", path, line, hint=_unknown_hint(ctx, name))
+        yield Finding(
+            f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
+            "and released in no ROS 2 distro",
+            path,
+            line,
+            hint=_unknown_hint(ctx, name),
+        )
 
 
 def _unknown_hint(ctx: CheckContext, name: str) -> str:
     """The package's ROS 2 name, or close names from the workspace, package.xml and the distros."""
-    from pkgforge.model.distro_data import load
-    from pkgforge.model.distro_data import replacement
+    from pkgforge.model.distro_data import load, replacement
 
     if replacement(name) is not None:
         return f"use {replacement(name)[0]}: {replacement(name)[1]}"
     own = ctx.model.manifest.name or ctx.model.name
     if name == ctx.model.path.name and name != own:
-        return (f"'{name}' is the name of the folder; the package is named '{own}' (package.xml "
-                f"<name>), and lookups use that: write '{own}', or rename one to match the other")
+        return (
+            f"'{name}' is the name of the folder; the package is named '{own}' (package.xml "
+            f"<name>), and lookups use that: write '{own}', or rename one to match the other"
+        )
     # candidates are package names only: a folder's name is no package (the lookup of a folder
     # named unlike its package is this very mistake), and never the wrong name itself
     candidates = sorted((set(ctx.workspace) | ctx.model.manifest.declared() | {own}) - {name})
@@ -292,15 +376,22 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     return f"did you mean {', '.join(near[:3])}?" if near else "check the name against package.xml <name>"
 
 
-@register("PF305", "missing-exec-depend", "error", area="launch", fix="safe",
-          bad=("# launch/display.launch.py (package.xml has no exec_depend on rviz2)\n"
-               "Node(package='rviz2', executable='rviz2')"),
-          good=("<!-- package.xml -->\n"
-                "<exec_depend>rviz2</exec_depend>"),
-          summary="a package used at run time is not an exec_depend",
-          explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
-                      "machine the node, file or tool is missing (user story 6).",
-          hint="declare it with <exec_depend>")
+@register(
+    "PF305",
+    "missing-exec-depend",
+    "error",
+    area="launch",
+    fix="safe",
+    bad=(
+        "# launch/display.launch.py (package.xml has no exec_depend on rviz2)\n"
+        "Node(package='rviz2', executable='rviz2')"
+    ),
+    good=("<!-- package.xml -->\n<exec_depend>rviz2</exec_depend>"),
+    summary="a package used at run time is not an exec_depend",
+    explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
+    "machine the node, file or tool is missing (user story 6).",
+    hint="declare it with <exec_depend>",
+)
 def missing_exec_depend(ctx: CheckContext):
     model = ctx.model
     if not model.manifest.valid:
@@ -311,32 +402,55 @@ def missing_exec_depend(ctx: CheckContext):
     reported = set()
     # a use with a line first: that is where the diagnostic points
     for name, path, line, via, item, resolution in sorted(
-            _looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
-        if name in own or name in declared or name in reported or name not in known \
-                or name in LAUNCH_INFRASTRUCTURE:
+        _looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)
+    ):
+        if (
+            name in own
+            or name in declared
+            or name in reported
+            or name not in known
+            or name in LAUNCH_INFRASTRUCTURE
+        ):
             continue
         if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
         reported.add(name)
         note = _branch_note(item, resolution) if resolution is not None else ""
-        yield Finding(f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
-                      path, line, hint=f"add <exec_depend>{name}</exec_depend> to package.xml"
-                                       + (f" (after line {model.manifest.last_dependency_line()})"
-                                          if model.manifest.last_dependency_line() else ""),
-                      fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)})
+        yield Finding(
+            f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
+            path,
+            line,
+            hint=f"add <exec_depend>{name}</exec_depend> to package.xml"
+            + (
+                f" (after line {model.manifest.last_dependency_line()})"
+                if model.manifest.last_dependency_line()
+                else ""
+            ),
+            fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
+        )
 
 
-@register("PF306", "jsp-model-argument", "error", area="launch", fix="safe",
-          bad=("# launch/display.launch.py\n"
-               "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui',\n"
-               "     arguments=[model])"),
-          good=("# launch/display.launch.py\n"
-                "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui')"),
-          summary="joint_state_publisher is given the robot model as an argument",
-          explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
-                      "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
-                      "4). It reads /robot_description from robot_state_publisher.",
-          hint="remove the model from the node's arguments")
+@register(
+    "PF306",
+    "jsp-model-argument",
+    "error",
+    area="launch",
+    fix="safe",
+    bad=(
+        "# launch/display.launch.py\n"
+        "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui',\n"
+        "     arguments=[model])"
+    ),
+    good=(
+        "# launch/display.launch.py\n"
+        "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui')"
+    ),
+    summary="joint_state_publisher is given the robot model as an argument",
+    explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
+    "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
+    "4). It reads /robot_description from robot_state_publisher.",
+    hint="remove the model from the node's arguments",
+)
 def jsp_model_argument(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
@@ -347,21 +461,31 @@ def jsp_model_argument(ctx: CheckContext):
             position = ctx.source_position(resolution, node.file, node.line)
             if models and position is not None and position not in seen:
                 seen.add(position)
-                yield Finding(f"{node.package} is given {Path(models[0]).name} in arguments; it reads "
-                              f"/robot_description instead{_branch_note(node, resolution)}", *position,
-                              hint=f"remove arguments=[...] from the {node.package} node: "
-                                   "robot_state_publisher publishes /robot_description")
+                yield Finding(
+                    f"{node.package} is given {Path(models[0]).name} in arguments; it reads "
+                    f"/robot_description instead{_branch_note(node, resolution)}",
+                    *position,
+                    hint=f"remove arguments=[...] from the {node.package} node: "
+                    "robot_state_publisher publishes /robot_description",
+                )
 
 
-@register("PF307", "robot-description-not-string", "warning", area="launch", fix="safe",
-          bad=("# launch/display.launch.py\n"
-               "parameters=[{'robot_description': Command(['xacro ', model])}]"),
-          good=("# launch/display.launch.py\n"
-                "parameters=[{'robot_description': ParameterValue(Command(['xacro ', model]), value_type=str)}]"),
-          summary="robot_description comes from Command() without ParameterValue(..., value_type=str)",
-          explanation="launch_ros parses a parameter's text as YAML; the xacro output then fails to "
-                      "load whenever it looks like YAML (since Jazzy launch refuses it).",
-          hint="wrap it: ParameterValue(Command([...]), value_type=str)")
+@register(
+    "PF307",
+    "robot-description-not-string",
+    "warning",
+    area="launch",
+    fix="safe",
+    bad=("# launch/display.launch.py\nparameters=[{'robot_description': Command(['xacro ', model])}]"),
+    good=(
+        "# launch/display.launch.py\n"
+        "parameters=[{'robot_description': ParameterValue(Command(['xacro ', model]), value_type=str)}]"
+    ),
+    summary="robot_description comes from Command() without ParameterValue(..., value_type=str)",
+    explanation="launch_ros parses a parameter's text as YAML; the xacro output then fails to "
+    "load whenever it looks like YAML (since Jazzy launch refuses it).",
+    hint="wrap it: ParameterValue(Command([...]), value_type=str)",
+)
 def robot_description_not_string(ctx: CheckContext):
     for resolution in ctx.resolutions:
         if resolution.launch.installed.suffix != ".py":
@@ -373,19 +497,23 @@ def robot_description_not_string(ctx: CheckContext):
                 if parameter.name == "robot_description" and parameter.form == "command-untyped":
                     position = ctx.source_position(resolution, parameter.file, parameter.line)
                     if position is not None:
-                        yield Finding("robot_description is a Command() that launch_ros will parse as YAML",
-                                      *position)
+                        yield Finding(
+                            "robot_description is a Command() that launch_ros will parse as YAML", *position
+                        )
 
 
-@register("PF309", "launch-argument-required", "info", area="launch",
-          bad=("# launch/display.launch.py\n"
-               "DeclareLaunchArgument('model')"),
-          good=("# launch/display.launch.py\n"
-                "DeclareLaunchArgument('model', default_value='robot.urdf.xacro')"),
-          summary="a launch argument has no default, and no value was given",
-          explanation="What depends on it is skipped, not guessed. Give a value with "
-                      "--launch-arg name:=value to check it.",
-          hint="pass --launch-arg NAME:=VALUE, or give the argument a default")
+@register(
+    "PF309",
+    "launch-argument-required",
+    "info",
+    area="launch",
+    bad=("# launch/display.launch.py\nDeclareLaunchArgument('model')"),
+    good=("# launch/display.launch.py\nDeclareLaunchArgument('model', default_value='robot.urdf.xacro')"),
+    summary="a launch argument has no default, and no value was given",
+    explanation="What depends on it is skipped, not guessed. Give a value with "
+    "--launch-arg name:=value to check it.",
+    hint="pass --launch-arg NAME:=VALUE, or give the argument a default",
+)
 def launch_argument_required(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
@@ -398,20 +526,26 @@ def launch_argument_required(ctx: CheckContext):
                 yield Finding(f"launch argument '{item.name}' has no default and no value", *position)
 
 
-@register("PF310", "unsupported-launch-api", "info", area="launch",
-          bad=("# launch/display.launch.py\n"
-               "log_dir = LaunchLogDir()"),
-          good=("# launch/display.launch.py\n"
-                "# (nothing to fix: check this part by running the launch file)"),
-          summary="a launch file uses a real launch API that pkgforge does not evaluate",
-          explanation="The construct is recorded and skipped; what it would do is not checked.",
-          hint="nothing to fix; check this part by running the launch file")
+@register(
+    "PF310",
+    "unsupported-launch-api",
+    "info",
+    area="launch",
+    bad=("# launch/display.launch.py\nlog_dir = LaunchLogDir()"),
+    good=("# launch/display.launch.py\n# (nothing to fix: check this part by running the launch file)"),
+    summary="a launch file uses a real launch API that pkgforge does not evaluate",
+    explanation="The construct is recorded and skipped; what it would do is not checked.",
+    hint="nothing to fix; check this part by running the launch file",
+)
 def unsupported_launch_api(ctx: CheckContext):
     seen = set()
     for resolution in ctx.resolutions:
         # a run-time only Command (launch/records.runs_at_verify_time) is not run: said once, as info
-        runtime = [(f"Command '{' '.join(c.command[:3])}' (run-time only)", c)
-                   for c in resolution.commands if c.runtime_only]
+        runtime = [
+            (f"Command '{' '.join(c.command[:3])}' (run-time only)", c)
+            for c in resolution.commands
+            if c.runtime_only
+        ]
         for name, item in [(u.name, u) for u in resolution.unsupported] + runtime:
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None and (name, position) not in seen:
@@ -420,42 +554,63 @@ def unsupported_launch_api(ctx: CheckContext):
         newer = ctx.newer_launch_name(resolution)
         if newer is not None and ctx.load_error_kind(resolution) == "newer-api":
             error = resolution.error
-            position = ctx.source_position(resolution, error.file, error.line) or \
-                (resolution.launch.source or resolution.launch.installed, None)
-            yield Finding(f"{resolution.launch.installed.name} imports {newer}, which pkgforge's built-in "
-                          "engine knows only in ROS 2 releases after Jazzy (or not at all); checked "
-                          "statically instead", *position,
-                          hint="give --distro humble or jazzy if the package targets one (then a missing "
-                               "name is ROS's ImportError too), or verify where that distro is installed")
+            position = ctx.source_position(resolution, error.file, error.line) or (
+                resolution.launch.source or resolution.launch.installed,
+                None,
+            )
+            yield Finding(
+                f"{resolution.launch.installed.name} imports {newer}, which pkgforge's built-in "
+                "engine knows only in ROS 2 releases after Jazzy (or not at all); checked "
+                "statically instead",
+                *position,
+                hint="give --distro humble or jazzy if the package targets one (then a missing "
+                "name is ROS's ImportError too), or verify where that distro is installed",
+            )
 
 
-@register("PF311", "launch-unevaluated", "info", area="launch",
-          bad=("# launch/bringup.launch.py (nav2_common is declared, not installed here)\n"
-               "from nav2_common.launch import RewrittenYaml"),
-          good="$ pkgforge verify . --install-base install   # on a machine with nav2_common installed",
-          summary="a launch file imports a module of a package that is declared but not installed here",
-          explanation="Not the launch file's fault: the package is simply not on this machine. Its "
-                      "literal package and path references are still checked, statically.",
-          hint="verify on a machine with the dependency installed (or --install-base) to evaluate it")
+@register(
+    "PF311",
+    "launch-unevaluated",
+    "info",
+    area="launch",
+    bad=(
+        "# launch/bringup.launch.py (nav2_common is declared, not installed here)\n"
+        "from nav2_common.launch import RewrittenYaml"
+    ),
+    good="$ pkgforge verify . --install-base install   # on a machine with nav2_common installed",
+    summary="a launch file imports a module of a package that is declared but not installed here",
+    explanation="Not the launch file's fault: the package is simply not on this machine. Its "
+    "literal package and path references are still checked, statically.",
+    hint="verify on a machine with the dependency installed (or --install-base) to evaluate it",
+)
 def launch_unevaluated(ctx: CheckContext):
     for resolution in ctx.resolutions:
         if ctx.load_error_kind(resolution) == "unevaluated":
             error = resolution.error
-            position = ctx.source_position(resolution, error.file, error.line) or \
-                (resolution.launch.source or resolution.launch.installed, None)
-            yield Finding(f"{resolution.launch.installed.name} imports {error.module}, from a "
-                          "package not installed here; checked statically instead", *position)
+            position = ctx.source_position(resolution, error.file, error.line) or (
+                resolution.launch.source or resolution.launch.installed,
+                None,
+            )
+            yield Finding(
+                f"{resolution.launch.installed.name} imports {error.module}, from a "
+                "package not installed here; checked statically instead",
+                *position,
+            )
 
 
-@register("PF317", "launch-environment-unset", "info", area="launch",
-          bad=("# launch/robot.launch.py\n"
-               "model = os.environ['TURTLEBOT3_MODEL']"),
-          good="$ TURTLEBOT3_MODEL=burger pkgforge verify .",
-          summary="a launch file reads an environment variable that is not set here",
-          explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
-                      "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
-                      "builds paths with the text None; what depends on it is not checked.",
-          hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default")
+@register(
+    "PF317",
+    "launch-environment-unset",
+    "info",
+    area="launch",
+    bad=("# launch/robot.launch.py\nmodel = os.environ['TURTLEBOT3_MODEL']"),
+    good="$ TURTLEBOT3_MODEL=burger pkgforge verify .",
+    summary="a launch file reads an environment variable that is not set here",
+    explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
+    "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
+    "builds paths with the text None; what depends on it is not checked.",
+    hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default",
+)
 def launch_environment_unset(ctx: CheckContext):
     for resolution in ctx.resolutions:
         names = ctx.unset_environment(resolution)
@@ -467,25 +622,37 @@ def launch_environment_unset(ctx: CheckContext):
             continue
         error = resolution.error
         where = (error.file, error.line) if failed else (none_paths[0].file, none_paths[0].line)
-        position = ctx.source_position(resolution, *where) or \
-            (resolution.launch.source or resolution.launch.installed, None)
+        position = ctx.source_position(resolution, *where) or (
+            resolution.launch.source or resolution.launch.installed,
+            None,
+        )
         what = "stops loading" if failed else "resolves a path with 'None' in it"
-        yield Finding(f"{resolution.launch.installed.name} {what}: environment variable "
-                      f"{' or '.join(names)} is not set here; what depends on it is not checked", *position)
+        yield Finding(
+            f"{resolution.launch.installed.name} {what}: environment variable "
+            f"{' or '.join(names)} is not set here; what depends on it is not checked",
+            *position,
+        )
 
 
-@register("PF318", "launch-combinations-unevaluated", "info", area="launch",
-          bad=("# launch/bringup.launch.py: 8 true/false arguments, each combination slow to evaluate\n"
-               "DeclareLaunchArgument('use_sim', default_value='false')  # ... and 7 more"),
-          good="$ pkgforge verify . --launch-timeout 60   # time for every combination",
-          summary="the time limit left some of a launch file's argument combinations unevaluated",
-          explanation="The defaults are evaluated under the whole --launch-timeout; the other values "
-                      "of true/false and choices arguments only while time remains. A file whose "
-                      "defaults finish is never an error for want of time: the combinations left out "
-                      "are said here, and what they would start is not checked. Machine-dependent, "
-                      "so never cached.",
-          hint="nothing is wrong with the file; raise --launch-timeout (or verify on a less busy machine) "
-               "to check every combination")
+@register(
+    "PF318",
+    "launch-combinations-unevaluated",
+    "info",
+    area="launch",
+    bad=(
+        "# launch/bringup.launch.py: 8 true/false arguments, each combination slow to evaluate\n"
+        "DeclareLaunchArgument('use_sim', default_value='false')  # ... and 7 more"
+    ),
+    good="$ pkgforge verify . --launch-timeout 60   # time for every combination",
+    summary="the time limit left some of a launch file's argument combinations unevaluated",
+    explanation="The defaults are evaluated under the whole --launch-timeout; the other values "
+    "of true/false and choices arguments only while time remains. A file whose "
+    "defaults finish is never an error for want of time: the combinations left out "
+    "are said here, and what they would start is not checked. Machine-dependent, "
+    "so never cached.",
+    hint="nothing is wrong with the file; raise --launch-timeout (or verify on a less busy machine) "
+    "to check every combination",
+)
 def launch_combinations_unevaluated(ctx: CheckContext):
     for resolution in ctx.resolutions:
         missing = resolution.unevaluated
@@ -493,44 +660,64 @@ def launch_combinations_unevaluated(ctx: CheckContext):
             continue
         branching = resolution.branching
         stopped = branching.stopped or {}
-        position = ctx.source_position(resolution, stopped.get("file"), stopped.get("line")) or \
-            (resolution.launch.source or resolution.launch.installed, None)
+        position = ctx.source_position(resolution, stopped.get("file"), stopped.get("line")) or (
+            resolution.launch.source or resolution.launch.installed,
+            None,
+        )
         how = ""
         if stopped.get("branch"):
             how = f"; {stopped['branch']} was stopped" + (" at this line" if position[1] is not None else "")
-        yield Finding(f"{resolution.launch.installed.name}: {branching.evaluated} of {branching.planned} "
-                      f"argument combinations evaluated within the {branching.limit or 0:g} s limit "
-                      f"(the defaults first); {missing} not checked{how}", *position)
+        yield Finding(
+            f"{resolution.launch.installed.name}: {branching.evaluated} of {branching.planned} "
+            f"argument combinations evaluated within the {branching.limit or 0:g} s limit "
+            f"(the defaults first); {missing} not checked{how}",
+            *position,
+        )
 
 
-@register("PF312", "ros1-launch-file", "info", area="launch",
-          bad=("# CMakeLists.txt (launch/display.launch is a roslaunch XML file)\n"
-               "install(FILES launch/display.launch DESTINATION share/${PROJECT_NAME}/launch)"),
-          good=("# CMakeLists.txt (ported to launch/display.launch.xml)\n"
-                "install(FILES launch/display.launch.xml DESTINATION share/${PROJECT_NAME}/launch)"),
-          summary="a ROS 1 .launch file is installed",
-          explanation="ROS 2 launches .launch.py, .launch.xml and .launch.yaml files; a roslaunch "
-                      "file is left over from a ROS 1 package.",
-          hint="port it to a ROS 2 launch file, or stop installing it")
+@register(
+    "PF312",
+    "ros1-launch-file",
+    "info",
+    area="launch",
+    bad=(
+        "# CMakeLists.txt (launch/display.launch is a roslaunch XML file)\n"
+        "install(FILES launch/display.launch DESTINATION share/${PROJECT_NAME}/launch)"
+    ),
+    good=(
+        "# CMakeLists.txt (ported to launch/display.launch.xml)\n"
+        "install(FILES launch/display.launch.xml DESTINATION share/${PROJECT_NAME}/launch)"
+    ),
+    summary="a ROS 1 .launch file is installed",
+    explanation="ROS 2 launches .launch.py, .launch.xml and .launch.yaml files; a roslaunch "
+    "file is left over from a ROS 1 package.",
+    hint="port it to a ROS 2 launch file, or stop installing it",
+)
 def ros1_launch_file(ctx: CheckContext):
     for launch in ctx.ros1_launch_files:
         yield Finding(f"{launch.installed.name} is a ROS 1 launch file", launch.source or launch.installed)
 
 
-@register("PF315", "launch-not-installed", "warning", area="launch",
-          bad=("# CMakeLists.txt (launch/ also holds gazebo.launch.py)\n"
-               "install(FILES launch/display.launch.py DESTINATION share/${PROJECT_NAME}/launch)"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})"),
-          summary="a launch file in the source is left out of the install rules",
-          explanation="`ros2 launch <pkg> <file>` looks in install/share/<pkg>/ and cannot find it. pkgforge "
-                      "evaluates it from the source, so what it references is still checked. Reported "
-                      "here when other files of its folder are installed (else directory-not-installed "
-                      "reports the folder).",
-          hint="install it with the other launch files")
+@register(
+    "PF315",
+    "launch-not-installed",
+    "warning",
+    area="launch",
+    bad=(
+        "# CMakeLists.txt (launch/ also holds gazebo.launch.py)\n"
+        "install(FILES launch/display.launch.py DESTINATION share/${PROJECT_NAME}/launch)"
+    ),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY launch DESTINATION share/${PROJECT_NAME})"),
+    summary="a launch file in the source is left out of the install rules",
+    explanation="`ros2 launch <pkg> <file>` looks in install/share/<pkg>/ and cannot find it. pkgforge "
+    "evaluates it from the source, so what it references is still checked. Reported "
+    "here when other files of its folder are installed (else directory-not-installed "
+    "reports the folder).",
+    hint="install it with the other launch files",
+)
 def launch_not_installed(ctx: CheckContext):
-    from ..launch.uninstalled import is_uninstalled
-    from ..model.package import RESOURCE_FOLDERS
+    from pkgforge.launch.uninstalled import is_uninstalled
+    from pkgforge.model.package import RESOURCE_FOLDERS
 
     installed = ctx.model.layout.installed_sources()
     for resolution in ctx.resolutions:
@@ -544,6 +731,10 @@ def launch_not_installed(ctx: CheckContext):
         siblings = ctx.model.top_level_folders().get(folder, []) if folder else []
         if folder in RESOURCE_FOLDERS and not any(ctx.model.path / f in installed for f in siblings):
             continue  # directory-not-installed reports the whole folder
-        yield Finding(f"{relative} is not installed: `ros2 launch {ctx.model.name} {launch.source.name}` "
-                      "cannot find it (evaluated from the source)", launch.source, None,
-                      hint=install_fix(ctx.model, folder) if folder else "install it to share/<package>")
+        yield Finding(
+            f"{relative} is not installed: `ros2 launch {ctx.model.name} {launch.source.name}` "
+            "cannot find it (evaluated from the source)",
+            launch.source,
+            None,
+            hint=install_fix(ctx.model, folder) if folder else "install it to share/<package>",
+        )

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-from ..diagnostics import Finding, Severity
-from ..model.manifest import GENERIC_OVERLAPS, RUN_TAGS
-from ..model.references import launch_kind
-from pkgforge.model.names import REP144_RULE
-from pkgforge.model.names import rep144_problem
-from .context import CheckContext
-from .files import read_problem_hint
-from .registry import register
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.files import read_problem_hint
+from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding, Severity
+from pkgforge.model.manifest import GENERIC_OVERLAPS, RUN_TAGS
+from pkgforge.model.names import REP144_RULE, rep144_problem
+from pkgforge.model.references import launch_kind
 
 # Used by a package without being named in any file it ships.
 IMPLICIT_USES = {
@@ -22,38 +21,50 @@ IMPLICIT_USES = {
 }
 
 
-@register("PF101", "manifest-invalid", "error", area="manifest",
-          bad=("<!-- package.xml -->\n"
-               "<package format=\"3\">\n"
-               "  <name>rob_description</name>\n"
-               "  <version>0.1</version>"),
-          good=("<!-- package.xml -->\n"
-                "<package format=\"3\">\n"
-                "  <name>rob_description</name>\n"
-                "  <version>0.1.0</version>"),
-          summary="package.xml cannot be read, or is not a valid format 2/3 manifest",
-          explanation="colcon, rosdep and ament read package.xml first; a manifest they reject "
-                      "means the package is skipped or fails before anything is built.",
-          hint="fix the element named in the message (REP 149 lists what a manifest needs)")
+@register(
+    "PF101",
+    "manifest-invalid",
+    "error",
+    area="manifest",
+    bad=(
+        '<!-- package.xml -->\n<package format="3">\n  <name>rob_description</name>\n  <version>0.1</version>'
+    ),
+    good=(
+        "<!-- package.xml -->\n"
+        '<package format="3">\n'
+        "  <name>rob_description</name>\n"
+        "  <version>0.1.0</version>"
+    ),
+    summary="package.xml cannot be read, or is not a valid format 2/3 manifest",
+    explanation="colcon, rosdep and ament read package.xml first; a manifest they reject "
+    "means the package is skipped or fails before anything is built.",
+    hint="fix the element named in the message (REP 149 lists what a manifest needs)",
+)
 def manifest_invalid(ctx: CheckContext):
     manifest = ctx.model.manifest
     for message, line in manifest.problems:
         yield Finding(message, manifest.path, line, hint=read_problem_hint(message))
     if not manifest.problems and manifest.format is not None and manifest.format < 2:
-        yield Finding(f"package.xml uses format {manifest.format}; ROS 2 tools expect format 2 or 3",
-                      manifest.path, manifest.root_line,
-                      hint='use <package format="3"> and the format 3 dependency tags')
+        yield Finding(
+            f"package.xml uses format {manifest.format}; ROS 2 tools expect format 2 or 3",
+            manifest.path,
+            manifest.root_line,
+            hint='use <package format="3"> and the format 3 dependency tags',
+        )
 
 
-@register("PF102", "package-name-invalid", "error", area="manifest",
-          bad=("<!-- package.xml -->\n"
-               "<name>Rob-Description</name>"),
-          good=("<!-- package.xml -->\n"
-                "<name>rob_description</name>"),
-          summary="the package name breaks REP 144",
-          explanation="ROS 2 tools and the build farm refuse names outside REP 144; "
-                      "some accept them locally and fail later.",
-          hint=REP144_RULE)
+@register(
+    "PF102",
+    "package-name-invalid",
+    "error",
+    area="manifest",
+    bad=("<!-- package.xml -->\n<name>Rob-Description</name>"),
+    good=("<!-- package.xml -->\n<name>rob_description</name>"),
+    summary="the package name breaks REP 144",
+    explanation="ROS 2 tools and the build farm refuse names outside REP 144; "
+    "some accept them locally and fail later.",
+    hint=REP144_RULE,
+)
 def package_name_invalid(ctx: CheckContext):
     manifest = ctx.model.manifest
     if manifest.name is None:
@@ -63,16 +74,20 @@ def package_name_invalid(ctx: CheckContext):
         yield Finding(f"invalid package name: {problem}", manifest.path, manifest.name_line)
 
 
-@register("PF103", "project-name-mismatch", "error", area="manifest", fix="safe",
-          bad=("# CMakeLists.txt (package.xml: <name>rob_description</name>)\n"
-               "project(robot_description NONE)"),
-          good=("# CMakeLists.txt\n"
-                "project(rob_description NONE)"),
-          summary="CMake project() differs from package.xml <name>",
-          explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
-                      "ament index, while every tool looks the package up by its package.xml "
-                      "name: FindPackageShare and `ros2 launch` find nothing (user story 3).",
-          hint="make project() and package.xml <name> the same")
+@register(
+    "PF103",
+    "project-name-mismatch",
+    "error",
+    area="manifest",
+    fix="safe",
+    bad=("# CMakeLists.txt (package.xml: <name>rob_description</name>)\nproject(robot_description NONE)"),
+    good=("# CMakeLists.txt\nproject(rob_description NONE)"),
+    summary="CMake project() differs from package.xml <name>",
+    explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
+    "ament index, while every tool looks the package up by its package.xml "
+    "name: FindPackageShare and `ros2 launch` find nothing (user story 3).",
+    hint="make project() and package.xml <name> the same",
+)
 def project_name_mismatch(ctx: CheckContext):
     model = ctx.model
     cmake = model.cmake
@@ -82,67 +97,83 @@ def project_name_mismatch(ctx: CheckContext):
         command = cmake.project_command
         yield Finding(
             f"project({cmake.project_name}) but package.xml names the package '{model.manifest.name}'",
-            command.path, command.line, command.column,
+            command.path,
+            command.line,
+            command.column,
             hint=f"write project({model.manifest.name} ...): package.xml <name> decides the package name",
-            fix={"name": model.manifest.name})
+            fix={"name": model.manifest.name},
+        )
 
 
-@register("PF104", "folder-name-mismatch", "info", area="manifest",
-          bad="# folder src/rob_description/, package.xml: <name>robot_description</name>",
-          good="# folder src/robot_description/, package.xml: <name>robot_description</name>",
-          summary="the package folder's name differs from package.xml <name>",
-          explanation="Nothing breaks by itself (many repositories name folders differently on "
-                      "purpose); it matters only when a file uses the folder name as a package "
-                      "name in FindPackageShare or package:// URIs, which resolve by the package "
-                      "name, and unknown-package reports that use (user story 3: folder "
-                      "rob_description, package robot_description).",
-          hint="rename the folder, or rename the package everywhere")
+@register(
+    "PF104",
+    "folder-name-mismatch",
+    "info",
+    area="manifest",
+    bad="# folder src/rob_description/, package.xml: <name>robot_description</name>",
+    good="# folder src/robot_description/, package.xml: <name>robot_description</name>",
+    summary="the package folder's name differs from package.xml <name>",
+    explanation="Nothing breaks by itself (many repositories name folders differently on "
+    "purpose); it matters only when a file uses the folder name as a package "
+    "name in FindPackageShare or package:// URIs, which resolve by the package "
+    "name, and unknown-package reports that use (user story 3: folder "
+    "rob_description, package robot_description).",
+    hint="rename the folder, or rename the package everywhere",
+)
 def folder_name_mismatch(ctx: CheckContext):
     model = ctx.model
     if model.manifest.name and model.path.name != model.manifest.name:
         yield Finding(
             f"folder '{model.path.name}' holds package '{model.manifest.name}': references must use "
             f"'{model.manifest.name}'",
-            model.manifest.path, model.manifest.name_line,
+            model.manifest.path,
+            model.manifest.name_line,
             hint=f"rename the folder to '{model.manifest.name}', or the package to "
-                 f"'{model.path.name}' in package.xml, project() and every reference")
+            f"'{model.path.name}' in package.xml, project() and every reference",
+        )
 
 
-@register("PF105", "build-type-missing", "error", area="manifest",
-          bad=("<!-- package.xml -->\n"
-               "<export>\n"
-               "</export>"),
-          good=("<!-- package.xml -->\n"
-                "<export>\n"
-                "  <build_type>ament_cmake</build_type>\n"
-                "</export>"),
-          summary="package.xml has no <export><build_type>",
-          explanation="Without it colcon takes the package for a catkin (ROS 1) package, "
-                      "which a ROS 2 workspace cannot build.",
-          hint="add <export><build_type>ament_cmake</build_type></export>")
+@register(
+    "PF105",
+    "build-type-missing",
+    "error",
+    area="manifest",
+    bad=("<!-- package.xml -->\n<export>\n</export>"),
+    good=("<!-- package.xml -->\n<export>\n  <build_type>ament_cmake</build_type>\n</export>"),
+    summary="package.xml has no <export><build_type>",
+    explanation="Without it colcon takes the package for a catkin (ROS 1) package, "
+    "which a ROS 2 workspace cannot build.",
+    hint="add <export><build_type>ament_cmake</build_type></export>",
+)
 def build_type_missing(ctx: CheckContext):
     model = ctx.model
     manifest = model.manifest
     if manifest.name is None or manifest.problems or manifest.build_type:
         return
-    build_type = "ament_python" if (model.path / "setup.py").exists() and model.cmake is None \
-        else "ament_cmake"
-    yield Finding("package.xml declares no build type; colcon will treat the package as catkin",
-                  manifest.path, manifest.export_line or manifest.root_line,
-                  hint=f"add <export><build_type>{build_type}</build_type></export> to package.xml")
+    build_type = (
+        "ament_python" if (model.path / "setup.py").exists() and model.cmake is None else "ament_cmake"
+    )
+    yield Finding(
+        "package.xml declares no build type; colcon will treat the package as catkin",
+        manifest.path,
+        manifest.export_line or manifest.root_line,
+        hint=f"add <export><build_type>{build_type}</build_type></export> to package.xml",
+    )
 
 
-@register("PF106", "duplicate-dependency", "warning", area="manifest",
-          bad=("<!-- package.xml -->\n"
-               "<depend>xacro</depend>\n"
-               "<exec_depend>xacro</exec_depend>"),
-          good=("<!-- package.xml -->\n"
-                "<exec_depend>xacro</exec_depend>"),
-          summary="a dependency is declared twice",
-          explanation="An exact repeat is noise; <depend> beside <build_depend>, "
-                      "<build_export_depend> or <exec_depend> of the same package makes "
-                      "catkin_pkg reject the manifest, and colcon then skips the package.",
-          hint="keep one declaration")
+@register(
+    "PF106",
+    "duplicate-dependency",
+    "warning",
+    area="manifest",
+    bad=("<!-- package.xml -->\n<depend>xacro</depend>\n<exec_depend>xacro</exec_depend>"),
+    good=("<!-- package.xml -->\n<exec_depend>xacro</exec_depend>"),
+    summary="a dependency is declared twice",
+    explanation="An exact repeat is noise; <depend> beside <build_depend>, "
+    "<build_export_depend> or <exec_depend> of the same package makes "
+    "catkin_pkg reject the manifest, and colcon then skips the package.",
+    hint="keep one declaration",
+)
 def duplicate_dependency(ctx: CheckContext):
     manifest = ctx.model.manifest
     seen: dict[str, list] = {}
@@ -152,31 +183,42 @@ def duplicate_dependency(ctx: CheckContext):
         tags = [d.tag for d in declarations]
         if "depend" in tags and any(t in GENERIC_OVERLAPS for t in tags):
             specific = next(d for d in declarations if d.tag in GENERIC_OVERLAPS)
-            yield Finding(f"<depend>{name}</depend> already covers <{specific.tag}>{name}</{specific.tag}>; "
-                          "catkin_pkg rejects this manifest", manifest.path, specific.line,
-                          severity=Severity.ERROR,
-                          hint=f"delete <{specific.tag}>{name}</{specific.tag}> "
-                               f"(line {specific.line}): <depend> includes it")
+            yield Finding(
+                f"<depend>{name}</depend> already covers <{specific.tag}>{name}</{specific.tag}>; "
+                "catkin_pkg rejects this manifest",
+                manifest.path,
+                specific.line,
+                severity=Severity.ERROR,
+                hint=f"delete <{specific.tag}>{name}</{specific.tag}> "
+                f"(line {specific.line}): <depend> includes it",
+            )
             continue
         for index, dependency in enumerate(declarations):
             if dependency.tag in tags[:index]:
                 first = declarations[tags.index(dependency.tag)]
-                yield Finding(f"<{dependency.tag}>{name}</{dependency.tag}> is declared again "
-                              f"(first at line {first.line})", manifest.path, dependency.line,
-                              hint=f"delete the repeat at line {dependency.line}")
+                yield Finding(
+                    f"<{dependency.tag}>{name}</{dependency.tag}> is declared again "
+                    f"(first at line {first.line})",
+                    manifest.path,
+                    dependency.line,
+                    hint=f"delete the repeat at line {dependency.line}",
+                )
 
 
-@register("PF107", "unused-exec-depend", "info", area="manifest",
-          bad=("<!-- package.xml (nothing in the package uses tf2_ros) -->\n"
-               "<exec_depend>tf2_ros</exec_depend>"),
-          good=("<!-- package.xml -->\n"
-                "<!-- the exec_depend removed -->"),
-          summary="an exec_depend that nothing in the package uses",
-          explanation="A run-time dependency no launch file, model, RViz config, ros2_control or "
-                      "plugin YAML, <plugin> element or Python module of the package names is "
-                      "usually left over from a tutorial; it costs installs on every machine that "
-                      "deploys the package. Metapackages are exempt.",
-          hint="remove it if nothing needs it at run time")
+@register(
+    "PF107",
+    "unused-exec-depend",
+    "info",
+    area="manifest",
+    bad=("<!-- package.xml (nothing in the package uses tf2_ros) -->\n<exec_depend>tf2_ros</exec_depend>"),
+    good=("<!-- package.xml -->\n<!-- the exec_depend removed -->"),
+    summary="an exec_depend that nothing in the package uses",
+    explanation="A run-time dependency no launch file, model, RViz config, ros2_control or "
+    "plugin YAML, <plugin> element or Python module of the package names is "
+    "usually left over from a tutorial; it costs installs on every machine that "
+    "deploys the package. Metapackages are exempt.",
+    hint="remove it if nothing needs it at run time",
+)
 def unused_exec_depend(ctx: CheckContext):
     model = ctx.model
     if model.manifest.metapackage or not model.top_level_folders().keys() - {"resource"}:
@@ -195,16 +237,22 @@ def unused_exec_depend(ctx: CheckContext):
     if "rviz_default_plugins" in used or "rviz_common" in used:
         used |= {"rviz_common", "rviz_default_plugins"}
     for dependency in model.manifest.active_dependencies():
-        if dependency.tag in RUN_TAGS and dependency.tag != "depend" and dependency.name not in used \
-                and _not_in_distro(ctx, dependency.name, declared=True) is None:  # that one says it
-            yield Finding(f"nothing in {model.name} uses exec_depend '{dependency.name}'",
-                          model.manifest.path, dependency.line)
+        if (
+            dependency.tag in RUN_TAGS
+            and dependency.tag != "depend"
+            and dependency.name not in used
+            and _not_in_distro(ctx, dependency.name, declared=True) is None
+        ):  # that one says it
+            yield Finding(
+                f"nothing in {model.name} uses exec_depend '{dependency.name}'",
+                model.manifest.path,
+                dependency.line,
+            )
 
 
 def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
     """(message, hint) when `name` is not released for the target distros, else None."""
-    from pkgforge.model.distro_data import load
-    from pkgforge.model.distro_data import replacement
+    from pkgforge.model.distro_data import load, replacement
 
     data = load()
     released = data.released_in(name)
@@ -217,36 +265,45 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
         if better is not None and all(data.released(better[0], d) for d in missing):
             hint = f"use {better[0]} instead: {better[1]}"
         else:
-            hint = (f"build {name} from source in the workspace, or target "
-                    f"{' or '.join(released)} (--distro, ROS_DISTRO or pkgforge.toml [verify] distro)")
+            hint = (
+                f"build {name} from source in the workspace, or target "
+                f"{' or '.join(released)} (--distro, ROS_DISTRO or pkgforge.toml [verify] distro)"
+            )
         return message, hint
     if not declared or name in ctx.installed_packages():
         return None
     if better is not None:
-        return (f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",
-                f"declare {better[0]} instead")
+        return (
+            f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",
+            f"declare {better[0]} instead",
+        )
     if "-" in name or name.startswith(("python", "lib")) or name != name.lower():
         return None  # a rosdep key for a system package (python3-yaml, libboost-dev, Eigen3)
     near = data.close_names(name, n=1, cutoff=0.85, same_start=True)
     if not near:
         return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
-    return (f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
-            f"did you mean {near[0]}?")
+    return (
+        f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
+        f"did you mean {near[0]}?",
+    )
 
 
-@register("PF108", "package-not-in-distro", "error", area="manifest",
-          bad=("<!-- package.xml, targeting jazzy -->\n"
-               "<exec_depend>gazebo_ros</exec_depend>"),
-          good=("<!-- package.xml -->\n"
-                "<exec_depend>ros_gz_sim</exec_depend>"),
-          summary="a package used or declared is not released for the target ROS 2 distro",
-          explanation="rosdep and the binary packages install only what is released for the "
-                      "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
-                      "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
-                      "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
-                      "distro or the package's CI file; without one, a package released in any "
-                      "active distro counts.",
-          hint="use the ROS 2 package released for the distro")
+@register(
+    "PF108",
+    "package-not-in-distro",
+    "error",
+    area="manifest",
+    bad=("<!-- package.xml, targeting jazzy -->\n<exec_depend>gazebo_ros</exec_depend>"),
+    good=("<!-- package.xml -->\n<exec_depend>ros_gz_sim</exec_depend>"),
+    summary="a package used or declared is not released for the target ROS 2 distro",
+    explanation="rosdep and the binary packages install only what is released for the "
+    "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
+    "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
+    "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
+    "distro or the package's CI file; without one, a package released in any "
+    "active distro counts.",
+    hint="use the ROS 2 package released for the distro",
+)
 def package_not_in_distro(ctx: CheckContext):
     model = ctx.model
     manifest = model.manifest
@@ -261,11 +318,15 @@ def package_not_in_distro(ctx: CheckContext):
         problem = _not_in_distro(ctx, name, declared=True)
         if problem is not None:
             reported.add(name)
-            yield Finding(f"<{dependency.tag}>{name}</{dependency.tag}>: {problem[0]}", manifest.path,
-                          dependency.line, hint=problem[1])
+            yield Finding(
+                f"<{dependency.tag}>{name}</{dependency.tag}>: {problem[0]}",
+                manifest.path,
+                dependency.line,
+                hint=problem[1],
+            )
     if not ctx.distros:
         return
-    from .launch import _looked_up
+    from pkgforge.checks.launch import _looked_up
 
     uses: dict[str, list] = {}
     for name, path, line, via, _, _ in _looked_up(ctx):
@@ -278,22 +339,29 @@ def package_not_in_distro(ctx: CheckContext):
         found.sort()
         _, _, _, path, line, via = found[0]
         more = len({(f[1], f[2]) for f in found}) - 1
-        yield Finding(f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else ""),
-                      path, line, hint=problem[1])
+        yield Finding(
+            f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else ""),
+            path,
+            line,
+            hint=problem[1],
+        )
 
 
-@register("PF109", "find-package-undeclared", "error", area="manifest",
-          bad=("# CMakeLists.txt (package.xml declares no urdf)\n"
-               "find_package(urdf REQUIRED)"),
-          good=("<!-- package.xml -->\n"
-                "<build_depend>urdf</build_depend>"),
-          summary="CMakeLists.txt calls find_package() on a ROS package that package.xml does not "
-                  "declare for the build",
-          explanation="rosdep installs only declared build dependencies: on a clean machine (a "
-                      "build farm, a Docker image after `rosdep install`) the find_package() fails. "
-                      "It builds here because the package is installed anyway, or because "
-                      "pkgforge build stubs declared packages.",
-          hint="declare it with <build_depend> (or <depend>)")
+@register(
+    "PF109",
+    "find-package-undeclared",
+    "error",
+    area="manifest",
+    bad=("# CMakeLists.txt (package.xml declares no urdf)\nfind_package(urdf REQUIRED)"),
+    good=("<!-- package.xml -->\n<build_depend>urdf</build_depend>"),
+    summary="CMakeLists.txt calls find_package() on a ROS package that package.xml does not "
+    "declare for the build",
+    explanation="rosdep installs only declared build dependencies: on a clean machine (a "
+    "build farm, a Docker image after `rosdep install`) the find_package() fails. "
+    "It builds here because the package is installed anyway, or because "
+    "pkgforge build stubs declared packages.",
+    hint="declare it with <build_depend> (or <depend>)",
+)
 def find_package_undeclared(ctx: CheckContext):
     model = ctx.model
     manifest = model.manifest
@@ -301,21 +369,32 @@ def find_package_undeclared(ctx: CheckContext):
         return
     from pkgforge.model.distro_data import released_set
 
-    build = manifest.build_dependencies() | {d.name for d in manifest.active_dependencies()
-                                             if d.tag in ("test_depend", "build_export_depend")}
+    build = manifest.build_dependencies() | {
+        d.name for d in manifest.active_dependencies() if d.tag in ("test_depend", "build_export_depend")
+    }
     released = released_set(())  # with the workspace's: the ROS packages (no set built per package)
     reported = set()
     after = manifest.last_dependency_line()
     for name, command in model.cmake.find_packages:
-        if name in build or name in reported or (name not in ctx.workspace and name not in released) \
-                or name in (model.name,):
+        if (
+            name in build
+            or name in reported
+            or (name not in ctx.workspace and name not in released)
+            or name in (model.name,)
+        ):
             continue
         reported.add(name)
         other = next((d for d in manifest.active_dependencies() if d.name == name), None)
         why = f" (only <{other.tag}> at package.xml:{other.line})" if other is not None else ""
         tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
-        yield Finding(f"find_package({name}) but package.xml does not declare {name} for the build{why}",
-                      command.path, command.line, command.column,
-                      hint=(f"change package.xml:{other.line} to <depend>{name}</depend>" if other is not None
-                            else f"add <{tag}>{name}</{tag}> to package.xml"
-                                 + (f" after line {after}" if after else "")))
+        yield Finding(
+            f"find_package({name}) but package.xml does not declare {name} for the build{why}",
+            command.path,
+            command.line,
+            command.column,
+            hint=(
+                f"change package.xml:{other.line} to <depend>{name}</depend>"
+                if other is not None
+                else f"add <{tag}>{name}</{tag}> to package.xml" + (f" after line {after}" if after else "")
+            ),
+        )

@@ -6,59 +6,89 @@ each at the file and line of the source it is about, with the same codes every t
 
 from __future__ import annotations
 
-from .registry import register
+from pkgforge.checks.registry import register
 
-register("PF801", "migrate-dropped", "warning", area="migrate",
-         bad='<!-- launch/display.launch (ROS 1) -->\n<machine name="arm" address="10.0.0.2"/>',
-         good='# launch/display.launch.py (ROS 2): no <machine>; run the node on that host instead',
-         summary="a ROS 1 launch or RViz construct has no ROS 2 equivalent and was left out",
-         explanation="ROS 2 launch has no global parameters, machines or $(eval) in ROS 1's syntax; "
-                     "RViz 2 has no plugin of that class. The converted file works without it, but "
-                     "whatever it did is not done.",
-         hint="port it by hand if the package needs it (a node parameter, a ROS 2 plugin)")(None)
+register(
+    "PF801",
+    "migrate-dropped",
+    "warning",
+    area="migrate",
+    bad='<!-- launch/display.launch (ROS 1) -->\n<machine name="arm" address="10.0.0.2"/>',
+    good="# launch/display.launch.py (ROS 2): no <machine>; run the node on that host instead",
+    summary="a ROS 1 launch or RViz construct has no ROS 2 equivalent and was left out",
+    explanation="ROS 2 launch has no global parameters, machines or $(eval) in ROS 1's syntax; "
+    "RViz 2 has no plugin of that class. The converted file works without it, but "
+    "whatever it did is not done.",
+    hint="port it by hand if the package needs it (a node parameter, a ROS 2 plugin)",
+)(None)
 
-register("PF802", "migrate-gazebo-classic", "warning", area="migrate",
-         bad='<!-- launch/gazebo.launch (ROS 1) -->\n<node pkg="gazebo_ros" type="spawn_model" name="spawn"\n      args="-urdf -param robot_description -model arm"/>',
-         good='# pkgforge migrate --gazebo\nNode(package="ros_gz_sim", executable="create",\n     arguments=["-topic", "robot_description", "-name", "arm"])',
-         summary="Gazebo Classic (ROS 1) is used: left out, or a plugin kept and reported",
-         explanation="Gazebo Classic and its ROS 1 plugins (gazebo_ros, spawn_model, libgazebo_ros_*.so) "
-                     "do not exist after Humble; Gazebo (gz) with ros_gz_sim replaces them. Without "
-                     "--gazebo the launch actions are left out; plugins in a model are kept as written.",
-         hint="migrate with --gazebo to start Gazebo with ros_gz_sim and spawn with `ros_gz_sim create`; "
-              "replace libgazebo_ros_*.so plugins by gz-sim systems (gz_ros2_control)")(None)
+register(
+    "PF802",
+    "migrate-gazebo-classic",
+    "warning",
+    area="migrate",
+    bad='<!-- launch/gazebo.launch (ROS 1) -->\n<node pkg="gazebo_ros" type="spawn_model" name="spawn"\n      args="-urdf -param robot_description -model arm"/>',
+    good='# pkgforge migrate --gazebo\nNode(package="ros_gz_sim", executable="create",\n     arguments=["-topic", "robot_description", "-name", "arm"])',
+    summary="Gazebo Classic (ROS 1) is used: left out, or a plugin kept and reported",
+    explanation="Gazebo Classic and its ROS 1 plugins (gazebo_ros, spawn_model, libgazebo_ros_*.so) "
+    "do not exist after Humble; Gazebo (gz) with ros_gz_sim replaces them. Without "
+    "--gazebo the launch actions are left out; plugins in a model are kept as written.",
+    hint="migrate with --gazebo to start Gazebo with ros_gz_sim and spawn with `ros_gz_sim create`; "
+    "replace libgazebo_ros_*.so plugins by gz-sim systems (gz_ros2_control)",
+)(None)
 
-register("PF803", "migrate-renamed", "info", area="migrate",
-         bad='<node pkg="robot_state_publisher" type="state_publisher" name="rsp"/>',
-         good='Node(package="robot_state_publisher", executable="robot_state_publisher")',
-         summary="a ROS 1 package, executable or RViz class was renamed to its ROS 2 name",
-         explanation="ROS 2 renamed some of what a description package uses: state_publisher is "
-                     "robot_state_publisher, rviz is rviz2, tf is tf2_ros, RViz displays live in "
-                     "rviz_default_plugins, Gazebo Classic's spawner is ros_gz_sim's create.",
-         hint="nothing to do: said so that every change is visible")(None)
+register(
+    "PF803",
+    "migrate-renamed",
+    "info",
+    area="migrate",
+    bad='<node pkg="robot_state_publisher" type="state_publisher" name="rsp"/>',
+    good='Node(package="robot_state_publisher", executable="robot_state_publisher")',
+    summary="a ROS 1 package, executable or RViz class was renamed to its ROS 2 name",
+    explanation="ROS 2 renamed some of what a description package uses: state_publisher is "
+    "robot_state_publisher, rviz is rviz2, tf is tf2_ros, RViz displays live in "
+    "rviz_default_plugins, Gazebo Classic's spawner is ros_gz_sim's create.",
+    hint="nothing to do: said so that every change is visible",
+)(None)
 
-register("PF804", "migrate-dependency-dropped", "info", area="migrate",
-         bad='<!-- package.xml (ROS 1) -->\n<buildtool_depend>catkin</buildtool_depend>',
-         good='<!-- package.xml (ROS 2) -->\n<buildtool_depend>ament_cmake</buildtool_depend>',
-         summary="a ROS 1-only dependency was not carried over to package.xml",
-         explanation="catkin and roslaunch are ROS 1's build tool and launcher: ament_cmake, launch "
-                     "and launch_ros take their place, declared from what the new files use.",
-         hint="nothing to do: said so that every change is visible")(None)
+register(
+    "PF804",
+    "migrate-dependency-dropped",
+    "info",
+    area="migrate",
+    bad="<!-- package.xml (ROS 1) -->\n<buildtool_depend>catkin</buildtool_depend>",
+    good="<!-- package.xml (ROS 2) -->\n<buildtool_depend>ament_cmake</buildtool_depend>",
+    summary="a ROS 1-only dependency was not carried over to package.xml",
+    explanation="catkin and roslaunch are ROS 1's build tool and launcher: ament_cmake, launch "
+    "and launch_ros take their place, declared from what the new files use.",
+    hint="nothing to do: said so that every change is visible",
+)(None)
 
-register("PF805", "migrate-generated", "info", area="migrate",
-         bad='<node pkg="rviz" type="rviz" name="rviz" args="-d $(find arm)/urdf.rviz"/>\n<!-- the package has no urdf.rviz -->',
-         good="# rviz/urdf.rviz generated, Fixed Frame = the model's root link",
-         summary="a file the package refers to was made by pkgforge, or a setting changed to fit the model",
-         explanation="A launch file referred to an RViz config the source does not have, or the RViz "
-                     "Fixed Frame is not a link of the model; the converted package gets a config "
-                     "that shows the model, with the model's root link as Fixed Frame.",
-         hint="open it in RViz 2 and save your own layout over it")(None)
+register(
+    "PF805",
+    "migrate-generated",
+    "info",
+    area="migrate",
+    bad='<node pkg="rviz" type="rviz" name="rviz" args="-d $(find arm)/urdf.rviz"/>\n<!-- the package has no urdf.rviz -->',
+    good="# rviz/urdf.rviz generated, Fixed Frame = the model's root link",
+    summary="a file the package refers to was made by pkgforge, or a setting changed to fit the model",
+    explanation="A launch file referred to an RViz config the source does not have, or the RViz "
+    "Fixed Frame is not a link of the model; the converted package gets a config "
+    "that shows the model, with the model's root link as Fixed Frame.",
+    hint="open it in RViz 2 and save your own layout over it",
+)(None)
 
-register("PF806", "migrate-changed", "info", area="migrate",
-         bad='<param name="robot_description" textfile="$(find arm)/urdf/arm.urdf"/>',
-         good='Node(package="robot_state_publisher", executable="robot_state_publisher",\n     parameters=[{"robot_description": ParameterValue(\n         Command(["xacro ", PathJoinSubstitution([FindPackageShare("arm"), "urdf", "arm.urdf"])]),\n         value_type=str)}])',
-         summary="a launch construct was converted to its ROS 2 form",
-         explanation="robot_description becomes a string parameter of robot_state_publisher (never an "
-                     "argument of joint_state_publisher), the xacro output of the model; $(find) "
-                     "becomes $(find-pkg-share); use_gui chooses joint_state_publisher_gui; files move "
-                     "to folders that are installed.",
-         hint="nothing to do: said so that every change is visible")(None)
+register(
+    "PF806",
+    "migrate-changed",
+    "info",
+    area="migrate",
+    bad='<param name="robot_description" textfile="$(find arm)/urdf/arm.urdf"/>',
+    good='Node(package="robot_state_publisher", executable="robot_state_publisher",\n     parameters=[{"robot_description": ParameterValue(\n         Command(["xacro ", PathJoinSubstitution([FindPackageShare("arm"), "urdf", "arm.urdf"])]),\n         value_type=str)}])',
+    summary="a launch construct was converted to its ROS 2 form",
+    explanation="robot_description becomes a string parameter of robot_state_publisher (never an "
+    "argument of joint_state_publisher), the xacro output of the model; $(find) "
+    "becomes $(find-pkg-share); use_gui chooses joint_state_publisher_gui; files move "
+    "to folders that are installed.",
+    hint="nothing to do: said so that every change is visible",
+)(None)

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .context import CheckContext
-from .launch import MODEL_SUFFIXES, _branch_note
-from .registry import register
-from ..diagnostics import Finding, Severity
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.launch import MODEL_SUFFIXES, _branch_note
+from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding, Severity
 
 
 def _node_records(ctx: CheckContext):
@@ -28,16 +28,19 @@ def _split_characters(arguments: list[str]) -> bool:
     return len(arguments) >= 2 and all(len(a) <= 1 for a in arguments) and any(a.strip() for a in arguments)
 
 
-@register("PF313", "node-arguments-string", "error", area="launch",
-          bad=("# launch/display.launch.py\n"
-               "Node(package='rviz2', executable='rviz2', arguments='-d ' + config)"),
-          good=("# launch/display.launch.py\n"
-                "Node(package='rviz2', executable='rviz2', arguments=['-d', config])"),
-          summary="a Node's arguments is a string, not a list",
-          explanation="launch_ros iterates `arguments`: a string becomes one argument per character "
-                      "(`-d x.rviz` reaches the program as '-', 'd', ' ', 'x', ...), and the node "
-                      "fails or ignores them.",
-          hint="pass a list: arguments=['-d', 'config.rviz']")
+@register(
+    "PF313",
+    "node-arguments-string",
+    "error",
+    area="launch",
+    bad=("# launch/display.launch.py\nNode(package='rviz2', executable='rviz2', arguments='-d ' + config)"),
+    good=("# launch/display.launch.py\nNode(package='rviz2', executable='rviz2', arguments=['-d', config])"),
+    summary="a Node's arguments is a string, not a list",
+    explanation="launch_ros iterates `arguments`: a string becomes one argument per character "
+    "(`-d x.rviz` reaches the program as '-', 'd', ' ', 'x', ...), and the node "
+    "fails or ignores them.",
+    hint="pass a list: arguments=['-d', 'config.rviz']",
+)
 def node_arguments_string(ctx: CheckContext):
     seen = set()
     for package, arguments, position, node, resolution in _node_records(ctx):
@@ -46,25 +49,37 @@ def node_arguments_string(ctx: CheckContext):
         seen.add(position)
         text = "".join(arguments)
         as_list = ", ".join(repr(part) for part in text.split())
-        yield Finding(f"{package or 'a node'} gets arguments='{text}', a string: launch passes "
-                      f"{len(arguments)} one-character arguments{_branch_note(node, resolution)}", *position,
-                      hint=f"write arguments=[{as_list}]")
+        yield Finding(
+            f"{package or 'a node'} gets arguments='{text}', a string: launch passes "
+            f"{len(arguments)} one-character arguments{_branch_note(node, resolution)}",
+            *position,
+            hint=f"write arguments=[{as_list}]",
+        )
 
 
-@register("PF314", "rsp-model-argument", "warning", area="launch",
-          bad=("# launch/display.launch.py\n"
-               "Node(package='robot_state_publisher', executable='robot_state_publisher', arguments=[urdf_file])"),
-          good=("# launch/display.launch.py\n"
-                "Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
-                "     parameters=[{'robot_description':\n"
-                "         ParameterValue(Command(['xacro ', urdf_file]), value_type=str)}])"),
-          summary="robot_state_publisher is given the robot model file as a command-line argument",
-          explanation="Reading the URDF from a file argument is deprecated in robot_state_publisher "
-                      "and removed in Rolling: the node then starts with no model (an error when "
-                      "the target distro is Rolling). It takes the model as the robot_description "
-                      "parameter.",
-          hint="pass robot_description as a parameter: parameters=[{'robot_description': "
-               "ParameterValue(Command(['xacro ', model]), value_type=str)}]")
+@register(
+    "PF314",
+    "rsp-model-argument",
+    "warning",
+    area="launch",
+    bad=(
+        "# launch/display.launch.py\n"
+        "Node(package='robot_state_publisher', executable='robot_state_publisher', arguments=[urdf_file])"
+    ),
+    good=(
+        "# launch/display.launch.py\n"
+        "Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
+        "     parameters=[{'robot_description':\n"
+        "         ParameterValue(Command(['xacro ', urdf_file]), value_type=str)}])"
+    ),
+    summary="robot_state_publisher is given the robot model file as a command-line argument",
+    explanation="Reading the URDF from a file argument is deprecated in robot_state_publisher "
+    "and removed in Rolling: the node then starts with no model (an error when "
+    "the target distro is Rolling). It takes the model as the robot_description "
+    "parameter.",
+    hint="pass robot_description as a parameter: parameters=[{'robot_description': "
+    "ParameterValue(Command(['xacro ', model]), value_type=str)}]",
+)
 def rsp_model_argument(ctx: CheckContext):
     seen = set()
     for package, arguments, position, node, resolution in _node_records(ctx):
@@ -75,6 +90,9 @@ def rsp_model_argument(ctx: CheckContext):
             seen.add(position)
             # removed in Rolling: there the node starts with no model at all
             severity = Severity.ERROR if "rolling" in ctx.distros else None
-            yield Finding(f"robot_state_publisher is given {Path(models[0]).name} as an argument; pass the "
-                          f"model as the robot_description parameter{_branch_note(node, resolution)}",
-                          *position, severity=severity)
+            yield Finding(
+                f"robot_state_publisher is given {Path(models[0]).name} as an argument; pass the "
+                f"model as the robot_description parameter{_branch_note(node, resolution)}",
+                *position,
+                severity=severity,
+            )

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import statistics
 
-from ..diagnostics import Finding, Severity
-from pkgforge.urdf.meshes import resolve_uri
-from pkgforge.urdf import physics
-from .context import CheckContext
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.registry import register
 from pkgforge.checks.urdf import _where
-from .registry import register
+from pkgforge.diagnostics import Finding, Severity
+from pkgforge.urdf import physics
+from pkgforge.urdf.meshes import resolve_uri
 
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake
 COLLISION_TRIANGLES = 20_000  # above this, a collision mesh slows every contact computation
@@ -38,15 +38,20 @@ def _root(robot) -> str | None:
     return next((link["name"] for link in robot["links"] if link["name"] not in children), None)
 
 
-@register("PF601", "mass-not-positive", "error", area="physics",
-          bad='<inertial><mass value="0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>',
-          good='<inertial><mass value="1.2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>',
-          summary="a link's <inertial> has a mass that is zero, negative or not a number",
-          explanation="Physics engines divide by the mass: Gazebo refuses the model or the link "
-                      "accelerates without bound. (Mass 0 with a zero inertia on a link fixed to its "
-                      "parent is a plain frame and passes.)",
-          hint="give the link its real mass in kilograms (> 0), or remove <inertial> from a link "
-               "that only carries a frame")
+@register(
+    "PF601",
+    "mass-not-positive",
+    "error",
+    area="physics",
+    bad='<inertial><mass value="0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>',
+    good='<inertial><mass value="1.2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>',
+    summary="a link's <inertial> has a mass that is zero, negative or not a number",
+    explanation="Physics engines divide by the mass: Gazebo refuses the model or the link "
+    "accelerates without bound. (Mass 0 with a zero inertia on a link fixed to its "
+    "parent is a plain frame and passes.)",
+    hint="give the link its real mass in kilograms (> 0), or remove <inertial> from a link "
+    "that only carries a frame",
+)
 def mass_not_positive(ctx: CheckContext):
     for result, robot in _robots(ctx):
         moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
@@ -58,19 +63,25 @@ def mass_not_positive(ctx: CheckContext):
             # physics engines merge into the parent; a common and harmless idiom
             frame = inertial.get("mass") == 0 and not any((inertial.get("inertia") or {}).values())
             if not (frame and link["name"] not in moving):
-                yield Finding(f"link '{link['name']}' has mass {inertial.get('mass')}",
-                              *_at(ctx, result, link, inertial.get("line")))
+                yield Finding(
+                    f"link '{link['name']}' has mass {inertial.get('mass')}",
+                    *_at(ctx, result, link, inertial.get("line")),
+                )
 
 
-@register("PF602", "inertia-invalid", "error", area="physics",
-          bad='<inertia ixx="0.001" iyy="0.001" izz="0.02" ixy="0" ixz="0" iyz="0"/>  <!-- 0.02 > 0.001 + 0.001 -->',
-          good='<inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/>',
-          summary="a link's inertia tensor is not positive definite or breaks the triangle inequality",
-          explanation="No rigid body has such an inertia: simulators reject it or the link spins and "
-                      "explodes (every principal moment must be > 0 and each at most the sum of the "
-                      "other two).",
-          hint="compute the inertia from the link's shape and mass (CAD export, or the box/cylinder "
-               "formulas)")
+@register(
+    "PF602",
+    "inertia-invalid",
+    "error",
+    area="physics",
+    bad='<inertia ixx="0.001" iyy="0.001" izz="0.02" ixy="0" ixz="0" iyz="0"/>  <!-- 0.02 > 0.001 + 0.001 -->',
+    good='<inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/>',
+    summary="a link's inertia tensor is not positive definite or breaks the triangle inequality",
+    explanation="No rigid body has such an inertia: simulators reject it or the link spins and "
+    "explodes (every principal moment must be > 0 and each at most the sum of the "
+    "other two).",
+    hint="compute the inertia from the link's shape and mass (CAD export, or the box/cylinder formulas)",
+)
 def inertia_invalid(ctx: CheckContext):
     for result, robot in _robots(ctx):
         moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
@@ -85,56 +96,80 @@ def inertia_invalid(ctx: CheckContext):
             # all zero: a point mass, fine on a frame fixed to its parent (sensor frames, tool0)
             point = not any(moments)
             if moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
-                yield Finding(f"link '{link['name']}': inertia not positive definite (principal moments "
-                              f"{shown})", *_at(ctx, result, link, inertial.get("line")))
+                yield Finding(
+                    f"link '{link['name']}': inertia not positive definite (principal moments {shown})",
+                    *_at(ctx, result, link, inertial.get("line")),
+                )
             elif moments[2] > moments[0] + moments[1] + tolerance:
-                yield Finding(f"link '{link['name']}': principal moments {shown} break the triangle "
-                              f"inequality ({moments[2]:.4g} > {moments[0]:.4g} + {moments[1]:.4g})",
-                              *_at(ctx, result, link, inertial.get("line")))
+                yield Finding(
+                    f"link '{link['name']}': principal moments {shown} break the triangle "
+                    f"inequality ({moments[2]:.4g} > {moments[0]:.4g} + {moments[1]:.4g})",
+                    *_at(ctx, result, link, inertial.get("line")),
+                )
 
 
-@register("PF603", "collision-without-inertial", "warning", area="physics",
-          bad='<link name="arm">\n  <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>\n</link>',
-          good='<link name="arm">\n  <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>\n  <inertial><mass value="1"/><inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/></inertial>\n</link>',
-          summary="a link has collision geometry but no <inertial>",
-          explanation="Gazebo drops links without inertia (and their collisions with them): the part "
-                      "the model shows does not collide.",
-          hint="add an <inertial> with the link's mass and inertia")
+@register(
+    "PF603",
+    "collision-without-inertial",
+    "warning",
+    area="physics",
+    bad='<link name="arm">\n  <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>\n</link>',
+    good='<link name="arm">\n  <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>\n  <inertial><mass value="1"/><inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/></inertial>\n</link>',
+    summary="a link has collision geometry but no <inertial>",
+    explanation="Gazebo drops links without inertia (and their collisions with them): the part "
+    "the model shows does not collide.",
+    hint="add an <inertial> with the link's mass and inertia",
+)
 def collision_without_inertial(ctx: CheckContext):
     for result, robot in _robots(ctx):
         root = _root(robot)
         for link in robot["links"]:
             if link.get("collisions") and link.get("inertial") is None and link["name"] != root:
-                yield Finding(f"link '{link['name']}' has {len(link['collisions'])} collision shape(s) and "
-                              "no <inertial>", *_at(ctx, result, link))
+                yield Finding(
+                    f"link '{link['name']}' has {len(link['collisions'])} collision shape(s) and "
+                    "no <inertial>",
+                    *_at(ctx, result, link),
+                )
 
 
-@register("PF604", "root-link-inertia", "warning", area="physics",
-          bad='<link name="base_link">  <!-- the root -->\n  <inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>\n</link>',
-          good='<link name="base_footprint"/>\n<joint name="base_joint" type="fixed"><parent link="base_footprint"/><child link="base_link"/></joint>',
-          summary="the root link has an <inertial>",
-          explanation="KDL cannot give the root link an inertia: robot_state_publisher warns on every "
-                      "start and the mass is lost to dynamics solvers.",
-          hint="add a massless root link (e.g. base_footprint or base) joined to this one by a fixed joint")
+@register(
+    "PF604",
+    "root-link-inertia",
+    "warning",
+    area="physics",
+    bad='<link name="base_link">  <!-- the root -->\n  <inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>\n</link>',
+    good='<link name="base_footprint"/>\n<joint name="base_joint" type="fixed"><parent link="base_footprint"/><child link="base_link"/></joint>',
+    summary="the root link has an <inertial>",
+    explanation="KDL cannot give the root link an inertia: robot_state_publisher warns on every "
+    "start and the mass is lost to dynamics solvers.",
+    hint="add a massless root link (e.g. base_footprint or base) joined to this one by a fixed joint",
+)
 def root_link_inertia(ctx: CheckContext):
     for result, robot in _robots(ctx):
         root = _root(robot)
-        link = next((l for l in robot["links"] if l["name"] == root), None)
+        link = next((each for each in robot["links"] if each["name"] == root), None)
         if link is not None and link.get("inertial") is not None and robot.get("joints"):
-            yield Finding(f"root link '{root}' has an inertia, which KDL ignores",
-                          *_at(ctx, result, link, link["inertial"].get("line")))
+            yield Finding(
+                f"root link '{root}' has an inertia, which KDL ignores",
+                *_at(ctx, result, link, link["inertial"].get("line")),
+            )
 
 
-@register("PF605", "joint-limit-invalid", "error", area="physics",
-          bad='<limit lower="1.57" upper="-1.57" velocity="0" effort="10"/>',
-          good='<limit lower="-1.57" upper="1.57" velocity="1.0" effort="10"/>',
-          summary="a revolute or prismatic joint's <limit> is missing, reversed (lower > upper), or has "
-                  "zero or negative velocity or effort",
-          explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
-                      "leave no allowed position; controllers and MoveIt cannot move a joint whose "
-                      "velocity or effort limit is 0.",
-          hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
-               "velocity, effort > 0")
+@register(
+    "PF605",
+    "joint-limit-invalid",
+    "error",
+    area="physics",
+    bad='<limit lower="1.57" upper="-1.57" velocity="0" effort="10"/>',
+    good='<limit lower="-1.57" upper="1.57" velocity="1.0" effort="10"/>',
+    summary="a revolute or prismatic joint's <limit> is missing, reversed (lower > upper), or has "
+    "zero or negative velocity or effort",
+    explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
+    "leave no allowed position; controllers and MoveIt cannot move a joint whose "
+    "velocity or effort limit is 0.",
+    hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
+    "velocity, effort > 0",
+)
 def joint_limit_invalid(ctx: CheckContext):
     for result, robot in _robots(ctx):
         for joint in robot.get("joints", []):
@@ -148,57 +183,82 @@ def joint_limit_invalid(ctx: CheckContext):
                 continue
             lower, upper = limit.get("lower") or 0.0, limit.get("upper") or 0.0
             if lower > upper:
-                yield Finding(f"{name}: lower limit {lower:g} > upper limit {upper:g}", *where,
-                              hint="swap lower and upper")
+                yield Finding(
+                    f"{name}: lower limit {lower:g} > upper limit {upper:g}",
+                    *where,
+                    hint="swap lower and upper",
+                )
             if not (limit.get("velocity") or 0) > 0:
-                yield Finding(f"{name}: velocity limit is {limit.get('velocity')}", *where,
-                              hint="set velocity= to the joint's real maximum (> 0)")
+                yield Finding(
+                    f"{name}: velocity limit is {limit.get('velocity')}",
+                    *where,
+                    hint="set velocity= to the joint's real maximum (> 0)",
+                )
             if not (limit.get("effort") or 0) > 0:
                 # ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose: they are position
                 # controlled, and RViz and MoveIt never read it. Only a simulator's effort control
                 # fails on it: a warning, not an error.
-                yield Finding(f"{name}: effort limit is {limit.get('effort')}", *where, severity=Severity.WARNING,
-                              hint="set effort= to the joint's real maximum (> 0) if the joint is simulated "
-                                   "or effort-controlled")
+                yield Finding(
+                    f"{name}: effort limit is {limit.get('effort')}",
+                    *where,
+                    severity=Severity.WARNING,
+                    hint="set effort= to the joint's real maximum (> 0) if the joint is simulated "
+                    "or effort-controlled",
+                )
 
 
-@register("PF606", "continuous-joint-limits", "warning", area="physics",
-          bad='<joint name="wheel" type="continuous">\n  <limit lower="-3.14" upper="3.14" velocity="5" effort="2"/>\n</joint>',
-          good='<joint name="wheel" type="continuous">\n  <limit velocity="5" effort="2"/>\n</joint>',
-          summary="a continuous joint has position limits",
-          explanation="A continuous joint turns without end: urdfdom ignores its lower/upper, so the "
-                      "limits the author meant are not applied anywhere.",
-          hint="make it a revolute joint to keep the limits, or drop lower/upper")
+@register(
+    "PF606",
+    "continuous-joint-limits",
+    "warning",
+    area="physics",
+    bad='<joint name="wheel" type="continuous">\n  <limit lower="-3.14" upper="3.14" velocity="5" effort="2"/>\n</joint>',
+    good='<joint name="wheel" type="continuous">\n  <limit velocity="5" effort="2"/>\n</joint>',
+    summary="a continuous joint has position limits",
+    explanation="A continuous joint turns without end: urdfdom ignores its lower/upper, so the "
+    "limits the author meant are not applied anywhere.",
+    hint="make it a revolute joint to keep the limits, or drop lower/upper",
+)
 def continuous_joint_limits(ctx: CheckContext):
     for result, robot in _robots(ctx):
         for joint in robot.get("joints", []):
             limit = joint.get("limit") or {}
             if joint.get("type") == "continuous" and (limit.get("lower") or limit.get("upper")):
-                yield Finding(f"continuous joint '{joint['name']}' has lower={limit.get('lower')} "
-                              f"upper={limit.get('upper')}, which are ignored",
-                              *_at(ctx, result, joint, limit.get("line")))
+                yield Finding(
+                    f"continuous joint '{joint['name']}' has lower={limit.get('lower')} "
+                    f"upper={limit.get('upper')}, which are ignored",
+                    *_at(ctx, result, joint, limit.get("line")),
+                )
 
 
-@register("PF607", "joint-axis-zero", "error", area="physics",
-          bad='<axis xyz="0 0 0"/>',
-          good='<axis xyz="0 0 1"/>',
-          summary="a joint's axis is the zero vector",
-          explanation="A zero axis gives the joint no direction of motion: urdfdom refuses it and "
-                      "the joint cannot move.",
-          hint="give <axis xyz=...> a unit vector, e.g. 0 0 1")
+@register(
+    "PF607",
+    "joint-axis-zero",
+    "error",
+    area="physics",
+    bad='<axis xyz="0 0 0"/>',
+    good='<axis xyz="0 0 1"/>',
+    summary="a joint's axis is the zero vector",
+    explanation="A zero axis gives the joint no direction of motion: urdfdom refuses it and "
+    "the joint cannot move.",
+    hint="give <axis xyz=...> a unit vector, e.g. 0 0 1",
+)
 def joint_axis_zero(ctx: CheckContext):
     for result, robot in _robots(ctx):
         for joint in robot.get("joints", []):
             axis = joint.get("axis")
             if joint.get("type") not in ("fixed", "floating") and axis is not None and not any(axis):
-                yield Finding(f"joint '{joint['name']}' has axis {' '.join(f'{a:g}' for a in axis)}",
-                              *_at(ctx, result, joint))
+                yield Finding(
+                    f"joint '{joint['name']}' has axis {' '.join(f'{a:g}' for a in axis)}",
+                    *_at(ctx, result, joint),
+                )
 
 
 def _resolver(ctx, result):
     def resolve(uri):
         lookup = resolve_uri(uri, ctx.tree, result.installed) if ctx.tree is not None else None
         return lookup.path if lookup is not None and lookup.status == "found" else None
+
     return resolve
 
 
@@ -209,16 +269,21 @@ def _sizes(robot, resolve):
             for part in link.get(kind, []):
                 box = physics.local_box(part.get("geometry"), resolve)
                 if box is not None:
-                    yield link, part, kind, max(h - lo for lo, h in zip(*box))
+                    yield link, part, kind, max(h - lo for lo, h in zip(*box, strict=False))
 
 
-@register("PF608", "mesh-scale-suspect", "warning", area="physics",
-          bad='<mesh filename="package://rob_description/meshes/arm.stl"/>  <!-- exported in mm -->',
-          good='<mesh filename="package://rob_description/meshes/arm.stl" scale="0.001 0.001 0.001"/>',
-          summary="a mesh is about 1000 times bigger (or smaller) than the rest of the model",
-          explanation="A CAD export in millimetres read as metres makes the robot 1000x too big: RViz "
-                      "shows a giant or nothing, and collisions and inertias are wrong.",
-          hint="add scale=\"0.001 0.001 0.001\" to the <mesh>, or export the mesh in metres")
+@register(
+    "PF608",
+    "mesh-scale-suspect",
+    "warning",
+    area="physics",
+    bad='<mesh filename="package://rob_description/meshes/arm.stl"/>  <!-- exported in mm -->',
+    good='<mesh filename="package://rob_description/meshes/arm.stl" scale="0.001 0.001 0.001"/>',
+    summary="a mesh is about 1000 times bigger (or smaller) than the rest of the model",
+    explanation="A CAD export in millimetres read as metres makes the robot 1000x too big: RViz "
+    "shows a giant or nothing, and collisions and inertias are wrong.",
+    hint='add scale="0.001 0.001 0.001" to the <mesh>, or export the mesh in metres',
+)
 def mesh_scale_suspect(ctx: CheckContext):
     for result, robot in _robots(ctx):
         resolve = _resolver(ctx, result)
@@ -227,8 +292,11 @@ def mesh_scale_suspect(ctx: CheckContext):
         if not meshes:
             continue
         reference = [s[3] for s in sizes if s[1]["geometry"].get("type") != "mesh"]
-        reference += [sum(v * v for v in j["origin"]["xyz"]) ** 0.5 for j in robot.get("joints", [])
-                      if j.get("origin") and any(j["origin"]["xyz"])]
+        reference += [
+            sum(v * v for v in j["origin"]["xyz"]) ** 0.5
+            for j in robot.get("joints", [])
+            if j.get("origin") and any(j["origin"]["xyz"])
+        ]
         if not reference:  # only meshes: compare each with the others
             reference = [s[3] for s in meshes]
         typical = statistics.median(reference)
@@ -240,19 +308,26 @@ def mesh_scale_suspect(ctx: CheckContext):
                 continue
             seen.add((uri, kind))
             factor = "0.001" if ratio > 1 else "1000"
-            yield Finding(f"{uri} ({kind[:-1]} of link '{link['name']}') is {extent:.3g} m across, "
-                          f"{ratio:.3g} times the model's typical size of {typical:.3g} m: a unit mistake?",
-                          *_at(ctx, result, link, part.get("line")),
-                          hint=f"add scale=\"{factor} {factor} {factor}\" to the <mesh>, or export it in metres")
+            yield Finding(
+                f"{uri} ({kind[:-1]} of link '{link['name']}') is {extent:.3g} m across, "
+                f"{ratio:.3g} times the model's typical size of {typical:.3g} m: a unit mistake?",
+                *_at(ctx, result, link, part.get("line")),
+                hint=f'add scale="{factor} {factor} {factor}" to the <mesh>, or export it in metres',
+            )
 
 
-@register("PF609", "collision-mesh-heavy", "warning", area="physics",
-          bad='<collision><geometry><mesh filename="package://rob_description/meshes/arm_visual.dae"/></geometry></collision>',
-          good='<collision><geometry><mesh filename="package://rob_description/meshes/arm_convex.stl"/></geometry></collision>',
-          summary=f"a collision mesh has more than {COLLISION_TRIANGLES} triangles",
-          explanation="Collision checking (Gazebo, MoveIt) costs per triangle: a detailed visual mesh "
-                      "used as collision geometry makes simulation and planning slow.",
-          hint="use a simplified or convex mesh (or primitives) as <collision> geometry")
+@register(
+    "PF609",
+    "collision-mesh-heavy",
+    "warning",
+    area="physics",
+    bad='<collision><geometry><mesh filename="package://rob_description/meshes/arm_visual.dae"/></geometry></collision>',
+    good='<collision><geometry><mesh filename="package://rob_description/meshes/arm_convex.stl"/></geometry></collision>',
+    summary=f"a collision mesh has more than {COLLISION_TRIANGLES} triangles",
+    explanation="Collision checking (Gazebo, MoveIt) costs per triangle: a detailed visual mesh "
+    "used as collision geometry makes simulation and planning slow.",
+    hint="use a simplified or convex mesh (or primitives) as <collision> geometry",
+)
 def collision_mesh_heavy(ctx: CheckContext):
     for result, robot in _robots(ctx):
         resolve = _resolver(ctx, result)
@@ -260,9 +335,16 @@ def collision_mesh_heavy(ctx: CheckContext):
         for link in robot["links"]:
             for part in link.get("collisions", []):
                 geometry = part.get("geometry") or {}
-                path = resolve(geometry["uri"]) if geometry.get("type") == "mesh" and geometry.get("uri") else None
+                path = (
+                    resolve(geometry["uri"])
+                    if geometry.get("type") == "mesh" and geometry.get("uri")
+                    else None
+                )
                 info = physics.mesh_info(str(path)) if path else None
                 if info is not None and info.triangles > COLLISION_TRIANGLES and geometry["uri"] not in seen:
                     seen.add(geometry["uri"])
-                    yield Finding(f"{geometry['uri']} (collision of link '{link['name']}') has "
-                                  f"{info.triangles} triangles", *_at(ctx, result, link, part.get("line")))
+                    yield Finding(
+                        f"{geometry['uri']} (collision of link '{link['name']}') has "
+                        f"{info.triangles} triangles",
+                        *_at(ctx, result, link, part.get("line")),
+                    )

@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 
-from ..diagnostics import Diagnostic, Finding, Severity
+from pkgforge.diagnostics import Diagnostic, Finding, Severity
 
 
 @dataclass(frozen=True)
@@ -38,15 +38,23 @@ class Check:
     def run(self, context) -> list[Diagnostic]:
         if self.function is None:
             return []
-        return [self.diagnostic(context.model.name, _user_paths(finding, context))
-                for finding in self.function(context)]
+        return [
+            self.diagnostic(context.model.name, _user_paths(finding, context))
+            for finding in self.function(context)
+        ]
 
     def diagnostic(self, package: str, finding: Finding) -> Diagnostic:
         return Diagnostic(
-            code=self.code, name=self.name,
+            code=self.code,
+            name=self.name,
             severity=finding.severity or self.severity,
-            package=package, path=finding.path, line=finding.line, column=finding.column,
-            message=finding.message, hint=finding.hint or self.hint, fix=finding.fix,
+            package=package,
+            path=finding.path,
+            line=finding.line,
+            column=finding.column,
+            message=finding.message,
+            hint=finding.hint or self.hint,
+            fix=finding.fix,
         )
 
 
@@ -88,13 +96,31 @@ DEFAULT_FIXES = {"find-package-undeclared": "safe"}
 # A check's area follows its code's hundreds (PF3xx: launch), so `--select PF3` and the
 # catalogue's areas agree; codes are stable, so a check in the wrong area moves area, not code.
 # tests/test_conventions.py enforces it; a new hundred needs its area here.
-AREAS = {"1": "manifest", "2": "install", "3": "launch", "4": "model", "5": "rviz", "6": "physics", "8": "migrate",
-         "9": "run"}
+AREAS = {
+    "1": "manifest",
+    "2": "install",
+    "3": "launch",
+    "4": "model",
+    "5": "rviz",
+    "6": "physics",
+    "8": "migrate",
+    "9": "run",
+}
 
 
-def register(code: str, name: str, severity: str, *, summary: str, explanation: str, hint: str,
-             area: str, fix: str | None = None, bad: str | None = None,
-             good: str | None = None) -> Callable:
+def register(
+    code: str,
+    name: str,
+    severity: str,
+    *,
+    summary: str,
+    explanation: str,
+    hint: str,
+    area: str,
+    fix: str | None = None,
+    bad: str | None = None,
+    good: str | None = None,
+) -> Callable:
     """Register a check function; `severity` is the default: error, warning or info.
 
     `fix`: whether `pkgforge fix` can fix its findings: None, "safe" or "unsafe"
@@ -108,15 +134,16 @@ def register(code: str, name: str, severity: str, *, summary: str, explanation: 
     def decorate(function: Callable | None) -> Callable | None:
         if code in REGISTRY or any(c.name == name for c in REGISTRY.values()):
             raise ValueError(f"check {code} {name} registered twice")
-        REGISTRY[code] = Check(code, name, Severity.parse(severity), summary, explanation, hint,
-                               area, function, fix, bad, good)
+        REGISTRY[code] = Check(
+            code, name, Severity.parse(severity), summary, explanation, hint, area, function, fix, bad, good
+        )
         return function
 
     return decorate
 
 
 def all_checks() -> list[Check]:
-    from . import load_all  # noqa: F401  (importing the modules registers their checks)
+    from pkgforge.checks import load_all  # noqa: F401  (importing the modules registers their checks)
 
     return sorted(REGISTRY.values(), key=lambda c: c.code)
 

@@ -2,47 +2,64 @@
 
 from __future__ import annotations
 
-from ..diagnostics import Finding
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.files import read_problem_hint
+from pkgforge.checks.registry import register
+from pkgforge.checks.urdf import link_names, root_link
+from pkgforge.diagnostics import Finding
 from pkgforge.model.rviz import ROBOT_MODEL
-from .context import CheckContext
-from pkgforge.checks.urdf import link_names
-from pkgforge.checks.urdf import root_link
-from .files import read_problem_hint
-from .registry import register
 
 # frames another node (localization, odometry) publishes; fine when no link has the name
 EXTERNAL_FRAMES = ("map", "odom", "world", "earth")
 
 
-@register("PF501", "rviz-invalid", "error", area="rviz",
-          bad=("# rviz/display.rviz\n"
-               "Visualization Manager: [unclosed"),
-          good="# rviz/display.rviz: saved again from RViz (File > Save Config As)",
-          summary="an RViz config is not YAML, or not an RViz config",
-          explanation="rviz2 falls back to an empty default layout: no robot, no TF.",
-          hint="save the config again from RViz (File > Save Config As)")
+@register(
+    "PF501",
+    "rviz-invalid",
+    "error",
+    area="rviz",
+    bad=("# rviz/display.rviz\nVisualization Manager: [unclosed"),
+    good="# rviz/display.rviz: saved again from RViz (File > Save Config As)",
+    summary="an RViz config is not YAML, or not an RViz config",
+    explanation="rviz2 falls back to an empty default layout: no robot, no TF.",
+    hint="save the config again from RViz (File > Save Config As)",
+)
 def rviz_invalid(ctx: CheckContext):
     for config in ctx.rviz_configs:
         if config.error:
-            yield Finding(f"{config.path.name}: {config.error}", config.path, config.error_line,
-                          hint=read_problem_hint(config.error))
+            yield Finding(
+                f"{config.path.name}: {config.error}",
+                config.path,
+                config.error_line,
+                hint=read_problem_hint(config.error),
+            )
 
 
-@register("PF502", "rviz-no-description", "error", area="rviz", fix="safe",
-          bad=("# rviz/display.rviz\n"
-               "- Class: rviz_default_plugins/RobotModel\n"
-               "  Description Source: Topic\n"
-               "  Description Topic:\n"
-               "    Value: \"\""),
-          good=("# rviz/display.rviz\n"
-                "- Class: rviz_default_plugins/RobotModel\n"
-                "  Description Source: Topic\n"
-                "  Description Topic:\n"
-                "    Value: /robot_description"),
-          summary="a RobotModel display has no description to show",
-          explanation="No error anywhere, TF fine, and RViz shows no robot until someone sets "
-                      "Description Topic by hand (user story 5).",
-          hint="set Description Source: Topic and Description Topic: /robot_description")
+@register(
+    "PF502",
+    "rviz-no-description",
+    "error",
+    area="rviz",
+    fix="safe",
+    bad=(
+        "# rviz/display.rviz\n"
+        "- Class: rviz_default_plugins/RobotModel\n"
+        "  Description Source: Topic\n"
+        "  Description Topic:\n"
+        '    Value: ""'
+    ),
+    good=(
+        "# rviz/display.rviz\n"
+        "- Class: rviz_default_plugins/RobotModel\n"
+        "  Description Source: Topic\n"
+        "  Description Topic:\n"
+        "    Value: /robot_description"
+    ),
+    summary="a RobotModel display has no description to show",
+    explanation="No error anywhere, TF fine, and RViz shows no robot until someone sets "
+    "Description Topic by hand (user story 5).",
+    hint="set Description Source: Topic and Description Topic: /robot_description",
+)
 def rviz_no_description(ctx: CheckContext):
     for config in ctx.rviz_configs:
         for display in config.displays:
@@ -51,25 +68,34 @@ def rviz_no_description(ctx: CheckContext):
             if display["source"] == "File":
                 file = display["file"] or ""
                 if not file or not ctx.file_exists_for_rviz(file):
-                    yield Finding(f"RobotModel '{display['name']}' reads Description File '{file}', which does not "
-                                  "exist", config.path, display["file_line"] or display["line"],
-                                  fix={"display_line": display["line"]})
+                    yield Finding(
+                        f"RobotModel '{display['name']}' reads Description File '{file}', which does not "
+                        "exist",
+                        config.path,
+                        display["file_line"] or display["line"],
+                        fix={"display_line": display["line"]},
+                    )
             elif not (display["topic"] or "").strip():
-                yield Finding(f"RobotModel '{display['name']}' has no Description Topic: RViz shows no robot",
-                              config.path, display["topic_line"] or display["line"],
-                              fix={"display_line": display["line"]})
+                yield Finding(
+                    f"RobotModel '{display['name']}' has no Description Topic: RViz shows no robot",
+                    config.path,
+                    display["topic_line"] or display["line"],
+                    fix={"display_line": display["line"]},
+                )
 
 
-@register("PF503", "rviz-fixed-frame-unknown", "warning", area="rviz", fix="unsafe",
-          bad=("# rviz/display.rviz (the model's links: base_link, arm)\n"
-               "Global Options:\n"
-               "  Fixed Frame: map"),
-          good=("# rviz/display.rviz\n"
-                "Global Options:\n"
-                "  Fixed Frame: base_link"),
-          summary="the Fixed Frame is not a link of the model the same launch file publishes",
-          explanation="RViz shows 'Fixed Frame [x] does not exist' and draws nothing relative to it.",
-          hint="set Fixed Frame to a link of the model, e.g. its root link")
+@register(
+    "PF503",
+    "rviz-fixed-frame-unknown",
+    "warning",
+    area="rviz",
+    fix="unsafe",
+    bad=("# rviz/display.rviz (the model's links: base_link, arm)\nGlobal Options:\n  Fixed Frame: map"),
+    good=("# rviz/display.rviz\nGlobal Options:\n  Fixed Frame: base_link"),
+    summary="the Fixed Frame is not a link of the model the same launch file publishes",
+    explanation="RViz shows 'Fixed Frame [x] does not exist' and draws nothing relative to it.",
+    hint="set Fixed Frame to a link of the model, e.g. its root link",
+)
 def rviz_fixed_frame_unknown(ctx: CheckContext):
     for config, launch in ctx.rviz_launches:
         frame = config.fixed_frame
@@ -80,8 +106,11 @@ def rviz_fixed_frame_unknown(ctx: CheckContext):
             continue
         root = root_link(ctx, launch)
         example = root or sorted(links)[0]
-        yield Finding(f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
-                      config.path, config.fixed_frame_line,
-                      hint=f"use a link of the model (its root is {example}); frames such as map, odom or world that "
-                           "another node publishes are accepted when no link has the name",
-                      fix={"frame": root} if root else None)
+        yield Finding(
+            f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
+            config.path,
+            config.fixed_frame_line,
+            hint=f"use a link of the model (its root is {example}); frames such as map, odom or world that "
+            "another node publishes are accepted when no link has the name",
+            fix={"frame": root} if root else None,
+        )

@@ -3,9 +3,9 @@ change only pkgforge's private copy of the install tree (launch/guard.py, trees.
 
 from __future__ import annotations
 
-from ..diagnostics import Finding
-from .context import CheckContext
-from .registry import register
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding
 
 SANDBOX_TYPES = ("RefusedWrite", "RefusedSignal", "TreeWrite")
 CHILD = " (in a process it started)"
@@ -15,8 +15,12 @@ MARKER = "pkgforge refused"  # launch/guard.py's PermissionError
 def stopped_by_guard(resolution) -> bool:
     """Loading failed on a PermissionError of the guard (not caught by the launch file)."""
     error = resolution.error
-    return resolution.status == "load-error" and error is not None and error.type == "PermissionError" \
+    return (
+        resolution.status == "load-error"
+        and error is not None
+        and error.type == "PermissionError"
         and MARKER in (error.message or "")
+    )
 
 
 def sandbox_records(resolution):
@@ -31,23 +35,31 @@ def sandbox_records(resolution):
         yield kind, operation, path, child, item
 
 
-@register("PF316", "launch-writes-files", "warning", area="launch",
-          bad=("# launch/display.launch.py\n"
-               "with open(os.path.join(share, 'urdf', 'robot.urdf'), 'w') as f:\n"
-               "    f.write(urdf)"),
-          good=("# launch/display.launch.py\n"
-                "parameters=[{'robot_description': urdf}]  # the content, no file written"),
-          summary="a launch file writes files or signals processes while it is loaded",
-          explanation="Whatever a launch file does at load time happens on every `ros2 launch`: "
-                      "writing into its package's share folder changes install/ (and, with "
-                      "`colcon build --symlink-install`, the source file in src/ it links to); "
-                      "writing elsewhere changes the user's files; a signal to its parent kills "
-                      "`ros2 launch`. During verify, pkgforge refuses writes outside its own "
-                      "temporary install tree and signals to processes the launch file did not "
-                      "start, and gives it private copies of the installed files, so nothing of "
-                      "the user's changes.",
-          hint="write generated files to a temporary folder (tempfile) or pass the content directly "
-               "(robot_description as a parameter); never write into src/ or install/")
+@register(
+    "PF316",
+    "launch-writes-files",
+    "warning",
+    area="launch",
+    bad=(
+        "# launch/display.launch.py\n"
+        "with open(os.path.join(share, 'urdf', 'robot.urdf'), 'w') as f:\n"
+        "    f.write(urdf)"
+    ),
+    good=(
+        "# launch/display.launch.py\nparameters=[{'robot_description': urdf}]  # the content, no file written"
+    ),
+    summary="a launch file writes files or signals processes while it is loaded",
+    explanation="Whatever a launch file does at load time happens on every `ros2 launch`: "
+    "writing into its package's share folder changes install/ (and, with "
+    "`colcon build --symlink-install`, the source file in src/ it links to); "
+    "writing elsewhere changes the user's files; a signal to its parent kills "
+    "`ros2 launch`. During verify, pkgforge refuses writes outside its own "
+    "temporary install tree and signals to processes the launch file did not "
+    "start, and gives it private copies of the installed files, so nothing of "
+    "the user's changes.",
+    hint="write generated files to a temporary folder (tempfile) or pass the content directly "
+    "(robot_description as a parameter); never write into src/ or install/",
+)
 def launch_writes_files(ctx: CheckContext):
     for resolution in ctx.resolutions:
         name = resolution.launch.installed.name
@@ -59,17 +71,23 @@ def launch_writes_files(ctx: CheckContext):
                 position = (resolution.launch.source or resolution.launch.installed, None)
             who = f"{name} (through a process it starts)" if child else name
             if kind == "RefusedSignal":
-                message = (f"{who} tries to {operation} {path} at run time, not a process it started "
-                           f"(its parent is `ros2 launch`): pkgforge refused it")
+                message = (
+                    f"{who} tries to {operation} {path} at run time, not a process it started "
+                    f"(its parent is `ros2 launch`): pkgforge refused it"
+                )
             elif kind == "RefusedWrite":
-                message = (f"{who} tries to {operation} {path} at run time: pkgforge refused it and "
-                           f"kept the file unchanged")
+                message = (
+                    f"{who} tries to {operation} {path} at run time: pkgforge refused it and "
+                    f"kept the file unchanged"
+                )
             else:
                 located = ctx.tree.locate(path) if ctx.tree is not None else None
                 shown = f"share/{located[0]}/{located[1]}" if located else path
-                message = (f"{who} tries to {operation} the installed {shown} at run time: `ros2 launch` "
-                           f"would change install/ (and, through --symlink-install, the file in src/); "
-                           f"pkgforge refused it and kept the file unchanged")
+                message = (
+                    f"{who} tries to {operation} the installed {shown} at run time: `ros2 launch` "
+                    f"would change install/ (and, through --symlink-install, the file in src/); "
+                    f"pkgforge refused it and kept the file unchanged"
+                )
             if stopped and item.line == error.line and item.file == error.file:
                 message += "; loading stopped there, so nothing after it was checked"
             yield Finding(message, *position)

@@ -8,13 +8,12 @@ import shlex
 from collections import Counter
 from pathlib import Path
 
-from pkgforge.diagnostics import Finding
-from pkgforge.urdf.meshes import resolve_uri
-from pkgforge.urdf.meshes import unreadable
 from pkgforge.checks.context import CheckContext
-from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.files import read_problem_hint, untree
+from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
+from pkgforge.diagnostics import Finding
+from pkgforge.urdf.meshes import resolve_uri, unreadable
 
 
 def _where(ctx: CheckContext, result, file: str | None, line: int | None):
@@ -27,8 +26,11 @@ def _where(ctx: CheckContext, result, file: str | None, line: int | None):
     if result.source is None:
         for origin in result.origins:
             resolution = next((r for r in ctx.resolutions if r.launch == origin["launch"]), None)
-            position = None if resolution is None else \
-                ctx.source_position(resolution, origin["file"], origin["line"])
+            position = (
+                None
+                if resolution is None
+                else ctx.source_position(resolution, origin["file"], origin["line"])
+            )
             if position is not None:
                 return position
     return (result.source or result.installed), None
@@ -40,7 +42,7 @@ def _path_split_at_spaces(words: list[str], model: str) -> str | None:
         return None
     start = words.index(model)
     for end in range(start + 1, len(words)):
-        candidate = " ".join(words[start:end + 1])
+        candidate = " ".join(words[start : end + 1])
         if os.path.exists(candidate):
             return candidate
     return None
@@ -59,22 +61,31 @@ def _split_for_the_user(tree, command) -> tuple[str, str] | None:
         words = shlex.split(tree.as_users(command.text))
     except ValueError:  # an unclosed quote: the user's line fails as pkgforge's did
         return None
-    for mine, theirs in zip(users, words):
+    for mine, theirs in zip(users, words, strict=False):
         if mine != theirs:
             return mine, theirs
     return None
 
 
-@register("PF308", "xacro-error", "error", area="launch",
-          bad=("<!-- urdf/robot.urdf.xacro -->\n"
-               "<xacro:include filename=\"$(find rob_description)/urdf/arm.xacro\"/>  <!-- no such file -->"),
-          good=("<!-- urdf/robot.urdf.xacro -->\n"
-                "<xacro:include filename=\"$(find rob_description)/urdf/arm.urdf.xacro\"/>"),
-          summary="xacro fails on the model a launch file processes",
-          explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
-                      "message says why (an include that does not resolve, an undefined property, "
-                      "a $(find) of an unknown package).",
-          hint="fix the model as xacro's message says")
+@register(
+    "PF308",
+    "xacro-error",
+    "error",
+    area="launch",
+    bad=(
+        "<!-- urdf/robot.urdf.xacro -->\n"
+        '<xacro:include filename="$(find rob_description)/urdf/arm.xacro"/>  <!-- no such file -->'
+    ),
+    good=(
+        "<!-- urdf/robot.urdf.xacro -->\n"
+        '<xacro:include filename="$(find rob_description)/urdf/arm.urdf.xacro"/>'
+    ),
+    summary="xacro fails on the model a launch file processes",
+    explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
+    "message says why (an include that does not resolve, an undefined property, "
+    "a $(find) of an unknown package).",
+    hint="fix the model as xacro's message says",
+)
 def xacro_error(ctx: CheckContext):
     covered = set()
     for result in ctx.model_results:
@@ -86,9 +97,11 @@ def xacro_error(ctx: CheckContext):
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
-            yield Finding(f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
-                          *_where(ctx, result, error.get("file"), error.get("line")),
-                          hint=error.get("hint") or read_problem_hint(error.get("message")))
+            yield Finding(
+                f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
+                *_where(ctx, result, error.get("file"), error.get("line")),
+                hint=error.get("hint") or read_problem_hint(error.get("message")),
+            )
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
     seen = set()
     for resolution in ctx.resolutions:
@@ -100,7 +113,9 @@ def xacro_error(ctx: CheckContext):
                 continue
             if split is None:  # a path of the user's own files with a space (the tree has it too)
                 spaced = _path_split_at_spaces(command.command or [], command.model)
-                split = None if spaced is None else (ctx.tree.as_users(spaced), ctx.tree.as_users(command.model))
+                split = (
+                    None if spaced is None else (ctx.tree.as_users(spaced), ctx.tree.as_users(command.model))
+                )
             if split is None and not Path(command.model).exists():
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
             if _absent_include(ctx, command.message) is not None:
@@ -112,17 +127,21 @@ def xacro_error(ctx: CheckContext):
             if split is not None:
                 spaced, piece = split
                 program = os.path.basename(command.command[0]) if command.command else "the command"
-                yield Finding(f"{program} {Path(spaced).name}: the path '{spaced}' has a space, and "
-                              "Command joins its parts into one line that it splits at spaces (ROS's "
-                              f"Command does too): {program} got '{piece}'", *position,
-                              hint="quote the path inside the command line, e.g. Command(['xacro \"', "
-                                   "path, '\"']), or use a workspace path without spaces")
+                yield Finding(
+                    f"{program} {Path(spaced).name}: the path '{spaced}' has a space, and "
+                    "Command joins its parts into one line that it splits at spaces (ROS's "
+                    f"Command does too): {program} got '{piece}'",
+                    *position,
+                    hint="quote the path inside the command line, e.g. Command(['xacro \"', "
+                    "path, '\"']), or use a workspace path without spaces",
+                )
                 continue
             if _undeclared_find(ctx, command.message):
                 continue
             message = _untree_xacro(ctx, command.message).strip().splitlines()
-            yield Finding(f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}",
-                          *position)
+            yield Finding(
+                f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}", *position
+            )
         error = resolution.error
         models = {c.model for c in resolution.commands}
         if ctx.load_error_kind(resolution) == "xacro" and error is not None and not models & covered:
@@ -138,9 +157,13 @@ def _undeclared_find(ctx: CheckContext, message) -> bool:
     """xacro failed on $(find X) of a real package that package.xml does not declare."""
     found = NOT_FOUND.search(str(message or ""))
     manifest = ctx.model.manifest
-    return found is not None and manifest.valid and found.group(1) in ctx.real_packages() \
-        and found.group(1) not in manifest.run_dependencies() \
-        and found.group(1) not in (ctx.model.name, ctx.model.share_name)  # its own: not a dependency
+    return (
+        found is not None
+        and manifest.valid
+        and found.group(1) in ctx.real_packages()
+        and found.group(1) not in manifest.run_dependencies()
+        and found.group(1) not in (ctx.model.name, ctx.model.share_name)
+    )  # its own: not a dependency
 
 
 def _untree_xacro(ctx: CheckContext, message) -> str:
@@ -168,14 +191,21 @@ def _absent_include(ctx: CheckContext, message) -> tuple[str, str] | None:
     return located[0], located[1]
 
 
-@register("PF407", "model-unevaluated", "info", area="model",
-          bad=("<!-- urdf/robot.urdf.xacro (realsense2_description is declared, not installed here) -->\n"
-               "<xacro:include filename=\"$(find realsense2_description)/urdf/_d435.urdf.xacro\"/>"),
-          good="$ pkgforge verify . --install-base install   # on a machine with realsense2_description",
-          summary="a model includes a file of a declared package that is not installed here",
-          explanation="Not the model's fault: the package is declared and ROS has it, but it is not on "
-                      "this machine, so xacro cannot expand the model here and nothing of it is checked.",
-          hint="verify on a machine with the dependency installed (or --install-base) to check the model")
+@register(
+    "PF407",
+    "model-unevaluated",
+    "info",
+    area="model",
+    bad=(
+        "<!-- urdf/robot.urdf.xacro (realsense2_description is declared, not installed here) -->\n"
+        '<xacro:include filename="$(find realsense2_description)/urdf/_d435.urdf.xacro"/>'
+    ),
+    good="$ pkgforge verify . --install-base install   # on a machine with realsense2_description",
+    summary="a model includes a file of a declared package that is not installed here",
+    explanation="Not the model's fault: the package is declared and ROS has it, but it is not on "
+    "this machine, so xacro cannot expand the model here and nothing of it is checked.",
+    hint="verify on a machine with the dependency installed (or --install-base) to check the model",
+)
 def model_unevaluated(ctx: CheckContext):
     covered = set()
     for result in ctx.model_results:
@@ -185,9 +215,11 @@ def model_unevaluated(ctx: CheckContext):
         covered.add(str(result.installed))
         absent = _absent_include(ctx, error.get("message"))
         if absent is not None and absent[0] in ctx.model.manifest.declared():
-            yield Finding(f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
-                          "not installed here; the model is not checked",
-                          *_where(ctx, result, error.get("file"), error.get("line")))
+            yield Finding(
+                f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
+                "not installed here; the model is not checked",
+                *_where(ctx, result, error.get("file"), error.get("line")),
+            )
     seen = set()
     for resolution in ctx.resolutions:
         for command in resolution.commands:
@@ -195,43 +227,63 @@ def model_unevaluated(ctx: CheckContext):
                 continue
             absent = _absent_include(ctx, command.message)
             position = ctx.source_position(resolution, command.file, command.line)
-            if absent is not None and absent[0] in ctx.model.manifest.declared() and position is not None \
-                    and position not in seen:
+            if (
+                absent is not None
+                and absent[0] in ctx.model.manifest.declared()
+                and position is not None
+                and position not in seen
+            ):
                 seen.add(position)
-                yield Finding(f"{Path(command.model).name} includes {absent[1]} of {absent[0]}, a declared "
-                              "package not installed here; the model is not checked", *position)
+                yield Finding(
+                    f"{Path(command.model).name} includes {absent[1]} of {absent[0]}, a declared "
+                    "package not installed here; the model is not checked",
+                    *position,
+                )
 
 
-@register("PF401", "urdf-invalid", "error", area="model",
-          bad=("<!-- urdf/robot.urdf -->\n"
-               "<robot name=\"rob\">\n"
-               "  <link name=\"base\"/>\n"
-               "  <joint name=\"j\" type=\"fixed\"><parent link=\"base\"/><child link=\"arm\"/></joint>\n"
-               "</robot>"),
-          good=("<!-- urdf/robot.urdf -->\n"
-                "<robot name=\"rob\">\n"
-                "  <link name=\"base\"/>\n"
-                "  <link name=\"arm\"/>\n"
-                "  <joint name=\"j\" type=\"fixed\"><parent link=\"base\"/><child link=\"arm\"/></joint>\n"
-                "</robot>"),
-          summary="a processed model is not a usable URDF",
-          explanation="robot_state_publisher refuses it (or publishes a broken TF tree): no <robot>, "
-                      "duplicate names, a joint whose parent or child link does not exist, more than "
-                      "one root link, a cycle, or not XML at all.",
-          hint="fix the element named in the message")
+@register(
+    "PF401",
+    "urdf-invalid",
+    "error",
+    area="model",
+    bad=(
+        "<!-- urdf/robot.urdf -->\n"
+        '<robot name="rob">\n'
+        '  <link name="base"/>\n'
+        '  <joint name="j" type="fixed"><parent link="base"/><child link="arm"/></joint>\n'
+        "</robot>"
+    ),
+    good=(
+        "<!-- urdf/robot.urdf -->\n"
+        '<robot name="rob">\n'
+        '  <link name="base"/>\n'
+        '  <link name="arm"/>\n'
+        '  <joint name="j" type="fixed"><parent link="base"/><child link="arm"/></joint>\n'
+        "</robot>"
+    ),
+    summary="a processed model is not a usable URDF",
+    explanation="robot_state_publisher refuses it (or publishes a broken TF tree): no <robot>, "
+    "duplicate names, a joint whose parent or child link does not exist, more than "
+    "one root link, a cycle, or not XML at all.",
+    hint="fix the element named in the message",
+)
 def urdf_invalid(ctx: CheckContext):
     for result in ctx.model_results:
         error = result.error or {}
         if result.status == "error" and error.get("stage") == "xml":
-            yield Finding(f"{result.installed.name}: {error['message']}", *_where(ctx, result, error.get("file"),
-                                                                                error.get("line")))
+            yield Finding(
+                f"{result.installed.name}: {error['message']}",
+                *_where(ctx, result, error.get("file"), error.get("line")),
+            )
             continue
         robot = result.robot
         if result.status != "ok" or robot is None:
             continue
         if robot.get("root_tag") != "robot":
-            yield Finding(f"{result.installed.name} has <{robot.get('root_tag')}> at its root, not <robot>",
-                          *_where(ctx, result, str(result.installed), 1))
+            yield Finding(
+                f"{result.installed.name} has <{robot.get('root_tag')}> at its root, not <robot>",
+                *_where(ctx, result, str(result.installed), 1),
+            )
             continue
         yield from _structure_problems(ctx, result, robot)
 
@@ -246,25 +298,33 @@ def _structure_problems(ctx, result, robot: dict):
         for item in items:
             if counts[item["name"]] > 1:
                 counts[item["name"]] = 0  # report each name once
-                yield Finding(f"{kind} name '{item['name']}' is used more than once",
-                              *_where(ctx, result, item.get("file"), item.get("line")))
+                yield Finding(
+                    f"{kind} name '{item['name']}' is used more than once",
+                    *_where(ctx, result, item.get("file"), item.get("line")),
+                )
     names = {link["name"] for link in links}
     parents: dict[str, str] = {}
     for joint in joints:
         for role in ("parent", "child"):
             if joint.get(role) not in names:
-                yield Finding(f"joint '{joint['name']}' has {role} link '{joint.get(role)}', which does not exist",
-                              *_where(ctx, result, joint.get("file"), joint.get("line")),
-                              hint=f"add a link named '{joint.get(role)}' or fix the joint's <{role} link=...>")
+                yield Finding(
+                    f"joint '{joint['name']}' has {role} link '{joint.get(role)}', which does not exist",
+                    *_where(ctx, result, joint.get("file"), joint.get("line")),
+                    hint=f"add a link named '{joint.get(role)}' or fix the joint's <{role} link=...>",
+                )
         if joint.get("child") in parents:
-            yield Finding(f"link '{joint['child']}' is the child of two joints", *_where(
-                ctx, result, joint.get("file"), joint.get("line")))
+            yield Finding(
+                f"link '{joint['child']}' is the child of two joints",
+                *_where(ctx, result, joint.get("file"), joint.get("line")),
+            )
         parents[joint.get("child")] = joint.get("parent")
     roots = [link for link in links if link["name"] not in parents]
     if len(roots) > 1:
-        yield Finding(f"more than one root link: {', '.join(r['name'] for r in roots)} "
-                      "(every link but one must be a joint's child)",
-                      *_where(ctx, result, roots[1].get("file"), roots[1].get("line")))
+        yield Finding(
+            f"more than one root link: {', '.join(r['name'] for r in roots)} "
+            "(every link but one must be a joint's child)",
+            *_where(ctx, result, roots[1].get("file"), roots[1].get("line")),
+        )
     elif not roots:
         yield Finding("the joints form a cycle: no link is the root", *_where(ctx, result, None, None))
 
@@ -282,76 +342,113 @@ def _meshes(ctx: CheckContext):
             yield result, mesh, resolve_uri(mesh["uri"], ctx.tree, result.installed)
 
 
-@register("PF402", "mesh-not-found", "error", area="model", fix="safe",
-          bad=("<!-- urdf/robot.urdf (meshes/ is not installed) -->\n"
-               "<mesh filename=\"package://rob_description/meshes/base.stl\"/>"),
-          good=("# CMakeLists.txt\n"
-                "install(DIRECTORY launch meshes urdf DESTINATION share/${PROJECT_NAME})"),
-          summary="a mesh or texture URI does not resolve to a file in the install tree",
-          explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
-                      "folder never installed, a typo, or a path leaving its package shows an empty "
-                      "or broken model (user story 7).",
-          hint="install the mesh, or fix the URI")
+@register(
+    "PF402",
+    "mesh-not-found",
+    "error",
+    area="model",
+    fix="safe",
+    bad=(
+        "<!-- urdf/robot.urdf (meshes/ is not installed) -->\n"
+        '<mesh filename="package://rob_description/meshes/base.stl"/>'
+    ),
+    good=("# CMakeLists.txt\ninstall(DIRECTORY launch meshes urdf DESTINATION share/${PROJECT_NAME})"),
+    summary="a mesh or texture URI does not resolve to a file in the install tree",
+    explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
+    "folder never installed, a typo, or a path leaving its package shows an empty "
+    "or broken model (user story 7).",
+    hint="install the mesh, or fix the URI",
+)
 def mesh_not_found(ctx: CheckContext):
     for result, mesh, lookup in _meshes(ctx):
         position = _where(ctx, result, mesh.get("file"), mesh.get("line"))
         where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
         if lookup.status == "escapes":
-            yield Finding(f"{mesh['uri']} ({where}) leaves package {lookup.package} with '..'", *position,
-                          hint=f"name a file inside {lookup.package}, or use package://<other>/... for "
-                               "another package's file")
+            yield Finding(
+                f"{mesh['uri']} ({where}) leaves package {lookup.package} with '..'",
+                *position,
+                hint=f"name a file inside {lookup.package}, or use package://<other>/... for "
+                "another package's file",
+            )
         elif lookup.status == "unknown-package" and not lookup.package:
-            fixed = "package://" + mesh["uri"][len("package://"):].lstrip("/")
-            yield Finding(f"{mesh['uri']} ({where}) names no package: 'package:///' has three slashes, and "
-                          "RViz's resource retriever reads an empty package name", *position,
-                          hint=f"write {fixed}")
+            fixed = "package://" + mesh["uri"][len("package://") :].lstrip("/")
+            yield Finding(
+                f"{mesh['uri']} ({where}) names no package: 'package:///' has three slashes, and "
+                "RViz's resource retriever reads an empty package name",
+                *position,
+                hint=f"write {fixed}",
+            )
         elif lookup.status == "unknown-package":
-            yield Finding(f"{mesh['uri']} ({where}): package '{lookup.package}' is not installed anywhere",
-                          *position, hint="fix the package name in the URI")
+            yield Finding(
+                f"{mesh['uri']} ({where}): package '{lookup.package}' is not installed anywhere",
+                *position,
+                hint="fix the package name in the URI",
+            )
         elif lookup.status == "missing":
             owner = ctx.model_for_share(lookup.package) if lookup.package else None
             in_source = owner is not None and os.path.isfile(owner.path / lookup.relative)
             linked = link_hint(owner, lookup.relative) if owner is not None else None
             if linked is not None:
-                yield Finding(f"{mesh['uri']} ({where}) is not in the install tree: {linked[0]}", *position,
-                              hint=linked[1])
+                yield Finding(
+                    f"{mesh['uri']} ({where}) is not in the install tree: {linked[0]}",
+                    *position,
+                    hint=linked[1],
+                )
             elif in_source:
-                yield Finding(f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
-                              f"{lookup.package} but no install rule covers it", *position,
-                              hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative),
-                              fix=install_fix_data(owner, lookup.relative.split("/")[0]))
+                yield Finding(
+                    f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
+                    f"{lookup.package} but no install rule covers it",
+                    *position,
+                    hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative),
+                    fix=install_fix_data(owner, lookup.relative.split("/")[0]),
+                )
             else:
-                yield Finding(f"{mesh['uri']} ({where}) does not exist", *position,
-                              hint="fix the file name in the URI")
+                yield Finding(
+                    f"{mesh['uri']} ({where}) does not exist", *position, hint="fix the file name in the URI"
+                )
 
 
-@register("PF403", "mesh-case-mismatch", "error", area="model", fix="safe",
-          bad=("<!-- urdf/robot.urdf (the file is meshes/base.STL) -->\n"
-               "<mesh filename=\"package://rob_description/meshes/base.stl\"/>"),
-          good=("<!-- urdf/robot.urdf -->\n"
-                "<mesh filename=\"package://rob_description/meshes/base.STL\"/>"),
-          summary="a mesh URI differs from the file's name only in letter case",
-          explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
-                      "Linux does not, and the link shows nothing (user story 7).",
-          hint="use the file's real name in the URI")
+@register(
+    "PF403",
+    "mesh-case-mismatch",
+    "error",
+    area="model",
+    fix="safe",
+    bad=(
+        "<!-- urdf/robot.urdf (the file is meshes/base.STL) -->\n"
+        '<mesh filename="package://rob_description/meshes/base.stl"/>'
+    ),
+    good=('<!-- urdf/robot.urdf -->\n<mesh filename="package://rob_description/meshes/base.STL"/>'),
+    summary="a mesh URI differs from the file's name only in letter case",
+    explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
+    "Linux does not, and the link shows nothing (user story 7).",
+    hint="use the file's real name in the URI",
+)
 def mesh_case_mismatch(ctx: CheckContext):
     for result, mesh, lookup in _meshes(ctx):
         if lookup.status == "case":
-            yield Finding(f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
-                          *_where(ctx, result, mesh.get("file"), mesh.get("line")),
-                          hint=f"write {lookup.real_name} in the URI (or rename the file)",
-                          fix={"uri": mesh["uri"], "real_name": lookup.real_name})
+            yield Finding(
+                f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
+                *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                hint=f"write {lookup.real_name} in the URI (or rename the file)",
+                fix={"uri": mesh["uri"], "real_name": lookup.real_name},
+            )
 
 
-@register("PF404", "mesh-source-path", "warning", area="model",
-          bad=("<!-- urdf/robot.urdf -->\n"
-               "<mesh filename=\"file:///home/me/ws/src/rob_description/meshes/base.stl\"/>"),
-          good=("<!-- urdf/robot.urdf -->\n"
-                "<mesh filename=\"package://rob_description/meshes/base.stl\"/>"),
-          summary="a file:// mesh URI points into a source tree",
-          explanation="It works on the machine that built the package and nowhere else: installed "
-                      "packages must not refer to src/.",
-          hint="use package://<package>/<path> for an installed mesh")
+@register(
+    "PF404",
+    "mesh-source-path",
+    "warning",
+    area="model",
+    bad=(
+        '<!-- urdf/robot.urdf -->\n<mesh filename="file:///home/me/ws/src/rob_description/meshes/base.stl"/>'
+    ),
+    good=('<!-- urdf/robot.urdf -->\n<mesh filename="package://rob_description/meshes/base.stl"/>'),
+    summary="a file:// mesh URI points into a source tree",
+    explanation="It works on the machine that built the package and nowhere else: installed "
+    "packages must not refer to src/.",
+    hint="use package://<package>/<path> for an installed mesh",
+)
 def mesh_source_path(ctx: CheckContext):
     sources = None  # built only for a file:// URI: not once per package of the workspace
     for result, mesh, lookup in _meshes(ctx):
@@ -363,39 +460,52 @@ def mesh_source_path(ctx: CheckContext):
                     relative = lookup.path.relative_to(folder)
                 except ValueError:
                     continue
-                yield Finding(f"{mesh['uri']} points into the source of {folder.name}",
-                              *_where(ctx, result, mesh.get("file"), mesh.get("line")),
-                              hint=f"install it and write package://{folder.name}/{relative.as_posix()}")
+                yield Finding(
+                    f"{mesh['uri']} points into the source of {folder.name}",
+                    *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                    hint=f"install it and write package://{folder.name}/{relative.as_posix()}",
+                )
                 break
 
 
-@register("PF405", "mesh-unreadable", "error", area="model",
-          bad="# meshes/base.stl: an STL cut short (fewer triangles than its header says)",
-          good="# meshes/base.stl: exported again from the CAD tool",
-          summary="a mesh file is not a readable mesh of its kind",
-          explanation="A truncated STL, a .dae that is not COLLADA, an OBJ with no vertices: the "
-                      "visualizer fails on it or shows nothing.",
-          hint="export the mesh again")
+@register(
+    "PF405",
+    "mesh-unreadable",
+    "error",
+    area="model",
+    bad="# meshes/base.stl: an STL cut short (fewer triangles than its header says)",
+    good="# meshes/base.stl: exported again from the CAD tool",
+    summary="a mesh file is not a readable mesh of its kind",
+    explanation="A truncated STL, a .dae that is not COLLADA, an OBJ with no vertices: the "
+    "visualizer fails on it or shows nothing.",
+    hint="export the mesh again",
+)
 def mesh_unreadable(ctx: CheckContext):
     for result, mesh, lookup in _meshes(ctx):
         if lookup.status == "found":
             problem = unreadable(lookup.path)
             if problem:
-                yield Finding(f"{mesh['uri']}: {problem}", *_where(ctx, result, mesh.get("file"), mesh.get("line")),
-                              hint=read_problem_hint(problem))
+                yield Finding(
+                    f"{mesh['uri']}: {problem}",
+                    *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                    hint=read_problem_hint(problem),
+                )
 
 
-@register("PF406", "model-needs-arguments", "info", area="model",
-          bad=("<!-- urdf/robot.urdf.xacro -->\n"
-               "<xacro:arg name=\"prefix\"/>"),
-          good=("<!-- urdf/robot.urdf.xacro -->\n"
-                "<xacro:arg name=\"prefix\" default=\"\"/>"),
-          summary="a model needs xacro arguments that nothing gives it",
-          explanation="It was checked only with the values a launch file passes; on its own it cannot "
-                      "be processed: an argument with no value, or declared with an empty default that "
-                      "xacro fails without (an include built from it, e.g. arms/$(arg dof)dof/... that "
-                      "its launch files always set with dof:=7).",
-          hint="give the xacro:arg a default, or check it through the launch file that passes it")
+@register(
+    "PF406",
+    "model-needs-arguments",
+    "info",
+    area="model",
+    bad=('<!-- urdf/robot.urdf.xacro -->\n<xacro:arg name="prefix"/>'),
+    good=('<!-- urdf/robot.urdf.xacro -->\n<xacro:arg name="prefix" default=""/>'),
+    summary="a model needs xacro arguments that nothing gives it",
+    explanation="It was checked only with the values a launch file passes; on its own it cannot "
+    "be processed: an argument with no value, or declared with an empty default that "
+    "xacro fails without (an include built from it, e.g. arms/$(arg dof)dof/... that "
+    "its launch files always set with dof:=7).",
+    hint="give the xacro:arg a default, or check it through the launch file that passes it",
+)
 def model_needs_arguments(ctx: CheckContext):
     for result in ctx.model_results:
         if result.status == "needs-arguments":
@@ -406,15 +516,21 @@ def model_needs_arguments(ctx: CheckContext):
                 position = _where(ctx, result, declared.get("file"), declared.get("line"))
                 names = ", ".join(error["arguments"])
                 first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
-                yield Finding(f"{result.installed.name} needs values for the xacro argument(s) {names} (empty "
-                              "default; on its own xacro fails: "
-                              f"{first[0] if first else 'failed'}); evaluated only through launch files that "
-                              "set them", *position,
-                              hint=f"check it through a launch file that passes {error['arguments'][0]}:=..., "
-                                   "or give the xacro:arg a default that works")
+                yield Finding(
+                    f"{result.installed.name} needs values for the xacro argument(s) {names} (empty "
+                    "default; on its own xacro fails: "
+                    f"{first[0] if first else 'failed'}); evaluated only through launch files that "
+                    "set them",
+                    *position,
+                    hint=f"check it through a launch file that passes {error['arguments'][0]}:=..., "
+                    "or give the xacro:arg a default that works",
+                )
                 continue
-            yield Finding(f"{result.installed.name} needs the xacro argument '{error.get('argument')}'; "
-                          "skipped on its own", *position)
+            yield Finding(
+                f"{result.installed.name} needs the xacro argument '{error.get('argument')}'; "
+                "skipped on its own",
+                *position,
+            )
     # a model too large to process is reported by file-not-read
 
 
@@ -422,7 +538,9 @@ def root_link(ctx: CheckContext, launch) -> str | None:
     for result in ctx.model_results:
         if result.status == "ok" and any(o["launch"] == launch for o in result.origins):
             children = {j.get("child") for j in result.robot.get("joints", [])}
-            return next((l["name"] for l in result.robot.get("links", []) if l["name"] not in children), None)
+            return next(
+                (link["name"] for link in result.robot.get("links", []) if link["name"] not in children), None
+            )
     return None
 
 
@@ -432,4 +550,3 @@ def link_names(ctx: CheckContext, launch) -> set[str] | None:
     if not found or any(r.status != "ok" for r in found):
         return None  # nothing to compare with: xacro-error or urdf-invalid says why
     return set().union(*(r.links for r in found))
-

@@ -43,7 +43,7 @@ class SourceText:
         except UnicodeDecodeError as exc:
             raise Unfixable(f"{path.name} is not UTF-8 text") from exc
         self.bom = BOM if text.startswith(BOM) else ""
-        self.text = text[len(self.bom):]
+        self.text = text[len(self.bom) :]
         self.starts = [0]
         for index, char in enumerate(self.text):
             if char == "\n":
@@ -69,7 +69,7 @@ class SourceText:
 
     def line_text(self, line: int) -> str:
         """The line without its ending."""
-        return self.text[self.line_start(line):self.line_end(line)].rstrip("\r\n")
+        return self.text[self.line_start(line) : self.line_end(line)].rstrip("\r\n")
 
     def offset(self, line: int, column: int) -> int:
         """Offset of a 1-based line and 1-based column (in characters)."""
@@ -88,7 +88,7 @@ class SourceText:
 
     def indentation(self, line: int) -> str:
         text = self.line_text(line)
-        return text[:len(text) - len(text.lstrip(" \t"))]
+        return text[: len(text) - len(text.lstrip(" \t"))]
 
     def is_blank_before(self, offset: int) -> bool:
         """Only spaces or tabs between the start of offset's line and offset."""
@@ -99,11 +99,12 @@ class SourceText:
 def apply(text: str, edits: list[Edit]) -> str:
     """The text with the edits applied from the bottom up (edits must not overlap)."""
     for edit in sorted(edits, key=lambda e: (e.start, e.end, e.order), reverse=True):
-        text = text[:edit.start] + edit.text + text[edit.end:]
+        text = text[: edit.start] + edit.text + text[edit.end :]
     return text
 
 
 # --- parsing again ----------------------------------------------------------------------------
+
 
 def parse_problem(path: Path, text: str) -> str | None:
     """Why the text does not parse as the kind of file path is, or None."""
@@ -117,7 +118,7 @@ def parse_problem(path: Path, text: str) -> str | None:
         elif name.endswith(".py"):
             ast.parse(text, filename=str(path))
         elif name == "CMakeLists.txt" or name.endswith(".cmake"):
-            from ..model.cmake_syntax import parse
+            from pkgforge.model.cmake_syntax import parse
 
             parse(text, path)
         elif name.endswith((".rviz", ".yaml", ".yml")):
@@ -131,6 +132,7 @@ def parse_problem(path: Path, text: str) -> str | None:
 
 # --- writing ----------------------------------------------------------------------------------
 
+
 @dataclass
 class Outcome:
     path: Path
@@ -139,8 +141,9 @@ class Outcome:
 
 
 def unified_diff(path: Path, before: str, after: str, shown: str) -> str:
-    lines = difflib.unified_diff(before.splitlines(keepends=True), after.splitlines(keepends=True),
-                                 f"a/{shown}", f"b/{shown}")
+    lines = difflib.unified_diff(
+        before.splitlines(keepends=True), after.splitlines(keepends=True), f"a/{shown}", f"b/{shown}"
+    )
     out = []
     for line in lines:
         out.append(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n")

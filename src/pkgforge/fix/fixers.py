@@ -17,11 +17,20 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..diagnostics import Diagnostic
-from .edits import Edit, FileSet, SourceText, Unfixable
+from pkgforge.diagnostics import Diagnostic
+from pkgforge.fix.edits import Edit, FileSet, SourceText, Unfixable
 
-DEPENDENCY_ORDER = ("buildtool_depend", "buildtool_export_depend", "build_depend", "build_export_depend",
-                    "depend", "exec_depend", "run_depend", "test_depend", "doc_depend")
+DEPENDENCY_ORDER = (
+    "buildtool_depend",
+    "buildtool_export_depend",
+    "build_depend",
+    "build_export_depend",
+    "depend",
+    "exec_depend",
+    "run_depend",
+    "test_depend",
+    "doc_depend",
+)
 # format 1 (catkin) manifests know no exec_depend: run_depend is the run-time tag there
 FORMAT_1_TAGS = {"exec_depend": "run_depend", "build_export_depend": "run_depend"}
 ROBOT_DESCRIPTION_TOPIC = "/robot_description"
@@ -47,7 +56,7 @@ class FixContext:
         self._models: dict[Path, object] = {}
 
     def model(self, path: Path):
-        from ..model.package import load_package
+        from pkgforge.model.package import load_package
 
         path = Path(path)
         if path not in self._models:
@@ -63,10 +72,12 @@ def fixer(*names: str):
         for name in names:
             FIXERS[name] = function
         return function
+
     return decorate
 
 
 # --- package.xml: a dependency tag ---------------------------------------------------------------
+
 
 def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, str]:
     """The edit that declares `name` with `tag` in package.xml: beside the siblings of the same
@@ -94,19 +105,25 @@ def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, st
     dependencies = [e for e in elements if e.tag in DEPENDENCY_ORDER]
     for element in dependencies:
         if (element.text or "").strip() == name and element.tag in (tag, "depend"):
-            raise Unfixable(f"<{element.tag}>{name}</{element.tag}> is already declared at line "
-                            f"{element.sourceline}")
+            raise Unfixable(
+                f"<{element.tag}>{name}</{element.tag}> is already declared at line {element.sourceline}"
+            )
     new = f"<{tag}>{name}</{tag}>"
     eol = source.eol
     same = [e for e in dependencies if e.tag == tag]
     if same:
         names = [(e.text or "").strip() for e in same]
         ordered = names == sorted(names, key=str.lower)
-        following = next((e for e, n in zip(same, names) if n.lower() > name.lower()), None) if ordered else None
+        following = (
+            next((e for e, n in zip(same, names, strict=False) if n.lower() > name.lower()), None)
+            if ordered
+            else None
+        )
         if following is not None and _starts_line(source, following):
             line = following.sourceline
-            return Edit(source.line_start(line), source.line_start(line), source.indentation(line) + new + eol,
-                        name), tag
+            return Edit(
+                source.line_start(line), source.line_start(line), source.indentation(line) + new + eol, name
+            ), tag
         anchor = same[-1]
         return _after_element(source, anchor, new, name), tag
     rank = DEPENDENCY_ORDER.index(tag) if tag in DEPENDENCY_ORDER else len(DEPENDENCY_ORDER)
@@ -116,8 +133,9 @@ def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, st
     later = [e for e in dependencies if _starts_line(source, e)]
     for anchor in later + [e for e in elements if e.tag == "export" and _starts_line(source, e)]:
         line = anchor.sourceline
-        return Edit(source.line_start(line), source.line_start(line), source.indentation(line) + new + eol,
-                    name), tag
+        return Edit(
+            source.line_start(line), source.line_start(line), source.indentation(line) + new + eol, name
+        ), tag
     # no dependency and no <export>: before </package>, indented as <name>
     close = source.text.rfind("</package>")
     if close < 0 or not source.is_blank_before(close):
@@ -131,8 +149,11 @@ def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, st
 def _start_tag_offset(source: SourceText, element) -> int:
     line = element.sourceline
     text = source.line_text(line)
-    previous = [e for e in element.itersiblings(preceding=True)
-                if getattr(e, "sourceline", None) == line and e.tag == element.tag]
+    previous = [
+        e
+        for e in element.itersiblings(preceding=True)
+        if getattr(e, "sourceline", None) == line and e.tag == element.tag
+    ]
     matches = [m.start() for m in re.finditer(rf"<{re.escape(element.tag)}(?=[\s/>])", text)]
     if len(matches) <= len(previous):
         raise Unfixable(f"cannot find <{element.tag}> at package.xml:{line}")
@@ -207,14 +228,17 @@ def _find_package_name(diagnostic: Diagnostic, ctx: FixContext) -> str:
 def _refuse_other_declaration(source: SourceText, name: str) -> None:
     for match in re.finditer(r"<(\w+)>\s*" + re.escape(name) + r"\s*</\1>", source.text):
         if match.group(1) in DEPENDENCY_ORDER:
-            raise Unfixable(f"{name} is declared as <{match.group(1)}> already: which tag it needs is "
-                            "for you to decide (<depend> covers build and run time)")
+            raise Unfixable(
+                f"{name} is declared as <{match.group(1)}> already: which tag it needs is "
+                "for you to decide (<depend> covers build and run time)"
+            )
 
 
 # --- CMake ----------------------------------------------------------------------------------------
 
+
 def _cmake_commands(source: SourceText):
-    from ..model.cmake_syntax import CMakeSyntaxError, parse
+    from pkgforge.model.cmake_syntax import CMakeSyntaxError, parse
 
     try:
         return parse(source.text, source.path)
@@ -240,7 +264,7 @@ def _argument_span(source: SourceText, argument) -> tuple[int, int]:
     start = source.offset(argument.line, argument.column)
     if argument.kind == "unquoted":
         end = start + len(argument.text)
-    elif argument.kind == "quoted" and "\\\n" not in source.text[start:start + len(argument.text) + 2]:
+    elif argument.kind == "quoted" and "\\\n" not in source.text[start : start + len(argument.text) + 2]:
         end = start + len(argument.text) + 2
     else:
         raise Unfixable("a bracket argument is not edited")
@@ -249,7 +273,7 @@ def _argument_span(source: SourceText, argument) -> tuple[int, int]:
 
 def _command_end(source: SourceText, command) -> int:
     """Offset just past the command's closing parenthesis."""
-    from ..model import cmake_syntax
+    from pkgforge.model import cmake_syntax
 
     scanner = cmake_syntax._Scanner(source.text, source.path)
     start = source.offset(command.line, command.column)
@@ -261,8 +285,8 @@ def _command_end(source: SourceText, command) -> int:
 def _delete_span(source: SourceText, start: int, end: int) -> Edit:
     """Delete [start, end): whole lines when nothing else stands on them, else with the space before."""
     first, last = source.line_of(start), source.line_of(max(start, end - 1))
-    before = source.text[source.line_start(first):start]
-    after = source.text[end:source.line_end(last)]
+    before = source.text[source.line_start(first) : start]
+    after = source.text[end : source.line_end(last)]
     if before.strip(" \t") == "" and after.strip(" \t\r\n") == "":
         return Edit(source.line_start(first), source.line_end(last), "")
     spaces = len(before) - len(before.rstrip(" \t"))
@@ -296,7 +320,9 @@ def fix_install_missing_directory(diagnostic: Diagnostic, ctx: FixContext) -> Fi
     folder = (diagnostic.fix or {}).get("folder")
     source = ctx.files.get(diagnostic.path)
     command = _cmake_command_at(source, diagnostic.line, diagnostic.column, "install")
-    target = next((a for a in command.args if a.line == diagnostic.line and a.column == diagnostic.column), None)
+    target = next(
+        (a for a in command.args if a.line == diagnostic.line and a.column == diagnostic.column), None
+    )
     if target is None or target.text != folder:
         raise Unfixable(f"'{folder}' is not at {source.path.name}:{diagnostic.line}:{diagnostic.column}")
     sources = _install_sources(command)
@@ -314,7 +340,7 @@ def fix_install_missing_directory(diagnostic: Diagnostic, ctx: FixContext) -> Fi
 
 
 def _install_sources(command) -> list:
-    from ..model.cmake import INSTALL_KEYWORDS
+    from pkgforge.model.cmake import INSTALL_KEYWORDS
 
     out = []
     for argument in command.args[1:]:
@@ -325,6 +351,7 @@ def _install_sources(command) -> list:
 
 
 # --- installing a folder -------------------------------------------------------------------------
+
 
 @fixer("directory-not-installed", "uninstalled-reference", "mesh-not-found")
 def fix_install_folder(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
@@ -343,13 +370,20 @@ def fix_install_folder(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
 
 
 def _install_in_cmake(model, folder: str, ctx: FixContext) -> Fix:
-    from ..model.layout import _normalize_destination
+    from pkgforge.model.layout import _normalize_destination
 
     share = f"share/{model.share_name}"
-    candidates = [r for r in model.cmake.install_rules
-                  if r.mode == "DIRECTORY" and isinstance(r.destination, str)
-                  and _normalize_destination(r.destination) == share and not r.patterns
-                  and not r.files_matching and Path(r.base_dir) == model.path and not r.conditional]
+    candidates = [
+        r
+        for r in model.cmake.install_rules
+        if r.mode == "DIRECTORY"
+        and isinstance(r.destination, str)
+        and _normalize_destination(r.destination) == share
+        and not r.patterns
+        and not r.files_matching
+        and Path(r.base_dir) == model.path
+        and not r.conditional
+    ]
     fix = Fix(f"installed {folder}/ to share/{model.share_name}")
     for rule in candidates:
         source = ctx.files.get(rule.path)
@@ -384,11 +418,15 @@ def _install_in_cmake(model, folder: str, ctx: FixContext) -> Fix:
         end = _command_end(source, last_install)
         offset = source.line_end(source.line_of(end))
         prefix = "" if source.text[:offset].endswith("\n") else source.eol
-        fix.add(source.path, Edit(offset, offset,
-                                  prefix + source.indentation(last_install.line) + new + source.eol))
+        fix.add(
+            source.path,
+            Edit(offset, offset, prefix + source.indentation(last_install.line) + new + source.eol),
+        )
     elif ament is not None and source.is_blank_before(source.offset(ament.line, ament.column)):
         start = source.line_start(ament.line)
-        fix.add(source.path, Edit(start, start, source.indentation(ament.line) + new + source.eol + source.eol))
+        fix.add(
+            source.path, Edit(start, start, source.indentation(ament.line) + new + source.eol + source.eol)
+        )
     else:
         raise Unfixable("no install rule or ament_package() in CMakeLists.txt to put the rule beside")
     fix.description = f"added {new} to CMakeLists.txt"
@@ -399,9 +437,14 @@ def _add_to_list(source: SourceText, command, arguments: list, item: str) -> Edi
     """Insert `item` among `arguments` (alphabetically where they are), keeping their layout."""
     names = [a.text.rstrip("/") for a in arguments]
     ordered = names == sorted(names)
-    one_per_line = len({a.line for a in arguments}) == len(arguments) and len(arguments) > 1 and all(
-        source.is_blank_before(source.offset(a.line, a.column)) for a in arguments)
-    following = next((a for a, n in zip(arguments, names) if n > item), None) if ordered else None
+    one_per_line = (
+        len({a.line for a in arguments}) == len(arguments)
+        and len(arguments) > 1
+        and all(source.is_blank_before(source.offset(a.line, a.column)) for a in arguments)
+    )
+    following = (
+        next((a for a, n in zip(arguments, names, strict=False) if n > item), None) if ordered else None
+    )
     if following is not None:
         start = source.offset(following.line, following.column)
         if one_per_line:
@@ -418,7 +461,8 @@ def _add_to_list(source: SourceText, command, arguments: list, item: str) -> Edi
 
 GLOB_TEMPLATE = re.compile(
     r"""^(glob\.)?glob\(\s*(?:(?:os\.path\.|path\.)?join\(\s*(['"])@\2\s*,\s*(['"])(\*|\*\*|\*\.\*)\3\s*\)"""
-    r"""|(['"])@/(\*|\*\*|\*\.\*|\*\*/\*)\5)\s*(,\s*recursive\s*=\s*True\s*)?\)$""")
+    r"""|(['"])@/(\*|\*\*|\*\.\*|\*\*/\*)\5)\s*(,\s*recursive\s*=\s*True\s*)?\)$"""
+)
 
 
 def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
@@ -429,8 +473,14 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
         tree = ast.parse(source.text)
     except SyntaxError as exc:
         raise Unfixable(f"setup.py does not parse: {exc.msg}") from exc
-    call = next((n for n in ast.walk(tree) if isinstance(n, ast.Call)
-                 and getattr(n.func, "id", getattr(n.func, "attr", None)) == "setup"), None)
+    call = next(
+        (
+            n
+            for n in ast.walk(tree)
+            if isinstance(n, ast.Call) and getattr(n.func, "id", getattr(n.func, "attr", None)) == "setup"
+        ),
+        None,
+    )
     data_files = next((k.value for k in (call.keywords if call else []) if k.arg == "data_files"), None)
     if not isinstance(data_files, ast.List):
         raise Unfixable("setup.py's data_files is not a list written out in setup()")
@@ -445,16 +495,22 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
                 usable = bool(GLOB_TEMPLATE.match(pattern.sub("@", files_text)))
             elif isinstance(element, ast.Starred) and isinstance(element.value, ast.Call):
                 arguments = element.value.args
-                usable = len(arguments) == 1 and isinstance(arguments[0], ast.Constant) \
-                    and arguments[0].value == existing and not element.value.keywords
+                usable = (
+                    len(arguments) == 1
+                    and isinstance(arguments[0], ast.Constant)
+                    and arguments[0].value == existing
+                    and not element.value.keywords
+                )
             else:
                 usable = False
             if usable:
                 templates.append((element, existing, pattern.sub(folder, text)))
                 break
     if not templates:
-        raise Unfixable("no data_files entry of the form (destination, glob('folder/*')) to follow; "
-                        f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*'))")
+        raise Unfixable(
+            "no data_files entry of the form (destination, glob('folder/*')) to follow; "
+            f"add (os.path.join('share', package_name, '{folder}'), glob('{folder}/*'))"
+        )
     names = [name for _, name, _ in templates]
     following = next((t for t in templates if t[1] > folder), None) if names == sorted(names) else None
     fix = Fix(f"added {folder} to data_files in setup.py")
@@ -463,8 +519,15 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
         start = source.offset_utf8(element.lineno, element.col_offset)
         if source.is_blank_before(start):
             line_start = source.line_start(element.lineno)
-            fix.add(source.path, Edit(line_start, line_start,
-                                      source.indentation(element.lineno) + new + "," + source.eol, folder))
+            fix.add(
+                source.path,
+                Edit(
+                    line_start,
+                    line_start,
+                    source.indentation(element.lineno) + new + "," + source.eol,
+                    folder,
+                ),
+            )
         else:
             fix.add(source.path, Edit(start, start, new + ", ", folder))
         fix.description += f":{element.lineno}"
@@ -472,7 +535,7 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
     element, _, new = templates[-1]
     start = source.offset_utf8(element.lineno, element.col_offset)
     end = source.offset_utf8(element.end_lineno, element.end_col_offset)
-    rest = source.text[end:source.line_end(element.end_lineno)]
+    rest = source.text[end : source.line_end(element.end_lineno)]
     comma = rest.lstrip(" \t").startswith(",")
     fix.description += f":{element.end_lineno + 1}"
     if source.is_blank_before(start):
@@ -489,6 +552,7 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
 
 
 # --- RViz -------------------------------------------------------------------------------------------
+
 
 def _yaml(source: SourceText):
     import yaml
@@ -545,7 +609,7 @@ def _insert_key(source: SourceText, mapping, key: str, lines: list[str]) -> Edit
     """New `key` lines in a block mapping, in alphabetical order where RViz keeps its keys."""
     entries = list(mapping.value)
     column = entries[0][0].start_mark.column
-    indent = source.text[source.line_start(entries[0][0].start_mark.line + 1):][:column]
+    indent = source.text[source.line_start(entries[0][0].start_mark.line + 1) :][:column]
     indent = indent if indent.strip(" ") == "" else " " * column
     text = "".join(indent + line + source.eol for line in lines)
     previous = [(k, v) for k, v in entries if str(k.value) < key]
@@ -579,7 +643,9 @@ def fix_rviz_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         if getattr(value, "value", None) != "Topic":
             fix.add(source.path, _replace_scalar(value, "Topic"))
     else:
-        fix.add(source.path, _insert_key(source, display, "Description Source", ["Description Source: Topic"]))
+        fix.add(
+            source.path, _insert_key(source, display, "Description Source", ["Description Source: Topic"])
+        )
     if "Description Topic" in entries:
         value = entries["Description Topic"][1]
         if isinstance(value, yaml.MappingNode):
@@ -587,14 +653,28 @@ def fix_rviz_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
             if "Value" in inner:
                 fix.add(source.path, _replace_scalar(inner["Value"][1], ROBOT_DESCRIPTION_TOPIC))
             else:
-                fix.add(source.path, _insert_key(source, value, "Value", [f"Value: {ROBOT_DESCRIPTION_TOPIC}"]))
+                fix.add(
+                    source.path, _insert_key(source, value, "Value", [f"Value: {ROBOT_DESCRIPTION_TOPIC}"])
+                )
         else:
             fix.add(source.path, _replace_scalar(value, ROBOT_DESCRIPTION_TOPIC))
     else:
-        fix.add(source.path, _insert_key(source, display, "Description Topic", [
-            "Description Topic:", "  Depth: 5", "  Durability Policy: Transient Local",
-            "  History Policy: Keep Last", "  Reliability Policy: Reliable",
-            f"  Value: {ROBOT_DESCRIPTION_TOPIC}"]))
+        fix.add(
+            source.path,
+            _insert_key(
+                source,
+                display,
+                "Description Topic",
+                [
+                    "Description Topic:",
+                    "  Depth: 5",
+                    "  Durability Policy: Transient Local",
+                    "  History Policy: Keep Last",
+                    "  Reliability Policy: Reliable",
+                    f"  Value: {ROBOT_DESCRIPTION_TOPIC}",
+                ],
+            ),
+        )
     return fix
 
 
@@ -616,6 +696,7 @@ def fix_fixed_frame(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
 
 # --- models ------------------------------------------------------------------------------------------
 
+
 @fixer("mesh-case-mismatch")
 def fix_mesh_case(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     data = diagnostic.fix or {}
@@ -624,7 +705,7 @@ def fix_mesh_case(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         raise Unfixable("the finding does not say the file's real name")
     source = ctx.files.get(diagnostic.path)
     wrong = posixpath.basename(uri)
-    fixed_uri = uri[:len(uri) - len(wrong)] + real
+    fixed_uri = uri[: len(uri) - len(wrong)] + real
     fix = Fix(f"{uri} → {fixed_uri}")
     exact = [m.start() for m in re.finditer(re.escape(uri) + r"(?=[\"'<\s])", source.text)]
     for start in exact:
@@ -632,16 +713,23 @@ def fix_mesh_case(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     if not exact and diagnostic.line:
         # the URI is built by xacro (package://$(arg ...)/...): its file name part is on the line
         line_start = source.line_start(diagnostic.line)
-        hits = [m.start() for m in re.finditer(r"(?<=/)" + re.escape(wrong) + r"(?=[\"'])",
-                                               source.line_text(diagnostic.line))]
+        hits = [
+            m.start()
+            for m in re.finditer(
+                r"(?<=/)" + re.escape(wrong) + r"(?=[\"'])", source.line_text(diagnostic.line)
+            )
+        ]
         if len(hits) == 1:
             fix.add(source.path, Edit(line_start + hits[0], line_start + hits[0] + len(wrong), real))
     if not fix.edits:
-        raise Unfixable(f"{uri} is not written literally in {source.path.name}: write {real} where it is built")
+        raise Unfixable(
+            f"{uri} is not written literally in {source.path.name}: write {real} where it is built"
+        )
     return fix
 
 
 # --- Python launch files ------------------------------------------------------------------------------
+
 
 def _python(source: SourceText) -> ast.Module:
     try:
@@ -660,13 +748,18 @@ def _call_name(node) -> str:
 
 
 def _span(source: SourceText, node) -> tuple[int, int]:
-    return (source.offset_utf8(node.lineno, node.col_offset),
-            source.offset_utf8(node.end_lineno, node.end_col_offset))
+    return (
+        source.offset_utf8(node.lineno, node.col_offset),
+        source.offset_utf8(node.end_lineno, node.end_col_offset),
+    )
 
 
 def _containing_calls(tree, line: int, name: str) -> list[ast.Call]:
-    calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and _call_name(n) == name
-             and n.lineno <= line <= n.end_lineno]
+    calls = [
+        n
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Call) and _call_name(n) == name and n.lineno <= line <= n.end_lineno
+    ]
     return sorted(calls, key=lambda n: (n.end_lineno - n.lineno, -n.lineno))
 
 
@@ -706,18 +799,25 @@ def _robot_description_command(tree, line: int):
     if calls:
         return calls[0]
     # the line of the node or the dict: follow 'robot_description': <Command or a name bound to one>
-    around = [n for n in ast.walk(tree) if isinstance(n, (ast.Dict, ast.Call)) and n.lineno <= line <= n.end_lineno]
+    around = [
+        n for n in ast.walk(tree) if isinstance(n, (ast.Dict, ast.Call)) and n.lineno <= line <= n.end_lineno
+    ]
     inner = sorted(around, key=lambda n: n.end_lineno - n.lineno)[:1]
     dicts = [n for n in ast.walk(inner[0]) if isinstance(n, ast.Dict)] if inner else []
     for node in dicts:
-        for key, value in zip(node.keys, node.values):
+        for key, value in zip(node.keys, node.values, strict=False):
             if isinstance(key, ast.Constant) and key.value == "robot_description":
                 if isinstance(value, ast.Call) and _call_name(value) == "Command":
                     return value
                 if isinstance(value, ast.Name):
-                    bound = [n.value for n in ast.walk(tree) if isinstance(n, ast.Assign)
-                             and any(isinstance(t, ast.Name) and t.id == value.id for t in n.targets)
-                             and isinstance(n.value, ast.Call) and _call_name(n.value) == "Command"]
+                    bound = [
+                        n.value
+                        for n in ast.walk(tree)
+                        if isinstance(n, ast.Assign)
+                        and any(isinstance(t, ast.Name) and t.id == value.id for t in n.targets)
+                        and isinstance(n.value, ast.Call)
+                        and _call_name(n.value) == "Command"
+                    ]
                     if len(bound) == 1:
                         return bound[0]
     return None
@@ -729,7 +829,8 @@ def _import_edit(source: SourceText, tree: ast.Module, module: str, name: str) -
         if isinstance(node, ast.ImportFrom) and any((a.asname or a.name) == name for a in node.names):
             return None
         if isinstance(node, (ast.Assign, ast.FunctionDef, ast.ClassDef)) and name in {
-                getattr(t, "id", None) for t in getattr(node, "targets", [])} | {getattr(node, "name", None)}:
+            getattr(t, "id", None) for t in getattr(node, "targets", [])
+        } | {getattr(node, "name", None)}:
             return None
     imports = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
     line = f"from {module} import {name}"
@@ -739,7 +840,11 @@ def _import_edit(source: SourceText, tree: ast.Module, module: str, name: str) -
         prefix = "" if source.text[:offset].endswith("\n") else source.eol
         return Edit(offset, offset, prefix + line + source.eol, "0")
     first = tree.body[0] if tree.body else None
-    if first is not None and isinstance(first, ast.Expr) and isinstance(getattr(first, "value", None), ast.Constant):
+    if (
+        first is not None
+        and isinstance(first, ast.Expr)
+        and isinstance(getattr(first, "value", None), ast.Constant)
+    ):
         offset = source.line_end(first.end_lineno)
         return Edit(offset, offset, line + source.eol, "0")
     return Edit(0, 0, line + source.eol, "0")
@@ -761,7 +866,11 @@ def _jsp_python(source: SourceText, line: int) -> Fix:
     for call in _containing_calls(tree, line, "Node"):
         keywords = {k.arg: k for k in call.keywords if k.arg}
         given = keywords.get("package")
-        if given is None or not isinstance(given.value, ast.Constant) or given.value.value not in JSP_PACKAGES:
+        if (
+            given is None
+            or not isinstance(given.value, ast.Constant)
+            or given.value.value not in JSP_PACKAGES
+        ):
             continue
         package = given.value.value
         arguments = keywords.get("arguments")
@@ -773,7 +882,7 @@ def _jsp_python(source: SourceText, line: int) -> Fix:
         siblings.sort(key=lambda n: (n.lineno, n.col_offset))
         index = siblings.index(arguments)
         start, end = _span(source, arguments)
-        rest = source.text[end:source.line_end(arguments.end_lineno)]
+        rest = source.text[end : source.line_end(arguments.end_lineno)]
         alone = source.is_blank_before(start) and re.fullmatch(r"\s*,?\s*(#.*)?\s*", rest)
         previous = siblings[index - 1] if index > 0 else None
         following = siblings[index + 1] if index + 1 < len(siblings) else None
@@ -795,8 +904,12 @@ def _jsp_xml(source: SourceText, line: int) -> Fix:
     start = source.line_start(line)
     match = re.compile(r"<node\b[^>]*>", re.S).search(source.text, start)
     package = re.search(r"""\bpkg\s*=\s*["']([^"']*)["']""", match.group(0)) if match else None
-    if match is None or source.line_of(match.start()) != line or package is None \
-            or package.group(1) not in JSP_PACKAGES:
+    if (
+        match is None
+        or source.line_of(match.start()) != line
+        or package is None
+        or package.group(1) not in JSP_PACKAGES
+    ):
         raise Unfixable(f"cannot find the joint_state_publisher <node> at line {line}")
     package = package.group(1)
     attribute = re.search(r"""\s+args\s*=\s*("[^"]*"|'[^']*')""", match.group(0))

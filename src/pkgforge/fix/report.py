@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from ..report.text import location, render
+from pkgforge.report.text import location, render
 
 
 def render_fix(run, *, strict: bool = False, color: bool = False) -> tuple[str, str]:
@@ -21,8 +21,10 @@ def render_fix(run, *, strict: bool = False, color: bool = False) -> tuple[str, 
         lines.append(f"not fixed {location(d, root)}: {d.code} {d.name}: {why}")
     if run.unsafe_available:
         counts = Counter(f"{d.code} {d.name}" for d in run.unsafe_available)
-        lines.append(f"{len(run.unsafe_available)} unsafe fix(es) not applied (--unsafe-fixes applies them): "
-                     + ", ".join(f"{k} ×{n}" for k, n in sorted(counts.items())))
+        lines.append(
+            f"{len(run.unsafe_available)} unsafe fix(es) not applied (--unsafe-fixes applies them): "
+            + ", ".join(f"{k} ×{n}" for k, n in sorted(counts.items()))
+        )
     if run.fixed and not _diff_mode(run):
         lines.append(f"fixed {len(run.fixed)} problem(s) in {len(run.files_written)} file(s)")
     remaining = Counter((d.code, d.name, d.severity.label) for d in run.result.diagnostics)
@@ -41,6 +43,6 @@ def _diff_mode(run) -> bool:
 
 
 def _shown(path, root) -> str:
-    from ..report import relative
+    from pkgforge.report import relative
 
     return relative(path, root)

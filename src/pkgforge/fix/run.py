@@ -15,12 +15,19 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..diagnostics import Diagnostic
-from pkgforge.verify.pipeline import VerifyOptions
-from pkgforge.verify.pipeline import VerifyResult
-from pkgforge.verify.pipeline import verify
-from .edits import Edit, FileSet, Outcome, Unfixable, apply, parse_problem, unified_diff, write_atomically
-from .fixers import FIXERS, Fix, FixContext
+from pkgforge.diagnostics import Diagnostic
+from pkgforge.fix.edits import (
+    Edit,
+    FileSet,
+    Outcome,
+    Unfixable,
+    apply,
+    parse_problem,
+    unified_diff,
+    write_atomically,
+)
+from pkgforge.fix.fixers import FIXERS, Fix, FixContext
+from pkgforge.verify.pipeline import VerifyOptions, VerifyResult, verify
 
 MAX_PASSES = 4
 
@@ -62,7 +69,7 @@ class _Plan:
 
 
 def fix_kind(diagnostic: Diagnostic) -> str | None:
-    from ..checks.registry import all_checks
+    from pkgforge.checks.registry import all_checks
 
     check = next((c for c in all_checks() if c.code == diagnostic.code), None)
     return check.fix if check is not None else None
@@ -87,12 +94,21 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             run.not_fixed.append((diagnostic, str(exc)))
             continue
         except Exception as exc:  # a bug in one fixer must not stop the others
-            run.not_fixed.append((diagnostic, f"internal error in the fixer: {type(exc).__name__}: {exc} "
-                                              "(please report this to pkgforge)"))
+            run.not_fixed.append(
+                (
+                    diagnostic,
+                    f"internal error in the fixer: {type(exc).__name__}: {exc} "
+                    "(please report this to pkgforge)",
+                )
+            )
             continue
-        outside = [p for p in fix.edits if not any(Path(os.path.realpath(p)).is_relative_to(r) for r in roots)]
+        outside = [
+            p for p in fix.edits if not any(Path(os.path.realpath(p)).is_relative_to(r) for r in roots)
+        ]
         if outside:
-            run.not_fixed.append((diagnostic, f"the fix edits {outside[0]}, outside the package(s) being fixed"))
+            run.not_fixed.append(
+                (diagnostic, f"the fix edits {outside[0]}, outside the package(s) being fixed")
+            )
             continue
         if _clashes(fix, out.edits):
             out.deferred.append(diagnostic)
@@ -113,8 +129,9 @@ def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
     return False
 
 
-def run_fix(path: Path, options: FixOptions, *, shown_root: Path | None = None,
-            _first: list | None = None) -> FixRun:
+def run_fix(
+    path: Path, options: FixOptions, *, shown_root: Path | None = None, _first: list | None = None
+) -> FixRun:
     shown_root = shown_root or Path.cwd()
     if options.diff:
         mirrored = _diff_on_a_copy(path, options, shown_root)
@@ -150,13 +167,16 @@ def run_fix(path: Path, options: FixOptions, *, shown_root: Path | None = None,
         for diagnostic, fix in planned.fixes:
             bad = [broken[p] for p in fix.edits if p in broken]
             if bad:
-                run.not_fixed.append((diagnostic, f"the fix would leave the file unparsable ({bad[0]}); "
-                                                  "nothing written"))
+                run.not_fixed.append(
+                    (diagnostic, f"the fix would leave the file unparsable ({bad[0]}); nothing written")
+                )
             else:
                 applied.append((diagnostic, fix))
         if options.diff:
-            run.diff = "".join(unified_diff(p, files.get(p).text, t, _shown(p, shown_root))
-                               for p, t in sorted(new_texts.items()))
+            run.diff = "".join(
+                unified_diff(p, files.get(p).text, t, _shown(p, shown_root))
+                for p, t in sorted(new_texts.items())
+            )
             run.fixed = [Applied(d, f.description) for d, f in applied]
             return run
         failed = set()
@@ -206,7 +226,7 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
     import shutil
     import tempfile
 
-    from ..workspace import locate
+    from pkgforge.workspace import locate
 
     workspace = locate(path)
     root, base = workspace.root, workspace.base_path
@@ -249,23 +269,31 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
             original = back(written)
             before = original.read_bytes().decode("utf-8")
             after = written.read_bytes().decode("utf-8")
-            diffs.append(unified_diff(original, before.removeprefix("\ufeff"), after.removeprefix("\ufeff"),
-                                      _shown(original, shown_root)))
+            diffs.append(
+                unified_diff(
+                    original,
+                    before.removeprefix("\ufeff"),
+                    after.removeprefix("\ufeff"),
+                    _shown(original, shown_root),
+                )
+            )
         out.diff = "".join(diffs)
         return out
 
 
 def _moved(diagnostic: Diagnostic, back) -> Diagnostic:
-    return dataclasses.replace(diagnostic, path=back(diagnostic.path),
-                               message=diagnostic.message, hint=diagnostic.hint)
+    return dataclasses.replace(
+        diagnostic, path=back(diagnostic.path), message=diagnostic.message, hint=diagnostic.hint
+    )
 
 
 def _remap(result: VerifyResult, back) -> VerifyResult:
-    from ..diagnostics import PackageReport
+    from pkgforge.diagnostics import PackageReport
 
     reports = []
     for report in result.reports:
-        moved = PackageReport(report.name, back(report.path), report.build_type,
-                              [_moved(d, back) for d in report.diagnostics])
+        moved = PackageReport(
+            report.name, back(report.path), report.build_type, [_moved(d, back) for d in report.diagnostics]
+        )
         reports.append(moved)
     return VerifyResult(back(result.root), reports, result.checks_run)

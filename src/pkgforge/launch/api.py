@@ -30,7 +30,7 @@ import sys
 import typing
 from pathlib import Path
 
-from . import runtime as rt
+from pkgforge.launch import runtime as rt
 
 DATA = Path(__file__).resolve().parent / "api_names.json"
 LISTS = {"humble": "humble", "jazzy": "jazzy", "kilted": "jazzy", "lyrical": "jazzy", "rolling": "jazzy"}
@@ -92,22 +92,18 @@ IMPLEMENTED = {
     "launch.actions.unset_environment_variable.UnsetEnvironmentVariable": "UnsetEnvironmentVariable",
     "launch.actions.unset_launch_configuration.UnsetLaunchConfiguration": "UnsetLaunchConfiguration",
     # conditions
-    "launch.conditions.evaluate_condition_expression_impl.evaluate_condition_expression":
-        "evaluate_condition_expression",
+    "launch.conditions.evaluate_condition_expression_impl.evaluate_condition_expression": "evaluate_condition_expression",
     "launch.conditions.evaluate_condition_expression_impl.VALID_TRUE_EXPRESSIONS": "VALID_TRUE_EXPRESSIONS",
     "launch.conditions.evaluate_condition_expression_impl.VALID_FALSE_EXPRESSIONS": "VALID_FALSE_EXPRESSIONS",
     "launch.conditions.if_condition.IfCondition": "IfCondition",
     "launch.conditions.unless_condition.UnlessCondition": "UnlessCondition",
-    "launch.conditions.invalid_condition_expression_error.InvalidConditionExpressionError":
-        "InvalidConditionExpressionError",
+    "launch.conditions.invalid_condition_expression_error.InvalidConditionExpressionError": "InvalidConditionExpressionError",
     "launch.conditions.launch_configuration_equals.LaunchConfigurationEquals": "LaunchConfigurationEquals",
-    "launch.conditions.launch_configuration_not_equals.LaunchConfigurationNotEquals":
-        "LaunchConfigurationNotEquals",
+    "launch.conditions.launch_configuration_not_equals.LaunchConfigurationNotEquals": "LaunchConfigurationNotEquals",
     # event handlers: their entities are visited
     "launch.event_handlers.on_action_event_base.OnActionEventBase": "OnActionEventBase",
     "launch.event_handlers.on_execution_complete.OnExecutionComplete": "OnExecutionComplete",
-    "launch.event_handlers.on_include_launch_description.OnIncludeLaunchDescription":
-        "OnIncludeLaunchDescription",
+    "launch.event_handlers.on_include_launch_description.OnIncludeLaunchDescription": "OnIncludeLaunchDescription",
     "launch.event_handlers.on_process_exit.OnProcessExit": "OnProcessExit",
     "launch.event_handlers.on_process_io.OnProcessIO": "OnProcessIO",
     "launch.event_handlers.on_process_start.OnProcessStart": "OnProcessStart",
@@ -121,27 +117,19 @@ IMPLEMENTED = {
     "launch_ros.events.matchers.matches_node_name.matches_node_name": "matcher",
     "launch_ros.event_handlers.on_state_transition.OnStateTransition": "OnStateTransition",
     # sources and loading
-    "launch.launch_description_sources.any_launch_description_source.AnyLaunchDescriptionSource":
-        "AnyLaunchDescriptionSource",
-    "launch.launch_description_sources.frontend_launch_description_source.FrontendLaunchDescriptionSource":
-        "FrontendLaunchDescriptionSource",
-    "launch.launch_description_sources.python_launch_description_source.PythonLaunchDescriptionSource":
-        "PythonLaunchDescriptionSource",
-    "launch.launch_description_sources.any_launch_file_utilities.get_launch_description_from_any_launch_file":
-        "load_description_function",
+    "launch.launch_description_sources.any_launch_description_source.AnyLaunchDescriptionSource": "AnyLaunchDescriptionSource",
+    "launch.launch_description_sources.frontend_launch_description_source.FrontendLaunchDescriptionSource": "FrontendLaunchDescriptionSource",
+    "launch.launch_description_sources.python_launch_description_source.PythonLaunchDescriptionSource": "PythonLaunchDescriptionSource",
+    "launch.launch_description_sources.any_launch_file_utilities.get_launch_description_from_any_launch_file": "load_description_function",
     "launch.launch_description_sources.frontend_launch_file_utilities."
     "get_launch_description_from_frontend_launch_file": "load_description_function",
     "launch.launch_description_sources.python_launch_file_utilities."
     "get_launch_description_from_python_launch_file": "load_description_function",
-    "launch.launch_description_sources.python_launch_file_utilities.load_python_launch_file_as_module":
-        "load_python_launch_file_as_module",
-    "launch.launch_description_sources.python_launch_file_utilities.InvalidPythonLaunchFileError":
-        "InvalidPythonLaunchFileError",
+    "launch.launch_description_sources.python_launch_file_utilities.load_python_launch_file_as_module": "load_python_launch_file_as_module",
+    "launch.launch_description_sources.python_launch_file_utilities.InvalidPythonLaunchFileError": "InvalidPythonLaunchFileError",
     "launch.frontend.parser.InvalidFrontendLaunchFileError": "InvalidFrontendLaunchFileError",
-    "launch_xml.launch_description_sources.xml_launch_description_source.XMLLaunchDescriptionSource":
-        "XMLLaunchDescriptionSource",
-    "launch_yaml.launch_description_sources.yaml_launch_description_source.YAMLLaunchDescriptionSource":
-        "YAMLLaunchDescriptionSource",
+    "launch_xml.launch_description_sources.xml_launch_description_source.XMLLaunchDescriptionSource": "XMLLaunchDescriptionSource",
+    "launch_yaml.launch_description_sources.yaml_launch_description_source.YAMLLaunchDescriptionSource": "YAMLLaunchDescriptionSource",
     # substitutions
     "launch.substitutions.anon_name.AnonName": "AnonName",
     "launch.substitutions.boolean_substitution.AllSubstitution": "AllSubstitution",
@@ -169,8 +157,7 @@ IMPLEMENTED = {
     "launch.utilities.class_tools_impl.is_a_subclass": "is_a_subclass",
     "launch.utilities.class_tools_impl.isclassinstance": "isclassinstance",
     "launch.utilities.ensure_argument_type_impl.ensure_argument_type": "ensure_argument_type",
-    "launch.utilities.normalize_to_list_of_entities_impl.normalize_to_list_of_entities":
-        "normalize_to_list_of_entities",
+    "launch.utilities.normalize_to_list_of_entities_impl.normalize_to_list_of_entities": "normalize_to_list_of_entities",
     "launch.utilities.normalize_to_list_of_substitutions_impl.normalize_to_list_of_substitutions": "normalize",
     "launch.utilities.perform_substitutions_impl.perform_substitutions": "perform_substitutions",
     "launch.logging.get_logger": "get_logger",
@@ -277,6 +264,7 @@ def resolve(target: str):
 
 # --- signatures -----------------------------------------------------------------------------
 
+
 def _init_entry(canonical: str, entry: dict, depth: int = 0):
     """(class name, __init__ signature, canonical bases) of the nearest class defining __init__."""
     if "__init__" in entry.get("methods", {}):
@@ -347,7 +335,9 @@ def _enforce_signature(cls: type, canonical: str, entry: dict) -> None:
         for base_name, base_signature in chain:
             if not rest:
                 break
-            accepted = {n for n, kind, _ in base_signature if kind in ("POSITIONAL_OR_KEYWORD", "KEYWORD_ONLY")}
+            accepted = {
+                n for n, kind, _ in base_signature if kind in ("POSITIONAL_OR_KEYWORD", "KEYWORD_ONLY")
+            }
             takes_more = any(kind == "VAR_KEYWORD" for _, kind, _ in base_signature)
             for key in rest:
                 if key not in accepted and not takes_more:
@@ -358,6 +348,7 @@ def _enforce_signature(cls: type, canonical: str, entry: dict) -> None:
 
 
 # --- stand-ins for what is not evaluated ----------------------------------------------------
+
 
 def _bases(entry: dict) -> tuple:
     out = []
@@ -384,7 +375,9 @@ def _stand_in_class(canonical: str, entry: dict) -> type:
     try:
         cls = rt.unsupported(name, bases)
     except TypeError:  # an impossible MRO of stand-ins: the plainest stand-in will do
-        cls = rt.unsupported(name, (rt.Action,) if "Action" in str(entry.get("bases")) else (rt.Substitution,))
+        cls = rt.unsupported(
+            name, (rt.Action,) if "Action" in str(entry.get("bases")) else (rt.Substitution,)
+        )
     cls.__module__ = canonical.rsplit(".", 1)[0]
     _enforce_signature(cls, canonical, entry)
     return cls
@@ -414,6 +407,7 @@ def _stand_in_function(canonical: str, entry: dict):
 
 
 # --- the import hook ------------------------------------------------------------------------
+
 
 class _Loader:
     def create_module(self, spec):

@@ -13,7 +13,7 @@ import os
 from dataclasses import dataclass
 from typing import Literal
 
-from ..errors import PkgforgeError
+from pkgforge.errors import PkgforgeError
 
 ENGINE_ENV = "PKGFORGE_LAUNCH_ENGINE"
 PREFIX_ENV = "PKGFORGE_ROS_PREFIX"
@@ -66,8 +66,7 @@ BUILTIN = LaunchEngine()  # the distro from PKGFORGE_LAUNCH_DISTRO, else api.DEF
 def builtin(target: str | None = None, environ=os.environ) -> LaunchEngine:
     """The built-in engine held to the target distro's launch API: --distro, else ROS_DISTRO,
     else the default distro (distros.default_distro: the newest LTS)."""
-    from pkgforge.model.distros import DISTROS
-    from pkgforge.model.distros import default_distro
+    from pkgforge.model.distros import DISTROS, default_distro
 
     environment = environ.get("ROS_DISTRO", "")
     distro = target or (environment if environment in DISTROS else default_distro())
@@ -76,8 +75,13 @@ def builtin(target: str | None = None, environ=os.environ) -> LaunchEngine:
 
 def python_paths(prefix: str) -> list[str]:
     """The folders of a ROS prefix that hold Python packages (any Python version)."""
-    patterns = ("lib/python3*/site-packages", "lib/python3*/dist-packages", "local/lib/python3*/dist-packages",
-                "local/lib/python3*/site-packages", "lib/python3/dist-packages")
+    patterns = (
+        "lib/python3*/site-packages",
+        "lib/python3*/dist-packages",
+        "local/lib/python3*/dist-packages",
+        "local/lib/python3*/site-packages",
+        "lib/python3/dist-packages",
+    )
     found = []
     for pattern in patterns:
         for folder in sorted(glob.glob(os.path.join(prefix, pattern))):
@@ -87,15 +91,20 @@ def python_paths(prefix: str) -> list[str]:
 
 
 def has_launch(prefix: str) -> bool:
-    return any(os.path.isfile(os.path.join(folder, "launch", "__init__.py")) and
-               os.path.isfile(os.path.join(folder, "launch_ros", "__init__.py"))
-               for folder in python_paths(prefix))
+    return any(
+        os.path.isfile(os.path.join(folder, "launch", "__init__.py"))
+        and os.path.isfile(os.path.join(folder, "launch_ros", "__init__.py"))
+        for folder in python_paths(prefix)
+    )
 
 
 def _pythonpath_has_launch(environ) -> bool:
     for folder in environ.get("PYTHONPATH", "").split(os.pathsep):
-        if folder and os.path.isfile(os.path.join(folder, "launch", "__init__.py")) and \
-                os.path.isfile(os.path.join(folder, "launch_ros", "__init__.py")):
+        if (
+            folder
+            and os.path.isfile(os.path.join(folder, "launch", "__init__.py"))
+            and os.path.isfile(os.path.join(folder, "launch_ros", "__init__.py"))
+        ):
             return True
     return False
 
@@ -114,7 +123,11 @@ def find_ros(ros_prefix: str | None = None, environ=os.environ) -> tuple[str | N
     """(prefix, distro, how) of the ROS 2 launch libraries to use; prefix None when none found.
     A prefix of "" means: the sourced environment's PYTHONPATH already has them."""
     if ros_prefix:
-        return (ros_prefix if has_launch(ros_prefix) else None), distro_of(ros_prefix, environ), "--ros-prefix"
+        return (
+            (ros_prefix if has_launch(ros_prefix) else None),
+            distro_of(ros_prefix, environ),
+            "--ros-prefix",
+        )
     for prefix in environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
         if prefix and has_launch(prefix):
             return prefix, distro_of(prefix, environ), "sourced"
@@ -124,7 +137,6 @@ def find_ros(ros_prefix: str | None = None, environ=os.environ) -> tuple[str | N
     if len(candidates) == 1:
         return candidates[0], distro_of(candidates[0], environ), "/opt/ros"
     return None, None, ("several distros in /opt/ros: choose one with --ros-prefix" if candidates else "none")
-
 
 
 def missing_requirements(prefix: str | None) -> list[str]:
@@ -138,13 +150,17 @@ def missing_requirements(prefix: str | None) -> list[str]:
     for module, name in LAUNCH_REQUIREMENTS.items():
         if importlib.util.find_spec(module) is not None:
             continue
-        if not any(os.path.exists(os.path.join(f, module)) or os.path.exists(os.path.join(f, module + ".py"))
-                   for f in folders):
+        if not any(
+            os.path.exists(os.path.join(f, module)) or os.path.exists(os.path.join(f, module + ".py"))
+            for f in folders
+        ):
             missing.append(name)
     return missing
 
 
-def choose(option: str = "auto", ros_prefix=None, environ=os.environ, distro: str | None = None) -> LaunchEngine:
+def choose(
+    option: str = "auto", ros_prefix=None, environ=os.environ, distro: str | None = None
+) -> LaunchEngine:
     """The engine for --launch-engine OPTION (--ros-prefix DIR); a clear error when ros cannot be had.
     `distro` (--distro) is the target the built-in engine follows; the real engine is its prefix's."""
     if option not in CHOICES:
@@ -160,16 +176,22 @@ def choose(option: str = "auto", ros_prefix=None, environ=os.environ, distro: st
     if missing:
         if option == "auto" and prefix_text is None:
             return fallback
-        raise PkgforgeError(f"the ROS 2 launch libraries in {prefix or 'PYTHONPATH'} need "
-                            f"{', '.join(missing)}, which this Python cannot import: "
-                            f"pip install {' '.join(missing)} (or pkgforge[ros])")
+        raise PkgforgeError(
+            f"the ROS 2 launch libraries in {prefix or 'PYTHONPATH'} need "
+            f"{', '.join(missing)}, which this Python cannot import: "
+            f"pip install {' '.join(missing)} (or pkgforge[ros])"
+        )
     if prefix is None:
         if prefix_text is not None:
-            raise PkgforgeError(f"--ros-prefix {prefix_text} holds no ROS 2 launch libraries "
-                                "(lib/python3.*/site-packages/launch and launch_ros): pass a distro's "
-                                "install folder, e.g. /opt/ros/jazzy")
+            raise PkgforgeError(
+                f"--ros-prefix {prefix_text} holds no ROS 2 launch libraries "
+                "(lib/python3.*/site-packages/launch and launch_ros): pass a distro's "
+                "install folder, e.g. /opt/ros/jazzy"
+            )
         if option == "ros":
-            raise PkgforgeError("--launch-engine ros: no ROS 2 distro found (" + how + "); source one, "
-                                "pass --ros-prefix /opt/ros/<distro>, or use --launch-engine builtin")
+            raise PkgforgeError(
+                "--launch-engine ros: no ROS 2 distro found (" + how + "); source one, "
+                "pass --ros-prefix /opt/ros/<distro>, or use --launch-engine builtin"
+            )
         return fallback
     return LaunchEngine("ros", os.path.abspath(prefix) if prefix else "", distro, how)

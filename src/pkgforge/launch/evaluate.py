@@ -13,10 +13,17 @@ import re
 import sys
 import traceback
 
-from . import runtime
-from .records import BranchBudget, Error, as_dict, evaluate_branches
-from .runtime import (RECORDER, Action, LaunchContext, LaunchDescription, LaunchDescriptionEntity,
-                      Recorder, Unresolved)
+from pkgforge.launch import runtime
+from pkgforge.launch.records import BranchBudget, Error, as_dict, evaluate_branches
+from pkgforge.launch.runtime import (
+    RECORDER,
+    Action,
+    LaunchContext,
+    LaunchDescription,
+    LaunchDescriptionEntity,
+    Recorder,
+    Unresolved,
+)
 
 MAX_DEPTH = 32
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
@@ -49,13 +56,16 @@ def load_description(path: str, kind: str | None = None) -> LaunchDescription:
         module = load_module(path)
         function = getattr(module, "generate_launch_description", None)
         if function is None:
-            raise runtime.InvalidLaunchFileError(f"{os.path.basename(path)} has no generate_launch_description()")
+            raise runtime.InvalidLaunchFileError(
+                f"{os.path.basename(path)} has no generate_launch_description()"
+            )
         description = function()
         if not isinstance(description, LaunchDescription):
             raise runtime.InvalidLaunchFileError(
-                f"generate_launch_description() returned {type(description).__name__}, not a LaunchDescription")
+                f"generate_launch_description() returned {type(description).__name__}, not a LaunchDescription"
+            )
         return description
-    from .frontend import parse_file
+    from pkgforge.launch.frontend import parse_file
 
     return parse_file(path, kind)
 
@@ -78,7 +88,7 @@ def _missing_package_of(error: BaseException) -> str | None:
     for text in texts:
         index = text.find(runtime.MISSING_PACKAGE_ROOT + "/")
         if index >= 0:
-            rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1:]
+            rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1 :]
             return re.split(r"[/'\"\s]", rest, maxsplit=1)[0] or None
     return None
 
@@ -97,8 +107,13 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
         # the module lives (the distro's, or pkgforge's stand-in of it) is not the user's problem,
         # and the same refusal must read the same through both engines
         message = IMPORTED_FROM.sub("", message)
-    record = {"stage": stage, "type": type(shown).__name__, "message": message,
-              "file": path, "line": _location_in(path, error)}
+    record = {
+        "stage": stage,
+        "type": type(shown).__name__,
+        "message": message,
+        "file": path,
+        "line": _location_in(path, error),
+    }
     if type(error).__name__ == "PackageNotFoundError":
         match = NOT_FOUND.search(str(error))
         record["package"] = match.group(1) if match else str(error).strip("'\"")
@@ -106,8 +121,11 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
     if missing is not None:
         # the file stopped on the empty stand-in of a package not found: that lookup is the cause
         lookup = next((p for p in RECORDER.packages if p.name == missing and p.found is False), None)
-        record.update(type="PackageNotFoundError", package=missing,
-                      message=f"PackageNotFoundError: package '{missing}' not found")
+        record.update(
+            type="PackageNotFoundError",
+            package=missing,
+            message=f"PackageNotFoundError: package '{missing}' not found",
+        )
         if lookup is not None:
             record["file"], record["line"] = lookup.file, lookup.line
             return as_dict(Error(**record))
@@ -124,9 +142,16 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
 
 def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
     if depth > MAX_DEPTH:
-        RECORDER.add("errors", {"stage": "visit", "type": "RecursionError",
-                                "message": f"launch files include each other more than {MAX_DEPTH} deep",
-                                "file": context.current_file, "line": None})
+        RECORDER.add(
+            "errors",
+            {
+                "stage": "visit",
+                "type": "RecursionError",
+                "message": f"launch files include each other more than {MAX_DEPTH} deep",
+                "file": context.current_file,
+                "line": None,
+            },
+        )
         return
     for entity in entities:
         if not isinstance(entity, LaunchDescriptionEntity):
@@ -135,8 +160,11 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
         try:
             if condition is not None:
                 taken = bool(condition.evaluate(context))
-                RECORDER.add("conditions", {"condition": type(condition).__name__,
-                                            "entity": type(entity).__name__, "taken": taken}, entity)
+                RECORDER.add(
+                    "conditions",
+                    {"condition": type(condition).__name__, "entity": type(entity).__name__, "taken": taken},
+                    entity,
+                )
                 if not taken:
                     continue
             children = entity.visit(context)
@@ -154,17 +182,33 @@ def record_visit_failure(entity, error: Exception) -> None:
         return
     missing = _missing_package_of(error)
     if missing is not None:  # a consequence of a lookup already reported
-        RECORDER.add("required", {"name": f"<package {missing} not found>",
-                                  "skipped": type(entity).__name__}, entity)
+        RECORDER.add(
+            "required", {"name": f"<package {missing} not found>", "skipped": type(entity).__name__}, entity
+        )
         return
     if type(error).__name__ == "PackageNotFoundError":
         match = NOT_FOUND.search(str(error))
-        RECORDER.add("packages", {"name": match.group(1) if match else str(error).strip("'\""),
-                                  "via": type(entity).__name__, "found": False}, entity)
+        RECORDER.add(
+            "packages",
+            {
+                "name": match.group(1) if match else str(error).strip("'\""),
+                "via": type(entity).__name__,
+                "found": False,
+            },
+            entity,
+        )
         return
-    RECORDER.add("errors", {"stage": "visit", "type": type(error).__name__, "message": str(error),
-                            "file": getattr(entity, "_file", None), "line": getattr(entity, "_line", None),
-                            "entity": type(entity).__name__})
+    RECORDER.add(
+        "errors",
+        {
+            "stage": "visit",
+            "type": type(error).__name__,
+            "message": str(error),
+            "file": getattr(entity, "_file", None),
+            "line": getattr(entity, "_line", None),
+            "entity": type(entity).__name__,
+        },
+    )
 
 
 def _watch_xacro() -> None:
@@ -182,8 +226,19 @@ def _watch_xacro() -> None:
             return
         if not runtime._RUNNING_XACRO and isinstance(path, str) and os.path.isabs(path):
             file, line = runtime.here()
-            RECORDER.add("commands", {"command": ["xacro", path], "ok": True, "message": "", "model": path,
-                                      "mappings": {}, "via": via, "file": file, "line": line})
+            RECORDER.add(
+                "commands",
+                {
+                    "command": ["xacro", path],
+                    "ok": True,
+                    "message": "",
+                    "model": path,
+                    "mappings": {},
+                    "via": via,
+                    "file": file,
+                    "line": line,
+                },
+            )
             RECORDER.add("packages", {"name": "xacro", "via": via, "file": file, "line": line})
 
     def parse(inp, filename=None, **kwargs):
@@ -232,11 +287,16 @@ def _watch_ament() -> None:
         import pathlib
 
         if from_launch_file():
-            return pathlib.Path(runtime.lookup_package(package_name, "get_package_share_path", runtime.here()))
+            return pathlib.Path(
+                runtime.lookup_package(package_name, "get_package_share_path", runtime.here())
+            )
         return real_share_path(package_name, *args, **kwargs)
 
     get_package_prefix._pkgforge_real = real_prefix
-    patched = {"get_package_prefix": get_package_prefix, "get_package_share_directory": get_package_share_directory}
+    patched = {
+        "get_package_prefix": get_package_prefix,
+        "get_package_share_directory": get_package_share_directory,
+    }
     if real_share_path is not None:
         patched["get_package_share_path"] = get_package_share_path
     for module in (packages, ament_index_python):

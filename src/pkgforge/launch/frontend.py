@@ -17,8 +17,7 @@ from __future__ import annotations
 import yaml
 from lxml import etree
 
-from . import runtime as rt
-
+from pkgforge.launch import runtime as rt
 
 
 class FrontendError(Exception):
@@ -28,6 +27,7 @@ class FrontendError(Exception):
 
 
 # --- substitution syntax --------------------------------------------------------------------
+
 
 def parse_substitution(text: str) -> list:
     """`a$(var x)b` → [TextSubstitution('a'), LaunchConfiguration('x'), TextSubstitution('b')]."""
@@ -41,7 +41,7 @@ def parse_substitution(text: str) -> list:
                 parts.append(rt.TextSubstitution(text="".join(buffer)))
                 buffer = []
             end = _matching_paren(text, index + 1)
-            parts.append(_substitution(text[index + 2:end]))
+            parts.append(_substitution(text[index + 2 : end]))
             index = end + 1
         else:
             buffer.append(text[index])
@@ -123,7 +123,7 @@ def _substitution(body: str):
     def arg(i, default=None):
         return args[i] if i < len(args) else default
 
-    from . import api
+    from pkgforge.launch import api
 
     exposed = api.frontend()["substitutions"]
     if name not in exposed:
@@ -144,6 +144,7 @@ def _boolean(cls, name, count):
     def make(args, arg):
         _count(name, args, count, count)
         return cls(*args)
+
     return make
 
 
@@ -169,12 +170,23 @@ def _eval(args, arg):
 
 SUBSTITUTIONS = {
     "var": _var,
-    "find-pkg-share": lambda args, arg: (_count("find-pkg-share", args, 1, 1), rt.FindPackageShare(arg(0)))[1],
-    "find-pkg-prefix": lambda args, arg: (_count("find-pkg-prefix", args, 1, 1), rt.FindPackagePrefix(arg(0)))[1],
+    "find-pkg-share": lambda args, arg: (_count("find-pkg-share", args, 1, 1), rt.FindPackageShare(arg(0)))[
+        1
+    ],
+    "find-pkg-prefix": lambda args, arg: (
+        _count("find-pkg-prefix", args, 1, 1),
+        rt.FindPackagePrefix(arg(0)),
+    )[1],
     "find-exec": lambda args, arg: (_count("find-exec", args, 1, 1), rt.FindExecutable(name=arg(0)))[1],
-    "exec-in-pkg": lambda args, arg: (_count("exec-in-pkg", args, 2, 2), rt.ExecutableInPackage(arg(0), arg(1)))[1],
+    "exec-in-pkg": lambda args, arg: (
+        _count("exec-in-pkg", args, 2, 2),
+        rt.ExecutableInPackage(arg(0), arg(1)),
+    )[1],
     "command": _command,
-    "env": lambda args, arg: (_count("env", args, 1, 2), rt.EnvironmentVariable(arg(0), default_value=arg(1)))[1],
+    "env": lambda args, arg: (
+        _count("env", args, 1, 2),
+        rt.EnvironmentVariable(arg(0), default_value=arg(1)),
+    )[1],
     "eval": _eval,
     "dirname": lambda args, arg: (_count("dirname", args, 0, 0), rt.ThisLaunchFileDir())[1],
     "filename": lambda args, arg: (_count("filename", args, 0, 0), rt.ThisLaunchFile())[1],
@@ -193,6 +205,7 @@ SUBSTITUTIONS = {
 
 
 # --- a format-neutral element ---------------------------------------------------------------
+
 
 class Element:
     def __init__(self, tag: str, attrs: dict, children: list, line: int | None):
@@ -262,7 +275,9 @@ def parse_file(path: str, kind: str):
             for item in value.value:
                 if isinstance(item, yaml.MappingNode):
                     for sub_key, sub_value in item.value:
-                        element.children.append(_from_yaml(sub_key.value, sub_value, sub_key.start_mark.line + 1))
+                        element.children.append(
+                            _from_yaml(sub_key.value, sub_value, sub_key.start_mark.line + 1)
+                        )
     if element.tag != "launch":
         raise FrontendError(f"the root is <{element.tag}>, not <launch>", element.line)
     return rt.LaunchDescription(_entities(element.children, path))
@@ -315,7 +330,7 @@ def _keeps(element: Element):
 
 
 def _entity(element: Element, path: str):
-    from . import api
+    from pkgforge.launch import api
 
     tag, condition = element.tag, _condition(element)
     exposed = api.frontend()["actions"]
@@ -323,18 +338,28 @@ def _entity(element: Element, path: str):
         raise FrontendError(f"Unrecognized entity of the type: {tag}", element.line)
     if tag == "arg":
         choices = [c.get("value") for c in element.named("choice")] or None
-        return rt.DeclareLaunchArgument(element.get("name"), default_value=element.sub("default"),
-                                        description=element.get("description"), choices=choices,
-                                        condition=condition)
+        return rt.DeclareLaunchArgument(
+            element.get("name"),
+            default_value=element.sub("default"),
+            description=element.get("description"),
+            choices=choices,
+            condition=condition,
+        )
     if tag == "let":
         return rt.SetLaunchConfiguration(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "include":
         arguments = [(a.sub("name"), a.sub("value")) for a in element.named("arg")]
-        return rt.IncludeLaunchDescription(rt.AnyLaunchDescriptionSource(element.sub("file")),
-                                           launch_arguments=arguments, condition=condition)
+        return rt.IncludeLaunchDescription(
+            rt.AnyLaunchDescriptionSource(element.sub("file")),
+            launch_arguments=arguments,
+            condition=condition,
+        )
     if tag == "group":
-        options = {k: v for k, v in (("scoped", _flag(element, "scoped")),
-                                     ("forwarding", _flag(element, "forwarding"))) if v is not None}
+        options = {
+            k: v
+            for k, v in (("scoped", _flag(element, "scoped")), ("forwarding", _flag(element, "forwarding")))
+            if v is not None
+        }
         keeps = _keeps(element)
         if keeps is not None:
             options["launch_configurations"] = keeps
@@ -343,21 +368,32 @@ def _entity(element: Element, path: str):
     if tag == "reset":
         return rt.ResetLaunchConfigurations(_keeps(element), condition=condition)
     if tag == "node":
-        return rt.Node(package=element.sub("pkg"), executable=element.sub("exec"), name=element.sub("name"),
-                       namespace=element.sub("namespace"), arguments=_arguments(element.get("args")),
-                       parameters=_parameters(element), remappings=[(r.sub("from"), r.sub("to"))
-                                                                     for r in element.named("remap")],
-                       condition=condition)
+        return rt.Node(
+            package=element.sub("pkg"),
+            executable=element.sub("exec"),
+            name=element.sub("name"),
+            namespace=element.sub("namespace"),
+            arguments=_arguments(element.get("args")),
+            parameters=_parameters(element),
+            remappings=[(r.sub("from"), r.sub("to")) for r in element.named("remap")],
+            condition=condition,
+        )
     if tag == "node_container":
         return rt.ComposableNodeContainer(
-            package=element.sub("pkg"), executable=element.sub("exec"), name=element.sub("name"),
-            namespace=element.sub("namespace"), parameters=_parameters(element),
+            package=element.sub("pkg"),
+            executable=element.sub("exec"),
+            name=element.sub("name"),
+            namespace=element.sub("namespace"),
+            parameters=_parameters(element),
             composable_node_descriptions=[_composable(c) for c in element.named("composable_node")],
-            condition=condition)
+            condition=condition,
+        )
     if tag == "load_composable_node":
-        return rt.LoadComposableNodes(composable_node_descriptions=[_composable(c) for c in
-                                                                    element.named("composable_node")],
-                                      target_container=element.sub("target"), condition=condition)
+        return rt.LoadComposableNodes(
+            composable_node_descriptions=[_composable(c) for c in element.named("composable_node")],
+            target_container=element.sub("target"),
+            condition=condition,
+        )
     if tag == "executable":
         return rt.ExecuteProcess(cmd=_arguments(element.get("cmd")), condition=condition)
     if tag == "set_env":
@@ -368,15 +404,17 @@ def _entity(element: Element, path: str):
             options["prepend"] = _flag(element, "prepend")
         if element.get("separator") is not None:
             options["separator"] = element.sub("separator")
-        return rt.AppendEnvironmentVariable(element.sub("name"), element.sub("value"), condition=condition,
-                                            **options)
+        return rt.AppendEnvironmentVariable(
+            element.sub("name"), element.sub("value"), condition=condition, **options
+        )
     if tag == "unset_env":
         return rt.UnsetEnvironmentVariable(element.sub("name"), condition=condition)
     if tag == "reset_env":
         return rt.ResetEnvironment(condition=condition)
     if tag in ("timer", "ros_timer"):
-        return rt.TimerAction(period=element.sub("period"), actions=_entities(element.children, path),
-                              condition=condition)
+        return rt.TimerAction(
+            period=element.sub("period"), actions=_entities(element.children, path), condition=condition
+        )
     if tag in ("push-ros-namespace", "push_ros_namespace"):
         return rt.PushRosNamespace(element.sub("namespace"), condition=condition)
     if tag == "set_remap":
@@ -401,9 +439,14 @@ def _composable(element: Element):
 
 
 def _composable_here(element: Element):
-    return rt.ComposableNode(package=element.sub("pkg"), plugin=element.sub("plugin"), name=element.sub("name"),
-                             namespace=element.sub("namespace"), parameters=_parameters(element),
-                             remappings=[(r.sub("from"), r.sub("to")) for r in element.named("remap")])
+    return rt.ComposableNode(
+        package=element.sub("pkg"),
+        plugin=element.sub("plugin"),
+        name=element.sub("name"),
+        namespace=element.sub("namespace"),
+        parameters=_parameters(element),
+        remappings=[(r.sub("from"), r.sub("to")) for r in element.named("remap")],
+    )
 
 
 def _arguments(text) -> list:

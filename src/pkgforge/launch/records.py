@@ -14,9 +14,10 @@ import itertools
 import json
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Literal
+from typing import Literal
 
 Status = Literal["ok", "load-error", "timeout", "crashed"]
 Engine = Literal["builtin", "ros"]
@@ -129,9 +130,15 @@ class Error(Record):
 
 
 KINDS: dict[str, type[Record]] = {
-    "nodes": Node, "packages": PackageLookup, "paths": ResolvedPath, "includes": Include,
-    "commands": CommandRun, "conditions": Condition, "unsupported": Unsupported,
-    "required": Required, "errors": Error,
+    "nodes": Node,
+    "packages": PackageLookup,
+    "paths": ResolvedPath,
+    "includes": Include,
+    "commands": CommandRun,
+    "conditions": Condition,
+    "unsupported": Unsupported,
+    "required": Required,
+    "errors": Error,
 }
 ITEM_KINDS = tuple(KINDS)
 
@@ -158,8 +165,9 @@ def from_dict(cls: type, data: dict):
         raise RecordKeyError(f"{cls.__name__} has no field {', '.join(sorted(unknown))}")
     values = dict(data)
     if cls is Node and values.get("parameters"):
-        values["parameters"] = [p if isinstance(p, Parameter) else from_dict(Parameter, p)
-                                for p in values["parameters"]]
+        values["parameters"] = [
+            p if isinstance(p, Parameter) else from_dict(Parameter, p) for p in values["parameters"]
+        ]
     return cls(**values)
 
 
@@ -277,10 +285,15 @@ def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
     if status not in STATUSES:
         raise ValueError(f"unknown launch status {status!r}")
     error = reply.get("error")
-    resolution = Resolution(launch, status, from_dict(Error, error) if error else None,
-                            [from_dict(Argument, a) for a in reply.get("arguments", [])],
-                            files=list(reply.get("files", [])), engine=reply.get("engine", "builtin"),
-                            distro=reply.get("distro"))
+    resolution = Resolution(
+        launch,
+        status,
+        from_dict(Error, error) if error else None,
+        [from_dict(Argument, a) for a in reply.get("arguments", [])],
+        files=list(reply.get("files", [])),
+        engine=reply.get("engine", "builtin"),
+        distro=reply.get("distro"),
+    )
     if isinstance(reply.get("branching"), dict):
         resolution.branching = Branching(**reply["branching"])
     labels = set()
@@ -315,8 +328,9 @@ def runs_at_verify_time(words: list[str]) -> bool:
     if os.path.basename(words[0]) == "cat":
         operands = [w for w in words[1:] if not w.startswith("-") or w == "-"]
         # a file that does not exist is cat's own failure, as in ROS; stdin and devices are not files
-        return bool(operands) and all(w != "-" and (not os.path.exists(w) or os.path.isfile(w))
-                                      for w in operands)
+        return bool(operands) and all(
+            w != "-" and (not os.path.exists(w) or os.path.isfile(w)) for w in operands
+        )
     return True
 
 
@@ -364,15 +378,19 @@ def _forget(recorder, mark: tuple) -> None:
         del getattr(recorder, kind)[length:]
 
 
-def evaluate_branches(recorder, path: str, overrides: dict[str, str], run,
-                      budget: BranchBudget | None = None) -> Branching:
+def evaluate_branches(
+    recorder, path: str, overrides: dict[str, str], run, budget: BranchBudget | None = None
+) -> Branching:
     """Visit once with the defaults, then once per other value of every argument of `path` that has
     choices or a true/false default (at most MAX_BRANCHES), while `budget` lasts. Both engines
     branch through this one function, so their records can only differ in what a visit records,
     never in which visits run. `run(values, label)` performs one visit."""
     run({}, {})
-    varying = [a for a in recorder.arguments.values()
-               if a.name not in overrides and a.file == path and (a.choices or a.boolean)]
+    varying = [
+        a
+        for a in recorder.arguments.values()
+        if a.name not in overrides and a.file == path and (a.choices or a.boolean)
+    ]
     if not varying:
         return Branching()
     defaults = {a.name: a.default for a in varying}
@@ -381,13 +399,16 @@ def evaluate_branches(recorder, path: str, overrides: dict[str, str], run,
             if not item.branch:
                 item.branch = dict(defaults)
     domains = [a.choices or ["true", "false"] for a in varying]
-    for argument, domain in zip(varying, domains):
+    for argument, domain in zip(varying, domains, strict=False):
         argument.values = list(domain)
     names = [a.name for a in varying]
-    assignments = [dict(zip(names, values)) for values in itertools.islice(itertools.product(*domains),
-                                                                            MAX_BRANCHES)]
-    assignments = [a for a in assignments
-                   if not all(a[n].lower() == (defaults[n] or "").lower() for n in names)]
+    assignments = [
+        dict(zip(names, values, strict=False))
+        for values in itertools.islice(itertools.product(*domains), MAX_BRANCHES)
+    ]
+    assignments = [
+        a for a in assignments if not all(a[n].lower() == (defaults[n] or "").lower() for n in names)
+    ]
     result = Branching(planned=1 + len(assignments))
     if budget is None:
         for assignment in assignments:
@@ -409,8 +430,10 @@ def evaluate_branches(recorder, path: str, overrides: dict[str, str], run,
         except budget.stops as stop:
             if current is not None:
                 _forget(recorder, mark)
-                result.stopped = {"branch": " ".join(f"{k}:={v}" for k, v in sorted(current.items())),
-                                  **_where_stopped(stop)}
+                result.stopped = {
+                    "branch": " ".join(f"{k}:={v}" for k, v in sorted(current.items())),
+                    **_where_stopped(stop),
+                }
         finally:
             budget.release()
     except budget.stops:
@@ -422,7 +445,9 @@ def _where_stopped(error: BaseException) -> dict:
     """The launch file's line a stopped branch was running (the deepest frame in a launch file)."""
     import traceback
 
-    from .runtime import _LAUNCH_FILES
+    from pkgforge.launch.runtime import _LAUNCH_FILES
 
     frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in _LAUNCH_FILES]
-    return {"file": frames[-1].filename, "line": frames[-1].lineno} if frames else {"file": None, "line": None}
+    return (
+        {"file": frames[-1].filename, "line": frames[-1].lineno} if frames else {"file": None, "line": None}
+    )

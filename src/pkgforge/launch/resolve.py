@@ -20,15 +20,14 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from pkgforge.launch.engines import BUILTIN, LaunchEngine
+from pkgforge.launch.records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
+from pkgforge.model.package import PackageModel
+from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
-from ..model.package import PackageModel
-from ..model.references import launch_kind
+from pkgforge.sandbox.zygote import ForkedProcess, Zygote
 from pkgforge.tree import InstallTree
-from .engines import BUILTIN, LaunchEngine
-from .records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
-from pkgforge.sandbox.zygote import ForkedProcess
-from pkgforge.sandbox.zygote import Zygote
-from ..walk import walk
+from pkgforge.walk import walk
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
@@ -37,7 +36,9 @@ KILL_GRACE = 2.0  # seconds past the time limit before the parent kills a worker
 MACHINE_DEPENDENT = ("timeout", "crashed")
 
 
-def find_launch_files(tree: InstallTree, models: list[PackageModel]) -> tuple[list[LaunchFile], list[LaunchFile]]:
+def find_launch_files(
+    tree: InstallTree, models: list[PackageModel]
+) -> tuple[list[LaunchFile], list[LaunchFile]]:
     """(launch files, ROS 1 .launch files) installed by the given packages."""
     found, ros1 = [], []
     for model in models:
@@ -46,9 +47,12 @@ def find_launch_files(tree: InstallTree, models: list[PackageModel]) -> tuple[li
             continue
         # links followed only inside the share folder or back into the package's source
         # (--symlink-install), each folder once: a link cycle is not an endless walk
-        for root, dirs, files in walk(share, follow_links=True, inside=(model.path,),
-                                      limits=model.walk_limits):
-            dirs[:] = sorted(d for d in dirs if d not in ("test", "tests", "__pycache__") and not d.startswith("."))
+        for root, dirs, files in walk(
+            share, follow_links=True, inside=(model.path,), limits=model.walk_limits
+        ):
+            dirs[:] = sorted(
+                d for d in dirs if d not in ("test", "tests", "__pycache__") and not d.startswith(".")
+            )
             for name in sorted(files):
                 installed = Path(root) / name
                 if name.endswith(".launch") and not name.endswith((".launch.py", ".launch.xml")):
@@ -119,9 +123,15 @@ class _Worker:
             self.process = self.zygote.spawn(env)
         else:
             self.process = subprocess.Popen(
-                [sys.executable, "-m", "pkgforge.sandbox.worker"], stdin=subprocess.PIPE,
-                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, text=True, errors="replace",
-                start_new_session=True)
+                [sys.executable, "-m", "pkgforge.sandbox.worker"],
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL,
+                env=env,
+                text=True,
+                errors="replace",
+                start_new_session=True,
+            )
         self.replies = queue.Queue()
         threading.Thread(target=self._read, args=(self.process, self.replies), daemon=True).start()
 
@@ -139,9 +149,14 @@ class _Worker:
             try:
                 self.start()
             except OSError as exc:  # an answer too: never a thread's traceback
-                return {"status": "crashed", "error": {
-                    "message": f"cannot start the launch worker {exc.filename or sys.executable}: "
-                               f"{exc.strerror or exc}", "line": None}}
+                return {
+                    "status": "crashed",
+                    "error": {
+                        "message": f"cannot start the launch worker {exc.filename or sys.executable}: "
+                        f"{exc.strerror or exc}",
+                        "line": None,
+                    },
+                }
         allowance = processes.LoadAllowance(timeout, self.process.pid)
         try:
             self.process.stdin.write(json.dumps(request) + "\n")
@@ -163,11 +178,20 @@ class _Worker:
                     deadline = time.monotonic() + more
                     continue
                 self.stop()
-                busy = f" and {allowance.granted:.1f} s more it waited for a busy CPU" if allowance.granted else ""
-                return {"status": "timeout", "error": {
-                    "message": f"still running after the {timeout:g} s limit{busy} (an endless loop, or "
-                               "waiting for something); raise it with --launch-timeout", "line": None,
-                    "limit": "time"}}
+                busy = (
+                    f" and {allowance.granted:.1f} s more it waited for a busy CPU"
+                    if allowance.granted
+                    else ""
+                )
+                return {
+                    "status": "timeout",
+                    "error": {
+                        "message": f"still running after the {timeout:g} s limit{busy} (an endless loop, or "
+                        "waiting for something); raise it with --launch-timeout",
+                        "line": None,
+                        "limit": "time",
+                    },
+                }
         if line is None:
             try:  # its replies closed: it is ending (or closed them and goes on: killed below)
                 code = self.process.wait(timeout=1.0)
@@ -179,14 +203,27 @@ class _Worker:
             reply = json.loads(line)
         except ValueError:
             self.stop()
-            return {"status": "crashed", "error": {
-                "message": "the process evaluating it wrote something that is not a result "
-                           "(it wrote to a file descriptor it does not own)", "line": None}}
+            return {
+                "status": "crashed",
+                "error": {
+                    "message": "the process evaluating it wrote something that is not a result "
+                    "(it wrote to a file descriptor it does not own)",
+                    "line": None,
+                },
+            }
         if not isinstance(reply, dict):
             self.stop()
-            return {"status": "crashed", "error": {"message": "the launch worker gave no result", "line": None}}
-        if reply.get("status") in MACHINE_DEPENDENT or (reply.get("branching") or {}).get("stopped") or any(
-                isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]):
+            return {
+                "status": "crashed",
+                "error": {"message": "the launch worker gave no result", "line": None},
+            }
+        if (
+            reply.get("status") in MACHINE_DEPENDENT
+            or (reply.get("branching") or {}).get("stopped")
+            or any(
+                isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]
+            )
+        ):
             self.stop()  # a fresh worker for the next file: nothing it (or a stopped branch) left stays
         return reply
 
@@ -216,12 +253,16 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
             name = signal.Signals(-code).name
         except ValueError:
             name = f"signal {-code}"
-        cause = {"SIGKILL": "killed (SIGKILL: by the system's out-of-memory killer, or by the launch file)",
-                 "SIGXCPU": f"stopped at the {limits.timeout:g} s CPU time limit (raise it with --launch-timeout)",
-                 "SIGSEGV": "crashed (SIGSEGV in an extension module)"}.get(name, f"killed by {name}")
+        cause = {
+            "SIGKILL": "killed (SIGKILL: by the system's out-of-memory killer, or by the launch file)",
+            "SIGXCPU": f"stopped at the {limits.timeout:g} s CPU time limit (raise it with --launch-timeout)",
+            "SIGSEGV": "crashed (SIGSEGV in an extension module)",
+        }.get(name, f"killed by {name}")
         return f"the process evaluating it was {cause}, without a result"
-    return (f"the process evaluating it exited (status {code}) without a result "
-            "(os._exit or a crash in an extension module)")
+    return (
+        f"the process evaluating it exited (status {code}) without a result "
+        "(os._exit or a crash in an extension module)"
+    )
 
 
 def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, str]:
@@ -243,9 +284,17 @@ def start_zygote(engine: LaunchEngine) -> Zygote:
     return zygote
 
 
-def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
-                 timeout: float = DEFAULT_TIMEOUT, on_done=None, limits: WorkerLimits | None = None,
-                 engine: LaunchEngine = BUILTIN, zygote: Zygote | None = None) -> list[dict]:
+def run_requests(
+    requests: list[dict],
+    tree: InstallTree,
+    *,
+    jobs: int = 1,
+    timeout: float = DEFAULT_TIMEOUT,
+    on_done=None,
+    limits: WorkerLimits | None = None,
+    engine: LaunchEngine = BUILTIN,
+    zygote: Zygote | None = None,
+) -> list[dict]:
     """Each request answered by a worker subprocess, in order; a hang or crash is an answer too.
 
     Workers are forked from `zygote` (the run's fork server; without one, a fork server for
@@ -262,8 +311,11 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
     env = worker_environment(tree.environment(), engine)
     # the real engine's logs and temporary parameter files: removed here, however its workers end
     # inside the tree's sandbox when there is one: the worker's guard refuses writes anywhere else
-    scratch = tempfile.mkdtemp(prefix="pkgforge-launch-", dir=env.get("PKGFORGE_SANDBOX")) \
-        if engine.name == "ros" else None
+    scratch = (
+        tempfile.mkdtemp(prefix="pkgforge-launch-", dir=env.get("PKGFORGE_SANDBOX"))
+        if engine.name == "ros"
+        else None
+    )
     if scratch is not None:
         env["PKGFORGE_SCRATCH"] = scratch
     work: queue.Queue = queue.Queue()
@@ -308,22 +360,40 @@ def run_requests(requests: list[dict], tree: InstallTree, *, jobs: int = 1,
             shutil.rmtree(scratch, ignore_errors=True)
     for index, reply in enumerate(replies):
         if reply is None:
-            replies[index] = {"status": "crashed", "error": {"message": "not evaluated (pkgforge was stopped)",
-                                                              "line": None}}
+            replies[index] = {
+                "status": "crashed",
+                "error": {"message": "not evaluated (pkgforge was stopped)", "line": None},
+            }
     return replies
 
 
-def resolve(launch_files: list[LaunchFile], tree: InstallTree, *, jobs: int = 1,
-            timeout: float = DEFAULT_TIMEOUT, arguments: dict[str, str] | None = None,
-            on_done=None, limits: WorkerLimits | None = None,
-            engine: LaunchEngine = BUILTIN, zygote: Zygote | None = None) -> list[Resolution]:
+def resolve(
+    launch_files: list[LaunchFile],
+    tree: InstallTree,
+    *,
+    jobs: int = 1,
+    timeout: float = DEFAULT_TIMEOUT,
+    arguments: dict[str, str] | None = None,
+    on_done=None,
+    limits: WorkerLimits | None = None,
+    engine: LaunchEngine = BUILTIN,
+    zygote: Zygote | None = None,
+) -> list[Resolution]:
     requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
-    replies = run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done, limits=limits,
-                           engine=engine, zygote=zygote)
+    replies = run_requests(
+        requests,
+        tree,
+        jobs=jobs,
+        timeout=timeout,
+        on_done=on_done,
+        limits=limits,
+        engine=engine,
+        zygote=zygote,
+    )
     for reply in replies:  # a timeout or a crash is the engine's too
         reply.setdefault("engine", engine.name)
         reply.setdefault("distro", engine.distro)
-    return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies)]
+    return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies, strict=False)]
 
 
 def _resolution(launch: LaunchFile, reply: dict) -> Resolution:

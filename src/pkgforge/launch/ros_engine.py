@@ -28,9 +28,9 @@ import sys
 import tempfile
 import types
 
-from . import runtime as rt
-from .engines import python_paths
-from .records import as_dict, evaluate_branches, runs_at_verify_time
+from pkgforge.launch import runtime as rt
+from pkgforge.launch.engines import python_paths
+from pkgforge.launch.records import as_dict, evaluate_branches, runs_at_verify_time
 
 MAX_DEPTH = 32
 MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
@@ -54,6 +54,7 @@ def _evaluating(context) -> bool:
 
 
 # --- stand-ins for the compiled ROS packages launch_ros imports -------------------------------
+
 
 def _module(name: str, **attributes) -> types.ModuleType:
     module = types.ModuleType(name)
@@ -146,39 +147,60 @@ def _install_stand_ins() -> list[str]:
         rclpy.validate_namespace = _module("rclpy.validate_namespace", validate_namespace=_validate_namespace)
         rclpy.validate_node_name = _module("rclpy.validate_node_name", validate_node_name=_validate_node_name)
         rclpy.logging = _module("rclpy.logging", get_logging_directory=lambda: os.environ["ROS_LOG_DIR"])
-        rclpy.exceptions = _module("rclpy.exceptions", InvalidNamespaceException=InvalidNamespaceException,
-                                   InvalidNodeNameException=InvalidNodeNameException)
+        rclpy.exceptions = _module(
+            "rclpy.exceptions",
+            InvalidNamespaceException=InvalidNamespaceException,
+            InvalidNodeNameException=InvalidNodeNameException,
+        )
         rclpy.node = _module("rclpy.node", Node=object)
         provided.append("rclpy")
     try:
         import lifecycle_msgs.msg  # noqa: F401
         import lifecycle_msgs.srv  # noqa: F401
     except Exception:  # noqa: BLE001
-        state = _Constants(PRIMARY_STATE_UNKNOWN=0, PRIMARY_STATE_UNCONFIGURED=1, PRIMARY_STATE_INACTIVE=2,
-                           PRIMARY_STATE_ACTIVE=3, PRIMARY_STATE_FINALIZED=4, TRANSITION_STATE_CONFIGURING=10,
-                           TRANSITION_STATE_CLEANINGUP=11, TRANSITION_STATE_SHUTTINGDOWN=12,
-                           TRANSITION_STATE_ACTIVATING=13, TRANSITION_STATE_DEACTIVATING=14,
-                           TRANSITION_STATE_ERRORPROCESSING=15)
-        transition = _Constants(TRANSITION_CREATE=0, TRANSITION_CONFIGURE=1, TRANSITION_CLEANUP=2,
-                                TRANSITION_ACTIVATE=3, TRANSITION_DEACTIVATE=4,
-                                TRANSITION_UNCONFIGURED_SHUTDOWN=5, TRANSITION_INACTIVE_SHUTDOWN=6,
-                                TRANSITION_ACTIVE_SHUTDOWN=7, TRANSITION_DESTROY=8)
+        state = _Constants(
+            PRIMARY_STATE_UNKNOWN=0,
+            PRIMARY_STATE_UNCONFIGURED=1,
+            PRIMARY_STATE_INACTIVE=2,
+            PRIMARY_STATE_ACTIVE=3,
+            PRIMARY_STATE_FINALIZED=4,
+            TRANSITION_STATE_CONFIGURING=10,
+            TRANSITION_STATE_CLEANINGUP=11,
+            TRANSITION_STATE_SHUTTINGDOWN=12,
+            TRANSITION_STATE_ACTIVATING=13,
+            TRANSITION_STATE_DEACTIVATING=14,
+            TRANSITION_STATE_ERRORPROCESSING=15,
+        )
+        transition = _Constants(
+            TRANSITION_CREATE=0,
+            TRANSITION_CONFIGURE=1,
+            TRANSITION_CLEANUP=2,
+            TRANSITION_ACTIVATE=3,
+            TRANSITION_DEACTIVATE=4,
+            TRANSITION_UNCONFIGURED_SHUTDOWN=5,
+            TRANSITION_INACTIVE_SHUTDOWN=6,
+            TRANSITION_ACTIVE_SHUTDOWN=7,
+            TRANSITION_DESTROY=8,
+        )
         package = _module("lifecycle_msgs")
-        package.msg = _module("lifecycle_msgs.msg", State=state, Transition=transition,
-                              TransitionEvent=_Constants())
+        package.msg = _module(
+            "lifecycle_msgs.msg", State=state, Transition=transition, TransitionEvent=_Constants()
+        )
         package.srv = _module("lifecycle_msgs.srv", ChangeState=_Message, GetState=_Message)
         provided.append("lifecycle_msgs")
     try:
         import composition_interfaces.srv  # noqa: F401
     except Exception:  # noqa: BLE001
         package = _module("composition_interfaces")
-        package.srv = _module("composition_interfaces.srv", LoadNode=_Message, UnloadNode=_Message,
-                              ListNodes=_Message)
+        package.srv = _module(
+            "composition_interfaces.srv", LoadNode=_Message, UnloadNode=_Message, ListNodes=_Message
+        )
         provided.append("composition_interfaces")
     return provided
 
 
 # --- setting up the libraries, once per worker ------------------------------------------------
+
 
 class _LineDict(dict):
     line = None
@@ -199,7 +221,9 @@ def _yaml_with_lines(yaml_module):
                 value.line = key_node.start_mark.line + 1  # the tag's line, as `- node:` is written
 
     Loader.add_constructor("tag:yaml.org,2002:map", construct_map)
-    shim = types.SimpleNamespace(**{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")})
+    shim = types.SimpleNamespace(
+        **{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")}
+    )
     shim.safe_load = lambda stream: yaml_module.load(stream, Loader=Loader)
     return shim
 
@@ -209,7 +233,9 @@ def _xml_with_lines(et_module):
     from lxml import etree
 
     parser = etree.XMLParser(remove_comments=True, remove_pis=True)
-    shim = types.SimpleNamespace(**{k: getattr(et_module, k) for k in dir(et_module) if not k.startswith("__")})
+    shim = types.SimpleNamespace(
+        **{k: getattr(et_module, k) for k in dir(et_module) if not k.startswith("__")}
+    )
     shim.parse = lambda source, *a, **k: etree.parse(source, parser)
     return shim
 
@@ -239,11 +265,13 @@ def setup(prefix: str | None) -> None:
         for folder in reversed(python_paths(prefix)):
             if folder not in sys.path:
                 sys.path.insert(0, folder)
-    from .engines import SYSTEM_PYTHON
+    from pkgforge.launch.engines import SYSTEM_PYTHON
 
     if os.path.isdir(SYSTEM_PYTHON) and SYSTEM_PYTHON not in sys.path:
         sys.path.append(SYSTEM_PYTHON)  # lark, osrf_pycommon as Debian's ROS packages install them
     L.stand_ins = _install_stand_ins()
+    import xml.etree.ElementTree as ET
+
     import launch
     import launch.frontend
     import launch.launch_description_sources
@@ -259,7 +287,6 @@ def setup(prefix: str | None) -> None:
     import launch_yaml  # noqa: F401
     import launch_yaml.parser
     import yaml
-    import xml.etree.ElementTree as ET
 
     try:
         launch.logging.launch_config.log_dir = os.environ["ROS_LOG_DIR"]
@@ -303,7 +330,9 @@ def _fast_parameter_files(yaml_module) -> None:
     dumper = getattr(yaml_module, "CDumper", None)  # the C twin of yaml.dump's default Dumper
     if dumper is None or getattr(node_module, "yaml", None) is not yaml_module:
         return
-    shim = types.SimpleNamespace(**{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")})
+    shim = types.SimpleNamespace(
+        **{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")}
+    )
     shim.dump = lambda data, stream=None, **kwargs: yaml_module.dump(data, stream, Dumper=dumper, **kwargs)
     node_module.yaml = shim
 
@@ -346,9 +375,16 @@ def _hook_locations() -> None:
     launch, launch_ros = L.launch, L.launch_ros
     from launch.event_handler import BaseEventHandler
 
-    bases = [launch.LaunchDescriptionEntity, launch.Substitution, launch.Condition,
-             launch.LaunchDescriptionSource, BaseEventHandler, launch_ros.descriptions.ComposableNode,
-             launch_ros.parameter_descriptions.ParameterValue, launch_ros.parameter_descriptions.ParameterFile]
+    bases = [
+        launch.LaunchDescriptionEntity,
+        launch.Substitution,
+        launch.Condition,
+        launch.LaunchDescriptionSource,
+        BaseEventHandler,
+        launch_ros.descriptions.ComposableNode,
+        launch_ros.parameter_descriptions.ParameterValue,
+        launch_ros.parameter_descriptions.ParameterFile,
+    ]
     for base in bases:
         _locate(base)
     node_init = launch_ros.actions.Node.__init__
@@ -495,8 +531,9 @@ def _hook_substitutions() -> None:
             stands in as an empty one; an executable not built yet is no failure"""
             if not _evaluating(context):
                 return real_executable(self, context)
-            return rt.executable_in_package(self, L.perform(context, self.executable),
-                                            L.perform(context, self.package))
+            return rt.executable_in_package(
+                self, L.perform(context, self.executable), L.perform(context, self.package)
+            )
 
         ros_subs.ExecutableInPackage.perform = executable_perform
     subs.Command.perform = _command_perform
@@ -549,6 +586,7 @@ def _command_perform(self, context) -> str:
 
 # --- visiting -----------------------------------------------------------------------------
 
+
 def _text(context, value) -> str | None:
     if value is None:
         return None
@@ -578,8 +616,9 @@ def _value_preview(context, value):
     Substitution = L.launch.Substitution
     if isinstance(value, ParameterValue):
         value = value.value
-    if isinstance(value, (str, Substitution)) or (isinstance(value, (list, tuple)) and value and all(
-            isinstance(v, (str, Substitution)) for v in value)):
+    if isinstance(value, (str, Substitution)) or (
+        isinstance(value, (list, tuple)) and value and all(isinstance(v, (str, Substitution)) for v in value)
+    ):
         return L.perform(context, L.normalize(value))
     return value
 
@@ -593,16 +632,30 @@ def _parameters(context, groups, owner) -> list[dict]:
                 name = key if isinstance(key, str) else _text(context, key)
                 form = _value_form(value)
                 text = _value_preview(context, value)
-                out.append({"name": name, "form": form, "value_preview": str(text)[:200],
-                            "file": owner._file, "line": getattr(value, "_line", None) or owner._line})
+                out.append(
+                    {
+                        "name": name,
+                        "form": form,
+                        "value_preview": str(text)[:200],
+                        "file": owner._file,
+                        "line": getattr(value, "_line", None) or owner._line,
+                    }
+                )
                 if isinstance(text, str):
                     _record_path(text, owner, "parameter")
         else:
             source = group.param_file if isinstance(group, ParameterFile) else group
             path = os.fspath(source) if isinstance(source, os.PathLike) else _text(context, source)
             _record_path(path, owner, "parameter file")
-            out.append({"name": None, "form": "file", "value_preview": path,
-                        "file": owner._file, "line": owner._line})
+            out.append(
+                {
+                    "name": None,
+                    "form": "file",
+                    "value_preview": path,
+                    "file": owner._file,
+                    "line": owner._line,
+                }
+            )
     return out
 
 
@@ -617,29 +670,54 @@ def _record_node(node, context) -> None:
         arguments.append(text)
         _record_path(text, node, "Node arguments")
     # SetParameter's global parameters, which launch_ros gives every node in scope
-    parameters = [{"name": group[0], "form": "plain", "value_preview": str(group[1])[:200],
-                   "file": node._file, "line": node._line}
-                  for group in context.launch_configurations.get("global_params") or []
-                  if isinstance(group, tuple)]
+    parameters = [
+        {
+            "name": group[0],
+            "form": "plain",
+            "value_preview": str(group[1])[:200],
+            "file": node._file,
+            "line": node._line,
+        }
+        for group in context.launch_configurations.get("global_params") or []
+        if isinstance(group, tuple)
+    ]
     parameters += _parameters(context, node._pkgforge_parameters, node)
-    record = {"kind": "node", "package": package, "executable": _text(context, node._Node__node_executable),
-              "arguments": arguments, "parameters": parameters}
+    record = {
+        "kind": "node",
+        "package": package,
+        "executable": _text(context, node._Node__node_executable),
+        "arguments": arguments,
+        "parameters": parameters,
+    }
     try:
         node._perform_substitutions(context)  # the real name, namespace, parameter and remapping rules
     except Exception:
         # recorded as written, and the failure (a bad name, a parameter launch_ros refuses) reported
-        RECORDER.add("nodes", {**record, "name": _text(context, node._Node__node_name),
-                               "namespace": _text(context, node._Node__node_namespace),
-                               "remappings": [[_text(context, a), _text(context, b)]
-                                              for a, b in node._Node__remappings or []]}, node)
+        RECORDER.add(
+            "nodes",
+            {
+                **record,
+                "name": _text(context, node._Node__node_name),
+                "namespace": _text(context, node._Node__node_namespace),
+                "remappings": [
+                    [_text(context, a), _text(context, b)] for a, b in node._Node__remappings or []
+                ],
+            },
+            node,
+        )
         raise
     name = node._Node__expanded_node_name
     namespace = node.expanded_node_namespace
-    RECORDER.add("nodes", {
-        **record, "name": None if name == node.UNSPECIFIED_NODE_NAME else name,
-        "namespace": None if namespace == node.UNSPECIFIED_NODE_NAMESPACE else namespace,
-        "remappings": [[a, b] for a, b in (node.expanded_remapping_rules or [])],
-    }, node)
+    RECORDER.add(
+        "nodes",
+        {
+            **record,
+            "name": None if name == node.UNSPECIFIED_NODE_NAME else name,
+            "namespace": None if namespace == node.UNSPECIFIED_NODE_NAMESPACE else namespace,
+            "remappings": [[a, b] for a, b in (node.expanded_remapping_rules or [])],
+        },
+        node,
+    )
 
 
 def _record_composable(descriptions, context) -> None:
@@ -687,7 +765,9 @@ def _handle(action, context, depth: int):
             out.extend(e for e in entities if isinstance(e, launch.LaunchDescriptionEntity))
         return out
     if name == "SetParametersFromFile":
-        _record_path(_text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile")
+        _record_path(
+            _text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile"
+        )
     return action.execute(context)
 
 
@@ -698,11 +778,17 @@ def _declare(action, context):
             default = L.perform(context, action.default_value)
         except Exception:  # noqa: BLE001 - a default that needs a value not given: no default shown
             default = None
-    RECORDER.arguments.setdefault(action.name, {
-        "name": action.name, "default": default, "choices": list(action.choices) if action.choices else None,
-        "file": action._file, "line": action._line,
-        "boolean": default is not None and default.lower() in ("true", "false"),
-    })
+    RECORDER.arguments.setdefault(
+        action.name,
+        {
+            "name": action.name,
+            "default": default,
+            "choices": list(action.choices) if action.choices else None,
+            "file": action._file,
+            "line": action._line,
+            "boolean": default is not None and default.lower() in ("true", "false"),
+        },
+    )
     if action.name not in context.launch_configurations and action.default_value is None:
         RECORDER.add("required", {"name": action.name}, action)
         return None
@@ -735,17 +821,27 @@ def _missing_configuration(error) -> str | None:
 def visit(entity, context, depth: int = 0) -> None:
     launch = L.launch
     if depth > MAX_DEPTH:
-        RECORDER.add("errors", {"stage": "visit", "type": "RecursionError",
-                                "message": f"launch files include each other more than {MAX_DEPTH} deep",
-                                "file": None, "line": None})
+        RECORDER.add(
+            "errors",
+            {
+                "stage": "visit",
+                "type": "RecursionError",
+                "message": f"launch files include each other more than {MAX_DEPTH} deep",
+                "file": None,
+                "line": None,
+            },
+        )
         return
     try:
         if isinstance(entity, launch.Action):
             condition = entity.condition
             if condition is not None:
                 taken = bool(condition.evaluate(context))
-                RECORDER.add("conditions", {"condition": type(condition).__name__,
-                                            "entity": type(entity).__name__, "taken": taken}, entity)
+                RECORDER.add(
+                    "conditions",
+                    {"condition": type(condition).__name__, "entity": type(entity).__name__, "taken": taken},
+                    entity,
+                )
                 if not taken:
                     return
             children = _handle(entity, context, depth)
@@ -756,7 +852,7 @@ def visit(entity, context, depth: int = 0) -> None:
         if missing is not None:
             RECORDER.add("required", {"name": missing, "skipped": type(entity).__name__}, entity)
             return
-        from .evaluate import record_visit_failure
+        from pkgforge.launch.evaluate import record_visit_failure
 
         record_visit_failure(entity, error)
         return
@@ -766,10 +862,11 @@ def visit(entity, context, depth: int = 0) -> None:
 
 # --- one file -----------------------------------------------------------------------------
 
+
 def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=None) -> dict:
     """Resolve one launch file with the real libraries; the result is plain data (JSON). `budget`
     (records.BranchBudget): how long the argument combinations past the defaults may run."""
-    from . import evaluate as builtin
+    from pkgforge.launch import evaluate as builtin
 
     builtin._watch_xacro()
     # the launch file's own ament_index lookups, recorded (and a package not found here standing
@@ -785,8 +882,13 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=No
         try:
             first = _load(path)  # a file that does not load is a load error, as in `ros2 launch`
         except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
-            return {"status": "load-error", "error": _load_error(path, error),
-                    **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common}
+            return {
+                "status": "load-error",
+                "error": _load_error(path, error),
+                **RECORDER.dump(),
+                "files": sorted(rt._LAUNCH_FILES),
+                **common,
+            }
 
         def run(values: dict[str, str], label: dict[str, str]) -> None:
             global _VISITING
@@ -797,8 +899,9 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=No
                 context.launch_configurations[key] = value
             # what IncludeLaunchDescription gives the file `ros2 launch` includes, without its
             # refusal of a required argument not given: that is recorded, what needs it skipped
-            context.extend_locals({"current_launch_file_path": path,
-                                   "current_launch_file_directory": os.path.dirname(path)})
+            context.extend_locals(
+                {"current_launch_file_path": path, "current_launch_file_directory": os.path.dirname(path)}
+            )
             # a fresh description for each evaluation: included sources cache what they loaded
             description = first if first is not None else _load(path)
             first = None
@@ -810,8 +913,14 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=No
                 _clean_scratch()
 
         branching = evaluate_branches(RECORDER, path, overrides, run, budget)
-        return {"status": "ok", "error": None, **RECORDER.dump(), "files": sorted(rt._LAUNCH_FILES), **common,
-                "branching": branching.as_reply()}
+        return {
+            "status": "ok",
+            "error": None,
+            **RECORDER.dump(),
+            "files": sorted(rt._LAUNCH_FILES),
+            **common,
+            "branching": branching.as_reply(),
+        }
     finally:
         os.environ.clear()
         os.environ.update(environment)
@@ -821,7 +930,7 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=No
 def _load_error(path: str, error: BaseException) -> dict:
     """A file ROS refuses to load: ROS's own exception, at the element that failed in a front-end
     file (lark wraps a substitution's error in a VisitError; the error itself is what is said)."""
-    from . import evaluate as builtin
+    from pkgforge.launch import evaluate as builtin
 
     cause = getattr(error, "orig_exc", None) if type(error).__name__ == "VisitError" else None
     record = builtin._error_record(path, cause if isinstance(cause, Exception) else error, "load")
@@ -852,7 +961,7 @@ def _clean_scratch() -> None:
 
 def error_reply(path: str, message: str, distro: str | None) -> dict:
     """The reply for every file when the distro's libraries cannot be imported."""
-    from .records import Error
+    from pkgforge.launch.records import Error
 
     error = Error(stage="worker", type="RosEngineError", message=message, file=path)
     return {"status": "load-error", "error": as_dict(error), "engine": "ros", "distro": distro}

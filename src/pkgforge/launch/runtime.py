@@ -55,6 +55,7 @@ class Located:
 
 # --- errors ---------------------------------------------------------------------------------
 
+
 class SubstitutionFailure(RuntimeError):
     pass
 
@@ -91,13 +92,13 @@ class Unresolved(Exception):
 
 # --- the record -----------------------------------------------------------------------------
 
-from .records import Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
-
+from pkgforge.launch.records import Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
 
 RECORDER = Recorder()
 
 
 # --- context --------------------------------------------------------------------------------
+
 
 class LaunchContext:
     def __init__(self, *, argv=None, noninteractive=False):
@@ -133,6 +134,7 @@ class _Locals:
 
 # --- substitutions --------------------------------------------------------------------------
 
+
 class Substitution(Located):
     def perform(self, context: LaunchContext) -> str:  # pragma: no cover - overridden
         raise NotImplementedError
@@ -156,8 +158,10 @@ def normalize(subs) -> list:
         elif isinstance(item, str):
             out.append(TextSubstitution(text=item))
         else:
-            raise TypeError(f"Failed to normalize given item of type '{type(item)}', when only "
-                            "'str' or 'launch.Substitution' were expected.")
+            raise TypeError(
+                f"Failed to normalize given item of type '{type(item)}', when only "
+                "'str' or 'launch.Substitution' were expected."
+            )
     return out
 
 
@@ -182,9 +186,12 @@ def _stringify_default(default) -> list:
 def _plain_text(value):
     """EqualsSubstitution's operand: None → '', a bool → 'true'/'false', else str()."""
     if isinstance(value, Substitution) or (
-            isinstance(value, collections.abc.Iterable) and not isinstance(value, str) and len(value) > 0
-            and all(isinstance(v, (str, Substitution)) for v in value)
-            and any(isinstance(v, Substitution) for v in value)):
+        isinstance(value, collections.abc.Iterable)
+        and not isinstance(value, str)
+        and len(value) > 0
+        and all(isinstance(v, (str, Substitution)) for v in value)
+        and any(isinstance(v, Substitution) for v in value)
+    ):
         return value
     if value is None:
         return ""
@@ -265,10 +272,15 @@ class FindExecutable(Substitution):
 class PythonExpression(Substitution):
     def __init__(self, expression, python_modules=["math"]):  # noqa: B006 - launch's default
         super().__init__()
-        ensure_argument_type(expression, (str, Substitution, collections.abc.Iterable), "expression",
-                             "PythonExpression")
-        ensure_argument_type(python_modules, (str, Substitution, collections.abc.Iterable),
-                             "python_modules", "PythonExpression")
+        ensure_argument_type(
+            expression, (str, Substitution, collections.abc.Iterable), "expression", "PythonExpression"
+        )
+        ensure_argument_type(
+            python_modules,
+            (str, Substitution, collections.abc.Iterable),
+            "python_modules",
+            "PythonExpression",
+        )
         self.expression = normalize(expression)
         self.python_modules = normalize(python_modules)
 
@@ -297,8 +309,9 @@ class Command(Substitution):
         self.on_stderr = normalize(on_stderr)
 
     def perform(self, context):
-        return command_output(self, perform_substitutions(context, self.command),
-                              perform_substitutions(context, self.on_stderr))
+        return command_output(
+            self, perform_substitutions(context, self.command), perform_substitutions(context, self.on_stderr)
+        )
 
 
 def command_output(owner, text: str, on_stderr: str, failure: type = SubstitutionFailure) -> str:
@@ -311,8 +324,11 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
     if on_stderr not in ("fail", "ignore", "warn", "capture"):
         raise failure("expected 'on_stderr' to be one of: 'fail', 'ignore', 'warn' or 'capture'")
     if not runs_at_verify_time(words):
-        RECORDER.add("commands", {"command": words, "text": text, "ok": True, "message": "", "runtime_only": True},
-                     owner)
+        RECORDER.add(
+            "commands",
+            {"command": words, "text": text, "ok": True, "message": "", "runtime_only": True},
+            owner,
+        )
         return ""
     if any(w.startswith(MISSING_PACKAGE_ROOT) for w in words):
         raise Unresolved(f"<{words[0]} of a file in a package not found>")
@@ -327,8 +343,13 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
         # launch fails a Command that writes to stderr unless on_stderr says otherwise
         problem = f"executed command showed stderr output. Command: {text}\nCaptured stderr output:\n{stderr}"
         first = stderr.strip().splitlines()[0] if stderr.strip() else ""
-        ok, message = False, (f"{first} (written to stderr: Command's on_stderr='fail' stops the launch; "
-                              "fix the warning or pass on_stderr='warn')")
+        ok, message = (
+            False,
+            (
+                f"{first} (written to stderr: Command's on_stderr='fail' stops the launch; "
+                "fix the warning or pass on_stderr='warn')"
+            ),
+        )
     elif ok and stderr and on_stderr == "capture":
         output = output + stderr
     record = {"command": words, "text": text, "ok": ok, "message": message, **extra}
@@ -342,7 +363,9 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
         record["mappings"] = dict(w.split(":=", 1) for w in words[1:] if ":=" in w)
     RECORDER.add("commands", record, owner)
     if not ok:
-        raise failure(problem if problem is not None else f"executed command failed. Command: {text}\n{message}")
+        raise failure(
+            problem if problem is not None else f"executed command failed. Command: {text}\n{message}"
+        )
     return output
 
 
@@ -448,7 +471,9 @@ def _typed_bool(context, subs) -> bool:
     try:
         output = yaml.safe_load(value) if value else value
     except yaml.YAMLError as error:
-        raise SubstitutionFailure(f"Failed to convert '{value}' to '{bool}': yaml.safe_load() failed\n{error}")
+        raise SubstitutionFailure(  # noqa: B904 - launch raises it inside the except, with the YAML error as context
+            f"Failed to convert '{value}' to '{bool}': yaml.safe_load() failed\n{error}"
+        )
     if isinstance(output, bool):
         return output
     raise SubstitutionFailure(f"Cannot convert value '{value}' to '{bool}'")
@@ -565,6 +590,7 @@ class FileContent(Substitution):
 
 # launch_ros substitutions
 
+
 def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
     """A package's share (or prefix) folder, the lookup recorded. A package not found here is
     recorded as such and stands in as an empty package (a path that exists nowhere), so the
@@ -658,8 +684,11 @@ class ExecutableInPackage(Substitution):
         self.executable, self.package = normalize(executable), normalize(package)
 
     def perform(self, context):
-        return executable_in_package(self, perform_substitutions(context, self.executable),
-                                     perform_substitutions(context, self.package))
+        return executable_in_package(
+            self,
+            perform_substitutions(context, self.executable),
+            perform_substitutions(context, self.package),
+        )
 
 
 def executable_in_package(owner, executable: str, package: str) -> str:
@@ -684,6 +713,7 @@ def _record_path(path, obj, via: str) -> None:
 
 
 # --- conditions -----------------------------------------------------------------------------
+
 
 class Condition(Located):
     def __init__(self, *, predicate=None):
@@ -730,6 +760,7 @@ def evaluate_condition_expression(context, expression) -> bool:
 
 # --- entities -------------------------------------------------------------------------------
 
+
 class LaunchDescriptionEntity(Located):
     def visit(self, context) -> list | None:
         return None
@@ -771,10 +802,14 @@ class DeclareLaunchArgument(Action):
         if choices is not None:
             if len(choices) == 0:
                 raise RuntimeError("Provided choices arg is empty. Use None to ignore the choice list.")
-            if default_value is not None and not isinstance(default_value, (Substitution, list)) \
-                    and default_value not in choices:
-                raise RuntimeError(f'Provided default_value "{default_value}" is not in provided choices '
-                                   f'"{choices}".')
+            if (
+                default_value is not None
+                and not isinstance(default_value, (Substitution, list))
+                and default_value not in choices
+            ):
+                raise RuntimeError(
+                    f'Provided default_value "{default_value}" is not in provided choices "{choices}".'
+                )
         self.description = description
         self.choices = list(choices) if choices is not None else None
 
@@ -785,11 +820,17 @@ class DeclareLaunchArgument(Action):
                 default = perform_substitutions(context, self.default_value)
             except Unresolved:
                 default = None
-        RECORDER.arguments.setdefault(self.name, {
-            "name": self.name, "default": default, "choices": self.choices,
-            "file": self._file, "line": self._line,
-            "boolean": default is not None and default.lower() in ("true", "false"),
-        })
+        RECORDER.arguments.setdefault(
+            self.name,
+            {
+                "name": self.name,
+                "default": default,
+                "choices": self.choices,
+                "file": self._file,
+                "line": self._line,
+                "boolean": default is not None and default.lower() in ("true", "false"),
+            },
+        )
         if self.name not in context.launch_configurations:
             if self.default_value is None:
                 # ROS stops here (a required argument); verify records it and goes on
@@ -798,8 +839,10 @@ class DeclareLaunchArgument(Action):
             context.launch_configurations[self.name] = perform_substitutions(context, self.default_value)
         value = context.launch_configurations[self.name]
         if self.choices is not None and value not in self.choices:
-            raise RuntimeError(f'Argument "{self.name}" provided value "{value}" is not valid. Valid options '
-                               f"are: {self.choices}")
+            raise RuntimeError(
+                f'Argument "{self.name}" provided value "{value}" is not valid. Valid options '
+                f"are: {self.choices}"
+            )
         return None
 
 
@@ -809,8 +852,9 @@ class SetLaunchConfiguration(Action):
         self.name, self.value = normalize(name), normalize(value)
 
     def visit(self, context):
-        context.launch_configurations[perform_substitutions(context, self.name)] = \
-            perform_substitutions(context, self.value)
+        context.launch_configurations[perform_substitutions(context, self.name)] = perform_substitutions(
+            context, self.value
+        )
 
 
 class UnsetLaunchConfiguration(Action):
@@ -838,11 +882,23 @@ class GroupAction(Action):
         if not self.scoped:
             return [*sets, *actions]
         if self.forwarding:
-            return [PushLaunchConfigurations(), PushEnvironment(), *sets, *actions, PopEnvironment(),
-                    PopLaunchConfigurations()]
-        return [PushLaunchConfigurations(), PushEnvironment(), ResetEnvironment(),
-                ResetLaunchConfigurations(self.launch_configurations), *actions, PopEnvironment(),
-                PopLaunchConfigurations()]
+            return [
+                PushLaunchConfigurations(),
+                PushEnvironment(),
+                *sets,
+                *actions,
+                PopEnvironment(),
+                PopLaunchConfigurations(),
+            ]
+        return [
+            PushLaunchConfigurations(),
+            PushEnvironment(),
+            ResetEnvironment(),
+            ResetLaunchConfigurations(self.launch_configurations),
+            *actions,
+            PopEnvironment(),
+            PopLaunchConfigurations(),
+        ]
 
 
 class PushLaunchConfigurations(Action):
@@ -861,8 +917,10 @@ class ResetLaunchConfigurations(Action):
         self.keep = launch_configurations
 
     def visit(self, context):
-        kept = {perform_substitutions(context, normalize(k)): perform_substitutions(context, normalize(v))
-                for k, v in (self.keep or {}).items()}
+        kept = {
+            perform_substitutions(context, normalize(k)): perform_substitutions(context, normalize(v))
+            for k, v in (self.keep or {}).items()
+        }
         context.launch_configurations.clear()
         context.launch_configurations.update(kept)
 
@@ -911,8 +969,9 @@ class AppendEnvironmentVariable(Action):
 
     def visit(self, context):
         name, value = perform_substitutions(context, self.name), perform_substitutions(context, self.value)
-        prepend = self.prepend if isinstance(self.prepend, bool) else \
-            _typed_bool(context, normalize(self.prepend))
+        prepend = (
+            self.prepend if isinstance(self.prepend, bool) else _typed_bool(context, normalize(self.prepend))
+        )
         separator = perform(context, self.separator)
         current = context.environment.get(name)
         if current:
@@ -982,8 +1041,18 @@ def _as_entities(entities) -> list:
 
 
 class _OnEvent(EventHandler):
-    HANDLERS = ("on_exit", "on_start", "on_completion", "on_stdin", "on_stdout", "on_stderr",
-                "on_shutdown", "on_include", "on_event", "entities")
+    HANDLERS = (
+        "on_exit",
+        "on_start",
+        "on_completion",
+        "on_stdin",
+        "on_stdout",
+        "on_stderr",
+        "on_shutdown",
+        "on_include",
+        "on_event",
+        "entities",
+    )
 
     def __init__(self, **kwargs):
         entities = []
@@ -1062,6 +1131,7 @@ class EmitEvent(Action):
 
 # --- launch file sources and includes -------------------------------------------------------
 
+
 class LaunchDescriptionSource(Located):
     kind: str | None = None
 
@@ -1108,7 +1178,7 @@ class IncludeLaunchDescription(Action):
         if not exists or _phantom(path):
             return None
         context.launch_configurations.update(arguments)
-        from .evaluate import load_description  # noqa: PLC0415  (evaluate imports this module)
+        from pkgforge.launch.evaluate import load_description  # noqa: PLC0415  (evaluate imports this module)
 
         description = load_description(path, self.source.kind)
         previous = context.current_file
@@ -1135,6 +1205,7 @@ def _phantom(path: str) -> bool:
 
 
 # --- launch_ros actions ---------------------------------------------------------------------
+
 
 def is_root_namespace(ns) -> bool:
     return ns == "/"
@@ -1164,17 +1235,29 @@ def make_namespace_absolute(ns):
 
 
 class Node(ExecuteProcess):
-    def __init__(self, *, executable=None, package=None, name=None, namespace=None,
-                 exec_name=None, parameters=None, remappings=None, ros_arguments=None,
-                 arguments=None, **kwargs):
+    def __init__(
+        self,
+        *,
+        executable=None,
+        package=None,
+        name=None,
+        namespace=None,
+        exec_name=None,
+        parameters=None,
+        remappings=None,
+        ros_arguments=None,
+        arguments=None,
+        **kwargs,
+    ):
         kwargs.pop("cmd", None)
         super().__init__(cmd=[], **kwargs)
         self.package = package
         self.executable = executable
         self.node_name = name
         self.namespace = namespace
-        if parameters is not None and (isinstance(parameters, str) or
-                                       not isinstance(parameters, collections.abc.Sequence)):
+        if parameters is not None and (
+            isinstance(parameters, str) or not isinstance(parameters, collections.abc.Sequence)
+        ):
             raise TypeError(f"Expecting list of parameters, got {parameters}")
         self.parameters = list(parameters or [])
         self.remappings = list(remappings or [])
@@ -1195,22 +1278,33 @@ class Node(ExecuteProcess):
             arguments.append(text)
             _record_path(text, self, "Node arguments")
         namespace = perform(context, self.namespace) if self.namespace is not None else None
-        namespace = make_namespace_absolute(prefix_namespace(context.launch_configurations.get("ros_namespace"),
-                                                             namespace))
+        namespace = make_namespace_absolute(
+            prefix_namespace(context.launch_configurations.get("ros_namespace"), namespace)
+        )
         parameters = []
         for group in context.launch_configurations.get("global_params") or []:
             if isinstance(group, tuple):
-                parameters.append({"name": group[0], "form": "plain", "value_preview": str(group[1])[:200],
-                                   "file": self._file, "line": self._line})
+                parameters.append(
+                    {
+                        "name": group[0],
+                        "form": "plain",
+                        "value_preview": str(group[1])[:200],
+                        "file": self._file,
+                        "line": self._line,
+                    }
+                )
         for group in self.parameters:
             parameters.extend(_evaluate_parameters(context, group, self))
         remappings = [list(r) for r in context.launch_configurations.get("ros_remaps") or []]
         remappings += [[perform(context, a), perform(context, b)] for a, b in self.remappings]
         return {
-            "kind": "node", "package": package,
+            "kind": "node",
+            "package": package,
             "executable": perform(context, self.executable) if self.executable is not None else None,
             "name": perform(context, self.node_name) if self.node_name is not None else None,
-            "namespace": namespace, "arguments": arguments, "parameters": parameters,
+            "namespace": namespace,
+            "arguments": arguments,
+            "parameters": parameters,
             "remappings": remappings,
         }
 
@@ -1236,8 +1330,10 @@ def validate_node_name(name) -> bool:
     import re
 
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name or ""):
-        raise InvalidNodeNameException(f"Invalid node name: node name must not be empty, contain only "
-                                       f"alphanumerics and underscores, and not start with a number: '{name}'")
+        raise InvalidNodeNameException(
+            f"Invalid node name: node name must not be empty, contain only "
+            f"alphanumerics and underscores, and not start with a number: '{name}'"
+        )
     return True
 
 
@@ -1285,19 +1381,35 @@ def _evaluate_parameters(context, group, node) -> list[dict]:
         for name, value in _flatten(group, None, context):
             given = _value_form(value)
             text = _perform_value(context, value)
-            out.append({"name": name, "form": given, "value_preview": str(text)[:200],
-                        "file": node._file, "line": getattr(value, "_line", None) or node._line})
+            out.append(
+                {
+                    "name": name,
+                    "form": given,
+                    "value_preview": str(text)[:200],
+                    "file": node._file,
+                    "line": getattr(value, "_line", None) or node._line,
+                }
+            )
             if isinstance(text, str):
                 _record_path(text, node, "parameter")
     elif isinstance(group, Parameter):
         text = _perform_value(context, group.value)
-        out.append({"name": perform(context, group.name), "form": _value_form(group.value),
-                    "value_preview": str(text)[:200], "file": node._file, "line": node._line})
+        out.append(
+            {
+                "name": perform(context, group.name),
+                "form": _value_form(group.value),
+                "value_preview": str(text)[:200],
+                "file": node._file,
+                "line": node._line,
+            }
+        )
     else:
         source = group.param_file if isinstance(group, ParameterFile) else group
         path = perform(context, source) if not isinstance(source, (os.PathLike,)) else os.fspath(source)
         _record_path(path, node, "parameter file")
-        out.append({"name": None, "form": "file", "value_preview": path, "file": node._file, "line": node._line})
+        out.append(
+            {"name": None, "form": "file", "value_preview": path, "file": node._file, "line": node._line}
+        )
     return out
 
 
@@ -1323,8 +1435,10 @@ def _check_parameter_value(context, name: str, value) -> None:
     if not _is_substitutions(value) or not _has_substitution(value):
         return
     text = perform(context, value) or "''"
-    wrap = ("If the parameter is meant to be a string, try wrapping it in "
-            "launch_ros.parameter_descriptions.ParameterValue(value, value_type=str)")
+    wrap = (
+        "If the parameter is meant to be a string, try wrapping it in "
+        "launch_ros.parameter_descriptions.ParameterValue(value, value_type=str)"
+    )
     try:
         output = yaml.safe_load(text)
     except yaml.YAMLError:
@@ -1334,17 +1448,21 @@ def _check_parameter_value(context, name: str, value) -> None:
     jazzy = _api_distro() != "humble"
     if isinstance(output, collections.abc.Sequence):
         if not _uniform(output):
-            raise TypeError("Expected a non-empty sequence, with items of uniform type. Allowed sequence "
-                            "item types are bool, int, float, str." +
-                            (f' Got inconsistent input for "{name}"' if jazzy else ""))
+            raise TypeError(
+                "Expected a non-empty sequence, with items of uniform type. Allowed sequence "
+                "item types are bool, int, float, str."
+                + (f' Got inconsistent input for "{name}"' if jazzy else "")
+            )
         return
     got = f'{type(output)} for "{name}". ' if jazzy else f"{type(output)}."
-    raise TypeError("Allowed value types are bytes, bool, int, float, str, Sequence[bool], Sequence[int], "
-                    f"Sequence[float], Sequence[str]. Got {got}{wrap}")
+    raise TypeError(
+        "Allowed value types are bytes, bool, int, float, str, Sequence[bool], Sequence[int], "
+        f"Sequence[float], Sequence[str]. Got {got}{wrap}"
+    )
 
 
 def _api_distro() -> str:
-    from . import api
+    from pkgforge.launch import api
 
     return api.distro()
 
@@ -1352,8 +1470,11 @@ def _api_distro() -> str:
 def _is_substitutions(value) -> bool:
     if isinstance(value, (str, Substitution)):
         return True
-    return isinstance(value, (list, tuple)) and bool(value) and \
-        all(isinstance(v, (str, Substitution)) for v in value)
+    return (
+        isinstance(value, (list, tuple))
+        and bool(value)
+        and all(isinstance(v, (str, Substitution)) for v in value)
+    )
 
 
 def _has_substitution(value) -> bool:
@@ -1402,8 +1523,9 @@ def _perform_value(context, value):
         return perform(context, value)
     if isinstance(value, (list, tuple)) and value:
         kinds = {type(v) for v in value}
-        if any(isinstance(v, Substitution) for v in value) and \
-                all(isinstance(v, (str, Substitution)) for v in value):
+        if any(isinstance(v, Substitution) for v in value) and all(
+            isinstance(v, (str, Substitution)) for v in value
+        ):
             return perform(context, list(value))
         if all(isinstance(v, (str, Substitution, list, tuple)) for v in value) and kinds - {str}:
             return [perform(context, v) for v in value]
@@ -1411,8 +1533,18 @@ def _perform_value(context, value):
 
 
 class ComposableNode(Located):
-    def __init__(self, *, package, plugin, name=None, namespace=None, parameters=None,
-                 remappings=None, extra_arguments=None, condition=None):
+    def __init__(
+        self,
+        *,
+        package,
+        plugin,
+        name=None,
+        namespace=None,
+        parameters=None,
+        remappings=None,
+        extra_arguments=None,
+        condition=None,
+    ):
         super().__init__()
         self.package, self.plugin = package, plugin
         self.parameters = list(parameters or [])
@@ -1455,8 +1587,10 @@ class PushRosNamespace(Action):
         previous = context.launch_configurations.get("ros_namespace", None)
         namespace = make_namespace_absolute(prefix_namespace(previous, pushed))
         if not _valid_namespace(namespace):
-            raise SubstitutionFailure("The resulting namespace is invalid: "
-                                      f"[previous_namespace='{previous}', pushed_namespace='{pushed}']")
+            raise SubstitutionFailure(
+                "The resulting namespace is invalid: "
+                f"[previous_namespace='{previous}', pushed_namespace='{pushed}']"
+            )
         context.launch_configurations["ros_namespace"] = namespace
 
 
@@ -1515,6 +1649,7 @@ class RosTimerAction(TimerAction):
 
 # --- names ROS has and pkgforge does not evaluate -------------------------------------------
 
+
 def unsupported(name: str, bases=Action) -> type:
     """A real launch API name pkgforge records instead of evaluating: an action that does
     nothing, a substitution whose value is unknown (what uses it is skipped). Recorded where the
@@ -1546,23 +1681,24 @@ SetUseSimTime = unsupported("SetUseSimTime")
 
 def load_description_function(path, *args, **kwargs):
     """launch's get_launch_description_from_*_launch_file(): the file's LaunchDescription."""
-    from .evaluate import load_description
+    from pkgforge.launch.evaluate import load_description
 
     return load_description(os.fspath(path))
 
 
 def load_python_launch_file_as_module(python_launch_file_path):
     """The launch file as a module, as launch loads it (generate_launch_description not called)."""
-    from .evaluate import load_module
+    from pkgforge.launch.evaluate import load_module
 
     return load_module(os.fspath(python_launch_file_path))
 
 
 # --- launch.utilities and friends -----------------------------------------------------------
 
-SomeSubstitutionsType = typing.Union[str, Substitution, typing.Iterable[typing.Union[str, Substitution]]]
+# typing.Union, as launch.some_substitutions_type spells them (typing.get_args sees the same)
+SomeSubstitutionsType = typing.Union[str, Substitution, typing.Iterable[str | Substitution]]  # noqa: UP007
 SomeSubstitutionsType_types_tuple = (str, Substitution, collections.abc.Iterable)
-SomeEntitiesType = typing.Union[LaunchDescriptionEntity, typing.Iterable[LaunchDescriptionEntity]]
+SomeEntitiesType = typing.Union[LaunchDescriptionEntity, typing.Iterable[LaunchDescriptionEntity]]  # noqa: UP007
 SomeEntitiesType_types_tuple = (LaunchDescriptionEntity, collections.abc.Iterable)
 FilePath = typing.Union[str, "os.PathLike[str]"]
 
@@ -1582,12 +1718,17 @@ def is_a_subclass(obj, entity_type) -> bool:
 def ensure_argument_type(argument, types, argument_name, caller=None) -> None:
     """launch.utilities.ensure_argument_type: a TypeError naming the argument."""
     types = types if isinstance(types, (list, tuple)) else [types]
-    if not any(isinstance(argument, t) or (isinstance(argument, type) and isinstance(t, type)
-                                           and issubclass(argument, t)) for t in types):
+    if not any(
+        isinstance(argument, t)
+        or (isinstance(argument, type) and isinstance(t, type) and issubclass(argument, t))
+        for t in types
+    ):
         expected = ", ".join(f"'{t}'" for t in types)
         prefix = f"{caller}: " if caller else ""
-        raise TypeError(f"{prefix}Expected '{argument_name}' to be one of [{expected}], "
-                        f"but got '{argument}' of type '{type(argument)}'")
+        raise TypeError(
+            f"{prefix}Expected '{argument_name}' to be one of [{expected}], "
+            f"but got '{argument}' of type '{type(argument)}'"
+        )
 
 
 def normalize_to_list_of_entities(entities) -> list:

@@ -7,8 +7,8 @@ checked too; launch-not-installed says once that they are not installed.
 
 from __future__ import annotations
 
-from ..model.package import PackageModel
-from .resolve import LaunchFile, _is_launch_file
+from pkgforge.launch.resolve import LaunchFile, _is_launch_file
+from pkgforge.model.package import PackageModel
 
 SKIPPED = {"test", "tests", "build", "install", "log", "__pycache__"}
 
@@ -24,7 +24,9 @@ def source_only(models: list[PackageModel], found: list[LaunchFile]) -> list[Lau
         for relative in model.launch_files():
             relative = relative.relative_to(model.path)
             path = model.path / relative
-            if any(p in SKIPPED or p.startswith(".") for p in relative.parts) or path.name.startswith("test_"):
+            if any(p in SKIPPED or p.startswith(".") for p in relative.parts) or path.name.startswith(
+                "test_"
+            ):
                 continue
             if path in installed or path in known or not _is_launch_file(path):
                 continue

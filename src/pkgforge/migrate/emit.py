@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import yaml
 
-from .roslaunch import Arg, Group, Include, Node
+from pkgforge.migrate.roslaunch import Arg, Group, Include, Node
 
 HEADER = "Converted from ROS 1 {source} by pkgforge migrate."
 
 
 # --- frontend (XML, YAML) ---------------------------------------------------------------------
+
 
 def frontend(parts: list | None) -> str:
     out = []
@@ -55,24 +56,39 @@ def to_xml(actions: list, source: str, *, param_type: bool) -> str:
         for action in items:
             if isinstance(action, Arg):
                 if action.fixed:
-                    lines.append(f"{indent}<let{attrs([('name', action.name), ('value', frontend(action.default))])}/>")
+                    lines.append(
+                        f"{indent}<let{attrs([('name', action.name), ('value', frontend(action.default))])}/>"
+                    )
                 else:
                     default = frontend(action.default) if action.default is not None else None
-                    lines.append(f"{indent}<arg{attrs([('name', action.name), ('default', default), ('description', action.doc)])}/>")
+                    lines.append(
+                        f"{indent}<arg{attrs([('name', action.name), ('default', default), ('description', action.doc)])}/>"
+                    )
             elif isinstance(action, Node):
-                head = attrs([("pkg", action.package), ("exec", action.executable), ("name", action.name),
-                              ("namespace", action.namespace), ("output", action.output),
-                              ("respawn", action.respawn),
-                              ("args", _words(action.arguments) if action.arguments else None),
-                              *cond(action.condition)])
+                head = attrs(
+                    [
+                        ("pkg", action.package),
+                        ("exec", action.executable),
+                        ("name", action.name),
+                        ("namespace", action.namespace),
+                        ("output", action.output),
+                        ("respawn", action.respawn),
+                        ("args", _words(action.arguments) if action.arguments else None),
+                        *cond(action.condition),
+                    ]
+                )
                 children = []
                 for param in action.params:
                     if param.kind == "file":
                         children.append(f"<param{attrs([('from', frontend(param.value))])}/>")
                     elif param.kind == "description":
-                        children.append(f"<param{attrs([('name', param.name), ('value', _description(param.value)), ('type', 'str' if param_type else None)])}/>")
+                        children.append(
+                            f"<param{attrs([('name', param.name), ('value', _description(param.value)), ('type', 'str' if param_type else None)])}/>"
+                        )
                     else:
-                        children.append(f"<param{attrs([('name', param.name), ('value', frontend(param.value))])}/>")
+                        children.append(
+                            f"<param{attrs([('name', param.name), ('value', frontend(param.value))])}/>"
+                        )
                 children += [f"<remap{attrs([('from', a), ('to', b)])}/>" for a, b in action.remaps]
                 if children:
                     lines.append(f"{indent}<node{head}>")
@@ -84,14 +100,19 @@ def to_xml(actions: list, source: str, *, param_type: bool) -> str:
                 head = attrs([("file", frontend(action.path)), *cond(action.condition)])
                 if action.arguments:
                     lines.append(f"{indent}<include{head}>")
-                    lines.extend(f"{indent}  <arg{attrs([('name', k), ('value', frontend(v))])}/>" for k, v in action.arguments)
+                    lines.extend(
+                        f"{indent}  <arg{attrs([('name', k), ('value', frontend(v))])}/>"
+                        for k, v in action.arguments
+                    )
                     lines.append(f"{indent}</include>")
                 else:
                     lines.append(f"{indent}<include{head}/>")
             elif isinstance(action, Group):
                 lines.append(f"{indent}<group{attrs(cond(action.condition))}>")
                 if action.namespace:
-                    lines.append(f"{indent}  <push-ros-namespace namespace=\"{_xml_attr(frontend(action.namespace))}\"/>")
+                    lines.append(
+                        f'{indent}  <push-ros-namespace namespace="{_xml_attr(frontend(action.namespace))}"/>'
+                    )
                 emit(action.actions, indent + "  ")
                 lines.append(f"{indent}</group>")
 
@@ -119,8 +140,12 @@ def to_yaml(actions: list, source: str, *, param_type: bool) -> str:
                 out.append({"arg": entry})
             elif isinstance(action, Node):
                 entry = {"pkg": action.package, "exec": action.executable}
-                for key, value in (("name", action.name), ("namespace", action.namespace),
-                                   ("output", action.output), ("respawn", action.respawn)):
+                for key, value in (
+                    ("name", action.name),
+                    ("namespace", action.namespace),
+                    ("output", action.output),
+                    ("respawn", action.respawn),
+                ):
                     if value is not None:
                         entry[key] = value
                 if action.arguments:
@@ -131,8 +156,13 @@ def to_yaml(actions: list, source: str, *, param_type: bool) -> str:
                     if param.kind == "file":
                         params.append({"from": frontend(param.value)})
                     elif param.kind == "description":
-                        params.append({"name": param.name, "value": _description(param.value),
-                                       **({"type": "str"} if param_type else {})})
+                        params.append(
+                            {
+                                "name": param.name,
+                                "value": _description(param.value),
+                                **({"type": "str"} if param_type else {}),
+                            }
+                        )
                     else:
                         params.append({"name": param.name, "value": frontend(param.value)})
                 if params:
@@ -157,6 +187,7 @@ def to_yaml(actions: list, source: str, *, param_type: bool) -> str:
 
 
 # --- Python -----------------------------------------------------------------------------------
+
 
 def py(parts: list | None) -> str:
     out = []
@@ -206,8 +237,11 @@ def to_python(actions: list, source: str) -> str:
                 body.append(f"{indent}DeclareLaunchArgument({action.name!r}{extra}{doc}),")
             elif isinstance(action, Node):
                 fields = [f"package={action.package!r}", f"executable={action.executable!r}"]
-                for key, value in (("name", action.name), ("namespace", action.namespace),
-                                   ("output", action.output)):
+                for key, value in (
+                    ("name", action.name),
+                    ("namespace", action.namespace),
+                    ("output", action.output),
+                ):
                     if value is not None:
                         fields.append(f"{key}={value!r}")
                 if action.respawn is not None:
@@ -219,7 +253,9 @@ def to_python(actions: list, source: str) -> str:
                     if param.kind == "file":
                         params.append(py(param.value))
                     elif param.kind == "description":
-                        command = "Command([" + ", ".join(["'xacro '", *(py([p]) for p in param.value)]) + "])"
+                        command = (
+                            "Command([" + ", ".join(["'xacro '", *(py([p]) for p in param.value)]) + "])"
+                        )
                         params.append(f"{{{param.name!r}: ParameterValue({command}, value_type=str)}}")
                     else:
                         value = py(param.value)
@@ -229,12 +265,18 @@ def to_python(actions: list, source: str) -> str:
                 if params:
                     fields.append("parameters=[" + ", ".join(params) + "]")
                 if action.remaps:
-                    fields.append("remappings=[" + ", ".join(f"({a!r}, {b!r})" for a, b in action.remaps) + "]")
+                    fields.append(
+                        "remappings=[" + ", ".join(f"({a!r}, {b!r})" for a, b in action.remaps) + "]"
+                    )
                 call("Node", fields, action.condition, indent)
             elif isinstance(action, Include):
                 fields = [f"AnyLaunchDescriptionSource({py(action.path)})"]
                 if action.arguments:
-                    fields.append("launch_arguments=[" + ", ".join(f"({k!r}, {py(v)})" for k, v in action.arguments) + "]")
+                    fields.append(
+                        "launch_arguments=["
+                        + ", ".join(f"({k!r}, {py(v)})" for k, v in action.arguments)
+                        + "]"
+                    )
                 call("IncludeLaunchDescription", fields, action.condition, indent)
             elif isinstance(action, Group):
                 body.append(f"{indent}GroupAction(")
@@ -251,12 +293,21 @@ def to_python(actions: list, source: str) -> str:
     text = "\n".join(body)
     imports = {
         "launch": ["LaunchDescription"],
-        "launch.actions": ["DeclareLaunchArgument", "GroupAction", "IncludeLaunchDescription",
-                           "SetLaunchConfiguration"],
+        "launch.actions": [
+            "DeclareLaunchArgument",
+            "GroupAction",
+            "IncludeLaunchDescription",
+            "SetLaunchConfiguration",
+        ],
         "launch.conditions": ["IfCondition", "UnlessCondition"],
         "launch.launch_description_sources": ["AnyLaunchDescriptionSource"],
-        "launch.substitutions": ["AnonName", "Command", "EnvironmentVariable", "LaunchConfiguration",
-                                 "ThisLaunchFileDir"],
+        "launch.substitutions": [
+            "AnonName",
+            "Command",
+            "EnvironmentVariable",
+            "LaunchConfiguration",
+            "ThisLaunchFileDir",
+        ],
         "launch_ros.actions": ["Node", "PushRosNamespace"],
         "launch_ros.parameter_descriptions": ["ParameterValue"],
         "launch_ros.substitutions": ["FindPackageShare"],
@@ -266,13 +317,18 @@ def to_python(actions: list, source: str) -> str:
         used = [n for n in names if n == "LaunchDescription" or f"{n}(" in text]
         if used:
             head.append(f"from {module} import {', '.join(used)}")
-    return "\n".join(head) + "\n\n\ndef generate_launch_description():\n    return LaunchDescription([\n" \
-        + text + ("\n" if text else "") + "    ])\n"
+    return (
+        "\n".join(head)
+        + "\n\n\ndef generate_launch_description():\n    return LaunchDescription([\n"
+        + text
+        + ("\n" if text else "")
+        + "    ])\n"
+    )
 
 
 def used_packages(actions: list) -> set[str]:
     """Packages the converted file starts or looks up (xacro where it runs it)."""
-    from .roslaunch import nodes, token_lists
+    from pkgforge.migrate.roslaunch import nodes, token_lists
 
     found = {p[1] for parts in token_lists(actions) for p in parts if p[0] == "find"}
     for node in nodes(actions):

@@ -7,12 +7,18 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..errors import PkgforgeError
-from . import table
+from pkgforge.errors import PkgforgeError
+from pkgforge.migrate import table
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
-DEPENDENCY_TAGS = ("depend", "build_depend", "run_depend", "exec_depend", "build_export_depend",
-                   "buildtool_depend")
+DEPENDENCY_TAGS = (
+    "depend",
+    "build_depend",
+    "run_depend",
+    "exec_depend",
+    "build_export_depend",
+    "buildtool_depend",
+)
 
 
 def _manifest(path: Path):
@@ -23,20 +29,28 @@ def _manifest(path: Path):
     if not path.is_dir():
         raise PkgforgeError(f"{path}: no such folder; give the ROS 1 package folder (with package.xml)")
     if not manifest.is_file():
-        raise PkgforgeError(f"{path}: no package.xml: not a catkin package; give the folder that holds package.xml")
+        raise PkgforgeError(
+            f"{path}: no package.xml: not a catkin package; give the folder that holds package.xml"
+        )
     try:
         root = etree.parse(str(manifest)).getroot()
         package = parse_package_string(manifest.read_text(encoding="utf-8"), filename=str(manifest))
     except etree.XMLSyntaxError as exc:
-        raise PkgforgeError(f"{manifest}:{exc.lineno}: not well-formed XML: {exc.msg} (nothing written)") from exc
+        raise PkgforgeError(
+            f"{manifest}:{exc.lineno}: not well-formed XML: {exc.msg} (nothing written)"
+        ) from exc
     except InvalidPackage as exc:
-        raise PkgforgeError(f"{manifest}:1: not a valid package.xml: {str(exc).splitlines()[0]} (nothing written)") from exc
+        raise PkgforgeError(
+            f"{manifest}:1: not a valid package.xml: {str(exc).splitlines()[0]} (nothing written)"
+        ) from exc
     tools = [d.name for d in package.buildtool_depends]
     if "catkin" not in tools:
         line = next((e.sourceline for e in root.iter("buildtool_depend")), root.sourceline)
         found = f"its build tool is {', '.join(tools)}" if tools else "it has no <buildtool_depend>"
-        raise PkgforgeError(f"{manifest}:{line}: not a catkin package ({found}, not catkin): migrate converts "
-                            "ROS 1 catkin packages (nothing written)")
+        raise PkgforgeError(
+            f"{manifest}:{line}: not a catkin package ({found}, not catkin): migrate converts "
+            "ROS 1 catkin packages (nothing written)"
+        )
     return package, root
 
 
@@ -57,10 +71,7 @@ def _is_ros1_launch(relative: str) -> bool:
 
 def _models(source: Path, files: list[str], notes):
     """Links of the models in the package, the root link of the first, and missing meshes."""
-    from pkgforge.scaffold.from_urdf import _parse
-    from pkgforge.scaffold.from_urdf import _references
-    from pkgforge.scaffold.from_urdf import resolve
-    from pkgforge.scaffold.from_urdf import root_link
+    from pkgforge.scaffold.from_urdf import _parse, _references, resolve, root_link
 
     links: set[str] = set()
     first_root, missing = None, []
@@ -73,30 +84,42 @@ def _models(source: Path, files: list[str], notes):
         if first_root is None and relative.endswith(".urdf"):
             first_root = root_link(root)
         for reference in _references(path, root):
-            if reference.kind in ("mesh", "texture") and "$(" not in reference.uri and "${" not in reference.uri:
+            if (
+                reference.kind in ("mesh", "texture")
+                and "$(" not in reference.uri
+                and "${" not in reference.uri
+            ):
                 found, problem = resolve(reference.uri, path)
                 if found is None:
                     reference.problem = problem
                     missing.append(reference)
         for element in root.iter("plugin"):
             if table.is_gazebo_classic_plugin(element.get("filename", "")):
-                notes.add("migrate-gazebo-classic", f"Gazebo Classic plugin {element.get('filename')} is kept as "
-                          "written; it does not load in Gazebo (gz)", path, element.sourceline)
+                notes.add(
+                    "migrate-gazebo-classic",
+                    f"Gazebo Classic plugin {element.get('filename')} is kept as "
+                    "written; it does not load in Gazebo (gz)",
+                    path,
+                    element.sourceline,
+                )
     return links, first_root, missing
 
 
-def migrate(source: Path, destination: Path | None, *, launch_format: str, distro: str | None,
-            gazebo: bool, notes_factory):
+def migrate(
+    source: Path,
+    destination: Path | None,
+    *,
+    launch_format: str,
+    distro: str | None,
+    gazebo: bool,
+    notes_factory,
+):
+    from pkgforge.migrate.emit import to_python, to_xml, to_yaml, used_packages
+    from pkgforge.migrate.roslaunch import Reader
+    from pkgforge.migrate.rviz1 import convert as convert_rviz
     from pkgforge.model.distro_data import load
-    from pkgforge.scaffold.from_urdf import _parse
-    from pkgforge.scaffold.from_urdf import massless_root
-    from pkgforge.scaffold.from_urdf import missing_message
-    from pkgforge.scaffold.package import create_package
-    from pkgforge.scaffold.package import make_spec
-    from pkgforge.scaffold.package import render_files
-    from .emit import to_python, to_xml, to_yaml, used_packages
-    from .roslaunch import Reader
-    from .rviz1 import convert as convert_rviz
+    from pkgforge.scaffold.from_urdf import _parse, massless_root, missing_message
+    from pkgforge.scaffold.package import create_package, make_spec, render_files
 
     source = source.absolute()
     package, manifest_root = _manifest(source)
@@ -106,9 +129,13 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
     links, root, missing = _models(source, files, notes)
     if missing:
         raise PkgforgeError(missing_message(missing, force=False))
-    base = make_spec(name, distro=distro, launch_format=launch_format,
-                     maintainer_name=package.maintainers[0].name if package.maintainers else None,
-                     maintainer_email=package.maintainers[0].email if package.maintainers else None)
+    base = make_spec(
+        name,
+        distro=distro,
+        launch_format=launch_format,
+        maintainer_name=package.maintainers[0].name if package.maintainers else None,
+        maintainer_email=package.maintainers[0].email if package.maintainers else None,
+    )
 
     # where things go: ROS 1 launch files get their ROS 2 name; an RViz config at the top moves to rviz/
     moved: dict[str, str] = {}
@@ -131,10 +158,12 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
             converted = reader.read()
             _rewrite_all(converted.actions, name, moved, source, generated_rviz, notes, path)
             used |= used_packages(converted.actions)
-            text = {"py": lambda: to_python(converted.actions, relative),
-                    "xml": lambda: to_xml(converted.actions, relative, param_type=base.distro.frontend_param_type),
-                    "yaml": lambda: to_yaml(converted.actions, relative, param_type=base.distro.frontend_param_type),
-                    }[launch_format]()
+            if launch_format == "py":
+                text = to_python(converted.actions, relative)
+            elif launch_format == "xml":
+                text = to_xml(converted.actions, relative, param_type=base.distro.frontend_param_type)
+            else:
+                text = to_yaml(converted.actions, relative, param_type=base.distro.frontend_param_type)
             output[moved[relative]] = text.encode("utf-8")
             notes.add("migrate-changed", f"{relative} → {moved[relative]}", path, None)
         elif relative.endswith(".rviz"):
@@ -142,10 +171,13 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
                 text = path.read_text(encoding="utf-8")
             except UnicodeDecodeError as exc:
                 raise PkgforgeError(f"{path}: not a text file: not an RViz config (nothing written)") from exc
-            output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode("utf-8")
+            output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode(
+                "utf-8"
+            )
         elif relative.endswith((".urdf", ".xacro")) and etree.QName(_parse(path)).localname == "robot":
-            output[relative] = massless_root(path.read_text(encoding="utf-8"), _parse(path), path,
-                                             notes).encode("utf-8")
+            output[relative] = massless_root(
+                path.read_text(encoding="utf-8"), _parse(path), path, notes
+            ).encode("utf-8")
         else:
             output[relative] = path.read_bytes()
 
@@ -153,7 +185,9 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
     data = load()
     target = base.distro.name
     depends = (used - {name}) | {"launch", "launch_ros"}
-    depends |= {"launch_xml"} if launch_format == "xml" else {"launch_yaml"} if launch_format == "yaml" else set()
+    depends |= (
+        {"launch_xml"} if launch_format == "xml" else {"launch_yaml"} if launch_format == "yaml" else set()
+    )
     if "rviz2" in depends:
         depends.add("rviz_default_plugins")
     for element in manifest_root.iter(*DEPENDENCY_TAGS):
@@ -161,53 +195,89 @@ def migrate(source: Path, destination: Path | None, *, launch_format: str, distr
         if not dependency or dependency == name:
             continue
         if dependency in table.DROPPED_DEPENDENCIES:
-            notes.add("migrate-dependency-dropped", f"<{element.tag}>{dependency}</{element.tag}> is ROS 1 only: "
-                      "not carried over", source / "package.xml", element.sourceline)
+            notes.add(
+                "migrate-dependency-dropped",
+                f"<{element.tag}>{dependency}</{element.tag}> is ROS 1 only: not carried over",
+                source / "package.xml",
+                element.sourceline,
+            )
         elif dependency in table.GAZEBO_DEPENDENCIES:
             if gazebo:
                 depends.add("ros_gz_sim")
-                notes.add("migrate-renamed", f"{dependency} → ros_gz_sim", source / "package.xml", element.sourceline)
+                notes.add(
+                    "migrate-renamed",
+                    f"{dependency} → ros_gz_sim",
+                    source / "package.xml",
+                    element.sourceline,
+                )
             else:
-                notes.add("migrate-dependency-dropped", f"<{element.tag}>{dependency}</{element.tag}>: Gazebo Classic, "
-                          "not carried over (--gazebo uses ros_gz_sim)", source / "package.xml", element.sourceline)
+                notes.add(
+                    "migrate-dependency-dropped",
+                    f"<{element.tag}>{dependency}</{element.tag}>: Gazebo Classic, "
+                    "not carried over (--gazebo uses ros_gz_sim)",
+                    source / "package.xml",
+                    element.sourceline,
+                )
         elif table.package(dependency) and not data.released(dependency, target):
             better = table.package(dependency)[0]
             depends.add(better)
-            notes.add("migrate-renamed", f"{dependency} → {better}", source / "package.xml", element.sourceline)
+            notes.add(
+                "migrate-renamed", f"{dependency} → {better}", source / "package.xml", element.sourceline
+            )
         else:
             depends.add(dependency)
 
-    for rviz, line in generated_rviz.items():
+    for rviz in generated_rviz:
         spec_for_rviz = make_spec(name, distro=target, fixed_frame=root or "base_link")
         output[rviz] = render_files(spec_for_rviz)["rviz/display.rviz"]
     folders = tuple(sorted({r.split("/", 1)[0] for r in output if "/" in r}))
     launch_files = tuple(sorted(r for r in output if r.startswith("launch/") and ".launch." in r))
-    spec = make_spec(name, distro=target, launch_format=launch_format,
-                     maintainer_name=base.maintainer_name, maintainer_email=base.maintainer_email,
-                     license=package.licenses[0] if package.licenses else "TODO",
-                     description=package.description.strip() or "", model_name=None,
-                     fixed_frame=root or "base_link", resource_folders=folders,
-                     extra_exec_depends=tuple(sorted(depends)), launch_files=launch_files or ("launch",),
-                     maintainers=tuple((m.name, m.email) for m in package.maintainers),
-                     licenses=tuple(package.licenses), version=package.version,
-                     authors=tuple((a.name, a.email) for a in package.authors),
-                     urls=tuple((u.type or "", u.url) for u in package.urls))
+    spec = make_spec(
+        name,
+        distro=target,
+        launch_format=launch_format,
+        maintainer_name=base.maintainer_name,
+        maintainer_email=base.maintainer_email,
+        license=package.licenses[0] if package.licenses else "TODO",
+        description=package.description.strip() or "",
+        model_name=None,
+        fixed_frame=root or "base_link",
+        resource_folders=folders,
+        extra_exec_depends=tuple(sorted(depends)),
+        launch_files=launch_files or ("launch",),
+        maintainers=tuple((m.name, m.email) for m in package.maintainers),
+        licenses=tuple(package.licenses),
+        version=package.version,
+        authors=tuple((a.name, a.email) for a in package.authors),
+        urls=tuple((u.type or "", u.url) for u in package.urls),
+    )
     rendered = render_files(spec)
     output["package.xml"] = rendered["package.xml"]
     output["CMakeLists.txt"] = rendered["CMakeLists.txt"]
-    notes.add("migrate-changed", "package.xml: format 3, ament_cmake, exec_depends from what the launch files use",
-              source / "package.xml", 1)
+    notes.add(
+        "migrate-changed",
+        "package.xml: format 3, ament_cmake, exec_depends from what the launch files use",
+        source / "package.xml",
+        1,
+    )
     if (source / "CMakeLists.txt").is_file():
-        notes.add("migrate-changed", f"CMakeLists.txt: ament_cmake, install(DIRECTORY {' '.join(folders)} "
-                  "DESTINATION share/${PROJECT_NAME})", source / "CMakeLists.txt", 1)
+        notes.add(
+            "migrate-changed",
+            f"CMakeLists.txt: ament_cmake, install(DIRECTORY {' '.join(folders)} "
+            "DESTINATION share/${PROJECT_NAME})",
+            source / "CMakeLists.txt",
+            1,
+        )
 
     parent = (destination or source.parent).absolute()
     folder = name
     if destination is None and (parent / name).exists():
         folder = f"{name}_ros2"  # beside the source, which usually has the package's name
     if (parent / folder).exists() or (parent / folder).is_symlink():
-        raise PkgforgeError(f"{parent / folder} already exists: migrate never overwrites; give another "
-                            "--destination (nothing written)")
+        raise PkgforgeError(
+            f"{parent / folder} already exists: migrate never overwrites; give another "
+            "--destination (nothing written)"
+        )
     created = create_package(spec, parent, files=output, folder=folder)
     return created, notes, source
 
@@ -222,15 +292,17 @@ def _rewrite(parts: list, name: str, moved: dict[str, str], foreign_launch: str)
             if out[index][1] == name:
                 for old, new in moved.items():
                     if relative == old or relative.startswith(old + " "):
-                        out[index + 1] = ("text", "/" + new + relative[len(old):])
+                        out[index + 1] = ("text", "/" + new + relative[len(old) :])
             elif relative.endswith(".launch"):
                 out[index + 1] = ("text", rest[: -len(".launch")] + foreign_launch)
     return out
 
 
-def _rewrite_all(actions: list, name: str, moved: dict[str, str], source: Path, generated: dict, notes, path) -> None:
+def _rewrite_all(
+    actions: list, name: str, moved: dict[str, str], source: Path, generated: dict, notes, path
+) -> None:
     """References to moved files follow them; an RViz config the source lacks is generated in rviz/."""
-    from .roslaunch import Arg, Group, Node
+    from pkgforge.migrate.roslaunch import Arg, Group, Node
 
     for action in actions:
         if isinstance(action, Arg) and action.default:
@@ -241,12 +313,21 @@ def _rewrite_all(actions: list, name: str, moved: dict[str, str], source: Path, 
             action.arguments = [_rewrite(w, name, moved, ".launch.py") for w in action.arguments]
             if action.package == "rviz2":
                 for index, word in enumerate(action.arguments):
-                    if len(word) == 2 and word[0] == ("find", name) and word[1][0] == "text" \
-                            and word[1][1].endswith(".rviz"):
+                    if (
+                        len(word) == 2
+                        and word[0] == ("find", name)
+                        and word[1][0] == "text"
+                        and word[1][1].endswith(".rviz")
+                    ):
                         relative = word[1][1].lstrip("/")
                         if not (source / relative).is_file() and relative not in moved.values():
                             new = f"rviz/{Path(relative).name}"
                             generated[new] = action.line
                             action.arguments[index] = [("find", name), ("text", "/" + new)]
-                            notes.add("migrate-generated", f"{relative} (the -d config of rviz) is not in the source: "
-                                      f"{new} made, showing the model on /robot_description", path, action.line)
+                            notes.add(
+                                "migrate-generated",
+                                f"{relative} (the -d config of rviz) is not in the source: "
+                                f"{new} made, showing the model on /robot_description",
+                                path,
+                                action.line,
+                            )

@@ -12,11 +12,13 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..errors import PkgforgeError
-from . import table
+from pkgforge.errors import PkgforgeError
+from pkgforge.migrate import table
 
 SUBSTITUTION = re.compile(r"\$\(([a-z_]+)((?:\s+[^)\s]+)*)\s*\)")
-XACRO_COMMAND = re.compile(r"^\s*(?:\$\(find xacro\)/xacro(?:\.py)?|xacro(?:\.py)?|rosrun xacro xacro(?:\.py)?)\s+")
+XACRO_COMMAND = re.compile(
+    r"^\s*(?:\$\(find xacro\)/xacro(?:\.py)?|xacro(?:\.py)?|rosrun xacro xacro(?:\.py)?)\s+"
+)
 
 
 class Unconvertible(Exception):
@@ -31,7 +33,7 @@ def tokens(text: str | None) -> list[tuple]:
     position = 0
     for match in SUBSTITUTION.finditer(text):
         if match.start() > position:
-            found.append(("text", text[position:match.start()]))
+            found.append(("text", text[position : match.start()]))
         kind, words = match.group(1), match.group(2).split()
         if kind == "find" and len(words) == 1:
             found.append(("find", words[0]))
@@ -144,18 +146,27 @@ class Reader:
         try:
             root = etree.parse(str(self.path), etree.XMLParser(remove_comments=True)).getroot()
         except etree.XMLSyntaxError as exc:
-            raise PkgforgeError(f"{self.path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the launch file "
-                                "(nothing written)") from exc
+            raise PkgforgeError(
+                f"{self.path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the launch file "
+                "(nothing written)"
+            ) from exc
         if root.tag != "launch":
-            raise PkgforgeError(f"{self.path}:{root.sourceline}: the root element is <{root.tag}>, not <launch>: "
-                                "not a ROS 1 launch file (nothing written)")
+            raise PkgforgeError(
+                f"{self.path}:{root.sourceline}: the root element is <{root.tag}>, not <launch>: "
+                "not a ROS 1 launch file (nothing written)"
+            )
         actions = self.block(root)
         self.finish(actions)
         used = _variables(actions)
         for arg in [a for a in actions if isinstance(a, Arg) and a.default is None and a.name not in used]:
             actions.remove(arg)
-            self.notes.add("migrate-changed", f"argument '{arg.name}' has no default and nothing uses it: left out "
-                           "(ROS 2 would refuse to start without a value)", self.path, arg.line)
+            self.notes.add(
+                "migrate-changed",
+                f"argument '{arg.name}' has no default and nothing uses it: left out "
+                "(ROS 2 would refuse to start without a value)",
+                self.path,
+                arg.line,
+            )
         return LaunchFile(self.path, actions)
 
     def value(self, element, attribute: str) -> list | None:
@@ -178,7 +189,11 @@ class Reader:
             try:
                 action = getattr(self, "read_" + element.tag.replace("-", "_"), None)
                 if action is None:
-                    self.note("migrate-dropped", f"<{element.tag}> has no ROS 2 launch equivalent: left out", element)
+                    self.note(
+                        "migrate-dropped",
+                        f"<{element.tag}> has no ROS 2 launch equivalent: left out",
+                        element,
+                    )
                     continue
                 result = action(element)
             except Unconvertible as exc:
@@ -208,17 +223,25 @@ class Reader:
     def description_of(self, element) -> list | None:
         """xacro command tokens of a robot_description <param textfile=|command=>."""
         if element.get("textfile") is not None:
-            self.note("migrate-changed", "robot_description from textfile: robot_state_publisher gets the "
-                      "model through xacro (a URDF passes through unchanged), as a string parameter", element)
+            self.note(
+                "migrate-changed",
+                "robot_description from textfile: robot_state_publisher gets the "
+                "model through xacro (a URDF passes through unchanged), as a string parameter",
+                element,
+            )
             return tokens(element.get("textfile"))
         command = element.get("command")
         if command is not None:
             match = XACRO_COMMAND.match(command)
             if match is None:
-                raise Unconvertible(f"command=\"{command}\" is not a xacro call")
-            rest = command[match.end():].replace("--inorder", " ").strip()
-            self.note("migrate-changed", "robot_description from xacro: a string parameter of "
-                      "robot_state_publisher (ParameterValue(Command(['xacro ', ...]), value_type=str))", element)
+                raise Unconvertible(f'command="{command}" is not a xacro call')
+            rest = command[match.end() :].replace("--inorder", " ").strip()
+            self.note(
+                "migrate-changed",
+                "robot_description from xacro: a string parameter of "
+                "robot_state_publisher (ParameterValue(Command(['xacro ', ...]), value_type=str))",
+                element,
+            )
             return tokens(re.sub(r"\s+", " ", rest))
         return None
 
@@ -226,47 +249,80 @@ class Reader:
         self.required(element, "name")
         name = element.get("name", "")
         if name.lstrip("/") == "robot_description":
-            self.description = (self.description_of(element) or self.value(element, "value") or [],
-                                element.sourceline, "description")
+            self.description = (
+                self.description_of(element) or self.value(element, "value") or [],
+                element.sourceline,
+                "description",
+            )
             return None
         if name.lstrip("/") == "use_gui":
             self.use_gui = self.value(element, "value")
-            self.note("migrate-changed", "use_gui: ROS 2's joint_state_publisher has no GUI; "
-                      "joint_state_publisher_gui is started instead where it is true", element)
+            self.note(
+                "migrate-changed",
+                "use_gui: ROS 2's joint_state_publisher has no GUI; "
+                "joint_state_publisher_gui is started instead where it is true",
+                element,
+            )
             return None
         raise Unconvertible(f"global parameter '{name}': ROS 2 has no global parameters")
 
     def read_rosparam(self, element):
-        raise Unconvertible("global <rosparam>: ROS 2 has no global parameters (load it in a node's <param from>)")
+        raise Unconvertible(
+            "global <rosparam>: ROS 2 has no global parameters (load it in a node's <param from>)"
+        )
 
     def read_include(self, element):
         self.required(element, "file")
         path = tokens(element.get("file"))
-        arguments = [(a.get("name"), tokens(a.get("value", a.get("default", ""))))
-                     for a in element if isinstance(a.tag, str) and a.tag == "arg"]
+        arguments = [
+            (a.get("name"), tokens(a.get("value", a.get("default", ""))))
+            for a in element
+            if isinstance(a.tag, str) and a.tag == "arg"
+        ]
         condition = self.condition(element)
         text = literal([p for p in path if p[0] == "text"]) or ""
         finds = [p[1] for p in path if p[0] == "find"]
         gz_package, worlds = table.GAZEBO_WORLD_LAUNCH
         if finds == [gz_package] and text.rsplit("/", 1)[-1] in worlds:
             if not self.gazebo:
-                self.notes.add("migrate-gazebo-classic", f"Gazebo Classic's {gz_package} {text.lstrip('/')} "
-                               "left out (--gazebo starts Gazebo with ros_gz_sim)", self.path, element.sourceline)
+                self.notes.add(
+                    "migrate-gazebo-classic",
+                    f"Gazebo Classic's {gz_package} {text.lstrip('/')} "
+                    "left out (--gazebo starts Gazebo with ros_gz_sim)",
+                    self.path,
+                    element.sourceline,
+                )
                 return None
             package, launch = table.GZ_WORLD_LAUNCH
             world = next((v for k, v in arguments if k == "world_name"), None)
-            self.notes.add("migrate-renamed", f"{gz_package} {text.lstrip('/')} → {package} {launch} "
-                           "(Gazebo, started running)", self.path, element.sourceline)
+            self.notes.add(
+                "migrate-renamed",
+                f"{gz_package} {text.lstrip('/')} → {package} {launch} (Gazebo, started running)",
+                self.path,
+                element.sourceline,
+            )
             dropped = [k for k, _ in arguments if k != "world_name"]
             if dropped:
-                self.note("migrate-dropped", f"arguments {', '.join(dropped)} of {text.lstrip('/')} have no "
-                          f"{package} equivalent: left out", element)
-            return Include([("find", package), ("text", "/" + launch)], element.sourceline,
-                           [("gz_args", (world or [("text", "empty.sdf")]) + [("text", " -r")])], condition)
+                self.note(
+                    "migrate-dropped",
+                    f"arguments {', '.join(dropped)} of {text.lstrip('/')} have no "
+                    f"{package} equivalent: left out",
+                    element,
+                )
+            return Include(
+                [("find", package), ("text", "/" + launch)],
+                element.sourceline,
+                [("gz_args", (world or [("text", "empty.sdf")]) + [("text", " -r")])],
+                condition,
+            )
         renamed = self.rename_launch(path)
         if renamed != path:
-            self.notes.add("migrate-changed", "included ROS 1 launch file → its ROS 2 name", self.path,
-                           element.sourceline)
+            self.notes.add(
+                "migrate-changed",
+                "included ROS 1 launch file → its ROS 2 name",
+                self.path,
+                element.sourceline,
+            )
         return Include(renamed, element.sourceline, arguments, condition)
 
     def read_node(self, element):
@@ -276,19 +332,35 @@ class Reader:
         if (package, executable) == table.GAZEBO_SPAWNER:
             return self.spawner(element)
         if package in table.COMMAND_NODES:
-            raise Unconvertible(f"{package} is a ROS 1 command-line tool; ROS 2 has `{table.COMMAND_NODES[package]}`, "
-                                "a command, not a node")
+            raise Unconvertible(
+                f"{package} is a ROS 1 command-line tool; ROS 2 has `{table.COMMAND_NODES[package]}`, "
+                "a command, not a node"
+            )
         new_package, new_executable = table.executable(package, executable)
         if (new_package, new_executable) != (package, executable):
-            self.note("migrate-renamed", f"node {package}/{executable} → {new_package}/{new_executable}", element)
-        node = Node(new_package, new_executable, line, element.get("name"), element.get("ns"),
-                    output=element.get("output"), respawn=element.get("respawn"), condition=self.condition(element))
+            self.note(
+                "migrate-renamed", f"node {package}/{executable} → {new_package}/{new_executable}", element
+            )
+        node = Node(
+            new_package,
+            new_executable,
+            line,
+            element.get("name"),
+            element.get("ns"),
+            output=element.get("output"),
+            respawn=element.get("respawn"),
+            condition=self.condition(element),
+        )
         node.arguments = split_words(tokens(element.get("args", "")))
         if new_executable == "static_transform_publisher":
             node.arguments = self.transform_arguments(node.arguments, element)
         for attribute in ("machine", "launch-prefix", "required", "cwd", "clear_params"):
             if element.get(attribute) is not None:
-                self.note("migrate-dropped", f"node attribute {attribute}=\"{element.get(attribute)}\" left out", element)
+                self.note(
+                    "migrate-dropped",
+                    f'node attribute {attribute}="{element.get(attribute)}" left out',
+                    element,
+                )
         for child in element:
             if not isinstance(child.tag, str):
                 continue
@@ -313,8 +385,12 @@ class Reader:
                 self.note("migrate-dropped", f"<{child.tag}> of node {executable} left out: {exc}", child)
         if new_package in ("joint_state_publisher", "joint_state_publisher_gui") and node.arguments:
             node.arguments = []
-            self.note("migrate-changed", f"{new_package}'s arguments left out: it reads /robot_description, "
-                      "never the model as an argument", element)
+            self.note(
+                "migrate-changed",
+                f"{new_package}'s arguments left out: it reads /robot_description, "
+                "never the model as an argument",
+                element,
+            )
         return node
 
     def transform_arguments(self, words: list[list], element) -> list[list]:
@@ -324,10 +400,14 @@ class Reader:
         for names in (names6, names7):
             if len(words) in (len(names) + 2, len(names) + 3):
                 if len(words) == len(names) + 3:
-                    self.note("migrate-changed", "static_transform_publisher: the period argument left out "
-                              "(tf2_ros publishes static transforms once, latched)", element)
+                    self.note(
+                        "migrate-changed",
+                        "static_transform_publisher: the period argument left out "
+                        "(tf2_ros publishes static transforms once, latched)",
+                        element,
+                    )
                 converted = []
-                for option, word in zip([*names, "--frame-id", "--child-frame-id"], words):
+                for option, word in zip([*names, "--frame-id", "--child-frame-id"], words, strict=False):
                     converted += [[("text", option)], word]
                 return converted
         return words
@@ -335,8 +415,11 @@ class Reader:
     def spawner(self, element):
         words = split_words(tokens(element.get("args", "")))
         if not self.gazebo:
-            self.note("migrate-gazebo-classic", "gazebo_ros spawn_model (Gazebo Classic) left out "
-                      "(--gazebo spawns with ros_gz_sim create)", element)
+            self.note(
+                "migrate-gazebo-classic",
+                "gazebo_ros spawn_model (Gazebo Classic) left out (--gazebo spawns with ros_gz_sim create)",
+                element,
+            )
             return None
         package, executable = table.GZ_SPAWNER
         self.note("migrate-renamed", f"gazebo_ros/spawn_model → {package}/{executable}", element)
@@ -349,13 +432,24 @@ class Reader:
             if new:
                 converted.append([("text", new)])
                 if takes_value:
-                    converted.append([("text", "robot_description")] if option == "-param" else words[index + 1])
+                    converted.append(
+                        [("text", "robot_description")] if option == "-param" else words[index + 1]
+                    )
             elif option not in flags:
-                self.note("migrate-dropped", f"spawn_model option {option} has no ros_gz_sim create equivalent: "
-                          "left out", element)
+                self.note(
+                    "migrate-dropped",
+                    f"spawn_model option {option} has no ros_gz_sim create equivalent: left out",
+                    element,
+                )
             index += 2 if takes_value else 1
-        return Node(package, executable, element.sourceline, element.get("name"), arguments=converted,
-                    output=element.get("output"))
+        return Node(
+            package,
+            executable,
+            element.sourceline,
+            element.get("name"),
+            arguments=converted,
+            output=element.get("output"),
+        )
 
     def finish(self, actions: list) -> None:
         """Global robot_description → robot_state_publisher's parameter; use_gui → which publisher."""
@@ -367,8 +461,12 @@ class Reader:
                 if not any(p.name == "robot_description" for p in node.params):
                     node.params.insert(0, Param("robot_description", description, "description"))
             if not publishers and not any(n.package == "ros_gz_sim" for n in found):
-                self.notes.add("migrate-dropped", "global robot_description left out: no robot_state_publisher "
-                               "here to publish it", self.path, line)
+                self.notes.add(
+                    "migrate-dropped",
+                    "global robot_description left out: no robot_state_publisher here to publish it",
+                    self.path,
+                    line,
+                )
         if self.use_gui is None:
             return
         gui = literal(self.use_gui)
@@ -379,8 +477,13 @@ class Reader:
                 if gui.strip().lower() in ("true", "1"):
                     node.package = node.executable = "joint_state_publisher_gui"
                 continue
-            with_gui = Node("joint_state_publisher_gui", "joint_state_publisher_gui", node.line,
-                            output=node.output, condition=("if", self.use_gui))
+            with_gui = Node(
+                "joint_state_publisher_gui",
+                "joint_state_publisher_gui",
+                node.line,
+                output=node.output,
+                condition=("if", self.use_gui),
+            )
             node.condition = ("unless", self.use_gui)
             container.insert(container.index(node) + 1, with_gui)
 

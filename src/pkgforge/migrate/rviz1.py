@@ -6,16 +6,26 @@ from pathlib import Path
 
 import yaml
 
-from ..errors import PkgforgeError
-from . import table
+from pkgforge.errors import PkgforgeError
+from pkgforge.migrate import table
 
-DESCRIPTION_TOPIC = {"Depth": 5, "Durability Policy": "Transient Local", "History Policy": "Keep Last",
-                     "Reliability Policy": "Reliable", "Value": "/robot_description"}
+DESCRIPTION_TOPIC = {
+    "Depth": 5,
+    "Durability Policy": "Transient Local",
+    "History Policy": "Keep Last",
+    "Reliability Policy": "Reliable",
+    "Value": "/robot_description",
+}
 
 
 def _topic(value: str) -> dict:
-    return {"Depth": 5, "Durability Policy": "Volatile", "History Policy": "Keep Last",
-            "Reliability Policy": "Reliable", "Value": value}
+    return {
+        "Depth": 5,
+        "Durability Policy": "Volatile",
+        "History Policy": "Keep Last",
+        "Reliability Policy": "Reliable",
+        "Value": value,
+    }
 
 
 class _Lines:
@@ -39,8 +49,10 @@ def convert(text: str, path: Path, notes, links: set[str], root_link: str | None
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
-        raise PkgforgeError(f"{path}:{mark.line + 1 if mark else 1}: not valid YAML ({getattr(exc, 'problem', exc)}): "
-                            "not an RViz config pkgforge can convert (nothing written)") from exc
+        raise PkgforgeError(
+            f"{path}:{mark.line + 1 if mark else 1}: not valid YAML ({getattr(exc, 'problem', exc)}): "
+            "not an RViz config pkgforge can convert (nothing written)"
+        ) from exc
     if not isinstance(data, dict) or "Visualization Manager" not in data:
         raise PkgforgeError(f"{path}:1: no 'Visualization Manager': not an RViz config (nothing written)")
     lines = _Lines(text)
@@ -54,16 +66,24 @@ def convert(text: str, path: Path, notes, links: set[str], root_link: str | None
                     node["Class"] = table.RVIZ_CLASSES[cls]
                     notes.add("migrate-renamed", f"RViz class {cls} → {node['Class']}", path, line)
                 elif not cls.startswith(("rviz_common/", "rviz_default_plugins/")):
-                    notes.add("migrate-dropped", f"RViz class {cls} has no RViz 2 equivalent pkgforge knows: "
-                              "left out", path, line)
+                    notes.add(
+                        "migrate-dropped",
+                        f"RViz class {cls} has no RViz 2 equivalent pkgforge knows: left out",
+                        path,
+                        line,
+                    )
                     return False
                 if node["Class"] == "rviz_default_plugins/RobotModel":
                     node.pop("Robot Description", None)
                     node["Description File"] = ""
                     node["Description Source"] = "Topic"
                     node["Description Topic"] = dict(DESCRIPTION_TOPIC)
-                    notes.add("migrate-changed", "RobotModel: Robot Description parameter → Description Topic "
-                              "/robot_description", path, line)
+                    notes.add(
+                        "migrate-changed",
+                        "RobotModel: Robot Description parameter → Description Topic /robot_description",
+                        path,
+                        line,
+                    )
                 elif isinstance(node.get("Topic"), str):
                     node["Topic"] = _topic(node["Topic"])
                 node.pop("Unreliable", None)
@@ -80,10 +100,15 @@ def convert(text: str, path: Path, notes, links: set[str], root_link: str | None
     frame = options.get("Fixed Frame")
     if links and frame not in links and root_link:
         line = _Lines(text).of("Fixed Frame", str(frame))
-        notes.add("migrate-generated", f"Fixed Frame '{frame}' is not a link of the model: set to its root link "
-                  f"'{root_link}'", path, line)
+        notes.add(
+            "migrate-generated",
+            f"Fixed Frame '{frame}' is not a link of the model: set to its root link '{root_link}'",
+            path,
+            line,
+        )
         options["Fixed Frame"] = root_link
     if isinstance(data.get("Window Geometry"), dict):
         data["Window Geometry"].pop("QMainWindow State", None)  # RViz 1's Qt layout, not RViz 2's
-    return f"# Converted from RViz 1 {path.name} by pkgforge migrate.\n" + \
-        yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=1000)
+    return f"# Converted from RViz 1 {path.name} by pkgforge migrate.\n" + yaml.safe_dump(
+        data, sort_keys=False, default_flow_style=False, width=1000
+    )

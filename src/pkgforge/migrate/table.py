@@ -28,8 +28,10 @@ PACKAGES: dict[str, tuple[str, str]] = {
     "joint_state_controller": ("joint_state_broadcaster", "joint_state_controller is ROS 1"),
     # Gazebo Classic is gone after Humble; Gazebo (gz) replaces it
     "gazebo": ("ros_gz_sim", "Gazebo Classic (gazebo) is not a ROS 2 package; use Gazebo with ros_gz_sim"),
-    "gazebo_ros": ("ros_gz_sim", "Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo "
-                                 "with ros_gz_sim"),
+    "gazebo_ros": (
+        "ros_gz_sim",
+        "Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo with ros_gz_sim",
+    ),
     "gazebo_plugins": ("ros_gz_sim", "Gazebo Classic plugins are released for Humble only"),
     "gazebo_ros_pkgs": ("ros_gz", "Gazebo Classic is released for Humble only; use ros_gz"),
     "gazebo_ros2_control": ("gz_ros2_control", "Gazebo Classic is released for Humble only"),
@@ -43,20 +45,26 @@ PACKAGES: dict[str, tuple[str, str]] = {
 # (ament_cmake, launch and launch_ros are declared from what the new files use).
 DROPPED_DEPENDENCIES = frozenset({"catkin", "roslaunch", "rospy", "roscpp", "rosbag", "roslib", "rospack"})
 # dependencies that stand for Gazebo Classic: ros_gz_sim with --gazebo, else dropped
-GAZEBO_DEPENDENCIES = frozenset({"gazebo", "gazebo_ros", "gazebo_plugins", "gazebo_ros_pkgs",
-                                 "gazebo_ros_control"})
+GAZEBO_DEPENDENCIES = frozenset(
+    {"gazebo", "gazebo_ros", "gazebo_plugins", "gazebo_ros_pkgs", "gazebo_ros_control"}
+)
 
 # (package, executable) in ROS 1 → in ROS 2, for nodes whose name changed
 EXECUTABLES: dict[tuple[str, str], tuple[str, str]] = {
     ("robot_state_publisher", "state_publisher"): ("robot_state_publisher", "robot_state_publisher"),
     ("rviz", "rviz"): ("rviz2", "rviz2"),
     ("tf", "static_transform_publisher"): ("tf2_ros", "static_transform_publisher"),
-    ("joint_state_publisher", "joint_state_publisher_gui"): ("joint_state_publisher_gui",
-                                                             "joint_state_publisher_gui"),
+    ("joint_state_publisher", "joint_state_publisher_gui"): (
+        "joint_state_publisher_gui",
+        "joint_state_publisher_gui",
+    ),
 }
 # ROS 1 command-line tools started as nodes: ROS 2 has them as `ros2 ...` commands, not nodes
 COMMAND_NODES: dict[str, str] = {
-    "rostopic": "ros2 topic", "rosservice": "ros2 service", "rosparam": "ros2 param", "rosbag": "ros2 bag",
+    "rostopic": "ros2 topic",
+    "rosservice": "ros2 service",
+    "rosparam": "ros2 param",
+    "rosbag": "ros2 bag",
 }
 # Gazebo Classic's spawner → Gazebo's (with --gazebo)
 GAZEBO_SPAWNER = ("gazebo_ros", "spawn_model")
@@ -66,27 +74,82 @@ GAZEBO_WORLD_LAUNCH = ("gazebo_ros", ("empty_world.launch",))
 GZ_WORLD_LAUNCH = ("ros_gz_sim", "launch/gz_sim.launch.py")
 # spawn_model option → ros_gz_sim create option (None: no equivalent, dropped)
 SPAWN_OPTIONS: dict[str, str | None] = {
-    "-file": "-file", "-param": "-topic", "-model": "-name", "-x": "-x", "-y": "-y", "-z": "-z",
-    "-R": "-R", "-P": "-P", "-Y": "-Y", "-urdf": None, "-sdf": None, "-unpause": None,
-    "-wait": None, "-gazebo_namespace": None, "-reference_frame": None,
-    "-robot_namespace": None, "-J": None,
+    "-file": "-file",
+    "-param": "-topic",
+    "-model": "-name",
+    "-x": "-x",
+    "-y": "-y",
+    "-z": "-z",
+    "-R": "-R",
+    "-P": "-P",
+    "-Y": "-Y",
+    "-urdf": None,
+    "-sdf": None,
+    "-unpause": None,
+    "-wait": None,
+    "-gazebo_namespace": None,
+    "-reference_frame": None,
+    "-robot_namespace": None,
+    "-J": None,
 }
 
 # RViz 1 class → RViz 2 class (displays, panels, tools, views)
 RVIZ_CLASSES: dict[str, str] = {
-    **{f"rviz/{name}": f"rviz_common/{name}"
-       for name in ("Displays", "Selection", "Tool Properties", "Views", "Time", "Help")},
-    **{f"rviz/{name}": f"rviz_default_plugins/{name}"
-       for name in ("Axes", "Camera", "DepthCloud", "Effort", "FluidPressure", "Grid", "GridCells",
-                    "Illuminance", "Image", "InteractiveMarkers", "LaserScan", "Map", "Marker",
-                    "MarkerArray", "Odometry", "Path", "PointCloud", "PointCloud2", "PointStamped",
-                    "Polygon", "Pose", "PoseArray", "PoseWithCovariance", "Range", "RelativeHumidity",
-                    "RobotModel", "TF", "Temperature", "WrenchStamped", "AccelStamped", "TwistStamped",
-                    # tools
-                    "Interact", "MoveCamera", "Select", "FocusCamera", "Measure", "SetInitialPose",
-                    "SetGoal", "PublishPoint",
-                    # views
-                    "Orbit", "XYOrbit", "FPS", "ThirdPersonFollower", "TopDownOrtho")},
+    **{
+        f"rviz/{name}": f"rviz_common/{name}"
+        for name in ("Displays", "Selection", "Tool Properties", "Views", "Time", "Help")
+    },
+    **{
+        f"rviz/{name}": f"rviz_default_plugins/{name}"
+        for name in (
+            "Axes",
+            "Camera",
+            "DepthCloud",
+            "Effort",
+            "FluidPressure",
+            "Grid",
+            "GridCells",
+            "Illuminance",
+            "Image",
+            "InteractiveMarkers",
+            "LaserScan",
+            "Map",
+            "Marker",
+            "MarkerArray",
+            "Odometry",
+            "Path",
+            "PointCloud",
+            "PointCloud2",
+            "PointStamped",
+            "Polygon",
+            "Pose",
+            "PoseArray",
+            "PoseWithCovariance",
+            "Range",
+            "RelativeHumidity",
+            "RobotModel",
+            "TF",
+            "Temperature",
+            "WrenchStamped",
+            "AccelStamped",
+            "TwistStamped",
+            # tools
+            "Interact",
+            "MoveCamera",
+            "Select",
+            "FocusCamera",
+            "Measure",
+            "SetInitialPose",
+            "SetGoal",
+            "PublishPoint",
+            # views
+            "Orbit",
+            "XYOrbit",
+            "FPS",
+            "ThirdPersonFollower",
+            "TopDownOrtho",
+        )
+    },
 }
 
 

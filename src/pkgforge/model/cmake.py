@@ -13,8 +13,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .cmake_syntax import Argument, CMakeSyntaxError, Command, parse
-from .source import SourceFile, read_source
+from pkgforge.model.cmake_syntax import Argument, CMakeSyntaxError, Command, parse
+from pkgforge.model.source import SourceFile, read_source
 
 # Stand-ins for paths that are not in the source tree
 INSTALL_PREFIX = "<install-prefix>"
@@ -24,18 +24,48 @@ PYTHON_SITE = "lib/python3/site-packages"
 
 VARIABLE = re.compile(r"\$\{([^${}]*)\}")
 ENV_VARIABLE = re.compile(r"\$ENV\{[^}]*\}")
-ESCAPES = {"n": "\n", "t": "\t", "r": "\r", ";": "\\;", "\\": "\\", '"': '"', " ": " ",
-           "$": "$", "@": "@", "(": "(", ")": ")", "#": "#", "{": "{", "}": "}"}
+ESCAPES = {
+    "n": "\n",
+    "t": "\t",
+    "r": "\r",
+    ";": "\\;",
+    "\\": "\\",
+    '"': '"',
+    " ": " ",
+    "$": "$",
+    "@": "@",
+    "(": "(",
+    ")": ")",
+    "#": "#",
+    "{": "{",
+    "}": "}",
+}
 
 INSTALL_KEYWORDS = {
-    "DESTINATION", "FILE_PERMISSIONS", "DIRECTORY_PERMISSIONS", "USE_SOURCE_PERMISSIONS",
-    "OPTIONAL", "MESSAGE_NEVER", "CONFIGURATIONS", "COMPONENT", "EXCLUDE_FROM_ALL",
-    "FILES_MATCHING", "PATTERN", "REGEX", "TYPE", "PERMISSIONS", "RENAME",
+    "DESTINATION",
+    "FILE_PERMISSIONS",
+    "DIRECTORY_PERMISSIONS",
+    "USE_SOURCE_PERMISSIONS",
+    "OPTIONAL",
+    "MESSAGE_NEVER",
+    "CONFIGURATIONS",
+    "COMPONENT",
+    "EXCLUDE_FROM_ALL",
+    "FILES_MATCHING",
+    "PATTERN",
+    "REGEX",
+    "TYPE",
+    "PERMISSIONS",
+    "RENAME",
 }
 GNU_INSTALL_DIRS = {
-    "CMAKE_INSTALL_BINDIR": "bin", "CMAKE_INSTALL_SBINDIR": "sbin", "CMAKE_INSTALL_LIBDIR": "lib",
-    "CMAKE_INSTALL_INCLUDEDIR": "include", "CMAKE_INSTALL_DATAROOTDIR": "share",
-    "CMAKE_INSTALL_DATADIR": "share", "CMAKE_INSTALL_LIBEXECDIR": "libexec",
+    "CMAKE_INSTALL_BINDIR": "bin",
+    "CMAKE_INSTALL_SBINDIR": "sbin",
+    "CMAKE_INSTALL_LIBDIR": "lib",
+    "CMAKE_INSTALL_INCLUDEDIR": "include",
+    "CMAKE_INSTALL_DATAROOTDIR": "share",
+    "CMAKE_INSTALL_DATADIR": "share",
+    "CMAKE_INSTALL_LIBEXECDIR": "libexec",
 }
 MAX_INCLUDE_DEPTH = 16
 
@@ -129,7 +159,7 @@ class _Interpreter:
                 continue
             if name == "foreach":
                 end = _block_end(commands, index, "foreach", "endforeach")
-                self.foreach(command, commands[index + 1:end], variables, conditional or if_depth > 0)
+                self.foreach(command, commands[index + 1 : end], variables, conditional or if_depth > 0)
                 index = end + 1
                 continue
             if name == "if":
@@ -260,7 +290,7 @@ class _Interpreter:
         name, rest = values[0], values[1:]
         for stop in ("CACHE", "PARENT_SCOPE"):
             if stop in rest:
-                rest = rest[:rest.index(stop)]
+                rest = rest[: rest.index(stop)]
         if any(isinstance(v, Unknown) for v in rest):
             variables[name] = Unknown(f"variable {name}")
         else:
@@ -347,7 +377,7 @@ def _expand_text(text: str, variables: dict) -> str | Unknown:
             return Unknown(f"${{{match.group(1)}}}")
         if isinstance(value, Unknown):
             return value
-        text = text[:match.start()] + value + text[match.end():]
+        text = text[: match.start()] + value + text[match.end() :]
     return re.sub(r"\\(.)", lambda m: ESCAPES.get(m.group(1), m.group(1)), text)
 
 

@@ -54,7 +54,7 @@ class _Scanner:
         return self.text[index] if index < len(self.text) else ""
 
     def advance(self, count: int = 1) -> str:
-        chunk = self.text[self.pos:self.pos + count]
+        chunk = self.text[self.pos : self.pos + count]
         newlines = chunk.count("\n")
         if newlines:
             self.line += newlines
@@ -83,7 +83,7 @@ class _Scanner:
         end = self.text.find(closing, self.pos)
         if end < 0:
             raise self.error(f"unterminated bracket {what} (no '{closing}')", line, column)
-        content = self.text[self.pos:end]
+        content = self.text[self.pos : end]
         self.advance(end - self.pos + len(closing))
         # a newline right after the opening bracket is not part of the content
         return content[1:] if content.startswith("\n") else content
@@ -114,7 +114,9 @@ def _skip_space_and_comments(scanner: _Scanner, *, newlines: bool) -> None:
     while True:
         char = scanner.peek()
         if char in (" ", "\t", "\r") or (newlines and char == "\n"):
-            scanner.advance_to(SPACE.match(scanner.text, scanner.pos).end()) if newlines else scanner.advance()
+            scanner.advance_to(
+                SPACE.match(scanner.text, scanner.pos).end()
+            ) if newlines else scanner.advance()
         elif char == "#":
             scanner.advance()
             if BRACKET_OPEN.match(scanner.text, scanner.pos):
@@ -186,8 +188,9 @@ def _unquoted(scanner: _Scanner) -> str:
             start_line, start_column = scanner.line, scanner.column
             end = scanner.text.find('"', scanner.pos + 1)
             if end < 0:
-                raise scanner.error("unterminated quoted argument (no closing '\"')",
-                                    start_line, start_column)
+                raise scanner.error(
+                    "unterminated quoted argument (no closing '\"')", start_line, start_column
+                )
             out.append(scanner.advance(end - scanner.pos + 1))
         else:
             out.append(scanner.advance_to(PLAIN_UNQUOTED.match(scanner.text, scanner.pos).end()))

@@ -54,22 +54,27 @@ class DistroData:
         bit = 1 << self.names.index(distro)
         return [name for name, mask in self.masks.items() if mask & bit]
 
-    def close_names(self, name: str, distro: str | None = None, n: int = 3, cutoff: float = 0.8,
-                    same_start: bool = False) -> list[str]:
+    def close_names(
+        self, name: str, distro: str | None = None, n: int = 3, cutoff: float = 0.8, same_start: bool = False
+    ) -> list[str]:
         """Released names close to `name` (difflib); `same_start`: only names with its first
         letter (fast enough to ask for every declared name; typos rarely hit the first letter)."""
         return list(_close_names(self, name, distro, n, cutoff, same_start))
 
 
 @functools.lru_cache(maxsize=256)
-def _close_names(data: DistroData, name: str, distro: str | None, n: int, cutoff: float,
-                 same_start: bool) -> tuple[str, ...]:
+def _close_names(
+    data: DistroData, name: str, distro: str | None, n: int, cutoff: float, same_start: bool
+) -> tuple[str, ...]:
     import difflib
 
     size = len(name)
     # a ratio is at most 2*min(len)/(len a + len b): names of other lengths cannot reach the cutoff
-    candidates = [c for c in data.packages(distro) if 2 * min(size, len(c)) >= cutoff * (size + len(c))
-                  and (not same_start or c[:1] == name[:1])]
+    candidates = [
+        c
+        for c in data.packages(distro)
+        if 2 * min(size, len(c)) >= cutoff * (size + len(c)) and (not same_start or c[:1] == name[:1])
+    ]
     return tuple(difflib.get_close_matches(name, candidates, n=n, cutoff=cutoff))
 
 
@@ -105,15 +110,18 @@ def replacement(name: str) -> tuple[str, str] | None:
 
 # --- writing the data (scripts/update-distro-data) -------------------------------------------
 
+
 def render(distros: list[DistroInfo], released: dict[str, set[str]], source: str) -> str:
     """The data file's text: `released` maps distro → package names."""
     masks: dict[str, int] = {}
     for bit, distro in enumerate(distros):
         for name in released[distro.name]:
             masks[name] = masks.get(name, 0) | 1 << bit
-    lines = ["# Packages released into each active ROS 2 distribution (REP 143 distribution.yaml).",
-             f"# Source: {source}. Written by scripts/update-distro-data; do not edit.",
-             "# @distro NAME STATUS PLATFORMS, in bit order; then =HEXMASK NAMES... (released in exactly those)"]
+    lines = [
+        "# Packages released into each active ROS 2 distribution (REP 143 distribution.yaml).",
+        f"# Source: {source}. Written by scripts/update-distro-data; do not edit.",
+        "# @distro NAME STATUS PLATFORMS, in bit order; then =HEXMASK NAMES... (released in exactly those)",
+    ]
     lines += [f"@distro {d.name} {d.status} {d.platforms or '-'}" for d in distros]
     groups: dict[int, list[str]] = {}
     for name in sorted(masks):
@@ -121,7 +129,7 @@ def render(distros: list[DistroInfo], released: dict[str, set[str]], source: str
     for mask in sorted(groups):
         names = groups[mask]
         for start in range(0, len(names), 200):  # lines of a readable length for diffs
-            lines.append(f"={mask:x} " + " ".join(names[start:start + 200]))
+            lines.append(f"={mask:x} " + " ".join(names[start : start + 200]))
     return "\n".join(lines) + "\n"
 
 
@@ -129,8 +137,17 @@ def render(distros: list[DistroInfo], released: dict[str, set[str]], source: str
 
 CI_FILES = (".gitlab-ci.yml", ".gitlab-ci.yaml")
 CI_FOLDER = ".github/workflows"
-CI_DISTRO_KEYS = {"ros_distro", "rosdistro", "ros-distro", "distro", "distros", "ros_distros",
-                  "required-ros-distributions", "ros-distribution", "ros_distribution"}
+CI_DISTRO_KEYS = {
+    "ros_distro",
+    "rosdistro",
+    "ros-distro",
+    "distro",
+    "distros",
+    "ros_distros",
+    "required-ros-distributions",
+    "ros-distribution",
+    "ros_distribution",
+}
 
 
 def _ci_files(folder: Path) -> list[Path]:
@@ -186,7 +203,9 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     return tuple(d for d in DISTROS if d in found)
 
 
-def target_distros(package_path: Path, root: Path, option: str | None, configured) -> tuple[tuple[str, ...], str]:
+def target_distros(
+    package_path: Path, root: Path, option: str | None, configured
+) -> tuple[tuple[str, ...], str]:
     """(distros, where that came from); ((), 'every active distro') when nothing says.
 
     In order: --distro, ROS_DISTRO, pkgforge.toml [verify] distro, the package's CI files

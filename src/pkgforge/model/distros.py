@@ -22,13 +22,23 @@ class Distro:
 DISTROS: dict[str, Distro] = {
     d.name: d
     for d in (
-        Distro("humble", frontend_param_type=False, docker_image="ros:humble", lts=True, ubuntu="22.04 jammy"),
+        Distro(
+            "humble", frontend_param_type=False, docker_image="ros:humble", lts=True, ubuntu="22.04 jammy"
+        ),
         Distro("jazzy", frontend_param_type=True, docker_image="ros:jazzy", lts=True, ubuntu="24.04 noble"),
-        Distro("kilted", frontend_param_type=True, docker_image="ros:kilted", lts=False, ubuntu="24.04 noble"),
-        Distro("lyrical", frontend_param_type=True, docker_image="ros:lyrical", lts=True,
-               ubuntu="26.04 resolute"),
-        Distro("rolling", frontend_param_type=True, docker_image="ros:rolling", lts=False,
-               ubuntu="26.04 resolute"),
+        Distro(
+            "kilted", frontend_param_type=True, docker_image="ros:kilted", lts=False, ubuntu="24.04 noble"
+        ),
+        Distro(
+            "lyrical", frontend_param_type=True, docker_image="ros:lyrical", lts=True, ubuntu="26.04 resolute"
+        ),
+        Distro(
+            "rolling",
+            frontend_param_type=True,
+            docker_image="ros:rolling",
+            lts=False,
+            ubuntu="26.04 resolute",
+        ),
     )
 }
 

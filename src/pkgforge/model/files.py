@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ..walk import WalkLimit, walk
+from pkgforge.walk import WalkLimit, walk
 
 # Never part of what a package installs or refers to.
 SKIPPED_DIRS = {"build", "install", "log", "__pycache__", "node_modules", "test", "tests"}
@@ -28,8 +28,9 @@ def walk_file_names(root: Path, limits: list[WalkLimit] | None = None) -> list[s
             if d.startswith(".") or (current == top and d in SKIPPED_DIRS):
                 continue
             sub = os.path.join(current, d)
-            if os.path.exists(os.path.join(sub, "package.xml")) or \
-                    os.path.exists(os.path.join(sub, "COLCON_IGNORE")):
+            if os.path.exists(os.path.join(sub, "package.xml")) or os.path.exists(
+                os.path.join(sub, "COLCON_IGNORE")
+            ):
                 continue
             keep.append(d)
         dirs[:] = keep
@@ -37,5 +38,3 @@ def walk_file_names(root: Path, limits: list[WalkLimit] | None = None) -> list[s
             if not name.startswith("."):
                 files.append(name if relative_dir == "." else f"{relative_dir}/{name}")
     return files
-
-

@@ -9,10 +9,10 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .cmake import BINARY_DIR, INSTALL_PREFIX, CMakeModel, InstallRule, Unknown
-from .cmake_syntax import Argument
-from .setup_py import SetupPyModel
-from ..walk import WalkLimit, walk
+from pkgforge.model.cmake import BINARY_DIR, INSTALL_PREFIX, CMakeModel, InstallRule, Unknown
+from pkgforge.model.cmake_syntax import Argument
+from pkgforge.model.setup_py import SetupPyModel
+from pkgforge.walk import WalkLimit, walk
 
 INDEX_MARKER = "share/ament_index/resource_index/packages/{name}"
 
@@ -81,7 +81,7 @@ def _normalize_destination(value: str) -> str | None:
     """Relative to the install prefix, or None when the destination is outside it."""
     value = value.replace("\\", "/")
     if value.startswith(INSTALL_PREFIX):
-        value = value[len(INSTALL_PREFIX):].lstrip("/")
+        value = value[len(INSTALL_PREFIX) :].lstrip("/")
     elif value.startswith("/"):
         return None
     value = posixpath.normpath(value) if value else "."
@@ -107,8 +107,9 @@ def _directory_files(source: Path, rule: InstallRule, limits: list[WalkLimit]):
     for root, dirs, files in walk(top, limits=limits):
         relative_root = os.path.relpath(root, top)
         if excludes:
-            dirs[:] = [d for d in dirs if not any(
-                _matches(p.kind, p.value, d, f"{root}/{d}") for p in excludes)]
+            dirs[:] = [
+                d for d in dirs if not any(_matches(p.kind, p.value, d, f"{root}/{d}") for p in excludes)
+            ]
         dirs.sort()
         for name in sorted(files):
             full = f"{root}/{name}"
@@ -137,13 +138,26 @@ def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
         layout.unknown.append((rule.path, rule.line, "install() without DESTINATION"))
         return
     if isinstance(rule.destination, Unknown):
-        layout.unknown.append((rule.path, dest_arg.line if dest_arg else rule.line,
-                               f"DESTINATION depends on {rule.destination.why}"))
+        layout.unknown.append(
+            (
+                rule.path,
+                dest_arg.line if dest_arg else rule.line,
+                f"DESTINATION depends on {rule.destination.why}",
+            )
+        )
         return
     destination = _normalize_destination(rule.destination)
     known_sources = tuple(s for s, _ in rule.sources if isinstance(s, str))
-    layout.destinations.append(RuleDestination(destination, rule.destination, known_sources, rule.path,
-                                               dest_arg.line if dest_arg else rule.line, column))
+    layout.destinations.append(
+        RuleDestination(
+            destination,
+            rule.destination,
+            known_sources,
+            rule.path,
+            dest_arg.line if dest_arg else rule.line,
+            column,
+        )
+    )
     if destination is None:
         return
     installed_dirs = []
@@ -163,8 +177,7 @@ def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
             # as written: a trailing slash (contents, not the folder) matters to the fix hints
             installed_dirs.append(source.name if not value.endswith("/") else value.rstrip("/") + "/")
             for full, relative in _directory_files(source, rule, layout.walk_limits):
-                layout.add(posixpath.normpath(posixpath.join(into, relative)), full,
-                           rule.path, rule.line)
+                layout.add(posixpath.normpath(posixpath.join(into, relative)), full, rule.path, rule.line)
         else:
             if not source.is_file():
                 if not rule.optional:
@@ -184,8 +197,9 @@ def layout_from_setup_py(setup_py: SetupPyModel, package_path: Path) -> InstallL
     for entry in setup_py.entries:
         path = entry.path or setup_py.source.path
         destination = _normalize_destination(entry.destination)
-        layout.destinations.append(RuleDestination(destination, entry.destination, entry.files, path,
-                                                   entry.line, None))
+        layout.destinations.append(
+            RuleDestination(destination, entry.destination, entry.files, path, entry.line, None)
+        )
         if destination is None:
             continue
         folders = set()

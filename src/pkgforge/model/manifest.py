@@ -9,11 +9,18 @@ from pathlib import Path
 from catkin_pkg.package import InvalidPackage, parse_package_string
 from lxml import etree
 
-from .source import SourceFile
+from pkgforge.model.source import SourceFile
 
 DEPENDENCY_TAGS = (
-    "depend", "build_depend", "buildtool_depend", "build_export_depend",
-    "buildtool_export_depend", "exec_depend", "run_depend", "test_depend", "doc_depend",
+    "depend",
+    "build_depend",
+    "buildtool_depend",
+    "build_export_depend",
+    "buildtool_export_depend",
+    "exec_depend",
+    "run_depend",
+    "test_depend",
+    "doc_depend",
 )
 # what satisfies a run-time need (REP 149: <depend> is build + build_export + exec)
 RUN_TAGS = ("depend", "exec_depend", "run_depend")
@@ -76,8 +83,11 @@ class Manifest:
         return {d.name for d in self.active_dependencies() if d.tag in RUN_TAGS}
 
     def build_dependencies(self) -> set[str]:
-        return {d.name for d in self.active_dependencies()
-                if d.tag in ("depend", "build_depend", "buildtool_depend")}
+        return {
+            d.name
+            for d in self.active_dependencies()
+            if d.tag in ("depend", "build_depend", "buildtool_depend")
+        }
 
     def declared(self) -> set[str]:
         return {d.name for d in self.active_dependencies()}
@@ -93,8 +103,9 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
     if source.text is None:
         manifest.problems.append((f"package.xml: {source.problem}", source.problem_line))
         return manifest
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, remove_comments=True,
-                             remove_pis=True, huge_tree=False)
+    parser = etree.XMLParser(
+        resolve_entities=False, no_network=True, remove_comments=True, remove_pis=True, huge_tree=False
+    )
     try:
         root = etree.fromstring(source.text.encode("utf-8"), parser)
     except etree.XMLSyntaxError as exc:
@@ -107,7 +118,7 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
     try:
         manifest.format = int(root.get("format", "1"))
     except ValueError:
-        manifest.problems.append((f"format=\"{root.get('format')}\" is not a number", root.sourceline))
+        manifest.problems.append((f'format="{root.get("format")}" is not a number', root.sourceline))
     for element in root:
         if isinstance(element.tag, str):
             manifest.element_lines.setdefault(element.tag, element.sourceline)
@@ -118,8 +129,10 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
     for element in root:
         if isinstance(element.tag, str) and element.tag in DEPENDENCY_TAGS:
             manifest.dependencies.append(
-                Dependency((element.text or "").strip(), element.tag, element.sourceline,
-                           element.get("condition")))
+                Dependency(
+                    (element.text or "").strip(), element.tag, element.sourceline, element.get("condition")
+                )
+            )
     export = root.find("export")
     if export is not None:
         manifest.export_line = export.sourceline

@@ -39,5 +39,8 @@ def _suggestion(name: str) -> str | None:
     """A valid name close to `name` (lower case, '-' as '_'), or None when that is not valid either:
     a hint must never suggest another invalid name."""
     candidate = name.lower().replace("-", "_")
-    return candidate if REP144_PATTERN.match(candidate) and "__" not in candidate \
-        and not candidate.endswith("_") else None
+    return (
+        candidate
+        if REP144_PATTERN.match(candidate) and "__" not in candidate and not candidate.endswith("_")
+        else None
+    )

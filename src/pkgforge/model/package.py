@@ -5,17 +5,31 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .cmake import CMakeModel, load_cmake
-from .layout import InstallLayout, layout_from_cmake, layout_from_setup_py
-from .manifest import Manifest, load_manifest
-from .references import Reference, launch_kind, scan
-from .setup_py import SetupPyModel, load_setup_py
-from .files import SKIPPED_DIRS, walk_files as _walk_files
-from .source import SourceFile, read_source
+from pkgforge.model.cmake import CMakeModel, load_cmake
+from pkgforge.model.files import SKIPPED_DIRS
+from pkgforge.model.files import walk_files as _walk_files
+from pkgforge.model.layout import InstallLayout, layout_from_cmake, layout_from_setup_py
+from pkgforge.model.manifest import Manifest, load_manifest
+from pkgforge.model.references import Reference, launch_kind, scan
+from pkgforge.model.setup_py import SetupPyModel, load_setup_py
+from pkgforge.model.source import SourceFile, read_source
 
 # Top-level folders that hold run-time resources by convention.
-RESOURCE_FOLDERS = ("launch", "urdf", "meshes", "rviz", "config", "worlds", "models", "maps",
-                    "params", "description", "robots", "xacro", "sdf")
+RESOURCE_FOLDERS = (
+    "launch",
+    "urdf",
+    "meshes",
+    "rviz",
+    "config",
+    "worlds",
+    "models",
+    "maps",
+    "params",
+    "description",
+    "robots",
+    "xacro",
+    "sdf",
+)
 SCANNED_SUFFIXES = (".xacro", ".urdf", ".rviz", ".sdf")
 
 
@@ -51,8 +65,9 @@ class PackageModel:
         return folders
 
     def launch_files(self) -> list[Path]:
-        return [self.path / f for f in self.files if launch_kind(self.path / f)
-                and f.parts[0] not in SKIPPED_DIRS]
+        return [
+            self.path / f for f in self.files if launch_kind(self.path / f) and f.parts[0] not in SKIPPED_DIRS
+        ]
 
     def suppressed(self, path: Path, line: int | None, keys: set[str]) -> bool:
         source = self.sources.get(path)
@@ -72,13 +87,14 @@ def _is_scanned(relative: Path) -> bool:
     return launch_kind(relative) is not None
 
 
-def load_package(path: Path, *, colcon_type: str | None = None, parsed_by_colcon: bool = False) -> PackageModel:
+def load_package(
+    path: Path, *, colcon_type: str | None = None, parsed_by_colcon: bool = False
+) -> PackageModel:
     path = path.resolve()
     manifest_source = read_source(path / "package.xml")
     manifest = load_manifest(manifest_source, parsed_package=True if parsed_by_colcon else None)
     build_type = manifest.build_type or (colcon_type or "").removeprefix("ros.") or "unknown"
-    model = PackageModel(name=manifest.name or path.name, path=path, build_type=build_type,
-                         manifest=manifest)
+    model = PackageModel(name=manifest.name or path.name, path=path, build_type=build_type, manifest=manifest)
     model.sources[manifest_source.path] = manifest_source
     model.files = _walk_files(path, model.walk_limits)
 

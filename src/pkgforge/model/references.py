@@ -20,7 +20,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .source import SourceFile
+from pkgforge.model.source import SourceFile
 
 PACKAGE_NAME = r"[A-Za-z][A-Za-z0-9_]*"
 # what ament accepts in practice (example-robot-data is a real, installed package name)
@@ -107,8 +107,11 @@ def _in_value(text: str, patterns, path: Path, line: int, locate: _Locator) -> l
     found = []
     for pattern, via in patterns:
         for match in pattern.finditer(text):
-            relative = match.group(2).lstrip("/") if match.lastindex and match.lastindex >= 2 \
-                and match.group(2) else None
+            relative = (
+                match.group(2).lstrip("/")
+                if match.lastindex and match.lastindex >= 2 and match.group(2)
+                else None
+            )
             where = locate(match.group(0), line)
             column = where[1] + (match.start(1) - match.start(0)) if where[1] else None
             found.append(Reference(match.group(1), relative, path, where[0], column, via))
@@ -118,8 +121,9 @@ def _in_value(text: str, patterns, path: Path, line: int, locate: _Locator) -> l
 def _scan_xml(source: SourceFile, locate: _Locator, *, launch: bool) -> list[Reference]:
     from lxml import etree
 
-    parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False,
-                             no_network=True, huge_tree=False)
+    parser = etree.XMLParser(
+        remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False
+    )
     try:
         root = etree.fromstring(source.text.encode("utf-8"), parser)
     except (etree.XMLSyntaxError, ValueError):
@@ -143,9 +147,14 @@ def _scan_xml(source: SourceFile, locate: _Locator, *, launch: bool) -> list[Ref
 
 
 # Gazebo plugin libraries whose file name is not their package's name
-PLUGIN_LIBRARIES = {"libgazebo_ros2_control": "gazebo_ros2_control", "libgazebo_ros_": "gazebo_plugins",
-                    "libgz_ros2_control": "gz_ros2_control", "gz_ros2_control": "gz_ros2_control",
-                    "libign_ros2_control": "ign_ros2_control", "ign_ros2_control": "ign_ros2_control"}
+PLUGIN_LIBRARIES = {
+    "libgazebo_ros2_control": "gazebo_ros2_control",
+    "libgazebo_ros_": "gazebo_plugins",
+    "libgz_ros2_control": "gz_ros2_control",
+    "gz_ros2_control": "gz_ros2_control",
+    "libign_ros2_control": "ign_ros2_control",
+    "ign_ros2_control": "ign_ros2_control",
+}
 
 
 def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
@@ -160,8 +169,9 @@ def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
     filename = (element.get("filename") or "").strip()
     if filename:
         stem = filename.split("/")[-1].removesuffix(".so").removesuffix("-system")
-        package = next((p for prefix, p in PLUGIN_LIBRARIES.items() if stem.startswith(prefix)),
-                       stem.removeprefix("lib"))
+        package = next(
+            (p for prefix, p in PLUGIN_LIBRARIES.items() if stem.startswith(prefix)), stem.removeprefix("lib")
+        )
         if PACKAGE_ONLY.fullmatch(package):
             where = locate(filename, line)
             found.append(Reference(package, None, path, where[0], where[1], "plugin"))
@@ -184,12 +194,22 @@ def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
     for document in documents:
         if isinstance(document, yaml.MappingNode):
             for key_node, value_node in document.value:
-                if getattr(key_node, "value", None) == "controller_manager" \
-                        and isinstance(value_node, yaml.MappingNode) \
-                        and any(getattr(k, "value", None) == "ros__parameters" for k, _ in value_node.value):
+                if (
+                    getattr(key_node, "value", None) == "controller_manager"
+                    and isinstance(value_node, yaml.MappingNode)
+                    and any(getattr(k, "value", None) == "ros__parameters" for k, _ in value_node.value)
+                ):
                     line = key_node.start_mark.line + 1
-                    found.append(Reference("controller_manager", None, source.path, line,
-                                           key_node.start_mark.column + 1, "plugin"))
+                    found.append(
+                        Reference(
+                            "controller_manager",
+                            None,
+                            source.path,
+                            line,
+                            key_node.start_mark.column + 1,
+                            "plugin",
+                        )
+                    )
     for key, value, line in _yaml_scalars(source.text):
         if key not in ("type", "plugin", "plugin_name", "plugins"):
             continue
@@ -276,7 +296,9 @@ def _scan_python(source: SourceFile) -> list[Reference]:
             for module in modules:
                 top = module.split(".")[0]
                 if top and top not in STDLIB:
-                    found.append(Reference(top, None, source.path, node.lineno, node.col_offset + 1, "import"))
+                    found.append(
+                        Reference(top, None, source.path, node.lineno, node.col_offset + 1, "import")
+                    )
             continue
         if not isinstance(node, ast.Call):
             continue
@@ -291,18 +313,34 @@ def _scan_python(source: SourceFile) -> list[Reference]:
                 if keyword.arg == "package" and literal(keyword.value):
                     found.append(Reference(literal(keyword.value), None, source.path, *position, name))
         elif name in PATH_JOINS:
-            parts = node.args[0].elts if name == "PathJoinSubstitution" and node.args and \
-                isinstance(node.args[0], (ast.List, ast.Tuple)) else node.args
+            parts = (
+                node.args[0].elts
+                if name == "PathJoinSubstitution"
+                and node.args
+                and isinstance(node.args[0], (ast.List, ast.Tuple))
+                else node.args
+            )
             if parts:
                 package = share_of(parts[0])
                 rest = [literal(p) for p in parts[1:]]
                 if package and rest and all(r is not None for r in rest):
                     first = parts[1]
-                    found.append(Reference(package, "/".join(r.strip("/") for r in rest), source.path,
-                                           first.lineno, first.col_offset + 1, name))
+                    found.append(
+                        Reference(
+                            package,
+                            "/".join(r.strip("/") for r in rest),
+                            source.path,
+                            first.lineno,
+                            first.col_offset + 1,
+                            name,
+                        )
+                    )
         elif name == "Command" and node.args:
-            first = node.args[0].elts[0] if isinstance(node.args[0], (ast.List, ast.Tuple)) and \
-                node.args[0].elts else node.args[0]
+            first = (
+                node.args[0].elts[0]
+                if isinstance(node.args[0], (ast.List, ast.Tuple)) and node.args[0].elts
+                else node.args[0]
+            )
             text = literal(first)
             if text and text.split() and text.split()[0] == "xacro":
                 found.append(Reference("xacro", None, source.path, *position, "Command xacro"))

@@ -76,17 +76,24 @@ def _display(node, out: list) -> None:
     keys = _key_lines(node)
     klass = _scalar(entries.get("Class"))
     topic_node = entries.get("Description Topic")
-    topic = _scalar(_mapping(topic_node).get("Value")) if isinstance(topic_node, yaml.MappingNode) \
+    topic = (
+        _scalar(_mapping(topic_node).get("Value"))
+        if isinstance(topic_node, yaml.MappingNode)
         else _scalar(topic_node)
-    out.append({
-        "class": klass, "line": _line(entries["Class"]) if "Class" in entries else _line(node),
-        "name": _scalar(entries.get("Name")),
-        "enabled": (_scalar(entries.get("Enabled")) or "true").lower() == "true",
-        "source": _scalar(entries.get("Description Source")),
-        "topic": topic, "topic_line": keys.get("Description Topic"),
-        "file": _scalar(entries.get("Description File")),
-        "file_line": keys.get("Description File"),
-    })
+    )
+    out.append(
+        {
+            "class": klass,
+            "line": _line(entries["Class"]) if "Class" in entries else _line(node),
+            "name": _scalar(entries.get("Name")),
+            "enabled": (_scalar(entries.get("Enabled")) or "true").lower() == "true",
+            "source": _scalar(entries.get("Description Source")),
+            "topic": topic,
+            "topic_line": keys.get("Description Topic"),
+            "file": _scalar(entries.get("Description File")),
+            "file_line": keys.get("Description File"),
+        }
+    )
     if klass == "rviz_common/Group":  # displays nested in a group
         children = entries.get("Displays")
         for child in children.value if isinstance(children, yaml.SequenceNode) else []:

@@ -16,8 +16,8 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..walk import walk
-from .source import SourceFile
+from pkgforge.model.source import SourceFile
+from pkgforge.walk import walk
 
 
 class Unevaluable(Exception):
@@ -60,8 +60,14 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
         if isinstance(statement, ast.FunctionDef):
             evaluator.functions[statement.name] = statement
     evaluator.run(tree.body)
-    setup_call = next((node for node in ast.walk(tree) if isinstance(node, ast.Call)
-                       and _call_name(node.func) in ("setup", "setuptools.setup")), None)
+    setup_call = next(
+        (
+            node
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Call) and _call_name(node.func) in ("setup", "setuptools.setup")
+        ),
+        None,
+    )
     if setup_call is None:
         return model
     model.has_setup_call = True
@@ -89,8 +95,11 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
         elements = data_files.elts
     for element in elements:
         try:
-            values = evaluator.eval(element.value) if isinstance(element, ast.Starred) \
+            values = (
+                evaluator.eval(element.value)
+                if isinstance(element, ast.Starred)
                 else [evaluator.eval(element)]
+            )
             for value in values:
                 destination, files = value
                 if not isinstance(destination, str) or not all(isinstance(f, str) for f in files):
@@ -149,8 +158,11 @@ class _Evaluator:
             except Unevaluable as exc:
                 for name in _assigned_names(target):
                     self.fail(name, getattr(exc.node, "lineno", statement.lineno), exc.why)
-        elif isinstance(statement, ast.AugAssign) and isinstance(statement.target, ast.Name) \
-                and isinstance(statement.op, ast.Add):
+        elif (
+            isinstance(statement, ast.AugAssign)
+            and isinstance(statement.target, ast.Name)
+            and isinstance(statement.op, ast.Add)
+        ):
             name = statement.target.id
             try:
                 current = self.eval(statement.target)
@@ -163,10 +175,13 @@ class _Evaluator:
                     raise Unevaluable(statement, "'+=' of different types")
             except Unevaluable as exc:
                 self.fail(name, getattr(exc.node, "lineno", statement.lineno), exc.why)
-        elif isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call) \
-                and isinstance(statement.value.func, ast.Attribute) \
-                and isinstance(statement.value.func.value, ast.Name) \
-                and statement.value.func.attr in ("append", "extend"):
+        elif (
+            isinstance(statement, ast.Expr)
+            and isinstance(statement.value, ast.Call)
+            and isinstance(statement.value.func, ast.Attribute)
+            and isinstance(statement.value.func.value, ast.Name)
+            and statement.value.func.attr in ("append", "extend")
+        ):
             call, name = statement.value, statement.value.func.value.id
             if name not in self.names and name not in self.failed:
                 return  # a list pkgforge does not track
@@ -203,7 +218,9 @@ class _Evaluator:
 
     def eval(self, node: ast.AST, scope: dict | None = None):
         scope = scope or {}
-        if isinstance(node, ast.Constant) and isinstance(node.value, (str, int, bool, type(None), tuple, list)):
+        if isinstance(node, ast.Constant) and isinstance(
+            node.value, (str, int, bool, type(None), tuple, list)
+        ):
             return node.value
         if isinstance(node, ast.Name):
             if node.id in scope:
@@ -215,12 +232,15 @@ class _Evaluator:
                 raise Unevaluable(failed, f"'{node.id}': {failed.why}")
             raise Unevaluable(node, f"'{node.id}' is not a literal pkgforge can see")
         if isinstance(node, ast.JoinedStr):
-            return "".join(str(self.eval(v.value if isinstance(v, ast.FormattedValue) else v, scope))
-                           for v in node.values)
+            return "".join(
+                str(self.eval(v.value if isinstance(v, ast.FormattedValue) else v, scope))
+                for v in node.values
+            )
         if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add):
             left, right = self.eval(node.left, scope), self.eval(node.right, scope)
-            if type(left) is not type(right) and not (isinstance(left, (list, tuple))
-                                                      and isinstance(right, (list, tuple))):
+            if type(left) is not type(right) and not (
+                isinstance(left, (list, tuple)) and isinstance(right, (list, tuple))
+            ):
                 raise Unevaluable(node, "'+' of different types")
             return list(left) + list(right) if isinstance(left, (list, tuple)) else left + right
         if isinstance(node, (ast.List, ast.Tuple)):
@@ -249,20 +269,24 @@ class _Evaluator:
             found = globmodule.glob(str(self.package_path / pattern), recursive=recursive)
             return sorted(os.path.relpath(f, self.package_path) for f in found)
         if name == "os.walk":
-            return [(os.path.relpath(root, self.package_path), dirs, files)
-                    for root, dirs, files in walk(self.package_path / args[0])]  # bounded, no recursion
+            return [
+                (os.path.relpath(root, self.package_path), dirs, files)
+                for root, dirs, files in walk(self.package_path / args[0])
+            ]  # bounded, no recursion
         if name in self.functions:
             return self.local_function(self.functions[name], node, args)
         raise Unevaluable(node, f"{name or 'this'}() is not evaluated")
 
     def local_function(self, function: ast.FunctionDef, node: ast.Call, args: list):
-        body = [s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+        body = [
+            s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))
+        ]
         if len(body) != 1 or not isinstance(body[0], ast.Return) or body[0].value is None:
             raise Unevaluable(node, f"{function.name}() is more than one return statement")
         params = [a.arg for a in function.args.args]
         if len(params) != len(args):
             raise Unevaluable(node, f"{function.name}() called with other arguments than it takes")
-        return self.eval(body[0].value, dict(zip(params, args)))
+        return self.eval(body[0].value, dict(zip(params, args, strict=False)))
 
     def comprehension(self, node: ast.ListComp, scope: dict):
         results: list = []
@@ -286,7 +310,7 @@ def _bind(target: ast.AST, value, scope: dict, node: ast.AST) -> None:
     if isinstance(target, ast.Name):
         scope[target.id] = value
     elif isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == len(value):
-        for element, item in zip(target.elts, value):
+        for element, item in zip(target.elts, value, strict=False):
             _bind(element, item, scope, node)
     else:
         raise Unevaluable(node, "a loop target pkgforge cannot unpack")
@@ -302,10 +326,14 @@ def _changed_names(statements: list[ast.stmt]) -> set[str]:
     for statement in statements:
         for node in ast.walk(statement):
             if isinstance(node, (ast.Assign, ast.AugAssign, ast.AnnAssign)):
-                for target in (node.targets if isinstance(node, ast.Assign) else [node.target]):
+                for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
                     names |= _assigned_names(target)
-            elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
-                    and isinstance(node.func.value, ast.Name) and node.func.attr in ("append", "extend", "insert"):
+            elif (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and isinstance(node.func.value, ast.Name)
+                and node.func.attr in ("append", "extend", "insert")
+            ):
                 names.add(node.func.value.id)
     return names
 

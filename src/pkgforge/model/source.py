@@ -35,8 +35,12 @@ def read_source(path: Path) -> SourceFile:
     try:
         size = path.stat().st_size
         if size > MAX_READ_BYTES:
-            return SourceFile(path, None, f"{size / 1e6:.1f} MB is over pkgforge's "
-                                          f"{MAX_READ_BYTES // (1024 * 1024)} MB limit for reading a file")
+            return SourceFile(
+                path,
+                None,
+                f"{size / 1e6:.1f} MB is over pkgforge's "
+                f"{MAX_READ_BYTES // (1024 * 1024)} MB limit for reading a file",
+            )
         data = path.read_bytes()
     except OSError as exc:
         return SourceFile(path, None, f"cannot read: {exc.strerror or exc}")
@@ -44,8 +48,9 @@ def read_source(path: Path) -> SourceFile:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data.count(b"\n", 0, exc.start) + 1
-        return SourceFile(path, None, f"not valid UTF-8: byte 0x{data[exc.start]:02x} at line {line}",
-                          problem_line=line)
+        return SourceFile(
+            path, None, f"not valid UTF-8: byte 0x{data[exc.start]:02x} at line {line}", problem_line=line
+        )
     if text.startswith("\ufeff"):
         text = text[1:]
     return SourceFile(path, text, suppressions=_suppressions(text))

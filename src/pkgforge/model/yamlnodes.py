@@ -36,5 +36,8 @@ def _compose(text: str, every: bool):
             return tuple(yaml.compose_all(text, Loader=_FAST)) if every else yaml.compose(text, Loader=_FAST)
         except yaml.YAMLError:
             pass  # PyYAML's own words below
-    return tuple(yaml.compose_all(text, Loader=yaml.SafeLoader)) if every else \
-        yaml.compose(text, Loader=yaml.SafeLoader)
+    return (
+        tuple(yaml.compose_all(text, Loader=yaml.SafeLoader))
+        if every
+        else yaml.compose(text, Loader=yaml.SafeLoader)
+    )

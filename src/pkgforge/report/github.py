@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ..diagnostics import Severity
-from . import relative
-from .text import summary
+from pkgforge.diagnostics import Severity
+from pkgforge.report import relative
+from pkgforge.report.text import summary
 
 COMMANDS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
@@ -26,6 +26,8 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
             if d.column is not None:
                 props.append(f"col={d.column}")
         props.append(f"title={_property(f'{d.code} {d.name}')}")
-        lines.append(f"::{COMMANDS[d.severity]} {','.join(props)}::{_data(d.message)}%0Ahint: {_data(d.hint)}")
+        lines.append(
+            f"::{COMMANDS[d.severity]} {','.join(props)}::{_data(d.message)}%0Ahint: {_data(d.hint)}"
+        )
     lines.append(summary(result))
     return "\n".join(lines) + "\n"

@@ -12,8 +12,8 @@ import json
 import os
 from pathlib import Path
 
-from ..diagnostics import Severity
-from . import relative
+from pkgforge.diagnostics import Severity
+from pkgforge.report import relative
 
 SEVERITIES = {Severity.ERROR: "major", Severity.WARNING: "minor", Severity.INFO: "info"}
 
@@ -45,13 +45,15 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
         # GitLab needs a fingerprint unique per issue and stable across runs: what and where
         seen[key] = seen.get(key, -1) + 1
         fingerprint = hashlib.sha256(f"{key}\0{seen[key]}".encode()).hexdigest()
-        issues.append({
-            "type": "issue",
-            "check_name": f"{d.code} {d.name}",
-            "description": f"{d.code} {d.message} (hint: {d.hint})",
-            "categories": ["Bug Risk"],
-            "severity": SEVERITIES[d.severity],
-            "fingerprint": fingerprint,
-            "location": {"path": path, "lines": {"begin": d.line or 1}},
-        })
+        issues.append(
+            {
+                "type": "issue",
+                "check_name": f"{d.code} {d.name}",
+                "description": f"{d.code} {d.message} (hint: {d.hint})",
+                "categories": ["Bug Risk"],
+                "severity": SEVERITIES[d.severity],
+                "fingerprint": fingerprint,
+                "location": {"path": path, "lines": {"begin": d.line or 1}},
+            }
+        )
     return json.dumps(issues, indent=2) + "\n"

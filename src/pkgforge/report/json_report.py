@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import json
 
-from ..diagnostics import Severity
-from . import relative
+from pkgforge.diagnostics import Severity
+from pkgforge.report import relative
 
 SCHEMA_VERSION = 1
 
@@ -13,15 +13,30 @@ SCHEMA_VERSION = 1
 def as_dict(result) -> dict:
     return {
         "version": SCHEMA_VERSION,
-        "packages": [{"name": r.name, "path": relative(r.path, result.root), "build_type": r.build_type}
-                     for r in result.reports],
-        "diagnostics": [{
-            "code": d.code, "name": d.name, "severity": d.severity.label, "package": d.package,
-            "path": relative(d.path, result.root), "line": d.line, "column": d.column,
-            "message": d.message, "hint": d.hint,
-        } for d in result.diagnostics],
-        "summary": {"errors": result.count(Severity.ERROR), "warnings": result.count(Severity.WARNING),
-                    "infos": result.count(Severity.INFO), "packages": len(result.reports)},
+        "packages": [
+            {"name": r.name, "path": relative(r.path, result.root), "build_type": r.build_type}
+            for r in result.reports
+        ],
+        "diagnostics": [
+            {
+                "code": d.code,
+                "name": d.name,
+                "severity": d.severity.label,
+                "package": d.package,
+                "path": relative(d.path, result.root),
+                "line": d.line,
+                "column": d.column,
+                "message": d.message,
+                "hint": d.hint,
+            }
+            for d in result.diagnostics
+        ],
+        "summary": {
+            "errors": result.count(Severity.ERROR),
+            "warnings": result.count(Severity.WARNING),
+            "infos": result.count(Severity.INFO),
+            "packages": len(result.reports),
+        },
         "launch": {"engine": getattr(result, "engine", "builtin"), "distro": getattr(result, "distro", None)},
     }
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from lxml import etree
 
-from ..checks.registry import all_checks
-from ..diagnostics import Severity
-from .text import location
+from pkgforge.checks.registry import all_checks
+from pkgforge.diagnostics import Severity
+from pkgforge.report.text import location
 
 
 def render(result, *, color: bool = False, strict: bool = False) -> str:
@@ -19,20 +19,28 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
         failures = 0
         for check in checks:
             found = [d for d in report.diagnostics if d.code == check.code]
-            case = etree.SubElement(suite, "testcase", name=f"{check.code} {check.name}",
-                                    classname=f"pkgforge.{report.name}", time="0")
+            case = etree.SubElement(
+                suite,
+                "testcase",
+                name=f"{check.code} {check.name}",
+                classname=f"pkgforge.{report.name}",
+                time="0",
+            )
             failed = [d for d in found if d.severity in failing]
             if failed:
                 failures += 1
-                failure = etree.SubElement(case, "failure", message=failed[0].message,
-                                           type=failed[0].severity.label)
-                failure.text = "\n".join(f"{location(d, result.root)}: {d.message}\nhint: {d.hint}"
-                                         for d in failed)
+                failure = etree.SubElement(
+                    case, "failure", message=failed[0].message, type=failed[0].severity.label
+                )
+                failure.text = "\n".join(
+                    f"{location(d, result.root)}: {d.message}\nhint: {d.hint}" for d in failed
+                )
             others = [d for d in found if d.severity not in failing]
             if others:
                 out = etree.SubElement(case, "system-out")
-                out.text = "\n".join(f"{location(d, result.root)}: [{d.severity.label}] {d.message}"
-                                     for d in others)
+                out.text = "\n".join(
+                    f"{location(d, result.root)}: [{d.severity.label}] {d.message}" for d in others
+                )
         suite.set("tests", str(len(checks)))
         suite.set("failures", str(failures))
         total_tests += len(checks)

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import json
 
-from .. import __version__
-from ..checks.registry import all_checks
-from ..diagnostics import Severity
+from pkgforge import __version__
 from pkgforge.checks.catalogue import help_uri
-from . import relative
+from pkgforge.checks.registry import all_checks
+from pkgforge.diagnostics import Severity
+from pkgforge.report import relative
 
 LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 
@@ -16,14 +16,18 @@ LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "
 def render(result, *, color: bool = False, strict: bool = False) -> str:
     checks = all_checks()
     index = {c.code: i for i, c in enumerate(checks)}
-    rules = [{
-        "id": c.code, "name": c.name,
-        "shortDescription": {"text": c.summary},
-        "fullDescription": {"text": c.explanation},
-        "help": {"text": c.hint},
-        "helpUri": help_uri(c),
-        "defaultConfiguration": {"level": LEVELS[c.severity]},
-    } for c in checks]
+    rules = [
+        {
+            "id": c.code,
+            "name": c.name,
+            "shortDescription": {"text": c.summary},
+            "fullDescription": {"text": c.explanation},
+            "help": {"text": c.hint},
+            "helpUri": help_uri(c),
+            "defaultConfiguration": {"level": LEVELS[c.severity]},
+        }
+        for c in checks
+    ]
     results = []
     for d in result.diagnostics:
         physical = {"artifactLocation": {"uri": relative(d.path, result.root), "uriBaseId": "SRCROOT"}}
@@ -32,18 +36,24 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
             if d.column is not None:
                 region["startColumn"] = d.column
             physical["region"] = region
-        results.append({
-            "ruleId": d.code, "ruleIndex": index[d.code], "level": LEVELS[d.severity],
-            "message": {"text": f"{d.message} (hint: {d.hint})"},
-            "locations": [{"physicalLocation": physical}],
-        })
+        results.append(
+            {
+                "ruleId": d.code,
+                "ruleIndex": index[d.code],
+                "level": LEVELS[d.severity],
+                "message": {"text": f"{d.message} (hint: {d.hint})"},
+                "locations": [{"physicalLocation": physical}],
+            }
+        )
     document = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
-        "runs": [{
-            "tool": {"driver": {"name": "pkgforge", "version": __version__, "rules": rules}},
-            "originalUriBaseIds": {"SRCROOT": {"uri": result.root.as_uri() + "/"}},
-            "results": results,
-        }],
+        "runs": [
+            {
+                "tool": {"driver": {"name": "pkgforge", "version": __version__, "rules": rules}},
+                "originalUriBaseIds": {"SRCROOT": {"uri": result.root.as_uri() + "/"}},
+                "results": results,
+            }
+        ],
     }
     return json.dumps(document, indent=2) + "\n"

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import click
 
-from ..diagnostics import Severity
-from . import relative
+from pkgforge.diagnostics import Severity
+from pkgforge.report import relative
 
 COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 
@@ -20,15 +20,18 @@ def location(diagnostic, root) -> str:
 
 
 def summary(result) -> str:
-    return (f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
-            f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages"
-            + engine_note(result))
+    return (
+        f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
+        f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages" + engine_note(result)
+    )
 
 
 def engine_note(result) -> str:
     """Which launch engine evaluated the launch files."""
     if getattr(result, "engine", "builtin") != "ros":
-        return "; launch: built-in engine" + (f" ({result.distro})" if getattr(result, "distro", None) else "")
+        return "; launch: built-in engine" + (
+            f" ({result.distro})" if getattr(result, "distro", None) else ""
+        )
     return f"; launch: ROS 2 {result.distro or '(distro unknown)'}"
 
 
@@ -39,8 +42,10 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
     lines = []
     for diagnostic in result.diagnostics:
         severity = style(f"[{diagnostic.severity.label}]", fg=COLORS[diagnostic.severity], bold=True)
-        lines.append(f"{style(location(diagnostic, result.root), bold=True)}: "
-                     f"{style(diagnostic.code, bold=True)} {severity} {diagnostic.message} ({diagnostic.name})")
+        lines.append(
+            f"{style(location(diagnostic, result.root), bold=True)}: "
+            f"{style(diagnostic.code, bold=True)} {severity} {diagnostic.message} ({diagnostic.name})"
+        )
         lines.append(f"    hint: {diagnostic.hint}")
     lines.append(summary(result))
     return "\n".join(lines) + "\n"

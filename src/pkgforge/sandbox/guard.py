@@ -88,8 +88,10 @@ def take() -> list[dict]:
     _state["spawned_at"] = (None, None)
     unique = {}
     for record in records:
-        unique.setdefault((record["kind"], record["operation"], record["path"], record.get("file"),
-                           record.get("line")), record)
+        unique.setdefault(
+            (record["kind"], record["operation"], record["path"], record.get("file"), record.get("line")),
+            record,
+        )
     return list(unique.values())
 
 
@@ -118,6 +120,7 @@ def _collect() -> None:
 
 
 # --- the hook ---------------------------------------------------------------------------------
+
 
 def _hook(event: str, args: tuple) -> None:
     handler = _HANDLERS.get(event)
@@ -173,11 +176,17 @@ def _location(path: str) -> str:
     return os.path.join(os.path.realpath(folder), name)
 
 
-def _check(path: str | None, operation: str, *, follow: bool, creates: bool = False,
-           needs: bool = False) -> None:
+def _check(
+    path: str | None, operation: str, *, follow: bool, creates: bool = False, needs: bool = False
+) -> None:
     """Allow the operation on `path`, copy a linked file first, or refuse. An operation the
     system itself fails (creating what exists, removing what does not) changes nothing: allowed."""
-    if path is None or path in ALLOWED_DEVICES or path.startswith("/dev/fd/") or path.startswith("/proc/self/fd/"):
+    if (
+        path is None
+        or path in ALLOWED_DEVICES
+        or path.startswith("/dev/fd/")
+        or path.startswith("/proc/self/fd/")
+    ):
         return
     location = _location(path)
     exists = os.path.lexists(location)
@@ -186,8 +195,13 @@ def _check(path: str | None, operation: str, *, follow: bool, creates: bool = Fa
     if not _inside(location):
         _refuse(operation, path)
     if exists and _installed(location):
-        _refuse(operation, location, "verify keeps the installed files as the install rules made them "
-                                     "(other launch files and the checks read them)", kind="installed")
+        _refuse(
+            operation,
+            location,
+            "verify keeps the installed files as the install rules made them "
+            "(other launch files and the checks read them)",
+            kind="installed",
+        )
     if follow and os.path.islink(location):
         real = os.path.realpath(location)
         if not _inside(real):
@@ -236,8 +250,12 @@ def _record(kind: str, operation: str, path: str) -> None:
         pass
 
 
-def _refuse(operation: str, path: str, reason: str = "verify never changes files outside its temporary "
-                                                     "install tree", kind: str = "refused") -> None:
+def _refuse(
+    operation: str,
+    path: str,
+    reason: str = "verify never changes files outside its temporary install tree",
+    kind: str = "refused",
+) -> None:
     _record(kind, operation, path)
     raise PermissionError(1, f"{MARKER} to {operation} {path}: {reason}")
 
@@ -262,6 +280,7 @@ def _two(operation: str, *, follow_source: bool = False):
         else:
             _check(_path(source, source_fd), operation, follow=False, needs=True)
         _check(_path(destination, destination_fd), operation, follow=False)
+
     return handler
 
 
@@ -269,6 +288,7 @@ def _one(operation: str, *, follow: bool, dir_fd: int | None = None, **when):
     def handler(path, *rest):
         fd = rest[dir_fd - 1] if dir_fd is not None and len(rest) >= dir_fd else None
         _check(_path(path, fd), operation, follow=follow, **when)
+
     return handler
 
 
@@ -309,8 +329,11 @@ def _killpg(pgid, signal, *rest) -> None:
 
 
 def _refuse_signal(pid, signal) -> None:
-    _refuse(f"send signal {int(signal) if isinstance(signal, int) else signal} to", f"process {pid}",
-            "it is not a process the launch file started")
+    _refuse(
+        f"send signal {int(signal) if isinstance(signal, int) else signal} to",
+        f"process {pid}",
+        "it is not a process the launch file started",
+    )
 
 
 _HANDLERS = {

@@ -56,6 +56,7 @@ def _install_api() -> None:
 
 # --- limits ---------------------------------------------------------------------------------
 
+
 def _read_limits() -> dict:
     try:
         return json.loads(os.environ.pop("PKGFORGE_WORKER_LIMITS", "{}"))
@@ -67,8 +68,7 @@ def _apply_limits(limits: dict) -> None:
     """Process-wide limits and the parent-death signal, before any user code runs."""
     import resource
 
-    from pkgforge.sandbox.processes import become_subreaper
-    from pkgforge.sandbox.processes import die_with_parent
+    from pkgforge.sandbox.processes import become_subreaper, die_with_parent
 
     if limits.get("parent"):
         die_with_parent(int(limits["parent"]))
@@ -151,7 +151,9 @@ def _budget(limits: dict):
         if remaining <= 0 or seconds < remaining:
             signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
 
-    return BranchBudget(time.monotonic() + BRANCH_SHARE * float(timeout), (TimeLimit, CPULimit), limit, _disarm)
+    return BranchBudget(
+        time.monotonic() + BRANCH_SHARE * float(timeout), (TimeLimit, CPULimit), limit, _disarm
+    )
 
 
 def _stop_allowance() -> None:
@@ -180,17 +182,23 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     if kind == "TimeLimit":
         granted = _allowance.granted if _allowance is not None else 0.0
         busy = f" and {granted:.1f} s more it waited for a busy CPU" if granted else ""
-        return "time", (f"still running after the {timeout:g} s limit{busy} (an endless loop, or waiting "
-                        "for something); raise it with --launch-timeout")
+        return "time", (
+            f"still running after the {timeout:g} s limit{busy} (an endless loop, or waiting "
+            "for something); raise it with --launch-timeout"
+        )
     if kind == "CPULimit":
         return "cpu", f"used more than the {timeout:g} s CPU time limit; raise it with --launch-timeout"
     if kind == "MemoryError" or message.startswith("MemoryError"):
         size = format_size(int(limits["memory"])) if limits.get("memory") else "available"
-        return "memory", (f"the launch worker's {size} memory limit was hit; "
-                          "raise it with --worker-memory (e.g. --worker-memory 4G)")
+        return "memory", (
+            f"the launch worker's {size} memory limit was hit; "
+            "raise it with --worker-memory (e.g. --worker-memory 4G)"
+        )
     if "[Errno 24]" in message:
-        return "files", (f"too many open files: the launch worker's limit of {OPEN_FILES} open files "
-                         "(the usual `ulimit -n`, as under ros2 launch) was hit; close the files it opens")
+        return "files", (
+            f"too many open files: the launch worker's limit of {OPEN_FILES} open files "
+            "(the usual `ulimit -n`, as under ros2 launch) was hit; close the files it opens"
+        )
     return None
 
 
@@ -217,8 +225,13 @@ def _mark_limits(result: dict, limits: dict) -> None:
 
 def _located(request: dict, error: BaseException) -> dict:
     """An error that escaped evaluate() (a limit hit while visiting), at the launch file's line."""
-    record = {"stage": "worker", "type": type(error).__name__, "message": str(error),
-              "file": request.get("file") or request.get("model"), "line": None}
+    record = {
+        "stage": "worker",
+        "type": type(error).__name__,
+        "message": str(error),
+        "file": request.get("file") or request.get("model"),
+        "line": None,
+    }
     if "file" in request:
         from pkgforge.launch import runtime
 
@@ -244,7 +257,9 @@ def _install_guard() -> bool:
     tempfile.tempdir = None
     os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
     site = str(Path(guard.__file__).resolve().parent / "guard_site")
-    os.environ["PYTHONPATH"] = site + (os.pathsep + os.environ["PYTHONPATH"] if os.environ.get("PYTHONPATH") else "")
+    os.environ["PYTHONPATH"] = site + (
+        os.pathsep + os.environ["PYTHONPATH"] if os.environ.get("PYTHONPATH") else ""
+    )
 
     def where():
         from pkgforge.launch import runtime
@@ -274,9 +289,15 @@ def _refusals(result: dict, request: dict) -> None:
         else:
             kind = "RefusedSignal" if record["operation"].startswith("send signal") else "RefusedWrite"
         via = " (in a process it started)" if record.get("child") else ""
-        result.setdefault("errors", []).append({
-            "stage": "sandbox", "type": kind, "message": f"{record['operation']}: {record['path']}{via}",
-            "file": record.get("file") or request.get("file"), "line": record.get("line")})
+        result.setdefault("errors", []).append(
+            {
+                "stage": "sandbox",
+                "type": kind,
+                "message": f"{record['operation']}: {record['path']}{via}",
+                "file": record.get("file") or request.get("file"),
+                "line": record.get("line"),
+            }
+        )
 
 
 def preload() -> None:
@@ -285,9 +306,11 @@ def preload() -> None:
     import resource  # noqa: F401
     import tempfile  # noqa: F401
 
-    from pkgforge.sandbox import processes  # noqa: F401
-    from pkgforge.sandbox import guard
-    from pkgforge.launch import records
+    from pkgforge.launch import records  # noqa: F401
+    from pkgforge.sandbox import (
+        guard,  # noqa: F401
+        processes,  # noqa: F401
+    )
 
     if os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin") != "ros":
         from pkgforge.launch import api
@@ -343,7 +366,9 @@ def main() -> None:
                 elif engine == "ros" and setup_error is not None:
                     result = ros_engine.error_reply(request["file"], setup_error, distro)
                 elif engine == "ros":
-                    result = ros_engine.evaluate(request["file"], request.get("arguments", {}), distro, budget)
+                    result = ros_engine.evaluate(
+                        request["file"], request.get("arguments", {}), distro, budget
+                    )
                 else:
                     result = evaluate(request["file"], request.get("arguments", {}), budget)
             finally:

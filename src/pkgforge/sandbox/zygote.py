@@ -36,6 +36,7 @@ START_TIMEOUT = 60.0  # seconds for the server to fork a child (it imports first
 
 # --- the server -----------------------------------------------------------------------------
 
+
 def serve(channel: int) -> None:
     """The fork server's loop on the socket `channel`; returns when the parent closes it."""
     import selectors
@@ -128,6 +129,7 @@ def _child(request: dict, fds: list[int], sock: socket.socket, wake: tuple[int, 
 
 # --- the parent's side ----------------------------------------------------------------------
 
+
 class _Server:
     """One running fork server: its process, its socket, the replies and exits it reported."""
 
@@ -136,9 +138,13 @@ class _Server:
         try:
             self.process = subprocess.Popen(
                 [sys.executable, "-m", "pkgforge.sandbox.worker", "--fork-server", str(theirs.fileno())],
-                pass_fds=[theirs.fileno()], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                stderr=subprocess.DEVNULL, env={k: v for k, v in env.items() if k != LIMITS_VARIABLE},
-                start_new_session=True)
+                pass_fds=[theirs.fileno()],
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                env={k: v for k, v in env.items() if k != LIMITS_VARIABLE},
+                start_new_session=True,
+            )
         except BaseException:
             ours.close()
             raise
@@ -268,7 +274,7 @@ def _ended(pid: int) -> bool:
             stat = handle.read()
     except OSError:
         return True
-    return stat[stat.rfind(b")") + 2:][:1] in (b"Z", b"X")
+    return stat[stat.rfind(b")") + 2 :][:1] in (b"Z", b"X")
 
 
 class ForkedProcess:

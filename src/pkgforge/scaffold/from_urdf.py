@@ -60,11 +60,13 @@ def package_root(name: str, near: Path) -> Path | None:
 
 def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     """(the file a URI names, None) or (None, why not)."""
+
     def find(match) -> str:
         root = package_root(match.group(1), model.parent)
         if root is None:
-            raise LookupError(f"package '{match.group(1)}' is found neither above {model.name} nor in "
-                              "AMENT_PREFIX_PATH")
+            raise LookupError(
+                f"package '{match.group(1)}' is found neither above {model.name} nor in AMENT_PREFIX_PATH"
+            )
         return str(root)
 
     try:
@@ -72,15 +74,18 @@ def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     except LookupError as exc:
         return None, str(exc)
     if "$(" in text or "${" in text:
-        return None, "it is computed by xacro (properties or arguments): write the path literally, or copy it by hand"
+        return (
+            None,
+            "it is computed by xacro (properties or arguments): write the path literally, or copy it by hand",
+        )
     if text.startswith("package://"):
-        name, _, rest = text[len("package://"):].partition("/")
+        name, _, rest = text[len("package://") :].partition("/")
         root = package_root(name, model.parent)
         if root is None:
             return None, f"package '{name}' is found neither above {model.name} nor in AMENT_PREFIX_PATH"
         path = root / rest
     elif text.startswith("file://"):
-        path = Path(text[len("file://"):])
+        path = Path(text[len("file://") :])
     elif "://" in text:
         return None, f"pkgforge cannot resolve {text.split('://')[0]}:// URIs"
     else:
@@ -112,8 +117,9 @@ def _parse(path: Path):
     try:
         return etree.parse(str(path), etree.XMLParser(remove_comments=False)).getroot()
     except etree.XMLSyntaxError as exc:
-        raise PkgforgeError(f"{path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the model "
-                            "(nothing written)") from exc
+        raise PkgforgeError(
+            f"{path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the model (nothing written)"
+        ) from exc
     except OSError as exc:
         raise PkgforgeError(f"{path}: cannot read it: {exc.strerror}") from exc
 
@@ -125,8 +131,11 @@ def inner_files(mesh: Path) -> list[Path]:
     try:
         if suffix == ".dae":
             root = etree.parse(str(mesh), etree.XMLParser(huge_tree=True)).getroot()
-            names = [e.text.strip() for e in root.iter("{*}init_from")
-                     if e.text and e.getparent() is not None and etree.QName(e.getparent()).localname == "image"]
+            names = [
+                e.text.strip()
+                for e in root.iter("{*}init_from")
+                if e.text and e.getparent() is not None and etree.QName(e.getparent()).localname == "image"
+            ]
         elif suffix in (".obj", ".mtl"):
             for line in mesh.read_text(errors="replace").splitlines():
                 words = line.split()
@@ -136,7 +145,7 @@ def inner_files(mesh: Path) -> list[Path]:
         return []
     files = []
     for name in names:
-        name = name[len("file://"):] if name.startswith("file://") else name
+        name = name[len("file://") :] if name.startswith("file://") else name
         path = (mesh.parent / name) if not os.path.isabs(name) else Path(name)
         if path.is_file():
             files.append(path)
@@ -178,17 +187,24 @@ def massless_root(text: str, root, path: Path, notes=None) -> str:
     new = f"{name}_root"
     while new in names or f"{new}_joint" in names:
         new += "_"
-    start = sum(len(line) + 1 for line in text.split("\n")[:root.sourceline - 1])
+    start = sum(len(line) + 1 for line in text.split("\n")[: root.sourceline - 1])
     tag = ROBOT_START_TAG.search(text, start)
     if tag is None:
         return text
-    added = (f'\n  <!-- added by pkgforge: KDL ignores the inertia of a root link; {name} now hangs below '
-             f'this massless link -->\n  <link name="{new}"/>\n  <joint name="{new}_joint" type="fixed">\n'
-             f'    <parent link="{new}"/>\n    <child link="{name}"/>\n  </joint>')
+    added = (
+        f"\n  <!-- added by pkgforge: KDL ignores the inertia of a root link; {name} now hangs below "
+        f'this massless link -->\n  <link name="{new}"/>\n  <joint name="{new}_joint" type="fixed">\n'
+        f'    <parent link="{new}"/>\n    <child link="{name}"/>\n  </joint>'
+    )
     if notes is not None:
-        notes.add("migrate-changed", f"root link {name} has an inertia, which KDL ignores: link {new} added as "
-                  "the root, joined to it by a fixed joint", path, link.sourceline)
-    return text[:tag.end()] + added + text[tag.end():]
+        notes.add(
+            "migrate-changed",
+            f"root link {name} has an inertia, which KDL ignores: link {new} added as "
+            "the root, joined to it by a fixed joint",
+            path,
+            link.sourceline,
+        )
+    return text[: tag.end()] + added + text[tag.end() :]
 
 
 @dataclass
@@ -216,8 +232,9 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
         current = queue.pop(0)
         if current in models:
             continue
-        models[current] = current.name if current.name not in models.values() else \
-            f"{current.parent.name}_{current.name}"
+        models[current] = (
+            current.name if current.name not in models.values() else f"{current.parent.name}_{current.name}"
+        )
         root = _parse(current)
         roots[current] = root
         for reference in _references(current, root):
@@ -226,8 +243,10 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
             if reference.kind == "include" and reference.source is not None:
                 queue.append(reference.source)
     if etree.QName(roots[model]).localname != "robot":
-        raise PkgforgeError(f"{model}:{roots[model].sourceline}: the root element is "
-                            f"<{etree.QName(roots[model]).localname}>, not <robot>: not a URDF")
+        raise PkgforgeError(
+            f"{model}:{roots[model].sourceline}: the root element is "
+            f"<{etree.QName(roots[model]).localname}>, not <robot>: not a URDF"
+        )
     missing = [r for r in references if r.problem is not None]
     assets = [r for r in references if r.kind != "include" and r.source is not None]
     inner = {f for r in assets for f in inner_files(r.source)}
@@ -244,8 +263,11 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
                 new = f"$(find {name})/urdf/{models[reference.source]}"
             else:
                 relative = placed[reference.source.resolve()]
-                new = f"package://{name}/meshes/{relative}" if uri_style == "package" else \
-                    f"file://$(find {name})/meshes/{relative}"
+                new = (
+                    f"package://{name}/meshes/{relative}"
+                    if uri_style == "package"
+                    else f"file://$(find {name})/meshes/{relative}"
+                )
             if new != reference.uri:
                 text = _line_replace(text, reference.line, reference.uri, new)
         if current == model:
@@ -256,25 +278,37 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
 
             for element in roots[current].iter("plugin"):
                 if is_gazebo_classic_plugin(element.get("filename", "")):
-                    notes.add("migrate-gazebo-classic", f"Gazebo Classic plugin {element.get('filename')} "
-                              "is kept as written; it does not load in Gazebo (gz)", current, element.sourceline)
-    return Imported(files, models[model], root_link(roots[model]),
-                    len({r.source.resolve() for r in assets if r.kind == "mesh"}), missing)
+                    notes.add(
+                        "migrate-gazebo-classic",
+                        f"Gazebo Classic plugin {element.get('filename')} "
+                        "is kept as written; it does not load in Gazebo (gz)",
+                        current,
+                        element.sourceline,
+                    )
+    return Imported(
+        files,
+        models[model],
+        root_link(roots[model]),
+        len({r.source.resolve() for r in assets if r.kind == "mesh"}),
+        missing,
+    )
 
 
 def missing_message(missing: list[Reference], *, force: bool = True) -> str:
     lines = [f"{r.file}:{r.line}: {r.kind} '{r.uri}' not found: {r.problem}" for r in missing]
-    return ("\n".join(lines) + f"\n{len(missing)} file(s) the model names cannot be found: nothing written; "
-            "copy them where the model says" + (", or pass --force to write the package without them" if force else ""))
+    return (
+        "\n".join(lines) + f"\n{len(missing)} file(s) the model names cannot be found: nothing written; "
+        "copy them where the model says"
+        + (", or pass --force to write the package without them" if force else "")
+    )
 
 
-def new_from_urdf(spec_options: dict, model: Path, destination: Path, *, force: int = 0,
-                  uri_style: str = "package"):
+def new_from_urdf(
+    spec_options: dict, model: Path, destination: Path, *, force: int = 0, uri_style: str = "package"
+):
     """Write the package; returns (CreatedPackage, Notes)."""
     from pkgforge.migrate.notes import Notes
-    from pkgforge.scaffold.package import create_package
-    from pkgforge.scaffold.package import make_spec
-    from pkgforge.scaffold.package import render_files
+    from pkgforge.scaffold.package import create_package, make_spec, render_files
 
     name = spec_options["name"]
     make_spec(**spec_options)  # a bad name or option fails before the model is read
@@ -283,17 +317,29 @@ def new_from_urdf(spec_options: dict, model: Path, destination: Path, *, force: 
     if imported.missing and not force:
         raise PkgforgeError(missing_message(imported.missing))
     for reference in imported.missing:
-        notes.add("migrate-dropped", f"{reference.kind} '{reference.uri}' not found ({reference.problem}); "
-                  "the package was written without it (--force)", reference.file, reference.line)
+        notes.add(
+            "migrate-dropped",
+            f"{reference.kind} '{reference.uri}' not found ({reference.problem}); "
+            "the package was written without it (--force)",
+            reference.file,
+            reference.line,
+        )
     frame = imported.root_link
     if frame is None:
         frame = "base_link"
-        notes.add("migrate-generated", "the model's root link is not written literally (xacro macros): the "
-                  "RViz Fixed Frame is base_link", model)
+        notes.add(
+            "migrate-generated",
+            "the model's root link is not written literally (xacro macros): the "
+            "RViz Fixed Frame is base_link",
+            model,
+        )
     has_meshes = any(k.startswith("meshes/") for k in imported.files)
-    spec = make_spec(**spec_options, model_name=imported.model_name, fixed_frame=frame,
-                     resource_folders=("launch", "meshes", "rviz", "urdf") if has_meshes
-                     else ("launch", "rviz", "urdf"))
+    spec = make_spec(
+        **spec_options,
+        model_name=imported.model_name,
+        fixed_frame=frame,
+        resource_folders=("launch", "meshes", "rviz", "urdf") if has_meshes else ("launch", "rviz", "urdf"),
+    )
     files = render_files(spec)
     for generated in ("urdf/macros.xacro", spec.mesh_file, spec.model_file):
         files.pop(generated, None)

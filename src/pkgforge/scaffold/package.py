@@ -14,23 +14,17 @@ from pathlib import Path
 import jinja2
 from catkin_pkg.package import InvalidPackage, parse_package_string
 
-from pkgforge import DISTRIBUTION
-from pkgforge import __version__
-from pkgforge.model.distros import DISTROS
-from pkgforge.model.distros import Distro
-from pkgforge.model.distros import default_distro
+from pkgforge import DISTRIBUTION, __version__
 from pkgforge.errors import PkgforgeError
-from pkgforge.scaffold.kinds import BUILD_TYPES
-from pkgforge.scaffold.kinds import CI_SYSTEMS
-from pkgforge.scaffold.kinds import LAUNCH_FORMATS
-from pkgforge.model.names import REP144_RULE
-from pkgforge.model.names import rep144_problem
-from pkgforge.scaffold.stl import binary_stl
-from pkgforge.scaffold.stl import box_triangles
-
+from pkgforge.model.distros import DISTROS, Distro, default_distro
+from pkgforge.model.names import REP144_RULE, rep144_problem
+from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
+from pkgforge.scaffold.stl import binary_stl, box_triangles
 
 # catkin_pkg's own rule, so a bad address fails here, not later in CMake
-EMAIL_PATTERN = re.compile(r"^[-a-zA-Z0-9_%+]+(\.[-a-zA-Z0-9_%+]+)*@[-a-zA-Z0-9%]+(\.[-a-zA-Z0-9%]+)*\.[a-zA-Z]{2,}$")
+EMAIL_PATTERN = re.compile(
+    r"^[-a-zA-Z0-9_%+]+(\.[-a-zA-Z0-9_%+]+)*@[-a-zA-Z0-9%]+(\.[-a-zA-Z0-9%]+)*\.[a-zA-Z]{2,}$"
+)
 
 # What the generated launch file starts or looks up, hence what must be an
 # exec_depend (user story 6). rviz_default_plugins provides the RViz displays.
@@ -87,8 +81,11 @@ class PackageSpec:
     def exec_depends(self) -> list[str]:
         if self.launch_files:  # migrated: what its launch files use, no more
             return sorted(set(self.extra_exec_depends))
-        return sorted(set(BASE_EXEC_DEPENDS) | set(LAUNCH_FORMAT_DEPENDS[self.launch_format])
-                      | set(self.extra_exec_depends))
+        return sorted(
+            set(BASE_EXEC_DEPENDS)
+            | set(LAUNCH_FORMAT_DEPENDS[self.launch_format])
+            | set(self.extra_exec_depends)
+        )
 
     @property
     def launch_file(self) -> str:
@@ -128,9 +125,7 @@ class PackageSpec:
 
 def git_config(key: str) -> str | None:
     try:
-        result = subprocess.run(
-            ["git", "config", "--get", key], capture_output=True, text=True, timeout=5
-        )
+        result = subprocess.run(["git", "config", "--get", key], capture_output=True, text=True, timeout=5)
     except (OSError, subprocess.SubprocessError):
         return None
     value = result.stdout.strip()
@@ -170,9 +165,11 @@ def make_spec(
     distro = distro or default_distro()  # ROS_DISTRO when set, else the newest LTS
     if distro not in DISTROS:
         raise PkgforgeError(f"unknown distro '{distro}'; choose one of {', '.join(DISTROS)}")
-    for value, allowed, what in ((build_type, BUILD_TYPES, "build type"),
-                                 (launch_format, LAUNCH_FORMATS, "launch format"),
-                                 *((system, CI_SYSTEMS, "CI system") for system in ci)):
+    for value, allowed, what in (
+        (build_type, BUILD_TYPES, "build type"),
+        (launch_format, LAUNCH_FORMATS, "launch format"),
+        *((system, CI_SYSTEMS, "CI system") for system in ci),
+    ):
         if value not in allowed:
             raise PkgforgeError(f"unknown {what} '{value}'; choose one of {', '.join(allowed)}")
     default_name, default_email = default_maintainer()
@@ -287,8 +284,14 @@ def _symlink_out(target: Path, relative: str) -> Path | None:
     return None
 
 
-def create_package(spec: PackageSpec, destination: Path, *, force: int = 0,
-                   files: dict[str, bytes] | None = None, folder: str | None = None) -> CreatedPackage:
+def create_package(
+    spec: PackageSpec,
+    destination: Path,
+    *,
+    force: int = 0,
+    files: dict[str, bytes] | None = None,
+    folder: str | None = None,
+) -> CreatedPackage:
     """Render into a temporary folder beside the target, then move into place.
 
     Without `force` an existing target is refused and left untouched. With
@@ -300,8 +303,10 @@ def create_package(spec: PackageSpec, destination: Path, *, force: int = 0,
     Folders and files get the modes the umask gives (like mkdir and touch).
     """
     if len(spec.name) > MAX_NAME_LENGTH:
-        raise PkgforgeError(f"the name is {len(spec.name)} characters long; files named after it would pass "
-                            f"the file system's 255-byte limit: use at most {MAX_NAME_LENGTH}")
+        raise PkgforgeError(
+            f"the name is {len(spec.name)} characters long; files named after it would pass "
+            f"the file system's 255-byte limit: use at most {MAX_NAME_LENGTH}"
+        )
     destination = destination.absolute()
     target = destination / (folder or spec.name)
     if (target.exists() or target.is_symlink()) and not force:
@@ -310,8 +315,10 @@ def create_package(spec: PackageSpec, destination: Path, *, force: int = 0,
             "(which adds the missing generated files and keeps any others)"
         )
     if target.is_symlink():
-        raise PkgforgeError(f"{target} is a symbolic link (to {os.path.realpath(target)}): pkgforge does not "
-                            "write through it; give the real folder with --destination")
+        raise PkgforgeError(
+            f"{target} is a symbolic link (to {os.path.realpath(target)}): pkgforge does not "
+            "write through it; give the real folder with --destination"
+        )
     if target.exists() and not target.is_dir():
         raise PkgforgeError(f"{target} exists and is not a folder")
     files = render_files(spec) if files is None else files
@@ -320,8 +327,10 @@ def create_package(spec: PackageSpec, destination: Path, *, force: int = 0,
         for relative in sorted(files):
             link = _symlink_out(target, relative)
             if link is not None:
-                raise PkgforgeError(f"{link} is a symbolic link to {os.path.realpath(link)}, outside {target}: "
-                                    f"pkgforge does not write {relative} through it (nothing written)")
+                raise PkgforgeError(
+                    f"{link} is a symbolic link to {os.path.realpath(link)}, outside {target}: "
+                    f"pkgforge does not write {relative} through it (nothing written)"
+                )
             final = target / relative
             if final.is_dir() and not final.is_symlink():
                 raise PkgforgeError(f"{final} is a folder where pkgforge writes a file (nothing written)")
@@ -336,14 +345,17 @@ def create_package(spec: PackageSpec, destination: Path, *, force: int = 0,
             raise PkgforgeError(
                 f"--force would replace {len(overwritten)} file(s) in {target} that differ from what "
                 f"pkgforge writes now (edited, or generated with other options):\n{listed}\n"
-                "nothing was written; pass --force twice to replace them, or move them away first")
+                "nothing was written; pass --force twice to replace them, or move them away first"
+            )
     mask = _umask()
     try:
         destination.mkdir(parents=True, exist_ok=True)
         staging = Path(tempfile.mkdtemp(prefix=f".{spec.name}.pkgforge-", dir=destination))
     except OSError as exc:
-        raise PkgforgeError(f"cannot create the package in {destination}: {exc.strerror} "
-                            "(choose a folder you can write to with --destination)") from exc
+        raise PkgforgeError(
+            f"cannot create the package in {destination}: {exc.strerror} "
+            "(choose a folder you can write to with --destination)"
+        ) from exc
     try:
         os.chmod(staging, 0o777 & ~mask)  # mkdtemp makes it 0700; it becomes the package folder
         for relative, content in files.items():

@@ -18,7 +18,9 @@ def box_triangles(size: Vec, origin: Vec = (0.0, 0.0, 0.0)) -> list[tuple[Vec, V
     x0, x1, y0, y1, z0, z1 = ox - half_x, ox + half_x, oy - half_y, oy + half_y, oz, oz + height
     corners = {
         (i, j, k): (x1 if i else x0, y1 if j else y0, z1 if k else z0)
-        for i in (0, 1) for j in (0, 1) for k in (0, 1)
+        for i in (0, 1)
+        for j in (0, 1)
+        for k in (0, 1)
     }
     # each face: normal and its four corners counter-clockwise seen from outside
     faces = [

@@ -31,7 +31,7 @@ class MeshLookup:
 
 def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLookup:
     if uri.startswith("package://"):
-        package, _, relative = uri[len("package://"):].partition("/")
+        package, _, relative = uri[len("package://") :].partition("/")
         relative = unquote(relative)
         normal = posixpath.normpath(relative)
         if normal.startswith("..") or normal.startswith("/"):
@@ -103,5 +103,7 @@ def _stl_problem(head: bytes, size: int) -> str | None:
     if len(head) < 84:
         return f"{size} bytes is too short for an STL (a binary STL has an 84-byte header)"
     (count,) = struct.unpack_from("<I", head, 80)
-    return (f"binary STL header says {count} triangles ({84 + 50 * count} bytes), "
-            f"but the file has {size} bytes: truncated or not an STL")
+    return (
+        f"binary STL header says {count} triangles ({84 + 50 * count} bytes), "
+        f"but the file has {size} bytes: truncated or not an STL"
+    )

@@ -29,7 +29,7 @@ class MeshInfo:
 
     @property
     def extent(self) -> float:
-        return max(h - lo for lo, h in zip(self.low, self.high))
+        return max(h - lo for lo, h in zip(self.low, self.high, strict=False))
 
 
 def mesh_info(path: str) -> MeshInfo | None:
@@ -89,10 +89,16 @@ def _stl(data: bytes) -> MeshInfo | None:
         if 84 + 50 * count == len(data):
             np = _numpy()
             if np is not None and count:
-                records = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)),
-                                                                ("a", "<u2")]), count=count, offset=84)
+                records = np.frombuffer(
+                    data,
+                    dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]),
+                    count=count,
+                    offset=84,
+                )
                 vertices = records["v"].reshape(-1, 3).astype(float)
-                return MeshInfo(tuple(vertices.min(axis=0).tolist()), tuple(vertices.max(axis=0).tolist()), count)
+                return MeshInfo(
+                    tuple(vertices.min(axis=0).tolist()), tuple(vertices.max(axis=0).tolist()), count
+                )
             xs, ys, zs = [], [], []
             for record in struct.iter_unpack("<12fH", data[84:]):
                 xs += record[3:12:3]
@@ -134,8 +140,11 @@ def _collada(data: bytes) -> MeshInfo | None:
     boxes = [b for b in placed if b is not None]
     if not boxes:
         return None
-    return MeshInfo(tuple(min(b[0][i] for b in boxes) for i in range(3)),
-                    tuple(max(b[1][i] for b in boxes) for i in range(3)), count)
+    return MeshInfo(
+        tuple(min(b[0][i] for b in boxes) for i in range(3)),
+        tuple(max(b[1][i] for b in boxes) for i in range(3)),
+        count,
+    )
 
 
 def _floats(text: str):
@@ -152,7 +161,7 @@ def _join(arrays: list):
         flat = np.concatenate(arrays) if arrays else np.zeros(0)
         return flat[: len(flat) // 3 * 3].reshape(-1, 3)
     values = [v for array in arrays for v in array]
-    return list(zip(values[0::3], values[1::3], values[2::3]))
+    return list(zip(values[0::3], values[1::3], values[2::3], strict=False))
 
 
 def _transform(m, points) -> tuple | None:
@@ -163,10 +172,17 @@ def _transform(m, points) -> tuple | None:
     if np is not None:
         moved = points @ np.asarray(m, dtype=float)[:3, :3].T + np.asarray(m, dtype=float)[:3, 3]
         return tuple(moved.min(axis=0).tolist()), tuple(moved.max(axis=0).tolist())
-    moved = [(m[0][0] * x + m[0][1] * y + m[0][2] * z + m[0][3],
-              m[1][0] * x + m[1][1] * y + m[1][2] * z + m[1][3],
-              m[2][0] * x + m[2][1] * y + m[2][2] * z + m[2][3]) for x, y, z in points]
-    return tuple(min(p[i] for p in moved) for i in range(3)), tuple(max(p[i] for p in moved) for i in range(3))
+    moved = [
+        (
+            m[0][0] * x + m[0][1] * y + m[0][2] * z + m[0][3],
+            m[1][0] * x + m[1][1] * y + m[1][2] * z + m[1][3],
+            m[2][0] * x + m[2][1] * y + m[2][2] * z + m[2][3],
+        )
+        for x, y, z in points
+    ]
+    return tuple(min(p[i] for p in moved) for i in range(3)), tuple(
+        max(p[i] for p in moved) for i in range(3)
+    )
 
 
 def _scaled_identity(unit: float) -> list[list[float]]:
@@ -181,8 +197,11 @@ def _node_matrix(node) -> list[list[float]]:
     matrix = _scaled_identity(1.0)
     for child in node:
         tag = child.tag.rsplit("}", 1)[-1] if isinstance(child.tag, str) else ""
-        values = [float(v) for v in (child.text or "").split()] if tag in (
-            "matrix", "translate", "rotate", "scale") else None
+        values = (
+            [float(v) for v in (child.text or "").split()]
+            if tag in ("matrix", "translate", "rotate", "scale")
+            else None
+        )
         if tag == "matrix" and len(values) == 16:
             local = [values[0:4], values[4:8], values[8:12], values[12:16]]
         elif tag == "translate" and len(values) == 3:
@@ -238,13 +257,16 @@ def _obj(data: bytes) -> MeshInfo | None:
 
 # --- poses -------------------------------------------------------------------------------------
 
+
 def rotation(rpy, axis=None, angle: float = 0.0) -> Matrix:
     """URDF fixed-axis roll-pitch-yaw (Rz·Ry·Rx), then `angle` about `axis` (a revolute joint)."""
     r, p, y = rpy
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    matrix = ((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
-              (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
-              (-sp, cp * sr, cp * cr))
+    matrix = (
+        (cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
+        (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
+        (-sp, cp * sr, cp * cr),
+    )
     if axis is not None and angle:
         matrix = multiply(matrix, axis_angle(axis, angle))
     return matrix
@@ -254,9 +276,11 @@ def axis_angle(axis, angle: float) -> Matrix:
     norm = math.sqrt(sum(a * a for a in axis)) or 1.0
     x, y, z = (a / norm for a in axis)
     c, s, t = math.cos(angle), math.sin(angle), 1 - math.cos(angle)
-    return ((t * x * x + c, t * x * y - s * z, t * x * z + s * y),
-            (t * x * y + s * z, t * y * y + c, t * y * z - s * x),
-            (t * x * z - s * y, t * y * z + s * x, t * z * z + c))
+    return (
+        (t * x * x + c, t * x * y - s * z, t * x * z + s * y),
+        (t * x * y + s * z, t * y * y + c, t * y * z - s * x),
+        (t * x * z - s * y, t * y * z + s * x, t * z * z + c),
+    )
 
 
 def multiply(a: Matrix, b: Matrix) -> Matrix:
@@ -276,7 +300,7 @@ def compose(pose, origin: dict, axis=None, angle: float = 0.0, slide: float = 0.
     if axis is not None and slide:
         norm = math.sqrt(sum(a * a for a in axis)) or 1.0
         moved = apply((rotation(origin["rpy"]), (0.0, 0.0, 0.0)), [a / norm * slide for a in axis])
-        xyz = [x + m for x, m in zip(xyz, moved)]
+        xyz = [x + m for x, m in zip(xyz, moved, strict=False)]
     return multiply(matrix, local), apply(pose, xyz)
 
 
@@ -301,14 +325,19 @@ def link_poses(robot: dict, positions: dict[str, float] | None = None) -> dict[s
             axis = joint.get("axis") or [1.0, 0.0, 0.0]
             kind = joint.get("type")
             origin = joint.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3}
-            child_pose = compose(pose, origin, axis,
-                                 angle=value if kind in ("revolute", "continuous") else 0.0,
-                                 slide=value if kind == "prismatic" else 0.0)
+            child_pose = compose(
+                pose,
+                origin,
+                axis,
+                angle=value if kind in ("revolute", "continuous") else 0.0,
+                slide=value if kind == "prismatic" else 0.0,
+            )
             stack.append((joint.get("child"), child_pose))
     return poses
 
 
 # --- shapes and numbers ------------------------------------------------------------------------
+
 
 def local_box(geometry: dict | None, resolve) -> tuple | None:
     """(low, high) of a shape in its own frame; `resolve(uri)` → a mesh file path or None."""
@@ -318,8 +347,15 @@ def local_box(geometry: dict | None, resolve) -> tuple | None:
     if kind == "box" and geometry.get("size"):
         half = [abs(s) / 2 for s in geometry["size"]]
         return tuple(-h for h in half), tuple(half)
-    if kind in ("cylinder", "capsule") and geometry.get("radius") is not None and geometry.get("length") is not None:
-        r, h = abs(geometry["radius"]), abs(geometry["length"]) / 2 + (abs(geometry["radius"]) if kind == "capsule" else 0)
+    if (
+        kind in ("cylinder", "capsule")
+        and geometry.get("radius") is not None
+        and geometry.get("length") is not None
+    ):
+        r, h = (
+            abs(geometry["radius"]),
+            abs(geometry["length"]) / 2 + (abs(geometry["radius"]) if kind == "capsule" else 0),
+        )
         return (-r, -r, -h), (r, r, h)
     if kind == "sphere" and geometry.get("radius") is not None:
         r = abs(geometry["radius"])
@@ -330,7 +366,7 @@ def local_box(geometry: dict | None, resolve) -> tuple | None:
         if info is None:
             return None
         scale = geometry.get("scale") or [1.0, 1.0, 1.0]
-        corners = [(lo * s, hi * s) for lo, hi, s in zip(info.low, info.high, scale)]
+        corners = [(lo * s, hi * s) for lo, hi, s in zip(info.low, info.high, scale, strict=False)]
         return tuple(min(c) for c in corners), tuple(max(c) for c in corners)
     return None
 
@@ -357,7 +393,9 @@ def world_bounds(robot: dict, resolve, positions=None, kinds=("visuals",)) -> tu
                 points += [apply(part_pose, corner) for corner in box_corners(box)]
     if not points:
         return None
-    return tuple(min(p[i] for p in points) for i in range(3)), tuple(max(p[i] for p in points) for i in range(3))
+    return tuple(min(p[i] for p in points) for i in range(3)), tuple(
+        max(p[i] for p in points) for i in range(3)
+    )
 
 
 def total_mass(robot: dict) -> float:

@@ -8,9 +8,9 @@ line in the model or its includes where the name is written, else the file.
 
 from __future__ import annotations
 
+import bisect
 import io
 import os
-import bisect
 import re
 import sys
 
@@ -31,28 +31,51 @@ def process_model(path: str, mappings: dict[str, str]) -> dict:
     except OSError as error:
         return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
     if size > MAX_MODEL_BYTES:
-        return {"status": "too-large", "error": {
-            "message": f"{size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
-            "file": path, "line": None}}
+        return {
+            "status": "too-large",
+            "error": {
+                "message": f"{size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
+                "file": path,
+                "line": None,
+            },
+        }
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096)
         head.decode("utf-8")
     except UnicodeDecodeError:
-        return {"status": "error", "error": {"message": "not a text file (binary data, not XML)",
-                                             "file": path, "line": 1, "stage": "xml"}}
+        return {
+            "status": "error",
+            "error": {
+                "message": "not a text file (binary data, not XML)",
+                "file": path,
+                "line": 1,
+                "stage": "xml",
+            },
+        }
     text, includes, error = _expand(path, mappings)
     if error is not None:
         return error
     try:
         root = etree.fromstring(text.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
     except etree.XMLSyntaxError as exc:
-        return {"status": "error", "error": {"message": f"not well-formed XML: {exc.msg}", "file": path,
-                                             "line": exc.lineno, "stage": "xml"}}
+        return {
+            "status": "error",
+            "error": {
+                "message": f"not well-formed XML: {exc.msg}",
+                "file": path,
+                "line": exc.lineno,
+                "stage": "xml",
+            },
+        }
     expanded = includes is not None
     sources = _name_index([path, *includes]) if expanded else {}
-    return {"status": "ok", "error": None, "includes": includes or [],
-            "robot": _structure(root, path, sources, expanded)}
+    return {
+        "status": "ok",
+        "error": None,
+        "includes": includes or [],
+        "robot": _structure(root, path, sources, expanded),
+    }
 
 
 def structure_of_output(path: str, urdf: str, includes: list[str]) -> dict | None:
@@ -85,8 +108,12 @@ def _expand(path: str, mappings: dict[str, str]):
         if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
             return None, [], _recursion_error(xacro, path)
         error = _xacro_error(xacro, exc, path, mappings)
-        if not mappings and error["status"] == "error" and error["error"]["stage"] == "xacro" \
-                and "type" not in error["error"]:  # a worker limit hit: no second run
+        if (
+            not mappings
+            and error["status"] == "error"
+            and error["error"]["stage"] == "xacro"
+            and "type" not in error["error"]
+        ):  # a worker limit hit: no second run
             _blame_empty_arguments(xacro, path, error, arguments)
         return None, [], error
     finally:
@@ -131,17 +158,29 @@ def _recursion_error(xacro, path: str) -> dict:
         name = names[looping].removeprefix("xacro:")
         history = getattr(macros[looping], "history", None) or [[]]
         file = (history[-1][-1] if history[-1] else None) or stack[-1]
-        return {"status": "error", "error": {
-            "message": f"macro {name} calls itself (directly or through another macro) and nothing ends "
-                       "the calls: xacro recursed without end", "file": file,
-            "line": _line_matching(file, re.compile(rf"<xacro:{re.escape(name)}[\s/>]")), "stage": "xacro",
-            "hint": f"give the call of {name} inside its own body an xacro:if/xacro:unless that becomes "
-                    "false (a counter parameter), or call another macro"}}
+        return {
+            "status": "error",
+            "error": {
+                "message": f"macro {name} calls itself (directly or through another macro) and nothing ends "
+                "the calls: xacro recursed without end",
+                "file": file,
+                "line": _line_matching(file, re.compile(rf"<xacro:{re.escape(name)}[\s/>]")),
+                "stage": "xacro",
+                "hint": f"give the call of {name} inside its own body an xacro:if/xacro:unless that becomes "
+                "false (a counter parameter), or call another macro",
+            },
+        }
     repeated = repeated or stack[-1]
-    return {"status": "error", "error": {
-        "message": f"{os.path.basename(repeated)} includes itself (directly or through another file): "
-                   "xacro recursed without end", "file": repeated,
-        "line": _line_mentioning(repeated, "xacro:include"), "stage": "xacro"}}
+    return {
+        "status": "error",
+        "error": {
+            "message": f"{os.path.basename(repeated)} includes itself (directly or through another file): "
+            "xacro recursed without end",
+            "file": repeated,
+            "line": _line_mentioning(repeated, "xacro:include"),
+            "stage": "xacro",
+        },
+    }
 
 
 def _xacro_error(xacro, exc, path: str, mappings: dict) -> dict:
@@ -152,8 +191,13 @@ def _xacro_error(xacro, exc, path: str, mappings: dict) -> dict:
     status = "needs-arguments" if needs and not mappings else "error"
     file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
     stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
-    error = {"message": message.strip(), "file": file, "line": line,
-             "argument": needs.group(1) if needs else None, "stage": stage}
+    error = {
+        "message": message.strip(),
+        "file": file,
+        "line": line,
+        "argument": needs.group(1) if needs else None,
+        "stage": stage,
+    }
     cause, seen = exc, set()
     while cause is not None and id(cause) not in seen:  # a worker limit hit inside xacro: the worker names it
         seen.add(id(cause))
@@ -169,8 +213,9 @@ def _xacro_location(exc, path: str, filestack: list):
     line = None
     text = str(exc)
     missing = re.search(r"No such file or directory: \[?'?([^'\]\s]+)", text)
-    undefined = re.search(r"name '([^']+)' is not defined", text) or \
-        re.search(r"[Uu]ndefined substitution argument (\S+)", text)
+    undefined = re.search(r"name '([^']+)' is not defined", text) or re.search(
+        r"[Uu]ndefined substitution argument (\S+)", text
+    )
     package = re.search(r"package '([^']+)' not found", text)
     if missing:
         line = _line_mentioning(file, os.path.basename(missing.group(1)))
@@ -236,7 +281,9 @@ def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
         for pattern in (NAME_ATTRIBUTE, MESH_ATTRIBUTE):
             for match in pattern.finditer(text):
                 end = text.find(">", match.end())
-                if match.group(1) == "joint" and not JOINT_TYPE.search(text, match.start(), end if end >= 0 else len(text)):
+                if match.group(1) == "joint" and not JOINT_TYPE.search(
+                    text, match.start(), end if end >= 0 else len(text)
+                ):
                     continue
                 key = (match.group(1), match.group(2))
                 if key not in index:
@@ -252,42 +299,64 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
             return sources[(tag, name)]
         return (path, element.sourceline if plain else None)
 
-    robot = {"root_tag": root.tag if isinstance(root.tag, str) else None, "name": root.get("name"),
-             "links": [], "joints": [], "meshes": []}
+    robot = {
+        "root_tag": root.tag if isinstance(root.tag, str) else None,
+        "name": root.get("name"),
+        "links": [],
+        "joints": [],
+        "meshes": [],
+    }
     if root.tag != "robot":
         return robot
     materials = _materials(root)
     for link in root.findall("link"):
         name = link.get("name")
         file, line = where(link, "link", name)
-        robot["links"].append({"name": name, "file": file, "line": line,
-                               **_physical_link(link, materials, plain and line)})
+        robot["links"].append(
+            {"name": name, "file": file, "line": line, **_physical_link(link, materials, plain and line)}
+        )
         for kind in ("visual", "collision"):
             for part in link.findall(kind):
                 for mesh in part.iter(*GEOMETRY_URI_TAGS):
                     uri = mesh.get("filename")
                     if uri:
-                        mesh_file, mesh_line = (path, mesh.sourceline) if plain else \
-                            sources.get(("mesh", uri), (file, line))
-                        robot["meshes"].append({"uri": uri, "link": name, "kind": kind, "file": mesh_file,
-                                                "line": mesh_line})
+                        mesh_file, mesh_line = (
+                            (path, mesh.sourceline) if plain else sources.get(("mesh", uri), (file, line))
+                        )
+                        robot["meshes"].append(
+                            {"uri": uri, "link": name, "kind": kind, "file": mesh_file, "line": mesh_line}
+                        )
     for material in root.iter("texture"):
         if material.get("filename"):
-            robot["meshes"].append({"uri": material.get("filename"), "link": None, "kind": "texture",
-                                    "file": path, "line": material.sourceline if plain else None})
+            robot["meshes"].append(
+                {
+                    "uri": material.get("filename"),
+                    "link": None,
+                    "kind": "texture",
+                    "file": path,
+                    "line": material.sourceline if plain else None,
+                }
+            )
     for joint in root.findall("joint"):
         name = joint.get("name")
         file, line = where(joint, "joint", name)
         parent, child = joint.find("parent"), joint.find("child")
-        robot["joints"].append({
-            "name": name, "type": joint.get("type"), "file": file, "line": line,
-            "parent": parent.get("link") if parent is not None else None,
-            "child": child.get("link") if child is not None else None,
-            **_physical_joint(joint, plain and line)})
+        robot["joints"].append(
+            {
+                "name": name,
+                "type": joint.get("type"),
+                "file": file,
+                "line": line,
+                "parent": parent.get("link") if parent is not None else None,
+                "child": child.get("link") if child is not None else None,
+                **_physical_joint(joint, plain and line),
+            }
+        )
     return robot
 
 
 # --- the numbers physics and rendering need (pkgforge.urdf.physics, pkgforge.view) -------------------
+
 
 def _numbers(text: str | None, count: int) -> list[float] | None:
     """`count` floats from a space-separated attribute; None when absent or not numbers."""
@@ -309,8 +378,10 @@ def _origin(element) -> dict:
     origin = element.find("origin") if element is not None else None
     if origin is None:
         return {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
-    return {"xyz": _numbers(origin.get("xyz", "0 0 0"), 3) or [0.0, 0.0, 0.0],
-            "rpy": _numbers(origin.get("rpy", "0 0 0"), 3) or [0.0, 0.0, 0.0]}
+    return {
+        "xyz": _numbers(origin.get("xyz", "0 0 0"), 3) or [0.0, 0.0, 0.0],
+        "rpy": _numbers(origin.get("rpy", "0 0 0"), 3) or [0.0, 0.0, 0.0],
+    }
 
 
 def _color(material) -> list[float] | None:
@@ -330,17 +401,25 @@ def _geometry(part) -> dict | None:
     if shape.tag == "box":
         return {"type": "box", "size": _numbers(shape.get("size"), 3)}
     if shape.tag in ("cylinder", "capsule"):
-        return {"type": shape.tag, "radius": _number(shape.get("radius")), "length": _number(shape.get("length"))}
+        return {
+            "type": shape.tag,
+            "radius": _number(shape.get("radius")),
+            "length": _number(shape.get("length")),
+        }
     if shape.tag == "sphere":
         return {"type": "sphere", "radius": _number(shape.get("radius"))}
     if shape.tag == "mesh":
-        return {"type": "mesh", "uri": shape.get("filename"),
-                "scale": _numbers(shape.get("scale"), 3) or [1.0, 1.0, 1.0]}
+        return {
+            "type": "mesh",
+            "uri": shape.get("filename"),
+            "scale": _numbers(shape.get("scale"), 3) or [1.0, 1.0, 1.0],
+        }
     return {"type": shape.tag}
 
 
 def _physical_link(link, materials: dict, line) -> dict:
     """A link's inertial and its visual/collision shapes, as plain numbers."""
+
     def line_of(element):
         return element.sourceline if line else None
 
@@ -350,16 +429,27 @@ def _physical_link(link, materials: dict, line) -> dict:
         mass, tensor = inertial.find("mass"), inertial.find("inertia")
         data["inertial"] = {
             "mass": _number(mass.get("value")) if mass is not None else None,
-            "inertia": None if tensor is None else {
-                k: _number(tensor.get(k)) or 0.0 for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
-            "origin": _origin(inertial), "line": line_of(inertial)}
+            "inertia": None
+            if tensor is None
+            else {k: _number(tensor.get(k)) or 0.0 for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
+            "origin": _origin(inertial),
+            "line": line_of(inertial),
+        }
     for kind, key in (("visual", "visuals"), ("collision", "collisions")):
         for part in link.findall(kind):
             material = part.find("material") if kind == "visual" else None
-            color = _color(material) or (materials.get(material.get("name")) if material is not None else None)
+            color = _color(material) or (
+                materials.get(material.get("name")) if material is not None else None
+            )
             shape = part.find("geometry")
-            data[key].append({"geometry": _geometry(part), "origin": _origin(part), "color": color,
-                              "line": line_of(next(iter(shape), part) if shape is not None else part)})
+            data[key].append(
+                {
+                    "geometry": _geometry(part),
+                    "origin": _origin(part),
+                    "color": color,
+                    "line": line_of(next(iter(shape), part) if shape is not None else part),
+                }
+            )
     return data
 
 
@@ -368,8 +458,13 @@ def _physical_joint(joint, line) -> dict:
     return {
         "origin": _origin(joint),
         "axis": None if axis is None else _numbers(axis.get("xyz", "1 0 0"), 3),
-        "limit": None if limit is None else {
-            "lower": _number(limit.get("lower")), "upper": _number(limit.get("upper")),
-            "velocity": _number(limit.get("velocity")), "effort": _number(limit.get("effort")),
-            "line": limit.sourceline if line else None},
+        "limit": None
+        if limit is None
+        else {
+            "lower": _number(limit.get("lower")),
+            "upper": _number(limit.get("upper")),
+            "velocity": _number(limit.get("velocity")),
+            "effort": _number(limit.get("effort")),
+            "line": limit.sourceline if line else None,
+        },
     }

@@ -54,6 +54,7 @@ class ModelResult:
 @dataclass
 class _Shape:
     """What a model file gives the robot, read without running it."""
+
     # <robot> at its root, or named a URDF (.urdf, .urdf.xacro: another root is the model's defect),
     # or not XML at all (processed all the same: the error is named)
     robot: bool = True
@@ -69,15 +70,18 @@ def _shape(path: Path, share: Path, package: str) -> _Shape:
     try:
         if path.stat().st_size > CLASSIFY_MAX_BYTES:
             return _Shape()
-        parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False,
-                                 no_network=True, huge_tree=False)
+        parser = etree.XMLParser(
+            remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False
+        )
         root = etree.parse(str(path), parser).getroot()
     except (OSError, etree.XMLSyntaxError, ValueError):
         return _Shape()
     if root is None or not isinstance(root.tag, str):
         return _Shape()
-    shape = _Shape(robot=etree.QName(root).localname == "robot" or path.name.endswith((".urdf", ".urdf.xacro")),
-                   content=False)
+    shape = _Shape(
+        robot=etree.QName(root).localname == "robot" or path.name.endswith((".urdf", ".urdf.xacro")),
+        content=False,
+    )
     stack = list(root)
     while stack:  # no recursion: a file nests as deep as it likes
         element = stack.pop()
@@ -128,9 +132,14 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
     for path, shape in shapes.items():
         by_name.setdefault(path.name, []).append(shape)
     included = {name for path, shape in shapes.items() for name in shape.includes if name != path.name}
-    return [path for path, shape in shapes.items()
-            if shape.robot and path.name not in included and _gives_content(shape, by_name)
-            and not (path.name.endswith(".xacro") and _fragment(shape, by_name))]
+    return [
+        path
+        for path, shape in shapes.items()
+        if shape.robot
+        and path.name not in included
+        and _gives_content(shape, by_name)
+        and not (path.name.endswith(".xacro") and _fragment(shape, by_name))
+    ]
 
 
 def _fragment(shape: _Shape, by_name: dict[str, list[_Shape]]) -> bool:
@@ -175,13 +184,15 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
                     continue
                 key = (package, os.path.normpath(model_path), tuple(sorted(command.mappings.items())))
                 if key not in jobs:
-                    jobs[key] = ModelResult(package, Path(key[1]), source_of(Path(key[1]), tree, owner),
-                                            dict(command.mappings))
+                    jobs[key] = ModelResult(
+                        package, Path(key[1]), source_of(Path(key[1]), tree, owner), dict(command.mappings)
+                    )
                 if command.robot and jobs[key].robot is None:
                     # the launch's own xacro run already gave the structure
                     jobs[key].robot, jobs[key].includes = command.robot, list(command.includes)
-                jobs[key].origins.append({"launch": resolution.launch, "file": command.file,
-                                          "line": command.line})
+                jobs[key].origins.append(
+                    {"launch": resolution.launch, "file": command.file, "line": command.line}
+                )
     fed = {key[:2] for key in jobs}  # (package, model) a launch file feeds to xacro
     for model in models:
         for path in _installed_models(tree, model):
@@ -192,13 +203,26 @@ def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str
     return list(jobs.values())
 
 
-def process(results: list[ModelResult], tree: InstallTree, *, jobs: int, timeout: float,
-            on_done=None, limits=None, zygote=None) -> list[ModelResult]:
+def process(
+    results: list[ModelResult],
+    tree: InstallTree,
+    *,
+    jobs: int,
+    timeout: float,
+    on_done=None,
+    limits=None,
+    zygote=None,
+) -> list[ModelResult]:
     """Run xacro on the models whose structure no launch file's xacro run already gave."""
     pending = [r for r in results if r.robot is None]
     requests = [{"model": str(r.installed), "mappings": r.mappings} for r in pending]
-    for result, reply in zip(pending, run_requests(requests, tree, jobs=jobs, timeout=timeout, on_done=on_done,
-                                                    limits=limits, zygote=zygote)):
+    for result, reply in zip(
+        pending,
+        run_requests(
+            requests, tree, jobs=jobs, timeout=timeout, on_done=on_done, limits=limits, zygote=zygote
+        ),
+        strict=False,
+    ):
         result.status = reply.get("status", "crashed")
         result.error = reply.get("error")
         result.robot = reply.get("robot")

@@ -105,9 +105,15 @@ class ResultCache:
                 return None
         return _report_from(entry["report"]), set(entry.get("codes", []))
 
-    def store(self, folder: Path, key: str, report: PackageReport, externals: set[str], codes: set[str]) -> None:
-        entry = {"key": key, "externals": sorted([p, self.digest(p)] for p in externals),
-                 "codes": sorted(codes), "report": _report_to(report)}
+    def store(
+        self, folder: Path, key: str, report: PackageReport, externals: set[str], codes: set[str]
+    ) -> None:
+        entry = {
+            "key": key,
+            "externals": sorted([p, self.digest(p)] for p in externals),
+            "codes": sorted(codes),
+            "report": _report_to(report),
+        }
         _atomic_write(self._entry_path(folder), json.dumps(entry))
 
     def save_index(self) -> None:
@@ -180,14 +186,20 @@ def externals(context) -> set[str]:
 
 
 def _report_to(report: PackageReport) -> dict:
-    return {"name": report.name, "path": str(report.path), "build_type": report.build_type,
-            "diagnostics": [{**d.__dict__, "path": str(d.path), "severity": d.severity.label}
-                            for d in report.diagnostics]}
+    return {
+        "name": report.name,
+        "path": str(report.path),
+        "build_type": report.build_type,
+        "diagnostics": [
+            {**d.__dict__, "path": str(d.path), "severity": d.severity.label} for d in report.diagnostics
+        ],
+    }
 
 
 def _report_from(data: dict) -> PackageReport:
     report = PackageReport(data["name"], Path(data["path"]), data["build_type"])
     for d in data["diagnostics"]:
-        report.diagnostics.append(Diagnostic(**{**d, "path": Path(d["path"]),
-                                                "severity": Severity.parse(d["severity"])}))
+        report.diagnostics.append(
+            Diagnostic(**{**d, "path": Path(d["path"]), "severity": Severity.parse(d["severity"])})
+        )
     return report

@@ -17,8 +17,8 @@ from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
 from pkgforge.model.distros import DISTROS
-from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
 from pkgforge.report import COLOR_CHOICES, FORMATS
+from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
 
 
 class VerifyVerb(VerbExtensionPoint):
@@ -31,44 +31,85 @@ class VerifyVerb(VerbExtensionPoint):
     def add_arguments(self, *, parser):  # noqa: D102
         # no --build-base: verify reads only the install tree colcon built (it declared one and
         # ignored it; an option that does nothing misleads)
-        parser.add_argument("--install-base", default="install",
-                            help="The install tree to check, merged or isolated (default: install)")
+        parser.add_argument(
+            "--install-base",
+            default="install",
+            help="The install tree to check, merged or isolated (default: install)",
+        )
         add_packages_arguments(parser)
-        parser.add_argument("--junit-xml", metavar="PATH", default=None,
-                            help="Also write a JUnit XML report (one testsuite per package)")
-        parser.add_argument("--pkgforge-format", choices=FORMATS, default="text",
-                            help="Output format on standard output (default: text)")
+        parser.add_argument(
+            "--junit-xml",
+            metavar="PATH",
+            default=None,
+            help="Also write a JUnit XML report (one testsuite per package)",
+        )
+        parser.add_argument(
+            "--pkgforge-format",
+            choices=FORMATS,
+            default="text",
+            help="Output format on standard output (default: text)",
+        )
         parser.add_argument("--strict", action="store_true", help="Treat warnings as errors")
-        parser.add_argument("--color", choices=COLOR_CHOICES, default="auto",
-                            help="Colour the text report: auto (a terminal, unless NO_COLOR is set or FORCE_COLOR "
-                                 "is), always or never (default: auto)")
-        parser.add_argument("--pkgforge-select", action="append", default=[], metavar="CHECKS",
-                            help="Run only these checks (codes, prefixes or names; comma-separated)")
-        parser.add_argument("--pkgforge-ignore", action="append", default=[], metavar="CHECKS",
-                            help="Skip these checks (codes, prefixes or names; comma-separated)")
-        parser.add_argument("--launch-timeout", type=float, default=10.0,
-                            help="Seconds one launch file may take (default: 10)")
-        parser.add_argument("--worker-memory", type=_memory, default=DEFAULT_WORKER_MEMORY, metavar="SIZE",
-                            help="Memory each launch worker may use, e.g. 4G or 512M, or unlimited "
-                                 "(default: 2G)")
-        parser.add_argument("--launch-engine", choices=("auto", "ros", "builtin"), default="auto",
-                            help="Evaluate launch files with the ROS 2 distro's launch libraries (ros), "
-                                 "pkgforge's built-in engine (builtin), or ros where found (default: auto)")
-        parser.add_argument("--ros-prefix", default=None, metavar="DIR",
-                            help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy)")
-        parser.add_argument("--distro", choices=list(DISTROS), default=None,
-                            help="The ROS 2 distro the packages target (default: ROS_DISTRO, pkgforge.toml "
-                                 "[verify] distro, the package's CI file, else every active distro)")
+        parser.add_argument(
+            "--color",
+            choices=COLOR_CHOICES,
+            default="auto",
+            help="Colour the text report: auto (a terminal, unless NO_COLOR is set or FORCE_COLOR "
+            "is), always or never (default: auto)",
+        )
+        parser.add_argument(
+            "--pkgforge-select",
+            action="append",
+            default=[],
+            metavar="CHECKS",
+            help="Run only these checks (codes, prefixes or names; comma-separated)",
+        )
+        parser.add_argument(
+            "--pkgforge-ignore",
+            action="append",
+            default=[],
+            metavar="CHECKS",
+            help="Skip these checks (codes, prefixes or names; comma-separated)",
+        )
+        parser.add_argument(
+            "--launch-timeout",
+            type=float,
+            default=10.0,
+            help="Seconds one launch file may take (default: 10)",
+        )
+        parser.add_argument(
+            "--worker-memory",
+            type=_memory,
+            default=DEFAULT_WORKER_MEMORY,
+            metavar="SIZE",
+            help="Memory each launch worker may use, e.g. 4G or 512M, or unlimited (default: 2G)",
+        )
+        parser.add_argument(
+            "--launch-engine",
+            choices=("auto", "ros", "builtin"),
+            default="auto",
+            help="Evaluate launch files with the ROS 2 distro's launch libraries (ros), "
+            "pkgforge's built-in engine (builtin), or ros where found (default: auto)",
+        )
+        parser.add_argument(
+            "--ros-prefix",
+            default=None,
+            metavar="DIR",
+            help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy)",
+        )
+        parser.add_argument(
+            "--distro",
+            choices=list(DISTROS),
+            default=None,
+            help="The ROS 2 distro the packages target (default: ROS_DISTRO, pkgforge.toml "
+            "[verify] distro, the package's CI file, else every active distro)",
+        )
 
     def main(self, *, context):  # noqa: D102
-        from pkgforge.verify.config import Selection
-        from pkgforge.verify.config import load_config
         from pkgforge.errors import PkgforgeError
         from pkgforge.report import render
-        from pkgforge.verify.pipeline import PackageTarget
-        from pkgforge.verify.pipeline import VerifyOptions
-        from pkgforge.verify.pipeline import _load
-        from pkgforge.verify.pipeline import run
+        from pkgforge.verify.config import Selection, load_config
+        from pkgforge.verify.pipeline import PackageTarget, VerifyOptions, _load, run
         from pkgforge.workspace import Workspace
 
         args = context.args
@@ -76,16 +117,24 @@ class VerifyVerb(VerbExtensionPoint):
         decorators = topological_order_packages(descriptors, recursive_categories=("run",))
         select_package_decorators(args, decorators)
         ros = [d for d in decorators if str(d.descriptor.type).startswith("ros.")]
-        targets = [PackageTarget(Path(d.descriptor.path).resolve(), d.descriptor.name, str(d.descriptor.type), True)
-                   for d in ros]
+        targets = [
+            PackageTarget(Path(d.descriptor.path).resolve(), d.descriptor.name, str(d.descriptor.type), True)
+            for d in ros
+        ]
         selected = {Path(d.descriptor.path).resolve() for d in ros if d.selected}
         root = Path.cwd()
         selection = Selection(_keys(args.pkgforge_select), _keys(args.pkgforge_ignore))
-        options = VerifyOptions(selection, strict=args.strict, mode="install-base",
-                                install_base=Path(args.install_base), launch_timeout=args.launch_timeout,
-                                worker_memory=args.worker_memory, launch_engine=args.launch_engine,
-                                ros_prefix=Path(args.ros_prefix) if args.ros_prefix else None,
-                                distro=args.distro)
+        options = VerifyOptions(
+            selection,
+            strict=args.strict,
+            mode="install-base",
+            install_base=Path(args.install_base),
+            launch_timeout=args.launch_timeout,
+            worker_memory=args.worker_memory,
+            launch_engine=args.launch_engine,
+            ros_prefix=Path(args.ros_prefix) if args.ros_prefix else None,
+            distro=args.distro,
+        )
         try:
             options.engine()
             config = load_config(root, selection)
@@ -94,8 +143,15 @@ class VerifyVerb(VerbExtensionPoint):
             if not chosen:
                 print("colcon verify: no package selected", file=sys.stderr)
                 return 0
-            result = run(root, Workspace(root, root), config, chosen, models,
-                         {t.name: t.path for t in targets}, options)
+            result = run(
+                root,
+                Workspace(root, root),
+                config,
+                chosen,
+                models,
+                {t.name: t.path for t in targets},
+                options,
+            )
         except PkgforgeError as error:
             # 2, as `pkgforge verify`: could not run (colcon turns a returned string into 1)
             print(f"colcon verify: {error}", file=sys.stderr)

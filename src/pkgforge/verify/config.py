@@ -49,8 +49,11 @@ class Selection:
         for key, level in self.severity.items():
             if not _matches(check, key):
                 continue
-            rank = 100 if key.strip() in (check.code, check.name) or key.strip().upper() == check.code \
+            rank = (
+                100
+                if key.strip() in (check.code, check.name) or key.strip().upper() == check.code
                 else len(key.strip())
+            )
             if best is None or rank > best[0]:
                 best = (rank, level)
         return Severity.parse(best[1]) if best else None
@@ -73,14 +76,20 @@ class Selection:
     def codes(self) -> set[str]:
         checks = all_checks()
         chosen = {c.code for c in checks if not self.select or any(_matches(c, k) for k in self.select)}
-        return {code for code in chosen
-                if not any(_matches(c, k) for k in self.ignore for c in checks if c.code == code)}
+        return {
+            code
+            for code in chosen
+            if not any(_matches(c, k) for k in self.ignore for c in checks if c.code == code)
+        }
 
 
 def _matches(check, key: str) -> bool:
     key = key.strip()
-    return check.name == key or check.code == key.upper() or \
-        (key.upper().startswith("PF") and check.code.startswith(key.upper()))
+    return (
+        check.name == key
+        or check.code == key.upper()
+        or (key.upper().startswith("PF") and check.code.startswith(key.upper()))
+    )
 
 
 def validate_keys(keys: list[str], where: str) -> None:
@@ -113,7 +122,9 @@ class Config:
             ignore += list(own_verify.get("ignore", []))
             if not self.cli.select and own_verify.get("select"):
                 select = list(own_verify["select"])
-            severity.update({key: str(level).lower() for key, level in own_config.get("severity", {}).items()})
+            severity.update(
+                {key: str(level).lower() for key, level in own_config.get("severity", {}).items()}
+            )
         return Selection(select, ignore, severity)
 
     def distro_for(self, package_path: Path):
@@ -156,8 +167,13 @@ SCHEMA = {
         "packages": Entries({"ignore": (_strings, "a list of check codes or names")}),  # workspace file only
     },
     # check code, code prefix or name = "error" | "warning" | "info"
-    "severity": Entries((lambda level: isinstance(level, str) and level.lower() in SEVERITIES,
-                         f"one of {', '.join(map(repr, SEVERITIES))}"), key_is_check=True),
+    "severity": Entries(
+        (
+            lambda level: isinstance(level, str) and level.lower() in SEVERITIES,
+            f"one of {', '.join(map(repr, SEVERITIES))}",
+        ),
+        key_is_check=True,
+    ),
 }
 
 
@@ -206,6 +222,7 @@ def _unknown(path: Path, text: str, dotted: str, known) -> PkgforgeError:
 
 def validate(data: dict, path: Path, text: str) -> None:
     """Every key known and of the right type: exit 2 naming the key, the file and its line."""
+
     def value(item, rule, dotted: str) -> None:
         if isinstance(rule, (dict, Entries)) and not isinstance(item, dict):
             raise _problem(path, text, dotted, f"'{dotted}' must be a table ([{dotted}])")
@@ -235,7 +252,9 @@ def read_config(path: Path) -> dict:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        where = str(exc).replace("(at end of document)", f"(at end of document, line {max(1, len(text.splitlines()))})")
+        where = str(exc).replace(
+            "(at end of document)", f"(at end of document, line {max(1, len(text.splitlines()))})"
+        )
         raise PkgforgeError(f"{path}: invalid TOML: {where}; fix the syntax at that line") from exc
     validate(data, path, text)
     verify = data.get("verify", {})
@@ -247,8 +266,10 @@ def read_config(path: Path) -> dict:
 
         chosen = [distro] if isinstance(distro, str) else distro
         if not chosen or any(d not in DISTROS for d in chosen):
-            raise PkgforgeError(f"{path}{_at(text, 'verify.distro')}: verify.distro must name active ROS 2 "
-                                f"distros ({', '.join(DISTROS)}), as a string or a list")
+            raise PkgforgeError(
+                f"{path}{_at(text, 'verify.distro')}: verify.distro must name active ROS 2 "
+                f"distros ({', '.join(DISTROS)}), as a string or a list"
+            )
     for package, table in verify.get("packages", {}).items():
         validate_keys(list(table.get("ignore", [])), f"{path}: verify.packages.{package}.ignore")
     return data

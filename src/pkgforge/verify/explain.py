@@ -7,9 +7,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.verify.pipeline import VerifyOptions
-from pkgforge.verify.pipeline import load_models
-from pkgforge.verify.pipeline import make_tree
+from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
 from pkgforge.workspace import locate
 
 OK, MISSING, UNCHECKED = "✓", "✗", "·"
@@ -25,8 +23,10 @@ def _installed_path(file: Path, tree, models) -> tuple[Path, str]:
                 for prefix in tree.prefixes:
                     if (prefix / destination).exists():
                         return prefix / destination, model.name
-    raise PkgforgeError(f"{file} is not installed by any package under the workspace: "
-                        "is it in a folder the install rules cover?")
+    raise PkgforgeError(
+        f"{file} is not installed by any package under the workspace: "
+        "is it in a folder the install rules cover?"
+    )
 
 
 @contextmanager
@@ -48,9 +48,14 @@ def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
 
     with _installed(path, file, options) as (tree, installed, package, owner):
         launch = LaunchFile(package, installed, source_of(installed, tree, owner))
-        (resolution,) = resolve([launch], tree, timeout=options.launch_timeout,
-                                arguments=options.launch_arguments, engine=options.engine(),
-                                limits=WorkerLimits(options.launch_timeout, options.worker_memory))
+        (resolution,) = resolve(
+            [launch],
+            tree,
+            timeout=options.launch_timeout,
+            arguments=options.launch_arguments,
+            engine=options.engine(),
+            limits=WorkerLimits(options.launch_timeout, options.worker_memory),
+        )
         return _render(resolution, tree)
 
 
@@ -97,14 +102,22 @@ def _command(c, tree) -> str:
 
 def _render(resolution, tree) -> str:
     launch = resolution.launch
-    engine = (f"ROS 2 {resolution.distro or '(distro unknown)'}'s launch" if resolution.engine == "ros"
-              else "the built-in launch engine" + (f" ({resolution.distro})" if resolution.distro else ""))
-    lines = [f"{launch.source or launch.installed}", f"  installed as {_short(str(launch.installed), tree)} "
-             f"in the {tree.kind} tree, evaluated by {engine}"]
+    engine = (
+        f"ROS 2 {resolution.distro or '(distro unknown)'}'s launch"
+        if resolution.engine == "ros"
+        else "the built-in launch engine" + (f" ({resolution.distro})" if resolution.distro else "")
+    )
+    lines = [
+        f"{launch.source or launch.installed}",
+        f"  installed as {_short(str(launch.installed), tree)} "
+        f"in the {tree.kind} tree, evaluated by {engine}",
+    ]
     if resolution.status != "ok":
         error = resolution.error
-        lines.append(f"  {MISSING} {resolution.status}: {error.message if error else None} "
-                     f"(line {error.line if error else None})")
+        lines.append(
+            f"  {MISSING} {resolution.status}: {error.message if error else None} "
+            f"(line {error.line if error else None})"
+        )
     if resolution.arguments:
         lines.append("arguments:")
         for argument in resolution.arguments:
@@ -114,8 +127,10 @@ def _render(resolution, tree) -> str:
     if resolution.branch_names:
         lines.append(f"evaluated for: {'; '.join(resolution.branch_names)}")
     if resolution.unevaluated:
-        lines.append(f"not evaluated within the time limit: {resolution.unevaluated} of "
-                     f"{resolution.branching.planned} argument combinations")
+        lines.append(
+            f"not evaluated within the time limit: {resolution.unevaluated} of "
+            f"{resolution.branching.planned} argument combinations"
+        )
     sections = [
         ("nodes", _node),
         ("packages", _package),
@@ -130,7 +145,7 @@ def _render(resolution, tree) -> str:
         if items:
             lines.append(f"{kind}:")
             seen = set()
-            for item in sorted(items, key=lambda i: (i.line or 0)):
+            for item in sorted(items, key=lambda i: i.line or 0):
                 text = f"  {show(item, tree)}  @ {_where(item, tree)}"
                 if text not in seen:
                     seen.add(text)
@@ -140,25 +155,31 @@ def _render(resolution, tree) -> str:
 
 def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
     """The model's link/joint tree with every mesh URI and whether it resolves (check_urdf, with meshes)."""
-    from pkgforge.urdf import select as robot_models
     from pkgforge.launch.resolve import source_of
+    from pkgforge.urdf import select as robot_models
     from pkgforge.urdf.meshes import resolve_uri
 
     with _installed(path, file, options) as (tree, installed, package, owner):
-        result = robot_models.ModelResult(package, installed, source_of(installed, tree, owner),
-                                          dict(options.launch_arguments))
+        result = robot_models.ModelResult(
+            package, installed, source_of(installed, tree, owner), dict(options.launch_arguments)
+        )
         (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout)
-        lines = [f"{result.source or installed}", f"  installed as {_short(str(installed), tree)} "
-                 f"in the {tree.kind} tree"]
+        lines = [
+            f"{result.source or installed}",
+            f"  installed as {_short(str(installed), tree)} in the {tree.kind} tree",
+        ]
         if result.status not in ("ok", "library"):
             error = result.error or {}
-            lines.append(f"  {MISSING} {result.status}: {error.get('message')} "
-                         f"({os.path.basename(error.get('file') or '')}:{error.get('line')})")
+            lines.append(
+                f"  {MISSING} {result.status}: {error.get('message')} "
+                f"({os.path.basename(error.get('file') or '')}:{error.get('line')})"
+            )
             return "\n".join(lines) + "\n"
         robot = result.robot or {}
         if robot.get("root_tag") != "robot":
-            raise PkgforgeError(f"{file} is not a robot model: its root element is "
-                                f"<{robot.get('root_tag')}>, not <robot>")
+            raise PkgforgeError(
+                f"{file} is not a robot model: its root element is <{robot.get('root_tag')}>, not <robot>"
+            )
         links, joints = robot.get("links", []), robot.get("joints", [])
         if not links:
             lines.append("a macro library: no links of its own (checked through the models that include it)")
@@ -186,7 +207,9 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
             ordered = sorted(children.get(link, []), key=lambda j: j.get("name") or "")
             for index, joint in enumerate(ordered):
                 last = index == len(ordered) - 1
-                lines.append(f"{indent}{'└─' if last else '├─'} {joint['name']} ({joint['type']}) → {joint['child']}")
+                lines.append(
+                    f"{indent}{'└─' if last else '├─'} {joint['name']} ({joint['type']}) → {joint['child']}"
+                )
                 deeper = indent + ("   " if last else "│  ")
                 mesh_lines(joint["child"], deeper + "  ")
                 if joint["child"] not in seen:
@@ -200,28 +223,31 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
 
 
 def _size(low, high) -> str:
-    return " × ".join(f"{h - lo:.3g}" for lo, h in zip(low, high)) + " m"
+    return " × ".join(f"{h - lo:.3g}" for lo, h in zip(low, high, strict=False)) + " m"
 
 
 def _model_numbers(robot: dict, tree, installed: Path) -> list[str]:
     """Total mass and size (the same numbers `pkgforge view` writes on its images)."""
-    from pkgforge.urdf.physics import total_mass
-    from pkgforge.urdf.physics import world_bounds
     from pkgforge.urdf.meshes import resolve_uri
+    from pkgforge.urdf.physics import total_mass, world_bounds
 
     def resolve(uri):
         lookup = resolve_uri(uri, tree, installed)
         return lookup.path if lookup.status == "found" else None
 
     with_mass = sum(1 for link in robot.get("links", []) if (link.get("inertial") or {}).get("mass"))
-    lines = [f"mass: {total_mass(robot):.4g} kg total ({with_mass} of {len(robot.get('links', []))} links "
-             "have a mass)"]
+    lines = [
+        f"mass: {total_mass(robot):.4g} kg total ({with_mass} of {len(robot.get('links', []))} links "
+        "have a mass)"
+    ]
     bounds = world_bounds(robot, resolve)
     if bounds is None:
         lines.append("size: no visual geometry")
     else:
-        lines.append(f"size: {_size(*bounds)} (x × y × z of the visual geometry at the zero pose, "
-                     "in the root link's frame)")
+        lines.append(
+            f"size: {_size(*bounds)} (x × y × z of the visual geometry at the zero pose, "
+            "in the root link's frame)"
+        )
     return lines
 
 

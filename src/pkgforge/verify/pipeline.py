@@ -13,15 +13,12 @@ import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-
 from typing import TYPE_CHECKING
 
-from pkgforge.verify.config import Config
-from pkgforge.verify.config import Selection
-from pkgforge.verify.config import load_config
 from pkgforge.diagnostics import Diagnostic, Finding, PackageReport, Severity
 from pkgforge.errors import BuildFailed, PkgforgeError
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
+from pkgforge.verify.config import Config, Selection, load_config
 from pkgforge.verify.progress import Progress
 from pkgforge.workspace import Workspace, discover, locate
 
@@ -66,7 +63,9 @@ class VerifyOptions:
     launch_arguments: dict[str, str] = field(default_factory=dict)
     use_cache: bool = True
     worker_memory: int | None = DEFAULT_WORKER_MEMORY  # bytes per launch worker; None: unlimited
-    distro: str | None = None  # --distro; else ROS_DISTRO, pkgforge.toml, CI file (distro_data.target_distros)
+    distro: str | None = (
+        None  # --distro; else ROS_DISTRO, pkgforge.toml, CI file (distro_data.target_distros)
+    )
     launch_engine: str = "auto"  # auto | ros | builtin
     ros_prefix: Path | None = None
     _engine: object | None = field(default=None, repr=False, compare=False)
@@ -83,9 +82,18 @@ class VerifyOptions:
 
     def cache_key(self) -> str:
         engine = self.engine()
-        return json.dumps([self.mode, sorted(self.launch_arguments.items()), self.launch_timeout,
-                           self.distro, os.environ.get("ROS_DISTRO", ""), engine.name, engine.prefix,
-                           engine.distro])
+        return json.dumps(
+            [
+                self.mode,
+                sorted(self.launch_arguments.items()),
+                self.launch_timeout,
+                self.distro,
+                os.environ.get("ROS_DISTRO", ""),
+                engine.name,
+                engine.prefix,
+                engine.distro,
+            ]
+        )
 
 
 @dataclass
@@ -123,6 +131,7 @@ class VerifyResult:
 
 # --- finding the packages -------------------------------------------------------------------
 
+
 def package_folders(base: Path) -> list[Path]:
     """Folders with a package.xml under base, honouring the ignore markers as colcon does."""
     from pkgforge.walk import walk
@@ -159,8 +168,11 @@ def find_targets(workspace: Workspace) -> list[PackageTarget]:
         path = Path(descriptor.path).resolve()
         if not (path / "package.xml").exists():
             continue  # a plain CMake or Python package: not a ROS package
-        targets.append(PackageTarget(path, descriptor.name, str(descriptor.type),
-                                     str(descriptor.type).startswith("ros.")))
+        targets.append(
+            PackageTarget(
+                path, descriptor.name, str(descriptor.type), str(descriptor.type).startswith("ros.")
+            )
+        )
     known = {t.path for t in targets}
     for path in package_folders(workspace.base_path):
         if path not in known:
@@ -194,7 +206,7 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
 
     workers = max(1, jobs - 1)  # this process runs discovery meanwhile
     size = max(1, -(-len(guessed) // (workers * 4)))
-    chunks = [guessed[i:i + size] for i in range(0, len(guessed), size)]
+    chunks = [guessed[i : i + size] for i in range(0, len(guessed), size)]
     with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("fork")) as pool:
         futures = [pool.submit(_load_chunk, chunk) for chunk in chunks]
         targets = find_targets(workspace)
@@ -212,6 +224,7 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
 
 # --- checks ---------------------------------------------------------------------------------
 
+
 def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
     from pkgforge.checks.registry import all_checks
 
@@ -228,19 +241,35 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
             from pkgforge.errors import describe_os_error
 
             where = Path(exc.filename) if isinstance(exc.filename, str) else model.path
-            diagnostics = [REGISTRY["PF901"].diagnostic(model.name, Finding(
-                f"not read while checking {check.name}: {describe_os_error(exc)}", where,
-                hint="make the file (and its folders) readable; checks that need it are incomplete"))]
+            diagnostics = [
+                REGISTRY["PF901"].diagnostic(
+                    model.name,
+                    Finding(
+                        f"not read while checking {check.name}: {describe_os_error(exc)}",
+                        where,
+                        hint="make the file (and its folders) readable; checks that need it are incomplete",
+                    ),
+                )
+            ]
         except Exception as exc:  # a bug in one check must not hide the others' results
             import traceback
 
             report.internal_errors.append(
                 f"in check {check.name} ({check.code}) on {model.name}: {type(exc).__name__}: {exc}\n"
-                + traceback.format_exc())
-            diagnostics = [check.diagnostic(model.name, Finding(
-                f"internal error in check {check.name}: {type(exc).__name__}: {exc}", model.path,
-                severity=Severity.ERROR, hint="a bug in pkgforge: please report it (pkgforge --debug "
-                                              "verify shows the traceback)"))]
+                + traceback.format_exc()
+            )
+            diagnostics = [
+                check.diagnostic(
+                    model.name,
+                    Finding(
+                        f"internal error in check {check.name}: {type(exc).__name__}: {exc}",
+                        model.path,
+                        severity=Severity.ERROR,
+                        hint="a bug in pkgforge: please report it (pkgforge --debug "
+                        "verify shows the traceback)",
+                    ),
+                )
+            ]
         for diagnostic in diagnostics:
             key = (diagnostic.code, str(diagnostic.path), diagnostic.line, diagnostic.message)
             if key in seen or model.suppressed(diagnostic.path, diagnostic.line, {check.code, check.name}):
@@ -252,9 +281,7 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
 
 
 def make_tree(options: VerifyOptions, workspace: Workspace, models: list[PackageModel]):
-    from pkgforge.tree import built_tree
-    from pkgforge.tree import existing_tree
-    from pkgforge.tree import predicted_tree
+    from pkgforge.tree import built_tree, existing_tree, predicted_tree
 
     if options.mode == "install-base":
         return existing_tree(options.install_base, models)
@@ -345,8 +372,11 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         if not targets:
             raise PkgforgeError(f"no package found under {root}")
         todo = [t for t in targets if t.path not in hits]
-        result = run(root, workspace, config, todo, models, everything, options, zygote) if todo else \
-            VerifyResult(root, [], set())
+        result = (
+            run(root, workspace, config, todo, models, everything, options, zygote)
+            if todo
+            else VerifyResult(root, [], set())
+        )
     finally:
         if zygote is not None:
             zygote.close()
@@ -354,12 +384,19 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         try:
             for report in result.reports:
                 if report.path in keys and report.path not in result.unstable and not report.internal_errors:
-                    cache.store(report.path, keys[report.path], report, result.externals.get(report.path, set()),
-                                config.for_package(report.name, report.path).codes())
+                    cache.store(
+                        report.path,
+                        keys[report.path],
+                        report,
+                        result.externals.get(report.path, set()),
+                        config.for_package(report.name, report.path).codes(),
+                    )
             cache.save_index()
         except OSError:
             pass  # the results stand; the next run verifies again
-    result.reports = sorted(result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path)))
+    result.reports = sorted(
+        result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path))
+    )
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
     result.engine, result.distro = engine.name, engine.distro
     return result
@@ -396,10 +433,8 @@ def cache_folder(workspace: Workspace) -> Path:
 
 def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
     """(cache, package folder → key, package folder → cached report) for the packages to verify."""
-    from pkgforge.verify.cache import ResultCache
-    from pkgforge.verify.cache import manifest_text
-    from pkgforge.verify.cache import workspace_key
     from pkgforge.model.files import walk_file_names
+    from pkgforge.verify.cache import ResultCache, manifest_text, workspace_key
 
     cache = ResultCache(cache_folder(workspace), options.cache_key())
     every = package_folders(workspace.base_path)
@@ -443,17 +478,26 @@ def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list])
                 where = by_installed.get(argument.file or "") or argument.file or "?"
                 where = os.path.relpath(where) if os.path.isabs(str(where)) else where
                 line = f":{argument.line}" if argument.line else ""
-                problem = (f"--launch-arg {name}:={values[name]}: '{name}' allows only "
-                           f"{', '.join(map(str, choices))} (declared at {where}{line})")
+                problem = (
+                    f"--launch-arg {name}:={values[name]}: '{name}' allows only "
+                    f"{', '.join(map(str, choices))} (declared at {where}{line})"
+                )
                 if problem not in problems:
                     problems.append(problem)
     if problems:
         raise PkgforgeError("\n".join(problems))
 
 
-def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageTarget],
-        models: dict[Path, PackageModel], everything: dict[str, Path], options: VerifyOptions,
-        zygote=None) -> VerifyResult:
+def run(
+    root: Path,
+    workspace: Workspace,
+    config: Config,
+    targets: list[PackageTarget],
+    models: dict[Path, PackageModel],
+    everything: dict[str, Path],
+    options: VerifyOptions,
+    zygote=None,
+) -> VerifyResult:
     """Verify the targets; `models` holds every package the install tree needs. `zygote`: the
     launch workers' fork server, when one was started already (closed here)."""
     from pkgforge.checks.context import CheckContext
@@ -468,9 +512,9 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
     build_failure: BuildFailed | None = None
     resolutions, ros1, model_results, rviz = {}, {}, {}, {}
     if any(codes[t.path] & tree_codes for t in targets):
-        from pkgforge.urdf import select as robot_models
         from pkgforge.launch.resolve import WorkerLimits, find_launch_files, resolve
         from pkgforge.launch.uninstalled import source_only
+        from pkgforge.urdf import select as robot_models
 
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
@@ -481,8 +525,9 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             if options.mode != "build":
                 raise
             build_failure = failure  # reported as build-failed beside every check that needs no tree
-            codes = {path: selected - tree_codes | (selected & {BUILD_FAILED})
-                     for path, selected in codes.items()}
+            codes = {
+                path: selected - tree_codes | (selected & {BUILD_FAILED}) for path, selected in codes.items()
+            }
     if tree is not None:
         from pkgforge.sandbox.zygote import Zygote
 
@@ -491,19 +536,32 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         try:  # a signal or an error: the temporary tree goes too
             launch_files, ros1_files = find_launch_files(tree, checked)
             launch_files += source_only(checked, launch_files)  # evaluated from the source
-            for resolution in resolve(launch_files, tree, jobs=jobs, timeout=options.launch_timeout,
-                                      arguments=options.launch_arguments, limits=limits,
-                                      engine=options.engine(), zygote=zygote,
-                                      on_done=progress.counter("launch files", len(launch_files))):
+            for resolution in resolve(
+                launch_files,
+                tree,
+                jobs=jobs,
+                timeout=options.launch_timeout,
+                arguments=options.launch_arguments,
+                limits=limits,
+                engine=options.engine(),
+                zygote=zygote,
+                on_done=progress.counter("launch files", len(launch_files)),
+            ):
                 resolutions.setdefault(resolution.launch.package, []).append(resolution)
             for launch in ros1_files:
                 ros1.setdefault(launch.package, []).append(launch)
             tree.restore()  # the checks read the user's files, not what a launch file wrote over them
             to_process = robot_models.collect(tree, checked, resolutions)
             pending = sum(1 for r in to_process if r.robot is None)
-            for result in robot_models.process(to_process, tree, jobs=jobs, timeout=options.launch_timeout,
-                                               on_done=progress.counter("robot models", pending), limits=limits,
-                                               zygote=zygote):
+            for result in robot_models.process(
+                to_process,
+                tree,
+                jobs=jobs,
+                timeout=options.launch_timeout,
+                on_done=progress.counter("robot models", pending),
+                limits=limits,
+                zygote=zygote,
+            ):
                 model_results.setdefault(result.package, []).append(result)
             zygote.close()
             if options.on_models is not None:
@@ -525,11 +583,20 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
             model = models[target.path]
             configs, launches = rviz.get(model.name, ([], []))
             model.manifest.distros = _targets(target.path, workspace, config, options)
-            context = CheckContext(model, everything, by_share, tree, resolutions.get(model.name, []),
-                                   ros1.get(model.name, []), model_results.get(model.name, []),
-                                   configs, launches, distros=model.manifest.distros,
-                                   install_base=options.install_base if options.mode == "install-base"
-                                   else None, shared=shared)
+            context = CheckContext(
+                model,
+                everything,
+                by_share,
+                tree,
+                resolutions.get(model.name, []),
+                ros1.get(model.name, []),
+                model_results.get(model.name, []),
+                configs,
+                launches,
+                distros=model.manifest.distros,
+                install_base=options.install_base if options.mode == "install-base" else None,
+                shared=shared,
+            )
             reports.append(run_checks(context, codes[target.path]))
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
                 _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})
@@ -542,18 +609,25 @@ def run(root: Path, workspace: Workspace, config: Config, targets: list[PackageT
         if tree is not None:
             tree.close()
     checks_run = set().union(*codes.values())
-    unstable = {t.path for t in targets if _machine_dependent(resolutions.get(models[t.path].name, []),
-                                                               model_results.get(models[t.path].name, []))}
+    unstable = {
+        t.path
+        for t in targets
+        if _machine_dependent(
+            resolutions.get(models[t.path].name, []), model_results.get(models[t.path].name, [])
+        )
+    }
     engine = options.engine()
-    return VerifyResult(root, reports, checks_run, externals=read, unstable=unstable,
-                        engine=engine.name, distro=engine.distro)
+    return VerifyResult(
+        root, reports, checks_run, externals=read, unstable=unstable, engine=engine.name, distro=engine.distro
+    )
 
 
 BUILD_FAILED = "PF902"
 
 
-def _report_build_failure(report: PackageReport, model: PackageModel, failure: BuildFailed,
-                          verified: set[str]) -> None:
+def _report_build_failure(
+    report: PackageReport, model: PackageModel, failure: BuildFailed, verified: set[str]
+) -> None:
     """One build-failed error for a package colcon could not build; when only packages outside
     the verified ones failed (a dependency) or colcon stopped before any ran, each verified
     package gets one, so a failed build never passes."""
@@ -564,8 +638,14 @@ def _report_build_failure(report: PackageReport, model: PackageModel, failure: B
     if not own and not any(package in verified for package, _, _ in failure.failures):
         own = failure.failures[:1] or [(None, None, "")]
     for package, log, tail in own:
-        finding = build_failed_finding(model.path, model.build_type, log, tail, failure.status,
-                                       None if package == model.name else package)
+        finding = build_failed_finding(
+            model.path,
+            model.build_type,
+            log,
+            tail,
+            failure.status,
+            None if package == model.name else package,
+        )
         if model.suppressed(finding.path, finding.line, {BUILD_FAILED, "build-failed"}):
             continue
         report.diagnostics.append(REGISTRY[BUILD_FAILED].diagnostic(model.name, finding))
@@ -588,4 +668,3 @@ def _machine_dependent(resolutions: list, model_results: list) -> bool:
         if any(limit(error) for error in getattr(item, "errors", [])):
             return True
     return False
-

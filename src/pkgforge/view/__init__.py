@@ -13,8 +13,8 @@ import os
 import re
 from pathlib import Path
 
-from ..errors import PkgforgeError
-from .tree_svg import tree_svg
+from pkgforge.errors import PkgforgeError
+from pkgforge.view.tree_svg import tree_svg
 
 VIEW_NAMES = ("front", "side", "top", "iso")
 INSTALL_HINT = "pip install 'ros-pkgforge[view]'"
@@ -52,8 +52,9 @@ def _stem(result) -> str:
 class Artifacts:
     """Writes the pictures of every processed model into `out` (the verify hook)."""
 
-    def __init__(self, out: Path, joints: dict[str, float] | None = None, *, frame: bool = True,
-                 images: bool = True):
+    def __init__(
+        self, out: Path, joints: dict[str, float] | None = None, *, frame: bool = True, images: bool = True
+    ):
         self.out, self.joints, self.frame = out, joints or {}, frame
         self.missing = missing_renderer() if images else "images not asked for"
         self.written: list[Path] = []
@@ -93,12 +94,15 @@ class Artifacts:
         self._write(svg, tree_svg(robot).encode("utf-8"))
         entry["tree"] = svg.name
         if self.missing is None:
-            from . import raster, scene as scenes
+            from pkgforge.view import raster
+            from pkgforge.view import scene as scenes
 
             scene = scenes.build(robot, resolve, positions)
             self.problems += [f"{source}: {p}" for p in scene.problems]
             for view in VIEW_NAMES:
-                image, info = raster.render(scene, view, title=str(robot.get("name") or stem), frame=self.frame)
+                image, info = raster.render(
+                    scene, view, title=str(robot.get("name") or stem), frame=self.frame
+                )
                 path = self.out / f"{stem}-{view}.png"
                 self._save(path, image)
                 entry["images"].append({**info, "file": path.name})

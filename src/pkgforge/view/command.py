@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import PkgforgeError
-from . import Artifacts
+from pkgforge.errors import PkgforgeError
+from pkgforge.view import Artifacts
 
 MODEL_SUFFIXES = (".urdf", ".xacro")
 
@@ -24,16 +24,17 @@ def _package_folder(file: Path) -> Path | None:
 
 
 def _by_name(name: str) -> Path:
-    from pkgforge.verify.pipeline import package_folders
-    from pkgforge.verify.pipeline import quick_name
-    from ..workspace import locate
+    from pkgforge.verify.pipeline import package_folders, quick_name
+    from pkgforge.workspace import locate
 
     workspace = locate(Path.cwd())
     for folder in package_folders(workspace.base_path):
         if quick_name(folder) == name:
             return folder
-    raise PkgforgeError(f"'{name}' is neither a file or folder nor a package of the workspace at "
-                        f"{workspace.root}: give a package, a workspace, or a .urdf/.xacro file")
+    raise PkgforgeError(
+        f"'{name}' is neither a file or folder nor a package of the workspace at "
+        f"{workspace.root}: give a package, a workspace, or a .urdf/.xacro file"
+    )
 
 
 def run_view(target: str, artifacts: Artifacts, options) -> None:
@@ -56,28 +57,33 @@ def run_view(target: str, artifacts: Artifacts, options) -> None:
 
 
 def _one_model(file: Path, artifacts: Artifacts, options) -> None:
+    from pkgforge.launch.resolve import WorkerLimits, source_of
     from pkgforge.urdf import select as robot_models
-    from ..launch.resolve import WorkerLimits, source_of
 
     installed = _installed_prefix(file)
     if installed is not None or _package_folder(file) is None:
-        from pkgforge.tree import InstallTree
-        from pkgforge.tree import _index
-
         import tempfile
         import time
+
+        from pkgforge.tree import InstallTree, _index
 
         prefixes = [installed[0]] if installed else []
         # xacro is user code: its worker may write only in an empty temporary folder (launch/guard.py)
         sandbox = tempfile.TemporaryDirectory(prefix="pkgforge-view-")
-        tree = InstallTree("existing", prefixes, _temporary=sandbox, root=Path(sandbox.name),
-                           sealed=time.time_ns())
+        tree = InstallTree(
+            "existing", prefixes, _temporary=sandbox, root=Path(sandbox.name), sealed=time.time_ns()
+        )
         tree.packages = _index(prefixes)
         try:
             package = installed[1] if installed else file.parent.name
             result = robot_models.ModelResult(package, file, file, dict(options.launch_arguments))
-            (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout,
-                                             limits=WorkerLimits(options.launch_timeout, options.worker_memory))
+            (result,) = robot_models.process(
+                [result],
+                tree,
+                jobs=1,
+                timeout=options.launch_timeout,
+                limits=WorkerLimits(options.launch_timeout, options.worker_memory),
+            )
             _render(artifacts, tree, result)
         finally:
             tree.close()
@@ -85,10 +91,16 @@ def _one_model(file: Path, artifacts: Artifacts, options) -> None:
     from pkgforge.verify.explain import _installed
 
     with _installed(_package_folder(file), file, options) as (tree, installed_file, package, owner):
-        result = robot_models.ModelResult(package, installed_file, source_of(installed_file, tree, owner),
-                                          dict(options.launch_arguments))
-        (result,) = robot_models.process([result], tree, jobs=1, timeout=options.launch_timeout,
-                                         limits=WorkerLimits(options.launch_timeout, options.worker_memory))
+        result = robot_models.ModelResult(
+            package, installed_file, source_of(installed_file, tree, owner), dict(options.launch_arguments)
+        )
+        (result,) = robot_models.process(
+            [result],
+            tree,
+            jobs=1,
+            timeout=options.launch_timeout,
+            limits=WorkerLimits(options.launch_timeout, options.worker_memory),
+        )
         _render(artifacts, tree, result)
 
 

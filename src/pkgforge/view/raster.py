@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from .scene import Scene
+from pkgforge.view.scene import Scene
 
 BACKGROUND = (255, 255, 255)
 SIZE = 640  # the drawing area, pixels square
@@ -43,7 +43,9 @@ def project(points: np.ndarray, view: str) -> np.ndarray:
     return np.stack([points @ right, points @ up, points @ forward], axis=-1)
 
 
-def render(scene: Scene, view: str, *, title: str, frame: bool = True, size: int = SIZE) -> tuple[Image.Image, dict]:
+def render(
+    scene: Scene, view: str, *, title: str, frame: bool = True, size: int = SIZE
+) -> tuple[Image.Image, dict]:
     """The image of one view, and what a reader needs to measure it (pixels per metre, drawing area)."""
     image = Image.new("RGB", (size + 2 * MARGIN, size + 2 * MARGIN + FOOTER), BACKGROUND)
     draw = ImageDraw.Draw(image)
@@ -61,7 +63,9 @@ def render(scene: Scene, view: str, *, title: str, frame: bool = True, size: int
             return np.stack([x, y], axis=-1)
 
         pixels = to_pixels(screen[..., :2])
-        normals = np.cross(scene.triangles[:, 1] - scene.triangles[:, 0], scene.triangles[:, 2] - scene.triangles[:, 0])
+        normals = np.cross(
+            scene.triangles[:, 1] - scene.triangles[:, 0], scene.triangles[:, 2] - scene.triangles[:, 0]
+        )
         lengths = np.linalg.norm(normals, axis=1)
         lengths[lengths == 0] = 1.0
         right, up, forward = camera(view)
@@ -173,7 +177,7 @@ def _scan(part, pixels, top, rows, z0, zx, zy, width, keep_nearest) -> None:
 def _frame(draw, to_pixels, view: str, length: float) -> None:
     """The root link's frame: x red, y green, z blue."""
     origin = to_pixels(project(np.zeros(3), view)[:2])
-    for axis, color, label in zip(np.eye(3) * length, AXIS_COLORS, "xyz"):
+    for axis, color, label in zip(np.eye(3) * length, AXIS_COLORS, "xyz", strict=False):
         end = to_pixels(project(axis, view)[:2])
         if np.linalg.norm(end - origin) < 2:
             draw.ellipse([*(origin - 4), *(origin + 4)], outline=color, width=2)  # pointing at the viewer

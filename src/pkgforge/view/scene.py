@@ -27,8 +27,20 @@ class Scene:
 def _box(size) -> np.ndarray:
     half = np.abs(np.asarray(size, dtype=float)) / 2
     corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * half
-    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
-             (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    faces = [
+        (0, 1, 3),
+        (0, 3, 2),
+        (4, 6, 7),
+        (4, 7, 5),
+        (0, 4, 5),
+        (0, 5, 1),
+        (2, 3, 7),
+        (2, 7, 6),
+        (0, 2, 6),
+        (0, 6, 4),
+        (1, 5, 7),
+        (1, 7, 3),
+    ]
     return corners[np.array(faces)]
 
 
@@ -42,12 +54,16 @@ def _cylinder(radius: float, length: float) -> np.ndarray:
         return np.concatenate([points, np.full((len(points), 1), z)], axis=1)
 
     centre_top, centre_bottom = np.array([0, 0, top]), np.array([0, 0, bottom])
-    sides = np.concatenate([
-        np.stack([at(ring, bottom), at(nxt, bottom), at(nxt, top)], axis=1),
-        np.stack([at(ring, bottom), at(nxt, top), at(ring, top)], axis=1),
-        np.stack([np.broadcast_to(centre_top, (len(ring), 3)), at(ring, top), at(nxt, top)], axis=1),
-        np.stack([np.broadcast_to(centre_bottom, (len(ring), 3)), at(nxt, bottom), at(ring, bottom)], axis=1),
-    ])
+    sides = np.concatenate(
+        [
+            np.stack([at(ring, bottom), at(nxt, bottom), at(nxt, top)], axis=1),
+            np.stack([at(ring, bottom), at(nxt, top), at(ring, top)], axis=1),
+            np.stack([np.broadcast_to(centre_top, (len(ring), 3)), at(ring, top), at(nxt, top)], axis=1),
+            np.stack(
+                [np.broadcast_to(centre_bottom, (len(ring), 3)), at(nxt, bottom), at(ring, bottom)], axis=1
+            ),
+        ]
+    )
     return sides
 
 
@@ -62,7 +78,9 @@ def _mesh(path: str, scale) -> tuple[np.ndarray, tuple | None]:
     import trimesh
 
     loaded = trimesh.load(path, force="mesh", process=False)
-    triangles = np.asarray(loaded.vertices, dtype=float)[np.asarray(loaded.faces)] * np.asarray(scale, dtype=float)
+    triangles = np.asarray(loaded.vertices, dtype=float)[np.asarray(loaded.faces)] * np.asarray(
+        scale, dtype=float
+    )
     return triangles, _mesh_color(loaded)
 
 
@@ -120,8 +138,9 @@ def build(robot: dict, resolve, positions: dict[str, float] | None = None) -> Sc
                 problems.append(f"link {link['name']}: {problem}")
             if triangles is None or not len(triangles):
                 continue
-            rotation, offset = _matrix(physics.compose(pose, visual.get("origin")
-                                                       or {"xyz": [0.0] * 3, "rpy": [0.0] * 3}))
+            rotation, offset = _matrix(
+                physics.compose(pose, visual.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+            )
             parts.append(triangles @ rotation.T + offset)
             color = visual.get("color") or own_color or DEFAULT_COLOR
             colors.append(np.broadcast_to(np.asarray(color[:3], dtype=float), (len(triangles), 3)))

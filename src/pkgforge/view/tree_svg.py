@@ -17,8 +17,10 @@ def _joint_label(joint: dict) -> list[str]:
         lines.append("axis " + " ".join(f"{a:g}" for a in axis))
     limit = joint.get("limit")
     if limit and joint.get("type") in ("revolute", "prismatic"):
-        lines.append(f"[{limit.get('lower') or 0:g}, {limit.get('upper') or 0:g}]"
-                     f" v{limit.get('velocity')} e{limit.get('effort')}")
+        lines.append(
+            f"[{limit.get('lower') or 0:g}, {limit.get('upper') or 0:g}]"
+            f" v{limit.get('velocity')} e{limit.get('effort')}"
+        )
     return lines
 
 
@@ -35,7 +37,9 @@ def tree_svg(robot: dict) -> str:
     column = [0]
 
     def place(name: str, depth: int, seen: frozenset) -> float:
-        kids = [j for j in children.get(name, []) if j.get("child") not in seen and j.get("child") not in position]
+        kids = [
+            j for j in children.get(name, []) if j.get("child") not in seen and j.get("child") not in position
+        ]
         if not kids:
             x = column[0]
             column[0] += 1
@@ -58,24 +62,32 @@ def tree_svg(robot: dict) -> str:
 
     width = 40 + max(column[0], 1) * (BOX_W + GAP_X)
     height = 40 + (max((d for _, d in position.values()), default=0) + 1) * (BOX_H + GAP_Y)
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
-           f'font-family="sans-serif" font-size="11">',
-           f'<title>{escape(str(robot.get("name")))}: kinematic tree</title>',
-           '<rect width="100%" height="100%" fill="white"/>']
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
+        f'font-family="sans-serif" font-size="11">',
+        f"<title>{escape(str(robot.get('name')))}: kinematic tree</title>",
+        '<rect width="100%" height="100%" fill="white"/>',
+    ]
     for joint in joints:
         if joint.get("parent") not in position or joint.get("child") not in position:
             continue
         (x1, y1), (x2, y2) = centre(joint["parent"]), centre(joint["child"])
-        out.append(f'<line x1="{x1:.1f}" y1="{y1 + BOX_H / 2:.1f}" x2="{x2:.1f}" y2="{y2 - BOX_H / 2:.1f}" '
-                   'stroke="#777" stroke-width="1.5"/>')
+        out.append(
+            f'<line x1="{x1:.1f}" y1="{y1 + BOX_H / 2:.1f}" x2="{x2:.1f}" y2="{y2 - BOX_H / 2:.1f}" '
+            'stroke="#777" stroke-width="1.5"/>'
+        )
         label_y = (y1 + y2) / 2 - 6
         for index, text in enumerate(_joint_label(joint)):
-            out.append(f'<text class="joint" x="{(x1 + x2) / 2 + 4:.1f}" y="{label_y + index * 12:.1f}" '
-                       f'fill="#335">{escape(text)}</text>')
+            out.append(
+                f'<text class="joint" x="{(x1 + x2) / 2 + 4:.1f}" y="{label_y + index * 12:.1f}" '
+                f'fill="#335">{escape(text)}</text>'
+            )
     for name in links:
         x, y = centre(name)
-        out.append(f'<g class="link"><rect x="{x - BOX_W / 2:.1f}" y="{y - BOX_H / 2:.1f}" width="{BOX_W}" '
-                   f'height="{BOX_H}" rx="5" fill="#eef2f8" stroke="#456"/>'
-                   f'<text x="{x:.1f}" y="{y + 4:.1f}" text-anchor="middle">{escape(name)}</text></g>')
+        out.append(
+            f'<g class="link"><rect x="{x - BOX_W / 2:.1f}" y="{y - BOX_H / 2:.1f}" width="{BOX_W}" '
+            f'height="{BOX_H}" rx="5" fill="#eef2f8" stroke="#456"/>'
+            f'<text x="{x:.1f}" y="{y + 4:.1f}" text-anchor="middle">{escape(name)}</text></g>'
+        )
     out.append("</svg>")
     return "\n".join(out) + "\n"

@@ -15,8 +15,9 @@ def _load(name, path):
 
 def _install():
     here = os.path.dirname(os.path.abspath(__file__))
-    guard = sys.modules.get("pkgforge.sandbox.guard") or _load("_pkgforge_guard",
-                                                              os.path.join(os.path.dirname(here), "guard.py"))
+    guard = sys.modules.get("pkgforge.sandbox.guard") or _load(
+        "_pkgforge_guard", os.path.join(os.path.dirname(here), "guard.py")
+    )
     guard.install()
     for folder in sys.path:  # the sitecustomize this one hides (a distribution's), if any
         candidate = os.path.join(folder or ".", "sitecustomize.py")

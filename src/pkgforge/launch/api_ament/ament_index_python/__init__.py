@@ -1,5 +1,22 @@
 """pkgforge stand-in for ament_index_python, used by the launch worker only when the real one is absent."""
 
-from .packages import (PackageNotFoundError, get_package_prefix, get_package_share_directory,  # noqa: F401
-                       get_package_share_path, get_packages_with_prefixes)
-from .resources import get_resource, get_resources, get_search_paths, has_resource  # noqa: F401
+from ament_index_python.packages import (
+    PackageNotFoundError,
+    get_package_prefix,
+    get_package_share_directory,
+    get_package_share_path,
+    get_packages_with_prefixes,
+)
+from ament_index_python.resources import get_resource, get_resources, get_search_paths, has_resource
+
+__all__ = [
+    "PackageNotFoundError",
+    "get_package_prefix",
+    "get_package_share_directory",
+    "get_package_share_path",
+    "get_packages_with_prefixes",
+    "get_resource",
+    "get_resources",
+    "get_search_paths",
+    "has_resource",
+]

@@ -3,7 +3,7 @@
 import os
 import pathlib
 
-from .resources import get_resources, get_search_paths, has_resource
+from ament_index_python.resources import get_resources, get_search_paths, has_resource
 
 
 class PackageNotFoundError(KeyError):
