@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -322,6 +323,38 @@ def test_cache_reuses_unchanged_packages_and_sees_every_change(tmp_path):
     changed = entries(tmp_path)
     assert [name for name in changed if changed[name] != stored[name]] != []
     assert sum(changed[name] != stored[name] for name in changed) == 1  # only small_turtle again
+
+
+def test_unchanged_workspace_is_answered_whole_and_an_edit_keeping_size_and_mtime_is_seen(tmp_path):
+    """The workspace entry (one fingerprint of every file's size, mtime, ctime and mode) answers an
+    unchanged re-run; an edit that keeps the file's size and puts its mtime back still changes its
+    ctime, so the next run verifies again and reports what the edit broke."""
+    package = jazzy_package(tmp_path)
+    assert (
+        run_pkgforge("new", "other_description", *MAINTAINER, "--destination", "src", cwd=tmp_path).returncode
+        == 0
+    )
+    assert verify_json(tmp_path) == (0, [])
+    whole = tmp_path / "build" / "pkgforge-cache" / "workspace.whole"
+    assert whole.is_file()
+    stored = entries(tmp_path)
+    assert verify_json(tmp_path) == (0, [])
+    assert entries(tmp_path) == stored
+
+    cmake = package / "CMakeLists.txt"
+    before = cmake.stat()
+    text = cmake.read_text()
+    assert "launch urdf meshes rviz" in text
+    cmake.write_text(text.replace("launch urdf meshes rviz", "launch urdf meshes     "))
+    os.utime(cmake, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert (cmake.stat().st_size, cmake.stat().st_mtime_ns) == (before.st_size, before.st_mtime_ns)
+    launch = package / "launch" / "display.launch.py"
+    broken = (
+        1,
+        [("PF302", "src/small_turtle/launch/display.launch.py", line_of(launch, "rviz_config_path ="))],
+    )
+    assert verify_json(tmp_path) == broken
+    assert verify_json(tmp_path) == broken  # answered whole again, with the new result
 
 
 def test_cache_follows_files_of_other_packages(tmp_path):

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
-import logging
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -51,6 +49,9 @@ def locate(path: Path) -> Workspace:
 
 def discover(base_path: Path) -> list:
     """colcon PackageDescriptors under base_path (COLCON_IGNORE, AMENT_IGNORE honoured)."""
+    import argparse
+    import logging
+
     from colcon_core.package_augmentation import augment_packages
     from colcon_core.package_discovery import add_package_discovery_arguments, discover_packages
     from colcon_core.package_identification import get_package_identification_extensions
@@ -81,6 +82,7 @@ def identify_folder(folder: Path):
     loading every extension (colcon-python-setup-py imports setuptools: ~1 CPU s); None when
     that is not certain (another colcon extension installed, an extension blocklist, a folder
     colcon ignores or whose manifest the ROS extension rejects): discover() decides then."""
+    import logging
     import os
     from collections import OrderedDict
     from importlib.metadata import entry_points

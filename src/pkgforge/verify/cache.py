@@ -18,7 +18,6 @@ import hashlib
 import json
 import os
 import re
-import tempfile
 from pathlib import Path
 
 from pkgforge import __version__
@@ -31,6 +30,8 @@ NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
 
 def _atomic_write(path: Path, text: str) -> None:
+    import tempfile  # (here: an unchanged re-run writes nothing)
+
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
     try:
@@ -52,6 +53,8 @@ class ResultCache:
         except (OSError, ValueError):
             self.index = {}
         self.changed = False
+        # package folder → (files outside it that its valid entry read, its codes): loaded or stored
+        self.answered: dict[Path, tuple[list[str], set[str]]] = {}
 
     # --- digests ------------------------------------------------------------------------------
 
@@ -103,6 +106,10 @@ class ResultCache:
         for path, digest in entry.get("externals", []):
             if self.digest(path) != digest:
                 return None
+        self.answered[folder] = (
+            [path for path, _ in entry.get("externals", [])],
+            set(entry.get("codes", [])),
+        )
         return _report_from(entry["report"]), set(entry.get("codes", []))
 
     def store(
@@ -115,10 +122,128 @@ class ResultCache:
             "report": _report_to(report),
         }
         _atomic_write(self._entry_path(folder), json.dumps(entry))
+        self.answered[folder] = (sorted(externals), set(codes))
 
     def save_index(self) -> None:
         if self.changed:
             _atomic_write(self.index_path, json.dumps(self.index))
+
+
+# --- the whole workspace at once ------------------------------------------------------------
+#
+# An unchanged re-run of a whole workspace would compute every package's key (walk, digests,
+# package.xml, target distros, config) and read every entry. The workspace entry holds the
+# whole answer under one fingerprint of everything those keys read: every file under the
+# discovery base with its (size, mtime, ctime, mode), the memo rule of the digests above (ctime
+# cannot be set back, so an edit that keeps the size and restores the mtime still changes it),
+# the CI files above the base (the target distros), the options, the configuration, and the
+# stamps of every file outside the workspace that a package's entry read. Any difference, even
+# one the per-package keys would not see, only sends the run to the per-package lookup.
+
+WORKSPACE_ENTRY = "workspace.whole"  # (not *.json: one file, not a package's entry)
+PRUNED = (".git",)  # never read by verify, and large
+IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
+MAX_STAMPED = 100_000  # more files: no workspace entry (the per-package lookup as before)
+
+
+def _stamp(path: str) -> list | None:
+    try:
+        stat = os.stat(path)
+    except OSError as error:
+        return [error.errno]
+    return [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
+
+
+def tree_stamps(base: str) -> list | None:
+    """Every folder and file under base (sorted; links read, not followed; `.git` and folders
+    with an ignore marker not entered) with each file's stamp; None when too many files."""
+    out: list = []
+    stack = [base]
+    cut = len(base.rstrip(os.sep)) + 1
+    while stack:
+        folder = stack.pop()
+        relative = folder[cut:]
+        try:
+            with os.scandir(folder) as found:
+                entries = sorted(found, key=lambda e: e.name)
+        except OSError as error:
+            out.append([relative, "unreadable", error.errno])
+            continue
+        if folder != base and any(e.name in IGNORE_MARKERS for e in entries):
+            out.append([relative, "ignored", [e.name for e in entries if e.name in IGNORE_MARKERS]])
+            continue
+        below = []
+        for entry in entries:
+            name = entry.name
+            try:
+                if entry.is_dir(follow_symlinks=False):
+                    if name in PRUNED:
+                        out.append([relative, name, "pruned"])
+                    else:
+                        below.append(entry.path)
+                    continue
+                if entry.is_symlink():
+                    out.append([relative, name, "link", os.readlink(entry.path), _stamp(entry.path)])
+                    continue
+                stat = entry.stat(follow_symlinks=False)
+            except OSError as error:
+                out.append([relative, name, "error", error.errno])
+                continue
+            out.append([relative, name, stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode])
+        if len(out) > MAX_STAMPED:
+            return None
+        out.append([relative, "folders", [os.path.basename(b) for b in below]])
+        stack.extend(reversed(below))
+    return out
+
+
+def workspace_fingerprint(base: Path, above: list[Path], options_key: str, config_key: str) -> str | None:
+    """The fingerprint of what a whole-workspace run read (see above); `above`: the folders from
+    base's parent up to the workspace root, whose CI files say which distros are targeted."""
+    from pkgforge.model.distro_data import CI_FILES, CI_FOLDER
+
+    stamps = tree_stamps(str(base))
+    if stamps is None:
+        return None
+    outside = []
+    for folder in above:
+        outside += [[str(folder / name), _stamp(str(folder / name))] for name in CI_FILES]
+        workflows = folder / CI_FOLDER
+        try:
+            names = sorted(os.listdir(workflows))
+        except OSError as error:
+            outside.append([str(workflows), error.errno])
+            continue
+        outside += [[str(workflows / name), _stamp(str(workflows / name))] for name in names]
+    whole = json.dumps([__version__, CACHE_FORMAT, options_key, config_key, str(base), outside, stamps])
+    return hashlib.sha256(whole.encode()).hexdigest()
+
+
+def load_workspace(folder: Path, fingerprint: str) -> tuple[list[PackageReport], set[str]] | None:
+    """The whole workspace's reports and codes when its entry's fingerprint and every outside file's
+    stamp are unchanged."""
+    try:
+        entry = json.loads((folder / WORKSPACE_ENTRY).read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(entry, dict) or entry.get("fingerprint") != fingerprint:
+        return None
+    for path, stamp in entry.get("externals", []):
+        if _stamp(path) != stamp:
+            return None
+    return [_report_from(r) for r in entry["reports"]], set(entry["codes"])
+
+
+def store_workspace(
+    folder: Path, fingerprint: str, reports: list[PackageReport], codes: set[str], externals: set[str]
+) -> None:
+    entry = {
+        "fingerprint": fingerprint,
+        "externals": [[p, _stamp(p)] for p in sorted(externals)],
+        "codes": sorted(codes),
+        "reports": [_report_to(r) for r in reports],
+    }
+    _atomic_write(folder / WORKSPACE_ENTRY, json.dumps(entry))
 
 
 def workspace_key(folders: list[Path], texts: dict[Path, str | None] | None = None) -> str:

@@ -22,11 +22,6 @@ from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
 from pkgforge.errors import PkgforgeError
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
 CONFIG_FILE = "pkgforge.toml"
 
 
@@ -245,6 +240,10 @@ def validate(data: dict, path: Path, text: str) -> None:
 
 
 def read_config(path: Path) -> dict:
+    if sys.version_info >= (3, 11):  # (imported here: a workspace without pkgforge.toml never needs it)
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:

@@ -352,15 +352,19 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     workspace = locate(path)
     config: Config = load_config(workspace.root, options.selection)
     jobs = options.jobs or os.cpu_count() or 1
-    cache, keys, hits = None, {}, {}
+    cache, keys, hits, whole = None, {}, {}, None
     if options.use_cache and options.mode == "predicted":
         try:
+            whole, answer = _workspace_lookup(workspace, config, options)
+            if answer is not None:  # nothing changed anywhere since a run that cached every package
+                return VerifyResult(root, answer[0], answer[1], engine=engine.name, distro=engine.distro)
             cache, keys, hits = _cache_lookup(workspace, config, options)
         except OSError:  # a cache folder this user may not write: verify without the cache
-            cache, keys, hits = None, {}, {}
+            cache, keys, hits, whole = None, {}, {}, None
         if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
             codes = set().union(*(codes for _, codes in hits.values()))
+            _store_whole(cache, whole, keys, reports)
             return VerifyResult(root, reports, codes, engine=engine.name, distro=engine.distro)
     zygote = _early_zygote(options, engine)
     try:
@@ -398,6 +402,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
         result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path))
     )
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
+    _store_whole(cache, whole, keys, result.reports)
     result.engine, result.distro = engine.name, engine.distro
     return result
 
@@ -453,6 +458,51 @@ def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
             hits[folder] = report
     cache.save_index()
     return cache, keys, hits
+
+
+def _store_whole(cache, whole: str | None, keys: dict, reports: list[PackageReport]) -> None:
+    """The workspace entry, when every package of the run has a valid entry (answered by the cache
+    next time): the next unchanged run reads that one file."""
+    if whole is None or cache is None or not (set(cache.answered) == set(keys) == {r.path for r in reports}):
+        return
+    from pkgforge.verify.cache import store_workspace
+
+    try:
+        store_workspace(
+            cache.folder,
+            whole,
+            reports,
+            set().union(*(codes for _, codes in cache.answered.values())),
+            set().union(*(externals for externals, _ in cache.answered.values())),
+        )
+    except OSError:
+        pass  # the per-package entries answer
+
+
+def _workspace_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
+    """(the whole workspace's fingerprint, (reports, codes) when its entry answers), for a run on a
+    whole workspace; (None, None) for one package."""
+    if workspace.package_path is not None:
+        return None, None
+    from pkgforge.verify.cache import load_workspace, workspace_fingerprint
+
+    root, base = workspace.root.resolve(), workspace.base_path.resolve()
+    above = [folder for folder in base.parents if folder == root or root in folder.parents]
+    settings = json.dumps(
+        [
+            config.cli.select,
+            config.cli.ignore,
+            config.cli.severity,
+            config.workspace,
+            str(config.workspace_file),
+        ],
+        sort_keys=True,
+        default=str,
+    )
+    whole = workspace_fingerprint(base, above, options.cache_key(), settings)
+    if whole is None:
+        return None, None
+    return whole, load_workspace(cache_folder(workspace), whole)
 
 
 def _targets(folder: Path, workspace: Workspace, config: Config, options: VerifyOptions) -> tuple[str, ...]:
