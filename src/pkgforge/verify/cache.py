@@ -55,6 +55,7 @@ class ResultCache:
         self.changed = False
         # package folder → (files outside it that its valid entry read, its codes): loaded or stored
         self.answered: dict[Path, tuple[list[str], set[str]]] = {}
+        self.stamps: dict[str, list] = {}  # path → its stamp when its digest was taken
 
     # --- digests ------------------------------------------------------------------------------
 
@@ -63,10 +64,12 @@ class ResultCache:
         ctime and mode; an unreadable file's fingerprint is its mode alone."""
         try:
             stat = os.stat(path)
-        except OSError:
+        except OSError as error:
+            self.stamps[path] = [error.errno]
             return None
         mode = f"{stat.st_mode & 0o7777:o}"
         stamp = [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
+        self.stamps[path] = stamp  # as _stamp() gives it: the workspace entry's record of the file
         known = self.index.get(path)
         if known and len(known) == 5 and known[:4] == stamp:
             return f"{known[4]}:{mode}"
@@ -235,11 +238,12 @@ def load_workspace(folder: Path, fingerprint: str) -> tuple[list[PackageReport],
 
 
 def store_workspace(
-    folder: Path, fingerprint: str, reports: list[PackageReport], codes: set[str], externals: set[str]
+    folder: Path, fingerprint: str, reports: list[PackageReport], codes: set[str], externals: dict[str, list]
 ) -> None:
+    """`externals`: each outside file's stamp when its digest was taken (a later edit is not hidden)."""
     entry = {
         "fingerprint": fingerprint,
-        "externals": [[p, _stamp(p)] for p in sorted(externals)],
+        "externals": [[p, externals[p]] for p in sorted(externals)],
         "codes": sorted(codes),
         "reports": [_report_to(r) for r in reports],
     }

@@ -468,12 +468,13 @@ def _store_whole(cache, whole: str | None, keys: dict, reports: list[PackageRepo
     from pkgforge.verify.cache import store_workspace
 
     try:
+        outside = set().union(*(externals for externals, _ in cache.answered.values()))
         store_workspace(
             cache.folder,
             whole,
             reports,
             set().union(*(codes for _, codes in cache.answered.values())),
-            set().union(*(externals for externals, _ in cache.answered.values())),
+            {path: cache.stamps.get(path) or [] for path in outside},
         )
     except OSError:
         pass  # the per-package entries answer
