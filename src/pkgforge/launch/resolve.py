@@ -25,7 +25,7 @@ from pkgforge.launch.records import ITEM_KINDS, LaunchFile, Resolution, resoluti
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
-from pkgforge.sandbox.zygote import ForkedProcess, Zygote
+from pkgforge.sandbox.zygote import ForkedProcess, Zygote, worker_environment
 from pkgforge.tree import InstallTree
 from pkgforge.walk import walk
 
@@ -263,25 +263,6 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
         f"the process evaluating it exited (status {code}) without a result "
         "(os._exit or a crash in an extension module)"
     )
-
-
-def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, str]:
-    """A launch worker's environment: `env` (the tree's) with the real xacro and python3 first on
-    PATH, and the engine's variables."""
-    env = dict(env)
-    env["PATH"] = os.path.dirname(sys.executable) + os.pathsep + env.get("PATH", "")
-    return engine.environment(env)
-
-
-def start_zygote(engine: LaunchEngine) -> Zygote:
-    """The run's fork server, started now (from the main thread), so that its imports overlap
-    discovery and model loading; the tree's variables come with each worker."""
-    zygote = Zygote()
-    try:
-        zygote.ensure(worker_environment(dict(os.environ), engine))
-    except OSError:
-        pass  # run_requests tries again, and each worker says why it could not start
-    return zygote
 
 
 def run_requests(

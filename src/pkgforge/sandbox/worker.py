@@ -394,5 +394,8 @@ if __name__ == "__main__":
         from pkgforge.sandbox.zygote import serve
 
         serve(int(sys.argv[2]))
+        # nothing to flush or remove, and the interpreter's own exit with lxml, xacro and the
+        # evaluator loaded takes ~60 ms that pkgforge would wait for (Zygote.close)
+        os._exit(0)
     else:
         main()

@@ -137,12 +137,13 @@ def package_folders(base: Path) -> list[Path]:
     from pkgforge.walk import walk
 
     found = []
-    for current, dirs, files in walk(base):
+    # below a resolved top, the walk (which enters no linked folder) yields real paths already
+    for current, dirs, files in walk(Path(base).resolve()):
         if any(marker in files for marker in IGNORE_MARKERS):
             dirs[:] = []
             continue
         if "package.xml" in files:
-            found.append(Path(current).resolve())
+            found.append(Path(current))
             dirs[:] = []
             continue
         dirs[:] = [d for d in dirs if not d.startswith(".")]
@@ -415,7 +416,7 @@ def _early_zygote(options: VerifyOptions, engine):
         return None
     if options.selection.select and not options.selection.codes() & _tree_codes():
         return None  # (without --select, some package may select launch checks in pkgforge.toml)
-    from pkgforge.launch.resolve import start_zygote
+    from pkgforge.sandbox.zygote import start_zygote
 
     return start_zygote(engine)
 
