@@ -517,6 +517,24 @@ def test_one_package_is_identified_as_colcons_discovery_of_the_workspace_does(tm
     assert seen(one) == seen(whole) and seen(one)
 
 
+def test_identification_entry_points_read_as_importlib_metadata_reads_them():
+    """workspace.identify_folder decides from the names of colcon's identification entry points,
+    read from the entry_points.txt files directly (cheaper than importlib.metadata)."""
+    from importlib.metadata import entry_points
+
+    from pkgforge.workspace import IDENTIFICATION, _identification_names, _section_names
+
+    assert _identification_names() == {
+        e.name for e in entry_points(group="colcon_core.package_identification")
+    }
+    assert _identification_names() == IDENTIFICATION  # as installed with pkgforge
+    text = (
+        "[console_scripts]\nros = x:y\n\n[colcon_core.package_identification]\n# c = d:e\n"
+        "ros = colcon_ros.package_identification.ros:RosPackageIdentification\n  extra=m:N\n[other]\nz = a:b\n"
+    )
+    assert _section_names(text, "colcon_core.package_identification") == {"ros", "extra"}
+
+
 def test_colcon_ignore_is_honoured(tmp_path):
     copy_fixture("seed001/small_turtle", tmp_path)
     (tmp_path / "src" / "small_turtle" / "COLCON_IGNORE").touch()

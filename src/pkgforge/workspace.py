@@ -85,12 +85,8 @@ def identify_folder(folder: Path):
     import logging
     import os
     from collections import OrderedDict
-    from importlib.metadata import entry_points
 
-    if (
-        os.environ.get("COLCON_EXTENSION_BLOCKLIST")
-        or {e.name for e in entry_points(group="colcon_core.package_identification")} != IDENTIFICATION
-    ):
+    if os.environ.get("COLCON_EXTENSION_BLOCKLIST") or _identification_names() != IDENTIFICATION:
         return None
     from colcon_core.package_identification import IgnoreLocationException, identify
     from colcon_core.package_identification.ignore import IgnorePackageIdentification
@@ -122,3 +118,54 @@ def identify_folder(folder: Path):
     except Exception:  # colcon raises plain exceptions for bad manifests: discover() says it
         return None
     return descriptor if descriptor and str(descriptor.type).startswith("ros.") else None
+
+
+IDENTIFICATION_GROUP = "colcon_core.package_identification"
+
+
+def _identification_names() -> set[str]:
+    """The names of colcon's identification entry points in every distribution on sys.path.
+
+    importlib.metadata.entry_points() builds a Distribution for each of the ~100 installed and
+    reads them all (~45 ms, a tenth of checking one package); this reads only the entry_points.txt
+    files of the dist-info and egg-info folders. It sees every distribution entry_points() sees
+    (and shadowed copies too, which can only add names: then discover() decides, as for any
+    other name); with a path entry it cannot list (a zip, an egg), importlib.metadata answers."""
+    import os
+    import sys
+
+    names: set[str] = set()
+    for entry in sys.path:
+        if entry.lower().endswith(".egg"):  # an egg's EGG-INFO: importlib.metadata's rules
+            from importlib.metadata import entry_points
+
+            return {e.name for e in entry_points(group=IDENTIFICATION_GROUP)}
+        try:
+            folders = [n for n in os.listdir(entry or ".") if n.endswith((".dist-info", ".egg-info"))]
+        except NotADirectoryError:
+            from importlib.metadata import entry_points
+
+            return {e.name for e in entry_points(group=IDENTIFICATION_GROUP)}
+        except OSError:
+            continue  # a path entry that is gone: importlib.metadata finds nothing there either
+        for folder in folders:
+            try:
+                with open(os.path.join(entry or ".", folder, "entry_points.txt"), encoding="utf-8") as handle:
+                    text = handle.read()
+            except (OSError, UnicodeDecodeError):
+                continue
+            if IDENTIFICATION_GROUP in text:
+                names |= _section_names(text, IDENTIFICATION_GROUP)
+    return names
+
+
+def _section_names(text: str, section: str) -> set[str]:
+    """The keys of one [section] of an entry_points.txt (an ini file: `name = module:attr`)."""
+    names, inside = set(), False
+    for line in text.splitlines():
+        line = line.strip()
+        if line.startswith("["):
+            inside = line == f"[{section}]"
+        elif inside and "=" in line and not line.startswith(("#", ";")):
+            names.add(line.split("=", 1)[0].strip())
+    return names
