@@ -275,8 +275,11 @@ def run_requests(
     limits: WorkerLimits | None = None,
     engine: LaunchEngine = BUILTIN,
     zygote: Zygote | None = None,
-) -> list[dict]:
+    convert=None,
+) -> list:
     """Each request answered by a worker subprocess, in order; a hang or crash is an answer too.
+    `convert(index, reply)`: what to keep of each reply, called as it comes (a reply's plain data
+    is dropped at once instead of all of them living until the last worker ends: the peak memory).
 
     Workers are forked from `zygote` (the run's fork server; without one, a fork server for
     this call). Every worker, and everything the launch files started, is gone when this
@@ -313,6 +316,11 @@ def run_requests(
                 except queue.Empty:
                     return
                 replies[index] = worker.ask(request, timeout)
+                if convert is not None:
+                    try:
+                        replies[index] = (convert(index, replies[index]),)
+                    except Exception:  # noqa: BLE001 - converted again below, where it raises as before
+                        pass
                 if on_done is not None:
                     on_done()
         except _Cancelled:
@@ -341,10 +349,12 @@ def run_requests(
             shutil.rmtree(scratch, ignore_errors=True)
     for index, reply in enumerate(replies):
         if reply is None:
-            replies[index] = {
+            replies[index] = reply = {
                 "status": "crashed",
                 "error": {"message": "not evaluated (pkgforge was stopped)", "line": None},
             }
+        if convert is not None:
+            replies[index] = reply[0] if isinstance(reply, tuple) else convert(index, reply)
     return replies
 
 
@@ -361,7 +371,13 @@ def resolve(
     zygote: Zygote | None = None,
 ) -> list[Resolution]:
     requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
-    replies = run_requests(
+
+    def convert(index: int, reply: dict) -> Resolution:
+        reply.setdefault("engine", engine.name)  # a timeout or a crash is the engine's too
+        reply.setdefault("distro", engine.distro)
+        return _resolution(launch_files[index], reply)
+
+    return run_requests(
         requests,
         tree,
         jobs=jobs,
@@ -370,11 +386,8 @@ def resolve(
         limits=limits,
         engine=engine,
         zygote=zygote,
+        convert=convert,
     )
-    for reply in replies:  # a timeout or a crash is the engine's too
-        reply.setdefault("engine", engine.name)
-        reply.setdefault("distro", engine.distro)
-    return [_resolution(launch, reply) for launch, reply in zip(launch_files, replies, strict=False)]
 
 
 def _resolution(launch: LaunchFile, reply: dict) -> Resolution:
