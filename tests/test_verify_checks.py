@@ -535,6 +535,39 @@ def test_identification_entry_points_read_as_importlib_metadata_reads_them():
     assert _section_names(text, "colcon_core.package_identification") == {"ros", "extra"}
 
 
+def _described(descriptors) -> list:
+    return [(d.name, str(d.type), str(d.path)) for d in descriptors]
+
+
+def test_discovery_with_the_ros_extension_alone_is_colcons_or_asks_every_extension(tmp_path):
+    """verify's discovery identifies with colcon's ignore and ROS extensions only (no setuptools)
+    when that is what every extension decides; a folder the ROS extension leaves alone that holds
+    a CMakeLists.txt or setup.py (a plain CMake project hiding a ROS package, a Python package, a
+    package.xml colcon-ros rejects beside a CMakeLists.txt) makes it ask them all, as colcon does."""
+    from pkgforge.workspace import discover
+
+    src = tmp_path / "src"
+    copy_fixture("seed001/small_turtle", tmp_path)
+    assert (
+        run_pkgforge("new", "plain_description", *MAINTAINER, "--destination", "src", cwd=tmp_path).returncode
+        == 0
+    )
+    only_ros = discover(src, augment=False, ros_only=True)
+    assert _described(only_ros) == _described(discover(src)) and len(only_ros) == 2
+
+    outer = src / "outer"  # colcon's cmake extension takes the folder: it never looks inside
+    outer.mkdir()
+    (outer / "CMakeLists.txt").write_text("cmake_minimum_required(VERSION 3.8)\nproject(outer)\n")
+    shutil.copytree(src / "plain_description", outer / "inner_description")
+    python = src / "py_tool"
+    python.mkdir()
+    (python / "setup.py").write_text("from setuptools import setup\nsetup(name='py_tool')\n")
+    mixed = discover(src, augment=False, ros_only=True)
+    assert _described(mixed) == _described(discover(src))
+    assert ("outer", "cmake", str(outer)) in _described(mixed)
+    assert not any(path.startswith(str(outer / "inner_description")) for _, _, path in _described(mixed))
+
+
 def test_colcon_ignore_is_honoured(tmp_path):
     copy_fixture("seed001/small_turtle", tmp_path)
     (tmp_path / "src" / "small_turtle" / "COLCON_IGNORE").touch()

@@ -47,14 +47,19 @@ def locate(path: Path) -> Workspace:
     )
 
 
-def discover(base_path: Path) -> list:
-    """colcon PackageDescriptors under base_path (COLCON_IGNORE, AMENT_IGNORE honoured)."""
+def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -> list:
+    """colcon PackageDescriptors under base_path (COLCON_IGNORE, AMENT_IGNORE honoured).
+
+    `augment`: with colcon's augmentation (the dependencies; build.py orders by them; names,
+    types and paths never change there). `ros_only`: identify with colcon's ignore and ROS
+    extensions alone (colcon-python-setup-py imports setuptools: ~0.3 CPU s and ~10 MiB) when
+    that gives what all of them would: every folder the ROS extension leaves to the lower
+    priorities is watched, and when one holds a CMakeLists.txt or setup.py (what colcon's cmake
+    and python extensions look for) discovery runs again with every extension."""
     import argparse
     import logging
 
-    from colcon_core.package_augmentation import augment_packages
     from colcon_core.package_discovery import add_package_discovery_arguments, discover_packages
-    from colcon_core.package_identification import get_package_identification_extensions
 
     parser = argparse.ArgumentParser(add_help=False)
     add_package_discovery_arguments(parser)
@@ -63,37 +68,59 @@ def discover(base_path: Path) -> list:
     # those folders itself and reports each problem with its line instead
     logging.getLogger("colcon").setLevel(logging.CRITICAL + 1)
     try:
-        descriptors = discover_packages(args, get_package_identification_extensions())
-        # augmentation is where colcon-ros fills in the manifest's dependencies
-        augment_packages(descriptors)
+        descriptors = None
+        undecided = _Undecided()
+        groups = _ros_identification(undecided) if ros_only else None
+        if groups is not None:
+            descriptors = discover_packages(args, groups)
+            if undecided.folders:
+                descriptors = None  # colcon's other extensions might identify those: ask them all
+        if descriptors is None:
+            from colcon_core.package_identification import get_package_identification_extensions
+
+            descriptors = discover_packages(args, get_package_identification_extensions())
+        if augment:  # augmentation is where colcon-ros fills in the manifest's dependencies
+            from colcon_core.package_augmentation import augment_packages
+
+            augment_packages(descriptors)
     except Exception as exc:  # colcon raises plain exceptions for bad manifests
         raise PkgforgeError(f"package discovery under {base_path} failed: {exc}") from exc
     return sorted(descriptors, key=lambda d: (d.name or "", str(d.path)))
 
 
-# colcon's identification extensions as installed with pkgforge: those above priority 150 only
-# ignore a folder, `ros` identifies a package.xml, and what ranks below never runs once it has
-IDENTIFICATION = {"cmake", "ignore", "ignore_ament_install", "python", "python_setup_py", "ros"}
+# what colcon's cmake, python and python_setup_py identification extensions look for in a folder
+BUILD_FILES = ("CMakeLists.txt", "setup.py")
 
 
-def identify_folder(folder: Path):
-    """colcon's descriptor of one package folder from its ignore and ROS extensions alone (what
-    colcon's discovery of that folder decides when the ROS extension identifies it), without
-    loading every extension (colcon-python-setup-py imports setuptools: ~1 CPU s); None when
-    that is not certain (another colcon extension installed, an extension blocklist, a folder
-    colcon ignores or whose manifest the ROS extension rejects): discover() decides then."""
-    import logging
+class _Undecided:
+    """Ranked below the ROS extension, so it sees exactly the folders colcon would hand to its
+    cmake and python extensions; notes those where they could find a package. Identifies nothing."""
+
+    PACKAGE_IDENTIFICATION_NAME = "pkgforge_undecided"
+
+    def __init__(self):
+        self.folders: list[str] = []
+
+    def identify(self, desc) -> None:
+        import os
+
+        if any(os.path.isfile(os.path.join(str(desc.path), name)) for name in BUILD_FILES):
+            self.folders.append(str(desc.path))
+
+
+def _ros_identification(below=None):
+    """colcon's ignore and ROS identification extensions, grouped by priority as colcon groups
+    them (and `below`, ranked under them); None unless the installed identification extensions
+    are the known six and no COLCON_EXTENSION_BLOCKLIST is set."""
     import os
     from collections import OrderedDict
 
     if os.environ.get("COLCON_EXTENSION_BLOCKLIST") or _identification_names() != IDENTIFICATION:
         return None
-    from colcon_core.package_identification import IgnoreLocationException, identify
     from colcon_core.package_identification.ignore import IgnorePackageIdentification
     from colcon_ros.package_identification.ignore import IgnorePackageIdentification as IgnoreAmentInstall
     from colcon_ros.package_identification.ros import RosPackageIdentification
 
-    logging.getLogger("colcon").setLevel(logging.CRITICAL + 1)  # as discover(): pkgforge reports it
     groups = OrderedDict(
         [
             (
@@ -111,6 +138,30 @@ def identify_folder(folder: Path):
     for group in groups.values():
         for name, extension in group.items():
             extension.PACKAGE_IDENTIFICATION_NAME = name
+    if below is not None:
+        groups[0] = OrderedDict([(below.PACKAGE_IDENTIFICATION_NAME, below)])
+    return groups
+
+
+# colcon's identification extensions as installed with pkgforge: those above priority 150 only
+# ignore a folder, `ros` identifies a package.xml, and what ranks below never runs once it has
+IDENTIFICATION = {"cmake", "ignore", "ignore_ament_install", "python", "python_setup_py", "ros"}
+
+
+def identify_folder(folder: Path):
+    """colcon's descriptor of one package folder from its ignore and ROS extensions alone (what
+    colcon's discovery of that folder decides when the ROS extension identifies it), without
+    loading every extension (colcon-python-setup-py imports setuptools: ~1 CPU s); None when
+    that is not certain (another colcon extension installed, an extension blocklist, a folder
+    colcon ignores or whose manifest the ROS extension rejects): discover() decides then."""
+    import logging
+
+    groups = _ros_identification()
+    if groups is None:
+        return None
+    from colcon_core.package_identification import IgnoreLocationException, identify
+
+    logging.getLogger("colcon").setLevel(logging.CRITICAL + 1)  # as discover(): pkgforge reports it
     try:
         descriptor = identify(groups, str(folder))
     except IgnoreLocationException:

@@ -165,7 +165,7 @@ def find_targets(workspace: Workspace) -> list[PackageTarget]:
     """Every ROS package of the workspace: colcon's discovery decides, and folders whose
     package.xml colcon rejected are added, so their problems are reported, not skipped."""
     targets = []
-    for descriptor in discover(workspace.base_path):
+    for descriptor in discover(workspace.base_path, augment=False, ros_only=True):  # names and types only
         path = Path(descriptor.path).resolve()
         if not (path / "package.xml").exists():
             continue  # a plain CMake or Python package: not a ROS package
