@@ -221,6 +221,7 @@ class Recorder:
     required: list = field(default_factory=list)
     errors: list = field(default_factory=list)
     command_cache: dict = field(default_factory=dict)
+    prefix_cache: dict = field(default_factory=dict)  # package → its prefix (or the lookup's error)
 
     def add(self, kind: str, item: dict, obj=None) -> Record:
         item = dict(item)

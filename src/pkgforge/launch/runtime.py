@@ -604,8 +604,17 @@ def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
         item["file"], item["line"] = where
         guarded = _guarded(*where)
         where = None
+    known = RECORDER.prefix_cache  # one search of the prefixes per package and file (a file asks ~9 times)
+    if package not in known:
+        try:
+            known[package] = getattr(get_package_prefix, "_pkgforge_real", get_package_prefix)(package)
+        except (AmentNotFound, PackageNotFoundError, ValueError) as error:
+            known[package] = error
     try:
-        prefix = getattr(get_package_prefix, "_pkgforge_real", get_package_prefix)(package)
+        if isinstance(known[package], BaseException):
+            error = known[package]
+            raise type(error)(*error.args)
+        prefix = known[package]
     except (AmentNotFound, PackageNotFoundError, ValueError):
         if guarded:
             raise  # the launch file catches it: probing for an optional package
