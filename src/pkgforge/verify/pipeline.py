@@ -205,7 +205,9 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
     from concurrent.futures import ProcessPoolExecutor
     from multiprocessing import get_context
 
-    workers = max(1, jobs - 1)  # this process runs discovery meanwhile
+    # as many as cores: this process's discovery (colcon's ROS extension alone) ends long before
+    # the loading, and a core would then wait for the last chunks of one worker
+    workers = max(1, jobs)
     size = max(1, -(-len(guessed) // (workers * 4)))
     chunks = [guessed[i : i + size] for i in range(0, len(guessed), size)]
     with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("fork")) as pool:
