@@ -228,7 +228,10 @@ def _environment_reads(source: Path) -> list[str]:
     import ast
 
     try:
-        tree = ast.parse(source.read_text(encoding="utf-8", errors="replace"))
+        text = source.read_text(encoding="utf-8", errors="replace")
+        if "environ" not in text and "getenv" not in text:
+            return []  # every form below names one of them: no parse needed
+        tree = ast.parse(text)
     except (OSError, SyntaxError, ValueError):
         return []
     names = []
