@@ -188,7 +188,20 @@ def _load(target: PackageTarget) -> PackageModel:
 
 
 def _load_chunk(folders: list[Path]) -> list[PackageModel]:
-    return [_load(PackageTarget(folder, folder.name, None, False)) for folder in folders]
+    models = [_load(PackageTarget(folder, folder.name, None, False)) for folder in folders]
+    for model in models:  # read here, where loading just parsed the same texts (yamlnodes' memo)
+        model.rviz_read = {source: read for source, read in _rviz_files(model)}  # type: ignore[attr-defined]
+    return models
+
+
+def _rviz_files(model: PackageModel, known: dict | None = None):
+    """(source, RvizConfig) of each RViz config the package installs; `known`: those read already."""
+    from pkgforge.model.rviz import read_rviz
+
+    for destination, installed in model.layout.files.items():
+        if destination.endswith(".rviz") and installed.source is not None:
+            source = installed.source
+            yield source, known[source] if known and source in known else read_rviz(source)
 
 
 def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], dict[Path, PackageModel]]:
@@ -328,10 +341,8 @@ def rviz_configs(tree, checked: list[PackageModel], resolutions: dict) -> dict:
 
     out = {}
     for model in checked:
-        configs: dict[Path, object] = {}
-        for destination, installed in model.layout.files.items():
-            if destination.endswith(".rviz") and installed.source is not None:
-                configs[installed.source] = read_rviz(installed.source)
+        # read by the loader processes when they loaded the model (beside discovery), else here
+        configs: dict[Path, object] = dict(_rviz_files(model, getattr(model, "rviz_read", None)))
         launches = []
         for resolution in resolutions.get(model.name, []):
             for node in resolution.nodes:
