@@ -202,7 +202,7 @@ def test_distro_data_regenerates_identically_from_the_lists(tmp_path):
         timeout=60,
     )
     assert result.returncode == 0, result.stderr
-    assert out.read_text() == (REPO / "src" / "pkgforge" / "data" / "distros.txt").read_text()
+    assert out.read_text() == (REPO / "src" / "pkgforge" / "model" / "data" / "distros.txt").read_text()
 
 
 def test_distro_data_from_a_rosdistro_checkout(tmp_path):
