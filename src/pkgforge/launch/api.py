@@ -33,7 +33,7 @@ import typing
 from collections.abc import Callable, Sequence
 from importlib.machinery import ModuleSpec
 from pathlib import Path
-from typing import Any, TypedDict
+from typing import Any, Literal, TypedDict
 
 from pkgforge.launch import runtime as rt
 
@@ -195,20 +195,24 @@ IMPLEMENTED = {
 
 # --- the list of names ----------------------------------------------------------------------
 
+ParamKind = Literal[
+    "POSITIONAL_ONLY", "POSITIONAL_OR_KEYWORD", "VAR_POSITIONAL", "KEYWORD_ONLY", "VAR_KEYWORD"
+]
 # One parameter of a real signature: (name, inspect.Parameter kind name, default as written
 # in the source or NO_DEFAULT); JSON arrays of three, only ever unpacked or indexed.
-Param = tuple[str, str, object]
+Param = tuple[str, ParamKind, object]
+EntryKind = Literal["alias", "module", "external", "external-module", "class", "function", "value"]
 
 
 class Method(TypedDict):
-    kind: str  # "method", "property", "classmethod", "staticmethod"
+    kind: Literal["method", "property", "classmethod", "staticmethod"]
     signature: list[Param]
 
 
 class Entry(TypedDict, total=False):
     """One name of a module: what `kind` says, with the keys that kind has."""
 
-    kind: str  # alias | module | external | external-module | class | function | value
+    kind: EntryKind
     target: str  # alias: the dotted name it re-exports
     module: str  # module, external, external-module: the module's dotted name
     attr: str  # external: the name in that module
