@@ -23,12 +23,17 @@ from __future__ import annotations
 
 import builtins
 import importlib
+import importlib.abc
 import importlib.util
 import json
 import os
 import sys
+import types
 import typing
+from collections.abc import Callable, Sequence
+from importlib.machinery import ModuleSpec
 from pathlib import Path
+from typing import Any, Literal, TypedDict
 
 from pkgforge.launch import runtime as rt
 
@@ -190,23 +195,74 @@ IMPLEMENTED = {
 
 # --- the list of names ----------------------------------------------------------------------
 
-_data: dict | None = None
-_objects: dict[str, object] = {}
+ParamKind = Literal[
+    "POSITIONAL_ONLY", "POSITIONAL_OR_KEYWORD", "VAR_POSITIONAL", "KEYWORD_ONLY", "VAR_KEYWORD"
+]
+# One parameter of a real signature: (name, inspect.Parameter kind name, default as written
+# in the source or NO_DEFAULT); JSON arrays of three, only ever unpacked or indexed.
+Param = tuple[str, ParamKind, object]
+EntryKind = Literal["alias", "module", "external", "external-module", "class", "function", "value"]
 
 
-def _distro_data() -> dict:
+class Method(TypedDict):
+    kind: Literal["method", "property", "classmethod", "staticmethod"]
+    signature: list[Param]
+
+
+class Entry(TypedDict, total=False):
+    """One name of a module: what `kind` says, with the keys that kind has."""
+
+    kind: EntryKind
+    target: str  # alias: the dotted name it re-exports
+    module: str  # module, external, external-module: the module's dotted name
+    attr: str  # external: the name in that module
+    bases: list[str]  # class: dotted names of its bases
+    methods: dict[str, Method]  # class
+    signature: list[Param]  # function
+    line: int  # class, function, value: where the real source defines it
+
+
+class ModuleInfo(TypedDict, total=False):
+    names: dict[str, Entry]
+    imports: list[str]  # the modules the real one imports
+    all: list[str] | None
+    package: bool
+    submodules: list[str]
+
+
+class Frontend(TypedDict):
+    actions: dict[str, str]  # XML/YAML tag → the real class's dotted name
+    substitutions: dict[str, str]  # $(name …) → the real class's dotted name
+
+
+class DistroData(TypedDict):
+    sources: str
+    frontend: Frontend
+    modules: dict[str, ModuleInfo]
+
+
+# a call's (args, kwargs), checked against a real constructor (raises the TypeError ROS raises)
+Validator = Callable[[tuple[Any, ...], dict[str, Any]], None]
+
+_data: DistroData | None = None
+# what each canonical name stands for: a runtime class or function, a stand-in, typing.Any
+_objects: dict[str, Any] = {}
+
+
+def _distro_data() -> DistroData:
     global _data
     if _data is None:
         with open(DATA, encoding="utf-8") as handle:
-            _data = json.load(handle)["distros"][distro()]
+            data: DistroData = json.load(handle)["distros"][distro()]
+        _data = data
     return _data
 
 
-def modules() -> dict:
+def modules() -> dict[str, ModuleInfo]:
     return _distro_data()["modules"]
 
 
-def frontend() -> dict:
+def frontend() -> Frontend:
     """{"actions": {tag: real class}, "substitutions": {name: real class}} of the XML/YAML front end."""
     return _distro_data()["frontend"]
 
@@ -216,7 +272,7 @@ def _split(target: str) -> tuple[str, str]:
     return module, name
 
 
-def _definition(target: str, depth: int = 0):
+def _definition(target: str, depth: int = 0) -> tuple[str, Entry] | None:
     """(canonical name, entry) of what target names, following re-exports; None if unknown."""
     module, name = _split(target)
     entry = modules().get(module, {}).get("names", {}).get(name)
@@ -229,8 +285,11 @@ def _definition(target: str, depth: int = 0):
     return target, entry
 
 
-def resolve(target: str):
-    """The object a real dotted name stands for here (cached: one object for every path)."""
+def resolve(target: str) -> Any:
+    """The object a real dotted name stands for here (cached: one object for every path).
+
+    Any: a module, a class, a function or a typing construct, used by the launch file (and
+    the front end) as the real API's object would be, dynamically."""
     found = _definition(target)
     if found is None:
         if target in modules():
@@ -242,6 +301,7 @@ def resolve(target: str):
     if canonical in _objects:
         return _objects[canonical]
     kind = entry["kind"]
+    value: Any
     if kind == "external":
         return getattr(importlib.import_module(entry["module"]), entry["attr"])
     if kind == "external-module":
@@ -265,7 +325,7 @@ def resolve(target: str):
 # --- signatures -----------------------------------------------------------------------------
 
 
-def _init_entry(canonical: str, entry: dict, depth: int = 0):
+def _init_entry(canonical: str, entry: Entry, depth: int = 0) -> tuple[str, list[Param], list[str]] | None:
     """(class name, __init__ signature, canonical bases) of the nearest class defining __init__."""
     if "__init__" in entry.get("methods", {}):
         return canonical, entry["methods"]["__init__"]["signature"], entry.get("bases", [])
@@ -278,9 +338,12 @@ def _init_entry(canonical: str, entry: dict, depth: int = 0):
     return None
 
 
-def _checker(qualname: str, signature: list):
-    """A function with the real parameters: calling it raises CPython's own TypeError."""
-    names, defaults = [], {}
+def _checker(qualname: str, signature: Sequence[Param]) -> Callable[..., dict[str, Any]]:
+    """A function with the real parameters: calling it raises CPython's own TypeError.
+
+    It returns what its **kwargs caught (what the real class passes on to its base)."""
+    names: list[str] = []
+    defaults: dict[str, None] = {}
     positional_only_done = not any(kind == "POSITIONAL_ONLY" for _, kind, _ in signature)
     star_done = False
     var_keyword = None
@@ -301,15 +364,15 @@ def _checker(qualname: str, signature: list):
             positional_only_done = True
         names.append(text)
     body = f"return {var_keyword}" if var_keyword else "return {}"
-    namespace: dict = dict(defaults)
+    namespace: dict[str, Any] = dict(defaults)
     short = qualname.rsplit(".", 1)[-1]
     exec(f"def {short}({', '.join(names)}):\n    {body}\n", namespace)  # noqa: S102 - parameters only
-    function = namespace[short]
+    function: Callable[..., dict[str, Any]] = namespace[short]
     function.__qualname__ = qualname
     return function
 
 
-def _enforce_signature(cls: type, canonical: str, entry: dict) -> None:
+def _enforce_signature(cls: type, canonical: str, entry: Entry) -> None:
     """Calls of cls are checked against the real constructor (and what its **kwargs reach)."""
     found = _init_entry(canonical, entry)
     if found is None or "_pkgforge_check" in cls.__dict__:
@@ -317,7 +380,7 @@ def _enforce_signature(cls: type, canonical: str, entry: dict) -> None:
     owner, signature, bases = found
     name = canonical.rsplit(".", 1)[-1]
     check = _checker(f"{name}.__init__", signature)
-    chain = []
+    chain: list[tuple[str, list[Param]]] = []
     for base in bases:
         definition = _definition(base)
         while definition is not None and definition[1]["kind"] == "class":
@@ -330,7 +393,7 @@ def _enforce_signature(cls: type, canonical: str, entry: dict) -> None:
             definition = _definition(init[2][0])
         break
 
-    def validate(args, kwargs):
+    def validate(args: tuple[Any, ...], kwargs: dict[str, Any]) -> None:
         rest = check(None, *args, **kwargs)
         for base_name, base_signature in chain:
             if not rest:
@@ -344,17 +407,20 @@ def _enforce_signature(cls: type, canonical: str, entry: dict) -> None:
                     raise TypeError(f"{base_name}.__init__() got an unexpected keyword argument '{key}'")
             rest = {k: v for k, v in rest.items() if k not in accepted}
 
-    cls._pkgforge_check = staticmethod(validate)
+    checker: Validator = validate
+    # on any class exposed under a real name (exceptions too); runtime.Located calls it
+    setattr(cls, "_pkgforge_check", staticmethod(checker))  # noqa: B010
 
 
 # --- stand-ins for what is not evaluated ----------------------------------------------------
 
 
-def _bases(entry: dict) -> tuple:
-    out = []
+def _bases(entry: Entry) -> tuple[type, ...]:
+    out: list[type] = []
     for base in entry.get("bases", []):
-        if hasattr(builtins, base) and isinstance(getattr(builtins, base), type):
-            out.append(getattr(builtins, base))
+        builtin = getattr(builtins, base, None)
+        if isinstance(builtin, type):
+            out.append(builtin)
             continue
         try:
             value = resolve(base)
@@ -365,7 +431,7 @@ def _bases(entry: dict) -> tuple:
     return tuple(out)
 
 
-def _stand_in_class(canonical: str, entry: dict) -> type:
+def _stand_in_class(canonical: str, entry: Entry) -> type:
     name = canonical.rsplit(".", 1)[-1]
     bases = _bases(entry) or (rt.Located,)
     if any(issubclass(b, BaseException) for b in bases):
@@ -383,7 +449,7 @@ def _stand_in_class(canonical: str, entry: dict) -> type:
     return cls
 
 
-def _inert_class(canonical: str, entry: dict) -> type:
+def _inert_class(canonical: str, entry: Entry) -> type:
     """An event (Shutdown, ChangeState…): built to be emitted at run time, nothing to check."""
     name = canonical.rsplit(".", 1)[-1]
     cls = type(name, (rt.InertEvent,), {"__module__": canonical.rsplit(".", 1)[0]})
@@ -391,11 +457,11 @@ def _inert_class(canonical: str, entry: dict) -> type:
     return cls
 
 
-def _stand_in_function(canonical: str, entry: dict):
+def _stand_in_function(canonical: str, entry: Entry) -> Callable[..., None]:
     name = canonical.rsplit(".", 1)[-1]
     check = _checker(name, entry["signature"])
 
-    def stand_in(*args, **kwargs):
+    def stand_in(*args: Any, **kwargs: Any) -> None:  # whatever the launch file passes
         check(*args, **kwargs)
         file, line = rt.here()
         rt.RECORDER.add("unsupported", {"name": name, "file": file, "line": line})
@@ -409,16 +475,16 @@ def _stand_in_function(canonical: str, entry: dict):
 # --- the import hook ------------------------------------------------------------------------
 
 
-class _Loader:
-    def create_module(self, spec):
+class _Loader(importlib.abc.Loader):
+    def create_module(self, spec: ModuleSpec) -> types.ModuleType | None:
         return None
 
-    def exec_module(self, module) -> None:
+    def exec_module(self, module: types.ModuleType) -> None:
         name = module.__name__
         info = modules()[name]
         module.__file__ = f"<pkgforge launch API ({distro()})>/{name.replace('.', '/')}.py"
 
-        def __getattr__(attribute):
+        def __getattr__(attribute: str) -> Any:
             # names are resolved when first used (PEP 562): importing launch stays cheap
             if attribute in info["names"]:
                 try:
@@ -429,20 +495,24 @@ class _Loader:
                 return value
             raise AttributeError(f"module {name!r} has no attribute {attribute!r}")
 
-        def __dir__():
+        def __dir__() -> list[str]:
             return sorted(set(module.__dict__) | set(info["names"]))
 
-        module.__getattr__, module.__dir__ = __getattr__, __dir__
-        if info.get("all") is not None:
-            module.__all__ = list(info["all"])
+        # PEP 562 module hooks and __all__: a module's attributes, set by name
+        module.__dict__.update(__getattr__=__getattr__, __dir__=__dir__)
+        exported = info.get("all")
+        if exported is not None:
+            module.__dict__["__all__"] = list(exported)
         for imported in info["imports"]:  # what the real module imports: the same submodules exist
             importlib.import_module(imported)
 
 
-class _Finder:
+class _Finder(importlib.abc.MetaPathFinder):
     loader = _Loader()
 
-    def find_spec(self, fullname, path=None, target=None):
+    def find_spec(
+        self, fullname: str, path: Sequence[str] | None = None, target: types.ModuleType | None = None
+    ) -> ModuleSpec | None:
         if fullname.split(".")[0] not in TOP:
             return None
         info = modules().get(fullname)

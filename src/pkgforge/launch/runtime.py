@@ -12,16 +12,20 @@ configuration is an error, conditions accept true/false/1/0 only.
 from __future__ import annotations
 
 import collections.abc
+import logging
 import os
 import shlex
 import subprocess
 import sys
 import typing
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from types import FrameType, ModuleType
+from typing import Any, TypedDict, TypeGuard, TypeVar
 
 # --- where a construct stands in the launch file --------------------------------------------
 
 _LAUNCH_FILES: set[str] = set()  # files being evaluated; frames in them are "user" frames
-_FRONTEND_LOCATION: list[tuple[str, int]] = []  # (file, line) while the XML/YAML frontend builds
+_FRONTEND_LOCATION: list[tuple[str, int | None]] = []  # (file, line) while the XML/YAML frontend builds
 _RUNNING_XACRO = False  # pkgforge's own xacro run (a Command), not the launch file's
 
 
@@ -29,12 +33,15 @@ def here() -> tuple[str | None, int | None]:
     """The launch file and line that constructed the object being created."""
     if _FRONTEND_LOCATION:
         return _FRONTEND_LOCATION[-1]
-    frame = sys._getframe(1)
+    frame: FrameType | None = sys._getframe(1)
     while frame is not None:
         if frame.f_code.co_filename in _LAUNCH_FILES:
             return frame.f_code.co_filename, frame.f_lineno
         frame = frame.f_back
     return None, None
+
+
+_Made = TypeVar("_Made", bound="Located")
 
 
 class Located:
@@ -43,7 +50,10 @@ class Located:
     A class exposed under a real API name carries `_pkgforge_check` (set by api.py): the
     real constructor's signature, checked before anything else as ROS would."""
 
-    def __new__(cls, *args, **kwargs):
+    _file: str | None
+    _line: int | None
+
+    def __new__(cls: type[_Made], *args: Any, **kwargs: Any) -> _Made:  # the launch file's arguments
         check = cls.__dict__.get("_pkgforge_check")
         if check is not None:
             check(args, kwargs)
@@ -73,7 +83,12 @@ class InvalidFrontendLaunchFileError(InvalidLaunchFileError):
 
 
 class InvalidConditionExpressionError(SubstitutionFailure):
-    def __init__(self, expression, expression_substitutions=None, valid_expressions=None):
+    def __init__(
+        self,
+        expression: str,
+        expression_substitutions: object = None,
+        valid_expressions: list[str] | None = None,
+    ) -> None:
         valid = valid_expressions or VALID_TRUE_EXPRESSIONS + VALID_FALSE_EXPRESSIONS
         super().__init__(f"Unexpected condition expression '{expression}', expected one of: {valid}")
 
@@ -85,40 +100,46 @@ class PackageNotFoundError(KeyError):
 class Unresolved(Exception):
     """A launch configuration with no value: what depends on it is skipped, not guessed."""
 
-    def __init__(self, name: str):
+    def __init__(self, name: str) -> None:
         super().__init__(name)
         self.name = name
 
 
 # --- the record -----------------------------------------------------------------------------
 
-from pkgforge.launch.records import Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
+from pkgforge.launch.records import ParameterForm, Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
 
 RECORDER = Recorder()
+
+# one record's fields by name, as Recorder.add takes them (records.from_dict checks each key);
+# the values are what the launch file gave: strs mostly, lists, None, numbers
+Item = dict[str, Any]
 
 
 # --- context --------------------------------------------------------------------------------
 
 
 class LaunchContext:
-    def __init__(self, *, argv=None, noninteractive=False):
-        self.launch_configurations: dict[str, str] = {}
+    def __init__(self, *, argv: list[str] | None = None, noninteractive: bool = False) -> None:
+        # name → value; str, except what launch_ros keeps there too: "global_params" (a list of
+        # (name, value) and parameter file paths) and "ros_remaps" (a list of (src, dst))
+        self.launch_configurations: dict[str, Any] = {}
         self.environment = dict(os.environ)
         self._initial_environment = dict(os.environ)
-        self._environment_stack: list[dict] = []
+        self._environment_stack: list[dict[str, str]] = []
         self.locals = _Locals()
         self.argv = argv or []
         self.noninteractive = noninteractive
-        self._stack: list[dict] = []
+        self._stack: list[dict[str, Any]] = []
         self.current_file: str | None = None
 
-    def perform_substitution(self, substitution) -> str:
+    def perform_substitution(self, substitution: Substitution) -> str:
         return substitution.perform(self)
 
-    def extend_locals(self, values: dict) -> None:
+    def extend_locals(self, values: dict[str, Any]) -> None:  # any objects an action shares
         self.locals.__dict__.update(values)
 
-    def get_locals_as_dict(self) -> dict:
+    def get_locals_as_dict(self) -> dict[str, Any]:
         return dict(self.locals.__dict__)
 
     def _push(self) -> None:
@@ -143,7 +164,7 @@ class Substitution(Located):
         return type(self).__name__
 
 
-def normalize(subs) -> list:
+def normalize(subs: SomeSubstitutionsType) -> list[Substitution]:
     """launch.utilities.normalize_to_list_of_substitutions: str | Substitution | iterable of
     those → list of Substitutions; anything else raises the TypeError ROS raises (iterating
     a bool or an int fails, an item of another type is refused)."""
@@ -151,7 +172,7 @@ def normalize(subs) -> list:
         return [TextSubstitution(text=subs)]
     if isinstance(subs, Substitution):
         return [subs]
-    out = []
+    out: list[Substitution] = []
     for item in subs:
         if isinstance(item, Substitution):
             out.append(item)
@@ -165,33 +186,38 @@ def normalize(subs) -> list:
     return out
 
 
-def perform(context: LaunchContext, value) -> str:
+def perform(context: LaunchContext, value: SomeSubstitutionsType | None) -> str:
     """Concatenate the performed substitutions (None → ''): pkgforge's own shorthand."""
     if value is None:
         return ""
     return "".join(s.perform(context) for s in normalize(value))
 
 
-def perform_substitutions(context: LaunchContext, subs) -> str:
+def perform_substitutions(context: LaunchContext, subs: Iterable[Substitution]) -> str:
     """launch.utilities.perform_substitutions (a list of Substitutions)."""
     return "".join(context.perform_substitution(sub) for sub in subs)
 
 
-def _stringify_default(default) -> list:
+def _stringify_default(default: object) -> list[Substitution]:
     """LaunchConfiguration's default: items that are not str or Substitution become str()."""
     items = default if isinstance(default, collections.abc.Iterable) else (default,)
     return normalize([i if isinstance(i, (str, Substitution)) else str(i) for i in items])
 
 
-def _plain_text(value):
-    """EqualsSubstitution's operand: None → '', a bool → 'true'/'false', else str()."""
-    if isinstance(value, Substitution) or (
+def _substitution_items(value: object) -> TypeGuard[Iterable[str | Substitution]]:
+    """strs and Substitutions, at least one Substitution (launch takes len() of any iterable)."""
+    return (
         isinstance(value, collections.abc.Iterable)
         and not isinstance(value, str)
-        and len(value) > 0
+        and len(typing.cast(collections.abc.Sized, value)) > 0
         and all(isinstance(v, (str, Substitution)) for v in value)
         and any(isinstance(v, Substitution) for v in value)
-    ):
+    )
+
+
+def _plain_text(value: object) -> SomeSubstitutionsType:
+    """EqualsSubstitution's operand: None → '', a bool → 'true'/'false', else str()."""
+    if isinstance(value, Substitution) or _substitution_items(value):
         return value
     if value is None:
         return ""
@@ -201,35 +227,36 @@ def _plain_text(value):
 
 
 class TextSubstitution(Substitution):
-    def __init__(self, *, text: str = ""):
+    def __init__(self, *, text: str = "") -> None:
         super().__init__()
         self.text = text
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return self.text
 
 
 class LaunchConfiguration(Substitution):
-    def __init__(self, variable_name, *, default=None):
+    def __init__(self, variable_name: SomeSubstitutionsType, *, default: object = None) -> None:
         super().__init__()
         self.variable_name = normalize(variable_name)
         self.default = None if default is None else _stringify_default(default)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         name = perform(context, self.variable_name)
         if name in context.launch_configurations:
-            return context.launch_configurations[name]
+            value: str = context.launch_configurations[name]
+            return value
         if self.default is not None:
             return perform(context, self.default)
         raise Unresolved(name)
 
 
 class PathJoinSubstitution(Substitution):
-    def __init__(self, substitutions):
+    def __init__(self, substitutions: Iterable[SomeSubstitutionsType]) -> None:
         super().__init__()
         self.substitutions = list(substitutions)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         parts = [perform(context, part) for part in self.substitutions]
         result = os.path.join(*parts) if parts else ""
         _record_path(result, self, "PathJoinSubstitution")
@@ -237,12 +264,14 @@ class PathJoinSubstitution(Substitution):
 
 
 class EnvironmentVariable(Substitution):
-    def __init__(self, name, *, default_value=None):
+    def __init__(
+        self, name: SomeSubstitutionsType, *, default_value: SomeSubstitutionsType | None = None
+    ) -> None:
         super().__init__()
         self.name = name
         self.default_value = default_value
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         name = perform(context, self.name)
         value = context.environment.get(name)
         if value is None:
@@ -253,11 +282,11 @@ class EnvironmentVariable(Substitution):
 
 
 class FindExecutable(Substitution):
-    def __init__(self, *, name):
+    def __init__(self, *, name: SomeSubstitutionsType) -> None:
         super().__init__()
         self.name = name
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         import shutil
 
         name = perform(context, self.name)
@@ -270,7 +299,11 @@ class FindExecutable(Substitution):
 
 
 class PythonExpression(Substitution):
-    def __init__(self, expression, python_modules=["math"]):  # noqa: B006 - launch's default
+    def __init__(
+        self,
+        expression: SomeSubstitutionsType,
+        python_modules: SomeSubstitutionsType = ["math"],  # noqa: B006 - launch's default
+    ) -> None:
         super().__init__()
         ensure_argument_type(
             expression, (str, Substitution, collections.abc.Iterable), "expression", "PythonExpression"
@@ -284,10 +317,10 @@ class PythonExpression(Substitution):
         self.expression = normalize(expression)
         self.python_modules = normalize(python_modules)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         import importlib
 
-        names = {}
+        names: dict[str, Any] = {}  # what the expression may name: modules and math's functions
         for sub in self.python_modules:
             module = importlib.import_module(context.perform_substitution(sub))
             if module.__name__ == "math":
@@ -303,18 +336,20 @@ class Command(Substitution):
     """Runs only what is a pure function of files (records.runs_at_verify_time); any other
     command (a `ros2 param get`, a script) is run-time only: recorded, not run."""
 
-    def __init__(self, command, *, on_stderr="fail"):
+    def __init__(self, command: SomeSubstitutionsType, *, on_stderr: SomeSubstitutionsType = "fail") -> None:
         super().__init__()
         self.command = normalize(command)
         self.on_stderr = normalize(on_stderr)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return command_output(
             self, perform_substitutions(context, self.command), perform_substitutions(context, self.on_stderr)
         )
 
 
-def command_output(owner, text: str, on_stderr: str, failure: type = SubstitutionFailure) -> str:
+def command_output(
+    owner: object, text: str, on_stderr: str, failure: type[Exception] = SubstitutionFailure
+) -> str:
     """`Command.perform` of both engines (the real engine's Command calls it too, with launch's
     own SubstitutionFailure): launch's on_stderr rule; a command verify may run is run (once per
     file) and recorded; a run-time only one is recorded as such and its output is '' ."""
@@ -335,9 +370,10 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
     key = tuple(words)
     if key not in RECORDER.command_cache:
         RECORDER.command_cache[key] = _run_command(words)
-    ok, output, message, extra = RECORDER.command_cache[key]
-    stderr = extra.get("stderr", "")
-    extra = {k: v for k, v in extra.items() if k != "stderr"}
+    result: CommandResult = RECORDER.command_cache[key]
+    ok, output, message, produced = result
+    stderr = produced.get("stderr", "")
+    extra = {k: v for k, v in produced.items() if k != "stderr"}
     problem = None
     if ok and stderr and on_stderr == "fail":
         # launch fails a Command that writes to stderr unless on_stderr says otherwise
@@ -352,7 +388,7 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
         )
     elif ok and stderr and on_stderr == "capture":
         output = output + stderr
-    record = {"command": words, "text": text, "ok": ok, "message": message, **extra}
+    record: Item = {"command": words, "text": text, "ok": ok, "message": message, **extra}
     if os.path.basename(words[0]) == "xacro":
         RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, owner)
         for word in words[1:]:
@@ -369,7 +405,19 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
     return output
 
 
-def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
+class CommandExtra(TypedDict, total=False):
+    """What a Command's run yields besides its output: xacro's model structure and includes."""
+
+    robot: object  # pkgforge.urdf.robot.structure_of_output's structure
+    includes: list[str]
+    stderr: str  # taken out before the record is made (the on_stderr rule reads it)
+
+
+# (ran fine, stdout, why not, extra): one run per command line and file (Recorder.command_cache)
+CommandResult = tuple[bool, str, str, CommandExtra]
+
+
+def _run_command(words: list[str]) -> CommandResult:
     """Run a Command; xacro runs in this process with the real xacro library."""
     if os.path.basename(words[0]) == "xacro":
         return _run_xacro(words[1:])
@@ -384,7 +432,7 @@ def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
     return True, done.stdout, "", {"stderr": done.stderr}
 
 
-def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
+def _run_xacro(args: list[str]) -> CommandResult:
     """xacro with the real library; a success also yields the model's structure, so the
     model checks need not run xacro on it a second time."""
     import io
@@ -408,42 +456,42 @@ def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
 
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
         robot = structure_of_output(files[0], output, includes)
-        extra = {"robot": robot, "includes": includes} if robot else {}
-        return True, output, "", dict(extra, stderr=stderr.getvalue())
+        extra: CommandExtra = {"robot": robot, "includes": includes} if robot else {}
+        return True, output, "", {**extra, "stderr": stderr.getvalue()}
     except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
         message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
-        extra = stderr.getvalue().strip()
-        return False, "", f"{message}\n{extra}".strip(), {}
+        written = stderr.getvalue().strip()
+        return False, "", f"{message}\n{written}".strip(), {}
     finally:
         _RUNNING_XACRO = False
         sys.stderr = real_stderr
 
 
 class ThisLaunchFileDir(Substitution):
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return os.path.dirname(context.current_file or "")
 
 
 class ThisLaunchFile(Substitution):
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return context.current_file or ""
 
 
 class AnonName(Substitution):
-    def __init__(self, name):
+    def __init__(self, name: SomeSubstitutionsType) -> None:
         super().__init__()
         self.name = name
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return f"{perform(context, self.name)}_{os.getpid()}"
 
 
 class LocalSubstitution(Substitution):
-    def __init__(self, expression, description=None):
+    def __init__(self, expression: str, description: str | None = None) -> None:
         super().__init__()
         self.expression = expression
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return str(eval(self.expression, {}, context.get_locals_as_dict()))
 
 
@@ -461,7 +509,7 @@ VALID_TRUE_EXPRESSIONS = ["true", "1"]
 VALID_FALSE_EXPRESSIONS = ["false", "0"]
 
 
-def _typed_bool(context, subs) -> bool:
+def _typed_bool(context: LaunchContext, subs: Iterable[Substitution]) -> bool:
     """perform_typed_substitution(..., bool): '1'/'0', else YAML's booleans (yes, on, True…)."""
     import yaml
 
@@ -480,49 +528,49 @@ def _typed_bool(context, subs) -> bool:
 
 
 class NotSubstitution(Substitution):
-    def __init__(self, value):
+    def __init__(self, value: SomeSubstitutionsType) -> None:
         super().__init__()
         self.value = normalize(value)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return str(not _typed_bool(context, self.value)).lower()
 
 
 class AndSubstitution(Substitution):
-    def __init__(self, left, right):
+    def __init__(self, left: SomeSubstitutionsType, right: SomeSubstitutionsType) -> None:
         super().__init__()
         self.left, self.right = normalize(left), normalize(right)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         left, right = _typed_bool(context, self.left), _typed_bool(context, self.right)
         return str(left and right).lower()
 
 
 class OrSubstitution(AndSubstitution):
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         left, right = _typed_bool(context, self.left), _typed_bool(context, self.right)
         return str(left or right).lower()
 
 
 class AllSubstitution(Substitution):
-    def __init__(self, *args):
+    def __init__(self, *args: SomeSubstitutionsType) -> None:
         super().__init__()
         self.args = [normalize(a) for a in args]
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return str(all([_typed_bool(context, a) for a in self.args])).lower()
 
 
 class AnySubstitution(AllSubstitution):
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return str(any([_typed_bool(context, a) for a in self.args])).lower()
 
 
-def _str_is_bool(text) -> bool:
+def _str_is_bool(text: str) -> bool:
     return isinstance(text, str) and text.lower() in ("true", "false", "1", "0")
 
 
-def _str_is_float(text) -> bool:
+def _str_is_float(text: str) -> bool:
     try:
         float(text)
     except ValueError:
@@ -534,11 +582,11 @@ class EqualsSubstitution(Substitution):
     """Typed as in launch: booleans compare as booleans (True equals 1), numbers as numbers
     (1 equals 1.0), anything else as text."""
 
-    def __init__(self, left, right):
+    def __init__(self, left: object, right: object) -> None:  # any value: see _plain_text
         super().__init__()
         self.left, self.right = normalize(_plain_text(left)), normalize(_plain_text(right))
 
-    def _equal(self, context) -> bool:
+    def _equal(self, context: LaunchContext) -> bool:
         import math
 
         left = perform_substitutions(context, self.left)
@@ -549,34 +597,39 @@ class EqualsSubstitution(Substitution):
             return math.isclose(float(left), float(right))
         return left == right
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return str(self._equal(context)).lower()
 
 
 class NotEqualsSubstitution(EqualsSubstitution):
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return str(not self._equal(context)).lower()
 
 
 class IfElseSubstitution(Substitution):
-    def __init__(self, condition, if_value="", else_value=""):
+    def __init__(
+        self,
+        condition: SomeSubstitutionsType,
+        if_value: SomeSubstitutionsType = "",
+        else_value: SomeSubstitutionsType = "",
+    ) -> None:
         super().__init__()
         if if_value == else_value == "":
             raise RuntimeError("One of if_value and else_value must be specified")
         self.condition = normalize(condition)
         self.if_value, self.else_value = normalize(if_value), normalize(else_value)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         chosen = self.if_value if _typed_bool(context, self.condition) else self.else_value
         return perform_substitutions(context, chosen)
 
 
 class FileContent(Substitution):
-    def __init__(self, path):
+    def __init__(self, path: SomeSubstitutionsType) -> None:
         super().__init__()
         self.path = normalize(path)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         path = perform_substitutions(context, self.path)
         _record_path(path, self, "FileContent")
         if path.startswith(MISSING_PACKAGE_ROOT):
@@ -591,14 +644,16 @@ class FileContent(Substitution):
 # launch_ros substitutions
 
 
-def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
+def lookup_package(
+    package: str, via: str, where: object | tuple[str | None, int | None], kind: str = "share"
+) -> str:
     """A package's share (or prefix) folder, the lookup recorded. A package not found here is
     recorded as such and stands in as an empty package (a path that exists nowhere), so the
     rest of the file is still evaluated."""
     from ament_index_python.packages import PackageNotFoundError as AmentNotFound
     from ament_index_python.packages import get_package_prefix
 
-    item = {"name": package, "via": via}
+    item: Item = {"name": package, "via": via}
     guarded = False
     if isinstance(where, tuple):
         item["file"], item["line"] = where
@@ -636,7 +691,8 @@ def _guarded(file: str | None, line: int | None) -> bool:
     if file is None or line is None:
         return False
     if file not in _GUARDS:
-        spans = []
+        spans: list[tuple[int, int]] = []
+        tree: ast.Module | None
         try:
             with open(file, encoding="utf-8") as handle:
                 tree = ast.parse(handle.read())
@@ -644,7 +700,7 @@ def _guarded(file: str | None, line: int | None) -> bool:
             tree = None
         for node in ast.walk(tree) if tree is not None else []:
             if isinstance(node, ast.Try) and node.body:
-                names = set()
+                names: set[str] = set()
                 for handler in node.handlers:
                     if handler.type is None:
                         names.add("BaseException")
@@ -658,41 +714,43 @@ def _guarded(file: str | None, line: int | None) -> bool:
 
 
 class FindPackage(Substitution):
-    def __init__(self, package):
+    _performing = False
+
+    def __init__(self, package: SomeSubstitutionsType) -> None:
         super().__init__()
         self.package = normalize(package)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         self._performing = True
         try:
             return self.find(perform_substitutions(context, self.package))
         finally:
             self._performing = False
 
-    def find(self, package_name):
+    def find(self, package_name: str) -> str:
         raise NotImplementedError()
 
-    def _where(self):
+    def _where(self) -> FindPackage | tuple[str | None, int | None]:
         # performed: the object's place; called directly by the launch file: that call's place
-        return self if getattr(self, "_performing", False) else here()
+        return self if self._performing else here()
 
 
 class FindPackagePrefix(FindPackage):
-    def find(self, package_name):
+    def find(self, package_name: str) -> str:
         return lookup_package(package_name, "FindPackagePrefix", self._where(), "prefix")
 
 
 class FindPackageShare(FindPackage):
-    def find(self, package_name):
+    def find(self, package_name: str) -> str:
         return lookup_package(package_name, "FindPackageShare", self._where())
 
 
 class ExecutableInPackage(Substitution):
-    def __init__(self, executable, package):
+    def __init__(self, executable: SomeSubstitutionsType, package: SomeSubstitutionsType) -> None:
         super().__init__()
         self.executable, self.package = normalize(executable), normalize(package)
 
-    def perform(self, context):
+    def perform(self, context: LaunchContext) -> str:
         return executable_in_package(
             self,
             perform_substitutions(context, self.executable),
@@ -700,7 +758,7 @@ class ExecutableInPackage(Substitution):
         )
 
 
-def executable_in_package(owner, executable: str, package: str) -> str:
+def executable_in_package(owner: object, executable: str, package: str) -> str:
     """`ExecutableInPackage.perform` of both engines: the package's prefix looked up (recorded; a
     package not found here stands in as an empty one) and the executable in its lib/<package>
     folder, found there or not. launch_ros refuses an executable that is not there; verify does
@@ -714,7 +772,7 @@ def executable_in_package(owner, executable: str, package: str) -> str:
     return found or os.path.join(libexec, executable)
 
 
-def _record_path(path, obj, via: str) -> None:
+def _record_path(path: object, obj: object, via: str) -> None:
     """An absolute path the launch file resolves, recorded (both engines); none under a package
     not found here (that lookup is reported already)."""
     if isinstance(path, str) and path and os.path.isabs(path) and not path.startswith(MISSING_PACKAGE_ROOT):
@@ -725,45 +783,45 @@ def _record_path(path, obj, via: str) -> None:
 
 
 class Condition(Located):
-    def __init__(self, *, predicate=None):
+    def __init__(self, *, predicate: Callable[[LaunchContext], bool] | None = None) -> None:
         super().__init__()
         self.predicate = predicate
 
-    def evaluate(self, context) -> bool:
+    def evaluate(self, context: LaunchContext) -> bool:
         return bool(self.predicate(context)) if self.predicate else True
 
 
 class IfCondition(Condition):
-    def __init__(self, predicate_expression):
+    def __init__(self, predicate_expression: SomeSubstitutionsType) -> None:
         super().__init__()
         self.expression = predicate_expression
 
-    def evaluate(self, context):
+    def evaluate(self, context: LaunchContext) -> bool:
         return _truth(perform(context, self.expression))
 
 
 class UnlessCondition(IfCondition):
-    def evaluate(self, context):
+    def evaluate(self, context: LaunchContext) -> bool:
         return not super().evaluate(context)
 
 
 class LaunchConfigurationEquals(Condition):
-    def __init__(self, launch_configuration_name, expected_value):
+    def __init__(self, launch_configuration_name: str, expected_value: SomeSubstitutionsType | None) -> None:
         super().__init__()
         self.name, self.expected = launch_configuration_name, expected_value
 
-    def evaluate(self, context):
+    def evaluate(self, context: LaunchContext) -> bool:
         value = context.launch_configurations.get(self.name)
         expected = None if self.expected is None else perform(context, self.expected)
         return value == expected
 
 
 class LaunchConfigurationNotEquals(LaunchConfigurationEquals):
-    def evaluate(self, context):
+    def evaluate(self, context: LaunchContext) -> bool:
         return not super().evaluate(context)
 
 
-def evaluate_condition_expression(context, expression) -> bool:
+def evaluate_condition_expression(context: LaunchContext, expression: SomeSubstitutionsType) -> bool:
     return _truth(perform(context, expression))
 
 
@@ -771,39 +829,53 @@ def evaluate_condition_expression(context, expression) -> bool:
 
 
 class LaunchDescriptionEntity(Located):
-    def visit(self, context) -> list | None:
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         return None
 
-    def describe_sub_entities(self):
+    def describe_sub_entities(self) -> list[LaunchDescriptionEntity]:
         return []
 
 
 class Action(LaunchDescriptionEntity):
-    def __init__(self, *, condition=None, **_ignored):
+    # the other keyword arguments of launch's Action (and its subclasses'), not evaluated
+    def __init__(self, *, condition: Condition | None = None, **_ignored: Any) -> None:
         super().__init__()
         self.condition = condition
 
 
 class LaunchDescription(LaunchDescriptionEntity):
-    def __init__(self, initial_entities=None, *, deprecated_reason=None):
+    def __init__(
+        self,
+        initial_entities: Iterable[LaunchDescriptionEntity] | None = None,
+        *,
+        deprecated_reason: str | None = None,
+    ) -> None:
         super().__init__()
         self.entities = list(initial_entities or [])
 
-    def add_action(self, action) -> None:
+    def add_action(self, action: Action) -> None:
         self.entities.append(action)
 
-    def add_entity(self, entity) -> None:
+    def add_entity(self, entity: LaunchDescriptionEntity) -> None:
         self.entities.append(entity)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         return list(self.entities)
 
-    def get_launch_arguments(self, conditional_inclusion=False):
+    def get_launch_arguments(self, conditional_inclusion: bool = False) -> list[DeclareLaunchArgument]:
         return [e for e in self.entities if isinstance(e, DeclareLaunchArgument)]
 
 
 class DeclareLaunchArgument(Action):
-    def __init__(self, name, *, default_value=None, description=None, choices=None, **kwargs):
+    def __init__(
+        self,
+        name: str,
+        *,
+        default_value: SomeSubstitutionsType | None = None,
+        description: str | None = None,
+        choices: Sequence[str] | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.name = name
         # normalised as launch does: a bool or an int default is a TypeError, as in ROS
@@ -822,7 +894,7 @@ class DeclareLaunchArgument(Action):
         self.description = description
         self.choices = list(choices) if choices is not None else None
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         default = None
         if self.default_value is not None:
             try:
@@ -856,22 +928,22 @@ class DeclareLaunchArgument(Action):
 
 
 class SetLaunchConfiguration(Action):
-    def __init__(self, name, value, **kwargs):
+    def __init__(self, name: SomeSubstitutionsType, value: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name, self.value = normalize(name), normalize(value)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context.launch_configurations[perform_substitutions(context, self.name)] = perform_substitutions(
             context, self.value
         )
 
 
 class UnsetLaunchConfiguration(Action):
-    def __init__(self, name, **kwargs):
+    def __init__(self, name: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name = normalize(name)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context.launch_configurations.pop(perform_substitutions(context, self.name), None)
 
 
@@ -879,13 +951,21 @@ class GroupAction(Action):
     """Scoped: configurations and environment restored after; forwarding=False: the group
     starts with only its own launch_configurations and the original environment."""
 
-    def __init__(self, actions, *, scoped=True, forwarding=True, launch_configurations=None, **kwargs):
+    def __init__(
+        self,
+        actions: Iterable[Action],
+        *,
+        scoped: bool = True,
+        forwarding: bool = True,
+        launch_configurations: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.actions = actions
         self.scoped, self.forwarding = scoped, forwarding
         self.launch_configurations = launch_configurations if launch_configurations is not None else {}
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         actions = list(self.actions)
         sets = [SetLaunchConfiguration(k, v) for k, v in self.launch_configurations.items()]
         if not self.scoped:
@@ -911,21 +991,25 @@ class GroupAction(Action):
 
 
 class PushLaunchConfigurations(Action):
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context._push()
 
 
 class PopLaunchConfigurations(Action):
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context._pop()
 
 
 class ResetLaunchConfigurations(Action):
-    def __init__(self, launch_configurations=None, **kwargs):
+    def __init__(
+        self,
+        launch_configurations: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.keep = launch_configurations
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         kept = {
             perform_substitutions(context, normalize(k)): perform_substitutions(context, normalize(v))
             for k, v in (self.keep or {}).items()
@@ -935,48 +1019,63 @@ class ResetLaunchConfigurations(Action):
 
 
 class PushEnvironment(Action):
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context._environment_stack.append(dict(context.environment))
 
 
 class PopEnvironment(Action):
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         if not context._environment_stack:
             raise RuntimeError("environment stack unexpectedly empty")
         context.environment = context._environment_stack.pop()
 
 
 class ResetEnvironment(Action):
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context.environment = dict(context._initial_environment)
 
 
 class OpaqueFunction(Action):
-    def __init__(self, *, function, args=None, kwargs=None, **rest):
+    def __init__(
+        self,
+        *,
+        function: Callable[..., list[LaunchDescriptionEntity] | None],
+        args: Iterable[Any] | None = None,  # the launch file's own values, passed on as they are
+        kwargs: dict[str, Any] | None = None,
+        **rest: Any,
+    ) -> None:
         super().__init__(**rest)
         self.function, self.args, self.kwargs = function, args or [], kwargs or {}
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         return self.function(context, *self.args, **self.kwargs)
 
 
 class SetEnvironmentVariable(Action):
-    def __init__(self, name, value, **kwargs):
+    def __init__(self, name: SomeSubstitutionsType, value: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name, self.value = normalize(name), normalize(value)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         name, value = perform_substitutions(context, self.name), perform_substitutions(context, self.value)
         context.environment[name] = value
 
 
 class AppendEnvironmentVariable(Action):
-    def __init__(self, name, value, *, prepend=False, separator=os.pathsep, **kwargs):
+    def __init__(
+        self,
+        name: SomeSubstitutionsType,
+        value: SomeSubstitutionsType,
+        *,
+        prepend: bool | SomeSubstitutionsType = False,
+        separator: SomeSubstitutionsType = os.pathsep,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.name, self.value = normalize(name), normalize(value)
         self.prepend, self.separator = prepend, separator
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         name, value = perform_substitutions(context, self.name), perform_substitutions(context, self.value)
         prepend = (
             self.prepend if isinstance(self.prepend, bool) else _typed_bool(context, normalize(self.prepend))
@@ -989,20 +1088,20 @@ class AppendEnvironmentVariable(Action):
 
 
 class UnsetEnvironmentVariable(Action):
-    def __init__(self, name, **kwargs):
+    def __init__(self, name: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name = normalize(name)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context.environment.pop(perform_substitutions(context, self.name), None)
 
 
 class LogInfo(Action):
-    def __init__(self, *, msg, **kwargs):
+    def __init__(self, *, msg: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.msg = normalize(msg)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         perform_substitutions(context, self.msg)  # as launch logs it: its substitutions are performed
         return None
 
@@ -1010,38 +1109,60 @@ class LogInfo(Action):
 class TimerAction(Action):
     """Its actions would start after `period`: they are checked like any other."""
 
-    def __init__(self, *, period, actions, cancel_on_shutdown=True, **kwargs):
+    def __init__(
+        self,
+        *,
+        period: float | SomeSubstitutionsType,
+        actions: Iterable[LaunchDescriptionEntity],
+        cancel_on_shutdown: bool | SomeSubstitutionsType = True,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.period = period
         self.actions = list(actions)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         return list(self.actions)
 
 
 class RegisterEventHandler(Action):
-    def __init__(self, event_handler, **kwargs):
+    def __init__(self, event_handler: BaseEventHandler, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.event_handler = event_handler
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         # the handler's entities may run: check them like any other
         return list(getattr(self.event_handler, "entities", []))
 
 
+# a handler's entities: what it starts, or a function of the event (known only at run time)
+HandlerEntities = typing.Union["SomeEntitiesType", Callable[..., object], None]  # noqa: UP007
+
+
 class BaseEventHandler(Located):
-    def __init__(self, *, matcher=None, handle_once=False, **_ignored):
+    # matcher: a predicate on launch's events (never seen at verify time); **_ignored: the rest
+    # of the real handler's keyword arguments
+    def __init__(
+        self, *, matcher: Callable[[Any], bool] | None = None, handle_once: bool = False, **_ignored: Any
+    ) -> None:
         super().__init__()
-        self.entities = []
+        self.entities: list[LaunchDescriptionEntity] = []
 
 
 class EventHandler(BaseEventHandler):
-    def __init__(self, *, matcher=None, entities=None, handle_once=False, **_ignored):
+    def __init__(
+        self,
+        *,
+        matcher: Callable[[Any], bool] | None = None,
+        entities: HandlerEntities = None,
+        handle_once: bool = False,
+        **_ignored: Any,
+    ) -> None:
         super().__init__(matcher=matcher, handle_once=handle_once)
         self.entities = _as_entities(entities)
 
 
-def _as_entities(entities) -> list:
+def _as_entities(entities: HandlerEntities) -> list[LaunchDescriptionEntity]:
     if entities is None or callable(entities):
         return []  # a function of the event: only known when the event happens
     if isinstance(entities, LaunchDescriptionEntity):
@@ -1063,8 +1184,9 @@ class _OnEvent(EventHandler):
         "entities",
     )
 
-    def __init__(self, **kwargs):
-        entities = []
+    # the real handler's keyword arguments (on_exit=…, target_action=…): only HANDLERS are read
+    def __init__(self, **kwargs: Any) -> None:
+        entities: list[LaunchDescriptionEntity] = []
         for key in self.HANDLERS:
             entities.extend(_as_entities(kwargs.get(key)))
         super().__init__()
@@ -1103,7 +1225,7 @@ class OnStateTransition(_OnEvent):
     pass
 
 
-def matcher(*args, **kwargs):
+def matcher(*args: Any, **kwargs: Any) -> Callable[[object], bool]:  # the real matcher's arguments
     """event_named, matches_action…: a predicate on events, which never come at verify time."""
     return lambda event: False
 
@@ -1111,21 +1233,30 @@ def matcher(*args, **kwargs):
 class InertEvent(Located):
     """An event class (Shutdown, ChangeState…): emitted at run time; nothing to check."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:  # the real event's arguments, unread
         super().__init__()
 
 
 class ExecuteProcess(Action):
-    def __init__(self, *, cmd, name=None, cwd=None, env=None, additional_env=None, **kwargs):
+    def __init__(
+        self,
+        *,
+        cmd: Iterable[SomeSubstitutionsType],
+        name: SomeSubstitutionsType | None = None,
+        cwd: SomeSubstitutionsType | None = None,
+        env: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
+        additional_env: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.cmd = cmd
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         RECORDER.add("nodes", {"kind": "process", "cmd": [perform(context, part) for part in self.cmd]}, self)
 
 
 class ExecuteLocal(ExecuteProcess):
-    def __init__(self, *, process_description=None, **kwargs):
+    def __init__(self, *, process_description: object = None, **kwargs: Any) -> None:
         super().__init__(cmd=[], **kwargs)
 
 
@@ -1134,7 +1265,7 @@ class Shutdown(Action):
 
 
 class EmitEvent(Action):
-    def __init__(self, *, event=None, **kwargs):
+    def __init__(self, *, event: object = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
 
 
@@ -1144,7 +1275,10 @@ class EmitEvent(Action):
 class LaunchDescriptionSource(Located):
     kind: str | None = None
 
-    def __init__(self, launch_file_path=None, *args, **kwargs):
+    # the real sources' other arguments (method, launch_description…) are not read
+    def __init__(
+        self, launch_file_path: SomeSubstitutionsType | None = None, *args: Any, **kwargs: Any
+    ) -> None:
         super().__init__()
         self.location = launch_file_path
 
@@ -1170,14 +1304,20 @@ class YAMLLaunchDescriptionSource(LaunchDescriptionSource):
 
 
 class IncludeLaunchDescription(Action):
-    def __init__(self, launch_description_source, *, launch_arguments=None, **kwargs):
+    def __init__(
+        self,
+        launch_description_source: LaunchDescriptionSource | SomeSubstitutionsType,
+        *,
+        launch_arguments: Iterable[tuple[SomeSubstitutionsType, SomeSubstitutionsType]] | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         if not isinstance(launch_description_source, LaunchDescriptionSource):
             launch_description_source = AnyLaunchDescriptionSource(launch_description_source)
         self.source = launch_description_source
         self.launch_arguments = list(launch_arguments or [])
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         location = self.source.location
         path = perform(context, location) if location is not None else ""
         arguments = {perform(context, k): perform(context, v) for k, v in self.launch_arguments}
@@ -1200,35 +1340,43 @@ class ScopedIncludeLaunchDescription(IncludeLaunchDescription):
 
 
 class _RestoreFile(LaunchDescriptionEntity):
-    def __init__(self, previous):
+    def __init__(self, previous: str | None) -> None:
         super().__init__()
         self.previous = previous
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         context.current_file = self.previous
 
 
 def _phantom(path: str) -> bool:
     phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
-    return bool(phantom) and os.path.abspath(path).startswith(phantom + os.sep)
+    return bool(phantom) and os.path.abspath(path).startswith(f"{phantom}{os.sep}")
 
 
 # --- launch_ros actions ---------------------------------------------------------------------
 
 
-def is_root_namespace(ns) -> bool:
+def is_root_namespace(ns: str) -> bool:
     return ns == "/"
 
 
-def is_namespace_absolute(ns) -> bool:
+def is_namespace_absolute(ns: str) -> bool:
     return ns.startswith("/")
 
 
-def prefix_namespace(base_ns, ns):
+@typing.overload
+def prefix_namespace(base_ns: str, ns: str | None) -> str: ...
+@typing.overload
+def prefix_namespace(base_ns: str | None, ns: str) -> str: ...
+@typing.overload
+def prefix_namespace(base_ns: None, ns: None) -> None: ...
+@typing.overload
+def prefix_namespace(base_ns: str | None, ns: str | None) -> str | None: ...
+def prefix_namespace(base_ns: str | None, ns: str | None) -> str | None:
     """launch_ros: ns under base_ns unless ns is absolute; trailing '/' stripped."""
-    if base_ns is None and ns is None:
-        return None
     if ns is None:
+        if base_ns is None:
+            return None
         combined = base_ns
     elif not base_ns or is_namespace_absolute(ns):
         combined = ns
@@ -1237,27 +1385,41 @@ def prefix_namespace(base_ns, ns):
     return combined if is_root_namespace(combined) else combined.rstrip("/")
 
 
-def make_namespace_absolute(ns):
+@typing.overload
+def make_namespace_absolute(ns: str) -> str: ...
+@typing.overload
+def make_namespace_absolute(ns: None) -> None: ...
+@typing.overload
+def make_namespace_absolute(ns: str | None) -> str | None: ...
+def make_namespace_absolute(ns: str | None) -> str | None:
     if ns is None:
         return None
     return ns if is_namespace_absolute(ns) else "/" + ns
+
+
+# one item of a node's `parameters`: a dict of name → value (keys str or substitutions, values
+# any YAML value or substitutions: the launch file's own data), a Parameter, or a parameter file
+ParameterGroup = typing.Union[  # noqa: UP007
+    Mapping[Any, Any], "Parameter", "ParameterFile", "SomeSubstitutionsType", "os.PathLike[str]"
+]
+Remapping = tuple["SomeSubstitutionsType", "SomeSubstitutionsType"]
 
 
 class Node(ExecuteProcess):
     def __init__(
         self,
         *,
-        executable=None,
-        package=None,
-        name=None,
-        namespace=None,
-        exec_name=None,
-        parameters=None,
-        remappings=None,
-        ros_arguments=None,
-        arguments=None,
-        **kwargs,
-    ):
+        executable: SomeSubstitutionsType | None = None,
+        package: SomeSubstitutionsType | None = None,
+        name: SomeSubstitutionsType | None = None,
+        namespace: SomeSubstitutionsType | None = None,
+        exec_name: SomeSubstitutionsType | None = None,
+        parameters: Sequence[ParameterGroup] | None = None,
+        remappings: Iterable[Remapping] | None = None,
+        ros_arguments: Iterable[SomeSubstitutionsType] | None = None,
+        arguments: Iterable[SomeSubstitutionsType] | None = None,
+        **kwargs: Any,
+    ) -> None:
         kwargs.pop("cmd", None)
         super().__init__(cmd=[], **kwargs)
         self.package = package
@@ -1273,14 +1435,14 @@ class Node(ExecuteProcess):
         self.arguments = list(arguments or [])
         self.ros_arguments = list(ros_arguments or [])
 
-    def _package(self, context):
+    def _package(self, context: LaunchContext) -> str | None:
         """The package, recorded first: a failure later in the node must not hide it."""
         package = perform(context, self.package) if self.package is not None else None
         if package:
             RECORDER.add("packages", {"name": package, "via": "Node package"}, self)
         return package
 
-    def record(self, context, package) -> dict:
+    def record(self, context: LaunchContext, package: str | None) -> Item:
         arguments = []
         for argument in self.arguments:
             text = perform(context, argument)
@@ -1290,7 +1452,7 @@ class Node(ExecuteProcess):
         namespace = make_namespace_absolute(
             prefix_namespace(context.launch_configurations.get("ros_namespace"), namespace)
         )
-        parameters = []
+        parameters: list[Item] = []
         for group in context.launch_configurations.get("global_params") or []:
             if isinstance(group, tuple):
                 parameters.append(
@@ -1317,7 +1479,7 @@ class Node(ExecuteProcess):
             "remappings": remappings,
         }
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         package = self._package(context)
         record = self.record(context, package)
         RECORDER.add("nodes", record, self)
@@ -1334,7 +1496,7 @@ class InvalidNodeNameException(ValueError):
     """rclpy.exceptions.InvalidNodeNameException (rclpy is not needed: rmw's rule, below)."""
 
 
-def validate_node_name(name) -> bool:
+def validate_node_name(name: str | None) -> bool:
     """rclpy.validate_node_name: alphanumerics and underscores, not starting with a digit."""
     import re
 
@@ -1347,31 +1509,41 @@ def validate_node_name(name) -> bool:
 
 
 class LifecycleNode(Node):
-    def __init__(self, *, name, namespace, **kwargs):
+    def __init__(
+        self, *, name: SomeSubstitutionsType, namespace: SomeSubstitutionsType, **kwargs: Any
+    ) -> None:
         super().__init__(name=name, namespace=namespace, **kwargs)
 
 
 class ParameterValue(Located):
-    def __init__(self, value, *, value_type=None):
+    # value: any YAML value or substitutions; value_type: a type or typing construct (List[str])
+    def __init__(self, value: object, *, value_type: object = None) -> None:
         super().__init__()
         self.value, self.value_type = value, value_type
 
 
 class ParameterFile(Located):
-    def __init__(self, param_file, *, allow_substs=False):
+    def __init__(
+        self,
+        param_file: SomeSubstitutionsType | os.PathLike[str],
+        *,
+        allow_substs: bool | SomeSubstitutionsType = False,
+    ) -> None:
         super().__init__()
         self.param_file = param_file
 
 
 class Parameter(Located):
-    def __init__(self, name, value, *, value_type=None):
+    def __init__(self, name: SomeSubstitutionsType, value: object, *, value_type: object = None) -> None:
         super().__init__()
         self.name, self.value = name, value
 
 
-def _flatten(group: dict, prefix: str | None, context) -> list[tuple[str, object]]:
+def _flatten(
+    group: Mapping[Any, Any], prefix: str | None, context: LaunchContext
+) -> list[tuple[str, object]]:
     """A parameter dict, nested dicts joined with '.' (normalize_parameter_dict)."""
-    out = []
+    out: list[tuple[str, object]] = []
     for key, value in group.items():
         name = perform(context, key) if not isinstance(key, str) else key
         if prefix:
@@ -1383,9 +1555,9 @@ def _flatten(group: dict, prefix: str | None, context) -> list[tuple[str, object
     return out
 
 
-def _evaluate_parameters(context, group, node) -> list[dict]:
+def _evaluate_parameters(context: LaunchContext, group: ParameterGroup, node: Located) -> list[Item]:
     """Node parameters: dicts of name → value, or parameter files; with how each was given."""
-    out = []
+    out: list[Item] = []
     if isinstance(group, collections.abc.Mapping):
         for name, value in _flatten(group, None, context):
             given = _value_form(value)
@@ -1422,7 +1594,7 @@ def _evaluate_parameters(context, group, node) -> list[dict]:
     return out
 
 
-def _check_parameter_value(context, name: str, value) -> None:
+def _check_parameter_value(context: LaunchContext, name: str, value: object) -> None:
     """launch_ros's typing of a parameter given as substitutions: the text is read as YAML and
     must give a scalar or a uniform list; otherwise the node does not start (the same error)."""
     import yaml
@@ -1476,7 +1648,7 @@ def _api_distro() -> str:
     return api.distro()
 
 
-def _is_substitutions(value) -> bool:
+def _is_substitutions(value: object) -> TypeGuard[SomeSubstitutionsType]:
     if isinstance(value, (str, Substitution)):
         return True
     return (
@@ -1486,19 +1658,19 @@ def _is_substitutions(value) -> bool:
     )
 
 
-def _has_substitution(value) -> bool:
+def _has_substitution(value: object) -> bool:
     if isinstance(value, Substitution):
         return True
     return isinstance(value, (list, tuple)) and any(isinstance(v, Substitution) for v in value)
 
 
-def _uniform(sequence) -> bool:
+def _uniform(sequence: Sequence[object]) -> bool:
     if not sequence or type(sequence[0]) not in (bool, int, float, str):
         return False
     return all(isinstance(item, type(sequence[0])) for item in sequence)
 
 
-def _allowed_value(output) -> bool:
+def _allowed_value(output: object) -> bool:
     """launch.utilities.type_utils: a scalar, or a list of one scalar type."""
     if not isinstance(output, list):
         return isinstance(output, (int, float, bool, str))
@@ -1506,7 +1678,7 @@ def _allowed_value(output) -> bool:
     return member in (int, float, bool, str) and all(isinstance(x, member) for x in output)
 
 
-def _value_form(value) -> str:
+def _value_form(value: object) -> ParameterForm:
     if isinstance(value, ParameterValue):
         typed = value.value_type is str
         return "typed-str" if typed else ("command-untyped" if _has_command(value.value) else "typed")
@@ -1515,7 +1687,7 @@ def _value_form(value) -> str:
     return "plain"
 
 
-def _has_command(value) -> bool:
+def _has_command(value: object) -> bool:
     if isinstance(value, Command):
         return True
     if isinstance(value, (list, tuple)):
@@ -1523,7 +1695,7 @@ def _has_command(value) -> bool:
     return False
 
 
-def _perform_value(context, value):
+def _perform_value(context: LaunchContext, value: object) -> object:
     """A parameter's value as launch_ros evaluates it: a list with a Substitution among strs is
     one string (joined); a list of strs stays a list; a list of lists is a list of strings."""
     if isinstance(value, ParameterValue):
@@ -1545,15 +1717,15 @@ class ComposableNode(Located):
     def __init__(
         self,
         *,
-        package,
-        plugin,
-        name=None,
-        namespace=None,
-        parameters=None,
-        remappings=None,
-        extra_arguments=None,
-        condition=None,
-    ):
+        package: SomeSubstitutionsType,
+        plugin: SomeSubstitutionsType,
+        name: SomeSubstitutionsType | None = None,
+        namespace: SomeSubstitutionsType | None = None,
+        parameters: Sequence[ParameterGroup] | None = None,
+        remappings: Iterable[Remapping] | None = None,
+        extra_arguments: Sequence[ParameterGroup] | None = None,
+        condition: Condition | None = None,
+    ) -> None:
         super().__init__()
         self.package, self.plugin = package, plugin
         self.parameters = list(parameters or [])
@@ -1561,11 +1733,18 @@ class ComposableNode(Located):
 
 
 class ComposableNodeContainer(Node):
-    def __init__(self, *, name, namespace, composable_node_descriptions=None, **kwargs):
+    def __init__(
+        self,
+        *,
+        name: SomeSubstitutionsType,
+        namespace: SomeSubstitutionsType,
+        composable_node_descriptions: Iterable[ComposableNode] | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(name=name, namespace=namespace, **kwargs)
         self.descriptions = list(composable_node_descriptions or [])
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         super().visit(context)
         for description in self.descriptions:
             if description.condition is None or description.condition.evaluate(context):
@@ -1576,22 +1755,28 @@ class ComposableNodeContainer(Node):
 
 
 class LoadComposableNodes(Action):
-    def __init__(self, *, composable_node_descriptions, target_container=None, **kwargs):
+    def __init__(
+        self,
+        *,
+        composable_node_descriptions: Iterable[ComposableNode],
+        target_container: SomeSubstitutionsType | ComposableNodeContainer | None = None,
+        **kwargs: Any,
+    ) -> None:
         super().__init__(**kwargs)
         self.descriptions = list(composable_node_descriptions)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         for description in self.descriptions:
             package = perform(context, description.package)
             RECORDER.add("packages", {"name": package, "via": "ComposableNode"}, description)
 
 
 class PushRosNamespace(Action):
-    def __init__(self, namespace, **kwargs):
+    def __init__(self, namespace: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.namespace = normalize(namespace)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         pushed = perform_substitutions(context, self.namespace)
         previous = context.launch_configurations.get("ros_namespace", None)
         namespace = make_namespace_absolute(prefix_namespace(previous, pushed))
@@ -1613,27 +1798,28 @@ def _valid_namespace(namespace: str) -> bool:
 
 
 class SetParameter(Action):
-    def __init__(self, name, value, **kwargs):
+    def __init__(self, name: SomeSubstitutionsType, value: object, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name, self.value = name, value
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         name = perform(context, self.name)
         value = _perform_value(context, self.value)
         if _has_substitution(self.value):  # evaluate_parameter_dict: the text read as YAML
             import yaml
 
             _check_parameter_value(context, name, self.value)
-            value = yaml.safe_load(value or "''")
+            # text (a nested list with a substitution performs to a list: yaml's own error then)
+            value = yaml.safe_load(typing.cast(str, value) or "''")
         context.launch_configurations.setdefault("global_params", []).append((name, value))
 
 
 class SetRemap(Action):
-    def __init__(self, src, dst, **kwargs):
+    def __init__(self, src: SomeSubstitutionsType, dst: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.src, self.dst = normalize(src), normalize(dst)
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         src, dst = perform_substitutions(context, self.src), perform_substitutions(context, self.dst)
         # appended in place, as launch_ros does
         remaps = context.launch_configurations.get("ros_remaps", [])
@@ -1642,11 +1828,11 @@ class SetRemap(Action):
 
 
 class SetParametersFromFile(Action):
-    def __init__(self, filename, **kwargs):
+    def __init__(self, filename: SomeSubstitutionsType, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.filename = filename
 
-    def visit(self, context):
+    def visit(self, context: LaunchContext) -> None:
         path = perform(context, self.filename)
         _record_path(path, self, "SetParametersFromFile")
         context.launch_configurations.setdefault("global_params", []).append(path)
@@ -1659,7 +1845,7 @@ class RosTimerAction(TimerAction):
 # --- names ROS has and pkgforge does not evaluate -------------------------------------------
 
 
-def unsupported(name: str, bases=Action) -> type:
+def unsupported(name: str, bases: type | tuple[type, ...] = Action) -> type:
     """A real launch API name pkgforge records instead of evaluating: an action that does
     nothing, a substitution whose value is unknown (what uses it is skipped). Recorded where the
     real engine records it: an action when visited (its condition taken, in each evaluated
@@ -1667,16 +1853,18 @@ def unsupported(name: str, bases=Action) -> type:
     bases = bases if isinstance(bases, tuple) else (bases,)
     visited = any(issubclass(b, (Action, Substitution)) for b in bases)
 
-    def __init__(self, *args, **kwargs):
+    # self: an instance of the class made below (its bases vary); the arguments: the real
+    # constructor's (checked by api.py), only `condition` is read
+    def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
         Located.__init__(self)
         self.condition = kwargs.get("condition")
         if not visited:
             RECORDER.add("unsupported", {"name": name}, self)
 
-    def visit(self, context):
+    def visit(self: Located, context: LaunchContext) -> None:
         RECORDER.add("unsupported", {"name": name}, self)
 
-    def perform(self, context):
+    def perform(self: Located, context: LaunchContext) -> str:
         RECORDER.add("unsupported", {"name": name}, self)
         raise Unresolved(f"<{name}>")
 
@@ -1688,18 +1876,20 @@ def unsupported(name: str, bases=Action) -> type:
 SetUseSimTime = unsupported("SetUseSimTime")
 
 
-def load_description_function(path, *args, **kwargs):
+def load_description_function(path: FilePath, *args: Any, **kwargs: Any) -> LaunchDescription:
+    # *args, **kwargs: the real loaders' other arguments (launch_file_path only is read)
     """launch's get_launch_description_from_*_launch_file(): the file's LaunchDescription."""
     from pkgforge.launch.evaluate import load_description
 
     return load_description(os.fspath(path))
 
 
-def load_python_launch_file_as_module(python_launch_file_path):
+def load_python_launch_file_as_module(python_launch_file_path: FilePath) -> ModuleType:
     """The launch file as a module, as launch loads it (generate_launch_description not called)."""
     from pkgforge.launch.evaluate import load_module
 
-    return load_module(os.fspath(python_launch_file_path))
+    module: ModuleType = load_module(os.fspath(python_launch_file_path))
+    return module
 
 
 # --- launch.utilities and friends -----------------------------------------------------------
@@ -1712,27 +1902,29 @@ SomeEntitiesType_types_tuple = (LaunchDescriptionEntity, collections.abc.Iterabl
 FilePath = typing.Union[str, "os.PathLike[str]"]
 
 
-def isclassinstance(obj) -> bool:
+def isclassinstance(obj: object) -> bool:
     return hasattr(obj, "__class__")
 
 
-def is_a(obj, entity_type) -> bool:
+def is_a(obj: object, entity_type: type) -> bool:
     return isclassinstance(obj) and issubclass(obj.__class__, entity_type)
 
 
-def is_a_subclass(obj, entity_type) -> bool:
+def is_a_subclass(obj: object, entity_type: type) -> bool:
     return is_a(obj, entity_type) or (isinstance(obj, type) and issubclass(obj, entity_type))
 
 
-def ensure_argument_type(argument, types, argument_name, caller=None) -> None:
+def ensure_argument_type(
+    argument: object, types: type | Sequence[type], argument_name: str, caller: str | None = None
+) -> None:
     """launch.utilities.ensure_argument_type: a TypeError naming the argument."""
-    types = types if isinstance(types, (list, tuple)) else [types]
+    kinds: Sequence[type] = types if isinstance(types, (list, tuple)) else [typing.cast(type, types)]
     if not any(
         isinstance(argument, t)
         or (isinstance(argument, type) and isinstance(t, type) and issubclass(argument, t))
-        for t in types
+        for t in kinds
     ):
-        expected = ", ".join(f"'{t}'" for t in types)
+        expected = ", ".join(f"'{t}'" for t in kinds)
         prefix = f"{caller}: " if caller else ""
         raise TypeError(
             f"{prefix}Expected '{argument_name}' to be one of [{expected}], "
@@ -1740,14 +1932,12 @@ def ensure_argument_type(argument, types, argument_name, caller=None) -> None:
         )
 
 
-def normalize_to_list_of_entities(entities) -> list:
-    out = []
+def normalize_to_list_of_entities(entities: Iterable[SomeEntitiesType]) -> list[LaunchDescriptionEntity]:
+    out: list[Any] = []  # what the launch file gave; the visit skips what is not an entity
     for entity in entities:
         out.extend(entity if isinstance(entity, (list, tuple)) else [entity])
     return out
 
 
-def get_logger(name=None):
-    import logging
-
+def get_logger(name: str | None = None) -> logging.Logger:
     return logging.getLogger("launch" if name is None else name)

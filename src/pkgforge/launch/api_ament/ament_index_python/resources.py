@@ -1,16 +1,17 @@
 """The ament resource index over AMENT_PREFIX_PATH."""
 
+from __future__ import annotations
+
 import os
+
+# where get_search_paths lives in the real package (the type checker reads the real one's)
+from ament_index_python.search_paths import get_search_paths
 
 RESOURCE_INDEX = os.path.join("share", "ament_index", "resource_index")
 
 
-def get_search_paths():
-    return [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p and os.path.exists(p)]
-
-
-def get_resources(resource_type):
-    found = {}
+def get_resources(resource_type: str) -> dict[str, str]:
+    found: dict[str, str] = {}
     for prefix in get_search_paths():
         folder = os.path.join(prefix, RESOURCE_INDEX, resource_type)
         if os.path.isdir(folder):
@@ -20,14 +21,14 @@ def get_resources(resource_type):
     return found
 
 
-def has_resource(resource_type, resource_name):
+def has_resource(resource_type: str, resource_name: str) -> str | None:
     for prefix in get_search_paths():
         if os.path.isfile(os.path.join(prefix, RESOURCE_INDEX, resource_type, resource_name)):
             return prefix
     return None
 
 
-def get_resource(resource_type, resource_name):
+def get_resource(resource_type: str, resource_name: str) -> tuple[str, str]:
     prefix = has_resource(resource_type, resource_name)
     if prefix is None:
         raise LookupError(f"Could not find the resource '{resource_name}' of type '{resource_type}'")
