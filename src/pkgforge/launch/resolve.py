@@ -244,7 +244,8 @@ class _Worker:
             # reaped once the worker ended: until then they are its children
             killed = processes.kill_tree(processes.descendants(process.pid))
             try:
-                process.stdin.close()
+                if process.stdin is not None:
+                    process.stdin.close()
                 process.wait(timeout=STOP_GRACE)
             except (OSError, subprocess.TimeoutExpired):
                 pass
