@@ -32,6 +32,7 @@ from pkgforge.walk import walk
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
 KILL_GRACE = 2.0  # seconds past the time limit before the parent kills a worker that did not stop
+STOP_GRACE = 2.0  # seconds an idle worker has to end after its stdin closed, before it is killed
 # a result that depends on the machine's load or limits, never cached
 MACHINE_DEPENDENT = ("timeout", "crashed")
 
@@ -224,16 +225,33 @@ class _Worker:
                 isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]
             )
         ):
-            self.stop()  # a fresh worker for the next file: nothing it (or a stopped branch) left stays
+            # a fresh worker for the next file: nothing it (or a stopped branch) left stays
+            self.stop(polite=True)
         return reply
 
-    def stop(self) -> None:
-        """Kill the worker and every process below it, and reap them."""
+    def stop(self, *, polite: bool = False) -> None:
+        """End the worker and every process below it, and reap them.
+
+        `polite` (the worker answered and waits for its next request): what it started is killed,
+        its stdin closed, and it ends as it would after its last request (coverage.py writes its
+        data then); killed after STOP_GRACE seconds all the same. Otherwise it is killed at once.
+        """
         process, self.process = self.process, None
         if process is None:
             return
+        killed: set[int] = set()
+        if polite and process.poll() is None and not processes.cancelled.is_set():
+            # reaped once the worker ended: until then they are its children
+            killed = processes.kill_tree(processes.descendants(process.pid))
+            try:
+                if process.stdin is not None:
+                    process.stdin.close()
+                process.wait(timeout=STOP_GRACE)
+            except (OSError, subprocess.TimeoutExpired):
+                pass
         # (a worker that died already left its processes to pkgforge: run_requests kills those)
-        killed = processes.kill_tree({process.pid}) if process.poll() is None else set()
+        if process.poll() is None:
+            killed |= processes.kill_tree({process.pid})
         process.wait()
         processes.reap(killed, keep={process.pid})
         for stream in (process.stdin, process.stdout):
@@ -326,7 +344,7 @@ def run_requests(
         except _Cancelled:
             return
         finally:
-            worker.stop()
+            worker.stop(polite=True)
 
     threads = [threading.Thread(target=run, daemon=True) for _ in range(max(1, min(jobs, len(requests))))]
     try:

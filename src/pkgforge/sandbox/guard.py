@@ -66,9 +66,20 @@ def install(root: str | None = None) -> bool:
         pid = str(os.getpid())
         os.environ[ROOT_PID_VARIABLE] = pid  # the worker: its children inherit it
     _state["root_pid"] = int(pid)
+    _state["coverage"] = _coverage_data()
     sys.dont_write_bytecode = True  # byte code of a user module would land beside its source
     sys.addaudithook(_hook)
     return True
+
+
+def _coverage_data() -> str | None:
+    """The data file of coverage.py when it measures this process (scripts/coverage): its own
+    writes there at exit are not the launch file's, and no launch file runs in pkgforge's users'
+    runs under coverage."""
+    coverage = sys.modules.get("coverage")
+    current = getattr(getattr(coverage, "Coverage", None), "current", None)
+    measuring = current() if callable(current) else None
+    return os.path.abspath(measuring.config.data_file) if measuring is not None else None
 
 
 def log_path() -> str:
@@ -186,6 +197,7 @@ def _check(
         or path in ALLOWED_DEVICES
         or path.startswith("/dev/fd/")
         or path.startswith("/proc/self/fd/")
+        or (_state.get("coverage") and path.startswith(_state["coverage"]))
     ):
         return
     location = _location(path)
