@@ -92,7 +92,15 @@ class Unresolved(Exception):
 
 # --- the record -----------------------------------------------------------------------------
 
-from pkgforge.launch.records import Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
+from pkgforge.launch.records import (  # noqa: E402  (the record format both engines share)
+    CommandRunRecordDict,
+    NodeRecordDict,
+    PackageLookupRecordDict,
+    ParameterForm,
+    ParameterRecordDict,
+    Recorder,
+    runs_at_verify_time,
+)
 
 RECORDER = Recorder()
 
@@ -337,7 +345,8 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
         RECORDER.command_cache[key] = _run_command(words)
     ok, output, message, extra = RECORDER.command_cache[key]
     stderr = extra.get("stderr", "")
-    extra = {k: v for k, v in extra.items() if k != "stderr"}
+    extra = extra.copy()  # (the cached one stays whole)
+    extra.pop("stderr", None)
     problem = None
     if ok and stderr and on_stderr == "fail":
         # launch fails a Command that writes to stderr unless on_stderr says otherwise
@@ -352,7 +361,7 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
         )
     elif ok and stderr and on_stderr == "capture":
         output = output + stderr
-    record = {"command": words, "text": text, "ok": ok, "message": message, **extra}
+    record: CommandRunRecordDict = {"command": words, "text": text, "ok": ok, "message": message, **extra}
     if os.path.basename(words[0]) == "xacro":
         RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, owner)
         for word in words[1:]:
@@ -369,7 +378,7 @@ def command_output(owner, text: str, on_stderr: str, failure: type = Substitutio
     return output
 
 
-def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
+def _run_command(words: list[str]) -> tuple[bool, str, str, CommandRunRecordDict]:
     """Run a Command; xacro runs in this process with the real xacro library."""
     if os.path.basename(words[0]) == "xacro":
         return _run_xacro(words[1:])
@@ -384,7 +393,7 @@ def _run_command(words: list[str]) -> tuple[bool, str, str, dict]:
     return True, done.stdout, "", {"stderr": done.stderr}
 
 
-def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
+def _run_xacro(args: list[str]) -> tuple[bool, str, str, CommandRunRecordDict]:
     """xacro with the real library; a success also yields the model's structure, so the
     model checks need not run xacro on it a second time."""
     import io
@@ -408,8 +417,8 @@ def _run_xacro(args: list[str]) -> tuple[bool, str, str, dict]:
 
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
         robot = structure_of_output(files[0], output, includes)
-        extra = {"robot": robot, "includes": includes} if robot else {}
-        return True, output, "", dict(extra, stderr=stderr.getvalue())
+        found: CommandRunRecordDict = {"robot": robot, "includes": includes} if robot else {}
+        return True, output, "", {**found, "stderr": stderr.getvalue()}
     except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
         message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
         extra = stderr.getvalue().strip()
@@ -598,7 +607,7 @@ def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
     from ament_index_python.packages import PackageNotFoundError as AmentNotFound
     from ament_index_python.packages import get_package_prefix
 
-    item = {"name": package, "via": via}
+    item: PackageLookupRecordDict = {"name": package, "via": via}
     guarded = False
     if isinstance(where, tuple):
         item["file"], item["line"] = where
@@ -609,7 +618,7 @@ def lookup_package(package: str, via: str, where, kind: str = "share") -> str:
     except (AmentNotFound, PackageNotFoundError, ValueError):
         if guarded:
             raise  # the launch file catches it: probing for an optional package
-        RECORDER.add("packages", dict(item, found=False), where)
+        RECORDER.add("packages", {**item, "found": False}, where)
         prefix = os.path.join(MISSING_PACKAGE_ROOT, package)
     else:
         RECORDER.add("packages", item, where)
@@ -1271,7 +1280,7 @@ class Node(ExecuteProcess):
             RECORDER.add("packages", {"name": package, "via": "Node package"}, self)
         return package
 
-    def record(self, context, package) -> dict:
+    def record(self, context, package) -> NodeRecordDict:
         arguments = []
         for argument in self.arguments:
             text = perform(context, argument)
@@ -1281,7 +1290,7 @@ class Node(ExecuteProcess):
         namespace = make_namespace_absolute(
             prefix_namespace(context.launch_configurations.get("ros_namespace"), namespace)
         )
-        parameters = []
+        parameters: list[ParameterRecordDict] = []
         for group in context.launch_configurations.get("global_params") or []:
             if isinstance(group, tuple):
                 parameters.append(
@@ -1374,9 +1383,9 @@ def _flatten(group: dict, prefix: str | None, context) -> list[tuple[str, object
     return out
 
 
-def _evaluate_parameters(context, group, node) -> list[dict]:
+def _evaluate_parameters(context, group, node) -> list[ParameterRecordDict]:
     """Node parameters: dicts of name → value, or parameter files; with how each was given."""
-    out = []
+    out: list[ParameterRecordDict] = []
     if isinstance(group, collections.abc.Mapping):
         for name, value in _flatten(group, None, context):
             given = _value_form(value)
@@ -1497,7 +1506,7 @@ def _allowed_value(output) -> bool:
     return member in (int, float, bool, str) and all(isinstance(x, member) for x in output)
 
 
-def _value_form(value) -> str:
+def _value_form(value) -> ParameterForm:
     if isinstance(value, ParameterValue):
         typed = value.value_type is str
         return "typed-str" if typed else ("command-untyped" if _has_command(value.value) else "typed")
