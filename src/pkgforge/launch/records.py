@@ -440,19 +440,29 @@ class Recorder:
         records.append(record)
         return record
 
+    def reset(self) -> None:
+        """Empty again, in place: the engines and the worker hold this one recorder."""
+        fresh = Recorder()
+        for f in dataclasses.fields(self):
+            setattr(self, f.name, getattr(fresh, f.name))
+
     def dump(self) -> RecordsDict:
-        return {
-            "arguments": [as_dict(a) for a in self.arguments.values()],
-            "nodes": [as_dict(r) for r in self.nodes],
-            "packages": [as_dict(r) for r in self.packages],
-            "paths": [as_dict(r) for r in self.paths],
-            "includes": [as_dict(r) for r in self.includes],
-            "commands": [as_dict(r) for r in self.commands],
-            "conditions": [as_dict(r) for r in self.conditions],
-            "unsupported": [as_dict(r) for r in self.unsupported],
-            "required": [as_dict(r) for r in self.required],
-            "errors": [as_dict(r) for r in self.errors],
-        }
+        out: RecordsDict = {}
+        self.dump_into(out)
+        return out
+
+    def dump_into(self, out: RecordsDict) -> None:
+        """Every record as plain data, into `out` (a reply: LaunchResultDict)."""
+        out["arguments"] = [as_dict(a) for a in self.arguments.values()]
+        out["nodes"] = [as_dict(r) for r in self.nodes]
+        out["packages"] = [as_dict(r) for r in self.packages]
+        out["paths"] = [as_dict(r) for r in self.paths]
+        out["includes"] = [as_dict(r) for r in self.includes]
+        out["commands"] = [as_dict(r) for r in self.commands]
+        out["conditions"] = [as_dict(r) for r in self.conditions]
+        out["unsupported"] = [as_dict(r) for r in self.unsupported]
+        out["required"] = [as_dict(r) for r in self.required]
+        out["errors"] = [as_dict(r) for r in self.errors]
 
 
 @dataclass(frozen=True)
