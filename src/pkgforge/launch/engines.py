@@ -163,7 +163,7 @@ def missing_requirements(prefix: str | None) -> list[str]:
 
 def choose(
     option: str = "auto",
-    ros_prefix: str | None = None,
+    ros_prefix: str | os.PathLike[str] | None = None,
     environ: Mapping[str, str] = os.environ,
     distro: str | None = None,
 ) -> LaunchEngine:
