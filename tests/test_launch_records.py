@@ -64,3 +64,22 @@ def test_a_worker_reply_with_an_unknown_status_or_key_is_refused():
         launch, {"status": "timeout", "error": {"message": "slow", "line": None}}
     )
     assert resolution.error == Error(message="slow")
+
+
+def test_each_record_s_json_shape_names_exactly_its_fields():
+    """The TypedDicts the worker's reply is typed with (records.py) and the records the parent
+    rebuilds from it have the same keys: a field renamed in one and not the other fails here."""
+    import dataclasses
+    import typing
+
+    from pkgforge.launch import records
+
+    for cls in [records.Argument, records.Parameter, *records.KINDS.values()]:
+        shape = getattr(records, f"{cls.__name__}RecordDict")
+        keys = shape.__required_keys__ | shape.__optional_keys__
+        assert keys == {f.name for f in dataclasses.fields(cls)}, cls.__name__
+    assert set(records.RecordsDict.__optional_keys__) == {"arguments", *records.ITEM_KINDS}
+    assert set(records.BranchingDict.__required_keys__) == {
+        f.name for f in dataclasses.fields(records.Branching)
+    }
+    assert records.STATUSES == typing.get_args(records.Status) == ("ok", "load-error", "timeout", "crashed")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import glob
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Literal
 
@@ -63,7 +64,7 @@ class LaunchEngine:
 BUILTIN = LaunchEngine()  # the distro from PKGFORGE_LAUNCH_DISTRO, else api.DEFAULT_DISTRO
 
 
-def builtin(target: str | None = None, environ=os.environ) -> LaunchEngine:
+def builtin(target: str | None = None, environ: Mapping[str, str] = os.environ) -> LaunchEngine:
     """The built-in engine held to the target distro's launch API: --distro, else ROS_DISTRO,
     else the default distro (distros.default_distro: the newest LTS)."""
     from pkgforge.model.distros import DISTROS, default_distro
@@ -82,7 +83,7 @@ def python_paths(prefix: str) -> list[str]:
         "local/lib/python3*/site-packages",
         "lib/python3/dist-packages",
     )
-    found = []
+    found: list[str] = []
     for pattern in patterns:
         for folder in sorted(glob.glob(os.path.join(prefix, pattern))):
             if folder not in found:
@@ -98,7 +99,7 @@ def has_launch(prefix: str) -> bool:
     )
 
 
-def _pythonpath_has_launch(environ) -> bool:
+def _pythonpath_has_launch(environ: Mapping[str, str]) -> bool:
     for folder in environ.get("PYTHONPATH", "").split(os.pathsep):
         if (
             folder
@@ -109,7 +110,7 @@ def _pythonpath_has_launch(environ) -> bool:
     return False
 
 
-def distro_of(prefix: str | None, environ=os.environ) -> str | None:
+def distro_of(prefix: str | None, environ: Mapping[str, str] = os.environ) -> str | None:
     if prefix:
         name = os.path.basename(os.path.normpath(prefix))
         from pkgforge.model.distros import DISTROS
@@ -119,7 +120,9 @@ def distro_of(prefix: str | None, environ=os.environ) -> str | None:
     return environ.get("ROS_DISTRO") or None
 
 
-def find_ros(ros_prefix: str | None = None, environ=os.environ) -> tuple[str | None, str | None, str]:
+def find_ros(
+    ros_prefix: str | None = None, environ: Mapping[str, str] = os.environ
+) -> tuple[str | None, str | None, str]:
     """(prefix, distro, how) of the ROS 2 launch libraries to use; prefix None when none found.
     A prefix of "" means: the sourced environment's PYTHONPATH already has them."""
     if ros_prefix:
@@ -159,7 +162,10 @@ def missing_requirements(prefix: str | None) -> list[str]:
 
 
 def choose(
-    option: str = "auto", ros_prefix=None, environ=os.environ, distro: str | None = None
+    option: str = "auto",
+    ros_prefix: str | os.PathLike[str] | None = None,
+    environ: Mapping[str, str] = os.environ,
+    distro: str | None = None,
 ) -> LaunchEngine:
     """The engine for --launch-engine OPTION (--ros-prefix DIR); a clear error when ros cannot be had.
     `distro` (--distro) is the target the built-in engine follows; the real engine is its prefix's."""

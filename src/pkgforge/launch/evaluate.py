@@ -12,16 +12,29 @@ import os
 import re
 import sys
 import traceback
+from collections.abc import Callable
+from types import ModuleType
+from typing import Any
 
 from pkgforge.launch import runtime
-from pkgforge.launch.records import BranchBudget, Error, as_dict, evaluate_branches
+from pkgforge.launch.records import (
+    BranchBudget,
+    Error,
+    ErrorRecordDict,
+    ErrorStage,
+    LaunchResultDict,
+    Recorder,
+    Status,
+    as_dict,
+    evaluate_branches,
+    from_dict,
+)
 from pkgforge.launch.runtime import (
     RECORDER,
     Action,
     LaunchContext,
     LaunchDescription,
     LaunchDescriptionEntity,
-    Recorder,
     Unresolved,
 )
 
@@ -40,10 +53,12 @@ def kind_of(path: str) -> str:
     return "xml"
 
 
-def load_module(path: str):
+def load_module(path: str) -> ModuleType:
     """A Python launch file as a module (launch's load_python_launch_file_as_module)."""
     runtime._LAUNCH_FILES.add(path)
     spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
+    if spec is None or spec.loader is None:  # a name importlib knows no loader for
+        raise ImportError(f"cannot load {path} as a Python module")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -59,7 +74,7 @@ def load_description(path: str, kind: str | None = None) -> LaunchDescription:
             raise runtime.InvalidLaunchFileError(
                 f"{os.path.basename(path)} has no generate_launch_description()"
             )
-        description = function()
+        description: object = function()
         if not isinstance(description, LaunchDescription):
             raise runtime.InvalidLaunchFileError(
                 f"generate_launch_description() returned {type(description).__name__}, not a LaunchDescription"
@@ -93,8 +108,8 @@ def _missing_package_of(error: BaseException) -> str | None:
     return None
 
 
-def _error_record(path: str, error: BaseException, stage: str) -> dict:
-    shown = error
+def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRecordDict:
+    shown: BaseException = error
     if type(error).__name__ == "FrontendError" and error.__cause__ is not None:
         # the built-in front end's refusal of an element wraps what building it raised: that
         # error (launch's own, as the real engine reports it) at the element's line
@@ -107,7 +122,7 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
         # the module lives (the distro's, or pkgforge's stand-in of it) is not the user's problem,
         # and the same refusal must read the same through both engines
         message = IMPORTED_FROM.sub("", message)
-    record = {
+    record: ErrorRecordDict = {
         "stage": stage,
         "type": type(shown).__name__,
         "message": message,
@@ -122,25 +137,28 @@ def _error_record(path: str, error: BaseException, stage: str) -> dict:
         # the file stopped on the empty stand-in of a package not found: that lookup is the cause
         lookup = next((p for p in RECORDER.packages if p.name == missing and p.found is False), None)
         record.update(
-            type="PackageNotFoundError",
-            package=missing,
-            message=f"PackageNotFoundError: package '{missing}' not found",
+            {
+                "type": "PackageNotFoundError",
+                "package": missing,
+                "message": f"PackageNotFoundError: package '{missing}' not found",
+            }
         )
         if lookup is not None:
             record["file"], record["line"] = lookup.file, lookup.line
-            return as_dict(Error(**record))
+            return as_dict(from_dict(Error, record))
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
-    if getattr(error, "line", None) and type(error).__name__ == "FrontendError":
-        record["line"] = error.line
+    line = getattr(error, "line", None)  # the built-in front end's FrontendError
+    if line and type(error).__name__ == "FrontendError":
+        record["line"] = line
     frames = traceback.extract_tb(error.__traceback__)
     origin = next((f for f in reversed(frames) if f.filename in runtime._LAUNCH_FILES), None)
     if origin is not None:
         record["file"], record["line"] = origin.filename, origin.lineno
-    return as_dict(Error(**record))
+    return as_dict(from_dict(Error, record))
 
 
-def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
+def visit(entities: list[object], context: LaunchContext, depth: int = 0) -> None:
     if depth > MAX_DEPTH:
         RECORDER.add(
             "errors",
@@ -175,7 +193,7 @@ def visit(entities: list, context: LaunchContext, depth: int = 0) -> None:
             visit(list(children), context, depth + 1)
 
 
-def record_visit_failure(entity, error: Exception) -> None:
+def record_visit_failure(entity: object, error: Exception) -> None:
     """What an entity's failure during the visit records; the visit goes on (both engines)."""
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
@@ -219,7 +237,7 @@ def _watch_xacro() -> None:
         return
     real_parse, real_process_file = xacro.parse, xacro.process_file
 
-    def note(path, via):
+    def note(path: object, via: str) -> None:
         # only a call from the launch file itself: xacro calls parse() for every include too
         caller = sys._getframe(2).f_code.co_filename
         if caller not in runtime._LAUNCH_FILES:
@@ -241,11 +259,11 @@ def _watch_xacro() -> None:
             )
             RECORDER.add("packages", {"name": "xacro", "via": via, "file": file, "line": line})
 
-    def parse(inp, filename=None, **kwargs):
+    def parse(inp: Any, filename: str | None = None, **kwargs: Any) -> Any:
         note(filename or getattr(inp, "name", None), "xacro.parse")
         return real_parse(inp, filename, **kwargs)
 
-    def process_file(input_file_name, **kwargs):
+    def process_file(input_file_name: str, **kwargs: Any) -> Any:
         note(input_file_name, "xacro.process_file")
         return real_process_file(input_file_name, **kwargs)
 
@@ -271,29 +289,30 @@ def _watch_ament() -> None:
 
     real_prefix = packages.get_package_prefix
     real_share = packages.get_package_share_directory
-    real_share_path = getattr(packages, "get_package_share_path", None)
+    real_share_path: Callable[..., Any] | None = getattr(packages, "get_package_share_path", None)
 
-    def get_package_prefix(package_name):
+    def get_package_prefix(package_name: str) -> str:
         if from_launch_file():
             return runtime.lookup_package(package_name, "get_package_prefix", runtime.here(), "prefix")
         return real_prefix(package_name)
 
-    def get_package_share_directory(package_name, *args, **kwargs):
+    def get_package_share_directory(package_name: str, *args: Any, **kwargs: Any) -> str:
         if from_launch_file():
             return runtime.lookup_package(package_name, "get_package_share_directory", runtime.here())
         return real_share(package_name, *args, **kwargs)
 
-    def get_package_share_path(package_name, *args, **kwargs):
+    def get_package_share_path(package_name: str, *args: Any, **kwargs: Any) -> Any:
         import pathlib
 
         if from_launch_file():
             return pathlib.Path(
                 runtime.lookup_package(package_name, "get_package_share_path", runtime.here())
             )
+        assert real_share_path is not None  # patched in only where the module has it
         return real_share_path(package_name, *args, **kwargs)
 
-    get_package_prefix._pkgforge_real = real_prefix
-    patched = {
+    get_package_prefix.__dict__["_pkgforge_real"] = real_prefix  # runtime.lookup_package calls it
+    patched: dict[str, Callable[..., Any]] = {
         "get_package_prefix": get_package_prefix,
         "get_package_share_directory": get_package_share_directory,
     }
@@ -303,21 +322,21 @@ def _watch_ament() -> None:
         for name, function in patched.items():
             if hasattr(module, name):
                 setattr(module, name, function)
-    packages._pkgforge_watched = True
+    vars(packages)["_pkgforge_watched"] = True
 
 
-def evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None = None) -> dict:
+def evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None = None) -> LaunchResultDict:
     """Resolve one launch file; the result is plain data (JSON). `budget`: how long the argument
     combinations past the defaults may run (records.evaluate_branches)."""
     _watch_xacro()
     _watch_ament()
-    runtime.RECORDER.__init__()  # a fresh record for each file
+    runtime.RECORDER.reset()  # a fresh record for each file
     runtime._LAUNCH_FILES.clear()
     runtime._LAUNCH_FILES.add(path)
     try:
         description = load_description(path)
     except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
-        return {"status": "load-error", "error": _error_record(path, error, "load"), **_dump(RECORDER)}
+        return _result("load-error", _error_record(path, error, "load"), RECORDER)
 
     def run(values: dict[str, str], label: dict[str, str]) -> None:
         RECORDER.branch = label
@@ -328,8 +347,14 @@ def evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None =
         visit([description], context)
 
     branching = evaluate_branches(RECORDER, path, overrides, run, budget)
-    return {"status": "ok", "error": None, **_dump(RECORDER), "branching": branching.as_reply()}
+    result = _result("ok", None, RECORDER)
+    result["branching"] = branching.as_reply()
+    return result
 
 
-def _dump(recorder: Recorder) -> dict:
-    return {**recorder.dump(), "files": sorted(runtime._LAUNCH_FILES), "engine": "builtin"}
+def _result(status: Status, error: ErrorRecordDict | None, recorder: Recorder) -> LaunchResultDict:
+    result: LaunchResultDict = {"status": status, "error": error}
+    recorder.dump_into(result)
+    result["files"] = sorted(runtime._LAUNCH_FILES)
+    result["engine"] = "builtin"
+    return result

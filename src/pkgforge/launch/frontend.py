@@ -14,14 +14,24 @@ records the line of the element it came from.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from types import TracebackType
+from typing import Any
+
 import yaml
 from lxml import etree
 
 from pkgforge.launch import runtime as rt
 
+Subs = list[rt.Substitution]  # one attribute's text as substitutions (parse_substitution)
+Attribute = str | list[str]  # an XML attribute, or a YAML scalar or list of scalars
+# one substitution's arguments -> the object (`arg(i, default)`: the i-th argument, or `default`)
+Arg = Callable[..., "Subs | str | None"]
+Maker = Callable[[list[Subs], Arg], rt.Substitution]
+
 
 class FrontendError(Exception):
-    def __init__(self, message: str, line: int | None):
+    def __init__(self, message: str, line: int | None) -> None:
         super().__init__(message)
         self.line = line
 
@@ -29,9 +39,11 @@ class FrontendError(Exception):
 # --- substitution syntax --------------------------------------------------------------------
 
 
-def parse_substitution(text: str) -> list:
+def parse_substitution(text: str) -> Subs:
     """`a$(var x)b` → [TextSubstitution('a'), LaunchConfiguration('x'), TextSubstitution('b')]."""
-    parts, index, buffer = [], 0, []
+    parts: Subs = []
+    index = 0
+    buffer: list[str] = []
     while index < len(text):
         if text[index] == "\\" and index + 1 < len(text):
             buffer.append(text[index + 1])  # launch's escapes: \$ \' \( ... are the character itself
@@ -52,7 +64,8 @@ def parse_substitution(text: str) -> list:
 
 
 def _matching_paren(text: str, open_index: int) -> int:
-    depth, quote, index = 0, None, open_index
+    depth, index = 0, open_index
+    quote: str | None = None
     while index < len(text):
         char = text[index]
         if char == "\\":
@@ -74,7 +87,10 @@ def _matching_paren(text: str, open_index: int) -> int:
 
 
 def _split_arguments(body: str) -> list[str]:
-    args, current, quote, depth = [], [], None, 0
+    args: list[str] = []
+    current: list[str] = []
+    quote: str | None = None
+    depth = 0
     quoted = False  # '' is an argument too (an empty string)
     escaped = False
     for char in body:
@@ -114,13 +130,13 @@ def _split_arguments(body: str) -> list[str]:
     return args
 
 
-def _substitution(body: str):
+def _substitution(body: str) -> rt.Substitution:
     words = _split_arguments(body)
     if not words:
         raise FrontendError("empty substitution $()", None)
     name, args = words[0], [parse_substitution(a) or [rt.TextSubstitution(text="")] for a in words[1:]]
 
-    def arg(i, default=None):
+    def arg(i: int, default: str | None = None) -> Subs | str | None:
         return args[i] if i < len(args) else default
 
     from pkgforge.launch import api
@@ -131,76 +147,81 @@ def _substitution(body: str):
     api.resolve(exposed[name])  # the real constructor's signature is checked from here on
     if name in SUBSTITUTIONS:
         return SUBSTITUTIONS[name](args, arg)
-    return api.resolve(exposed[name])(*args)  # a real substitution pkgforge does not evaluate
+    unevaluated: rt.Substitution = api.resolve(exposed[name])(*args)  # a real one pkgforge does not evaluate
+    return unevaluated
 
 
-def _count(name: str, args: list, low: int, high: int) -> None:
+def _count(name: str, args: list[Subs], low: int, high: int) -> None:
     if not low <= len(args) <= high:
         expected = str(low) if low == high else f"{low} to {high}"
         raise FrontendError(f"{name} substitution expects {expected} arguments", None)
 
 
-def _boolean(cls, name, count):
-    def make(args, arg):
+def _boolean(cls: Callable[..., rt.Substitution], name: str, count: int) -> Maker:
+    def make(args: list[Subs], arg: Arg) -> rt.Substitution:
         _count(name, args, count, count)
         return cls(*args)
 
     return make
 
 
-def _var(args, arg):
+def _counted(name: str, low: int, high: int, build: Callable[[Arg], rt.Substitution]) -> Maker:
+    """A substitution of `low` to `high` arguments, built from them by `build(arg)`."""
+
+    def make(args: list[Subs], arg: Arg) -> rt.Substitution:
+        _count(name, args, low, high)
+        return build(arg)
+
+    return make
+
+
+def _by_keyword(cls: Callable[..., rt.Substitution]) -> Maker:
+    """The arguments as `args=[...]`, as jazzy's parse passes them (its constructor takes *args)."""
+    return lambda args, arg: cls(args=args)
+
+
+def _var(args: list[Subs], arg: Arg) -> rt.Substitution:
     _count("var", args, 1, 2)
     return rt.LaunchConfiguration(arg(0), default=arg(1))
 
 
-def _command(args, arg):
+def _command(args: list[Subs], arg: Arg) -> rt.Substitution:
     _count("command", args, 1, 2)
     return rt.Command(arg(0), on_stderr=arg(1, "fail"))
 
 
-def _if(args, arg):
+def _if(args: list[Subs], arg: Arg) -> rt.Substitution:
     _count("if", args, 2, 3)
     return rt.IfElseSubstitution(arg(0), if_value=arg(1), else_value=arg(2, ""))
 
 
-def _eval(args, arg):
+def _eval(args: list[Subs], arg: Arg) -> rt.Substitution:
     _count("eval", args, 1, 2)
     return rt.PythonExpression(arg(0)) if len(args) == 1 else rt.PythonExpression(arg(0), arg(1))
 
 
-SUBSTITUTIONS = {
+SUBSTITUTIONS: dict[str, Maker] = {
     "var": _var,
-    "find-pkg-share": lambda args, arg: (_count("find-pkg-share", args, 1, 1), rt.FindPackageShare(arg(0)))[
-        1
-    ],
-    "find-pkg-prefix": lambda args, arg: (
-        _count("find-pkg-prefix", args, 1, 1),
-        rt.FindPackagePrefix(arg(0)),
-    )[1],
-    "find-exec": lambda args, arg: (_count("find-exec", args, 1, 1), rt.FindExecutable(name=arg(0)))[1],
-    "exec-in-pkg": lambda args, arg: (
-        _count("exec-in-pkg", args, 2, 2),
-        rt.ExecutableInPackage(arg(0), arg(1)),
-    )[1],
+    "find-pkg-share": _counted("find-pkg-share", 1, 1, lambda arg: rt.FindPackageShare(arg(0))),
+    "find-pkg-prefix": _counted("find-pkg-prefix", 1, 1, lambda arg: rt.FindPackagePrefix(arg(0))),
+    "find-exec": _counted("find-exec", 1, 1, lambda arg: rt.FindExecutable(name=arg(0))),
+    "exec-in-pkg": _counted("exec-in-pkg", 2, 2, lambda arg: rt.ExecutableInPackage(arg(0), arg(1))),
     "command": _command,
-    "env": lambda args, arg: (
-        _count("env", args, 1, 2),
-        rt.EnvironmentVariable(arg(0), default_value=arg(1)),
-    )[1],
+    "env": _counted("env", 1, 2, lambda arg: rt.EnvironmentVariable(arg(0), default_value=arg(1))),
     "eval": _eval,
-    "dirname": lambda args, arg: (_count("dirname", args, 0, 0), rt.ThisLaunchFileDir())[1],
-    "filename": lambda args, arg: (_count("filename", args, 0, 0), rt.ThisLaunchFile())[1],
-    "anon": lambda args, arg: (_count("anon", args, 1, 1), rt.AnonName(arg(0)))[1],
+    "dirname": _counted("dirname", 0, 0, lambda arg: rt.ThisLaunchFileDir()),
+    "filename": _counted("filename", 0, 0, lambda arg: rt.ThisLaunchFile()),
+    "anon": _counted("anon", 1, 1, lambda arg: rt.AnonName(arg(0))),
     "not": _boolean(rt.NotSubstitution, "not", 1),
     "and": _boolean(rt.AndSubstitution, "and", 2),
     "or": _boolean(rt.OrSubstitution, "or", 2),
     # jazzy's parse passes args=[...] to a constructor that takes *args: a TypeError in ROS too
-    "all": lambda args, arg: rt.AllSubstitution(args=args),
-    "any": lambda args, arg: rt.AnySubstitution(args=args),
+    "all": _by_keyword(rt.AllSubstitution),
+    "any": _by_keyword(rt.AnySubstitution),
     "equals": _boolean(rt.EqualsSubstitution, "equals", 2),
     "not-equals": _boolean(rt.NotEqualsSubstitution, "not-equals", 2),
     "if": _if,
-    "file-content": lambda args, arg: (_count("file-content", args, 1, 1), rt.FileContent(arg(0)))[1],
+    "file-content": _counted("file-content", 1, 1, lambda arg: rt.FileContent(arg(0))),
 }
 
 
@@ -208,21 +229,23 @@ SUBSTITUTIONS = {
 
 
 class Element:
-    def __init__(self, tag: str, attrs: dict, children: list, line: int | None):
+    def __init__(
+        self, tag: str, attrs: dict[str, Attribute], children: list[Element], line: int | None
+    ) -> None:
         self.tag, self.attrs, self.children, self.line = tag, attrs, children, line
 
-    def get(self, name, default=None):
+    def get(self, name: str, default: str | None = None) -> Attribute | None:
         return self.attrs.get(name, default)
 
-    def sub(self, name):
+    def sub(self, name: str) -> Subs | None:
         value = self.get(name)
         return None if value is None else parse_substitution(str(value))
 
-    def named(self, tag):
+    def named(self, tag: str) -> list[Element]:
         return [c for c in self.children if c.tag == tag]
 
 
-def _from_xml(node) -> Element:
+def _from_xml(node: Any) -> Element:  # an lxml element
     children = [_from_xml(c) for c in node if isinstance(c.tag, str)]
     return Element(node.tag, dict(node.attrib), children, node.sourceline)
 
@@ -230,8 +253,9 @@ def _from_xml(node) -> Element:
 CHILD_KEYS = {"param", "remap", "arg", "choice", "children", "env", "launch", "keep", "composable_node"}
 
 
-def _from_yaml(tag: str, node, line: int | None) -> Element:
-    attrs, children = {}, []
+def _from_yaml(tag: str, node: yaml.Node, line: int | None) -> Element:
+    attrs: dict[str, Attribute] = {}
+    children: list[Element] = []
     if isinstance(node, yaml.MappingNode):
         for key_node, value_node in node.value:
             key = key_node.value
@@ -249,7 +273,7 @@ def _from_yaml(tag: str, node, line: int | None) -> Element:
     return Element(tag, attrs, children, line)
 
 
-def parse_file(path: str, kind: str):
+def parse_file(path: str, kind: str) -> rt.LaunchDescription:
     rt._LAUNCH_FILES.add(path)
     with open(path, "rb") as handle:
         data = handle.read()
@@ -283,8 +307,8 @@ def parse_file(path: str, kind: str):
     return rt.LaunchDescription(_entities(element.children, path))
 
 
-def _entities(elements: list[Element], path: str) -> list:
-    out = []
+def _entities(elements: list[Element], path: str) -> list[rt.LaunchDescriptionEntity]:
+    out: list[rt.LaunchDescriptionEntity] = []
     for element in elements:
         rt._FRONTEND_LOCATION.append((path, element.line))
         try:
@@ -302,7 +326,7 @@ def _entities(elements: list[Element], path: str) -> list:
     return out
 
 
-def _condition(element: Element):
+def _condition(element: Element) -> rt.Condition | None:
     if element.get("if") is not None:
         return rt.IfCondition(element.sub("if"))
     if element.get("unless") is not None:
@@ -310,7 +334,7 @@ def _condition(element: Element):
     return None
 
 
-def _flag(element: Element, name: str):
+def _flag(element: Element, name: str) -> bool | None:
     """A bool attribute as the front end reads it (YAML rules; '1'/'0' too); None when absent."""
     value = element.get(name)
     if value is None:
@@ -322,14 +346,21 @@ def _flag(element: Element, name: str):
     return loaded
 
 
-def _keeps(element: Element):
+def _keeps(element: Element) -> dict[tuple[rt.Substitution, ...], Subs | None] | None:
     keeps = element.named("keep")
     if not keeps:
         return None
-    return {tuple(k.sub("name")): k.sub("value") for k in keeps}
+    return {tuple(_required(k.sub("name"))): k.sub("value") for k in keeps}
 
 
-def _entity(element: Element, path: str):
+def _required(subs: Subs | None) -> Subs:
+    """An attribute the element cannot do without; missing: the TypeError building it raised."""
+    if subs is None:
+        raise TypeError("'NoneType' object is not iterable")
+    return subs
+
+
+def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
     from pkgforge.launch import api
 
     tag, condition = element.tag, _condition(element)
@@ -355,7 +386,7 @@ def _entity(element: Element, path: str):
             condition=condition,
         )
     if tag == "group":
-        options = {
+        options: dict[str, object] = {
             k: v
             for k, v in (("scoped", _flag(element, "scoped")), ("forwarding", _flag(element, "forwarding")))
             if v is not None
@@ -399,7 +430,7 @@ def _entity(element: Element, path: str):
     if tag == "set_env":
         return rt.SetEnvironmentVariable(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "append_env":
-        options = {}
+        options = {}  # (the dict[str, object] of <group>'s options)
         if _flag(element, "prepend") is not None:
             options["prepend"] = _flag(element, "prepend")
         if element.get("separator") is not None:
@@ -422,7 +453,8 @@ def _entity(element: Element, path: str):
     if tag == "set_parameter":
         return rt.SetParameter(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "set_use_sim_time":
-        return rt.SetUseSimTime(element.sub("value"), condition=condition)
+        sim_time: rt.LaunchDescriptionEntity = rt.SetUseSimTime(element.sub("value"), condition=condition)
+        return sim_time  # (an unsupported name: runtime.unsupported's class)
     if tag == "set_parameters_from_file":
         return rt.SetParametersFromFile(element.sub("filename"), condition=condition)
     if tag == "log":
@@ -430,15 +462,16 @@ def _entity(element: Element, path: str):
     if tag == "shutdown":
         return rt.Shutdown(condition=condition)
     # a real tag pkgforge does not evaluate (set_ros_log_dir…): recorded, and the file goes on
-    return rt.unsupported(f"<{tag}>")()
+    recorded: rt.LaunchDescriptionEntity = rt.unsupported(f"<{tag}>")()
+    return recorded
 
 
-def _composable(element: Element):
+def _composable(element: Element) -> rt.ComposableNode:
     with _located_at(element):
         return _composable_here(element)
 
 
-def _composable_here(element: Element):
+def _composable_here(element: Element) -> rt.ComposableNode:
     return rt.ComposableNode(
         package=element.sub("pkg"),
         plugin=element.sub("plugin"),
@@ -449,7 +482,7 @@ def _composable_here(element: Element):
     )
 
 
-def _arguments(text) -> list:
+def _arguments(text: Attribute | None) -> list[Subs]:
     if text is None:
         return []
     if isinstance(text, list):
@@ -457,10 +490,10 @@ def _arguments(text) -> list:
     return [parse_substitution(word) for word in _split_arguments(str(text))]
 
 
-def _parameters(element: Element) -> list:
+def _parameters(element: Element) -> list[rt.ParameterFile | ParameterDict]:
     """As launch_ros's front end: one group per <param>, in the elements' order (a parameter file
     or a one-entry dict, nested <param>s as a nested dict), each located at its own line."""
-    out = []
+    out: list[rt.ParameterFile | ParameterDict] = []
     for param in element.named("param"):
         with _located_at(param):
             if param.get("from") is not None:
@@ -470,8 +503,12 @@ def _parameters(element: Element) -> list:
     return out
 
 
-def _parameter_dict(params: list) -> dict:
-    values = {}
+# name -> value, or a nested dict of them (as launch_ros's front end builds it)
+ParameterDict = dict["Attribute | None", "rt.ParameterValue | ParameterDict"]
+
+
+def _parameter_dict(params: list[Element]) -> ParameterDict:
+    values: ParameterDict = {}
     for param in params:
         with _located_at(param):
             nested = param.named("param")
@@ -486,12 +523,13 @@ def _parameter_dict(params: list) -> dict:
 class _located_at:
     """What is built inside is located at the element's line (in the same file)."""
 
-    def __init__(self, element: Element):
+    def __init__(self, element: Element) -> None:
         self.where = (rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None, element.line)
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         rt._FRONTEND_LOCATION.append(self.where)
 
-    def __exit__(self, *exc):
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
+    ) -> None:
         rt._FRONTEND_LOCATION.pop()
-        return False

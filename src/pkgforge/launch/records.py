@@ -14,15 +14,164 @@ import itertools
 import json
 import os
 import time
-from collections.abc import Callable
+import typing
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal, TypedDict, TypeVar, cast, overload
 
 Status = Literal["ok", "load-error", "timeout", "crashed"]
 Engine = Literal["builtin", "ros"]
 NodeKind = Literal["node", "process"]
 ParameterForm = Literal["plain", "typed", "typed-str", "command-untyped", "file"]
+ErrorStage = Literal["load", "visit", "worker", "sandbox"]  # sandbox: the worker's guard (sandbox/worker.py)
+LimitKind = Literal["time", "cpu", "memory", "files"]  # the worker limit an error hit
+RecordKind = Literal[
+    "nodes", "packages", "paths", "includes", "commands", "conditions", "unsupported", "required", "errors"
+]
+Branch = dict[str, "str | None"]  # argument name -> value of one evaluation (None: declared without default)
+
+
+# --- the JSON shape of the records, as they cross from the worker to the parent --------------
+# One TypedDict per record class, key for key its fields (tests/test_launch_records.py holds
+# them together). `total=False`: a key left out takes the record's default (from_dict), which is
+# how the engines write them (`RECORDER.add("required", {"name": ...})`); `as_dict` writes every key.
+
+
+class RecordDict(TypedDict, total=False):
+    file: str | None
+    line: int | None
+    branch: Branch
+    branches: list[str]
+
+
+class ArgumentRecordDict(RecordDict, total=False):
+    name: str
+    default: str | None
+    choices: list[str] | None
+    boolean: bool
+    values: list[str]
+
+
+class ParameterRecordDict(RecordDict, total=False):
+    name: str | None
+    form: ParameterForm
+    value_preview: str
+
+
+class NodeRecordDict(RecordDict, total=False):
+    kind: NodeKind
+    package: str | None
+    executable: str | None
+    name: str | None
+    namespace: str | None
+    parameters: list[ParameterRecordDict]
+    remappings: list[list[str]]
+    arguments: list[str]
+    cmd: list[str] | None
+
+
+class PackageLookupRecordDict(RecordDict, total=False):
+    name: str
+    via: str
+    found: bool | None
+
+
+class ResolvedPathRecordDict(RecordDict, total=False):
+    path: str
+    via: str
+    exists: bool
+
+
+class IncludeRecordDict(RecordDict, total=False):
+    path: str
+    arguments: dict[str, str]
+    exists: bool
+
+
+class CommandRunRecordDict(RecordDict, total=False):
+    command: list[str]
+    text: str
+    ok: bool
+    message: str
+    model: str | None
+    mappings: dict[str, str]
+    runtime_only: bool
+    via: str | None
+    robot: dict[str, Any] | None  # urdf/robot.py's model structure (its JSON, read by the checks)
+    includes: list[str]
+    stderr: str
+
+
+class ConditionRecordDict(RecordDict, total=False):
+    condition: str
+    entity: str
+    taken: bool
+
+
+class UnsupportedRecordDict(RecordDict, total=False):
+    name: str
+
+
+class RequiredRecordDict(RecordDict, total=False):
+    name: str
+    skipped: str | None
+
+
+class ErrorRecordDict(RecordDict, total=False):
+    stage: ErrorStage
+    type: str
+    message: str
+    entity: str | None
+    package: str | None
+    module: str | None
+    limit: LimitKind | None
+
+
+class StoppedBranchDict(TypedDict):
+    """Where the branch the deadline stopped was running (`Branching.stopped`)."""
+
+    branch: str
+    file: str | None
+    line: int | None
+
+
+class BranchingDict(TypedDict):
+    planned: int
+    evaluated: int
+    stopped: StoppedBranchDict | None
+    limit: float | None
+
+
+class RecordsDict(TypedDict, total=False):
+    """Everything one evaluation recorded (`Recorder.dump`)."""
+
+    arguments: list[ArgumentRecordDict]
+    nodes: list[NodeRecordDict]
+    packages: list[PackageLookupRecordDict]
+    paths: list[ResolvedPathRecordDict]
+    includes: list[IncludeRecordDict]
+    commands: list[CommandRunRecordDict]
+    conditions: list[ConditionRecordDict]
+    unsupported: list[UnsupportedRecordDict]
+    required: list[RequiredRecordDict]
+    errors: list[ErrorRecordDict]
+
+
+class _StatusDict(TypedDict):
+    status: Status  # the one key every reply has
+
+
+class LaunchResultDict(RecordsDict, _StatusDict, total=False):
+    """One launch file's reply, worker to parent (one JSON line; resolve.py's own when the worker
+    timed out or crashed): `resolution_from_reply` turns it into a Resolution."""
+
+    error: ErrorRecordDict | None  # why it did not load (status != ok)
+    files: list[str]  # every launch file evaluated (includes too)
+    engine: Engine
+    distro: str | None
+    branching: BranchingDict
+    request: dict[str, Any]  # the worker's echo of the request it answered
 
 
 @dataclass
@@ -31,7 +180,7 @@ class Record:
 
     file: str | None = None
     line: int | None = None
-    branch: dict[str, str] = field(default_factory=dict)  # the worker's: one evaluation's values
+    branch: Branch = field(default_factory=dict)  # the worker's: one evaluation's values
     branches: list[str] = field(default_factory=list)  # the parent's: every evaluation that saw it
 
 
@@ -95,7 +244,7 @@ class CommandRun(Record):
     mappings: dict[str, str] = field(default_factory=dict)  # xacro name:=value
     runtime_only: bool = False  # a run-time query, not executed at verify time
     via: str | None = None
-    robot: dict | None = None  # the model's structure, from the launch's own xacro run
+    robot: dict[str, Any] | None = None  # the model's structure, from the launch's own xacro run
     includes: list[str] = field(default_factory=list)
     stderr: str = ""  # what the command wrote to stderr (Command's on_stderr rule)
 
@@ -120,16 +269,16 @@ class Required(Record):
 
 @dataclass
 class Error(Record):
-    stage: str = "visit"  # load | visit | worker
+    stage: ErrorStage = "visit"
     type: str = ""
     message: str = ""
     entity: str | None = None
     package: str | None = None  # PackageNotFoundError: which package
     module: str | None = None  # ModuleNotFoundError: which module
-    limit: str | None = None  # a worker limit hit: time | cpu | memory | files (never cached)
+    limit: LimitKind | None = None  # a worker limit hit (never cached)
 
 
-KINDS: dict[str, type[Record]] = {
+KINDS: dict[RecordKind, type[Record]] = {
     "nodes": Node,
     "packages": PackageLookup,
     "paths": ResolvedPath,
@@ -140,24 +289,25 @@ KINDS: dict[str, type[Record]] = {
     "required": Required,
     "errors": Error,
 }
-ITEM_KINDS = tuple(KINDS)
+ITEM_KINDS: tuple[RecordKind, ...] = tuple(KINDS)
 
 
 class RecordKeyError(KeyError):
     """A record built from a key no record of that kind has."""
 
 
-_FIELD_NAMES: dict[type, frozenset[str]] = {}
+_FIELD_NAMES: dict[type[Record], frozenset[str]] = {}
+R = TypeVar("R", bound=Record)
 
 
-def _field_names(cls: type) -> frozenset[str]:
+def _field_names(cls: type[Record]) -> frozenset[str]:
     names = _FIELD_NAMES.get(cls)
     if names is None:
         names = _FIELD_NAMES[cls] = frozenset(f.name for f in dataclasses.fields(cls))
     return names
 
 
-def from_dict(cls: type, data: dict):
+def from_dict(cls: type[R], data: Mapping[str, Any]) -> R:
     """A record from plain data; an unknown key raises RecordKeyError."""
     names = _field_names(cls)
     unknown = set(data) - names
@@ -171,37 +321,62 @@ def from_dict(cls: type, data: dict):
     return cls(**values)
 
 
-def as_dict(record) -> dict:
+@overload
+def as_dict(record: Argument) -> ArgumentRecordDict: ...
+@overload
+def as_dict(record: Parameter) -> ParameterRecordDict: ...
+@overload
+def as_dict(record: Node) -> NodeRecordDict: ...
+@overload
+def as_dict(record: PackageLookup) -> PackageLookupRecordDict: ...
+@overload
+def as_dict(record: ResolvedPath) -> ResolvedPathRecordDict: ...
+@overload
+def as_dict(record: Include) -> IncludeRecordDict: ...
+@overload
+def as_dict(record: CommandRun) -> CommandRunRecordDict: ...
+@overload
+def as_dict(record: Condition) -> ConditionRecordDict: ...
+@overload
+def as_dict(record: Unsupported) -> UnsupportedRecordDict: ...
+@overload
+def as_dict(record: Required) -> RequiredRecordDict: ...
+@overload
+def as_dict(record: Error) -> ErrorRecordDict: ...
+@overload
+def as_dict(record: Record) -> RecordDict: ...
+def as_dict(record: Record) -> RecordDict:
     """The record as plain data, for serialising at once: what dataclasses.asdict gives, but
     sharing the record's values instead of deep-copying them (a CommandRun's robot structure
     is large, and every record is dumped in the worker and identified in the parent)."""
-    return {f.name: _plain(getattr(record, f.name)) for f in dataclasses.fields(record)}
+    # the TypedDict of each class lists its fields (tests/test_launch_records.py holds them together)
+    return cast(RecordDict, {f.name: _plain(getattr(record, f.name)) for f in dataclasses.fields(record)})
 
 
-def _plain(value):
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+def _plain(value: object) -> object:
+    if isinstance(value, Record):
         return as_dict(value)
-    if isinstance(value, (list, tuple)) and any(dataclasses.is_dataclass(v) for v in value):
+    if isinstance(value, (list, tuple)) and any(isinstance(v, Record) for v in value):
         return type(value)(_plain(v) for v in value)
     return value
 
 
 def identity(record: Record) -> str:
     """The record without its branch: equal records from several evaluations merge."""
-    data = as_dict(record)
+    data = dict(as_dict(record))
     data.pop("branch"), data.pop("branches")
     return json.dumps(data, sort_keys=True, default=str)
 
 
-class _Arguments(dict):
+class _Arguments(dict[str, Argument]):
     """name → Argument; a dict given (the built-in engine's) becomes an Argument."""
 
-    def setdefault(self, key, default=None):
+    def setdefault(self, key: str, default: Argument | ArgumentRecordDict) -> Argument:
         if key not in self:
             self[key] = default
         return self[key]
 
-    def __setitem__(self, key, value):
+    def __setitem__(self, key: str, value: Argument | ArgumentRecordDict) -> None:
         super().__setitem__(key, value if isinstance(value, Argument) else from_dict(Argument, value))
 
 
@@ -209,35 +384,87 @@ class _Arguments(dict):
 class Recorder:
     """What one launch file's evaluation saw; `add(kind, item, obj)` records one item."""
 
-    branch: dict = field(default_factory=dict)
-    arguments: dict = field(default_factory=_Arguments)
-    nodes: list = field(default_factory=list)
-    packages: list = field(default_factory=list)
-    paths: list = field(default_factory=list)
-    includes: list = field(default_factory=list)
-    commands: list = field(default_factory=list)
-    conditions: list = field(default_factory=list)
-    unsupported: list = field(default_factory=list)
-    required: list = field(default_factory=list)
-    errors: list = field(default_factory=list)
-    command_cache: dict = field(default_factory=dict)
-    prefix_cache: dict = field(default_factory=dict)  # package → its prefix (or the lookup's error)
+    branch: Mapping[str, str | None] = field(default_factory=dict)
+    arguments: _Arguments = field(default_factory=_Arguments)
+    nodes: list[Node] = field(default_factory=list)
+    packages: list[PackageLookup] = field(default_factory=list)
+    paths: list[ResolvedPath] = field(default_factory=list)
+    includes: list[Include] = field(default_factory=list)
+    commands: list[CommandRun] = field(default_factory=list)
+    conditions: list[Condition] = field(default_factory=list)
+    unsupported: list[Unsupported] = field(default_factory=list)
+    required: list[Required] = field(default_factory=list)
+    errors: list[Error] = field(default_factory=list)
+    # a Command run once per evaluation: its words -> (ok, output, message, extra record fields)
+    command_cache: dict[tuple[str, ...], tuple[bool, str, str, CommandRunRecordDict]] = field(
+        default_factory=dict
+    )
+    # package -> its prefix, or the lookup's error (a file asks ~9 times)
+    prefix_cache: dict[str, str | BaseException] = field(default_factory=dict)
 
-    def add(self, kind: str, item: dict, obj=None) -> Record:
-        item = dict(item)
+    # one signature per kind: the item's keys are checked against that record's TypedDict
+    @overload
+    def add(self, kind: Literal["nodes"], item: NodeRecordDict, obj: object = None) -> Node: ...
+    @overload
+    def add(
+        self, kind: Literal["packages"], item: PackageLookupRecordDict, obj: object = None
+    ) -> PackageLookup: ...
+    @overload
+    def add(
+        self, kind: Literal["paths"], item: ResolvedPathRecordDict, obj: object = None
+    ) -> ResolvedPath: ...
+    @overload
+    def add(self, kind: Literal["includes"], item: IncludeRecordDict, obj: object = None) -> Include: ...
+    @overload
+    def add(
+        self, kind: Literal["commands"], item: CommandRunRecordDict, obj: object = None
+    ) -> CommandRun: ...
+    @overload
+    def add(
+        self, kind: Literal["conditions"], item: ConditionRecordDict, obj: object = None
+    ) -> Condition: ...
+    @overload
+    def add(
+        self, kind: Literal["unsupported"], item: UnsupportedRecordDict, obj: object = None
+    ) -> Unsupported: ...
+    @overload
+    def add(self, kind: Literal["required"], item: RequiredRecordDict, obj: object = None) -> Required: ...
+    @overload
+    def add(self, kind: Literal["errors"], item: ErrorRecordDict, obj: object = None) -> Error: ...
+    def add(self, kind: RecordKind, item: Mapping[str, Any], obj: object = None) -> Record:
+        data = dict(item)
         if obj is not None:
-            item.setdefault("file", getattr(obj, "_file", None))
-            item.setdefault("line", getattr(obj, "_line", None))
-        item.setdefault("branch", dict(self.branch))
-        record = from_dict(KINDS[kind], item)
-        getattr(self, kind).append(record)
+            data.setdefault("file", getattr(obj, "_file", None))
+            data.setdefault("line", getattr(obj, "_line", None))
+        data.setdefault("branch", dict(self.branch))
+        record = from_dict(KINDS[kind], data)
+        records: list[Record] = getattr(self, kind)
+        records.append(record)
         return record
 
-    def dump(self) -> dict:
-        out = {"arguments": [as_dict(a) for a in self.arguments.values()]}
-        for kind in ITEM_KINDS:
-            out[kind] = [as_dict(r) for r in getattr(self, kind)]
+    def reset(self) -> None:
+        """Empty again, in place: the engines and the worker hold this one recorder."""
+        fresh = Recorder()
+        for f in dataclasses.fields(self):
+            setattr(self, f.name, getattr(fresh, f.name))
+
+    def dump(self) -> RecordsDict:
+        out: RecordsDict = {}
+        self.dump_into(out)
         return out
+
+    def dump_into(self, out: RecordsDict) -> None:
+        """Every record as plain data, into `out` (a reply: LaunchResultDict)."""
+        out["arguments"] = [as_dict(a) for a in self.arguments.values()]
+        out["nodes"] = [as_dict(r) for r in self.nodes]
+        out["packages"] = [as_dict(r) for r in self.packages]
+        out["paths"] = [as_dict(r) for r in self.paths]
+        out["includes"] = [as_dict(r) for r in self.includes]
+        out["commands"] = [as_dict(r) for r in self.commands]
+        out["conditions"] = [as_dict(r) for r in self.conditions]
+        out["unsupported"] = [as_dict(r) for r in self.unsupported]
+        out["required"] = [as_dict(r) for r in self.required]
+        out["errors"] = [as_dict(r) for r in self.errors]
 
 
 @dataclass(frozen=True)
@@ -277,13 +504,13 @@ class Resolution:
         return self.branching.planned - self.branching.evaluated if self.status == "ok" else 0
 
 
-STATUSES = ("ok", "load-error", "timeout", "crashed")
+STATUSES: tuple[Status, ...] = typing.get_args(Status)
 
 
-def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
+def resolution_from_reply(launch: LaunchFile, reply: LaunchResultDict) -> Resolution:
     """The parent's side: the worker's plain data back into records, merged across branches."""
     status = reply.get("status", "crashed")
-    if status not in STATUSES:
+    if status not in STATUSES:  # JSON: whatever the worker wrote
         raise ValueError(f"unknown launch status {status!r}")
     error = reply.get("error")
     resolution = Resolution(
@@ -295,22 +522,36 @@ def resolution_from_reply(launch: LaunchFile, reply: dict) -> Resolution:
         engine=reply.get("engine", "builtin"),
         distro=reply.get("distro"),
     )
-    if isinstance(reply.get("branching"), dict):
-        resolution.branching = Branching(**reply["branching"])
-    labels = set()
-    for kind, cls in KINDS.items():
-        merged: dict[str, Record] = {}
-        for data in reply.get(kind, []):
-            record = from_dict(cls, data)
-            label = " ".join(f"{k}:={v}" for k, v in sorted(record.branch.items()))
-            labels.add(label)
-            entry = merged.setdefault(identity(record), record)
-            if label not in entry.branches:
-                entry.branches.append(label)
-        setattr(resolution, kind, list(merged.values()))
+    branching = reply.get("branching")
+    if isinstance(branching, dict):
+        resolution.branching = Branching(**branching)
+    labels: set[str] = set()
+    resolution.nodes = _merged(Node, reply.get("nodes", []), labels)
+    resolution.packages = _merged(PackageLookup, reply.get("packages", []), labels)
+    resolution.paths = _merged(ResolvedPath, reply.get("paths", []), labels)
+    resolution.includes = _merged(Include, reply.get("includes", []), labels)
+    resolution.commands = _merged(CommandRun, reply.get("commands", []), labels)
+    resolution.conditions = _merged(Condition, reply.get("conditions", []), labels)
+    resolution.unsupported = _merged(Unsupported, reply.get("unsupported", []), labels)
+    resolution.required = _merged(Required, reply.get("required", []), labels)
+    resolution.errors = _merged(Error, reply.get("errors", []), labels)
     resolution.branch_names = sorted(b for b in labels if b)
     resolution.branches = max(1, len(resolution.branch_names))
     return resolution
+
+
+def _merged(cls: type[R], items: Iterable[RecordDict], labels: set[str]) -> list[R]:
+    """One kind's records, equal ones from several branches merged (each keeps its branches'
+    labels); every label seen is added to `labels`."""
+    merged: dict[str, R] = {}
+    for data in items:
+        record = from_dict(cls, data)
+        label = " ".join(f"{k}:={v}" for k, v in sorted(record.branch.items()))
+        labels.add(label)
+        entry = merged.setdefault(identity(record), record)
+        if label not in entry.branches:
+            entry.branches.append(label)
+    return list(merged.values())
 
 
 # --- which commands run at verify time: ONE decision for both engines ----------------------
@@ -347,7 +588,7 @@ class BranchBudget:
     limit) stops, raising one of `stops`, is dropped whole and counted as not evaluated."""
 
     deadline: float
-    stops: tuple  # the exceptions the worker's limits raise in a launch file
+    stops: tuple[type[BaseException], ...]  # the exceptions the worker's limits raise in a launch file
     limit: Callable[[float], None]  # the wall-time alarm no later than that many seconds from now
     release: Callable[[], None]  # the limits off again (the parent's own limit bounds the rest)
 
@@ -359,28 +600,45 @@ class Branching:
 
     planned: int = 1
     evaluated: int = 1
-    stopped: dict | None = None  # {"file", "line", "branch"}: the branch stopped at the deadline
+    stopped: StoppedBranchDict | None = None  # the branch stopped at the deadline
     limit: float | None = None  # the time limit (s) the worker had
 
-    def as_reply(self) -> dict:
-        return dataclasses.asdict(self)
+    def as_reply(self) -> BranchingDict:
+        return {
+            "planned": self.planned,
+            "evaluated": self.evaluated,
+            "stopped": None if self.stopped is None else self.stopped.copy(),
+            "limit": self.limit,
+        }
 
 
-def _mark(recorder) -> tuple:
+_Mark = tuple[list[str], dict[RecordKind, int]]  # a recorder's arguments and record counts
+
+
+def _mark(recorder: Recorder) -> _Mark:
     return list(recorder.arguments), {kind: len(getattr(recorder, kind)) for kind in ITEM_KINDS}
 
 
-def _forget(recorder, mark: tuple) -> None:
+def _forget(recorder: Recorder, mark: _Mark) -> None:
     """What a stopped branch recorded goes: a half-visited branch is no evaluation."""
     names, lengths = mark
     for name in [n for n in recorder.arguments if n not in names]:
         del recorder.arguments[name]
     for kind, length in lengths.items():
-        del getattr(recorder, kind)[length:]
+        records: list[Record] = getattr(recorder, kind)
+        del records[length:]
+
+
+# one visit: run(values, label), the argument values it evaluates and the branch its records carry
+Visit = Callable[[dict[str, str], dict[str, str]], None]
 
 
 def evaluate_branches(
-    recorder, path: str, overrides: dict[str, str], run, budget: BranchBudget | None = None
+    recorder: Recorder,
+    path: str,
+    overrides: Mapping[str, str],
+    run: Visit,
+    budget: BranchBudget | None = None,
 ) -> Branching:
     """Visit once with the defaults, then once per other value of every argument of `path` that has
     choices or a true/false default (at most MAX_BRANCHES), while `budget` lasts. Both engines
@@ -416,7 +674,8 @@ def evaluate_branches(
             run(assignment, assignment)
         result.evaluated = result.planned
         return result
-    current = None
+    current: dict[str, str] | None = None
+    mark: _Mark = ([], {})
     try:  # the deadline may come between two branches too: then nothing is running, nothing is lost
         try:
             for assignment in assignments:
@@ -442,7 +701,12 @@ def evaluate_branches(
     return result
 
 
-def _where_stopped(error: BaseException) -> dict:
+class _Where(TypedDict):
+    file: str | None
+    line: int | None
+
+
+def _where_stopped(error: BaseException) -> _Where:
     """The launch file's line a stopped branch was running (the deepest frame in a launch file)."""
     import traceback
 

@@ -17,11 +17,15 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO, Any, cast
 
 from pkgforge.launch.engines import BUILTIN, LaunchEngine
-from pkgforge.launch.records import ITEM_KINDS, LaunchFile, Resolution, resolution_from_reply  # noqa: F401
+from pkgforge.launch.records import ITEM_KINDS as ITEM_KINDS  # (imported from here too)
+from pkgforge.launch.records import LaunchFile as LaunchFile
+from pkgforge.launch.records import LaunchResultDict, Resolution, resolution_from_reply
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
@@ -36,12 +40,18 @@ STOP_GRACE = 2.0  # seconds an idle worker has to end after its stdin closed, be
 # a result that depends on the machine's load or limits, never cached
 MACHINE_DEPENDENT = ("timeout", "crashed")
 
+# what crosses the worker's pipe: one JSON object per line (a launch file's LaunchResultDict, or a
+# model's reply: urdf/select.py), the parent's own when the worker timed out or crashed
+Request = dict[str, Any]
+Reply = dict[str, Any]
+
 
 def find_launch_files(
     tree: InstallTree, models: list[PackageModel]
 ) -> tuple[list[LaunchFile], list[LaunchFile]]:
     """(launch files, ROS 1 .launch files) installed by the given packages."""
-    found, ros1 = [], []
+    found: list[LaunchFile] = []
+    ros1: list[LaunchFile] = []
     for model in models:
         share = tree.share(model.share_name)
         if share is None or not share.is_dir():
@@ -113,17 +123,18 @@ class _Worker:
         self.env = env
         self.limits = limits or WorkerLimits()
         self.zygote = zygote
-        self.process: subprocess.Popen | ForkedProcess | None = None
-        self.replies: queue.Queue = queue.Queue()
+        self.process: subprocess.Popen[str] | ForkedProcess | None = None
+        self.replies: queue.Queue[str | None] = queue.Queue()
 
-    def start(self) -> None:
+    def start(self) -> subprocess.Popen[str] | ForkedProcess:
         if processes.cancelled.is_set():
             raise _Cancelled()
         env = dict(self.env, PKGFORGE_WORKER_LIMITS=self.limits.environment())
+        process: subprocess.Popen[str] | ForkedProcess
         if self.zygote is not None:  # forked after its imports: the same worker, started sooner
-            self.process = self.zygote.spawn(env)
+            process = self.zygote.spawn(env)
         else:
-            self.process = subprocess.Popen(
+            process = subprocess.Popen(
                 [sys.executable, "-m", "pkgforge.sandbox.worker"],
                 stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE,
@@ -133,22 +144,25 @@ class _Worker:
                 errors="replace",
                 start_new_session=True,
             )
+        self.process = process
         self.replies = queue.Queue()
-        threading.Thread(target=self._read, args=(self.process, self.replies), daemon=True).start()
+        threading.Thread(target=self._read, args=(_pipe(process.stdout), self.replies), daemon=True).start()
+        return process
 
     @staticmethod
-    def _read(process, replies) -> None:
+    def _read(stdout: IO[str], replies: queue.Queue[str | None]) -> None:
         try:
-            for line in process.stdout:
+            for line in stdout:
                 replies.put(line)
         except (OSError, ValueError):
             pass
         replies.put(None)
 
-    def ask(self, request: dict, timeout: float) -> dict:
-        if self.process is None or self.process.poll() is not None:
+    def ask(self, request: Request, timeout: float) -> Reply:
+        process = self.process
+        if process is None or process.poll() is not None:
             try:
-                self.start()
+                process = self.start()
             except OSError as exc:  # an answer too: never a thread's traceback
                 return {
                     "status": "crashed",
@@ -158,10 +172,11 @@ class _Worker:
                         "line": None,
                     },
                 }
-        allowance = processes.LoadAllowance(timeout, self.process.pid)
+        allowance = processes.LoadAllowance(timeout, process.pid)
         try:
-            self.process.stdin.write(json.dumps(request) + "\n")
-            self.process.stdin.flush()
+            stdin = _pipe(process.stdin)
+            stdin.write(json.dumps(request) + "\n")
+            stdin.flush()
         except (BrokenPipeError, OSError):
             self.stop()
             return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
@@ -195,13 +210,13 @@ class _Worker:
                 }
         if line is None:
             try:  # its replies closed: it is ending (or closed them and goes on: killed below)
-                code = self.process.wait(timeout=1.0)
+                code = process.wait(timeout=1.0)
             except subprocess.TimeoutExpired:
                 code = None
             self.stop()
             return {"status": "crashed", "error": {"message": _death(code, self.limits), "line": None}}
         try:
-            reply = json.loads(line)
+            reply: object = json.loads(line)
         except ValueError:
             self.stop()
             return {
@@ -256,9 +271,17 @@ class _Worker:
         processes.reap(killed, keep={process.pid})
         for stream in (process.stdin, process.stdout):
             try:
-                stream.close()
+                if stream is not None:
+                    stream.close()
             except OSError:
                 pass
+
+
+def _pipe(stream: IO[str] | None) -> IO[str]:
+    """A worker's stdin or stdout: always a pipe (subprocess.PIPE, or the fork server's)."""
+    if stream is None:
+        raise OSError("the launch worker has no pipe")
+    return stream
 
 
 class _Cancelled(Exception):
@@ -284,17 +307,17 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
 
 
 def run_requests(
-    requests: list[dict],
+    requests: list[Request],
     tree: InstallTree,
     *,
     jobs: int = 1,
     timeout: float = DEFAULT_TIMEOUT,
-    on_done=None,
+    on_done: Callable[[], object] | None = None,
     limits: WorkerLimits | None = None,
     engine: LaunchEngine = BUILTIN,
     zygote: Zygote | None = None,
-    convert=None,
-) -> list:
+    convert: Callable[[int, Reply], Any] | None = None,
+) -> list[Any]:
     """Each request answered by a worker subprocess, in order; a hang or crash is an answer too.
     `convert(index, reply)`: what to keep of each reply, called as it comes (a reply's plain data
     is dropped at once instead of all of them living until the last worker ends: the peak memory).
@@ -306,7 +329,8 @@ def run_requests(
     if not requests:
         return []
     own = zygote is None
-    zygote = Zygote() if own else zygote
+    if zygote is None:
+        zygote = Zygote()
     limits = WorkerLimits(timeout, limits.memory if limits is not None else DEFAULT_WORKER_MEMORY)
     processes.become_subreaper()
     before = processes.descendants(os.getpid())
@@ -320,10 +344,11 @@ def run_requests(
     )
     if scratch is not None:
         env["PKGFORGE_SCRATCH"] = scratch
-    work: queue.Queue = queue.Queue()
+    work: queue.Queue[tuple[int, Request]] = queue.Queue()
     for index, request in enumerate(requests):
         work.put((index, request))
-    replies: list[dict | None] = [None] * len(requests)
+    # a reply, or (its conversion,) once converted as it came
+    replies: list[Any] = [None] * len(requests)
 
     def run() -> None:
         worker = _Worker(env, limits, zygote)
@@ -383,17 +408,22 @@ def resolve(
     jobs: int = 1,
     timeout: float = DEFAULT_TIMEOUT,
     arguments: dict[str, str] | None = None,
-    on_done=None,
+    on_done: Callable[[], object] | None = None,
     limits: WorkerLimits | None = None,
     engine: LaunchEngine = BUILTIN,
     zygote: Zygote | None = None,
 ) -> list[Resolution]:
-    requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
+    requests: list[Request] = [
+        {"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files
+    ]
 
-    def convert(index: int, reply: dict) -> Resolution:
-        reply.setdefault("engine", engine.name)  # a timeout or a crash is the engine's too
-        reply.setdefault("distro", engine.distro)
-        return _resolution(launch_files[index], reply)
+    def convert(index: int, reply: Reply) -> Resolution:
+        # JSON from the worker, or the parent's own timeout/crash reply: resolution_from_reply
+        # refuses an unknown status, from_dict an unknown record key
+        result = cast(LaunchResultDict, reply)
+        result.setdefault("engine", engine.name)  # a timeout or a crash is the engine's too
+        result.setdefault("distro", engine.distro)
+        return _resolution(launch_files[index], result)
 
     return run_requests(
         requests,
@@ -408,5 +438,5 @@ def resolve(
     )
 
 
-def _resolution(launch: LaunchFile, reply: dict) -> Resolution:
+def _resolution(launch: LaunchFile, reply: LaunchResultDict) -> Resolution:
     return resolution_from_reply(launch, reply)

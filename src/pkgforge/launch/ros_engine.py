@@ -27,10 +27,26 @@ import shutil
 import sys
 import tempfile
 import types
+from collections.abc import Callable, Iterable
+from typing import Any
 
 from pkgforge.launch import runtime as rt
 from pkgforge.launch.engines import python_paths
-from pkgforge.launch.records import as_dict, evaluate_branches, runs_at_verify_time
+from pkgforge.launch.records import (
+    BranchBudget,
+    ErrorRecordDict,
+    LaunchResultDict,
+    NodeRecordDict,
+    ParameterForm,
+    ParameterRecordDict,
+    Status,
+    as_dict,
+    evaluate_branches,
+    runs_at_verify_time,
+)
+
+# The distro's launch libraries are untyped: their objects (entities, contexts, substitutions,
+# parser elements) are `Any` here, and so are the methods this module puts on their classes.
 
 MAX_DEPTH = 32
 MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
@@ -46,20 +62,21 @@ L = types.SimpleNamespace()  # the real libraries, once imported
 _SCRATCH: str | None = None
 # the context being visited; launch also performs substitutions in throw-away contexts to
 # introspect included files (argument names), and those are not evaluations
-_VISITING = None
+_VISITING: Any = None  # a launch.LaunchContext
 
 
-def _evaluating(context) -> bool:
+def _evaluating(context: Any) -> bool:
     return context is _VISITING
 
 
 # --- stand-ins for the compiled ROS packages launch_ros imports -------------------------------
 
 
-def _module(name: str, **attributes) -> types.ModuleType:
+def _module(name: str, **attributes: Any) -> Any:
+    """A stand-in module (Any: its attributes are whatever launch_ros reads of the real one)."""
     module = types.ModuleType(name)
     module.__dict__.update(attributes)
-    module.__pkgforge_stand_in__ = True
+    module.__dict__["__pkgforge_stand_in__"] = True
     sys.modules[name] = module
     return module
 
@@ -67,15 +84,15 @@ def _module(name: str, **attributes) -> types.ModuleType:
 class _Constants:
     """A message class's constants: the real values, any other name an int."""
 
-    def __init__(self, **values):
+    def __init__(self, **values: int) -> None:
         self.__dict__.update(values)
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> int:
         if name.isupper():
             return 0
         raise AttributeError(name)
 
-    def __call__(self, *args, **kwargs):
+    def __call__(self, *args: Any, **kwargs: Any) -> types.SimpleNamespace:
         return types.SimpleNamespace(**kwargs)
 
 
@@ -95,7 +112,7 @@ class InvalidNamespaceException(ValueError):
     pass
 
 
-def _validate_namespace(namespace):
+def _validate_namespace(namespace: str | None) -> bool:
     if not _NAMESPACE.match(namespace or ""):
         raise InvalidNamespaceException(f"Invalid namespace: '{namespace}'")
     return True
@@ -113,7 +130,7 @@ class _ParameterType(enum.IntEnum):
     DOUBLE_ARRAY = 8
     STRING_ARRAY = 9
 
-    def check(self, value):
+    def check(self, value: object) -> bool:
         kinds = {1: bool, 2: int, 3: float, 4: str}
         if self in kinds:
             return isinstance(value, kinds[self]) and not (self == 2 and isinstance(value, bool))
@@ -125,13 +142,13 @@ class _ParameterType(enum.IntEnum):
 class _Parameter:
     Type = _ParameterType
 
-    def __init__(self, name, type_=None, value=None):
+    def __init__(self, name: str, type_: _ParameterType | None = None, value: object = None) -> None:
         self.name, self.type_, self.value = name, type_, value
 
 
 def _install_stand_ins() -> list[str]:
     """Stand-ins for what cannot be imported; the names of those provided."""
-    provided = []
+    provided: list[str] = []
     try:
         import rclpy  # noqa: F401
         import rclpy.executors  # noqa: F401
@@ -182,7 +199,7 @@ def _install_stand_ins() -> list[str]:
             TRANSITION_ACTIVE_SHUTDOWN=7,
             TRANSITION_DESTROY=8,
         )
-        package = _module("lifecycle_msgs")
+        package: Any = _module("lifecycle_msgs")
         package.msg = _module(
             "lifecycle_msgs.msg", State=state, Transition=transition, TransitionEvent=_Constants()
         )
@@ -202,15 +219,15 @@ def _install_stand_ins() -> list[str]:
 # --- setting up the libraries, once per worker ------------------------------------------------
 
 
-class _LineDict(dict):
-    line = None
+class _LineDict(dict[Any, Any]):
+    line: int | None = None
 
 
-def _yaml_with_lines(yaml_module):
-    class Loader(yaml_module.SafeLoader):
+def _yaml_with_lines(yaml_module: Any) -> types.SimpleNamespace:
+    class Loader(yaml_module.SafeLoader):  # type: ignore[misc]  # (the module given is untyped)
         pass
 
-    def construct_map(loader, node):
+    def construct_map(loader: Any, node: Any) -> Any:
         data = _LineDict()
         data.line = node.start_mark.line + 1
         yield data
@@ -228,7 +245,7 @@ def _yaml_with_lines(yaml_module):
     return shim
 
 
-def _xml_with_lines(et_module):
+def _xml_with_lines(et_module: Any) -> types.SimpleNamespace:
     """xml.etree's parse through lxml: the same element API, with each element's source line."""
     from lxml import etree
 
@@ -240,7 +257,7 @@ def _xml_with_lines(et_module):
     return shim
 
 
-def _entity_line(entity) -> int | None:
+def _entity_line(entity: Any) -> int | None:
     for attribute in ("_Entity__xml_element", "_Entity__element"):
         element = getattr(entity, attribute, None)
         if element is not None:
@@ -308,33 +325,43 @@ class _MemoParser:
     """launch's substitution grammar parser, each distinct string parsed once per worker: the
     tree is only read by the transformer, which builds fresh substitutions from it every time."""
 
-    def __init__(self, parser):
-        self.parser, self.trees = parser, {}
+    def __init__(self, parser: Any) -> None:
+        self.parser = parser
+        self.trees: dict[str, Any] = {}
 
-    def parse(self, text, *args, **kwargs):
+    def parse(self, text: str, *args: Any, **kwargs: Any) -> Any:
         if args or kwargs:
             return self.parser.parse(text, *args, **kwargs)
         if text not in self.trees:
             self.trees[text] = self.parser.parse(text)
         return self.trees[text]
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         return getattr(self.parser, name)
 
 
-def _fast_parameter_files(yaml_module) -> None:
+def _fast_parameter_files(yaml_module: Any) -> None:
     """launch_ros dumps a node's parameters to a temporary file with PyYAML's pure-Python
     dumper; libyaml's writes the same document, several times faster (the file is removed)."""
     import launch_ros.actions.node as node_module
 
     dumper = getattr(yaml_module, "CDumper", None)  # the C twin of yaml.dump's default Dumper
-    if dumper is None or getattr(node_module, "yaml", None) is not yaml_module:
+    if dumper is None or not _dumps_with(node_module, yaml_module):
         return
     shim = types.SimpleNamespace(
         **{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")}
     )
-    shim.dump = lambda data, stream=None, **kwargs: yaml_module.dump(data, stream, Dumper=dumper, **kwargs)
+
+    def dump(data: Any, stream: Any = None, **kwargs: Any) -> Any:
+        return yaml_module.dump(data, stream, Dumper=dumper, **kwargs)
+
+    shim.dump = dump
     node_module.yaml = shim
+
+
+def _dumps_with(node_module: Any, yaml_module: Any) -> bool:
+    """Whether launch_ros's node module dumps parameters with this yaml module."""
+    return getattr(node_module, "yaml", None) is yaml_module
 
 
 def _memoize_substitution_grammar() -> None:
@@ -352,14 +379,14 @@ def _memoize_substitution_grammar() -> None:
         pass
 
 
-def _locate(cls) -> None:
+def _locate(cls: Any) -> None:
     """Every instance of cls (and its subclasses) remembers the launch file line that made it:
     set in __new__, which runs once whatever the __init__ chain does."""
     if cls.__dict__.get("_pkgforge_located"):
         return
     real_new = cls.__new__
 
-    def __new__(klass, *args, **kwargs):
+    def __new__(klass: Any, *args: Any, **kwargs: Any) -> Any:
         instance = real_new(klass) if real_new is object.__new__ else real_new(klass, *args, **kwargs)
         try:
             instance._file, instance._line = rt.here()
@@ -389,7 +416,7 @@ def _hook_locations() -> None:
         _locate(base)
     node_init = launch_ros.actions.Node.__init__
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
         self._pkgforge_parameters = list(kwargs.get("parameters") or [])
         self._pkgforge_arguments = list(kwargs.get("arguments") or [])
         node_init(self, *args, **kwargs)
@@ -397,14 +424,14 @@ def _hook_locations() -> None:
     launch_ros.actions.Node.__init__ = __init__
     composable_init = launch_ros.descriptions.ComposableNode.__init__
 
-    def composable(self, *args, **kwargs):
+    def composable(self: Any, *args: Any, **kwargs: Any) -> None:
         self._pkgforge_parameters = list(kwargs.get("parameters") or [])
         composable_init(self, *args, **kwargs)
 
     launch_ros.descriptions.ComposableNode.__init__ = composable
     parse_action = launch.frontend.Parser.parse_action
 
-    def located_parse_action(self, entity):
+    def located_parse_action(self: Any, entity: Any) -> Any:
         file = rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None
         line = _entity_line(entity)
         rt._FRONTEND_LOCATION.append((file, line))
@@ -414,7 +441,7 @@ def _hook_locations() -> None:
             # the innermost element that failed: ROS's own front end does not say where
             if getattr(error, "_pkgforge_location", None) is None and line is not None:
                 try:
-                    error._pkgforge_location = (file, line)
+                    error.__dict__["_pkgforge_location"] = (file, line)  # read by _load_error
                 except AttributeError:
                     pass
             raise
@@ -432,12 +459,12 @@ def _hook_locations() -> None:
         _locate_attributes(entity_class)
 
 
-def _locate_attributes(entity_class) -> None:
+def _locate_attributes(entity_class: Any) -> None:
     """A substitution parsed from an element's attribute stands on that element's line
     (a <param>'s value on the <param>, not on its <node>)."""
     get_attr = entity_class.get_attr
 
-    def located_get_attr(self, *args, **kwargs):
+    def located_get_attr(self: Any, *args: Any, **kwargs: Any) -> Any:
         line = _entity_line(self)
         if rt._FRONTEND_LOCATION and line is not None:
             rt._FRONTEND_LOCATION[-1] = (rt._FRONTEND_LOCATION[-1][0], line)
@@ -454,11 +481,11 @@ def _hook_loaders() -> None:
     real_python = python.get_launch_description_from_python_launch_file
     real_frontend = frontend.get_launch_description_from_frontend_launch_file
 
-    def from_python(path, *args, **kwargs):
+    def from_python(path: Any, *args: Any, **kwargs: Any) -> Any:
         rt._LAUNCH_FILES.add(os.fspath(path))
         return real_python(path, *args, **kwargs)
 
-    def from_frontend(path, *args, **kwargs):
+    def from_frontend(path: Any, *args: Any, **kwargs: Any) -> Any:
         rt._LAUNCH_FILES.add(os.fspath(path))
         rt._FRONTEND_LOCATION.append((os.fspath(path), None))
         try:
@@ -468,11 +495,17 @@ def _hook_loaders() -> None:
 
     real_module = python.load_python_launch_file_as_module
 
-    def as_module(path, *args, **kwargs):  # a launch file loaded by another one: user code too
+    def as_module(
+        path: Any, *args: Any, **kwargs: Any
+    ) -> Any:  # a launch file loaded by another one: user code too
         rt._LAUNCH_FILES.add(os.fspath(path))
         return real_module(path, *args, **kwargs)
 
-    replacements = {real_python: from_python, real_frontend: from_frontend, real_module: as_module}
+    replacements: dict[Any, Callable[..., Any]] = {
+        real_python: from_python,
+        real_frontend: from_frontend,
+        real_module: as_module,
+    }
     for name, module in list(sys.modules.items()):
         if name.split(".")[0] in ("launch", "launch_xml", "launch_yaml", "launch_ros") and module is not None:
             for attribute, value in list(vars(module).items()):
@@ -486,10 +519,14 @@ _record_path = rt._record_path
 def _hook_substitutions() -> None:
     subs, ros_subs = L.launch.substitutions, L.launch_ros.substitutions
 
-    def wrap(cls, after=None, before=None):
+    def wrap(
+        cls: Any,
+        after: Callable[[Any, Any, str], object] | None = None,
+        before: Callable[[Any, Any], object] | None = None,
+    ) -> None:
         real = cls.perform
 
-        def perform(self, context):
+        def perform(self: Any, context: Any) -> Any:
             if before is not None and _evaluating(context):
                 before(self, context)
             result = real(self, context)
@@ -503,7 +540,7 @@ def _hook_substitutions() -> None:
     if hasattr(subs, "FileContent"):
         wrap(subs.FileContent, before=lambda s, c: _record_path(L.perform(c, s.path), s, "FileContent"))
 
-    def find_executable(self, context):
+    def find_executable(self: Any, context: Any) -> None:
         if L.perform(context, self.name) == "xacro":
             RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
 
@@ -511,7 +548,7 @@ def _hook_substitutions() -> None:
 
     real_perform = ros_subs.FindPackage.perform
 
-    def find_perform(self, context):
+    def find_perform(self: Any, context: Any) -> Any:
         if not _evaluating(context):
             return real_perform(self, context)
         self._pkgforge_performing = True
@@ -526,7 +563,7 @@ def _hook_substitutions() -> None:
     if hasattr(ros_subs, "ExecutableInPackage"):
         real_executable = ros_subs.ExecutableInPackage.perform
 
-        def executable_perform(self, context):
+        def executable_perform(self: Any, context: Any) -> Any:
             """as the built-in engine (runtime.executable_in_package): a package not found here
             stands in as an empty one; an executable not built yet is no failure"""
             if not _evaluating(context):
@@ -542,8 +579,8 @@ def _hook_substitutions() -> None:
             getattr(subs, name).perform = _run_time_value(name)
 
 
-def _run_time_value(name: str):
-    def perform(self, context):
+def _run_time_value(name: str) -> Callable[[Any, Any], str]:
+    def perform(self: Any, context: Any) -> str:
         if _evaluating(context):
             RECORDER.add("unsupported", {"name": name}, self)
         raise rt.Unresolved(f"<{name}>")
@@ -551,7 +588,7 @@ def _run_time_value(name: str):
     return perform
 
 
-def _find(cls, kind: str) -> None:
+def _find(cls: Any, kind: str) -> None:
     """FindPackageShare/FindPackagePrefix's lookup, as the built-in engine does it
     (runtime.lookup_package): recorded, and a package not found here reported and standing in as
     an empty one, so the node using it and every later use in the file are still checked
@@ -560,7 +597,7 @@ def _find(cls, kind: str) -> None:
     introspecting in a throw-away context) is the real lookup."""
     real = cls.find
 
-    def find(self, package_name):
+    def find(self: Any, package_name: str) -> Any:
         if getattr(self, "_pkgforge_performing", False):
             return rt.lookup_package(package_name, cls.__name__, self, kind)
         if sys._getframe(1).f_code.co_filename in rt._LAUNCH_FILES:
@@ -570,7 +607,7 @@ def _find(cls, kind: str) -> None:
     cls.find = find
 
 
-def _command_perform(self, context) -> str:
+def _command_perform(self: Any, context: Any) -> str:
     """Command as the built-in engine performs it (runtime.command_output, one policy for both):
     what is a pure function of files runs here (xacro with the real library); any other command
     is recorded as run-time only."""
@@ -581,19 +618,26 @@ def _command_perform(self, context) -> str:
         if runs_at_verify_time(shlex.split(text)):
             raise L.launch.substitutions.SubstitutionFailure("not evaluated outside the launch file's visit")
         return ""
-    return rt.command_output(self, text, on_stderr, L.launch.substitutions.SubstitutionFailure)
+    output: str = rt.command_output(self, text, on_stderr, L.launch.substitutions.SubstitutionFailure)
+    return output
 
 
 # --- visiting -----------------------------------------------------------------------------
 
 
-def _text(context, value) -> str | None:
+def _text(context: Any, value: Any) -> str | None:
     if value is None:
         return None
-    return L.perform(context, L.normalize(value))
+    return _perform(context, value)
 
 
-def _has_command(value) -> bool:
+def _perform(context: Any, value: Any) -> str:
+    """A value that is there (a str, a substitution or a list of them) performed."""
+    text: str = L.perform(context, L.normalize(value))
+    return text
+
+
+def _has_command(value: Any) -> bool:
     Command = L.launch.substitutions.Command
     if isinstance(value, Command):
         return True
@@ -602,7 +646,7 @@ def _has_command(value) -> bool:
     return False
 
 
-def _value_form(value) -> str:
+def _value_form(value: Any) -> ParameterForm:
     ParameterValue = L.launch_ros.parameter_descriptions.ParameterValue
     if isinstance(value, ParameterValue):
         if value.value_type is str:
@@ -611,7 +655,8 @@ def _value_form(value) -> str:
     return "command-untyped" if _has_command(value) else "plain"
 
 
-def _value_preview(context, value):
+def _value_preview(context: Any, value: Any) -> Any:
+    """The value's text (its substitutions performed), else the value as given (a number, a list)."""
     ParameterValue = L.launch_ros.parameter_descriptions.ParameterValue
     Substitution = L.launch.Substitution
     if isinstance(value, ParameterValue):
@@ -623,9 +668,9 @@ def _value_preview(context, value):
     return value
 
 
-def _parameters(context, groups, owner) -> list[dict]:
+def _parameters(context: Any, groups: Iterable[Any], owner: Any) -> list[ParameterRecordDict]:
     ParameterFile = L.launch_ros.parameter_descriptions.ParameterFile
-    out = []
+    out: list[ParameterRecordDict] = []
     for group in groups:
         if isinstance(group, dict):
             for key, value in group.items():
@@ -645,7 +690,7 @@ def _parameters(context, groups, owner) -> list[dict]:
                     _record_path(text, owner, "parameter")
         else:
             source = group.param_file if isinstance(group, ParameterFile) else group
-            path = os.fspath(source) if isinstance(source, os.PathLike) else _text(context, source)
+            path = os.fspath(source) if isinstance(source, os.PathLike) else _perform(context, source)
             _record_path(path, owner, "parameter file")
             out.append(
                 {
@@ -659,18 +704,18 @@ def _parameters(context, groups, owner) -> list[dict]:
     return out
 
 
-def _record_node(node, context) -> None:
+def _record_node(node: Any, context: Any) -> None:
     """Node, LifecycleNode, ComposableNodeContainer: their substitutions performed, nothing started."""
     package = _text(context, node._Node__package)
     if package:
         RECORDER.add("packages", {"name": package, "via": "Node package"}, node)
-    arguments = []
+    arguments: list[str] = []
     for argument in node._pkgforge_arguments:
-        text = _text(context, argument)
+        text = _perform(context, argument)
         arguments.append(text)
         _record_path(text, node, "Node arguments")
     # SetParameter's global parameters, which launch_ros gives every node in scope
-    parameters = [
+    parameters: list[ParameterRecordDict] = [
         {
             "name": group[0],
             "form": "plain",
@@ -682,7 +727,7 @@ def _record_node(node, context) -> None:
         if isinstance(group, tuple)
     ]
     parameters += _parameters(context, node._pkgforge_parameters, node)
-    record = {
+    record: NodeRecordDict = {
         "kind": "node",
         "package": package,
         "executable": _text(context, node._Node__node_executable),
@@ -700,7 +745,7 @@ def _record_node(node, context) -> None:
                 "name": _text(context, node._Node__node_name),
                 "namespace": _text(context, node._Node__node_namespace),
                 "remappings": [
-                    [_text(context, a), _text(context, b)] for a, b in node._Node__remappings or []
+                    [_perform(context, a), _perform(context, b)] for a, b in node._Node__remappings or []
                 ],
             },
             node,
@@ -720,21 +765,21 @@ def _record_node(node, context) -> None:
     )
 
 
-def _record_composable(descriptions, context) -> None:
+def _record_composable(descriptions: Iterable[Any], context: Any) -> None:
     for description in descriptions:
         condition = description.condition()
         if condition is not None and not condition.evaluate(context):
             continue
-        package = _text(context, description.package)
+        package = _perform(context, description.package)
         RECORDER.add("packages", {"name": package, "via": "ComposableNode"}, description)
         _parameters(context, _raw_parameters(description), description)
 
 
-def _raw_parameters(description) -> list:
+def _raw_parameters(description: Any) -> list[Any]:
     return list(getattr(description, "_pkgforge_parameters", None) or [])
 
 
-def _handle(action, context, depth: int):
+def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
     """The entities an action yields, recording what would start instead of starting it."""
     launch, launch_ros = L.launch, L.launch_ros
     name = type(action).__name__
@@ -760,7 +805,7 @@ def _handle(action, context, depth: int):
     if isinstance(action, launch.actions.TimerAction):
         return list(action.actions)
     if isinstance(action, launch.actions.RegisterEventHandler):
-        out = []
+        out: list[Any] = []
         for _, entities in action.describe_conditional_sub_entities():
             out.extend(e for e in entities if isinstance(e, launch.LaunchDescriptionEntity))
         return out
@@ -768,11 +813,12 @@ def _handle(action, context, depth: int):
         _record_path(
             _text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile"
         )
-    return action.execute(context)
+    children: Iterable[Any] | None = action.execute(context)
+    return children
 
 
-def _declare(action, context):
-    default = None
+def _declare(action: Any, context: Any) -> Iterable[Any] | None:
+    default: str | None = None
     if action.default_value is not None:
         try:
             default = L.perform(context, action.default_value)
@@ -792,33 +838,37 @@ def _declare(action, context):
     if action.name not in context.launch_configurations and action.default_value is None:
         RECORDER.add("required", {"name": action.name}, action)
         return None
-    return action.execute(context)
+    children: Iterable[Any] | None = action.execute(context)
+    return children
 
 
 def _phantom(path: str) -> bool:
     phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
-    return bool(phantom) and os.path.abspath(path).startswith(phantom + os.sep)
+    if not phantom:
+        return False
+    return os.path.abspath(path).startswith(phantom + os.sep)
 
 
-def _include(action, context, depth: int):
+def _include(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
     source = action.launch_description_source
     path = L.perform(context, source._LaunchDescriptionSource__location)
-    arguments = {_text(context, k): _text(context, v) for k, v in action.launch_arguments}
+    arguments = {_perform(context, k): _perform(context, v) for k, v in action.launch_arguments}
     exists = os.path.isfile(path)
     RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
     _record_path(path, action, "IncludeLaunchDescription")
     if not exists or _phantom(path):
         return None
     rt._LAUNCH_FILES.add(path)
-    return action.execute(context)
+    children: Iterable[Any] | None = action.execute(context)
+    return children
 
 
-def _missing_configuration(error) -> str | None:
+def _missing_configuration(error: Exception) -> str | None:
     match = MISSING_CONFIGURATION.search(str(error))
     return match.group(1) if match else None
 
 
-def visit(entity, context, depth: int = 0) -> None:
+def visit(entity: Any, context: Any, depth: int = 0) -> None:
     launch = L.launch
     if depth > MAX_DEPTH:
         RECORDER.add(
@@ -863,7 +913,9 @@ def visit(entity, context, depth: int = 0) -> None:
 # --- one file -----------------------------------------------------------------------------
 
 
-def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=None) -> dict:
+def evaluate(
+    path: str, overrides: dict[str, str], distro: str | None, budget: BranchBudget | None = None
+) -> LaunchResultDict:
     """Resolve one launch file with the real libraries; the result is plain data (JSON). `budget`
     (records.BranchBudget): how long the argument combinations past the defaults may run."""
     from pkgforge.launch import evaluate as builtin
@@ -872,23 +924,16 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=No
     # the launch file's own ament_index lookups, recorded (and a package not found here standing
     # in as an empty one) as the built-in engine does; launch_ros's own lookups are left alone
     builtin._watch_ament()
-    RECORDER.__init__()
+    RECORDER.reset()
     rt._LAUNCH_FILES.clear()
     rt._LAUNCH_FILES.add(path)
     environment = dict(os.environ)
     launch = L.launch
-    common = {"engine": "ros", "distro": distro}
     try:
         try:
             first = _load(path)  # a file that does not load is a load error, as in `ros2 launch`
         except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
-            return {
-                "status": "load-error",
-                "error": _load_error(path, error),
-                **RECORDER.dump(),
-                "files": sorted(rt._LAUNCH_FILES),
-                **common,
-            }
+            return _result("load-error", _load_error(path, error), distro)
 
         def run(values: dict[str, str], label: dict[str, str]) -> None:
             global _VISITING
@@ -913,21 +958,24 @@ def evaluate(path: str, overrides: dict[str, str], distro: str | None, budget=No
                 _clean_scratch()
 
         branching = evaluate_branches(RECORDER, path, overrides, run, budget)
-        return {
-            "status": "ok",
-            "error": None,
-            **RECORDER.dump(),
-            "files": sorted(rt._LAUNCH_FILES),
-            **common,
-            "branching": branching.as_reply(),
-        }
+        result = _result("ok", None, distro)
+        result["branching"] = branching.as_reply()
+        return result
     finally:
         os.environ.clear()
         os.environ.update(environment)
         _clean_scratch()
 
 
-def _load_error(path: str, error: BaseException) -> dict:
+def _result(status: Status, error: ErrorRecordDict | None, distro: str | None) -> LaunchResultDict:
+    result: LaunchResultDict = {"status": status, "error": error}
+    RECORDER.dump_into(result)
+    result["files"] = sorted(rt._LAUNCH_FILES)
+    result["engine"], result["distro"] = "ros", distro
+    return result
+
+
+def _load_error(path: str, error: BaseException) -> ErrorRecordDict:
     """A file ROS refuses to load: ROS's own exception, at the element that failed in a front-end
     file (lark wraps a substitution's error in a VisitError; the error itself is what is said)."""
     from pkgforge.launch import evaluate as builtin
@@ -935,12 +983,12 @@ def _load_error(path: str, error: BaseException) -> dict:
     cause = getattr(error, "orig_exc", None) if type(error).__name__ == "VisitError" else None
     record = builtin._error_record(path, cause if isinstance(cause, Exception) else error, "load")
     located = getattr(error, "_pkgforge_location", None)
-    if located is not None and record["line"] is None:
+    if located is not None and record.get("line") is None:
         record["file"], record["line"] = located[0] or path, located[1]
     return record
 
 
-def _load(path: str):
+def _load(path: str) -> Any:  # a launch.LaunchDescription
     """The file's LaunchDescription, loaded by the loader its name says (as `ros2 launch` tries
     first), so that its own exception, with its line, is what a load error reports."""
     sources = L.launch.launch_description_sources
@@ -953,13 +1001,14 @@ def _load(path: str):
 
 def _clean_scratch() -> None:
     """Temporary parameter files and logs go, after every evaluation."""
-    if _SCRATCH is None:
+    scratch = tempfile.tempdir  # setup() put it in _SCRATCH
+    if _SCRATCH is None or scratch is None:
         return
-    shutil.rmtree(tempfile.tempdir, ignore_errors=True)  # the log folder stays: launch keeps its file open
-    os.makedirs(tempfile.tempdir, exist_ok=True)
+    shutil.rmtree(scratch, ignore_errors=True)  # the log folder stays: launch keeps its file open
+    os.makedirs(scratch, exist_ok=True)
 
 
-def error_reply(path: str, message: str, distro: str | None) -> dict:
+def error_reply(path: str, message: str, distro: str | None) -> LaunchResultDict:
     """The reply for every file when the distro's libraries cannot be imported."""
     from pkgforge.launch.records import Error
 

@@ -20,7 +20,7 @@ import sys
 import typing
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from types import FrameType, ModuleType
-from typing import Any, TypedDict, TypeGuard, TypeVar
+from typing import Any, TypeGuard, TypeVar
 
 # --- where a construct stands in the launch file --------------------------------------------
 
@@ -107,14 +107,17 @@ class Unresolved(Exception):
 
 # --- the record -----------------------------------------------------------------------------
 
-from pkgforge.launch.records import ParameterForm, Recorder, runs_at_verify_time  # noqa: E402  (the record format both engines share)
+from pkgforge.launch.records import (  # noqa: E402  (the record format both engines share)
+    CommandRunRecordDict,
+    NodeRecordDict,
+    PackageLookupRecordDict,
+    ParameterForm,
+    ParameterRecordDict,
+    Recorder,
+    runs_at_verify_time,
+)
 
 RECORDER = Recorder()
-
-# one record's fields by name, as Recorder.add takes them (records.from_dict checks each key);
-# the values are what the launch file gave: strs mostly, lists, None, numbers
-Item = dict[str, Any]
-
 
 # --- context --------------------------------------------------------------------------------
 
@@ -370,10 +373,10 @@ def command_output(
     key = tuple(words)
     if key not in RECORDER.command_cache:
         RECORDER.command_cache[key] = _run_command(words)
-    result: CommandResult = RECORDER.command_cache[key]
-    ok, output, message, produced = result
-    stderr = produced.get("stderr", "")
-    extra = {k: v for k, v in produced.items() if k != "stderr"}
+    ok, output, message, extra = RECORDER.command_cache[key]
+    stderr = extra.get("stderr", "")
+    extra = extra.copy()  # (the cached one stays whole)
+    extra.pop("stderr", None)
     problem = None
     if ok and stderr and on_stderr == "fail":
         # launch fails a Command that writes to stderr unless on_stderr says otherwise
@@ -388,7 +391,7 @@ def command_output(
         )
     elif ok and stderr and on_stderr == "capture":
         output = output + stderr
-    record: Item = {"command": words, "text": text, "ok": ok, "message": message, **extra}
+    record: CommandRunRecordDict = {"command": words, "text": text, "ok": ok, "message": message, **extra}
     if os.path.basename(words[0]) == "xacro":
         RECORDER.add("packages", {"name": "xacro", "via": "Command xacro"}, owner)
         for word in words[1:]:
@@ -405,19 +408,7 @@ def command_output(
     return output
 
 
-class CommandExtra(TypedDict, total=False):
-    """What a Command's run yields besides its output: xacro's model structure and includes."""
-
-    robot: object  # pkgforge.urdf.robot.structure_of_output's structure
-    includes: list[str]
-    stderr: str  # taken out before the record is made (the on_stderr rule reads it)
-
-
-# (ran fine, stdout, why not, extra): one run per command line and file (Recorder.command_cache)
-CommandResult = tuple[bool, str, str, CommandExtra]
-
-
-def _run_command(words: list[str]) -> CommandResult:
+def _run_command(words: list[str]) -> tuple[bool, str, str, CommandRunRecordDict]:
     """Run a Command; xacro runs in this process with the real xacro library."""
     if os.path.basename(words[0]) == "xacro":
         return _run_xacro(words[1:])
@@ -432,7 +423,7 @@ def _run_command(words: list[str]) -> CommandResult:
     return True, done.stdout, "", {"stderr": done.stderr}
 
 
-def _run_xacro(args: list[str]) -> CommandResult:
+def _run_xacro(args: list[str]) -> tuple[bool, str, str, CommandRunRecordDict]:
     """xacro with the real library; a success also yields the model's structure, so the
     model checks need not run xacro on it a second time."""
     import io
@@ -456,8 +447,8 @@ def _run_xacro(args: list[str]) -> CommandResult:
 
         includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
         robot = structure_of_output(files[0], output, includes)
-        extra: CommandExtra = {"robot": robot, "includes": includes} if robot else {}
-        return True, output, "", {**extra, "stderr": stderr.getvalue()}
+        found: CommandRunRecordDict = {"robot": robot, "includes": includes} if robot else {}
+        return True, output, "", {**found, "stderr": stderr.getvalue()}
     except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
         message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
         written = stderr.getvalue().strip()
@@ -653,7 +644,7 @@ def lookup_package(
     from ament_index_python.packages import PackageNotFoundError as AmentNotFound
     from ament_index_python.packages import get_package_prefix
 
-    item: Item = {"name": package, "via": via}
+    item: PackageLookupRecordDict = {"name": package, "via": via}
     guarded = False
     if isinstance(where, tuple):
         item["file"], item["line"] = where
@@ -666,14 +657,14 @@ def lookup_package(
         except (AmentNotFound, PackageNotFoundError, ValueError) as error:
             known[package] = error
     try:
-        if isinstance(known[package], BaseException):
-            error = known[package]
-            raise type(error)(*error.args)
-        prefix = known[package]
+        found = known[package]
+        if isinstance(found, BaseException):
+            raise type(found)(*found.args)
+        prefix = found
     except (AmentNotFound, PackageNotFoundError, ValueError):
         if guarded:
             raise  # the launch file catches it: probing for an optional package
-        RECORDER.add("packages", dict(item, found=False), where)
+        RECORDER.add("packages", {**item, "found": False}, where)
         prefix = os.path.join(MISSING_PACKAGE_ROOT, package)
     else:
         RECORDER.add("packages", item, where)
@@ -1442,7 +1433,7 @@ class Node(ExecuteProcess):
             RECORDER.add("packages", {"name": package, "via": "Node package"}, self)
         return package
 
-    def record(self, context: LaunchContext, package: str | None) -> Item:
+    def record(self, context: LaunchContext, package: str | None) -> NodeRecordDict:
         arguments = []
         for argument in self.arguments:
             text = perform(context, argument)
@@ -1452,7 +1443,7 @@ class Node(ExecuteProcess):
         namespace = make_namespace_absolute(
             prefix_namespace(context.launch_configurations.get("ros_namespace"), namespace)
         )
-        parameters: list[Item] = []
+        parameters: list[ParameterRecordDict] = []
         for group in context.launch_configurations.get("global_params") or []:
             if isinstance(group, tuple):
                 parameters.append(
@@ -1555,9 +1546,11 @@ def _flatten(
     return out
 
 
-def _evaluate_parameters(context: LaunchContext, group: ParameterGroup, node: Located) -> list[Item]:
+def _evaluate_parameters(
+    context: LaunchContext, group: ParameterGroup, node: Located
+) -> list[ParameterRecordDict]:
     """Node parameters: dicts of name → value, or parameter files; with how each was given."""
-    out: list[Item] = []
+    out: list[ParameterRecordDict] = []
     if isinstance(group, collections.abc.Mapping):
         for name, value in _flatten(group, None, context):
             given = _value_form(value)

@@ -7,7 +7,8 @@ checked too; launch-not-installed says once that they are not installed.
 
 from __future__ import annotations
 
-from pkgforge.launch.resolve import LaunchFile, _is_launch_file
+from pkgforge.launch.records import LaunchFile
+from pkgforge.launch.resolve import _is_launch_file
 from pkgforge.model.package import PackageModel
 
 SKIPPED = {"test", "tests", "build", "install", "log", "__pycache__"}

@@ -364,13 +364,13 @@ def main() -> None:
                 if "model" in request:
                     result = process_model(request["model"], request.get("mappings", {}))
                 elif engine == "ros" and setup_error is not None:
-                    result = ros_engine.error_reply(request["file"], setup_error, distro)
+                    result = dict(ros_engine.error_reply(request["file"], setup_error, distro))
                 elif engine == "ros":
-                    result = ros_engine.evaluate(
-                        request["file"], request.get("arguments", {}), distro, budget
+                    result = dict(  # a LaunchResultDict, as the JSON line it becomes
+                        ros_engine.evaluate(request["file"], request.get("arguments", {}), distro, budget)
                     )
                 else:
-                    result = evaluate(request["file"], request.get("arguments", {}), budget)
+                    result = dict(evaluate(request["file"], request.get("arguments", {}), budget))
             finally:
                 _disarm()
         except BaseException as error:  # noqa: BLE001 - the reply must always come

@@ -233,7 +233,7 @@ def _collect_orphan(pid: int) -> int:
 class Zygote:
     """The fork server of one verify run (started again should it die); workers come from spawn()."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._server: _Server | None = None
         self._lock = threading.Lock()
 
