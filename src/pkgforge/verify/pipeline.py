@@ -697,6 +697,7 @@ def _report_build_failure(
     the verified ones failed (a dependency) or colcon stopped before any ran, each verified
     package gets one, so a failed build never passes."""
     from pkgforge.checks.build import build_failed_finding
+    from pkgforge.checks.context import FileFacts
     from pkgforge.checks.registry import REGISTRY
 
     own = [(package, log, tail) for package, log, tail in failure.failures if package == model.name]
@@ -710,6 +711,7 @@ def _report_build_failure(
             tail,
             failure.status,
             None if package == model.name else package,
+            files=FileFacts(),
         )
         if model.suppressed(finding.path, finding.line, {BUILD_FAILED, "build-failed"}):
             continue
