@@ -19,9 +19,13 @@ import json
 import os
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
+
+if TYPE_CHECKING:
+    from pkgforge.checks.context import CheckContext
 
 # 4: a model failing on its own for want of its empty-default xacro:args is PF406, no longer PF308
 CACHE_FORMAT = 4
@@ -275,36 +279,39 @@ def manifest_text(folder: Path) -> str | None:
 BUILD_FILES = ("package.xml", "CMakeLists.txt", "setup.py", "setup.cfg")
 
 
-def externals(context) -> set[str]:
+def externals(context: CheckContext) -> set[str]:
     """Files outside the package that its verification depended on (real paths).
 
     A path into another workspace package depends on that package's build
     files too: fixing its install rules changes what exists in the tree.
     """
-    from pkgforge.urdf.meshes import resolve_uri
-
     tree = context.tree
     found: set[str] = set()
     for resolution in context.resolutions:
-        found.update(item.path for item in [*resolution.paths, *resolution.includes])
+        found.update(item.path for item in resolution.paths)
+        found.update(item.path for item in resolution.includes)
         found.update(c.model for c in resolution.commands if c.model)
     for result in context.model_results:
         found.add(str(result.installed))
         found.update(result.includes)
-        for mesh in (result.robot or {}).get("meshes", []):
-            lookup = resolve_uri(mesh["uri"], tree, result.installed)
+        for mesh in result.robot["meshes"] if result.robot and tree is not None else []:
+            lookup = context.mesh(mesh["uri"], result.installed)  # the checks' own lookup
             if lookup.path is not None:
                 found.add(str(lookup.path))
     own = str(context.model.path) + os.sep
     temporary = [str(p) + os.sep for p in (tree.prefixes if tree is not None else [])]
-    if tree is not None and getattr(tree, "root", None) is not None:
+    if tree is not None and tree.root is not None:
         temporary.append(str(tree.root) + os.sep)
-    out = set()
+    out: set[str] = set()
     for path in found:
         located = tree.locate(path) if tree is not None else None
         if located is not None:
             package = located[0]
-            if tree.is_phantom(path) or package in (context.model.name, context.model.share_name):
+            if (
+                tree is not None
+                and tree.is_phantom(path)
+                or package in (context.model.name, context.model.share_name)
+            ):
                 continue
             other = context.models.get(package)
             if other is not None:
@@ -315,7 +322,7 @@ def externals(context) -> set[str]:
     return out
 
 
-def _report_to(report: PackageReport) -> dict:
+def _report_to(report: PackageReport) -> dict[str, Any]:
     return {
         "name": report.name,
         "path": str(report.path),
@@ -326,7 +333,7 @@ def _report_to(report: PackageReport) -> dict:
     }
 
 
-def _report_from(data: dict) -> PackageReport:
+def _report_from(data: dict[str, Any]) -> PackageReport:
     report = PackageReport(data["name"], Path(data["path"]), data["build_type"])
     for d in data["diagnostics"]:
         report.diagnostics.append(
