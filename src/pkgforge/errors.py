@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 
@@ -23,11 +24,11 @@ class BuildFailed(PkgforgeError):
     def __init__(
         self,
         message: str,
-        failures: list[tuple[str | None, Path | None, str]] | None = None,
+        failures: Sequence[tuple[str | None, Path | None, str]] | None = None,
         status: int | None = None,
     ) -> None:
         super().__init__(message)
-        self.failures = failures or []
+        self.failures = list(failures or [])
         self.status = status
 
 

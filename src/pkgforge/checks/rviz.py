@@ -107,7 +107,7 @@ def rviz_fixed_frame_unknown(ctx: CheckContext) -> Iterator[Finding]:
         if frame in EXTERNAL_FRAMES:
             continue
         root = root_link(ctx, launch)
-        example = root or sorted(links)[0]
+        example = root or sorted(links, key=str)[0]
         yield Finding(
             f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
             config.path,

@@ -559,9 +559,9 @@ def root_link(ctx: CheckContext, launch: LaunchFile) -> str | None:
     return None
 
 
-def link_names(ctx: CheckContext, launch: LaunchFile) -> set[str] | None:
+def link_names(ctx: CheckContext, launch: LaunchFile) -> set[str | None] | None:
     """Links of the models the given launch file feeds to xacro (None when it feeds none)."""
     found = [r for r in ctx.model_results if any(o["launch"] == launch for o in r.origins)]
     if not found or any(r.status != "ok" for r in found):
         return None  # nothing to compare with: xacro-error or urdf-invalid says why
-    return set().union(*(r.links for r in found))
+    return {name for r in found for name in r.links}

@@ -48,8 +48,8 @@ class ModelResult:
     includes: list[str] = field(default_factory=list)
 
     @property
-    def links(self) -> set[str]:
-        return {link["name"] for link in (self.robot or {}).get("links", [])}
+    def links(self) -> set[str | None]:
+        return {link["name"] for link in (self.robot["links"] if self.robot else [])}
 
 
 @dataclass
