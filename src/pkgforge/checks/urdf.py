@@ -119,9 +119,8 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
             if split is None and (command.ok or command.model is None):
                 continue
             model = command.model
-            if (
-                split is None and model is not None
-            ):  # a path of the user's own files with a space (the tree has it too)
+            # a path of the user's own files with a space (the tree has it too)
+            if split is None and model is not None:
                 spaced = _path_split_at_spaces(ctx.files, command.command or [], model)
                 split = (
                     None
