@@ -59,7 +59,7 @@ class ResultCache:
         self.changed = False
         # package folder → (files outside it that its valid entry read, its codes): loaded or stored
         self.answered: dict[Path, tuple[list[str], set[str]]] = {}
-        self.stamps: dict[str, list] = {}  # path → its stamp when its digest was taken
+        self.stamps: dict[str, FileStamp] = {}  # path → its stamp when its digest was taken
 
     # --- digests ------------------------------------------------------------------------------
 
@@ -72,7 +72,7 @@ class ResultCache:
             self.stamps[path] = [error.errno]
             return None
         mode = f"{stat.st_mode & 0o7777:o}"
-        stamp = [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
+        stamp: FileStamp = [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
         self.stamps[path] = stamp  # as _stamp() gives it: the workspace entry's record of the file
         known = self.index.get(path)
         if known and len(known) == 5 and known[:4] == stamp:
@@ -150,10 +150,12 @@ class ResultCache:
 WORKSPACE_ENTRY = "workspace.whole"  # (not *.json: one file, not a package's entry)
 PRUNED = (".git",)  # never read by verify, and large
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
+# a file's (size, mtime ns, ctime ns, mode), or [errno] when it cannot be stat'ed
+FileStamp = list[int | None]
 MAX_STAMPED = 100_000  # more files: no workspace entry (the per-package lookup as before)
 
 
-def _stamp(path: str) -> list | None:
+def _stamp(path: str) -> FileStamp:
     try:
         stat = os.stat(path)
     except OSError as error:
@@ -161,10 +163,10 @@ def _stamp(path: str) -> list | None:
     return [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
 
 
-def tree_stamps(base: str) -> list | None:
+def tree_stamps(base: str) -> list[list[Any]] | None:
     """Every folder and file under base (sorted; links read, not followed; `.git` and folders
     with an ignore marker not entered) with each file's stamp; None when too many files."""
-    out: list = []
+    out: list[list[Any]] = []  # [folder, name, what …]: JSON for the fingerprint
     stack = [base]
     cut = len(base.rstrip(os.sep)) + 1
     while stack:
@@ -212,7 +214,7 @@ def workspace_fingerprint(base: Path, above: list[Path], options_key: str, confi
     stamps = tree_stamps(str(base))
     if stamps is None:
         return None
-    outside = []
+    outside: list[list[Any]] = []  # [path, its stamp or errno]
     for folder in above:
         outside += [[str(folder / name), _stamp(str(folder / name))] for name in CI_FILES]
         workflows = folder / CI_FOLDER
@@ -242,7 +244,11 @@ def load_workspace(folder: Path, fingerprint: str) -> tuple[list[PackageReport],
 
 
 def store_workspace(
-    folder: Path, fingerprint: str, reports: list[PackageReport], codes: set[str], externals: dict[str, list]
+    folder: Path,
+    fingerprint: str,
+    reports: list[PackageReport],
+    codes: set[str],
+    externals: dict[str, FileStamp],
 ) -> None:
     """`externals`: each outside file's stamp when its digest was taken (a later edit is not hidden)."""
     entry = {

@@ -11,7 +11,7 @@ import json
 import os
 import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -207,7 +207,9 @@ def _load_chunk(folders: list[Path]) -> list[PackageModel]:
     return models
 
 
-def _rviz_files(model: PackageModel, known: dict | None = None):
+def _rviz_files(
+    model: PackageModel, known: dict[Path, RvizConfig] | None = None
+) -> Iterator[tuple[Path, RvizConfig]]:
     """(source, RvizConfig) of each RViz config the package installs; `known`: those read already."""
     from pkgforge.model.rviz import read_rviz
 
@@ -500,7 +502,9 @@ def _cache_lookup(
     return cache, keys, hits
 
 
-def _store_whole(cache, whole: str | None, keys: dict, reports: list[PackageReport]) -> None:
+def _store_whole(
+    cache: ResultCache | None, whole: str | None, keys: dict[Path, str], reports: list[PackageReport]
+) -> None:
     """The workspace entry, when every package of the run has a valid entry (answered by the cache
     next time): the next unchanged run reads that one file."""
     if whole is None or cache is None or not (set(cache.answered) == set(keys) == {r.path for r in reports}):
@@ -520,7 +524,9 @@ def _store_whole(cache, whole: str | None, keys: dict, reports: list[PackageRepo
         pass  # the per-package entries answer
 
 
-def _workspace_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
+def _workspace_lookup(
+    workspace: Workspace, config: Config, options: VerifyOptions
+) -> tuple[str | None, tuple[list[PackageReport], set[str]] | None]:
     """(the whole workspace's fingerprint, (reports, codes) when its entry answers), for a run on a
     whole workspace; (None, None) for one package."""
     if workspace.package_path is not None:
