@@ -60,6 +60,102 @@ def test_every_triggers_mark_names_a_registered_code():
     assert not unknown, f"marked triggers() of codes no check has: {unknown}"
 
 
+# --- checks read a context computed once and never touch the file system ----------------------
+
+# what reads or stats the file system: os / os.path / pathlib / builtins / pkgforge.walk
+FILE_SYSTEM_CALLS = {
+    "open",
+    "read_text",
+    "read_bytes",
+    "write_text",
+    "write_bytes",
+    "exists",
+    "lexists",
+    "is_file",
+    "is_dir",
+    "is_symlink",
+    "isfile",
+    "isdir",
+    "islink",
+    "stat",
+    "lstat",
+    "resolve",
+    "realpath",
+    "readlink",
+    "iterdir",
+    "glob",
+    "rglob",
+    "listdir",
+    "scandir",
+    "walk",
+    "getsize",
+    "getmtime",
+    "access",
+    "samefile",
+}
+# where those facts live: computed once per run (CheckContext.files and the context's methods)
+CONTEXT_MODULES = {"context.py", "catalogue.py", "__init__.py"}
+
+
+def file_system_calls(source: str) -> list[tuple[int, str]]:
+    """(line, call) of every call in `source` that reads the file system itself; a call through
+    the context's file facts (`ctx.files.exists(...)`, a `files: FileFacts` parameter) is none."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.Call):
+            continue
+        function = node.func
+        if isinstance(function, ast.Name):
+            if function.id == "resolve":
+                continue  # a function of the check's own (Path.resolve is a method)
+            name, receiver = function.id, None
+        elif isinstance(function, ast.Attribute):
+            name, receiver = function.attr, function.value
+        else:
+            continue
+        if name not in FILE_SYSTEM_CALLS:
+            continue
+        through_facts = (isinstance(receiver, ast.Name) and receiver.id == "files") or (
+            isinstance(receiver, ast.Attribute) and receiver.attr == "files"
+        )
+        if not through_facts:
+            found.append((node.lineno, ast.unparse(function)))
+    return found
+
+
+def test_checks_never_touch_the_file_system():
+    checks = REPO / "src" / "pkgforge" / "checks"
+    offenders = [
+        f"checks/{path.name}:{line}: {call}()"
+        for path in sorted(checks.glob("*.py"))
+        if path.name not in CONTEXT_MODULES
+        for line, call in file_system_calls(path.read_text(encoding="utf-8"))
+    ]
+    assert not offenders, (
+        "check modules read a context computed once and never touch the file system; ask "
+        "CheckContext (ctx.files.exists(...), or a new memoised method in checks/context.py) instead: "
+        + "; ".join(offenders)
+    )
+
+
+def test_the_file_system_scan_finds_a_check_that_stats_a_file():
+    """The scan above can fail: each way a check could touch a file is found."""
+    source = (
+        "import os\n"
+        "def check(ctx):\n"
+        "    if (ctx.model.path / 'setup.py').exists() or os.path.isfile('x'):\n"
+        "        yield open('y').read()\n"
+        "    ctx.files.exists('z')\n"
+        "    for name in walk(ctx.model.path): pass\n"
+    )
+    assert sorted(file_system_calls(source)) == [
+        (3, "(ctx.model.path / 'setup.py').exists"),
+        (3, "os.path.isfile"),
+        (4, "open"),
+        (6, "walk"),
+    ]
+
+
 # --- the registry: area follows the code, examples -------------------------------------------
 
 

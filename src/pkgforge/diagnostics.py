@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import IntEnum
 from pathlib import Path
+from typing import Any
 
 
 class Severity(IntEnum):
@@ -32,7 +33,7 @@ class Finding:
     hint: str | None = None  # None: the check's own hint
     severity: Severity | None = None  # None: the check's default
     # what `pkgforge fix` needs to fix it (plain data, e.g. {"dependency": "xacro"}); None: no fix
-    fix: dict | None = field(default=None, compare=False, hash=False)
+    fix: dict[str, Any] | None = field(default=None, compare=False, hash=False)
 
 
 @dataclass(frozen=True)
@@ -47,9 +48,9 @@ class Diagnostic:
     message: str
     hint: str
     # the finding's fix data (pkgforge fix); not part of any report
-    fix: dict | None = field(default=None, compare=False, hash=False, repr=False)
+    fix: dict[str, Any] | None = field(default=None, compare=False, hash=False, repr=False)
 
-    def sort_key(self) -> tuple:
+    def sort_key(self) -> tuple[str, str, int, int, str, str]:
         return (self.package, str(self.path), self.line or 0, self.column or 0, self.code, self.message)
 
 

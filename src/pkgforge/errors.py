@@ -1,5 +1,10 @@
 """Errors the CLI turns into a clean message and an exit status, never a traceback."""
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
 
 class PkgforgeError(Exception):
     """A problem with the user's input or environment; exit status 2."""
@@ -16,9 +21,14 @@ class BuildFailed(PkgforgeError):
 
     exit_code = 1
 
-    def __init__(self, message: str, failures: list | None = None, status: int | None = None):
+    def __init__(
+        self,
+        message: str,
+        failures: Sequence[tuple[str | None, Path | None, str]] | None = None,
+        status: int | None = None,
+    ) -> None:
         super().__init__(message)
-        self.failures = failures or []
+        self.failures = list(failures or [])
         self.status = status
 
 

@@ -28,12 +28,18 @@ import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, TextIO
 
 from pkgforge.build.toolchain import prepend_path
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.package import PackageModel
 from pkgforge.walk import MAX_DEPTH
 
+if TYPE_CHECKING:
+    from pkgforge.workspace import Workspace
+
+# what an entry of the tree is (inode, mode, size, mtime), to see whether a launch file changed it
+Stamp = tuple[int, int, int, int]
 INDEX = Path("share/ament_index/resource_index/packages")
 
 
@@ -46,12 +52,12 @@ class InstallTree:
     phantom_packages: set[str] = field(default_factory=set)
     # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS) → their prefix
     system_packages: dict[str, Path] = field(default_factory=dict)
-    _temporary: tempfile.TemporaryDirectory | None = None
+    _temporary: tempfile.TemporaryDirectory[str] | None = None
     root: Path | None = None  # pkgforge's temporary folder: the only place the worker may write
     shadows: dict[str, str] = field(default_factory=dict)  # shadow prefix → the user's prefix
     copied: dict[str, str] = field(default_factory=dict)  # file in the tree → the user's file it copies
-    _plan: object | None = None  # how the tree was made (trees._Plan), to restore what a launch file changed
-    _stamps: dict = field(default_factory=dict)
+    _plan: _Plan | None = None  # how the tree was made, to restore what a launch file changed
+    _stamps: dict[str, Stamp] = field(default_factory=dict)
     sealed: int = 0  # time (ns) the tree was complete: entries older than it are pkgforge's
     # the install base the user's own launch would see in place of the tree's `install` folder:
     # theirs (--install-base), pkgforge's build in their workspace (--build), or colcon's default
@@ -285,7 +291,7 @@ def _plain_folder() -> str | None:
     return None  # nowhere better: the tree's own spaces may then show as splits
 
 
-def _temporary(needed: int) -> tuple[tempfile.TemporaryDirectory, Path]:
+def _temporary(needed: int) -> tuple[tempfile.TemporaryDirectory[str], Path]:
     folder = _fast_folder(needed)
     if folder is not None:
         _sweep(folder)
@@ -386,10 +392,10 @@ class _Plan:
         ):
             os.symlink(os.path.realpath(source), target)
 
-    def stamps(self, root: Path) -> dict[str, tuple]:
+    def stamps(self, root: Path) -> dict[str, Stamp]:
         """What each created entry is now, to see later whether a launch file changed it."""
         base = str(root)
-        out = {}
+        out: dict[str, Stamp] = {}
         for relative in [*self.files, *self.links]:
             try:
                 info = os.lstat(os.path.join(base, relative))
@@ -398,7 +404,7 @@ class _Plan:
             out[relative] = (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns)
         return out
 
-    def restore(self, root: Path, stamps: dict[str, tuple]) -> int:
+    def restore(self, root: Path, stamps: dict[str, Stamp]) -> int:
         """Put back every entry a launch file changed or removed; → how many."""
         import shutil
 
@@ -461,6 +467,7 @@ def _plan_shadow(plan: _Plan, source: Path, relative: str) -> None:
     seen: set[tuple[int, int]] = set()
     stack = [(str(source), relative, 0)]
     count = 0
+    info: os.stat_result | None
     while stack:
         folder, here, depth = stack.pop()
         try:
@@ -554,7 +561,7 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
     return tree
 
 
-def built_tree(workspace, models: list[PackageModel], *, out=None) -> InstallTree:
+def built_tree(workspace: Workspace, models: list[PackageModel], *, out: TextIO | None = None) -> InstallTree:
     from pkgforge.build.colcon import BuildOptions, run_build
 
     base = workspace.root / "build" / "pkgforge-verify"

@@ -36,13 +36,13 @@ class WalkLimit:
 
 
 def walk(
-    top,
+    top: str | os.PathLike[str],
     *,
     follow_links: bool = False,
     max_depth: int = MAX_DEPTH,
     max_files: int = MAX_FILES,
     limits: list[WalkLimit] | None = None,
-    inside: tuple = (),
+    inside: tuple[str | os.PathLike[str], ...] = (),
 ) -> Iterator[tuple[str, list[str], list[str]]]:
     """(folder, sub-folder names, file names) for top and every folder under it.
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from pkgforge.errors import PkgforgeError
 
@@ -47,7 +49,7 @@ def locate(path: Path) -> Workspace:
     )
 
 
-def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -> list:
+def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -> list[Any]:
     """colcon PackageDescriptors under base_path (COLCON_IGNORE, AMENT_IGNORE honoured).
 
     `augment`: with colcon's augmentation (the dependencies; build.py orders by them; names,
@@ -98,22 +100,21 @@ class _Undecided:
 
     PACKAGE_IDENTIFICATION_NAME = "pkgforge_undecided"
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.folders: list[str] = []
 
-    def identify(self, desc) -> None:
+    def identify(self, desc: Any) -> None:  # colcon's PackageDescriptor (untyped)
         import os
 
         if any(os.path.isfile(os.path.join(str(desc.path), name)) for name in BUILD_FILES):
             self.folders.append(str(desc.path))
 
 
-def _ros_identification(below=None):
+def _ros_identification(below: _Undecided | None = None) -> OrderedDict[int, OrderedDict[str, Any]] | None:
     """colcon's ignore and ROS identification extensions, grouped by priority as colcon groups
     them (and `below`, ranked under them); None unless the installed identification extensions
     are the known six and no COLCON_EXTENSION_BLOCKLIST is set."""
     import os
-    from collections import OrderedDict
 
     if os.environ.get("COLCON_EXTENSION_BLOCKLIST") or _identification_names() != IDENTIFICATION:
         return None
@@ -148,7 +149,7 @@ def _ros_identification(below=None):
 IDENTIFICATION = {"cmake", "ignore", "ignore_ament_install", "python", "python_setup_py", "ros"}
 
 
-def identify_folder(folder: Path):
+def identify_folder(folder: Path) -> Any:
     """colcon's descriptor of one package folder from its ignore and ROS extensions alone (what
     colcon's discovery of that folder decides when the ROS extension identifies it), without
     loading every extension (colcon-python-setup-py imports setuptools: ~1 CPU s); None when

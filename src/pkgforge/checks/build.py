@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from pkgforge.checks.context import FileFacts
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding
 
@@ -40,17 +41,20 @@ def build_failed_finding(
     tail: str,
     status: int | None = None,
     dependency: str | None = None,
+    *,
+    files: FileFacts,
 ) -> Finding:
     """The failure at the first CMake or Python error in the package's own files, else at its
-    build file; the message ends with the last lines of colcon's log."""
+    build file; the message ends with the last lines of colcon's log. `files`: what exists, read
+    by the verify pipeline (a check touches no file itself)."""
     lines = [line for line in tail.splitlines() if line.strip()]
     first_error = next((i for i, line in enumerate(lines) if ERROR_LINE.search(line)), None)
     lines = lines[first_error : first_error + TAIL_LINES] if first_error is not None else lines[-TAIL_LINES:]
-    where = None if dependency else _located(package_path, tail)
+    where: tuple[Path, int | None] | None = None if dependency else _located(files, package_path, tail)
     if where is None:
         name = "setup.py" if build_type == "ament_python" else "CMakeLists.txt"
         where = (
-            package_path / name if (package_path / name).is_file() else package_path / "package.xml",
+            package_path / name if files.is_file(package_path / name) else package_path / "package.xml",
             None,
         )
     if log is None:
@@ -62,17 +66,16 @@ def build_failed_finding(
     return Finding("\n".join([head, *("  " + line for line in lines)]), *where)
 
 
-def _located(package_path: Path, tail: str) -> tuple[Path, int] | None:
+def _located(files: FileFacts, package_path: Path, tail: str) -> tuple[Path, int] | None:
     for pattern in (CMAKE_ERROR, PYTHON_FRAME):
         for match in pattern.finditer(tail):
             path = Path(match.group(1).strip())
             if not path.is_absolute():
                 path = package_path / path
-            try:
-                path = path.resolve()
-                path.relative_to(package_path)
-            except (OSError, ValueError):
+            real = files.real(path)
+            if real is None or not real.is_relative_to(package_path):
                 continue
-            if path.is_file():
+            path = real
+            if files.is_file(path):
                 return path, int(match.group(2))
     return None

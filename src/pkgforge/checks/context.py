@@ -1,13 +1,28 @@
-"""What a check reads: one package's model, the workspace, the install tree, the resolutions."""
+"""What a check reads: one package's model, the workspace, the install tree, the resolutions.
+
+Checks never touch the file system themselves (tests/test_conventions.py holds them to it): what
+they need of it is a fact of the context, looked up once per run (`CheckContext.files`), the way
+catkin_lint's checks read what its on_init computed.
+"""
 
 from __future__ import annotations
 
 import os
 import re
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
+from pkgforge.launch.records import LaunchFile, Resolution
 from pkgforge.model.package import PackageModel
+from pkgforge.model.rviz import RvizConfig
+from pkgforge.tree import InstallTree
+
+if TYPE_CHECKING:
+    from pkgforge.model.references import Reference
+    from pkgforge.urdf.meshes import MeshLookup
+    from pkgforge.urdf.select import ModelResult
 
 # an ImportError of a launch name (the built-in engine's message is ROS's own)
 BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")
@@ -15,6 +30,68 @@ BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]
 GENERATED_LISTS = ("humble", "jazzy")
 # pkgforge provides these in the launch worker; a missing submodule of one is a real error
 STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
+
+# why a launch file was not loaded (CheckContext.load_error_kind); None: it was
+LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", "environment"]
+_T = TypeVar("_T")
+
+
+class FileFacts:
+    """The file-system facts the checks ask for, each looked up once per run: whether a path
+    exists (is a file, a folder, a link), where a link points, a path's real location, the names
+    a pattern matches. Every context of a run shares one (CheckContext.files)."""
+
+    def __init__(self) -> None:
+        self._memo: dict[tuple[str, str], Any] = {}
+
+    def _once(self, kind: str, path: str | os.PathLike[str], compute: Any) -> Any:
+        key = (kind, os.fspath(path))
+        if key not in self._memo:
+            self._memo[key] = compute(key[1])
+        return self._memo[key]
+
+    def exists(self, path: str | os.PathLike[str]) -> bool:
+        return bool(self._once("exists", path, os.path.exists))
+
+    def is_file(self, path: str | os.PathLike[str]) -> bool:
+        return bool(self._once("file", path, os.path.isfile))
+
+    def is_dir(self, path: str | os.PathLike[str]) -> bool:
+        return bool(self._once("dir", path, os.path.isdir))
+
+    def is_link(self, path: str | os.PathLike[str]) -> bool:
+        return bool(self._once("link", path, os.path.islink))
+
+    def link_target(self, path: str | os.PathLike[str]) -> str | None:
+        """What a symbolic link points to (its text), None when it cannot be read."""
+
+        def read(text: str) -> str | None:
+            try:
+                return os.readlink(text)
+            except OSError:
+                return None
+
+        target: str | None = self._once("readlink", path, read)
+        return target
+
+    def real(self, path: str | os.PathLike[str]) -> Path | None:
+        """The path with its links resolved (Path.resolve), None when that fails."""
+
+        def resolve(text: str) -> Path | None:
+            try:
+                return Path(text).resolve()
+            except OSError:
+                return None
+
+        real: Path | None = self._once("real", path, resolve)
+        return real
+
+    def names(self, folder: Path, pattern: str) -> frozenset[str]:
+        """The names of what `folder.glob(pattern)` finds."""
+        found: frozenset[str] = self._once(
+            f"glob:{pattern}", folder, lambda text: frozenset(p.name for p in Path(text).glob(pattern))
+        )
+        return found
 
 
 @dataclass
@@ -24,17 +101,29 @@ class CheckContext:
     workspace: dict[str, Path] = field(default_factory=dict)
     # the models of the verified packages, by the name their share folder has
     models: dict[str, PackageModel] = field(default_factory=dict)
-    tree: object | None = None  # trees.InstallTree, when launch files were resolved
-    resolutions: list = field(default_factory=list)  # launch.resolve.Resolution of this package
-    ros1_launch_files: list = field(default_factory=list)
-    model_results: list = field(default_factory=list)  # models.ModelResult of this package
-    rviz_configs: list = field(default_factory=list)  # rviz.RvizConfig of this package's own files
-    rviz_launches: list = field(default_factory=list)  # (RvizConfig, LaunchFile) a launch passes with -d
-    distros: tuple = ()  # the ROS 2 distros the package targets; empty: every active distro
+    tree: InstallTree | None = None  # when launch files were resolved
+    resolutions: list[Resolution] = field(default_factory=list)  # this package's launch files
+    ros1_launch_files: list[LaunchFile] = field(default_factory=list)
+    model_results: list[ModelResult] = field(default_factory=list)  # this package's robot models
+    rviz_configs: list[RvizConfig] = field(default_factory=list)  # this package's own RViz files
+    # (RvizConfig, LaunchFile) a launch passes with -d
+    rviz_launches: list[tuple[RvizConfig, LaunchFile]] = field(default_factory=list)
+    distros: tuple[str, ...] = ()  # the ROS 2 distros the package targets; empty: every active distro
     install_base: Path | None = None  # --install-base, when verifying against one
     # one dict for every context of a run (the workspace and the tree are the same for each):
-    # the package-name sets built once per run, not once per package
-    shared: dict = field(default_factory=dict)
+    # the package-name sets and file-system facts built once per run, not once per package
+    shared: dict[Any, Any] = field(default_factory=dict)
+
+    def _shared(self, key: object, compute: Any) -> Any:
+        if key not in self.shared:
+            self.shared[key] = compute()
+        return self.shared[key]
+
+    @property
+    def files(self) -> FileFacts:
+        """The file-system facts of this run (one FileFacts for every context sharing `shared`)."""
+        facts: FileFacts = self._shared("files", FileFacts)
+        return facts
 
     def relative(self, path: Path) -> str:
         try:
@@ -59,34 +148,49 @@ class CheckContext:
         """Packages the tree holds or finds already installed (built once per run, not per call)."""
         if self.tree is None:
             return frozenset()
-        if "installed" not in self.shared:
-            self.shared["installed"] = frozenset(set(self.tree.packages) | set(self.tree.system_packages))
-        return self.shared["installed"]
+        tree = self.tree
+        installed: frozenset[str] = self._shared(
+            "installed", lambda: frozenset(set(tree.packages) | set(tree.system_packages))
+        )
+        return installed
 
-    def real_packages(self) -> set[str]:
+    def real_packages(self) -> frozenset[str]:
         """Every name known to be a ROS package here: the workspace's, the tree's, and those
         released for the target distros (any active distro when there is no target)."""
         from pkgforge.model.distro_data import released_set
 
-        key = ("real", self.distros)
-        if key not in self.shared:
+        def compute() -> frozenset[str]:
             # a name declared somewhere (a phantom in the tree) but released only for other distros
             # is package-not-in-distro's, not a real package here
             foreign = released_set(()) - released_set(self.distros)
-            self.shared[key] = frozenset(
+            return frozenset(
                 set(self.workspace) | (self.tree_packages() - foreign) | released_set(self.distros)
             )
-        return self.shared[key]
 
-    def known_packages(self) -> set[str]:
+        real: frozenset[str] = self._shared(("real", self.distros), compute)
+        return real
+
+    def known_packages(self) -> frozenset[str]:
         """Names that are no typo: real packages, released in any distro, or declared here."""
         from pkgforge.model.distro_data import released_set
 
-        key = ("known", self.distros)
-        if key not in self.shared:
-            self.shared[key] = self.real_packages() | released_set(())
-        known, declared = self.shared[key], self.model.manifest.declared()
+        known: frozenset[str] = self._shared(
+            ("known", self.distros), lambda: self.real_packages() | released_set(())
+        )
+        declared = self.model.manifest.declared()
         return known if declared <= known else known | declared
+
+    def install_base_packages(self) -> Collection[str]:
+        """Packages the install base (--install-base) holds: the tree's, else those its ament index
+        names (a merged or an isolated install)."""
+        if self.tree is not None:
+            return self.tree.packages  # (a mapping: membership without a copy per package)
+        if self.install_base is None:
+            return frozenset()
+        from pkgforge.tree import INDEX
+
+        base = Path(self.install_base)
+        return self.files.names(base / INDEX, "*") | self.files.names(base, f"*/{INDEX}/*")
 
     # --- locations ----------------------------------------------------------------------------
 
@@ -96,7 +200,9 @@ class CheckContext:
 
         return source_of(Path(installed), self.tree, self.model) if self.tree is not None else None
 
-    def source_position(self, resolution, item_file: str | None, line: int | None):
+    def source_position(
+        self, resolution: Resolution, item_file: str | None, line: int | None
+    ) -> tuple[Path, int | None] | None:
         """(source path, line) of a construct, or None when it stands in another package's file."""
         launch = resolution.launch
         if item_file is None or item_file == str(launch.installed):
@@ -104,13 +210,35 @@ class CheckContext:
         source = self.own_source(item_file)
         return (source, line) if source is not None else None
 
+    def mesh(self, uri: str, model_file: Path) -> MeshLookup:
+        """A mesh URI resolved in the tree (a relative one next to the model file), once per run:
+        every mesh check reads the same lookup."""
+        from pkgforge.urdf.meshes import resolve_uri
+
+        tree = self.tree
+        if tree is None:
+            raise ValueError("mesh URIs are resolved in an install tree; this context has none")
+        lookup: MeshLookup = self._shared(
+            ("mesh", uri, model_file), lambda: resolve_uri(uri, tree, model_file)
+        )
+        return lookup
+
+    def mesh_problem(self, path: Path) -> str | None:
+        """Why a mesh file is not a readable mesh of its kind (urdf.meshes.unreadable), None if it is."""
+        from pkgforge.urdf.meshes import unreadable
+
+        problem: str | None = self._shared(("mesh-problem", path), lambda: unreadable(path))
+        return problem
+
     def file_exists_for_rviz(self, reference: str) -> bool:
         """A Description File as RViz reads it: an absolute path, or package://."""
         if reference.startswith("package://") and self.tree is not None:
             from pkgforge.urdf.meshes import resolve_uri
 
-            return resolve_uri(reference, self.tree).status in ("found", "unchecked")
-        return os.path.isfile(reference)
+            tree = self.tree
+            lookup: MeshLookup = self._shared(("mesh", reference, None), lambda: resolve_uri(reference, tree))
+            return lookup.status in ("found", "unchecked")
+        return self.files.is_file(reference)
 
     def static_line(self, path: Path, package: str, relative: str, near: int | None = None) -> int | None:
         """The line where the file names package/relative literally, if it does (the one
@@ -126,8 +254,8 @@ class CheckContext:
 
     # --- launch results -----------------------------------------------------------------------
 
-    def load_error_kind(self, resolution) -> str | None:
-        """None (loaded), or why not: load | package | xacro | unevaluated."""
+    def load_error_kind(self, resolution: Resolution) -> LoadErrorKind | None:
+        """None (loaded), or why not."""
         if resolution.status == "ok":
             return None
         error = resolution.error
@@ -151,21 +279,22 @@ class CheckContext:
             return "environment"
         return "load"
 
-    def unset_environment(self, resolution) -> list[str]:
+    def unset_environment(self, resolution: Resolution) -> list[str]:
         """Environment variables the launch file reads without a default and that are not set
         here, when its loading failed on one (os.environ['X'] → KeyError) or a path it resolved
         has the text None from one (os.getenv('X'))."""
         source = resolution.launch.source
         if source is None or source.suffix != ".py":
             return []
-        unset = [n for n in _environment_reads(source) if n not in os.environ]
+        reads: list[str] = self._shared(("environment-reads", source), lambda: _environment_reads(source))
+        unset = [n for n in reads if n not in os.environ]
         error = resolution.error
         if resolution.status == "load-error" and error is not None and error.type == "KeyError":
             key = re.search(r"'([^']+)'", str(error.message or ""))
             return [key.group(1)] if key and key.group(1) in unset else []
         return unset
 
-    def newer_launch_name(self, resolution) -> str | None:
+    def newer_launch_name(self, resolution: Resolution) -> str | None:
         """The launch API name the built-in engine lacks where its list is only the nearest older
         distro's and no list has it (a name new in Kilted or later, e.g. PathSubstitution, is real
         there; a typo looks the same): None where the ImportError is ROS's."""
@@ -180,9 +309,9 @@ class CheckContext:
             return None  # the target's own list, or a real name imported from the wrong module
         return found.group(1)
 
-    def static_fallback(self) -> dict[Path, list]:
+    def static_fallback(self) -> dict[Path, list[Reference]]:
         """Static references of the launch files that could not be evaluated here."""
-        out: dict[Path, list] = {}
+        out: dict[Path, list[Reference]] = {}
         for resolution in self.resolutions:
             if self.load_error_kind(resolution) in ("unevaluated", "newer-api") and resolution.launch.source:
                 out[resolution.launch.source] = [
@@ -192,20 +321,21 @@ class CheckContext:
 
     def folders_reported_uninstalled(self) -> set[str]:
         """Own top-level folders a launch file or a model's mesh resolves into but the tree lacks."""
-        folders = set()
+        folders: set[str] = set()
         if self.tree is None:
             return folders
         own = (self.model.share_name, self.model.name)
         for result in self.model_results:
-            for mesh in (result.robot or {}).get("meshes", []):
+            for mesh in result.robot["meshes"] if result.robot else []:
                 uri = mesh["uri"]
                 if uri.startswith("package://"):
                     package, _, relative = uri[len("package://") :].partition("/")
+                    share = self.tree.share(package)
                     if (
                         package in own
-                        and os.path.isfile(self.model.path / relative)
-                        and self.tree.share(package) is not None
-                        and not os.path.exists(self.tree.share(package) / relative)
+                        and self.files.is_file(self.model.path / relative)
+                        and share is not None
+                        and not self.files.exists(share / relative)
                     ):
                         folders.add(relative.split("/")[0])
         for resolution in self.resolutions:
@@ -216,7 +346,7 @@ class CheckContext:
                 if (
                     located
                     and located[0] in (self.model.share_name, self.model.name)
-                    and os.path.exists(self.model.path / located[1])
+                    and self.files.exists(self.model.path / located[1])
                 ):
                     folders.add(located[1].split("/")[0])
         return folders
@@ -234,8 +364,9 @@ def _environment_reads(source: Path) -> list[str]:
         tree = ast.parse(text)
     except (OSError, SyntaxError, ValueError):
         return []
-    names = []
+    names: list[str] = []
     for node in ast.walk(tree):
+        key: ast.expr
         if isinstance(node, ast.Subscript) and ast.unparse(node.value) in ("os.environ", "environ"):
             key = node.slice
         elif (
@@ -252,7 +383,7 @@ def _environment_reads(source: Path) -> list[str]:
     return names
 
 
-_names: set | None = None
+_names: set[str] | None = None
 
 
 def _launch_names() -> set[str]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
@@ -21,7 +22,7 @@ from pkgforge.diagnostics import Finding
     "refer to; a file it cannot read is left out of those checks.",
     hint="make the file readable, or smaller than 8 MB",
 )
-def file_not_read(ctx: CheckContext):
+def file_not_read(ctx: CheckContext) -> Iterator[Finding]:
     from pkgforge.model.references import launch_kind
 
     for source in ctx.model.skipped:
@@ -74,9 +75,9 @@ def read_problem_hint(problem: str | None) -> str | None:
     hint="remove the accidental nesting or the stray files, or move them out of the package "
     "(or mark a folder with COLCON_IGNORE)",
 )
-def folder_not_walked(ctx: CheckContext):
+def folder_not_walked(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
-    shown = set()
+    shown: set[Path] = set()
     for limit in [*model.walk_limits, *model.layout.walk_limits]:
         path = Path(limit.path)
         if ctx.tree is not None:  # a folder of the install tree: name its source when it has one
@@ -84,7 +85,7 @@ def folder_not_walked(ctx: CheckContext):
             if (
                 located is not None
                 and located[0] in (model.name, model.share_name)
-                and (model.path / located[1]).is_dir()
+                and ctx.files.is_dir(model.path / located[1])
             ):
                 path = model.path / located[1]
             else:  # the folder of the user's install base, not of pkgforge's copy of it
@@ -104,7 +105,7 @@ def untree(ctx: CheckContext, text: str) -> str:
     if share is None or str(share) not in text:
         return text
 
-    def source(match) -> str:
+    def source(match: re.Match[str]) -> str:
         found = ctx.own_source(match.group(0))
         return ctx.relative(found) if found is not None else match.group(0)
 

@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
-import os
+from collections.abc import Collection, Iterator
 from pathlib import Path
+from typing import Any
 
-from pkgforge.checks.context import CheckContext
+from pkgforge.checks.context import CheckContext, FileFacts
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.model.package import RESOURCE_FOLDERS, PackageModel
+from pkgforge.model.references import Reference
 
 RESOURCE_SUFFIXES = (
     ".urdf",
@@ -34,7 +36,7 @@ def _where(path: Path, line: int | None, model: PackageModel) -> str:
     return f"{shown}:{line}" if line else str(shown)
 
 
-def linked_folder(model: PackageModel, relative: str) -> tuple[str, str, bool] | None:
+def linked_folder(files: FileFacts, model: PackageModel, relative: str) -> tuple[str, str, bool] | None:
     """(folder, link target, target exists) for the first symbolic link on the way to `relative` in
     the package's source; None when no link is on the way. pkgforge's tree, like CMake's
     install(DIRECTORY), installs a link as the link itself, not what it points to."""
@@ -42,20 +44,19 @@ def linked_folder(model: PackageModel, relative: str) -> tuple[str, str, bool] |
     parts = relative.split("/")
     for index, part in enumerate(parts[:-1]):
         path = path / part
-        if os.path.islink(path):
-            try:
-                target = os.readlink(path)
-            except OSError:
+        if files.is_link(path):
+            target = files.link_target(path)
+            if target is None:
                 return None
-            return "/".join(parts[: index + 1]), target, os.path.exists(path)
-        if not os.path.isdir(path):
+            return "/".join(parts[: index + 1]), target, files.exists(path)
+        if not files.is_dir(path):
             return None
     return None
 
 
-def link_hint(model: PackageModel, relative: str) -> tuple[str, str] | None:
+def link_hint(files: FileFacts, model: PackageModel, relative: str) -> tuple[str, str] | None:
     """(what is wrong, the fix) when a symbolic link stands between the package and `relative`."""
-    found = linked_folder(model, relative)
+    found = linked_folder(files, model, relative)
     if found is None:
         return None
     folder, target, exists = found
@@ -110,7 +111,7 @@ def install_fix(model: PackageModel, folder: str, file: str | None = None) -> st
     return f"add install(DIRECTORY {folder} DESTINATION share/${{PROJECT_NAME}}) to CMakeLists.txt"
 
 
-def install_fix_data(model: PackageModel, folder: str) -> dict:
+def install_fix_data(model: PackageModel, folder: str) -> dict[str, Any]:
     """What `pkgforge fix` needs to install `folder` of `model`."""
     return {"install_folder": folder, "package_path": str(model.path)}
 
@@ -131,7 +132,7 @@ def install_fix_data(model: PackageModel, folder: str) -> dict:
     "a tutorial's install rule lists worlds/ and models/ the package lacks).",
     hint="create the folder or remove it from the install rule",
 )
-def install_missing_directory(ctx: CheckContext):
+def install_missing_directory(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     for missing in model.layout.missing:
         if missing.mode != "DIRECTORY":
@@ -163,7 +164,7 @@ def install_missing_directory(ctx: CheckContext):
     "missing file or on a folder listed as a file.",
     hint="fix the path or remove it",
 )
-def install_missing_file(ctx: CheckContext):
+def install_missing_file(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     for missing in model.layout.missing:
         if missing.mode == "DIRECTORY":
@@ -195,7 +196,7 @@ def install_missing_file(ctx: CheckContext):
     "when a file of the package refers to the folder, a warning otherwise.",
     hint="install the folder to share/${PROJECT_NAME}",
 )
-def directory_not_installed(ctx: CheckContext):
+def directory_not_installed(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     if not model.layout.known or model.layout.unknown:
         return  # a rule pkgforge cannot read may install the folder
@@ -229,13 +230,15 @@ def directory_not_installed(ctx: CheckContext):
         )
 
 
-def _referenced_folders(model, installed: set, own_names: set) -> dict[str, object]:
+def _referenced_folders(
+    model: PackageModel, installed: Collection[Path], own_names: Collection[str]
+) -> dict[str, Reference]:
     """Top-level folder → the first reference into it from a file that is used at run time: an
     installed file, a file outside any folder, or a file of a folder so referenced. A folder that
     only its own (or another uninstalled folder's) files refer to is not needed at run time: a
     xacro source folder kept next to the URDF generated from it."""
 
-    def folder_of(path):
+    def folder_of(path: Path) -> str | None:
         try:
             parts = Path(path).relative_to(model.path).parts
         except ValueError:
@@ -243,12 +246,12 @@ def _referenced_folders(model, installed: set, own_names: set) -> dict[str, obje
         return parts[0] if len(parts) > 1 else None
 
     own = [r for r in model.references if r.package in own_names and r.relative]
-    referenced: dict[str, object] = {}
+    referenced: dict[str, Reference] = {}
     changed = True
     while changed:
         changed = False
         for reference in own:
-            target = reference.relative.split("/")[0]
+            target = (reference.relative or "").split("/")[0]
             source = folder_of(reference.path)
             used = reference.path in installed or source is None or source in referenced
             if used and target not in referenced and target != source:
@@ -269,7 +272,7 @@ def _referenced_folders(model, installed: set, own_names: set) -> dict[str, obje
     "share/<package>/; resources installed elsewhere are never found.",
     hint="use DESTINATION share/${PROJECT_NAME}",
 )
-def install_wrong_destination(ctx: CheckContext):
+def install_wrong_destination(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     share = f"share/{model.share_name}"
     for rule in model.layout.destinations:
@@ -313,7 +316,7 @@ def install_wrong_destination(ctx: CheckContext):
     explanation="CMake stops at configure time; pkgforge cannot predict the install tree either.",
     hint="fix the syntax at the named line",
 )
-def cmake_invalid(ctx: CheckContext):
+def cmake_invalid(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     cmake = model.cmake
     if cmake is None:
@@ -349,7 +352,7 @@ def cmake_invalid(ctx: CheckContext):
     "cannot find the package at all.",
     hint="call ament_package() at the end of CMakeLists.txt",
 )
-def ament_package_missing(ctx: CheckContext):
+def ament_package_missing(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     cmake = model.cmake
     if cmake is None or model.build_type != "ament_cmake" or cmake.syntax_errors or cmake.unreadable:
@@ -376,7 +379,7 @@ def ament_package_missing(ctx: CheckContext):
     "--install-base to check the real tree.",
     hint="use literal paths, or verify against a real build (--build)",
 )
-def install_rule_unevaluated(ctx: CheckContext):
+def install_rule_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     for path, line, why in ctx.model.layout.unknown:
         yield Finding(f"cannot predict this install rule: {why}", path, line)
 
@@ -392,7 +395,7 @@ def install_rule_unevaluated(ctx: CheckContext):
     explanation="colcon builds ament_python packages by running setup.py.",
     hint="fix setup.py at the named line",
 )
-def setup_py_invalid(ctx: CheckContext):
+def setup_py_invalid(ctx: CheckContext) -> Iterator[Finding]:
     setup_py = ctx.model.setup_py
     if setup_py is None:
         return
@@ -422,17 +425,11 @@ def setup_py_invalid(ctx: CheckContext):
     hint="look at colcon's log (log/latest_build/<package>/stdout_stderr.log), fix the build, "
     "and build again",
 )
-def package_not_installed(ctx: CheckContext):
+def package_not_installed(ctx: CheckContext) -> Iterator[Finding]:
     if ctx.install_base is None:
         return
     model = ctx.model
-    if ctx.tree is not None:
-        installed = ctx.tree.packages  # (a mapping: membership without a copy per package)
-    else:
-        from pkgforge.tree import INDEX
-
-        base = Path(ctx.install_base)
-        installed = {p.name for p in (base / INDEX).glob("*")} | {p.name for p in base.glob(f"*/{INDEX}/*")}
+    installed = ctx.install_base_packages()
     if model.share_name not in installed and model.name not in installed:
         yield Finding(
             f"{model.name} is not in the install base {ctx.install_base}: its build failed or "

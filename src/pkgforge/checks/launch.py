@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import difflib
-import os
 import re
+from collections.abc import Iterator
 from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
@@ -13,7 +13,8 @@ from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding
-from pkgforge.launch.records import PackageLookup, Record
+from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
+from pkgforge.model.package import PackageModel
 from pkgforge.walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
@@ -37,9 +38,12 @@ EMPTY_PART = re.compile(r"^_|__|_$")
 # a path part that is the text of None (an f-string of os.getenv() of a variable not set)
 NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
 MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
+# a package a launch file, a model or a file of the package uses: (name, source path, line, how,
+# the launch record, its resolution); the last two are None for a static reference
+Use = tuple[str, Path, "int | None", str, "Record | None", "Resolution | None"]
 
 
-def _branch_note(item: Record, resolution) -> str:
+def _branch_note(item: Record, resolution: Resolution) -> str:
     branches = [b for b in item.branches if b]
     if branches and len(branches) < resolution.branches:
         return f" (only with {', '.join(branches)})"
@@ -67,7 +71,7 @@ def _branch_note(item: Record, resolution) -> str:
     hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
     "resolved tree)",
 )
-def launch_load_error(ctx: CheckContext):
+def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
         error = resolution.error
         if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
@@ -124,9 +128,9 @@ def _one_line(message: str) -> str:
     return " ".join(part.strip() for part in message.splitlines() if part.strip())
 
 
-def _share_reference(ctx: CheckContext, path: str):
+def _share_reference(ctx: CheckContext, path: str) -> tuple[str, str, Path] | None:
     located = ctx.tree.locate(path) if ctx.tree is not None else None
-    if located is None or ctx.tree.is_phantom(path):
+    if located is None or ctx.tree is None or ctx.tree.is_phantom(path):
         return None
     return located
 
@@ -147,7 +151,7 @@ def _share_reference(ctx: CheckContext, path: str):
     "looks (user story 1: the RViz config was never installed, RViz started empty).",
     hint="extend the install rule",
 )
-def uninstalled_reference(ctx: CheckContext):
+def uninstalled_reference(ctx: CheckContext) -> Iterator[Finding]:
     yield from _missing_paths(ctx, want_source=True)
 
 
@@ -169,11 +173,11 @@ def uninstalled_reference(ctx: CheckContext):
     "file or folder name, or a file never committed.",
     hint="fix the path in the launch file",
 )
-def missing_file(ctx: CheckContext):
+def missing_file(ctx: CheckContext) -> Iterator[Finding]:
     yield from _missing_paths(ctx, want_source=False)
 
 
-def _unreadable_folder(owner, source: Path) -> Path | None:
+def _unreadable_folder(owner: PackageModel, source: Path) -> Path | None:
     """The folder of owner's source that the walk could not read and that holds source."""
     for limit in [*owner.walk_limits, *owner.layout.walk_limits]:
         folder = Path(limit.path)
@@ -182,9 +186,11 @@ def _unreadable_folder(owner, source: Path) -> Path | None:
     return None
 
 
-def _missing_paths(ctx: CheckContext, *, want_source: bool):
+def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]:
     # one defect, one diagnostic: the first line of a file that names the path, "and N more"
-    found: dict[tuple, list] = {}
+    found: dict[
+        tuple[str, str, str], tuple[Path, PackageModel | None, ResolvedPath, Resolution, list[int | None]]
+    ] = {}
     for resolution in ctx.resolutions:
         for item in resolution.paths:
             if item.exists:
@@ -197,7 +203,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
                 continue  # launch-environment-unset: os.getenv() gave None here
             owner = ctx.model_for_share(package)
             source = owner.path / relative if owner is not None else None
-            in_source = source is not None and os.path.exists(source)
+            in_source = source is not None and ctx.files.exists(source)
             if in_source != want_source:
                 continue
             position = ctx.source_position(resolution, item.file, item.line)
@@ -205,7 +211,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
                 continue
             path, line = position
             line = ctx.static_line(path, package, relative, line) or line
-            lines = found.setdefault((str(path), package, relative), [path, owner, item, resolution, []])[4]
+            lines = found.setdefault((str(path), package, relative), (path, owner, item, resolution, []))[4]
             if line not in lines:
                 lines.append(line)
     for (_, package, relative), (path, owner, item, resolution, lines) in found.items():
@@ -219,16 +225,16 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
         )
         shown = f"share/{package}/{relative}"
         source = owner.path / relative if owner is not None else None
-        linked = link_hint(owner, relative) if owner is not None else None
-        if linked is not None:
-            if want_source == os.path.exists(source):  # report it once, under either code
+        linked = link_hint(ctx.files, owner, relative) if owner is not None else None
+        if linked is not None and source is not None:
+            if want_source == ctx.files.exists(source):  # report it once, under either code
                 yield Finding(
                     f"{shown} is not in the install tree: {linked[0]}{_branch_note(item, resolution)}{more}",
                     path,
                     line,
                     hint=linked[1],
                 )
-        elif want_source:
+        elif want_source and owner is not None:
             elsewhere = next((d for d, f in owner.layout.files.items() if f.source == source), None)
             why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
             yield Finding(
@@ -239,8 +245,11 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
                 hint=install_fix(owner, relative.split("/")[0], relative),
                 fix=install_fix_data(owner, relative.split("/")[0]),
             )
-        elif owner is not None and _unreadable_folder(owner, source) is not None:
-            folder = _unreadable_folder(owner, source)
+        elif (
+            owner is not None
+            and source is not None
+            and (folder := _unreadable_folder(owner, source)) is not None
+        ):
             yield Finding(
                 f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
                 f"cannot be read{_branch_note(item, resolution)}{more}",
@@ -262,20 +271,20 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool):
             )
 
 
-def _looked_up(ctx: CheckContext):
+def _looked_up(ctx: CheckContext) -> Iterator[Use]:
     """(package name, source path, line, how, item, resolution) for every package a launch file uses."""
     for resolution in ctx.resolutions:
         for item in resolution.packages:
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
                 yield item.name, position[0], position[1], item.via, item, resolution
-        for item in resolution.includes:
-            located = _share_reference(ctx, item.path) or (
-                ctx.tree.locate(item.path) if ctx.tree is not None else None
+        for include in resolution.includes:
+            located = _share_reference(ctx, include.path) or (
+                ctx.tree.locate(include.path) if ctx.tree is not None else None
             )
-            position = ctx.source_position(resolution, item.file, item.line)
+            position = ctx.source_position(resolution, include.file, include.line)
             if located is not None and position is not None:
-                yield located[0], position[0], position[1], "included launch file", item, resolution
+                yield located[0], position[0], position[1], "included launch file", include, resolution
         error = resolution.error
         if resolution.status == "load-error" and error is not None and error.package:
             position = ctx.source_position(resolution, error.file, error.line)
@@ -298,13 +307,15 @@ def _looked_up(ctx: CheckContext):
         elif reference.via == "rviz plugin":
             yield reference.package, reference.path, reference.line, "RViz display from", None, None
     for result in ctx.model_results:
-        for mesh in (result.robot or {}).get("meshes", []):
+        for mesh in result.robot["meshes"] if result.robot else []:
             if mesh["uri"].startswith("package://"):
                 package = mesh["uri"][len("package://") :].split("/")[0]
                 own = ctx.own_source(mesh.get("file") or "")
                 # a mesh written in another package's file: this model's file, no line
-                source, line = (own, mesh.get("line")) if own else (result.source or result.installed, None)
-                yield package, source, line, "package://", None, None
+                if own:
+                    yield package, own, mesh.get("line"), "package://", None, None
+                else:
+                    yield package, result.source or result.installed, None, "package://", None, None
     # a Python launch file that imports a ROS package's module needs that package at run time
     evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
     for reference in ctx.model.references:
@@ -332,7 +343,7 @@ def _looked_up(ctx: CheckContext):
     "`robot_description` looked up in package `rob_description`).",
     hint="fix the package name",
 )
-def unknown_package(ctx: CheckContext):
+def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
     if not ctx.model.manifest.valid:
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
@@ -360,8 +371,9 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     """The package's ROS 2 name, or close names from the workspace, package.xml and the distros."""
     from pkgforge.model.distro_data import load, replacement
 
-    if replacement(name) is not None:
-        return f"use {replacement(name)[0]}: {replacement(name)[1]}"
+    renamed = replacement(name)
+    if renamed is not None:
+        return f"use {renamed[0]}: {renamed[1]}"
     own = ctx.model.manifest.name or ctx.model.name
     if name == ctx.model.path.name and name != own:
         return (
@@ -392,7 +404,7 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "machine the node, file or tool is missing (user story 6).",
     hint="declare it with <exec_depend>",
 )
-def missing_exec_depend(ctx: CheckContext):
+def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     if not model.manifest.valid:
         return  # with no readable manifest, nothing is known to be declared
@@ -415,7 +427,7 @@ def missing_exec_depend(ctx: CheckContext):
         if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
         reported.add(name)
-        note = _branch_note(item, resolution) if resolution is not None else ""
+        note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
             path,
@@ -451,7 +463,7 @@ def missing_exec_depend(ctx: CheckContext):
     "4). It reads /robot_description from robot_state_publisher.",
     hint="remove the model from the node's arguments",
 )
-def jsp_model_argument(ctx: CheckContext):
+def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
     seen = set()
     for resolution in ctx.resolutions:
         for node in resolution.nodes:
@@ -486,7 +498,7 @@ def jsp_model_argument(ctx: CheckContext):
     "load whenever it looks like YAML (since Jazzy launch refuses it).",
     hint="wrap it: ParameterValue(Command([...]), value_type=str)",
 )
-def robot_description_not_string(ctx: CheckContext):
+def robot_description_not_string(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
         if resolution.launch.installed.suffix != ".py":
             continue
@@ -514,7 +526,7 @@ def robot_description_not_string(ctx: CheckContext):
     "--launch-arg name:=value to check it.",
     hint="pass --launch-arg NAME:=VALUE, or give the argument a default",
 )
-def launch_argument_required(ctx: CheckContext):
+def launch_argument_required(ctx: CheckContext) -> Iterator[Finding]:
     seen = set()
     for resolution in ctx.resolutions:
         for item in resolution.required:
@@ -537,7 +549,7 @@ def launch_argument_required(ctx: CheckContext):
     explanation="The construct is recorded and skipped; what it would do is not checked.",
     hint="nothing to fix; check this part by running the launch file",
 )
-def unsupported_launch_api(ctx: CheckContext):
+def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
     seen = set()
     for resolution in ctx.resolutions:
         # a run-time only Command (launch/records.runs_at_verify_time) is not run: said once, as info
@@ -552,8 +564,8 @@ def unsupported_launch_api(ctx: CheckContext):
                 seen.add((name, position))
                 yield Finding(f"{name} is not evaluated by pkgforge", *position)
         newer = ctx.newer_launch_name(resolution)
-        if newer is not None and ctx.load_error_kind(resolution) == "newer-api":
-            error = resolution.error
+        error = resolution.error
+        if newer is not None and ctx.load_error_kind(resolution) == "newer-api" and error is not None:
             position = ctx.source_position(resolution, error.file, error.line) or (
                 resolution.launch.source or resolution.launch.installed,
                 None,
@@ -583,10 +595,10 @@ def unsupported_launch_api(ctx: CheckContext):
     "literal package and path references are still checked, statically.",
     hint="verify on a machine with the dependency installed (or --install-base) to evaluate it",
 )
-def launch_unevaluated(ctx: CheckContext):
+def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
-        if ctx.load_error_kind(resolution) == "unevaluated":
-            error = resolution.error
+        error = resolution.error
+        if ctx.load_error_kind(resolution) == "unevaluated" and error is not None:
             position = ctx.source_position(resolution, error.file, error.line) or (
                 resolution.launch.source or resolution.launch.installed,
                 None,
@@ -611,7 +623,7 @@ def launch_unevaluated(ctx: CheckContext):
     "builds paths with the text None; what depends on it is not checked.",
     hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default",
 )
-def launch_environment_unset(ctx: CheckContext):
+def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
         names = ctx.unset_environment(resolution)
         if not names:
@@ -621,7 +633,11 @@ def launch_environment_unset(ctx: CheckContext):
         if not failed and not none_paths:
             continue
         error = resolution.error
-        where = (error.file, error.line) if failed else (none_paths[0].file, none_paths[0].line)
+        where = (
+            (error.file, error.line)
+            if failed and error is not None
+            else (none_paths[0].file, none_paths[0].line)
+        )
         position = ctx.source_position(resolution, *where) or (
             resolution.launch.source or resolution.launch.installed,
             None,
@@ -653,7 +669,7 @@ def launch_environment_unset(ctx: CheckContext):
     hint="nothing is wrong with the file; raise --launch-timeout (or verify on a less busy machine) "
     "to check every combination",
 )
-def launch_combinations_unevaluated(ctx: CheckContext):
+def launch_combinations_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
         missing = resolution.unevaluated
         if not missing:
@@ -693,7 +709,7 @@ def launch_combinations_unevaluated(ctx: CheckContext):
     "file is left over from a ROS 1 package.",
     hint="port it to a ROS 2 launch file, or stop installing it",
 )
-def ros1_launch_file(ctx: CheckContext):
+def ros1_launch_file(ctx: CheckContext) -> Iterator[Finding]:
     for launch in ctx.ros1_launch_files:
         yield Finding(f"{launch.installed.name} is a ROS 1 launch file", launch.source or launch.installed)
 
@@ -715,7 +731,7 @@ def ros1_launch_file(ctx: CheckContext):
     "reports the folder).",
     hint="install it with the other launch files",
 )
-def launch_not_installed(ctx: CheckContext):
+def launch_not_installed(ctx: CheckContext) -> Iterator[Finding]:
     from pkgforge.launch.uninstalled import is_uninstalled
     from pkgforge.model.package import RESOURCE_FOLDERS
 
@@ -724,7 +740,11 @@ def launch_not_installed(ctx: CheckContext):
         launch = resolution.launch
         # a workspace may hold two folders with one package name (colcon refuses to build it; verify
         # still reports both): resolutions are grouped by name, so keep this folder's files only
-        if not is_uninstalled(launch) or not launch.source.is_relative_to(ctx.model.path):
+        if (
+            not is_uninstalled(launch)
+            or launch.source is None
+            or not launch.source.is_relative_to(ctx.model.path)
+        ):
             continue
         relative = launch.source.relative_to(ctx.model.path)
         folder = relative.parts[0] if len(relative.parts) > 1 else None

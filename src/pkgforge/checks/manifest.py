@@ -2,16 +2,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
-from pkgforge.model.manifest import GENERIC_OVERLAPS, RUN_TAGS
+from pkgforge.model.manifest import GENERIC_OVERLAPS, RUN_TAGS, Dependency
 from pkgforge.model.names import REP144_RULE, rep144_problem
 from pkgforge.model.references import launch_kind
 
 # Used by a package without being named in any file it ships.
-IMPLICIT_USES = {
+# a package every package with these launch kinds (py, xml, yaml) or files uses without naming it
+IMPLICIT_USES: dict[str, Callable[[set[str | None], list[Path]], bool]] = {
     "launch_xml": lambda kinds, files: "xml" in kinds,
     "launch_yaml": lambda kinds, files: "yaml" in kinds,
     "launch": lambda kinds, files: bool(kinds),
@@ -40,7 +44,7 @@ IMPLICIT_USES = {
     "means the package is skipped or fails before anything is built.",
     hint="fix the element named in the message (REP 149 lists what a manifest needs)",
 )
-def manifest_invalid(ctx: CheckContext):
+def manifest_invalid(ctx: CheckContext) -> Iterator[Finding]:
     manifest = ctx.model.manifest
     for message, line in manifest.problems:
         yield Finding(message, manifest.path, line, hint=read_problem_hint(message))
@@ -65,7 +69,7 @@ def manifest_invalid(ctx: CheckContext):
     "some accept them locally and fail later.",
     hint=REP144_RULE,
 )
-def package_name_invalid(ctx: CheckContext):
+def package_name_invalid(ctx: CheckContext) -> Iterator[Finding]:
     manifest = ctx.model.manifest
     if manifest.name is None:
         return
@@ -88,7 +92,7 @@ def package_name_invalid(ctx: CheckContext):
     "name: FindPackageShare and `ros2 launch` find nothing (user story 3).",
     hint="make project() and package.xml <name> the same",
 )
-def project_name_mismatch(ctx: CheckContext):
+def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     cmake = model.cmake
     if cmake is None or cmake.project_command is None or not isinstance(cmake.project_name, str):
@@ -120,7 +124,7 @@ def project_name_mismatch(ctx: CheckContext):
     "rob_description, package robot_description).",
     hint="rename the folder, or rename the package everywhere",
 )
-def folder_name_mismatch(ctx: CheckContext):
+def folder_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     if model.manifest.name and model.path.name != model.manifest.name:
         yield Finding(
@@ -145,13 +149,13 @@ def folder_name_mismatch(ctx: CheckContext):
     "which a ROS 2 workspace cannot build.",
     hint="add <export><build_type>ament_cmake</build_type></export>",
 )
-def build_type_missing(ctx: CheckContext):
+def build_type_missing(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     manifest = model.manifest
     if manifest.name is None or manifest.problems or manifest.build_type:
         return
     build_type = (
-        "ament_python" if (model.path / "setup.py").exists() and model.cmake is None else "ament_cmake"
+        "ament_python" if ctx.files.exists(model.path / "setup.py") and model.cmake is None else "ament_cmake"
     )
     yield Finding(
         "package.xml declares no build type; colcon will treat the package as catkin",
@@ -174,9 +178,9 @@ def build_type_missing(ctx: CheckContext):
     "catkin_pkg reject the manifest, and colcon then skips the package.",
     hint="keep one declaration",
 )
-def duplicate_dependency(ctx: CheckContext):
+def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
     manifest = ctx.model.manifest
-    seen: dict[str, list] = {}
+    seen: dict[str, list[Dependency]] = {}
     for dependency in manifest.dependencies:
         seen.setdefault(dependency.name, []).append(dependency)
     for name, declarations in seen.items():
@@ -219,7 +223,7 @@ def duplicate_dependency(ctx: CheckContext):
     "deploys the package. Metapackages are exempt.",
     hint="remove it if nothing needs it at run time",
 )
-def unused_exec_depend(ctx: CheckContext):
+def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     if model.manifest.metapackage or not model.top_level_folders().keys() - {"resource"}:
         return  # a metapackage (tagged, or nothing but its manifest): its dependencies are its content
@@ -250,7 +254,7 @@ def unused_exec_depend(ctx: CheckContext):
             )
 
 
-def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
+def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str, str] | None:
     """(message, hint) when `name` is not released for the target distros, else None."""
     from pkgforge.model.distro_data import load, replacement
 
@@ -304,7 +308,7 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool):
     "active distro counts.",
     hint="use the ROS 2 package released for the distro",
 )
-def package_not_in_distro(ctx: CheckContext):
+def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     manifest = model.manifest
     if not manifest.valid:
@@ -328,7 +332,7 @@ def package_not_in_distro(ctx: CheckContext):
         return
     from pkgforge.checks.launch import _looked_up
 
-    uses: dict[str, list] = {}
+    uses: dict[str, list[tuple[bool, str, int, Path, int | None, str]]] = {}
     for name, path, line, via, _, _ in _looked_up(ctx):
         if name not in local and name not in reported and name not in manifest.declared():
             uses.setdefault(name, []).append((line is None, str(path), line or 0, path, line, via))
@@ -362,7 +366,7 @@ def package_not_in_distro(ctx: CheckContext):
     "pkgforge build stubs declared packages.",
     hint="declare it with <build_depend> (or <depend>)",
 )
-def find_package_undeclared(ctx: CheckContext):
+def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     manifest = model.manifest
     if model.cmake is None or not manifest.valid:

@@ -6,15 +6,19 @@ change of the record type touches one place.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.launch import MODEL_SUFFIXES, _branch_note
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
+from pkgforge.launch.records import Node, Resolution
 
 
-def _node_records(ctx: CheckContext):
+def _node_records(
+    ctx: CheckContext,
+) -> Iterator[tuple[str | None, list[str], tuple[Path, int | None], Node, Resolution]]:
     """(package, arguments, source position, record, resolution) of every node a launch file starts."""
     for resolution in ctx.resolutions:
         for node in resolution.nodes:
@@ -41,7 +45,7 @@ def _split_characters(arguments: list[str]) -> bool:
     "fails or ignores them.",
     hint="pass a list: arguments=['-d', 'config.rviz']",
 )
-def node_arguments_string(ctx: CheckContext):
+def node_arguments_string(ctx: CheckContext) -> Iterator[Finding]:
     seen = set()
     for package, arguments, position, node, resolution in _node_records(ctx):
         if not _split_characters(arguments) or position in seen:
@@ -80,7 +84,7 @@ def node_arguments_string(ctx: CheckContext):
     hint="pass robot_description as a parameter: parameters=[{'robot_description': "
     "ParameterValue(Command(['xacro ', model]), value_type=str)}]",
 )
-def rsp_model_argument(ctx: CheckContext):
+def rsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
     seen = set()
     for package, arguments, position, node, resolution in _node_records(ctx):
         if package != "robot_state_publisher" or position in seen:

@@ -9,6 +9,8 @@ connected are urdf-invalid's (PF401).
 from __future__ import annotations
 
 import statistics
+from collections.abc import Callable, Iterator
+from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
@@ -16,24 +18,28 @@ from pkgforge.checks.urdf import _where
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
+from pkgforge.urdf.select import ModelResult
+from pkgforge.urdf.structure import Geometry, JointDict, LinkDict, Part, RobotStructure
 
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake
 COLLISION_TRIANGLES = 20_000  # above this, a collision mesh slows every contact computation
 MOVING = ("revolute", "prismatic")
 
 
-def _robots(ctx: CheckContext):
+def _robots(ctx: CheckContext) -> Iterator[tuple[ModelResult, RobotStructure]]:
     for result in ctx.model_results:
         robot = result.robot
         if result.status == "ok" and robot and robot.get("root_tag") == "robot" and robot.get("links"):
             yield result, robot
 
 
-def _at(ctx, result, item, line=None):
+def _at(
+    ctx: CheckContext, result: ModelResult, item: LinkDict | JointDict, line: int | None = None
+) -> tuple[Path, int | None]:
     return _where(ctx, result, item.get("file"), line or item.get("line"))
 
 
-def _root(robot) -> str | None:
+def _root(robot: RobotStructure) -> str | None:
     children = {joint.get("child") for joint in robot.get("joints", [])}
     return next((link["name"] for link in robot["links"] if link["name"] not in children), None)
 
@@ -52,7 +58,7 @@ def _root(robot) -> str | None:
     hint="give the link its real mass in kilograms (> 0), or remove <inertial> from a link "
     "that only carries a frame",
 )
-def mass_not_positive(ctx: CheckContext):
+def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
         for link in robot["links"]:
@@ -82,14 +88,15 @@ def mass_not_positive(ctx: CheckContext):
     "other two).",
     hint="compute the inertia from the link's shape and mass (CAD export, or the box/cylinder formulas)",
 )
-def inertia_invalid(ctx: CheckContext):
+def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
         for link in robot["links"]:
             inertial = link.get("inertial")
-            if inertial is None or inertial.get("inertia") is None or not (inertial.get("mass") or 0) > 0:
+            inertia = inertial.get("inertia") if inertial is not None else None
+            if inertial is None or inertia is None or not (inertial.get("mass") or 0) > 0:
                 continue
-            moments = physics.principal_moments(inertial["inertia"])
+            moments = physics.principal_moments(inertia)
             scale = max(abs(m) for m in moments) or 1.0
             tolerance = 1e-9 * scale
             shown = ", ".join(f"{m:.4g}" for m in moments)
@@ -120,7 +127,7 @@ def inertia_invalid(ctx: CheckContext):
     "the model shows does not collide.",
     hint="add an <inertial> with the link's mass and inertia",
 )
-def collision_without_inertial(ctx: CheckContext):
+def collision_without_inertial(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         root = _root(robot)
         for link in robot["links"]:
@@ -144,14 +151,15 @@ def collision_without_inertial(ctx: CheckContext):
     "start and the mass is lost to dynamics solvers.",
     hint="add a massless root link (e.g. base_footprint or base) joined to this one by a fixed joint",
 )
-def root_link_inertia(ctx: CheckContext):
+def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         root = _root(robot)
         link = next((each for each in robot["links"] if each["name"] == root), None)
-        if link is not None and link.get("inertial") is not None and robot.get("joints"):
+        inertial = link.get("inertial") if link is not None else None
+        if link is not None and inertial is not None and robot.get("joints"):
             yield Finding(
                 f"root link '{root}' has an inertia, which KDL ignores",
-                *_at(ctx, result, link, link["inertial"].get("line")),
+                *_at(ctx, result, link, inertial.get("line")),
             )
 
 
@@ -170,13 +178,13 @@ def root_link_inertia(ctx: CheckContext):
     hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
     "velocity, effort > 0",
 )
-def joint_limit_invalid(ctx: CheckContext):
+def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         for joint in robot.get("joints", []):
             if joint.get("type") not in MOVING:
                 continue
             limit = joint.get("limit")
-            where = _at(ctx, result, joint, (limit or {}).get("line"))
+            where = _at(ctx, result, joint, limit.get("line") if limit else None)
             name = f"{joint['type']} joint '{joint['name']}'"
             if limit is None:
                 yield Finding(f"{name} has no <limit>", *where)
@@ -219,15 +227,15 @@ def joint_limit_invalid(ctx: CheckContext):
     "limits the author meant are not applied anywhere.",
     hint="make it a revolute joint to keep the limits, or drop lower/upper",
 )
-def continuous_joint_limits(ctx: CheckContext):
+def continuous_joint_limits(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         for joint in robot.get("joints", []):
-            limit = joint.get("limit") or {}
-            if joint.get("type") == "continuous" and (limit.get("lower") or limit.get("upper")):
+            limit = joint.get("limit")
+            lower, upper = (limit.get("lower"), limit.get("upper")) if limit else (None, None)
+            if joint.get("type") == "continuous" and (lower or upper):
                 yield Finding(
-                    f"continuous joint '{joint['name']}' has lower={limit.get('lower')} "
-                    f"upper={limit.get('upper')}, which are ignored",
-                    *_at(ctx, result, joint, limit.get("line")),
+                    f"continuous joint '{joint['name']}' has lower={lower} upper={upper}, which are ignored",
+                    *_at(ctx, result, joint, limit.get("line") if limit else None),
                 )
 
 
@@ -243,7 +251,7 @@ def continuous_joint_limits(ctx: CheckContext):
     "the joint cannot move.",
     hint="give <axis xyz=...> a unit vector, e.g. 0 0 1",
 )
-def joint_axis_zero(ctx: CheckContext):
+def joint_axis_zero(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         for joint in robot.get("joints", []):
             axis = joint.get("axis")
@@ -254,22 +262,31 @@ def joint_axis_zero(ctx: CheckContext):
                 )
 
 
-def _resolver(ctx, result):
-    def resolve(uri):
+def _resolver(ctx: CheckContext, result: ModelResult) -> Callable[[str], Path | None]:
+    def resolve(uri: str) -> Path | None:
         lookup = resolve_uri(uri, ctx.tree, result.installed) if ctx.tree is not None else None
         return lookup.path if lookup is not None and lookup.status == "found" else None
 
     return resolve
 
 
-def _sizes(robot, resolve):
+def _sizes(
+    robot: RobotStructure, resolve: Callable[[str], Path | None]
+) -> Iterator[tuple[LinkDict, Part, str, float]]:
     """(link, part, kind, extent) for every shape with a size, meshes with their scale applied."""
     for link in robot["links"]:
-        for kind in ("visuals", "collisions"):
-            for part in link.get(kind, []):
+        for kind, parts in (("visuals", link.get("visuals", [])), ("collisions", link.get("collisions", []))):
+            for part in parts:
                 box = physics.local_box(part.get("geometry"), resolve)
                 if box is not None:
-                    yield link, part, kind, max(h - lo for lo, h in zip(*box, strict=False))
+                    low, high = box
+                    yield link, part, kind, max(h - lo for lo, h in zip(low, high, strict=False))
+
+
+def _shape(part: Part) -> str | None:
+    """The type of a part's geometry (box, mesh …), None when it has none."""
+    geometry = part["geometry"]
+    return geometry.get("type") if geometry else None
 
 
 @register(
@@ -284,14 +301,14 @@ def _sizes(robot, resolve):
     "shows a giant or nothing, and collisions and inertias are wrong.",
     hint='add scale="0.001 0.001 0.001" to the <mesh>, or export the mesh in metres',
 )
-def mesh_scale_suspect(ctx: CheckContext):
+def mesh_scale_suspect(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         resolve = _resolver(ctx, result)
         sizes = [s for s in _sizes(robot, resolve) if s[3] > 0]
-        meshes = [s for s in sizes if s[1]["geometry"].get("type") == "mesh"]
+        meshes = [s for s in sizes if _shape(s[1]) == "mesh"]
         if not meshes:
             continue
-        reference = [s[3] for s in sizes if s[1]["geometry"].get("type") != "mesh"]
+        reference = [s[3] for s in sizes if _shape(s[1]) != "mesh"]
         reference += [
             sum(v * v for v in j["origin"]["xyz"]) ** 0.5
             for j in robot.get("joints", [])
@@ -302,7 +319,8 @@ def mesh_scale_suspect(ctx: CheckContext):
         typical = statistics.median(reference)
         seen = set()
         for link, part, kind, extent in meshes:
-            uri = part["geometry"]["uri"]
+            geometry = part["geometry"]
+            uri = geometry["uri"] if geometry else None
             ratio = extent / typical
             if (uri, kind) in seen or 1 / MESH_SCALE_RATIO <= ratio <= MESH_SCALE_RATIO:
                 continue
@@ -328,23 +346,19 @@ def mesh_scale_suspect(ctx: CheckContext):
     "used as collision geometry makes simulation and planning slow.",
     hint="use a simplified or convex mesh (or primitives) as <collision> geometry",
 )
-def collision_mesh_heavy(ctx: CheckContext):
+def collision_mesh_heavy(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         resolve = _resolver(ctx, result)
         seen = set()
         for link in robot["links"]:
             for part in link.get("collisions", []):
-                geometry = part.get("geometry") or {}
-                path = (
-                    resolve(geometry["uri"])
-                    if geometry.get("type") == "mesh" and geometry.get("uri")
-                    else None
-                )
+                geometry: Geometry = part.get("geometry") or {}
+                uri = geometry.get("uri")
+                path = resolve(uri) if geometry.get("type") == "mesh" and uri else None
                 info = physics.mesh_info(str(path)) if path else None
-                if info is not None and info.triangles > COLLISION_TRIANGLES and geometry["uri"] not in seen:
-                    seen.add(geometry["uri"])
+                if info is not None and info.triangles > COLLISION_TRIANGLES and uri not in seen:
+                    seen.add(uri)
                     yield Finding(
-                        f"{geometry['uri']} (collision of link '{link['name']}') has "
-                        f"{info.triangles} triangles",
+                        f"{uri} (collision of link '{link['name']}') has {info.triangles} triangles",
                         *_at(ctx, result, link, part.get("line")),
                     )

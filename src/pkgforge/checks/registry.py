@@ -6,10 +6,18 @@ Findings; it never opens files. The registry turns Findings into Diagnostics.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic, Finding, Severity
+
+if TYPE_CHECKING:
+    from pkgforge.checks.context import CheckContext
+
+# a check: reads one package's context, yields what is wrong
+CheckFunction = Callable[["CheckContext"], Iterable[Finding]]
 
 
 @dataclass(frozen=True)
@@ -21,7 +29,7 @@ class Check:
     explanation: str  # why it matters
     hint: str  # how to fix it, when the finding has no hint of its own
     area: str
-    function: Callable[..., Iterable[Finding]] | None
+    function: CheckFunction | None
     # `pkgforge fix`: None (no automatic fix), "safe" (cannot change behaviour beyond the
     # defect: applied by default) or "unsafe" (applied with --unsafe-fixes)
     fix: str | None = None
@@ -35,7 +43,7 @@ class Check:
         """The check's heading anchor in docs/checks.md (GitHub's slug of `## PF101 name`)."""
         return f"{self.code.lower()}-{self.name}"
 
-    def run(self, context) -> list[Diagnostic]:
+    def run(self, context: CheckContext) -> list[Diagnostic]:
         if self.function is None:
             return []
         return [
@@ -58,18 +66,16 @@ class Check:
         )
 
 
-def _user_paths(finding: Finding, context) -> Finding:
+def _user_paths(finding: Finding, context: CheckContext) -> Finding:
     """Messages name the user's files, never pkgforge's temporary tree (/tmp/pkgforge-tree-...):
     a path there becomes the package's own file, else share/<package>/<path>."""
-    import re
-
-    tree = getattr(context, "tree", None)
-    if tree is None or getattr(tree, "kind", None) != "predicted" and getattr(tree, "phantom", None) is None:
+    tree = context.tree
+    if tree is None or tree.kind != "predicted" and tree.phantom is None:
         return finding
     roots = ([*tree.prefixes] if tree.kind == "predicted" else []) + ([tree.phantom] if tree.phantom else [])
     pattern = re.compile("|".join(re.escape(str(root)) + r"/[^\s'\"()\[\],;:]*" for root in roots))
 
-    def shown(match) -> str:
+    def shown(match: re.Match[str]) -> str:
         located = tree.locate(match.group(0))
         if located is None:
             return match.group(0)
@@ -82,7 +88,7 @@ def _user_paths(finding: Finding, context) -> Finding:
     def rewrite(text: str | None) -> str | None:
         return pattern.sub(shown, text) if text else text
 
-    message, hint = rewrite(finding.message), rewrite(finding.hint)
+    message, hint = pattern.sub(shown, finding.message), rewrite(finding.hint)
     if (message, hint) == (finding.message, finding.hint):
         return finding
     return replace(finding, message=message, hint=hint)
@@ -120,7 +126,7 @@ def register(
     fix: str | None = None,
     bad: str | None = None,
     good: str | None = None,
-) -> Callable:
+) -> Callable[[CheckFunction | None], CheckFunction | None]:
     """Register a check function; `severity` is the default: error, warning or info.
 
     `fix`: whether `pkgforge fix` can fix its findings: None, "safe" or "unsafe"
@@ -131,7 +137,7 @@ def register(
     if fix not in FIX_KINDS:
         raise ValueError(f"check {code} {name}: fix must be one of {FIX_KINDS}, not {fix!r}")
 
-    def decorate(function: Callable | None) -> Callable | None:
+    def decorate(function: CheckFunction | None) -> CheckFunction | None:
         if code in REGISTRY or any(c.name == name for c in REGISTRY.values()):
             raise ValueError(f"check {code} {name} registered twice")
         REGISTRY[code] = Check(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
@@ -24,7 +26,7 @@ EXTERNAL_FRAMES = ("map", "odom", "world", "earth")
     explanation="rviz2 falls back to an empty default layout: no robot, no TF.",
     hint="save the config again from RViz (File > Save Config As)",
 )
-def rviz_invalid(ctx: CheckContext):
+def rviz_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for config in ctx.rviz_configs:
         if config.error:
             yield Finding(
@@ -60,7 +62,7 @@ def rviz_invalid(ctx: CheckContext):
     "Description Topic by hand (user story 5).",
     hint="set Description Source: Topic and Description Topic: /robot_description",
 )
-def rviz_no_description(ctx: CheckContext):
+def rviz_no_description(ctx: CheckContext) -> Iterator[Finding]:
     for config in ctx.rviz_configs:
         for display in config.displays:
             if display["class"] != ROBOT_MODEL or not display["enabled"]:
@@ -96,7 +98,7 @@ def rviz_no_description(ctx: CheckContext):
     explanation="RViz shows 'Fixed Frame [x] does not exist' and draws nothing relative to it.",
     hint="set Fixed Frame to a link of the model, e.g. its root link",
 )
-def rviz_fixed_frame_unknown(ctx: CheckContext):
+def rviz_fixed_frame_unknown(ctx: CheckContext) -> Iterator[Finding]:
     for config, launch in ctx.rviz_launches:
         frame = config.fixed_frame
         links = link_names(ctx, launch)
@@ -105,7 +107,7 @@ def rviz_fixed_frame_unknown(ctx: CheckContext):
         if frame in EXTERNAL_FRAMES:
             continue
         root = root_link(ctx, launch)
-        example = root or sorted(links)[0]
+        example = root or sorted(links, key=str)[0]
         yield Finding(
             f"Fixed Frame '{frame}' is not a link of the model {launch.installed.name} publishes",
             config.path,

@@ -3,16 +3,19 @@ change only pkgforge's private copy of the install tree (launch/guard.py, trees.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding
+from pkgforge.launch.records import Error, Resolution
 
 SANDBOX_TYPES = ("RefusedWrite", "RefusedSignal", "TreeWrite")
 CHILD = " (in a process it started)"
 MARKER = "pkgforge refused"  # launch/guard.py's PermissionError
 
 
-def stopped_by_guard(resolution) -> bool:
+def stopped_by_guard(resolution: Resolution) -> bool:
     """Loading failed on a PermissionError of the guard (not caught by the launch file)."""
     error = resolution.error
     return (
@@ -23,7 +26,7 @@ def stopped_by_guard(resolution) -> bool:
     )
 
 
-def sandbox_records(resolution):
+def sandbox_records(resolution: Resolution) -> Iterator[tuple[str, str, str, bool, Error]]:
     """(type, operation, path, started by a child process, item) of the guard's records."""
     for item in resolution.errors:
         kind = item.type
@@ -60,7 +63,7 @@ def sandbox_records(resolution):
     hint="write generated files to a temporary folder (tempfile) or pass the content directly "
     "(robot_description as a parameter); never write into src/ or install/",
 )
-def launch_writes_files(ctx: CheckContext):
+def launch_writes_files(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
         name = resolution.launch.installed.name
         stopped = stopped_by_guard(resolution)
@@ -88,6 +91,6 @@ def launch_writes_files(ctx: CheckContext):
                     f"would change install/ (and, through --symlink-install, the file in src/); "
                     f"pkgforge refused it and kept the file unchanged"
                 )
-            if stopped and item.line == error.line and item.file == error.file:
+            if stopped and error is not None and item.line == error.line and item.file == error.file:
                 message += "; loading stopped there, so nothing after it was checked"
             yield Finding(message, *position)

@@ -6,17 +6,24 @@ import os
 import re
 import shlex
 from collections import Counter
+from collections.abc import Iterator
 from pathlib import Path
 
-from pkgforge.checks.context import CheckContext
+from pkgforge.checks.context import CheckContext, FileFacts
 from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding
-from pkgforge.urdf.meshes import resolve_uri, unreadable
+from pkgforge.launch.records import CommandRun, LaunchFile
+from pkgforge.tree import InstallTree
+from pkgforge.urdf.meshes import MeshLookup
+from pkgforge.urdf.select import ModelResult
+from pkgforge.urdf.structure import JointDict, LinkDict, MeshDict, ModelError, RobotStructure
 
 
-def _where(ctx: CheckContext, result, file: str | None, line: int | None):
+def _where(
+    ctx: CheckContext, result: ModelResult, file: str | None, line: int | None
+) -> tuple[Path, int | None]:
     """(source path, line) in this package, falling back to the model's own source file, and for
     another package's model to the launch line of this package that feeds it to xacro (pkgforge's
     tree is no place a person edits)."""
@@ -36,19 +43,19 @@ def _where(ctx: CheckContext, result, file: str | None, line: int | None):
     return (result.source or result.installed), None
 
 
-def _path_split_at_spaces(words: list[str], model: str) -> str | None:
+def _path_split_at_spaces(files: FileFacts, words: list[str], model: str) -> str | None:
     """The existing path that a command line split at its spaces, starting with the word `model`."""
-    if model not in words or os.path.exists(model):
+    if model not in words or files.exists(model):
         return None
     start = words.index(model)
     for end in range(start + 1, len(words)):
         candidate = " ".join(words[start : end + 1])
-        if os.path.exists(candidate):
+        if files.exists(candidate):
             return candidate
     return None
 
 
-def _split_for_the_user(tree, command) -> tuple[str, str] | None:
+def _split_for_the_user(tree: InstallTree | None, command: CommandRun) -> tuple[str, str] | None:
     """(the user's path, the piece of it the command gets) when the command line, with pkgforge's
     tree written as the user's install base, splits a path at a space (ROS's Command splits its
     one line shell-like): pkgforge's own run used its tree, whose path has none."""
@@ -86,10 +93,10 @@ def _split_for_the_user(tree, command) -> tuple[str, str] | None:
     "a $(find) of an unknown package).",
     hint="fix the model as xacro's message says",
 )
-def xacro_error(ctx: CheckContext):
+def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
     covered = set()
     for result in ctx.model_results:
-        error = result.error or {}
+        error: ModelError = result.error or {}
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
             if _absent_include(ctx, error.get("message")) is not None:
@@ -103,7 +110,7 @@ def xacro_error(ctx: CheckContext):
                 hint=error.get("hint") or read_problem_hint(error.get("message")),
             )
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
-    seen = set()
+    seen: set[tuple[Path, int | None]] = set()
     for resolution in ctx.resolutions:
         for command in resolution.commands:
             if command.model in covered:
@@ -111,12 +118,16 @@ def xacro_error(ctx: CheckContext):
             split = _split_for_the_user(ctx.tree, command)
             if split is None and (command.ok or command.model is None):
                 continue
-            if split is None:  # a path of the user's own files with a space (the tree has it too)
-                spaced = _path_split_at_spaces(command.command or [], command.model)
+            model = command.model
+            # a path of the user's own files with a space (the tree has it too)
+            if split is None and model is not None:
+                spaced = _path_split_at_spaces(ctx.files, command.command or [], model)
                 split = (
-                    None if spaced is None else (ctx.tree.as_users(spaced), ctx.tree.as_users(command.model))
+                    None
+                    if spaced is None or ctx.tree is None
+                    else (ctx.tree.as_users(spaced), ctx.tree.as_users(model))
                 )
-            if split is None and not Path(command.model).exists():
+            if split is None and model is not None and not ctx.files.exists(model):
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
             if _absent_include(ctx, command.message) is not None:
                 continue  # model-unevaluated
@@ -139,21 +150,19 @@ def xacro_error(ctx: CheckContext):
             if _undeclared_find(ctx, command.message):
                 continue
             message = _untree_xacro(ctx, command.message).strip().splitlines()
-            yield Finding(
-                f"xacro {Path(command.model).name}: {message[0] if message else 'failed'}", *position
-            )
-        error = resolution.error
+            yield Finding(f"xacro {Path(model or '').name}: {message[0] if message else 'failed'}", *position)
+        load_error = resolution.error
         models = {c.model for c in resolution.commands}
-        if ctx.load_error_kind(resolution) == "xacro" and error is not None and not models & covered:
-            position = ctx.source_position(resolution, error.file, error.line)
-            if position is not None and not _undeclared_find(ctx, error.message):
-                yield Finding(f"xacro: {_untree_xacro(ctx, error.message)}", *position)
+        if ctx.load_error_kind(resolution) == "xacro" and load_error is not None and not models & covered:
+            position = ctx.source_position(resolution, load_error.file, load_error.line)
+            if position is not None and not _undeclared_find(ctx, load_error.message):
+                yield Finding(f"xacro: {_untree_xacro(ctx, load_error.message)}", *position)
 
 
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
 
 
-def _undeclared_find(ctx: CheckContext, message) -> bool:
+def _undeclared_find(ctx: CheckContext, message: str | None) -> bool:
     """xacro failed on $(find X) of a real package that package.xml does not declare."""
     found = NOT_FOUND.search(str(message or ""))
     manifest = ctx.model.manifest
@@ -166,7 +175,7 @@ def _undeclared_find(ctx: CheckContext, message) -> bool:
     )  # its own: not a dependency
 
 
-def _untree_xacro(ctx: CheckContext, message) -> str:
+def _untree_xacro(ctx: CheckContext, message: str | None) -> str:
     """xacro's message without the folders pkgforge's tree searched (ament's PackageNotFoundError
     lists them)."""
     text = re.sub(r",? searching: \[[^\]]*\]", "", untree(ctx, str(message)))
@@ -176,7 +185,7 @@ def _untree_xacro(ctx: CheckContext, message) -> str:
 MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
 
 
-def _absent_include(ctx: CheckContext, message) -> tuple[str, str] | None:
+def _absent_include(ctx: CheckContext, message: str | None) -> tuple[str, str] | None:
     """(package, file) when xacro failed only because it includes a file of a package that is
     declared but not installed here (its share folder is an empty stand-in): ROS has the file."""
     found = MISSING_FILE.search(str(message or ""))
@@ -206,10 +215,10 @@ def _absent_include(ctx: CheckContext, message) -> tuple[str, str] | None:
     "this machine, so xacro cannot expand the model here and nothing of it is checked.",
     hint="verify on a machine with the dependency installed (or --install-base) to check the model",
 )
-def model_unevaluated(ctx: CheckContext):
+def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     covered = set()
     for result in ctx.model_results:
-        error = result.error or {}
+        error: ModelError = result.error or {}
         if result.status not in ("error", "timeout", "crashed"):
             continue
         covered.add(str(result.installed))
@@ -220,7 +229,7 @@ def model_unevaluated(ctx: CheckContext):
                 "not installed here; the model is not checked",
                 *_where(ctx, result, error.get("file"), error.get("line")),
             )
-    seen = set()
+    seen: set[tuple[Path, int | None]] = set()
     for resolution in ctx.resolutions:
         for command in resolution.commands:
             if command.ok or command.model is None or command.model in covered:
@@ -267,9 +276,9 @@ def model_unevaluated(ctx: CheckContext):
     "one root link, a cycle, or not XML at all.",
     hint="fix the element named in the message",
 )
-def urdf_invalid(ctx: CheckContext):
+def urdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result in ctx.model_results:
-        error = result.error or {}
+        error: ModelError = result.error or {}
         if result.status == "error" and error.get("stage") == "xml":
             yield Finding(
                 f"{result.installed.name}: {error['message']}",
@@ -288,8 +297,9 @@ def urdf_invalid(ctx: CheckContext):
         yield from _structure_problems(ctx, result, robot)
 
 
-def _structure_problems(ctx, result, robot: dict):
+def _structure_problems(ctx: CheckContext, result: ModelResult, robot: RobotStructure) -> Iterator[Finding]:
     links, joints = robot.get("links", []), robot.get("joints", [])
+    items: list[LinkDict] | list[JointDict]
     if not links:
         yield Finding(f"{result.installed.name} defines no link", *_where(ctx, result, None, None))
         return
@@ -303,7 +313,7 @@ def _structure_problems(ctx, result, robot: dict):
                     *_where(ctx, result, item.get("file"), item.get("line")),
                 )
     names = {link["name"] for link in links}
-    parents: dict[str, str] = {}
+    parents: dict[str | None, str | None] = {}
     for joint in joints:
         for role in ("parent", "child"):
             if joint.get(role) not in names:
@@ -321,7 +331,7 @@ def _structure_problems(ctx, result, robot: dict):
     roots = [link for link in links if link["name"] not in parents]
     if len(roots) > 1:
         yield Finding(
-            f"more than one root link: {', '.join(r['name'] for r in roots)} "
+            f"more than one root link: {', '.join(str(r['name']) for r in roots)} "
             "(every link but one must be a joint's child)",
             *_where(ctx, result, roots[1].get("file"), roots[1].get("line")),
         )
@@ -329,7 +339,7 @@ def _structure_problems(ctx, result, robot: dict):
         yield Finding("the joints form a cycle: no link is the root", *_where(ctx, result, None, None))
 
 
-def _meshes(ctx: CheckContext):
+def _meshes(ctx: CheckContext) -> Iterator[tuple[ModelResult, MeshDict, MeshLookup]]:
     """(result, mesh item, lookup) for every mesh URI of every processed model."""
     for result in ctx.model_results:
         if result.status != "ok" or not result.robot:
@@ -339,7 +349,7 @@ def _meshes(ctx: CheckContext):
             if mesh["uri"] in seen:
                 continue
             seen.add(mesh["uri"])
-            yield result, mesh, resolve_uri(mesh["uri"], ctx.tree, result.installed)
+            yield result, mesh, ctx.mesh(mesh["uri"], result.installed)
 
 
 @register(
@@ -359,7 +369,7 @@ def _meshes(ctx: CheckContext):
     "or broken model (user story 7).",
     hint="install the mesh, or fix the URI",
 )
-def mesh_not_found(ctx: CheckContext):
+def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
     for result, mesh, lookup in _meshes(ctx):
         position = _where(ctx, result, mesh.get("file"), mesh.get("line"))
         where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
@@ -386,21 +396,22 @@ def mesh_not_found(ctx: CheckContext):
             )
         elif lookup.status == "missing":
             owner = ctx.model_for_share(lookup.package) if lookup.package else None
-            in_source = owner is not None and os.path.isfile(owner.path / lookup.relative)
-            linked = link_hint(owner, lookup.relative) if owner is not None else None
+            relative = lookup.relative or ""
+            in_source = owner is not None and ctx.files.is_file(owner.path / relative)
+            linked = link_hint(ctx.files, owner, relative) if owner is not None else None
             if linked is not None:
                 yield Finding(
                     f"{mesh['uri']} ({where}) is not in the install tree: {linked[0]}",
                     *position,
                     hint=linked[1],
                 )
-            elif in_source:
+            elif in_source and owner is not None:
                 yield Finding(
-                    f"{mesh['uri']} ({where}) is not installed: {lookup.relative} is in the source of "
+                    f"{mesh['uri']} ({where}) is not installed: {relative} is in the source of "
                     f"{lookup.package} but no install rule covers it",
                     *position,
-                    hint=install_fix(owner, lookup.relative.split("/")[0], lookup.relative),
-                    fix=install_fix_data(owner, lookup.relative.split("/")[0]),
+                    hint=install_fix(owner, relative.split("/")[0], relative),
+                    fix=install_fix_data(owner, relative.split("/")[0]),
                 )
             else:
                 yield Finding(
@@ -424,7 +435,7 @@ def mesh_not_found(ctx: CheckContext):
     "Linux does not, and the link shows nothing (user story 7).",
     hint="use the file's real name in the URI",
 )
-def mesh_case_mismatch(ctx: CheckContext):
+def mesh_case_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     for result, mesh, lookup in _meshes(ctx):
         if lookup.status == "case":
             yield Finding(
@@ -449,8 +460,8 @@ def mesh_case_mismatch(ctx: CheckContext):
     "packages must not refer to src/.",
     hint="use package://<package>/<path> for an installed mesh",
 )
-def mesh_source_path(ctx: CheckContext):
-    sources = None  # built only for a file:// URI: not once per package of the workspace
+def mesh_source_path(ctx: CheckContext) -> Iterator[Finding]:
+    sources: list[Path] | None = None  # built only for a file:// URI: not once per package of the workspace
     for result, mesh, lookup in _meshes(ctx):
         if mesh["uri"].startswith("file://") and lookup.path is not None:
             if sources is None:
@@ -480,10 +491,10 @@ def mesh_source_path(ctx: CheckContext):
     "visualizer fails on it or shows nothing.",
     hint="export the mesh again",
 )
-def mesh_unreadable(ctx: CheckContext):
+def mesh_unreadable(ctx: CheckContext) -> Iterator[Finding]:
     for result, mesh, lookup in _meshes(ctx):
-        if lookup.status == "found":
-            problem = unreadable(lookup.path)
+        if lookup.status == "found" and lookup.path is not None:
+            problem = ctx.mesh_problem(lookup.path)
             if problem:
                 yield Finding(
                     f"{mesh['uri']}: {problem}",
@@ -506,14 +517,16 @@ def mesh_unreadable(ctx: CheckContext):
     "its launch files always set with dof:=7).",
     hint="give the xacro:arg a default, or check it through the launch file that passes it",
 )
-def model_needs_arguments(ctx: CheckContext):
+def model_needs_arguments(ctx: CheckContext) -> Iterator[Finding]:
     for result in ctx.model_results:
         if result.status == "needs-arguments":
-            error = result.error or {}
+            error: ModelError = result.error or {}
             position = _where(ctx, result, error.get("file"), error.get("line"))
             if error.get("arguments"):  # declared with an empty default, and xacro fails without a value
-                declared = error.get("declared") or {}
-                position = _where(ctx, result, declared.get("file"), declared.get("line"))
+                declared = error.get("declared")
+                position = _where(
+                    ctx, result, *((declared["file"], declared["line"]) if declared else (None, None))
+                )
                 names = ", ".join(error["arguments"])
                 first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
                 yield Finding(
@@ -534,19 +547,20 @@ def model_needs_arguments(ctx: CheckContext):
     # a model too large to process is reported by file-not-read
 
 
-def root_link(ctx: CheckContext, launch) -> str | None:
+def root_link(ctx: CheckContext, launch: LaunchFile) -> str | None:
     for result in ctx.model_results:
-        if result.status == "ok" and any(o["launch"] == launch for o in result.origins):
-            children = {j.get("child") for j in result.robot.get("joints", [])}
+        robot = result.robot
+        if result.status == "ok" and robot is not None and any(o["launch"] == launch for o in result.origins):
+            children = {j.get("child") for j in robot.get("joints", [])}
             return next(
-                (link["name"] for link in result.robot.get("links", []) if link["name"] not in children), None
+                (link["name"] for link in robot.get("links", []) if link["name"] not in children), None
             )
     return None
 
 
-def link_names(ctx: CheckContext, launch) -> set[str] | None:
+def link_names(ctx: CheckContext, launch: LaunchFile) -> set[str | None] | None:
     """Links of the models the given launch file feeds to xacro (None when it feeds none)."""
     found = [r for r in ctx.model_results if any(o["launch"] == launch for o in r.origins)]
     if not found or any(r.status != "ok" for r in found):
         return None  # nothing to compare with: xacro-error or urdf-invalid says why
-    return set().union(*(r.links for r in found))
+    return {name for r in found for name in r.links}

@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, TextIO
+
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
 
 COLOR_CHOICES = ("auto", "always", "never")
 
 
-def use_color(choice: str | None, stream) -> bool:
+def use_color(choice: str | None, stream: TextIO) -> bool:
     """--color always/never as given; auto (or None): NO_COLOR set (and not empty) never,
     FORCE_COLOR set (not empty, 0 or false) always, else when the stream is a terminal."""
     if choice == "always":
@@ -20,7 +24,7 @@ def use_color(choice: str | None, stream) -> bool:
     if os.environ.get("FORCE_COLOR", "").strip().lower() not in ("", "0", "false"):
         return True
     try:
-        return stream.isatty()
+        return bool(stream.isatty())
     except (AttributeError, ValueError):
         return False
 
@@ -33,14 +37,15 @@ def relative(path: Path, root: Path) -> str:
     return Path(os.path.relpath(path, root)).as_posix()
 
 
-def render(fmt: str, result, *, color: bool = False, strict: bool = False) -> str:
+def render(fmt: str, result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     from importlib import import_module
 
     # only the chosen format's module: junit's lxml alone costs a re-run answered by the cache ~10 %
     if fmt not in FORMATS:
         raise KeyError(fmt)
     module = import_module(f".{MODULES.get(fmt, fmt)}", __name__)
-    return module.render(result, color=color, strict=strict)
+    text: str = module.render(result, color=color, strict=strict)
+    return text
 
 
 MODULES = {"json": "json_report"}  # the format names whose module is named otherwise

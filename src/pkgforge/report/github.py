@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from pkgforge.diagnostics import Severity
 from pkgforge.report import relative
 from pkgforge.report.text import summary
+
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
 
 COMMANDS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
@@ -17,7 +22,7 @@ def _property(text: str) -> str:
     return _data(text).replace(":", "%3A").replace(",", "%2C")
 
 
-def render(result, *, color: bool = False, strict: bool = False) -> str:
+def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     lines = []
     for d in result.diagnostics:
         props = [f"file={_property(relative(d.path, result.root))}"]

@@ -11,9 +11,13 @@ import hashlib
 import json
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Severity
 from pkgforge.report import relative
+
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
 
 SEVERITIES = {Severity.ERROR: "major", Severity.WARNING: "minor", Severity.INFO: "info"}
 
@@ -35,9 +39,10 @@ def _repository(folder: Path, known: dict[Path, Path | None]) -> Path | None:
     return found
 
 
-def render(result, *, color: bool = False, strict: bool = False) -> str:
+def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     known: dict[Path, Path | None] = {}
-    issues, seen = [], {}
+    issues: list[dict[str, Any]] = []
+    seen: dict[str, int] = {}
     for d in result.diagnostics:
         base = _repository(Path(os.path.abspath(d.path)).parent, known) or result.root
         path = relative(d.path, base)

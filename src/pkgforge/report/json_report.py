@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 import json
+from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Severity
 from pkgforge.report import relative
 
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
+
 SCHEMA_VERSION = 1
 
 
-def as_dict(result) -> dict:
+def as_dict(result: VerifyResult) -> dict[str, Any]:
     return {
         "version": SCHEMA_VERSION,
         "packages": [
@@ -37,9 +41,9 @@ def as_dict(result) -> dict:
             "infos": result.count(Severity.INFO),
             "packages": len(result.reports),
         },
-        "launch": {"engine": getattr(result, "engine", "builtin"), "distro": getattr(result, "distro", None)},
+        "launch": {"engine": result.engine, "distro": result.distro},
     }
 
 
-def render(result, *, color: bool = False, strict: bool = False) -> str:
+def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     return json.dumps(as_dict(result), indent=2) + "\n"

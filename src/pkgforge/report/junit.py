@@ -2,14 +2,19 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from lxml import etree
 
 from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
 from pkgforge.report.text import location
 
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
 
-def render(result, *, color: bool = False, strict: bool = False) -> str:
+
+def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     failing = {Severity.ERROR, Severity.WARNING} if strict else {Severity.ERROR}
     checks = [c for c in all_checks() if c.code in result.checks_run]
     suites = etree.Element("testsuites", name="pkgforge verify")

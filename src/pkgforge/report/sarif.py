@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from typing import TYPE_CHECKING, Any
 
 from pkgforge import __version__
 from pkgforge.checks.catalogue import help_uri
@@ -10,10 +11,13 @@ from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
 from pkgforge.report import relative
 
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
+
 LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 
 
-def render(result, *, color: bool = False, strict: bool = False) -> str:
+def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     checks = all_checks()
     index = {c.code: i for i, c in enumerate(checks)}
     rules = [
@@ -30,7 +34,9 @@ def render(result, *, color: bool = False, strict: bool = False) -> str:
     ]
     results = []
     for d in result.diagnostics:
-        physical = {"artifactLocation": {"uri": relative(d.path, result.root), "uriBaseId": "SRCROOT"}}
+        physical: dict[str, Any] = {
+            "artifactLocation": {"uri": relative(d.path, result.root), "uriBaseId": "SRCROOT"}
+        }
         if d.line is not None:
             region = {"startLine": d.line}
             if d.column is not None:

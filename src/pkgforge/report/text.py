@@ -2,15 +2,21 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
 import click
 
-from pkgforge.diagnostics import Severity
+from pkgforge.diagnostics import Diagnostic, Severity
 from pkgforge.report import relative
+
+if TYPE_CHECKING:
+    from pkgforge.verify.pipeline import VerifyResult
 
 COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 
 
-def location(diagnostic, root) -> str:
+def location(diagnostic: Diagnostic, root: Path) -> str:
     parts = [relative(diagnostic.path, root)]
     if diagnostic.line is not None:
         parts.append(str(diagnostic.line))
@@ -19,24 +25,22 @@ def location(diagnostic, root) -> str:
     return ":".join(parts)
 
 
-def summary(result) -> str:
+def summary(result: VerifyResult) -> str:
     return (
         f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
         f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages" + engine_note(result)
     )
 
 
-def engine_note(result) -> str:
+def engine_note(result: VerifyResult) -> str:
     """Which launch engine evaluated the launch files."""
-    if getattr(result, "engine", "builtin") != "ros":
-        return "; launch: built-in engine" + (
-            f" ({result.distro})" if getattr(result, "distro", None) else ""
-        )
+    if result.engine != "ros":
+        return "; launch: built-in engine" + (f" ({result.distro})" if result.distro else "")
     return f"; launch: ROS 2 {result.distro or '(distro unknown)'}"
 
 
-def render(result, *, color: bool = False, strict: bool = False) -> str:
-    def style(text: str, **kwargs) -> str:
+def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
+    def style(text: str, **kwargs: Any) -> str:
         return click.style(text, **kwargs) if color else text
 
     lines = []

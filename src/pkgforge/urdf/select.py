@@ -21,6 +21,7 @@ from pathlib import Path
 from pkgforge.launch.resolve import run_requests, source_of
 from pkgforge.model.package import PackageModel
 from pkgforge.tree import InstallTree
+from pkgforge.urdf.structure import ModelError, ModelStatus, RobotStructure
 from pkgforge.walk import walk
 
 MODEL_SUFFIXES = (".urdf", ".xacro")  # .urdf.xacro too
@@ -41,14 +42,14 @@ class ModelResult:
     source: Path | None
     mappings: dict
     origins: list[dict] = field(default_factory=list)  # launch lines that feed it to xacro
-    status: str = "ok"  # ok | error | needs-arguments | too-large | timeout | crashed | library
-    error: dict | None = None
-    robot: dict | None = None
+    status: ModelStatus = "ok"
+    error: ModelError | None = None
+    robot: RobotStructure | None = None
     includes: list[str] = field(default_factory=list)
 
     @property
-    def links(self) -> set[str]:
-        return {link["name"] for link in (self.robot or {}).get("links", [])}
+    def links(self) -> set[str | None]:
+        return {link["name"] for link in (self.robot["links"] if self.robot else [])}
 
 
 @dataclass

@@ -19,9 +19,13 @@ import json
 import os
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
+
+if TYPE_CHECKING:
+    from pkgforge.checks.context import CheckContext
 
 # 4: a model failing on its own for want of its empty-default xacro:args is PF406, no longer PF308
 CACHE_FORMAT = 4
@@ -55,7 +59,7 @@ class ResultCache:
         self.changed = False
         # package folder → (files outside it that its valid entry read, its codes): loaded or stored
         self.answered: dict[Path, tuple[list[str], set[str]]] = {}
-        self.stamps: dict[str, list] = {}  # path → its stamp when its digest was taken
+        self.stamps: dict[str, FileStamp] = {}  # path → its stamp when its digest was taken
 
     # --- digests ------------------------------------------------------------------------------
 
@@ -68,7 +72,7 @@ class ResultCache:
             self.stamps[path] = [error.errno]
             return None
         mode = f"{stat.st_mode & 0o7777:o}"
-        stamp = [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
+        stamp: FileStamp = [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
         self.stamps[path] = stamp  # as _stamp() gives it: the workspace entry's record of the file
         known = self.index.get(path)
         if known and len(known) == 5 and known[:4] == stamp:
@@ -146,10 +150,12 @@ class ResultCache:
 WORKSPACE_ENTRY = "workspace.whole"  # (not *.json: one file, not a package's entry)
 PRUNED = (".git",)  # never read by verify, and large
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
+# a file's (size, mtime ns, ctime ns, mode), or [errno] when it cannot be stat'ed
+FileStamp = list[int | None]
 MAX_STAMPED = 100_000  # more files: no workspace entry (the per-package lookup as before)
 
 
-def _stamp(path: str) -> list | None:
+def _stamp(path: str) -> FileStamp:
     try:
         stat = os.stat(path)
     except OSError as error:
@@ -157,10 +163,10 @@ def _stamp(path: str) -> list | None:
     return [stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns, stat.st_mode]
 
 
-def tree_stamps(base: str) -> list | None:
+def tree_stamps(base: str) -> list[list[Any]] | None:
     """Every folder and file under base (sorted; links read, not followed; `.git` and folders
     with an ignore marker not entered) with each file's stamp; None when too many files."""
-    out: list = []
+    out: list[list[Any]] = []  # [folder, name, what …]: JSON for the fingerprint
     stack = [base]
     cut = len(base.rstrip(os.sep)) + 1
     while stack:
@@ -208,7 +214,7 @@ def workspace_fingerprint(base: Path, above: list[Path], options_key: str, confi
     stamps = tree_stamps(str(base))
     if stamps is None:
         return None
-    outside = []
+    outside: list[list[Any]] = []  # [path, its stamp or errno]
     for folder in above:
         outside += [[str(folder / name), _stamp(str(folder / name))] for name in CI_FILES]
         workflows = folder / CI_FOLDER
@@ -238,7 +244,11 @@ def load_workspace(folder: Path, fingerprint: str) -> tuple[list[PackageReport],
 
 
 def store_workspace(
-    folder: Path, fingerprint: str, reports: list[PackageReport], codes: set[str], externals: dict[str, list]
+    folder: Path,
+    fingerprint: str,
+    reports: list[PackageReport],
+    codes: set[str],
+    externals: dict[str, FileStamp],
 ) -> None:
     """`externals`: each outside file's stamp when its digest was taken (a later edit is not hidden)."""
     entry = {
@@ -275,36 +285,39 @@ def manifest_text(folder: Path) -> str | None:
 BUILD_FILES = ("package.xml", "CMakeLists.txt", "setup.py", "setup.cfg")
 
 
-def externals(context) -> set[str]:
+def externals(context: CheckContext) -> set[str]:
     """Files outside the package that its verification depended on (real paths).
 
     A path into another workspace package depends on that package's build
     files too: fixing its install rules changes what exists in the tree.
     """
-    from pkgforge.urdf.meshes import resolve_uri
-
     tree = context.tree
     found: set[str] = set()
     for resolution in context.resolutions:
-        found.update(item.path for item in [*resolution.paths, *resolution.includes])
+        found.update(item.path for item in resolution.paths)
+        found.update(item.path for item in resolution.includes)
         found.update(c.model for c in resolution.commands if c.model)
     for result in context.model_results:
         found.add(str(result.installed))
         found.update(result.includes)
-        for mesh in (result.robot or {}).get("meshes", []):
-            lookup = resolve_uri(mesh["uri"], tree, result.installed)
+        for mesh in result.robot["meshes"] if result.robot and tree is not None else []:
+            lookup = context.mesh(mesh["uri"], result.installed)  # the checks' own lookup
             if lookup.path is not None:
                 found.add(str(lookup.path))
     own = str(context.model.path) + os.sep
     temporary = [str(p) + os.sep for p in (tree.prefixes if tree is not None else [])]
-    if tree is not None and getattr(tree, "root", None) is not None:
+    if tree is not None and tree.root is not None:
         temporary.append(str(tree.root) + os.sep)
-    out = set()
+    out: set[str] = set()
     for path in found:
         located = tree.locate(path) if tree is not None else None
         if located is not None:
             package = located[0]
-            if tree.is_phantom(path) or package in (context.model.name, context.model.share_name):
+            if (
+                tree is not None
+                and tree.is_phantom(path)
+                or package in (context.model.name, context.model.share_name)
+            ):
                 continue
             other = context.models.get(package)
             if other is not None:
@@ -315,7 +328,7 @@ def externals(context) -> set[str]:
     return out
 
 
-def _report_to(report: PackageReport) -> dict:
+def _report_to(report: PackageReport) -> dict[str, Any]:
     return {
         "name": report.name,
         "path": str(report.path),
@@ -326,7 +339,7 @@ def _report_to(report: PackageReport) -> dict:
     }
 
 
-def _report_from(data: dict) -> PackageReport:
+def _report_from(data: dict[str, Any]) -> PackageReport:
     report = PackageReport(data["name"], Path(data["path"]), data["build_type"])
     for d in data["diagnostics"]:
         report.diagnostics.append(

@@ -7,8 +7,10 @@ the install tree colcon built (--install-base, merged or isolated).
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 from colcon_core.package_selection import add_arguments as add_packages_arguments
 from colcon_core.package_selection import get_package_descriptors, select_package_decorators
@@ -21,14 +23,14 @@ from pkgforge.report import COLOR_CHOICES, FORMATS
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
 
 
-class VerifyVerb(VerbExtensionPoint):
+class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has no type information
     """Check packages against their install tree: install rules, launch files, models, RViz configs."""
 
-    def __init__(self):  # noqa: D107
+    def __init__(self) -> None:  # noqa: D107
         super().__init__()
         satisfies_version(VerbExtensionPoint.EXTENSION_POINT_VERSION, "^1.0")
 
-    def add_arguments(self, *, parser):  # noqa: D102
+    def add_arguments(self, *, parser: argparse.ArgumentParser) -> None:  # noqa: D102
         # no --build-base: verify reads only the install tree colcon built (it declared one and
         # ignored it; an option that does nothing misleads)
         parser.add_argument(
@@ -105,7 +107,7 @@ class VerifyVerb(VerbExtensionPoint):
             "[verify] distro, the package's CI file, else every active distro)",
         )
 
-    def main(self, *, context):  # noqa: D102
+    def main(self, *, context: Any) -> int:  # noqa: D102  (colcon's CommandContext)
         from pkgforge.errors import PkgforgeError
         from pkgforge.report import render
         from pkgforge.verify.config import Selection, load_config

@@ -15,11 +15,13 @@ pkgforge.toml, at the workspace root or a package root:
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Union
 
-from pkgforge.checks.registry import all_checks
-from pkgforge.diagnostics import Severity
+from pkgforge.checks.registry import Check, all_checks
+from pkgforge.diagnostics import PackageReport, Severity
 from pkgforge.errors import PkgforgeError
 
 CONFIG_FILE = "pkgforge.toml"
@@ -37,7 +39,7 @@ class Selection:
         and the severities a cached report holds)."""
         return f"{sorted(self.select)}|{sorted(self.ignore)}|{sorted(self.severity.items())}"
 
-    def severity_of(self, check) -> Severity | None:
+    def severity_of(self, check: Check) -> Severity | None:
         """The severity pkgforge.toml sets for this check: its code or name, else its longest
         matching code prefix; None: the check's own."""
         best: tuple[int, str] | None = None
@@ -53,7 +55,7 @@ class Selection:
                 best = (rank, level)
         return Severity.parse(best[1]) if best else None
 
-    def apply_severity(self, report) -> None:
+    def apply_severity(self, report: PackageReport) -> None:
         """Rewrite the severity of the report's diagnostics as [severity] says (exit code follows)."""
         if not self.severity:
             return
@@ -78,7 +80,7 @@ class Selection:
         }
 
 
-def _matches(check, key: str) -> bool:
+def _matches(check: Check, key: str) -> bool:
     key = key.strip()
     return (
         check.name == key
@@ -101,7 +103,7 @@ class Config:
     """The workspace-level configuration, with each package's own on top."""
 
     cli: Selection = field(default_factory=Selection)
-    workspace: dict = field(default_factory=dict)
+    workspace: dict[str, Any] = field(default_factory=dict)  # pkgforge.toml as read (validated)
     workspace_file: Path | None = None
 
     def for_package(self, name: str, package_path: Path) -> Selection:
@@ -122,39 +124,43 @@ class Config:
             )
         return Selection(select, ignore, severity)
 
-    def distro_for(self, package_path: Path):
+    def distro_for(self, package_path: Path) -> str | list[str] | None:
         """[verify] distro of the package's pkgforge.toml, else the workspace's; None if neither."""
         own = package_path / CONFIG_FILE
+        value: str | list[str] | None
         if own.is_file() and own != self.workspace_file:
             value = read_config(own).get("verify", {}).get("distro")
             if value:
                 return value
-        return self.workspace.get("verify", {}).get("distro")
+        value = self.workspace.get("verify", {}).get("distro")
+        return value
 
 
 # What pkgforge.toml may hold: a key not here (a misspelling) is an error, not silently ignored.
 # A value is checked by the function at its key; a dict is a table of known keys; PACKAGES is
 # a table whose keys are package names, each a table of PACKAGE_KEYS.
-def _strings(value) -> bool:
+def _strings(value: object) -> bool:
     return isinstance(value, list) and all(isinstance(v, str) for v in value)
 
 
-def _distros(value) -> bool:
+def _distros(value: object) -> bool:
     return isinstance(value, str) or (isinstance(value, list) and all(isinstance(v, str) for v in value))
 
 
 SEVERITIES = ("error", "warning", "info")
+# a key's rule: a table of known keys, a table of the user's keys (Entries), or (test, what it must be)
+Rule = Union[dict[str, "Rule"], "Entries", tuple[Callable[[Any], bool], str]]
 
 
 @dataclass(frozen=True)
 class Entries:
     """A table whose keys are the user's (package names, checks); each value follows `each`."""
 
-    each: object  # a table's schema (dict) or (test, what it must be)
+    each: Rule  # a table's schema (dict) or (test, what it must be)
     key_is_check: bool = False  # each key must name a check (code, code prefix or name)
 
 
-SCHEMA = {
+SCHEMA: dict[str, Rule] = {
     "verify": {
         "select": (_strings, "a list of check codes, code prefixes or names"),
         "ignore": (_strings, "a list of check codes, code prefixes or names"),
@@ -206,7 +212,7 @@ def _problem(path: Path, text: str, dotted: str, what: str) -> PkgforgeError:
     return PkgforgeError(f"{path}{_at(text, dotted)}: {what}")
 
 
-def _unknown(path: Path, text: str, dotted: str, known) -> PkgforgeError:
+def _unknown(path: Path, text: str, dotted: str, known: Collection[str]) -> PkgforgeError:
     import difflib
 
     name = dotted.rpartition(".")[2]
@@ -215,10 +221,10 @@ def _unknown(path: Path, text: str, dotted: str, known) -> PkgforgeError:
     return _problem(path, text, dotted, f"unknown key '{dotted}' ({also}known here: {', '.join(known)})")
 
 
-def validate(data: dict, path: Path, text: str) -> None:
+def validate(data: dict[str, Any], path: Path, text: str) -> None:
     """Every key known and of the right type: exit 2 naming the key, the file and its line."""
 
-    def value(item, rule, dotted: str) -> None:
+    def value(item: Any, rule: Rule, dotted: str) -> None:
         if isinstance(rule, (dict, Entries)) and not isinstance(item, dict):
             raise _problem(path, text, dotted, f"'{dotted}' must be a table ([{dotted}])")
         if isinstance(rule, dict):
@@ -239,17 +245,18 @@ def validate(data: dict, path: Path, text: str) -> None:
     value(data, SCHEMA, "")
 
 
-def read_config(path: Path) -> dict:
+def read_config(path: Path) -> dict[str, Any]:
     if sys.version_info >= (3, 11):  # (imported here: a workspace without pkgforge.toml never needs it)
         import tomllib
     else:  # pragma: no cover
-        import tomli as tomllib
+        import tomli as tomllib  # type: ignore[import-not-found,unused-ignore]  # 3.10's backport: absent where mypy runs
+
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise PkgforgeError(f"{path}: cannot read: {exc}") from exc
     try:
-        data = tomllib.loads(text)
+        data: dict[str, Any] = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         where = str(exc).replace(
             "(at end of document)", f"(at end of document, line {max(1, len(text.splitlines()))})"

@@ -3,20 +3,29 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
 from pkgforge.workspace import locate
 
+if TYPE_CHECKING:
+    from pkgforge.launch.records import CommandRun, Node, PackageLookup, Record, Resolution
+    from pkgforge.model.package import PackageModel
+    from pkgforge.tree import InstallTree
+    from pkgforge.urdf.structure import JointDict, MeshDict, ModelError, RobotStructure
+
 OK, MISSING, UNCHECKED = "✓", "✗", "·"
 
 
-def _installed_path(file: Path, tree, models) -> tuple[Path, str]:
+def _installed_path(file: Path, tree: InstallTree, models: Iterable[PackageModel]) -> tuple[Path, str]:
     file = Path(tree.in_tree(str(file.resolve())))  # the user's install base → the worker's shadow of it
-    if tree.locate(str(file)) is not None:
-        return file, tree.locate(str(file))[0]
+    located = tree.locate(str(file))
+    if located is not None:
+        return file, located[0]
     for model in models:
         for destination, installed in model.layout.files.items():
             if installed.source is not None and installed.source.resolve() == file:
@@ -30,7 +39,9 @@ def _installed_path(file: Path, tree, models) -> tuple[Path, str]:
 
 
 @contextmanager
-def _installed(path: Path, file: Path, options: VerifyOptions):
+def _installed(
+    path: Path, file: Path, options: VerifyOptions
+) -> Iterator[tuple[InstallTree, Path, str, PackageModel | None]]:
     """(tree, installed path of FILE, its package, the package's model); the tree closes after."""
     workspace = locate(path)
     _, models = load_models(workspace, 1)
@@ -44,7 +55,8 @@ def _installed(path: Path, file: Path, options: VerifyOptions):
 
 
 def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
-    from pkgforge.launch.resolve import LaunchFile, WorkerLimits, resolve, source_of
+    from pkgforge.launch.records import LaunchFile
+    from pkgforge.launch.resolve import WorkerLimits, resolve, source_of
 
     with _installed(path, file, options) as (tree, installed, package, owner):
         launch = LaunchFile(package, installed, source_of(installed, tree, owner))
@@ -59,39 +71,39 @@ def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
         return _render(resolution, tree)
 
 
-def _short(path: str, tree) -> str:
+def _short(path: str, tree: InstallTree) -> str:
     located = tree.locate(path)
     if located is None:
         return path
     return f"share/{located[0]}/{located[1]}"
 
 
-def _mark(path: str, exists: bool, tree) -> str:
+def _mark(path: str, exists: bool, tree: InstallTree) -> str:
     if tree.is_phantom(path):
         return UNCHECKED
     return OK if exists else MISSING
 
 
-def _where(item, tree) -> str:
+def _where(item: Record, tree: InstallTree) -> str:
     place = f"{os.path.basename(item.file)}:{item.line}" if item.file else f"line {item.line}"
     branches = [b for b in item.branches if b]
     return place + (f" [{', '.join(branches)}]" if branches else "")
 
 
-def _node(n, tree) -> str:
+def _node(n: Node, tree: InstallTree) -> str:
     text = f"{n.package}/{n.executable}" if n.kind == "node" else " ".join(n.cmd or [])
     if n.arguments:
         text += f" args {[_short(a, tree) for a in n.arguments]}"
     return text + "".join(f"\n      param {p.name or '(file)'}: {p.form}" for p in n.parameters)
 
 
-def _package(p, tree) -> str:
+def _package(p: PackageLookup, tree: InstallTree) -> str:
     phantom = p.name in tree.phantom_packages
     mark = UNCHECKED if phantom else MISSING if p.found is False else OK
     return f"{mark} {p.name} ({p.via})" + (" — declared, not installed here" if phantom else "")
 
 
-def _command(c, tree) -> str:
+def _command(c: CommandRun, tree: InstallTree) -> str:
     text = f"{OK if c.ok else MISSING} {' '.join(_short(w, tree) for w in c.command)}"
     if c.runtime_only:
         return f"{UNCHECKED} {' '.join(c.command)} (run time only, not executed)"
@@ -100,7 +112,7 @@ def _command(c, tree) -> str:
     return text
 
 
-def _render(resolution, tree) -> str:
+def _render(resolution: Resolution, tree: InstallTree) -> str:
     launch = resolution.launch
     engine = (
         f"ROS 2 {resolution.distro or '(distro unknown)'}'s launch"
@@ -131,7 +143,8 @@ def _render(resolution, tree) -> str:
             f"not evaluated within the time limit: {resolution.unevaluated} of "
             f"{resolution.branching.planned} argument combinations"
         )
-    sections = [
+    # each kind with how to show one of its records (Node, PackageLookup, Include …)
+    sections: list[tuple[str, Callable[[Any, InstallTree], str]]] = [
         ("nodes", _node),
         ("packages", _package),
         ("includes", lambda i, t: f"{_mark(i.path, i.exists, t)} {_short(i.path, t)} {i.arguments or ''}"),
@@ -144,7 +157,7 @@ def _render(resolution, tree) -> str:
         items = getattr(resolution, kind)
         if items:
             lines.append(f"{kind}:")
-            seen = set()
+            seen: set[str] = set()
             for item in sorted(items, key=lambda i: i.line or 0):
                 text = f"  {show(item, tree)}  @ {_where(item, tree)}"
                 if text not in seen:
@@ -169,16 +182,17 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
             f"  installed as {_short(str(installed), tree)} in the {tree.kind} tree",
         ]
         if result.status not in ("ok", "library"):
-            error = result.error or {}
+            error: ModelError = result.error or {}
             lines.append(
                 f"  {MISSING} {result.status}: {error.get('message')} "
                 f"({os.path.basename(error.get('file') or '')}:{error.get('line')})"
             )
             return "\n".join(lines) + "\n"
-        robot = result.robot or {}
-        if robot.get("root_tag") != "robot":
+        robot = result.robot
+        if robot is None or robot.get("root_tag") != "robot":
             raise PkgforgeError(
-                f"{file} is not a robot model: its root element is <{robot.get('root_tag')}>, not <robot>"
+                f"{file} is not a robot model: its root element is "
+                f"<{robot.get('root_tag') if robot is not None else None}>, not <robot>"
             )
         links, joints = robot.get("links", []), robot.get("joints", [])
         if not links:
@@ -186,24 +200,24 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
             return "\n".join(lines) + "\n"
         lines.append(f"robot {robot.get('name')}: {len(links)} links, {len(joints)} joints")
         lines += _model_numbers(robot, tree, installed)
-        meshes: dict[str, list] = {}
+        meshes: dict[str | None, list[MeshDict]] = {}
         for mesh in robot.get("meshes", []):
             meshes.setdefault(mesh.get("link"), []).append(mesh)
-        children: dict[str, list] = {}
+        children: dict[str | None, list[JointDict]] = {}
         for joint in joints:
             children.setdefault(joint.get("parent"), []).append(joint)
         child_names = {j.get("child") for j in joints}
 
-        def mesh_lines(link: str, indent: str) -> None:
+        def mesh_lines(link: str | None, indent: str) -> None:
             for mesh in meshes.get(link, []):
                 lookup = resolve_uri(mesh["uri"], tree, installed)
                 mark = {"found": OK, "unchecked": UNCHECKED}.get(lookup.status, MISSING)
                 note = "" if lookup.status in ("found", "unchecked") else f"  ({lookup.status})"
-                if lookup.status == "found":
+                if lookup.status == "found" and lookup.path is not None:
                     note = _mesh_note(lookup.path)
                 lines.append(f"{indent}{mesh['kind']} {mark} {mesh['uri']}{note}")
 
-        def walk(link: str, indent: str, seen: set) -> None:
+        def walk(link: str | None, indent: str, seen: set[str | None]) -> None:
             ordered = sorted(children.get(link, []), key=lambda j: j.get("name") or "")
             for index, joint in enumerate(ordered):
                 last = index == len(ordered) - 1
@@ -216,26 +230,28 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
                     walk(joint["child"], deeper, seen | {joint["child"]})
 
         for root in [link["name"] for link in links if link["name"] not in child_names]:
-            lines.append(root)
+            lines.append(str(root))
             mesh_lines(root, "  ")
             walk(root, "", {root})
         return "\n".join(lines) + "\n"
 
 
-def _size(low, high) -> str:
+def _size(low: Iterable[float], high: Iterable[float]) -> str:
     return " × ".join(f"{h - lo:.3g}" for lo, h in zip(low, high, strict=False)) + " m"
 
 
-def _model_numbers(robot: dict, tree, installed: Path) -> list[str]:
+def _model_numbers(robot: RobotStructure, tree: InstallTree, installed: Path) -> list[str]:
     """Total mass and size (the same numbers `pkgforge view` writes on its images)."""
     from pkgforge.urdf.meshes import resolve_uri
     from pkgforge.urdf.physics import total_mass, world_bounds
 
-    def resolve(uri):
+    def resolve(uri: str) -> Path | None:
         lookup = resolve_uri(uri, tree, installed)
         return lookup.path if lookup.status == "found" else None
 
-    with_mass = sum(1 for link in robot.get("links", []) if (link.get("inertial") or {}).get("mass"))
+    with_mass = sum(
+        1 for link in robot.get("links", []) if (inertial := link.get("inertial")) and inertial.get("mass")
+    )
     lines = [
         f"mass: {total_mass(robot):.4g} kg total ({with_mass} of {len(robot.get('links', []))} links "
         "have a mass)"
@@ -251,7 +267,7 @@ def _model_numbers(robot: dict, tree, installed: Path) -> list[str]:
     return lines
 
 
-def _mesh_note(path) -> str:
+def _mesh_note(path: Path) -> str:
     from pkgforge.urdf.physics import mesh_info
 
     info = mesh_info(str(path))

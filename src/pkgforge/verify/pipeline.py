@@ -11,9 +11,10 @@ import json
 import os
 import re
 import sys
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Diagnostic, Finding, PackageReport, Severity
 from pkgforge.errors import BuildFailed, PkgforgeError
@@ -24,7 +25,17 @@ from pkgforge.workspace import Workspace, discover, locate
 
 if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
+    from pkgforge.launch.engines import LaunchEngine
+    from pkgforge.launch.records import LaunchFile, Resolution
     from pkgforge.model.package import PackageModel
+    from pkgforge.model.rviz import RvizConfig
+    from pkgforge.sandbox.zygote import Zygote
+    from pkgforge.tree import InstallTree
+    from pkgforge.urdf.select import ModelResult
+    from pkgforge.verify.cache import ResultCache
+
+    # package → (its own RViz configs, [(a config, the launch file passing it with -d)])
+    RvizFound = dict[str, tuple[list[RvizConfig], list[tuple[RvizConfig, LaunchFile]]]]
 
 # The model layer (lxml, catkin_pkg) and the checks load only when something
 # must be verified: a run answered from the cache never imports them.
@@ -68,11 +79,13 @@ class VerifyOptions:
     )
     launch_engine: str = "auto"  # auto | ros | builtin
     ros_prefix: Path | None = None
-    _engine: object | None = field(default=None, repr=False, compare=False)
-    # called with (tree, [models.ModelResult]) while the install tree is open (`view`, --artifacts)
-    on_models: object | None = field(default=None, repr=False, compare=False)
+    _engine: LaunchEngine | None = field(default=None, repr=False, compare=False)
+    # called with (tree, [ModelResult]) while the install tree is open (`view`, --artifacts)
+    on_models: Callable[[InstallTree, list[ModelResult]], None] | None = field(
+        default=None, repr=False, compare=False
+    )
 
-    def engine(self):
+    def engine(self) -> LaunchEngine:
         """The launch engine these options choose (launch.engines.LaunchEngine), found once."""
         if self._engine is None:
             from pkgforge.launch.engines import choose
@@ -194,7 +207,9 @@ def _load_chunk(folders: list[Path]) -> list[PackageModel]:
     return models
 
 
-def _rviz_files(model: PackageModel, known: dict | None = None):
+def _rviz_files(
+    model: PackageModel, known: dict[Path, RvizConfig] | None = None
+) -> Iterator[tuple[Path, RvizConfig]]:
     """(source, RvizConfig) of each RViz config the package installs; `known`: those read already."""
     from pkgforge.model.rviz import read_rviz
 
@@ -296,22 +311,28 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
     return report
 
 
-def make_tree(options: VerifyOptions, workspace: Workspace, models: list[PackageModel]):
+def make_tree(options: VerifyOptions, workspace: Workspace, models: list[PackageModel]) -> InstallTree:
     from pkgforge.tree import built_tree, existing_tree, predicted_tree
 
     if options.mode == "install-base":
+        if options.install_base is None:
+            raise PkgforgeError("verify against an install base needs --install-base")
         return existing_tree(options.install_base, models)
     if options.mode == "build":
         return built_tree(workspace, models, out=sys.stderr)
     return predicted_tree(models, user_install=workspace.root / "install")
 
 
-def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict]:
+def load_one_package(
+    workspace: Workspace,
+) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict[str, Path]]:
     """One package of a workspace (pre-commit): it, and the workspace packages it declares.
 
     The other packages matter only by name, which a walk reads cheaply; colcon
     identifies just this folder.
     """
+    if workspace.package_path is None:
+        raise ValueError("load_one_package: the workspace is no single package")
     folder = workspace.package_path.resolve()
     everything = {quick_name(p): p for p in package_folders(workspace.base_path)}
     from pkgforge.workspace import identify_folder
@@ -334,23 +355,24 @@ def load_one_package(workspace: Workspace) -> tuple[list[PackageTarget], dict[Pa
     return targets, models, everything
 
 
-def rviz_configs(tree, checked: list[PackageModel], resolutions: dict) -> dict:
+def rviz_configs(
+    tree: InstallTree, checked: list[PackageModel], resolutions: dict[str, list[Resolution]]
+) -> RvizFound:
     """package → (its RViz configs, [(config, launch file passing it with -d)])."""
     from pkgforge.launch.resolve import source_of
     from pkgforge.model.rviz import read_rviz
 
-    out = {}
+    out: RvizFound = {}
     for model in checked:
         # read by the loader processes when they loaded the model (beside discovery), else here
-        configs: dict[Path, object] = dict(_rviz_files(model, getattr(model, "rviz_read", None)))
+        configs: dict[Path, RvizConfig] = dict(_rviz_files(model, getattr(model, "rviz_read", None)))
         launches = []
         for resolution in resolutions.get(model.name, []):
             for node in resolution.nodes:
                 arguments = node.arguments
                 if node.package != "rviz2" or "-d" not in arguments[:-1]:
                     continue
-                installed = Path(arguments[arguments.index("-d") + 1])
-                source = source_of(installed, tree, model)
+                source = source_of(Path(arguments[arguments.index("-d") + 1]), tree, model)
                 if source is None or not source.is_file():
                     continue  # another package's config, or missing (uninstalled-reference says so)
                 if source not in configs:
@@ -366,7 +388,10 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     workspace = locate(path)
     config: Config = load_config(workspace.root, options.selection)
     jobs = options.jobs or os.cpu_count() or 1
-    cache, keys, hits, whole = None, {}, {}, None
+    cache: ResultCache | None = None
+    keys: dict[Path, str] = {}
+    hits: dict[Path, tuple[PackageReport, set[str]]] = {}
+    whole = None
     if options.use_cache and options.mode == "predicted":
         try:
             whole, answer = _workspace_lookup(workspace, config, options)
@@ -421,7 +446,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
     return result
 
 
-def _early_zygote(options: VerifyOptions, engine):
+def _early_zygote(options: VerifyOptions, engine: LaunchEngine) -> Zygote | None:
     """The launch workers' fork server, started before discovery so that its imports run beside
     it (pipelined); None when launch files will not be evaluated (--select without them, --build,
     whose colcon build takes long enough)."""
@@ -450,7 +475,9 @@ def cache_folder(workspace: Workspace) -> Path:
     return home / "pkgforge" / hashlib.sha1(str(workspace.base_path).encode()).hexdigest()[:16]
 
 
-def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
+def _cache_lookup(
+    workspace: Workspace, config: Config, options: VerifyOptions
+) -> tuple[ResultCache, dict[Path, str], dict[Path, tuple[PackageReport, set[str]]]]:
     """(cache, package folder → key, package folder → cached report) for the packages to verify."""
     from pkgforge.model.files import walk_file_names
     from pkgforge.verify.cache import ResultCache, manifest_text, workspace_key
@@ -460,7 +487,8 @@ def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
     folders = [workspace.package_path.resolve()] if workspace.package_path is not None else every
     texts = {folder: manifest_text(folder) for folder in every}  # each package.xml read once
     signature = workspace_key(every, texts)
-    keys, hits = {}, {}
+    keys: dict[Path, str] = {}
+    hits: dict[Path, tuple[PackageReport, set[str]]] = {}
     for folder in folders:
         name = quick_name(folder, texts[folder] if folder in texts else "")
         files = walk_file_names(folder)
@@ -474,7 +502,9 @@ def _cache_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
     return cache, keys, hits
 
 
-def _store_whole(cache, whole: str | None, keys: dict, reports: list[PackageReport]) -> None:
+def _store_whole(
+    cache: ResultCache | None, whole: str | None, keys: dict[Path, str], reports: list[PackageReport]
+) -> None:
     """The workspace entry, when every package of the run has a valid entry (answered by the cache
     next time): the next unchanged run reads that one file."""
     if whole is None or cache is None or not (set(cache.answered) == set(keys) == {r.path for r in reports}):
@@ -494,7 +524,9 @@ def _store_whole(cache, whole: str | None, keys: dict, reports: list[PackageRepo
         pass  # the per-package entries answer
 
 
-def _workspace_lookup(workspace: Workspace, config: Config, options: VerifyOptions):
+def _workspace_lookup(
+    workspace: Workspace, config: Config, options: VerifyOptions
+) -> tuple[str | None, tuple[list[PackageReport], set[str]] | None]:
     """(the whole workspace's fingerprint, (reports, codes) when its entry answers), for a run on a
     whole workspace; (None, None) for one package."""
     if workspace.package_path is not None:
@@ -527,7 +559,7 @@ def _targets(folder: Path, workspace: Workspace, config: Config, options: Verify
     return target_distros(folder, workspace.root.resolve(), options.distro, config.distro_for(folder))[0]
 
 
-def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list]) -> None:
+def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list[Resolution]]) -> None:
     """A --launch-arg value outside the choices its launch file declares is a usage error (exit 2),
     not one launch-load-error per place the value reaches. The choices are the launch file's own
     code (computed, or from an included file), so only its evaluation knows them: this runs on the
@@ -561,7 +593,7 @@ def run(
     models: dict[Path, PackageModel],
     everything: dict[str, Path],
     options: VerifyOptions,
-    zygote=None,
+    zygote: Zygote | None = None,
 ) -> VerifyResult:
     """Verify the targets; `models` holds every package the install tree needs. `zygote`: the
     launch workers' fork server, when one was started already (closed here)."""
@@ -575,7 +607,10 @@ def run(
 
     tree = None
     build_failure: BuildFailed | None = None
-    resolutions, ros1, model_results, rviz = {}, {}, {}, {}
+    resolutions: dict[str, list[Resolution]] = {}
+    ros1: dict[str, list[LaunchFile]] = {}
+    model_results: dict[str, list[ModelResult]] = {}
+    rviz: RvizFound = {}
     if any(codes[t.path] & tree_codes for t in targets):
         from pkgforge.launch.resolve import WorkerLimits, find_launch_files, resolve
         from pkgforge.launch.uninstalled import source_only
@@ -642,7 +677,9 @@ def run(
     try:
         check_launch_arguments(options.launch_arguments, resolutions)
         by_share = {m.share_name: m for m in models.values()}
-        shared: dict = {}  # what every package's checks would otherwise build again (CheckContext.shared)
+        shared: dict[
+            Any, Any
+        ] = {}  # what every package's checks would otherwise build again (CheckContext.shared)
         reports = []
         for target in targets:
             model = models[target.path]
@@ -697,9 +734,12 @@ def _report_build_failure(
     the verified ones failed (a dependency) or colcon stopped before any ran, each verified
     package gets one, so a failed build never passes."""
     from pkgforge.checks.build import build_failed_finding
+    from pkgforge.checks.context import FileFacts
     from pkgforge.checks.registry import REGISTRY
 
-    own = [(package, log, tail) for package, log, tail in failure.failures if package == model.name]
+    own: list[tuple[str | None, Path | None, str]] = [
+        (package, log, tail) for package, log, tail in failure.failures if package == model.name
+    ]
     if not own and not any(package in verified for package, _, _ in failure.failures):
         own = failure.failures[:1] or [(None, None, "")]
     for package, log, tail in own:
@@ -710,6 +750,7 @@ def _report_build_failure(
             tail,
             failure.status,
             None if package == model.name else package,
+            files=FileFacts(),
         )
         if model.suppressed(finding.path, finding.line, {BUILD_FAILED, "build-failed"}):
             continue
@@ -717,15 +758,16 @@ def _report_build_failure(
     report.diagnostics.sort(key=Diagnostic.sort_key)
 
 
-def _machine_dependent(resolutions: list, model_results: list) -> bool:
+def _machine_dependent(resolutions: list[Resolution], model_results: list[ModelResult]) -> bool:
     """A result that the machine's load or limits decided: a timeout, a crashed or killed worker,
     a limit hit. Run again, it may differ, so it is never cached."""
     from pkgforge.launch.resolve import MACHINE_DEPENDENT
 
-    def limit(error) -> bool:  # a launch record (launch.records.Error) or a model's plain data
+    def limit(error: object) -> bool:  # a launch record (launch.records.Error) or a model's ModelError
         return bool(error.get("limit") if isinstance(error, dict) else getattr(error, "limit", None))
 
-    for item in [*resolutions, *model_results]:
+    items: list[Resolution | ModelResult] = [*resolutions, *model_results]
+    for item in items:
         if item.status in MACHINE_DEPENDENT or limit(item.error or {}):
             return True
         if getattr(item, "unevaluated", 0):  # argument combinations the time limit left out

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Callable
+from typing import TextIO
 
 
 class Progress:
-    def __init__(self, enabled: bool | None = None, stream=None):
+    def __init__(self, enabled: bool | None = None, stream: TextIO | None = None) -> None:
         self.stream = stream or sys.stderr
         self.enabled = self.stream.isatty() if enabled is None else enabled
         self.start = time.monotonic()
@@ -19,7 +21,7 @@ class Progress:
             self.stream.flush()
             self.shown = True
 
-    def counter(self, what: str, total: int):
+    def counter(self, what: str, total: int) -> Callable[[], None]:
         """A callback that shows `what done/total` each time one more is done."""
         done = [0]
 
