@@ -14,6 +14,7 @@ from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding
 from pkgforge.launch.records import PackageLookup, Record
+from pkgforge.urdf import ANY_MODEL_SUFFIXES
 from pkgforge.walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
@@ -36,7 +37,6 @@ LAUNCH_INFRASTRUCTURE = {
 EMPTY_PART = re.compile(r"^_|__|_$")
 # a path part that is the text of None (an f-string of os.getenv() of a variable not set)
 NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
-MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
 
 
 def _branch_note(item: Record, resolution) -> str:
@@ -293,7 +293,7 @@ def _looked_up(ctx: CheckContext):
             yield reference.package, reference.path, reference.line, reference.via, None, None
     # models: $(find pkg) and package://pkg, as written and as xacro expanded them
     for reference in ctx.model.references:
-        if reference.via in ("package://", "$(find)") and reference.path.name.endswith(MODEL_SUFFIXES):
+        if reference.via in ("package://", "$(find)") and reference.path.name.endswith(ANY_MODEL_SUFFIXES):
             yield reference.package, reference.path, reference.line, reference.via, None, None
         elif reference.via == "rviz plugin":
             yield reference.package, reference.path, reference.line, "RViz display from", None, None
@@ -457,7 +457,7 @@ def jsp_model_argument(ctx: CheckContext):
         for node in resolution.nodes:
             if node.package not in JSP_PACKAGES:
                 continue
-            models = [a for a in node.arguments if str(a).endswith(MODEL_SUFFIXES)]
+            models = [a for a in node.arguments if str(a).endswith(ANY_MODEL_SUFFIXES)]
             position = ctx.source_position(resolution, node.file, node.line)
             if models and position is not None and position not in seen:
                 seen.add(position)

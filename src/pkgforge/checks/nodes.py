@@ -9,9 +9,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
-from pkgforge.checks.launch import MODEL_SUFFIXES, _branch_note
+from pkgforge.checks.launch import _branch_note
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
+from pkgforge.urdf import ANY_MODEL_SUFFIXES
 
 
 def _node_records(ctx: CheckContext):
@@ -85,7 +86,7 @@ def rsp_model_argument(ctx: CheckContext):
     for package, arguments, position, node, resolution in _node_records(ctx):
         if package != "robot_state_publisher" or position in seen:
             continue
-        models = [a for a in arguments if a.endswith(MODEL_SUFFIXES)]
+        models = [a for a in arguments if a.endswith(ANY_MODEL_SUFFIXES)]
         if models:
             seen.add(position)
             # removed in Rolling: there the node starts with no model at all

@@ -9,6 +9,7 @@ from lxml import etree
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
+from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
 DEPENDENCY_TAGS = (
@@ -76,7 +77,7 @@ def _models(source: Path, files: list[str], notes):
     links: set[str] = set()
     first_root, missing = None, []
     for relative in files:
-        if not relative.endswith((".urdf", ".xacro")):
+        if not relative.endswith(XACRO_MODEL_SUFFIXES):
             continue
         path = source / relative
         root = _parse(path)
@@ -174,7 +175,7 @@ def migrate(
             output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode(
                 "utf-8"
             )
-        elif relative.endswith((".urdf", ".xacro")) and etree.QName(_parse(path)).localname == "robot":
+        elif relative.endswith(XACRO_MODEL_SUFFIXES) and etree.QName(_parse(path)).localname == "robot":
             output[relative] = massless_root(
                 path.read_text(encoding="utf-8"), _parse(path), path, notes
             ).encode("utf-8")
