@@ -10,6 +10,7 @@ from lxml import etree
 from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
+from pkgforge.walk import walk
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
 DEPENDENCY_TAGS = (
@@ -56,13 +57,20 @@ def _manifest(path: Path):
 
 
 def _files(source: Path) -> list[str]:
-    found = []
-    for folder, folders, names in os.walk(source):
+    """The package's files to convert (the walk over the user's folder is pkgforge's one bounded walk:
+    a folder it cannot read or a bound it hits stops the migration before anything is written)."""
+    found, limits = [], []
+    for folder, folders, names in walk(source, limits=limits):
         folders[:] = sorted(f for f in folders if not f.startswith(".") and f not in SKIPPED_FOLDERS)
         for name in sorted(names):
             relative = os.path.relpath(os.path.join(folder, name), source)
             if not name.startswith(".") and relative not in ("package.xml", "CMakeLists.txt"):
                 found.append(Path(relative).as_posix())
+    if limits:
+        limit = limits[0]
+        raise PkgforgeError(
+            f"{limit.path}: {limit.why}; {limit.hint or 'move it out of the package'} (nothing written)"
+        )
     return found
 
 
