@@ -12,7 +12,7 @@ import statistics
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
-from pkgforge.checks.urdf import _where
+from pkgforge.checks.urdf import model_source_position
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
@@ -30,7 +30,7 @@ def _robots(ctx: CheckContext):
 
 
 def _at(ctx, result, item, line=None):
-    return _where(ctx, result, item.get("file"), line or item.get("line"))
+    return model_source_position(ctx, result, item.get("file"), line or item.get("line"))
 
 
 def _root(robot) -> str | None:

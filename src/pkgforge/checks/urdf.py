@@ -16,7 +16,7 @@ from pkgforge.diagnostics import Finding
 from pkgforge.urdf.meshes import resolve_uri, unreadable
 
 
-def _where(ctx: CheckContext, result, file: str | None, line: int | None):
+def model_source_position(ctx: CheckContext, result, file: str | None, line: int | None):
     """(source path, line) in this package, falling back to the model's own source file, and for
     another package's model to the launch line of this package that feeds it to xacro (pkgforge's
     tree is no place a person edits)."""
@@ -99,7 +99,7 @@ def xacro_error(ctx: CheckContext):
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
             yield Finding(
                 f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
-                *_where(ctx, result, error.get("file"), error.get("line")),
+                *model_source_position(ctx, result, error.get("file"), error.get("line")),
                 hint=error.get("hint") or read_problem_hint(error.get("message")),
             )
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -218,7 +218,7 @@ def model_unevaluated(ctx: CheckContext):
             yield Finding(
                 f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
                 "not installed here; the model is not checked",
-                *_where(ctx, result, error.get("file"), error.get("line")),
+                *model_source_position(ctx, result, error.get("file"), error.get("line")),
             )
     seen = set()
     for resolution in ctx.resolutions:
@@ -273,7 +273,7 @@ def urdf_invalid(ctx: CheckContext):
         if result.status == "error" and error.get("stage") == "xml":
             yield Finding(
                 f"{result.installed.name}: {error['message']}",
-                *_where(ctx, result, error.get("file"), error.get("line")),
+                *model_source_position(ctx, result, error.get("file"), error.get("line")),
             )
             continue
         robot = result.robot
@@ -282,7 +282,7 @@ def urdf_invalid(ctx: CheckContext):
         if robot.get("root_tag") != "robot":
             yield Finding(
                 f"{result.installed.name} has <{robot.get('root_tag')}> at its root, not <robot>",
-                *_where(ctx, result, str(result.installed), 1),
+                *model_source_position(ctx, result, str(result.installed), 1),
             )
             continue
         yield from _structure_problems(ctx, result, robot)
@@ -291,7 +291,9 @@ def urdf_invalid(ctx: CheckContext):
 def _structure_problems(ctx, result, robot: dict):
     links, joints = robot.get("links", []), robot.get("joints", [])
     if not links:
-        yield Finding(f"{result.installed.name} defines no link", *_where(ctx, result, None, None))
+        yield Finding(
+            f"{result.installed.name} defines no link", *model_source_position(ctx, result, None, None)
+        )
         return
     for kind, items in (("link", links), ("joint", joints)):
         counts = Counter(item["name"] for item in items)
@@ -300,7 +302,7 @@ def _structure_problems(ctx, result, robot: dict):
                 counts[item["name"]] = 0  # report each name once
                 yield Finding(
                     f"{kind} name '{item['name']}' is used more than once",
-                    *_where(ctx, result, item.get("file"), item.get("line")),
+                    *model_source_position(ctx, result, item.get("file"), item.get("line")),
                 )
     names = {link["name"] for link in links}
     parents: dict[str, str] = {}
@@ -309,13 +311,13 @@ def _structure_problems(ctx, result, robot: dict):
             if joint.get(role) not in names:
                 yield Finding(
                     f"joint '{joint['name']}' has {role} link '{joint.get(role)}', which does not exist",
-                    *_where(ctx, result, joint.get("file"), joint.get("line")),
+                    *model_source_position(ctx, result, joint.get("file"), joint.get("line")),
                     hint=f"add a link named '{joint.get(role)}' or fix the joint's <{role} link=...>",
                 )
         if joint.get("child") in parents:
             yield Finding(
                 f"link '{joint['child']}' is the child of two joints",
-                *_where(ctx, result, joint.get("file"), joint.get("line")),
+                *model_source_position(ctx, result, joint.get("file"), joint.get("line")),
             )
         parents[joint.get("child")] = joint.get("parent")
     roots = [link for link in links if link["name"] not in parents]
@@ -323,10 +325,12 @@ def _structure_problems(ctx, result, robot: dict):
         yield Finding(
             f"more than one root link: {', '.join(r['name'] for r in roots)} "
             "(every link but one must be a joint's child)",
-            *_where(ctx, result, roots[1].get("file"), roots[1].get("line")),
+            *model_source_position(ctx, result, roots[1].get("file"), roots[1].get("line")),
         )
     elif not roots:
-        yield Finding("the joints form a cycle: no link is the root", *_where(ctx, result, None, None))
+        yield Finding(
+            "the joints form a cycle: no link is the root", *model_source_position(ctx, result, None, None)
+        )
 
 
 def _meshes(ctx: CheckContext):
@@ -361,7 +365,7 @@ def _meshes(ctx: CheckContext):
 )
 def mesh_not_found(ctx: CheckContext):
     for result, mesh, lookup in _meshes(ctx):
-        position = _where(ctx, result, mesh.get("file"), mesh.get("line"))
+        position = model_source_position(ctx, result, mesh.get("file"), mesh.get("line"))
         where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
         if lookup.status == "escapes":
             yield Finding(
@@ -429,7 +433,7 @@ def mesh_case_mismatch(ctx: CheckContext):
         if lookup.status == "case":
             yield Finding(
                 f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
-                *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                *model_source_position(ctx, result, mesh.get("file"), mesh.get("line")),
                 hint=f"write {lookup.real_name} in the URI (or rename the file)",
                 fix={"uri": mesh["uri"], "real_name": lookup.real_name},
             )
@@ -462,7 +466,7 @@ def mesh_source_path(ctx: CheckContext):
                     continue
                 yield Finding(
                     f"{mesh['uri']} points into the source of {folder.name}",
-                    *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                    *model_source_position(ctx, result, mesh.get("file"), mesh.get("line")),
                     hint=f"install it and write package://{folder.name}/{relative.as_posix()}",
                 )
                 break
@@ -487,7 +491,7 @@ def mesh_unreadable(ctx: CheckContext):
             if problem:
                 yield Finding(
                     f"{mesh['uri']}: {problem}",
-                    *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                    *model_source_position(ctx, result, mesh.get("file"), mesh.get("line")),
                     hint=read_problem_hint(problem),
                 )
 
@@ -510,10 +514,10 @@ def model_needs_arguments(ctx: CheckContext):
     for result in ctx.model_results:
         if result.status == "needs-arguments":
             error = result.error or {}
-            position = _where(ctx, result, error.get("file"), error.get("line"))
+            position = model_source_position(ctx, result, error.get("file"), error.get("line"))
             if error.get("arguments"):  # declared with an empty default, and xacro fails without a value
                 declared = error.get("declared") or {}
-                position = _where(ctx, result, declared.get("file"), declared.get("line"))
+                position = model_source_position(ctx, result, declared.get("file"), declared.get("line"))
                 names = ", ".join(error["arguments"])
                 first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
                 yield Finding(

@@ -662,19 +662,19 @@ class FindPackage(Substitution):
     def find(self, package_name):
         raise NotImplementedError()
 
-    def _where(self):
+    def _place_of_lookup(self):
         # performed: the object's place; called directly by the launch file: that call's place
         return self if getattr(self, "_performing", False) else here()
 
 
 class FindPackagePrefix(FindPackage):
     def find(self, package_name):
-        return lookup_package(package_name, "FindPackagePrefix", self._where(), "prefix")
+        return lookup_package(package_name, "FindPackagePrefix", self._place_of_lookup(), "prefix")
 
 
 class FindPackageShare(FindPackage):
     def find(self, package_name):
-        return lookup_package(package_name, "FindPackageShare", self._where())
+        return lookup_package(package_name, "FindPackageShare", self._place_of_lookup())
 
 
 class ExecutableInPackage(Substitution):

@@ -72,7 +72,8 @@ def _mark(path: str, exists: bool, tree) -> str:
     return OK if exists else MISSING
 
 
-def _where(item, tree) -> str:
+def _place_with_branches(item) -> str:
+    """`file.py:12 [branch, ...]`: where a launch item stands and the branches it was seen in."""
     place = f"{os.path.basename(item.file)}:{item.line}" if item.file else f"line {item.line}"
     branches = [b for b in item.branches if b]
     return place + (f" [{', '.join(branches)}]" if branches else "")
@@ -146,7 +147,7 @@ def _render(resolution, tree) -> str:
             lines.append(f"{kind}:")
             seen = set()
             for item in sorted(items, key=lambda i: i.line or 0):
-                text = f"  {show(item, tree)}  @ {_where(item, tree)}"
+                text = f"  {show(item, tree)}  @ {_place_with_branches(item)}"
                 if text not in seen:
                     seen.add(text)
                     lines.append(text)
