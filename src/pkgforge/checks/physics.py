@@ -12,7 +12,7 @@ import statistics
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
-from pkgforge.checks.urdf import model_source_position
+from pkgforge.checks.urdf import model_item_position
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
@@ -29,8 +29,9 @@ def _robots(ctx: CheckContext):
             yield result, robot
 
 
-def _at(ctx, result, item, line=None):
-    return model_source_position(ctx, result, item.get("file"), line or item.get("line"))
+def _links_that_move(robot) -> set[str]:
+    """The links a non-fixed joint moves (a massless frame is fine only on a fixed joint)."""
+    return {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
 
 
 def _root(robot) -> str | None:
@@ -54,7 +55,7 @@ def _root(robot) -> str | None:
 )
 def mass_not_positive(ctx: CheckContext):
     for result, robot in _robots(ctx):
-        moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
+        moving = _links_that_move(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
             if inertial is None or (inertial.get("mass") or 0) > 0:
@@ -65,7 +66,7 @@ def mass_not_positive(ctx: CheckContext):
             if not (frame and link["name"] not in moving):
                 yield Finding(
                     f"link '{link['name']}' has mass {inertial.get('mass')}",
-                    *_at(ctx, result, link, inertial.get("line")),
+                    *model_item_position(ctx, result, link, inertial.get("line")),
                 )
 
 
@@ -84,7 +85,7 @@ def mass_not_positive(ctx: CheckContext):
 )
 def inertia_invalid(ctx: CheckContext):
     for result, robot in _robots(ctx):
-        moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
+        moving = _links_that_move(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
             if inertial is None or inertial.get("inertia") is None or not (inertial.get("mass") or 0) > 0:
@@ -98,13 +99,13 @@ def inertia_invalid(ctx: CheckContext):
             if moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
                 yield Finding(
                     f"link '{link['name']}': inertia not positive definite (principal moments {shown})",
-                    *_at(ctx, result, link, inertial.get("line")),
+                    *model_item_position(ctx, result, link, inertial.get("line")),
                 )
             elif moments[2] > moments[0] + moments[1] + tolerance:
                 yield Finding(
                     f"link '{link['name']}': principal moments {shown} break the triangle "
                     f"inequality ({moments[2]:.4g} > {moments[0]:.4g} + {moments[1]:.4g})",
-                    *_at(ctx, result, link, inertial.get("line")),
+                    *model_item_position(ctx, result, link, inertial.get("line")),
                 )
 
 
@@ -128,7 +129,7 @@ def collision_without_inertial(ctx: CheckContext):
                 yield Finding(
                     f"link '{link['name']}' has {len(link['collisions'])} collision shape(s) and "
                     "no <inertial>",
-                    *_at(ctx, result, link),
+                    *model_item_position(ctx, result, link),
                 )
 
 
@@ -151,7 +152,7 @@ def root_link_inertia(ctx: CheckContext):
         if link is not None and link.get("inertial") is not None and robot.get("joints"):
             yield Finding(
                 f"root link '{root}' has an inertia, which KDL ignores",
-                *_at(ctx, result, link, link["inertial"].get("line")),
+                *model_item_position(ctx, result, link, link["inertial"].get("line")),
             )
 
 
@@ -176,7 +177,7 @@ def joint_limit_invalid(ctx: CheckContext):
             if joint.get("type") not in MOVING:
                 continue
             limit = joint.get("limit")
-            where = _at(ctx, result, joint, (limit or {}).get("line"))
+            where = model_item_position(ctx, result, joint, (limit or {}).get("line"))
             name = f"{joint['type']} joint '{joint['name']}'"
             if limit is None:
                 yield Finding(f"{name} has no <limit>", *where)
@@ -227,7 +228,7 @@ def continuous_joint_limits(ctx: CheckContext):
                 yield Finding(
                     f"continuous joint '{joint['name']}' has lower={limit.get('lower')} "
                     f"upper={limit.get('upper')}, which are ignored",
-                    *_at(ctx, result, joint, limit.get("line")),
+                    *model_item_position(ctx, result, joint, limit.get("line")),
                 )
 
 
@@ -250,7 +251,7 @@ def joint_axis_zero(ctx: CheckContext):
             if joint.get("type") not in ("fixed", "floating") and axis is not None and not any(axis):
                 yield Finding(
                     f"joint '{joint['name']}' has axis {' '.join(f'{a:g}' for a in axis)}",
-                    *_at(ctx, result, joint),
+                    *model_item_position(ctx, result, joint),
                 )
 
 
@@ -311,7 +312,7 @@ def mesh_scale_suspect(ctx: CheckContext):
             yield Finding(
                 f"{uri} ({kind[:-1]} of link '{link['name']}') is {extent:.3g} m across, "
                 f"{ratio:.3g} times the model's typical size of {typical:.3g} m: a unit mistake?",
-                *_at(ctx, result, link, part.get("line")),
+                *model_item_position(ctx, result, link, part.get("line")),
                 hint=f'add scale="{factor} {factor} {factor}" to the <mesh>, or export it in metres',
             )
 
@@ -346,5 +347,5 @@ def collision_mesh_heavy(ctx: CheckContext):
                     yield Finding(
                         f"{geometry['uri']} (collision of link '{link['name']}') has "
                         f"{info.triangles} triangles",
-                        *_at(ctx, result, link, part.get("line")),
+                        *model_item_position(ctx, result, link, part.get("line")),
                     )

@@ -36,6 +36,12 @@ def model_source_position(ctx: CheckContext, result, file: str | None, line: int
     return (result.source or result.installed), None
 
 
+def model_item_position(ctx: CheckContext, result, item: dict, line: int | None = None):
+    """model_source_position of an item of a model's structure or error (a link, joint, mesh):
+    its own file, at `line` when given (a line inside it, e.g. its <inertial>), else its own line."""
+    return model_source_position(ctx, result, item.get("file"), line or item.get("line"))
+
+
 def _path_split_at_spaces(words: list[str], model: str) -> str | None:
     """The existing path that a command line split at its spaces, starting with the word `model`."""
     if model not in words or os.path.exists(model):
@@ -99,7 +105,7 @@ def xacro_error(ctx: CheckContext):
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
             yield Finding(
                 f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
-                *model_source_position(ctx, result, error.get("file"), error.get("line")),
+                *model_item_position(ctx, result, error),
                 hint=error.get("hint") or read_problem_hint(error.get("message")),
             )
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -218,7 +224,7 @@ def model_unevaluated(ctx: CheckContext):
             yield Finding(
                 f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
                 "not installed here; the model is not checked",
-                *model_source_position(ctx, result, error.get("file"), error.get("line")),
+                *model_item_position(ctx, result, error),
             )
     seen = set()
     for resolution in ctx.resolutions:
@@ -273,7 +279,7 @@ def urdf_invalid(ctx: CheckContext):
         if result.status == "error" and error.get("stage") == "xml":
             yield Finding(
                 f"{result.installed.name}: {error['message']}",
-                *model_source_position(ctx, result, error.get("file"), error.get("line")),
+                *model_item_position(ctx, result, error),
             )
             continue
         robot = result.robot
@@ -302,7 +308,7 @@ def _structure_problems(ctx, result, robot: dict):
                 counts[item["name"]] = 0  # report each name once
                 yield Finding(
                     f"{kind} name '{item['name']}' is used more than once",
-                    *model_source_position(ctx, result, item.get("file"), item.get("line")),
+                    *model_item_position(ctx, result, item),
                 )
     names = {link["name"] for link in links}
     parents: dict[str, str] = {}
@@ -311,13 +317,13 @@ def _structure_problems(ctx, result, robot: dict):
             if joint.get(role) not in names:
                 yield Finding(
                     f"joint '{joint['name']}' has {role} link '{joint.get(role)}', which does not exist",
-                    *model_source_position(ctx, result, joint.get("file"), joint.get("line")),
+                    *model_item_position(ctx, result, joint),
                     hint=f"add a link named '{joint.get(role)}' or fix the joint's <{role} link=...>",
                 )
         if joint.get("child") in parents:
             yield Finding(
                 f"link '{joint['child']}' is the child of two joints",
-                *model_source_position(ctx, result, joint.get("file"), joint.get("line")),
+                *model_item_position(ctx, result, joint),
             )
         parents[joint.get("child")] = joint.get("parent")
     roots = [link for link in links if link["name"] not in parents]
@@ -325,7 +331,7 @@ def _structure_problems(ctx, result, robot: dict):
         yield Finding(
             f"more than one root link: {', '.join(r['name'] for r in roots)} "
             "(every link but one must be a joint's child)",
-            *model_source_position(ctx, result, roots[1].get("file"), roots[1].get("line")),
+            *model_item_position(ctx, result, roots[1]),
         )
     elif not roots:
         yield Finding(
@@ -365,7 +371,7 @@ def _meshes(ctx: CheckContext):
 )
 def mesh_not_found(ctx: CheckContext):
     for result, mesh, lookup in _meshes(ctx):
-        position = model_source_position(ctx, result, mesh.get("file"), mesh.get("line"))
+        position = model_item_position(ctx, result, mesh)
         where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
         if lookup.status == "escapes":
             yield Finding(
@@ -433,7 +439,7 @@ def mesh_case_mismatch(ctx: CheckContext):
         if lookup.status == "case":
             yield Finding(
                 f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
-                *model_source_position(ctx, result, mesh.get("file"), mesh.get("line")),
+                *model_item_position(ctx, result, mesh),
                 hint=f"write {lookup.real_name} in the URI (or rename the file)",
                 fix={"uri": mesh["uri"], "real_name": lookup.real_name},
             )
@@ -466,7 +472,7 @@ def mesh_source_path(ctx: CheckContext):
                     continue
                 yield Finding(
                     f"{mesh['uri']} points into the source of {folder.name}",
-                    *model_source_position(ctx, result, mesh.get("file"), mesh.get("line")),
+                    *model_item_position(ctx, result, mesh),
                     hint=f"install it and write package://{folder.name}/{relative.as_posix()}",
                 )
                 break
@@ -491,7 +497,7 @@ def mesh_unreadable(ctx: CheckContext):
             if problem:
                 yield Finding(
                     f"{mesh['uri']}: {problem}",
-                    *model_source_position(ctx, result, mesh.get("file"), mesh.get("line")),
+                    *model_item_position(ctx, result, mesh),
                     hint=read_problem_hint(problem),
                 )
 
@@ -514,10 +520,10 @@ def model_needs_arguments(ctx: CheckContext):
     for result in ctx.model_results:
         if result.status == "needs-arguments":
             error = result.error or {}
-            position = model_source_position(ctx, result, error.get("file"), error.get("line"))
+            position = model_item_position(ctx, result, error)
             if error.get("arguments"):  # declared with an empty default, and xacro fails without a value
                 declared = error.get("declared") or {}
-                position = model_source_position(ctx, result, declared.get("file"), declared.get("line"))
+                position = model_item_position(ctx, result, declared)
                 names = ", ".join(error["arguments"])
                 first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
                 yield Finding(
