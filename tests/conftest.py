@@ -75,6 +75,19 @@ def _triggers_printed(request):
             )
 
 
+def colcon(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
+    """The installed colcon (with pkgforge's verb), run in a subprocess as a user would."""
+    return subprocess.run(
+        [str(SCRIPTS / "colcon"), *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        stdin=subprocess.DEVNULL,
+        env=env,
+    )
+
+
 def new_package(workspace: Path, name: str, *options: str) -> Path:
     result = run_pkgforge("new", name, *MAINTAINER, *options, cwd=workspace)
     assert result.returncode == 0, result.stderr

@@ -7,31 +7,18 @@ import os
 import re
 import subprocess
 import sys
-import sysconfig
 from importlib import resources
 from pathlib import Path
 
 import jsonschema
 import pytest
 import yaml
-from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge
+from conftest import MAINTAINER, SCRIPTS, colcon, edit, hand_made_install, line_of, run_pkgforge
 from lxml import etree
 from test_launch import jazzy_package, plain_colcon_build
 
 REPO = Path(__file__).resolve().parent.parent
-SCRIPTS = Path(sysconfig.get_path("scripts"))
 JUNIT_XSD = Path(__file__).parent / "schemas" / "junit.xsd"
-
-
-def colcon(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [str(SCRIPTS / "colcon"), *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=600,
-        stdin=subprocess.DEVNULL,
-    )
 
 
 @pytest.fixture(scope="module")
