@@ -31,6 +31,8 @@ VARIANTS = {
 }
 
 MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "test@example.com"]
+# the command line prefix that runs what follows as nobody (root only; setpriv is util-linux)
+NOBODY = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
 
 
 # every check code a real pkgforge run printed in this session: a test marked

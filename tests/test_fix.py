@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import copy_fixture, edit, new_package, run_pkgforge
+from conftest import NOBODY, copy_fixture, edit, new_package, run_pkgforge
 
 # --- helpers ---------------------------------------------------------------------------------------
 
@@ -579,8 +579,7 @@ def request_cleanup():
 
 def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     """As nobody, on a copy nobody can read but not write: a clear message, nothing half-written."""
-    setpriv = shutil.which("setpriv")
-    if os.geteuid() != 0 or setpriv is None:
+    if os.geteuid() != 0 or shutil.which("setpriv") is None:
         pytest.skip("needs root and setpriv to run pkgforge as an unprivileged user")
     import tempfile
 
@@ -599,10 +598,7 @@ def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     os.chown(home, 65534, 65534)
     probe = subprocess.run(
         [
-            setpriv,
-            "--reuid=65534",
-            "--regid=65534",
-            "--clear-groups",
+            *NOBODY,
             sys.executable,
             "-c",
             "import pkgforge, pathlib, sys; pathlib.Path(sys.argv[1]).read_bytes()",
@@ -616,10 +612,7 @@ def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     env = dict(os.environ, HOME=str(home), XDG_CACHE_HOME=str(home / ".cache"))
     result = subprocess.run(
         [
-            setpriv,
-            "--reuid=65534",
-            "--regid=65534",
-            "--clear-groups",
+            *NOBODY,
             sys.executable,
             "-m",
             "pkgforge",

@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge, verify_report
+from conftest import MAINTAINER, NOBODY, edit, hand_made_install, line_of, run_pkgforge, verify_report
 
 
 def only(report: dict, code: str) -> dict:
@@ -293,8 +293,6 @@ def test_a_crash_inside_one_check_keeps_the_others_and_exits_2(package):
 
 
 # --- as a user without root: permissions ------------------------------------------------------
-
-NOBODY = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
 
 
 @pytest.fixture(scope="module")
