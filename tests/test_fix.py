@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import NOBODY, copy_fixture, edit, new_package, run_pkgforge
+from conftest import NOBODY, copy_fixture, edit, new_package, run_command, run_pkgforge
 
 # --- helpers ---------------------------------------------------------------------------------------
 
@@ -610,21 +610,10 @@ def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     if probe.returncode != 0:
         pytest.skip(f"the unprivileged user cannot read the test files or pkgforge: {probe.stderr[-200:]}")
     env = dict(os.environ, HOME=str(home), XDG_CACHE_HOME=str(home / ".cache"))
-    result = subprocess.run(
-        [
-            *NOBODY,
-            sys.executable,
-            "-m",
-            "pkgforge",
-            "fix",
-            "--select",
-            "project-name-mismatch",
-        ],
+    result = run_command(
+        [*NOBODY, sys.executable, "-m", "pkgforge", "fix", "--select", "project-name-mismatch"],
         cwd=workspace,
         env=env,
-        capture_output=True,
-        text=True,
-        stdin=subprocess.DEVNULL,
         timeout=600,
     )
     assert "Traceback" not in result.stdout + result.stderr, result.stdout + result.stderr
