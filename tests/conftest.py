@@ -31,6 +31,8 @@ VARIANTS = {
 }
 
 MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "test@example.com"]
+# the command line prefix that runs what follows as nobody (root only; setpriv is util-linux)
+NOBODY = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
 
 
 # every check code a real pkgforge run printed in this session: a test marked
@@ -38,12 +40,13 @@ MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "tes
 PRINTED_CODES: set[str] = set()
 
 
-def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900):
-    """Run the installed pkgforge in a subprocess, as a user would."""
-    import re
-
-    result = subprocess.run(
-        [sys.executable, "-m", "pkgforge", *map(str, args)],
+def run_command(
+    command: list, *, cwd: Path | None = None, env: dict | None = None, timeout: float = 300
+) -> subprocess.CompletedProcess:
+    """A command in a subprocess as a user runs it: its output captured as text, no input (a
+    prompt is not answered), and a hang guard (`timeout`, not a timing assert)."""
+    return subprocess.run(
+        [str(word) for word in command],
         cwd=cwd,
         capture_output=True,
         text=True,
@@ -51,6 +54,13 @@ def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900
         stdin=subprocess.DEVNULL,
         env=env,
     )
+
+
+def run_pkgforge(*args, cwd: Path, env: dict | None = None, timeout: float = 900):
+    """Run the installed pkgforge in a subprocess, as a user would."""
+    import re
+
+    result = run_command([sys.executable, "-m", "pkgforge", *args], cwd=cwd, env=env, timeout=timeout)
     printed = (result.stdout or "") + (result.stderr or "")
     words = list(map(str, args))
     for option, value in zip(words, words[1:], strict=False):  # and the report files it wrote
@@ -73,6 +83,11 @@ def _triggers_printed(request):
                 f"{request.node.nodeid} is marked triggers({', '.join(missing)}) but no "
                 f"pkgforge it ran (conftest.run_pkgforge) printed {', '.join(missing)}"
             )
+
+
+def colcon(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
+    """The installed colcon (with pkgforge's verb), run in a subprocess as a user would."""
+    return run_command([SCRIPTS / "colcon", *args], cwd=cwd, env=env, timeout=600)
 
 
 def new_package(workspace: Path, name: str, *options: str) -> Path:
@@ -140,14 +155,7 @@ def at_least(report: dict, minimum: str) -> list[dict]:
 def xacro_command(model: Path, install: Path):
     """The real xacro command line tool against an install tree."""
     env = dict(os.environ, AMENT_PREFIX_PATH=str(install))
-    return subprocess.run(
-        [str(SCRIPTS / "xacro"), str(model)],
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=60,
-        stdin=subprocess.DEVNULL,
-    )
+    return run_command([SCRIPTS / "xacro", model], env=env, timeout=60)
 
 
 @pytest.fixture(scope="session")

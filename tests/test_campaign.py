@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from conftest import FIXTURES, MAINTAINER, run_pkgforge
+from conftest import FIXTURES, MAINTAINER, run_command, run_pkgforge
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
@@ -476,25 +476,11 @@ def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
     before = fingerprint(workspace, skip=("build",))
     limit = PER_CASE_SECONDS * max(1, len(cases))
     try:
-        result = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "pkgforge",
-                "verify",
-                ".",
-                "--format",
-                "json",
-                "--no-cache",
-                "--launch-timeout",
-                LAUNCH_TIMEOUT,
-                *mode,
-            ],
+        result = run_command(
+            [sys.executable, "-m", "pkgforge", "verify", ".", "--format", "json", "--no-cache"]
+            + ["--launch-timeout", LAUNCH_TIMEOUT, *mode],
             cwd=workspace,
-            capture_output=True,
-            text=True,
             timeout=limit,
-            stdin=subprocess.DEVNULL,
         )
     except subprocess.TimeoutExpired:
         return [f"hang: no answer after {limit} s"]

@@ -7,31 +7,18 @@ import os
 import re
 import subprocess
 import sys
-import sysconfig
 from importlib import resources
 from pathlib import Path
 
 import jsonschema
 import pytest
 import yaml
-from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge
+from conftest import MAINTAINER, SCRIPTS, colcon, edit, hand_made_install, line_of, run_command, run_pkgforge
 from lxml import etree
 from test_launch import jazzy_package, plain_colcon_build
 
 REPO = Path(__file__).resolve().parent.parent
-SCRIPTS = Path(sysconfig.get_path("scripts"))
 JUNIT_XSD = Path(__file__).parent / "schemas" / "junit.xsd"
-
-
-def colcon(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [str(SCRIPTS / "colcon"), *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=600,
-        stdin=subprocess.DEVNULL,
-    )
 
 
 @pytest.fixture(scope="module")
@@ -107,15 +94,7 @@ def test_colcon_verify_distro_as_pkgforge_verify(tmp_path):
     env = dict(os.environ, ROS_DISTRO="humble")  # gazebo_ros is released for humble, not jazzy
 
     def run(*command):
-        return subprocess.run(
-            command,
-            cwd=tmp_path,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=300,
-            stdin=subprocess.DEVNULL,
-        )
+        return run_command(list(command), cwd=tmp_path, env=env)
 
     result = run(str(SCRIPTS / "colcon"), "verify", "--distro", "jazzy", "--pkgforge-format", "json")
     assert result.returncode == 1, result.stdout + result.stderr

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import MAINTAINER, SCRIPTS, line_of, new_package, run_pkgforge
+from conftest import MAINTAINER, SCRIPTS, colcon, line_of, new_package, run_pkgforge
 
 REPO = Path(__file__).resolve().parent.parent
 TESTS = Path(__file__).resolve().parent
@@ -441,18 +441,6 @@ def test_severity_override_changes_report_and_exit_code(workspace):
     assert verify("--strict")[0] == 1
     (workspace / "src" / "rob_description" / "pkgforge.toml").write_text('[severity]\nPF107 = "error"\n')
     assert verify() == (1, [("PF107", "src/rob_description/package.xml", line, "error")])
-
-
-def colcon(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [str(SCRIPTS / "colcon"), *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=600,
-        stdin=subprocess.DEVNULL,
-        env=env,
-    )
 
 
 def test_colcon_verify_honours_severity_and_color(workspace):

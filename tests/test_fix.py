@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import copy_fixture, edit, new_package, run_pkgforge
+from conftest import NOBODY, copy_fixture, edit, new_package, run_command, run_pkgforge
 
 # --- helpers ---------------------------------------------------------------------------------------
 
@@ -579,8 +579,7 @@ def request_cleanup():
 
 def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     """As nobody, on a copy nobody can read but not write: a clear message, nothing half-written."""
-    setpriv = shutil.which("setpriv")
-    if os.geteuid() != 0 or setpriv is None:
+    if os.geteuid() != 0 or shutil.which("setpriv") is None:
         pytest.skip("needs root and setpriv to run pkgforge as an unprivileged user")
     import tempfile
 
@@ -602,10 +601,7 @@ def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     env = {k: v for k, v in os.environ.items() if not k.startswith("COVERAGE_")}
     probe = subprocess.run(
         [
-            setpriv,
-            "--reuid=65534",
-            "--regid=65534",
-            "--clear-groups",
+            *NOBODY,
             sys.executable,
             "-c",
             "import pkgforge, pathlib, sys; pathlib.Path(sys.argv[1]).read_bytes()",
@@ -618,24 +614,10 @@ def test_unwritable_folder_as_an_unprivileged_user(request_cleanup):
     if probe.returncode != 0:
         pytest.skip(f"the unprivileged user cannot read the test files or pkgforge: {probe.stderr[-200:]}")
     env = dict(env, HOME=str(home), XDG_CACHE_HOME=str(home / ".cache"))
-    result = subprocess.run(
-        [
-            setpriv,
-            "--reuid=65534",
-            "--regid=65534",
-            "--clear-groups",
-            sys.executable,
-            "-m",
-            "pkgforge",
-            "fix",
-            "--select",
-            "project-name-mismatch",
-        ],
+    result = run_command(
+        [*NOBODY, sys.executable, "-m", "pkgforge", "fix", "--select", "project-name-mismatch"],
         cwd=workspace,
         env=env,
-        capture_output=True,
-        text=True,
-        stdin=subprocess.DEVNULL,
         timeout=600,
     )
     assert "Traceback" not in result.stdout + result.stderr, result.stdout + result.stderr

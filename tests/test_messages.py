@@ -11,7 +11,16 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import MAINTAINER, edit, hand_made_install, line_of, run_pkgforge, verify_report
+from conftest import (
+    MAINTAINER,
+    NOBODY,
+    edit,
+    hand_made_install,
+    line_of,
+    run_command,
+    run_pkgforge,
+    verify_report,
+)
 
 
 def only(report: dict, code: str) -> dict:
@@ -233,14 +242,7 @@ def run_patched(patch: str, *args: str, cwd: Path) -> subprocess.CompletedProces
         f"import sys\n{patch}\nsys.argv = ['pkgforge', *{list(args)!r}]\n"
         "from pkgforge.cli import main\nmain()\n"
     )
-    return subprocess.run(
-        [sys.executable, "-c", script],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        stdin=subprocess.DEVNULL,
-    )
+    return run_command([sys.executable, "-c", script], cwd=cwd)
 
 
 def test_an_oserror_anywhere_is_one_located_line_exit_2(package):
@@ -294,8 +296,6 @@ def test_a_crash_inside_one_check_keeps_the_others_and_exits_2(package):
 
 # --- as a user without root: permissions ------------------------------------------------------
 
-NOBODY = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
-
 
 @pytest.fixture(scope="module")
 def as_nobody():
@@ -340,15 +340,7 @@ def as_nobody():
         pytest.skip("no Python interpreter with pkgforge's dependencies that nobody may run")
 
     def run(*args, cwd: Path):
-        return subprocess.run(
-            [*NOBODY, interpreter, "-m", "pkgforge", *map(str, args)],
-            cwd=cwd,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=300,
-            stdin=subprocess.DEVNULL,
-        )
+        return run_command([*NOBODY, interpreter, "-m", "pkgforge", *args], cwd=cwd, env=env)
 
     return run
 

@@ -132,3 +132,22 @@ def test_deep_nesting_in_package_and_install_base_is_one_diagnostic_at_the_sourc
         assert [(d["code"], d["path"]) for d in report["diagnostics"]] == [
             ("PF903", "src/rob_description/meshes" + "/d" * 63)
         ], args
+
+
+def test_migrate_walks_the_ros1_package_with_the_bounded_walk(tmp_path, nest):
+    """migrate reads the user's folder through pkgforge.walk: nesting past its bound stops the
+    migration with a one-line error naming the folder, before anything is written."""
+    from migrate_fixtures import ros1_package
+
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / "extra").mkdir()
+    deepest = nest(package / "extra", 70)
+    result = run_pkgforge(
+        "migrate", package, "--destination", tmp_path / "out", cwd=tmp_path, timeout=HANG_GUARD
+    )
+    assert result.returncode == 2, result.stdout + result.stderr
+    first = result.stderr.splitlines()[0]
+    assert first.startswith(f"pkgforge: error: {package / 'extra'}/d/"), first
+    assert "nest more than 64 deep" in first and first.endswith("(nothing written)"), first
+    assert str(deepest) not in first and "Traceback" not in result.stderr
+    assert not (tmp_path / "out").exists()

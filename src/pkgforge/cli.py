@@ -414,10 +414,6 @@ def color_option(function):
     )(function)
 
 
-def _split_keys(values: tuple[str, ...]) -> list[str]:
-    return [k.strip() for value in values for k in value.split(",") if k.strip()]
-
-
 def _into_meta(ctx, param, value):
     """verify's --fix options: kept in the context, not in verify()'s signature."""
     ctx.meta[param.name] = value
@@ -594,7 +590,7 @@ def verify(
     1 errors found (or warnings with --strict), 2 verify could not run.
     """
     from pkgforge.report import render
-    from pkgforge.verify.config import Selection
+    from pkgforge.verify.config import Selection, split_keys
     from pkgforge.verify.pipeline import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
@@ -640,7 +636,7 @@ def verify(
         arguments[name] = value
     mode = "build" if build_tree else "install-base" if install_base is not None else "predicted"
     options = VerifyOptions(
-        Selection(_split_keys(select), _split_keys(ignore)),
+        Selection(split_keys(select), split_keys(ignore)),
         jobs=jobs,
         strict=strict,
         mode=mode,
@@ -893,12 +889,12 @@ def run_fix_command(
     from pkgforge.fix.report import render_fix
     from pkgforge.fix.run import FixOptions, run_fix
     from pkgforge.report import use_color
-    from pkgforge.verify.config import Selection
+    from pkgforge.verify.config import Selection, split_keys
     from pkgforge.verify.pipeline import VerifyOptions
 
     options = FixOptions(
         VerifyOptions(
-            Selection(_split_keys(select), _split_keys(ignore)),
+            Selection(split_keys(select), split_keys(ignore)),
             jobs=jobs,
             strict=strict,
             launch_timeout=launch_timeout,

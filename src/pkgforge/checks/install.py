@@ -28,7 +28,8 @@ RESOURCE_SUFFIXES = (
 )
 
 
-def _where(path: Path, line: int | None, model: PackageModel) -> str:
+def _place_in_package(path: Path, line: int | None, model: PackageModel) -> str:
+    """`path:line` as a message shows it: relative to the package folder when inside it."""
     try:
         shown = path.relative_to(model.path)
     except ValueError:
@@ -84,7 +85,7 @@ def install_fix(model: PackageModel, folder: str, file: str | None = None) -> st
                 # an entry for the folder exists: its file list (a glob) misses the file
                 name = Path(file).name if file else f"the files of {folder}/"
                 return (
-                    f"the data_files entry at {_where(entry.path, entry.line, model)} installs into "
+                    f"the data_files entry at {_place_in_package(entry.path, entry.line, model)} installs into "
                     f"{share}/{folder} but does not list {name}: glob() is case-sensitive and matches "
                     f"only what its pattern names (*.STL is not *.stl); use glob('{folder}/*') or fix "
                     "the pattern"
@@ -101,13 +102,11 @@ def install_fix(model: PackageModel, folder: str, file: str | None = None) -> st
             return (
                 f"'{folder}/' with a trailing slash installs the folder's contents into {into}/, "
                 f"not into {into}/{folder}/: write {folder} without the slash in "
-                f"install(DIRECTORY ...) at {_where(path, line, model)}"
+                f"install(DIRECTORY ...) at {_place_in_package(path, line, model)}"
             )
     for path, line, folders, destination in rules:
         if destination == share:
-            return (
-                f"add {folder} to install(DIRECTORY {' '.join(folders)} ...) at {_where(path, line, model)}"
-            )
+            return f"add {folder} to install(DIRECTORY {' '.join(folders)} ...) at {_place_in_package(path, line, model)}"
     return f"add install(DIRECTORY {folder} DESTINATION share/${{PROJECT_NAME}}) to CMakeLists.txt"
 
 
@@ -143,7 +142,7 @@ def install_missing_directory(ctx: CheckContext) -> Iterator[Finding]:
             missing.line,
             missing.column,
             hint=f"remove '{missing.text}' from the install rule at "
-            f"{_where(missing.path, missing.line, model)}, or create {missing.text}/ "
+            f"{_place_in_package(missing.path, missing.line, model)}, or create {missing.text}/ "
             "with a file in it (git keeps no empty folder)",
             fix={"folder": missing.text},
         )
@@ -213,7 +212,7 @@ def directory_not_installed(ctx: CheckContext) -> Iterator[Finding]:
         reference = referenced.get(folder)
         if reference is not None:
             message = (
-                f"{folder}/ is not installed, but {_where(reference.path, reference.line, model)} "
+                f"{folder}/ is not installed, but {_place_in_package(reference.path, reference.line, model)} "
                 f"refers to {reference.relative}"
             )
             severity = Severity.ERROR

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint, untree
@@ -15,6 +16,7 @@ from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding
 from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.model.package import PackageModel
+from pkgforge.urdf import ANY_MODEL_SUFFIXES
 from pkgforge.walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
@@ -37,7 +39,6 @@ LAUNCH_INFRASTRUCTURE = {
 EMPTY_PART = re.compile(r"^_|__|_$")
 # a path part that is the text of None (an f-string of os.getenv() of a variable not set)
 NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
-MODEL_SUFFIXES = (".urdf", ".xacro", ".urdf.xacro", ".sdf")
 # a package a launch file, a model or a file of the package uses: (name, source path, line, how,
 # the launch record, its resolution); the last two are None for a static reference
 Use = tuple[str, Path, "int | None", str, "Record | None", "Resolution | None"]
@@ -302,7 +303,7 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
             yield reference.package, reference.path, reference.line, reference.via, None, None
     # models: $(find pkg) and package://pkg, as written and as xacro expanded them
     for reference in ctx.model.references:
-        if reference.via in ("package://", "$(find)") and reference.path.name.endswith(MODEL_SUFFIXES):
+        if reference.via in ("package://", "$(find)") and reference.path.name.endswith(ANY_MODEL_SUFFIXES):
             yield reference.package, reference.path, reference.line, reference.via, None, None
         elif reference.via == "rviz plugin":
             yield reference.package, reference.path, reference.line, "RViz display from", None, None
@@ -469,7 +470,7 @@ def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
         for node in resolution.nodes:
             if node.package not in JSP_PACKAGES:
                 continue
-            models = [a for a in node.arguments if str(a).endswith(MODEL_SUFFIXES)]
+            models = [a for a in node.arguments if str(a).endswith(ANY_MODEL_SUFFIXES)]
             position = ctx.source_position(resolution, node.file, node.line)
             if models and position is not None and position not in seen:
                 seen.add(position)
@@ -675,7 +676,7 @@ def launch_combinations_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
         if not missing:
             continue
         branching = resolution.branching
-        stopped = branching.stopped or {}
+        stopped: Mapping[str, Any] = branching.stopped or {}
         position = ctx.source_position(resolution, stopped.get("file"), stopped.get("line")) or (
             resolution.launch.source or resolution.launch.installed,
             None,

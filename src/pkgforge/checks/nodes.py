@@ -10,10 +10,11 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
-from pkgforge.checks.launch import MODEL_SUFFIXES, _branch_note
+from pkgforge.checks.launch import _branch_note
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import Node, Resolution
+from pkgforge.urdf import ANY_MODEL_SUFFIXES
 
 
 def _node_records(
@@ -89,7 +90,7 @@ def rsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
     for package, arguments, position, node, resolution in _node_records(ctx):
         if package != "robot_state_publisher" or position in seen:
             continue
-        models = [a for a in arguments if a.endswith(MODEL_SUFFIXES)]
+        models = [a for a in arguments if a.endswith(ANY_MODEL_SUFFIXES)]
         if models:
             seen.add(position)
             # removed in Rolling: there the node starts with no model at all

@@ -14,12 +14,12 @@ from pathlib import Path
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
-from pkgforge.checks.urdf import _where
+from pkgforge.checks.urdf import model_item_position
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
 from pkgforge.urdf.select import ModelResult
-from pkgforge.urdf.structure import Geometry, JointDict, LinkDict, Part, RobotStructure
+from pkgforge.urdf.structure import Geometry, LinkDict, Part, RobotStructure
 
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake
 COLLISION_TRIANGLES = 20_000  # above this, a collision mesh slows every contact computation
@@ -33,10 +33,13 @@ def _robots(ctx: CheckContext) -> Iterator[tuple[ModelResult, RobotStructure]]:
             yield result, robot
 
 
-def _at(
-    ctx: CheckContext, result: ModelResult, item: LinkDict | JointDict, line: int | None = None
-) -> tuple[Path, int | None]:
-    return _where(ctx, result, item.get("file"), line or item.get("line"))
+def _links_that_move(robot: RobotStructure) -> set[str]:
+    """The links a non-fixed joint moves (a massless frame is fine only on a fixed joint)."""
+    return {
+        child
+        for j in robot.get("joints", [])
+        if j.get("type") != "fixed" and (child := j.get("child")) is not None
+    }
 
 
 def _root(robot: RobotStructure) -> str | None:
@@ -60,7 +63,7 @@ def _root(robot: RobotStructure) -> str | None:
 )
 def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
-        moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
+        moving = _links_that_move(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
             if inertial is None or (inertial.get("mass") or 0) > 0:
@@ -71,7 +74,7 @@ def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
             if not (frame and link["name"] not in moving):
                 yield Finding(
                     f"link '{link['name']}' has mass {inertial.get('mass')}",
-                    *_at(ctx, result, link, inertial.get("line")),
+                    *model_item_position(ctx, result, link, inertial.get("line")),
                 )
 
 
@@ -90,7 +93,7 @@ def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
 )
 def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
-        moving = {j.get("child") for j in robot.get("joints", []) if j.get("type") != "fixed"}
+        moving = _links_that_move(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
             inertia = inertial.get("inertia") if inertial is not None else None
@@ -105,13 +108,13 @@ def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
             if moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
                 yield Finding(
                     f"link '{link['name']}': inertia not positive definite (principal moments {shown})",
-                    *_at(ctx, result, link, inertial.get("line")),
+                    *model_item_position(ctx, result, link, inertial.get("line")),
                 )
             elif moments[2] > moments[0] + moments[1] + tolerance:
                 yield Finding(
                     f"link '{link['name']}': principal moments {shown} break the triangle "
                     f"inequality ({moments[2]:.4g} > {moments[0]:.4g} + {moments[1]:.4g})",
-                    *_at(ctx, result, link, inertial.get("line")),
+                    *model_item_position(ctx, result, link, inertial.get("line")),
                 )
 
 
@@ -135,7 +138,7 @@ def collision_without_inertial(ctx: CheckContext) -> Iterator[Finding]:
                 yield Finding(
                     f"link '{link['name']}' has {len(link['collisions'])} collision shape(s) and "
                     "no <inertial>",
-                    *_at(ctx, result, link),
+                    *model_item_position(ctx, result, link),
                 )
 
 
@@ -159,7 +162,7 @@ def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
         if link is not None and inertial is not None and robot.get("joints"):
             yield Finding(
                 f"root link '{root}' has an inertia, which KDL ignores",
-                *_at(ctx, result, link, inertial.get("line")),
+                *model_item_position(ctx, result, link, inertial.get("line")),
             )
 
 
@@ -184,7 +187,7 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
             if joint.get("type") not in MOVING:
                 continue
             limit = joint.get("limit")
-            where = _at(ctx, result, joint, limit.get("line") if limit else None)
+            where = model_item_position(ctx, result, joint, limit.get("line") if limit else None)
             name = f"{joint['type']} joint '{joint['name']}'"
             if limit is None:
                 yield Finding(f"{name} has no <limit>", *where)
@@ -235,7 +238,7 @@ def continuous_joint_limits(ctx: CheckContext) -> Iterator[Finding]:
             if joint.get("type") == "continuous" and (lower or upper):
                 yield Finding(
                     f"continuous joint '{joint['name']}' has lower={lower} upper={upper}, which are ignored",
-                    *_at(ctx, result, joint, limit.get("line") if limit else None),
+                    *model_item_position(ctx, result, joint, limit.get("line") if limit else None),
                 )
 
 
@@ -258,7 +261,7 @@ def joint_axis_zero(ctx: CheckContext) -> Iterator[Finding]:
             if joint.get("type") not in ("fixed", "floating") and axis is not None and not any(axis):
                 yield Finding(
                     f"joint '{joint['name']}' has axis {' '.join(f'{a:g}' for a in axis)}",
-                    *_at(ctx, result, joint),
+                    *model_item_position(ctx, result, joint),
                 )
 
 
@@ -329,7 +332,7 @@ def mesh_scale_suspect(ctx: CheckContext) -> Iterator[Finding]:
             yield Finding(
                 f"{uri} ({kind[:-1]} of link '{link['name']}') is {extent:.3g} m across, "
                 f"{ratio:.3g} times the model's typical size of {typical:.3g} m: a unit mistake?",
-                *_at(ctx, result, link, part.get("line")),
+                *model_item_position(ctx, result, link, part.get("line")),
                 hint=f'add scale="{factor} {factor} {factor}" to the <mesh>, or export it in metres',
             )
 
@@ -360,5 +363,5 @@ def collision_mesh_heavy(ctx: CheckContext) -> Iterator[Finding]:
                     seen.add(uri)
                     yield Finding(
                         f"{uri} (collision of link '{link['name']}') has {info.triangles} triangles",
-                        *_at(ctx, result, link, part.get("line")),
+                        *model_item_position(ctx, result, link, part.get("line")),
                     )

@@ -6,8 +6,9 @@ import os
 import re
 import shlex
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 from pkgforge.checks.context import CheckContext, FileFacts
 from pkgforge.checks.files import read_problem_hint, untree
@@ -21,7 +22,7 @@ from pkgforge.urdf.select import ModelResult
 from pkgforge.urdf.structure import JointDict, LinkDict, MeshDict, ModelError, RobotStructure
 
 
-def _where(
+def model_source_position(
     ctx: CheckContext, result: ModelResult, file: str | None, line: int | None
 ) -> tuple[Path, int | None]:
     """(source path, line) in this package, falling back to the model's own source file, and for
@@ -41,6 +42,14 @@ def _where(
             if position is not None:
                 return position
     return (result.source or result.installed), None
+
+
+def model_item_position(
+    ctx: CheckContext, result: ModelResult, item: Mapping[str, Any], line: int | None = None
+) -> tuple[Path, int | None]:
+    """model_source_position of an item of a model's structure or error (a link, joint, mesh):
+    its own file, at `line` when given (a line inside it, e.g. its <inertial>), else its own line."""
+    return model_source_position(ctx, result, item.get("file"), line or item.get("line"))
 
 
 def _path_split_at_spaces(files: FileFacts, words: list[str], model: str) -> str | None:
@@ -106,7 +115,7 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
             yield Finding(
                 f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
-                *_where(ctx, result, error.get("file"), error.get("line")),
+                *model_item_position(ctx, result, error),
                 hint=error.get("hint") or read_problem_hint(error.get("message")),
             )
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
@@ -227,7 +236,7 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
             yield Finding(
                 f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
                 "not installed here; the model is not checked",
-                *_where(ctx, result, error.get("file"), error.get("line")),
+                *model_item_position(ctx, result, error),
             )
     seen: set[tuple[Path, int | None]] = set()
     for resolution in ctx.resolutions:
@@ -282,7 +291,7 @@ def urdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
         if result.status == "error" and error.get("stage") == "xml":
             yield Finding(
                 f"{result.installed.name}: {error['message']}",
-                *_where(ctx, result, error.get("file"), error.get("line")),
+                *model_item_position(ctx, result, error),
             )
             continue
         robot = result.robot
@@ -291,7 +300,7 @@ def urdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
         if robot.get("root_tag") != "robot":
             yield Finding(
                 f"{result.installed.name} has <{robot.get('root_tag')}> at its root, not <robot>",
-                *_where(ctx, result, str(result.installed), 1),
+                *model_source_position(ctx, result, str(result.installed), 1),
             )
             continue
         yield from _structure_problems(ctx, result, robot)
@@ -301,7 +310,9 @@ def _structure_problems(ctx: CheckContext, result: ModelResult, robot: RobotStru
     links, joints = robot.get("links", []), robot.get("joints", [])
     items: list[LinkDict] | list[JointDict]
     if not links:
-        yield Finding(f"{result.installed.name} defines no link", *_where(ctx, result, None, None))
+        yield Finding(
+            f"{result.installed.name} defines no link", *model_source_position(ctx, result, None, None)
+        )
         return
     for kind, items in (("link", links), ("joint", joints)):
         counts = Counter(item["name"] for item in items)
@@ -310,7 +321,7 @@ def _structure_problems(ctx: CheckContext, result: ModelResult, robot: RobotStru
                 counts[item["name"]] = 0  # report each name once
                 yield Finding(
                     f"{kind} name '{item['name']}' is used more than once",
-                    *_where(ctx, result, item.get("file"), item.get("line")),
+                    *model_item_position(ctx, result, item),
                 )
     names = {link["name"] for link in links}
     parents: dict[str | None, str | None] = {}
@@ -319,13 +330,13 @@ def _structure_problems(ctx: CheckContext, result: ModelResult, robot: RobotStru
             if joint.get(role) not in names:
                 yield Finding(
                     f"joint '{joint['name']}' has {role} link '{joint.get(role)}', which does not exist",
-                    *_where(ctx, result, joint.get("file"), joint.get("line")),
+                    *model_item_position(ctx, result, joint),
                     hint=f"add a link named '{joint.get(role)}' or fix the joint's <{role} link=...>",
                 )
         if joint.get("child") in parents:
             yield Finding(
                 f"link '{joint['child']}' is the child of two joints",
-                *_where(ctx, result, joint.get("file"), joint.get("line")),
+                *model_item_position(ctx, result, joint),
             )
         parents[joint.get("child")] = joint.get("parent")
     roots = [link for link in links if link["name"] not in parents]
@@ -333,10 +344,12 @@ def _structure_problems(ctx: CheckContext, result: ModelResult, robot: RobotStru
         yield Finding(
             f"more than one root link: {', '.join(str(r['name']) for r in roots)} "
             "(every link but one must be a joint's child)",
-            *_where(ctx, result, roots[1].get("file"), roots[1].get("line")),
+            *model_item_position(ctx, result, roots[1]),
         )
     elif not roots:
-        yield Finding("the joints form a cycle: no link is the root", *_where(ctx, result, None, None))
+        yield Finding(
+            "the joints form a cycle: no link is the root", *model_source_position(ctx, result, None, None)
+        )
 
 
 def _meshes(ctx: CheckContext) -> Iterator[tuple[ModelResult, MeshDict, MeshLookup]]:
@@ -371,7 +384,7 @@ def _meshes(ctx: CheckContext) -> Iterator[tuple[ModelResult, MeshDict, MeshLook
 )
 def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
     for result, mesh, lookup in _meshes(ctx):
-        position = _where(ctx, result, mesh.get("file"), mesh.get("line"))
+        position = model_item_position(ctx, result, mesh)
         where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
         if lookup.status == "escapes":
             yield Finding(
@@ -440,7 +453,7 @@ def mesh_case_mismatch(ctx: CheckContext) -> Iterator[Finding]:
         if lookup.status == "case":
             yield Finding(
                 f"{mesh['uri']}: no such file, but '{lookup.real_name}' exists (case differs)",
-                *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                *model_item_position(ctx, result, mesh),
                 hint=f"write {lookup.real_name} in the URI (or rename the file)",
                 fix={"uri": mesh["uri"], "real_name": lookup.real_name},
             )
@@ -473,7 +486,7 @@ def mesh_source_path(ctx: CheckContext) -> Iterator[Finding]:
                     continue
                 yield Finding(
                     f"{mesh['uri']} points into the source of {folder.name}",
-                    *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                    *model_item_position(ctx, result, mesh),
                     hint=f"install it and write package://{folder.name}/{relative.as_posix()}",
                 )
                 break
@@ -498,7 +511,7 @@ def mesh_unreadable(ctx: CheckContext) -> Iterator[Finding]:
             if problem:
                 yield Finding(
                     f"{mesh['uri']}: {problem}",
-                    *_where(ctx, result, mesh.get("file"), mesh.get("line")),
+                    *model_item_position(ctx, result, mesh),
                     hint=read_problem_hint(problem),
                 )
 
@@ -521,12 +534,10 @@ def model_needs_arguments(ctx: CheckContext) -> Iterator[Finding]:
     for result in ctx.model_results:
         if result.status == "needs-arguments":
             error: ModelError = result.error or {}
-            position = _where(ctx, result, error.get("file"), error.get("line"))
+            position = model_item_position(ctx, result, error)
             if error.get("arguments"):  # declared with an empty default, and xacro fails without a value
-                declared = error.get("declared")
-                position = _where(
-                    ctx, result, *((declared["file"], declared["line"]) if declared else (None, None))
-                )
+                declared: Mapping[str, Any] = error.get("declared") or {}
+                position = model_item_position(ctx, result, declared)
                 names = ", ".join(error["arguments"])
                 first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
                 yield Finding(

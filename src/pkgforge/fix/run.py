@@ -28,6 +28,7 @@ from pkgforge.fix.edits import (
 )
 from pkgforge.fix.fixers import FIXERS, Fix, FixContext
 from pkgforge.verify.pipeline import VerifyOptions, VerifyResult, verify
+from pkgforge.walk import walk
 
 MAX_PASSES = 4
 
@@ -230,13 +231,15 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
 
     workspace = locate(path)
     root, base = workspace.root, workspace.base_path
-    files, size = 0, 0
-    for folder, dirs, names in __import__("os").walk(base):
+    files, size, limits = 0, 0, []
+    for folder, dirs, names in walk(base, limits=limits):
         dirs[:] = [d for d in dirs if d not in SKIPPED and not (Path(folder) == root and d in ROOT_OUTPUTS)]
         files += len(names)
         size += sum((Path(folder) / n).lstat().st_size for n in names)
         if files > COPY_LIMIT_FILES or size > COPY_LIMIT_BYTES:
             return None
+    if limits:  # a folder not walked (unreadable, too deep): its size is unknown
+        return None
     with tempfile.TemporaryDirectory(prefix="pkgforge-fix-diff-") as temporary:
         copy_root = Path(temporary) / "ws"
         copy_base = copy_root / base.relative_to(root)

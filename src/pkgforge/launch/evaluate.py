@@ -37,20 +37,12 @@ from pkgforge.launch.runtime import (
     LaunchDescriptionEntity,
     Unresolved,
 )
+from pkgforge.model.references import launch_format
 
 MAX_DEPTH = 32
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
 IMPORTED_FROM = re.compile(r" \((?:/|<)[^\n]*?\.py\)$")
 _module_counter = itertools.count()
-
-
-def kind_of(path: str) -> str:
-    name = path.lower()
-    if name.endswith(".py"):
-        return "py"
-    if name.endswith((".yaml", ".yml")):
-        return "yaml"
-    return "xml"
 
 
 def load_module(path: str) -> ModuleType:
@@ -65,7 +57,7 @@ def load_module(path: str) -> ModuleType:
 
 
 def load_description(path: str, kind: str | None = None) -> LaunchDescription:
-    kind = kind or kind_of(path)
+    kind = kind or launch_format(path)
     runtime._LAUNCH_FILES.add(path)
     if kind == "py":
         module = load_module(path)

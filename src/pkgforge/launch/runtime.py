@@ -424,38 +424,28 @@ def _run_command(words: list[str]) -> tuple[bool, str, str, CommandRunRecordDict
 
 
 def _run_xacro(args: list[str]) -> tuple[bool, str, str, CommandRunRecordDict]:
-    """xacro with the real library; a success also yields the model's structure, so the
-    model checks need not run xacro on it a second time."""
-    import io
+    """xacro with the real library (urdf.robot's runner); a success also yields the model's
+    structure, so the model checks need not run xacro on it a second time."""
+    from pkgforge.urdf.robot import run_xacro, structure_of_output
 
-    import xacro
-
-    process_file = getattr(xacro, "_pkgforge_real_process_file", xacro.process_file)
     files = [a for a in args if ":=" not in a and not a.startswith("-")]
     mappings = dict(a.split(":=", 1) for a in args if ":=" in a)
     if not files:
         return False, "", "xacro: no input file", {}
-    stderr = io.StringIO()
-    real_stderr, sys.stderr = sys.stderr, stderr
     global _RUNNING_XACRO
     _RUNNING_XACRO = True
-    xacro.all_includes[:] = []
     try:
-        document = process_file(files[0], mappings=mappings)
-        output = document.toprettyxml(indent="  ")
-        from pkgforge.urdf.robot import structure_of_output
-
-        includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(files[0])})
-        robot = structure_of_output(files[0], output, includes)
-        found: CommandRunRecordDict = {"robot": robot, "includes": includes} if robot else {}
-        return True, output, "", {**found, "stderr": stderr.getvalue()}
-    except BaseException as exc:  # xacro raises XacroException, IOError, SystemExit …
-        message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
-        written = stderr.getvalue().strip()
-        return False, "", f"{message}\n{written}".strip(), {}
+        run = run_xacro(files[0], mappings)
     finally:
         _RUNNING_XACRO = False
-        sys.stderr = real_stderr
+    if run.failure is not None:
+        exc = run.failure
+        message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
+        return False, "", f"{message}\n{run.stderr.strip()}".strip(), {}
+    output = run.document.toprettyxml(indent="  ")
+    robot = structure_of_output(files[0], output, run.includes)
+    found: CommandRunRecordDict = {"robot": robot, "includes": run.includes} if robot else {}
+    return True, output, "", {**found, "stderr": run.stderr}
 
 
 class ThisLaunchFileDir(Substitution):
@@ -721,19 +711,19 @@ class FindPackage(Substitution):
     def find(self, package_name: str) -> str:
         raise NotImplementedError()
 
-    def _where(self) -> FindPackage | tuple[str | None, int | None]:
+    def _place_of_lookup(self) -> FindPackage | tuple[str | None, int | None]:
         # performed: the object's place; called directly by the launch file: that call's place
         return self if self._performing else here()
 
 
 class FindPackagePrefix(FindPackage):
     def find(self, package_name: str) -> str:
-        return lookup_package(package_name, "FindPackagePrefix", self._where(), "prefix")
+        return lookup_package(package_name, "FindPackagePrefix", self._place_of_lookup(), "prefix")
 
 
 class FindPackageShare(FindPackage):
     def find(self, package_name: str) -> str:
-        return lookup_package(package_name, "FindPackageShare", self._where())
+        return lookup_package(package_name, "FindPackageShare", self._place_of_lookup())
 
 
 class ExecutableInPackage(Substitution):

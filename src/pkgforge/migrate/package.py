@@ -9,6 +9,8 @@ from lxml import etree
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
+from pkgforge.urdf import XACRO_MODEL_SUFFIXES
+from pkgforge.walk import walk
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
 DEPENDENCY_TAGS = (
@@ -55,13 +57,20 @@ def _manifest(path: Path):
 
 
 def _files(source: Path) -> list[str]:
-    found = []
-    for folder, folders, names in os.walk(source):
+    """The package's files to convert (the walk over the user's folder is pkgforge's one bounded walk:
+    a folder it cannot read or a bound it hits stops the migration before anything is written)."""
+    found, limits = [], []
+    for folder, folders, names in walk(source, limits=limits):
         folders[:] = sorted(f for f in folders if not f.startswith(".") and f not in SKIPPED_FOLDERS)
         for name in sorted(names):
             relative = os.path.relpath(os.path.join(folder, name), source)
             if not name.startswith(".") and relative not in ("package.xml", "CMakeLists.txt"):
                 found.append(Path(relative).as_posix())
+    if limits:
+        limit = limits[0]
+        raise PkgforgeError(
+            f"{limit.path}: {limit.why}; {limit.hint or 'move it out of the package'} (nothing written)"
+        )
     return found
 
 
@@ -76,7 +85,7 @@ def _models(source: Path, files: list[str], notes):
     links: set[str] = set()
     first_root, missing = None, []
     for relative in files:
-        if not relative.endswith((".urdf", ".xacro")):
+        if not relative.endswith(XACRO_MODEL_SUFFIXES):
             continue
         path = source / relative
         root = _parse(path)
@@ -174,7 +183,7 @@ def migrate(
             output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode(
                 "utf-8"
             )
-        elif relative.endswith((".urdf", ".xacro")) and etree.QName(_parse(path)).localname == "robot":
+        elif relative.endswith(XACRO_MODEL_SUFFIXES) and etree.QName(_parse(path)).localname == "robot":
             output[relative] = massless_root(
                 path.read_text(encoding="utf-8"), _parse(path), path, notes
             ).encode("utf-8")

@@ -56,14 +56,26 @@ class Reference:
 
 
 def launch_kind(path: Path) -> str | None:
-    """py | xml | yaml for launch files (by name, or by being in a launch/ folder)."""
+    """py | xml | yaml for launch files (by name, or by being in a launch/ folder); None for
+    a file that is no launch file."""
     name = path.name
     for kind in ("py", "xml", "yaml"):
         if name.endswith((f".launch.{kind}", f"_launch.{kind}")):
             return kind
     if path.parent.name == "launch" and path.suffix in (".py", ".xml", ".yaml", ".yml"):
-        return {".yml": "yaml"}.get(path.suffix, path.suffix[1:])
+        return launch_format(name)
     return None
+
+
+def launch_format(name: str) -> str:
+    """py | yaml | xml: how to read a file already known to be a launch file (an included one
+    too), by its extension; any other extension is read as XML, as launch's frontend does."""
+    name = name.lower()
+    if name.endswith(".py"):
+        return "py"
+    if name.endswith((".yaml", ".yml")):
+        return "yaml"
+    return "xml"
 
 
 def scan(source: SourceFile) -> list[Reference]:

@@ -19,6 +19,7 @@ from pathlib import Path
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
+from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 
 URI_STYLES = ("package", "find")
 FIND = re.compile(r"\$\(find ([^)\s]+)\)")
@@ -222,7 +223,7 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
     model = model.absolute()
     if not model.is_file():
         raise PkgforgeError(f"{model}: no such file; give the .urdf or .urdf.xacro to import")
-    if not model.name.lower().endswith((".urdf", ".xacro")):
+    if not model.name.lower().endswith(XACRO_MODEL_SUFFIXES):
         raise PkgforgeError(f"{model}: not a .urdf or .urdf.xacro file")
     models: dict[Path, str] = {}  # model file → its name in urdf/
     references: list[Reference] = []

@@ -9,10 +9,12 @@ line in the model or its includes where the name is written, else the file.
 from __future__ import annotations
 
 import bisect
+import dataclasses
 import io
 import os
 import re
 import sys
+import typing
 
 from lxml import etree
 
@@ -87,6 +89,41 @@ def structure_of_output(path: str, urdf: str, includes: list[str]) -> dict | Non
     return _structure(root, path, _name_index([path, *includes]), expanded=True)
 
 
+@dataclasses.dataclass
+class XacroRun:
+    """One run of the real xacro library on one file: the document it produced (None when it
+    failed), the files it included (absolute, sorted, the file itself left out), what it wrote
+    to stderr, and the exception it failed with. After a failure, xacro's module state
+    (filestack, macrostack, all_includes) still describes the failed run."""
+
+    document: typing.Any
+    includes: list[str]
+    stderr: str
+    failure: BaseException | None
+
+
+def run_xacro(path: str, mappings: dict[str, str]) -> XacroRun:
+    """The one xacro runner: the model worker and a launch file's Command(['xacro', ...]) both
+    call it. `mappings` is xacro's own: it adds the model's xacro:arg defaults to it as it
+    reads them. Uses the real process_file even when the launch worker watches the module
+    (the launch file's own xacro calls are recorded; pkgforge's are not)."""
+    import xacro
+
+    process_file = getattr(xacro, "_pkgforge_real_process_file", xacro.process_file)
+    stderr = io.StringIO()
+    real_stderr, sys.stderr = sys.stderr, stderr
+    # xacro keeps module state between runs: a fresh include list for each run
+    xacro.all_includes[:] = []
+    try:
+        document = process_file(path, mappings=mappings)
+        includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(path)})
+        return XacroRun(document, includes, stderr.getvalue(), None)
+    except BaseException as exc:  # XacroException, XML errors, IOError, SystemExit from xacro's own checks
+        return XacroRun(None, [], stderr.getvalue(), exc)
+    finally:
+        sys.stderr = real_stderr
+
+
 def _expand(path: str, mappings: dict[str, str]):
     """The xacro output (or the file itself when it uses no xacro), with the files it included."""
     with open(path, encoding="utf-8", errors="replace") as handle:
@@ -95,29 +132,22 @@ def _expand(path: str, mappings: dict[str, str]):
         return raw, None, None  # no includes: the output is the file itself
     import xacro
 
-    stderr = io.StringIO()
-    real_stderr, sys.stderr = sys.stderr, stderr
-    # xacro keeps module state between runs: a fresh include list for each model
-    xacro.all_includes[:] = []
     arguments = dict(mappings)  # xacro adds the model's own xacro:arg defaults to it as it reads them
-    try:
-        document = xacro.process_file(path, mappings=arguments)
-        includes = sorted({os.path.abspath(f) for f in xacro.all_includes} - {os.path.abspath(path)})
-        return document.toxml(), includes, None
-    except BaseException as exc:  # XacroException, XML errors, SystemExit from xacro's own checks
-        if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
-            return None, [], _recursion_error(xacro, path)
-        error = _xacro_error(xacro, exc, path, mappings)
-        if (
-            not mappings
-            and error["status"] == "error"
-            and error["error"]["stage"] == "xacro"
-            and "type" not in error["error"]
-        ):  # a worker limit hit: no second run
-            _blame_empty_arguments(xacro, path, error, arguments)
-        return None, [], error
-    finally:
-        sys.stderr = real_stderr
+    run = run_xacro(path, arguments)
+    exc = run.failure
+    if exc is None:
+        return run.document.toxml(), run.includes, None
+    if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
+        return None, [], _recursion_error(xacro, path)
+    error = _xacro_error(xacro, exc, path, mappings)
+    if (
+        not mappings
+        and error["status"] == "error"
+        and error["error"]["stage"] == "xacro"
+        and "type" not in error["error"]
+    ):  # a worker limit hit: no second run
+        _blame_empty_arguments(xacro, path, error, arguments)
+    return None, [], error
 
 
 def _blame_empty_arguments(xacro, path: str, error: dict, declared: dict) -> None:
@@ -129,15 +159,13 @@ def _blame_empty_arguments(xacro, path: str, error: dict, declared: dict) -> Non
     failure = (error["error"]["message"], error["error"]["file"], error["error"]["line"])
     blamed = []
     for name in [n for n, value in declared.items() if value == ""][:MAX_BLAME_RUNS]:
-        xacro.all_includes[:] = []
-        try:
-            xacro.process_file(path, mappings={name: f"pkgforge-stand-in-{name}"})
+        exc = run_xacro(path, {name: f"pkgforge-stand-in-{name}"}).failure
+        if exc is None:
             blamed.append(name)
             continue
-        except BaseException as exc:  # noqa: BLE001 - the same kinds as the first run
-            if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
-                continue
-            again = _xacro_error(xacro, exc, path, {})["error"]
+        if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
+            continue
+        again = _xacro_error(xacro, exc, path, {})["error"]
         if (again["message"], again["file"], again["line"]) != failure:
             blamed.append(name)
     if blamed:

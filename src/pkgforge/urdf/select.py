@@ -21,10 +21,10 @@ from pathlib import Path
 from pkgforge.launch.resolve import run_requests, source_of
 from pkgforge.model.package import PackageModel
 from pkgforge.tree import InstallTree
+from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.urdf.structure import ModelError, ModelStatus, RobotStructure
 from pkgforge.walk import walk
 
-MODEL_SUFFIXES = (".urdf", ".xacro")  # .urdf.xacro too
 # folders of a share folder whose files are no model of the package (as for launch files)
 SKIPPED_FOLDERS = ("test", "tests", "__pycache__")
 # a file larger than this is not read to classify it: processed (and reported as too large)
@@ -127,7 +127,7 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
     for root, dirs, files in walk(share, follow_links=True, inside=(model.path,), limits=model.walk_limits):
         dirs[:] = sorted(d for d in dirs if d not in SKIPPED_FOLDERS and not d.startswith("."))
         for name in sorted(files):
-            if name.endswith(MODEL_SUFFIXES):
+            if name.endswith(XACRO_MODEL_SUFFIXES):
                 shapes[Path(root) / name] = _shape(Path(root) / name, share, model.share_name)
     by_name: dict[str, list[_Shape]] = {}
     for path, shape in shapes.items():

@@ -110,7 +110,7 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
     def main(self, *, context: Any) -> int:  # noqa: D102  (colcon's CommandContext)
         from pkgforge.errors import PkgforgeError
         from pkgforge.report import render
-        from pkgforge.verify.config import Selection, load_config
+        from pkgforge.verify.config import Selection, load_config, split_keys
         from pkgforge.verify.pipeline import PackageTarget, VerifyOptions, _load, run
         from pkgforge.workspace import Workspace
 
@@ -125,7 +125,7 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
         ]
         selected = {Path(d.descriptor.path).resolve() for d in ros if d.selected}
         root = Path.cwd()
-        selection = Selection(_keys(args.pkgforge_select), _keys(args.pkgforge_ignore))
+        selection = Selection(split_keys(args.pkgforge_select), split_keys(args.pkgforge_ignore))
         options = VerifyOptions(
             selection,
             strict=args.strict,
@@ -182,7 +182,3 @@ def _memory(text: str) -> int | None:
     if size < 256 * 2**20:
         raise argparse.ArgumentTypeError(f"{text} is below the 256 MiB a launch worker needs to start")
     return size
-
-
-def _keys(values: list[str]) -> list[str]:
-    return [k.strip() for value in values for k in value.split(",") if k.strip()]

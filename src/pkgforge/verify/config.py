@@ -15,7 +15,7 @@ pkgforge.toml, at the workspace root or a package root:
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable, Collection
+from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Union
@@ -78,6 +78,12 @@ class Selection:
             for code in chosen
             if not any(_matches(c, k) for k in self.ignore for c in checks if c.code == code)
         }
+
+
+def split_keys(values: Iterable[str]) -> list[str]:
+    """--select/--ignore as given, once or more, each comma-separated: `--select PF1,PF2 --select PF3`
+    (`pkgforge verify`, `pkgforge fix` and `colcon verify` alike)."""
+    return [k.strip() for value in values for k in value.split(",") if k.strip()]
 
 
 def _matches(check: Check, key: str) -> bool:

@@ -84,7 +84,8 @@ def _mark(path: str, exists: bool, tree: InstallTree) -> str:
     return OK if exists else MISSING
 
 
-def _where(item: Record, tree: InstallTree) -> str:
+def _place_with_branches(item: Record) -> str:
+    """`file.py:12 [branch, ...]`: where a launch item stands and the branches it was seen in."""
     place = f"{os.path.basename(item.file)}:{item.line}" if item.file else f"line {item.line}"
     branches = [b for b in item.branches if b]
     return place + (f" [{', '.join(branches)}]" if branches else "")
@@ -159,7 +160,7 @@ def _render(resolution: Resolution, tree: InstallTree) -> str:
             lines.append(f"{kind}:")
             seen: set[str] = set()
             for item in sorted(items, key=lambda i: i.line or 0):
-                text = f"  {show(item, tree)}  @ {_where(item, tree)}"
+                text = f"  {show(item, tree)}  @ {_place_with_branches(item)}"
                 if text not in seen:
                     seen.add(text)
                     lines.append(text)

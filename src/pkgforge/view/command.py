@@ -6,9 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from pkgforge.errors import PkgforgeError
+from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.view import Artifacts
-
-MODEL_SUFFIXES = (".urdf", ".xacro")
 
 
 def _installed_prefix(file: Path) -> tuple[Path, str] | None:
@@ -44,7 +43,7 @@ def run_view(target: str, artifacts: Artifacts, options) -> None:
         path = _by_name(target)
     path = path.resolve()
     if path.is_file():
-        if not path.name.endswith(MODEL_SUFFIXES):
+        if not path.name.endswith(XACRO_MODEL_SUFFIXES):
             raise PkgforgeError(f"{path} is not a robot model (.urdf or .xacro)")
         _one_model(path, artifacts, options)
     else:
