@@ -17,6 +17,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,6 +26,7 @@ from pkgforge.launch.records import ITEM_KINDS, LaunchFile, Resolution, resoluti
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
+from pkgforge.sandbox.protocol import LaunchRequest, WorkerRequest
 from pkgforge.sandbox.zygote import ForkedProcess, Zygote
 from pkgforge.tree import InstallTree
 from pkgforge.walk import walk
@@ -144,7 +146,7 @@ class _Worker:
             pass
         replies.put(None)
 
-    def ask(self, request: dict, timeout: float) -> dict:
+    def ask(self, request: WorkerRequest, timeout: float) -> dict:
         if self.process is None or self.process.poll() is not None:
             try:
                 self.start()
@@ -285,7 +287,7 @@ def start_zygote(engine: LaunchEngine) -> Zygote:
 
 
 def run_requests(
-    requests: list[dict],
+    requests: Sequence[WorkerRequest],
     tree: InstallTree,
     *,
     jobs: int = 1,
@@ -379,7 +381,9 @@ def resolve(
     engine: LaunchEngine = BUILTIN,
     zygote: Zygote | None = None,
 ) -> list[Resolution]:
-    requests = [{"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files]
+    requests: list[LaunchRequest] = [
+        {"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files
+    ]
     replies = run_requests(
         requests,
         tree,
