@@ -1,0 +1,115 @@
+"""The shape of a robot model's structure and of a model's failure, as the model worker sends them.
+
+urdf/robot.py builds these dicts in the worker (they cross the process boundary and the cache as
+JSON); urdf/select.py keeps them on a ModelResult; the checks, urdf/physics.py and view/ read them.
+A TypedDict names every key once, so a renamed key is a type error on both sides, not a check
+that silently finds nothing.
+"""
+
+from __future__ import annotations
+
+from typing import Literal, TypedDict
+
+# ok | error | needs-arguments | too-large | timeout | crashed | library (only macros: checked
+# through the models that include it)
+ModelStatus = Literal["ok", "error", "needs-arguments", "too-large", "timeout", "crashed", "library"]
+MeshKind = Literal["visual", "collision", "texture"]
+
+
+class Origin(TypedDict):
+    xyz: list[float]
+    rpy: list[float]
+
+
+class Geometry(TypedDict, total=False):
+    """A visual's or collision's shape: `type` always; the others as the shape has them."""
+
+    type: str  # box | cylinder | capsule | sphere | mesh | another tag (unknown shape)
+    size: list[float] | None  # box
+    radius: float | None  # cylinder, capsule, sphere
+    length: float | None  # cylinder, capsule
+    uri: str | None  # mesh
+    scale: list[float]  # mesh
+
+
+class Part(TypedDict):
+    """One <visual> or <collision> of a link."""
+
+    geometry: Geometry | None
+    origin: Origin
+    color: list[float] | None
+    line: int | None
+
+
+class Inertial(TypedDict):
+    mass: float | None
+    inertia: dict[str, float] | None  # ixx, ixy, ixz, iyy, iyz, izz
+    origin: Origin
+    line: int | None
+
+
+class LinkDict(TypedDict):
+    name: str | None
+    file: str  # where a person edits it (the model or a file it includes)
+    line: int | None
+    inertial: Inertial | None
+    visuals: list[Part]
+    collisions: list[Part]
+
+
+class Limit(TypedDict):
+    lower: float | None
+    upper: float | None
+    velocity: float | None
+    effort: float | None
+    line: int | None
+
+
+class JointDict(TypedDict):
+    name: str | None
+    type: str | None
+    file: str
+    line: int | None
+    parent: str | None
+    child: str | None
+    origin: Origin
+    axis: list[float] | None
+    limit: Limit | None
+
+
+class MeshDict(TypedDict):
+    """A mesh (or texture) file a model references."""
+
+    uri: str
+    link: str | None  # None: a material's texture
+    kind: MeshKind
+    file: str
+    line: int | None
+
+
+class RobotStructure(TypedDict):
+    root_tag: str | None  # "robot" for a URDF; anything else is the model's defect
+    name: str | None
+    links: list[LinkDict]
+    joints: list[JointDict]
+    meshes: list[MeshDict]
+
+
+class Place(TypedDict):
+    file: str
+    line: int | None
+
+
+class ModelError(TypedDict, total=False):
+    """Why a model gave no structure: `message` and `line` always, the others as the failure has them."""
+
+    message: str
+    file: str
+    line: int | None
+    stage: Literal["xml", "xacro"]
+    hint: str
+    argument: str | None  # needs-arguments: the (first) argument xacro asked for
+    arguments: list[str]  # needs-arguments: the xacro:args with an empty default it needs
+    declared: Place  # needs-arguments: where the first of them is declared
+    type: str  # a worker limit hit inside xacro (MemoryError)
+    limit: str  # a worker limit hit: time | cpu | memory | files
