@@ -17,7 +17,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
+
+if TYPE_CHECKING:
+    from pkgforge.urdf.structure import RobotStructure
 
 Status = Literal["ok", "load-error", "timeout", "crashed"]
 Engine = Literal["builtin", "ros"]
@@ -95,7 +98,7 @@ class CommandRun(Record):
     mappings: dict[str, str] = field(default_factory=dict)  # xacro name:=value
     runtime_only: bool = False  # a run-time query, not executed at verify time
     via: str | None = None
-    robot: dict | None = None  # the model's structure, from the launch's own xacro run
+    robot: RobotStructure | None = None  # the model's structure, from the launch's own xacro run
     includes: list[str] = field(default_factory=list)
     stderr: str = ""  # what the command wrote to stderr (Command's on_stderr rule)
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import Any, Literal, TypedDict, final
 
+from pkgforge.urdf.structure import RobotStructure
+
 # what a reply's status may be: the engines' own (launch/records.Status), the model's (urdf/robot.py),
 # and the parent's when the worker gave no reply (timeout, crashed)
 ModelStatus = Literal["ok", "error", "too-large", "needs-arguments", "load-error", "timeout", "crashed"]
@@ -112,7 +114,7 @@ class ModelReply(TypedDict, total=False):
     error: ErrorRecord | None
     errors: list[ErrorRecord]  # what the guard refused while answering (none for models)
     includes: list[str]  # the files the model included (absolute paths)
-    robot: dict[str, Any]  # the structure: links, joints, meshes (urdf/robot._structure)
+    robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
     request: WorkerRequest  # the request it answers (the worker adds it)
 
 

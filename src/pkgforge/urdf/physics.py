@@ -18,12 +18,12 @@ from dataclasses import dataclass
 from functools import lru_cache
 from os import PathLike
 from types import ModuleType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 if TYPE_CHECKING:
     from lxml import etree
 
-    from pkgforge.urdf.robot import Robot
+    from pkgforge.urdf.structure import Geometry, JointDict, LinkDict, Origin, RobotStructure
 
 Vec3 = tuple[float, float, float]
 Matrix = tuple[Vec3, Vec3, Vec3]  # 3x3 rotation as three row tuples
@@ -329,7 +329,7 @@ def apply(pose: Pose, point: Sequence[float]) -> Vec3:
 
 def compose(
     pose: Pose,
-    origin: dict[str, list[float]],
+    origin: Origin,
     axis: Sequence[float] | None = None,
     angle: float = 0.0,
     slide: float = 0.0,
@@ -345,11 +345,15 @@ def compose(
     return multiply(matrix, local), apply(pose, xyz)
 
 
-def link_poses(robot: Robot, positions: dict[str, float] | None = None) -> dict[str | None, Pose]:
+def _zero_origin() -> Origin:
+    return {"xyz": [0.0] * 3, "rpy": [0.0] * 3}
+
+
+def link_poses(robot: RobotStructure, positions: dict[str, float] | None = None) -> dict[str | None, Pose]:
     """Each link's pose in the root link's frame, at zero or the given joint positions (a name
     the model leaves out is None)."""
     positions = positions or {}
-    children: dict[str | None, list[dict[str, Any]]] = {}
+    children: dict[str | None, list[JointDict]] = {}
     child_names: set[str | None] = set()
     for joint in robot.get("joints", []):
         children.setdefault(joint.get("parent"), []).append(joint)
@@ -363,11 +367,11 @@ def link_poses(robot: Robot, positions: dict[str, float] | None = None) -> dict[
             continue
         poses[name] = pose
         for joint in children.get(name, []):
-            joint_name: str | None = joint.get("name")
+            joint_name = joint.get("name")
             value = positions.get(joint_name, 0.0) if joint_name is not None else 0.0
             axis = joint.get("axis") or [1.0, 0.0, 0.0]
             kind = joint.get("type")
-            origin = joint.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3}
+            origin = joint.get("origin") or _zero_origin()
             child_pose = compose(
                 pose,
                 origin,
@@ -382,29 +386,24 @@ def link_poses(robot: Robot, positions: dict[str, float] | None = None) -> dict[
 # --- shapes and numbers ------------------------------------------------------------------------
 
 
-def local_box(geometry: dict[str, Any] | None, resolve: Resolver) -> Box | None:
+def local_box(geometry: Geometry | None, resolve: Resolver) -> Box | None:
     """(low, high) of a shape in its own frame; `resolve(uri)` → a mesh file path or None."""
     if not geometry:
         return None
     kind = geometry.get("type")
-    if kind == "box" and geometry.get("size"):
-        x, y, z = (abs(s) / 2 for s in geometry["size"])
+    size, radius, length = geometry.get("size"), geometry.get("radius"), geometry.get("length")
+    if kind == "box" and size:
+        x, y, z = (abs(s) / 2 for s in size)
         return (-x, -y, -z), (x, y, z)
-    if (
-        kind in ("cylinder", "capsule")
-        and geometry.get("radius") is not None
-        and geometry.get("length") is not None
-    ):
-        r, h = (
-            abs(geometry["radius"]),
-            abs(geometry["length"]) / 2 + (abs(geometry["radius"]) if kind == "capsule" else 0),
-        )
+    if kind in ("cylinder", "capsule") and radius is not None and length is not None:
+        r, h = abs(radius), abs(length) / 2 + (abs(radius) if kind == "capsule" else 0)
         return (-r, -r, -h), (r, r, h)
-    if kind == "sphere" and geometry.get("radius") is not None:
-        r = abs(geometry["radius"])
+    if kind == "sphere" and radius is not None:
+        r = abs(radius)
         return (-r, -r, -r), (r, r, r)
-    if kind == "mesh" and geometry.get("uri"):
-        path = resolve(geometry["uri"])
+    uri = geometry.get("uri")
+    if kind == "mesh" and uri:
+        path = resolve(uri)
         info = mesh_info(str(path)) if path else None
         if info is None:
             return None
@@ -424,10 +423,10 @@ def box_corners(box: Box) -> list[Vec3]:
 
 
 def world_bounds(
-    robot: Robot,
+    robot: RobotStructure,
     resolve: Resolver,
     positions: dict[str, float] | None = None,
-    kinds: Sequence[str] = ("visuals",),
+    kinds: Sequence[Literal["visuals", "collisions"]] = ("visuals",),
 ) -> Box | None:
     """The axis-aligned bounds of the model's shapes in the root frame, or None when it has none."""
     poses = link_poses(robot, positions)
@@ -441,15 +440,20 @@ def world_bounds(
                 box = local_box(part.get("geometry"), resolve)
                 if box is None:
                     continue
-                part_pose = compose(pose, part.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+                part_pose = compose(pose, part.get("origin") or _zero_origin())
                 points += [apply(part_pose, corner) for corner in box_corners(box)]
     if not points:
         return None
     return _box([min(p[i] for p in points) for i in range(3)], [max(p[i] for p in points) for i in range(3)])
 
 
-def total_mass(robot: Robot) -> float:
-    return sum((link.get("inertial") or {}).get("mass") or 0.0 for link in robot.get("links", []))
+def total_mass(robot: RobotStructure) -> float:
+    return sum(_mass(link) for link in robot.get("links", []))
+
+
+def _mass(link: LinkDict) -> float:
+    inertial = link.get("inertial")
+    return (inertial.get("mass") if inertial else None) or 0.0
 
 
 def principal_moments(inertia: dict[str, float]) -> list[float]:

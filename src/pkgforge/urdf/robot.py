@@ -19,9 +19,17 @@ from typing import Any
 from lxml import etree
 
 from pkgforge.sandbox.protocol import ErrorRecord, ModelReply, ModelStatus
+from pkgforge.urdf.structure import (
+    Geometry,
+    Inertial,
+    Limit,
+    LinkDict,
+    MeshKind,
+    Origin,
+    Part,
+    RobotStructure,
+)
 
-# the structure (links, joints, meshes …): plain JSON data, read by the checks and the viewer
-Robot = dict[str, Any]
 Element = etree._Element
 # (tag, literal name) → (file, line) across a model's files
 Sources = dict[tuple[str, str], tuple[str, int]]
@@ -89,7 +97,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
     }
 
 
-def structure_of_output(path: str, urdf: str, includes: list[str]) -> Robot | None:
+def structure_of_output(path: str, urdf: str, includes: list[str]) -> RobotStructure | None:
     """The structure of a xacro output produced elsewhere (a launch file's Command), or None."""
     try:
         root = etree.fromstring(urdf.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
@@ -308,7 +316,7 @@ def _name_index(files: list[str]) -> Sources:
     return index
 
 
-def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Robot:
+def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> RobotStructure:
     plain = not expanded  # element lines are the file's own lines
 
     def where(element: Element, tag: str | None = None, name: str | None = None) -> tuple[str, int | None]:
@@ -316,7 +324,7 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
             return sources[(tag, name)]
         return (path, element.sourceline if plain else None)
 
-    robot: Robot = {
+    robot: RobotStructure = {
         "root_tag": root.tag if isinstance(root.tag, str) else None,
         "name": root.get("name"),
         "links": [],
@@ -329,10 +337,18 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
     for link in root.findall("link"):
         name = link.get("name")
         file, line = where(link, "link", name)
-        robot["links"].append(
-            {"name": name, "file": file, "line": line, **_physical_link(link, materials, plain and line)}
-        )
-        for kind in ("visual", "collision"):
+        inertial, visuals, collisions = _physical_link(link, materials, plain and line)
+        entry: LinkDict = {
+            "name": name,
+            "file": file,
+            "line": line,
+            "inertial": inertial,
+            "visuals": visuals,
+            "collisions": collisions,
+        }
+        robot["links"].append(entry)
+        kinds: tuple[MeshKind, ...] = ("visual", "collision")
+        for kind in kinds:
             for part in link.findall(kind):
                 for mesh in part.iter(*GEOMETRY_URI_TAGS):
                     uri = mesh.get("filename")
@@ -344,10 +360,10 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
                             {"uri": uri, "link": name, "kind": kind, "file": mesh_file, "line": mesh_line}
                         )
     for material in root.iter("texture"):
-        if material.get("filename"):
+        if texture := material.get("filename"):
             robot["meshes"].append(
                 {
-                    "uri": material.get("filename"),
+                    "uri": texture,
                     "link": None,
                     "kind": "texture",
                     "file": path,
@@ -358,6 +374,7 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
         name = joint.get("name")
         file, line = where(joint, "joint", name)
         parent, child = joint.find("parent"), joint.find("child")
+        axis, limit = _physical_joint(joint, plain and line)
         robot["joints"].append(
             {
                 "name": name,
@@ -366,7 +383,9 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
                 "line": line,
                 "parent": parent.get("link") if parent is not None else None,
                 "child": child.get("link") if child is not None else None,
-                **_physical_joint(joint, plain and line),
+                "origin": _origin(joint),
+                "axis": axis,
+                "limit": limit,
             }
         )
     return robot
@@ -391,7 +410,7 @@ def _number(text: str | None) -> float | None:
     return values[0] if values else None
 
 
-def _origin(element: Element | None) -> dict[str, list[float]]:
+def _origin(element: Element | None) -> Origin:
     origin = element.find("origin") if element is not None else None
     if origin is None:
         return {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
@@ -411,7 +430,7 @@ def _materials(root: Element) -> dict[str, list[float]]:
     return {name: color for name, color in colors.items() if name and color}
 
 
-def _geometry(part: Element) -> dict[str, Any] | None:
+def _geometry(part: Element) -> Geometry | None:
     geometry = part.find("geometry")
     shape = next(iter(geometry), None) if geometry is not None else None
     if shape is None or not isinstance(shape.tag, str):
@@ -437,17 +456,18 @@ def _geometry(part: Element) -> dict[str, Any] | None:
 
 def _physical_link(
     link: Element, materials: dict[str, list[float]], line: int | bool | None
-) -> dict[str, Any]:
-    """A link's inertial and its visual/collision shapes, as plain numbers."""
+) -> tuple[Inertial | None, list[Part], list[Part]]:
+    """A link's inertial and its visual and collision shapes, as plain numbers."""
 
     def line_of(element: Element) -> int | None:
         return element.sourceline if line else None
 
     inertial = link.find("inertial")
-    data: dict[str, Any] = {"inertial": None, "visuals": [], "collisions": []}
+    data: Inertial | None = None
+    parts: dict[str, list[Part]] = {"visual": [], "collision": []}
     if inertial is not None:
         mass, tensor = inertial.find("mass"), inertial.find("inertia")
-        data["inertial"] = {
+        data = {
             "mass": _number(mass.get("value")) if mass is not None else None,
             "inertia": None
             if tensor is None
@@ -455,14 +475,14 @@ def _physical_link(
             "origin": _origin(inertial),
             "line": line_of(inertial),
         }
-    for kind, key in (("visual", "visuals"), ("collision", "collisions")):
+    for kind in ("visual", "collision"):
         for part in link.findall(kind):
             material = part.find("material") if kind == "visual" else None
             color = _color(material) or (
                 materials.get(material.get("name") or "") if material is not None else None
             )
             shape = part.find("geometry")
-            data[key].append(
+            parts[kind].append(
                 {
                     "geometry": _geometry(part),
                     "origin": _origin(part),
@@ -470,15 +490,15 @@ def _physical_link(
                     "line": line_of(next(iter(shape), part) if shape is not None else part),
                 }
             )
-    return data
+    return data, parts["visual"], parts["collision"]
 
 
-def _physical_joint(joint: Element, line: int | bool | None) -> dict[str, Any]:
+def _physical_joint(joint: Element, line: int | bool | None) -> tuple[list[float] | None, Limit | None]:
+    """A joint's axis and limit, as plain numbers."""
     axis, limit = joint.find("axis"), joint.find("limit")
-    return {
-        "origin": _origin(joint),
-        "axis": None if axis is None else _numbers(axis.get("xyz", "1 0 0"), 3),
-        "limit": None
+    return (
+        None if axis is None else _numbers(axis.get("xyz", "1 0 0"), 3),
+        None
         if limit is None
         else {
             "lower": _number(limit.get("lower")),
@@ -487,4 +507,4 @@ def _physical_joint(joint: Element, line: int | bool | None) -> dict[str, Any]:
             "effort": _number(limit.get("effort")),
             "line": limit.sourceline if line else None,
         },
-    }
+    )

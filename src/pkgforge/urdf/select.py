@@ -18,19 +18,19 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal, TypedDict
+from typing import TYPE_CHECKING, TypedDict
 
 from pkgforge.launch.records import LaunchFile, Resolution
 from pkgforge.launch.resolve import run_requests, source_of
 from pkgforge.model.package import PackageModel
-from pkgforge.sandbox.protocol import ErrorRecord, ModelRequest
+from pkgforge.sandbox.protocol import ModelRequest
 from pkgforge.tree import InstallTree
+from pkgforge.urdf.structure import ModelError, ModelStatus, RobotStructure
 from pkgforge.walk import walk
 
 if TYPE_CHECKING:
     from pkgforge.launch.resolve import WorkerLimits
     from pkgforge.sandbox.zygote import Zygote
-    from pkgforge.urdf.robot import Robot
 
 MODEL_SUFFIXES = (".urdf", ".xacro")  # .urdf.xacro too
 # folders of a share folder whose files are no model of the package (as for launch files)
@@ -43,13 +43,7 @@ XACRO_CONDITIONALS = {"if", "unless"}
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 
-# a model's result: the worker's status (sandbox/protocol.ModelStatus), or a macro library's
-ResultStatus = Literal[
-    "ok", "error", "needs-arguments", "too-large", "load-error", "timeout", "crashed", "library"
-]
-
-
-class Origin(TypedDict):
+class LaunchOrigin(TypedDict):
     """A launch line that feeds the model to xacro."""
 
     launch: LaunchFile
@@ -63,15 +57,16 @@ class ModelResult:
     installed: Path
     source: Path | None
     mappings: dict[str, str]
-    origins: list[Origin] = field(default_factory=list)  # launch lines that feed it to xacro
-    status: ResultStatus = "ok"
-    error: ErrorRecord | None = None
-    robot: Robot | None = None
+    origins: list[LaunchOrigin] = field(default_factory=list)  # launch lines that feed it to xacro
+    status: ModelStatus = "ok"
+    error: ModelError | None = None
+    robot: RobotStructure | None = None
     includes: list[str] = field(default_factory=list)
 
     @property
-    def links(self) -> set[str]:
-        return {link["name"] for link in (self.robot or {}).get("links", [])}
+    def links(self) -> set[str | None]:
+        """The names of the model's links (None: a link without one)."""
+        return {link["name"] for link in self.robot.get("links", [])} if self.robot else set()
 
 
 @dataclass
