@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 if sys.argv and os.path.basename(sys.argv[0]) == "pkgforge":  # the console script, before click loads:
     from pkgforge.sandbox.processes import install_signal_handlers  # a Ctrl-C while starting exits 130 too
@@ -19,6 +21,17 @@ from pkgforge.model.distros import DISTROS, NEWEST_LTS, default_distro
 from pkgforge.report import COLOR_CHOICES, FORMATS  # noqa: E402
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.verify.pipeline import VerifyResult
+
+    # click 8.2 made ParamType generic (value, input); click 8.1 (which pyproject allows) is not
+    _SizeType = click.ParamType[int | None, object]
+else:
+    _SizeType = click.ParamType
+
+_Command = TypeVar("_Command", bound=Callable[..., Any])
+
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
 
@@ -26,7 +39,7 @@ CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 
 DEBUG = {"on": bool(os.environ.get("PKGFORGE_DEBUG"))}
 
 
-def fail(error: PkgforgeError) -> None:
+def fail(error: PkgforgeError) -> NoReturn:
     click.echo(f"pkgforge: error: {error}", err=True)
     sys.exit(error.exit_code)
 
@@ -36,7 +49,7 @@ def _report_note() -> str:
     return f" to pkgforge's maintainers (pkgforge {__version__}{shown})"
 
 
-def internal_error(what: str, trace: str) -> None:
+def internal_error(what: str, trace: str) -> NoReturn:
     """An unexpected exception inside pkgforge: exit 2, the traceback only under --debug."""
     click.echo(f"pkgforge: internal error: {what}; please report it{_report_note()}", err=True)
     if DEBUG["on"]:
@@ -45,7 +58,7 @@ def internal_error(what: str, trace: str) -> None:
 
 
 class _Group(click.Group):
-    def main(self, args=None, *rest, **kwargs):
+    def main(self, args: Sequence[str] | None = None, *rest: Any, **kwargs: Any) -> Any:
         from pkgforge.sandbox.processes import Interrupted, install_signal_handlers
 
         if args is None:
@@ -65,9 +78,9 @@ class _Group(click.Group):
                 except (OSError, ValueError):
                     pass
             atexit._run_exitfuncs()
-            os._exit(stop.code)
+            os._exit(128 + stop.signum)  # its exit status (stop.code)
 
-    def invoke(self, ctx):
+    def invoke(self, ctx: click.Context) -> Any:
         """Every command's errors end as one line and exit 2: a PkgforgeError as it says, an
         OSError located at its file, anything else as an internal error (traceback under --debug)."""
         import traceback
@@ -104,19 +117,19 @@ class _Group(click.Group):
 @click.group(cls=_Group, context_settings=CONTEXT_SETTINGS)
 @click.version_option(__version__, "--version", prog_name="pkgforge")
 @click.option("--debug", is_flag=True, help="On an internal error, print its traceback.")
-def main(debug) -> None:
+def main(debug: bool) -> None:
     """Scaffold, build and verify ROS 2 robot description packages."""
     if debug:
         DEBUG["on"] = True
 
 
-class MemorySize(click.ParamType):
+class MemorySize(_SizeType):
     """A size such as 2G or 512M (bytes), or `unlimited`."""
 
     name = "SIZE"
     minimum = 256 * 2**20
 
-    def convert(self, value, param, ctx):
+    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None) -> int | None:
         from pkgforge.sandbox.processes import format_size, parse_size
 
         if isinstance(value, int) or value is None:
@@ -204,24 +217,24 @@ class MemorySize(click.ParamType):
     "file://$(find NAME)/meshes/....",
 )
 def new(
-    name,
-    distro,
-    build_type,
-    launch_format,
-    destination,
-    maintainer_name,
-    maintainer_email,
-    license_,
-    description,
-    force,
-    ci,
-    from_urdf,
-    mesh_uri,
-):
+    name: str,
+    distro: str,
+    build_type: str,
+    launch_format: str,
+    destination: Path | None,
+    maintainer_name: str | None,
+    maintainer_email: str | None,
+    license_: str,
+    description: str,
+    force: int,
+    ci: tuple[str, ...],
+    from_urdf: Path | None,
+    mesh_uri: str,
+) -> None:
     """Create a robot description package NAME that builds and shows in RViz2."""
     from pkgforge.scaffold.package import create_package, default_destination, make_spec
 
-    options = dict(
+    options: dict[str, Any] = dict(  # make_spec's keyword arguments
         name=name,
         distro=distro,
         build_type=build_type,
@@ -232,7 +245,7 @@ def new(
         description=description,
         ci=tuple(dict.fromkeys(ci)),
     )
-    notes = None
+    notes: Notes | None = None
     try:
         if from_urdf is not None:
             from pkgforge.scaffold.from_urdf import new_from_urdf
@@ -275,7 +288,7 @@ def new(
         finish_with_verify(created.path, notes)
 
 
-def finish_with_verify(package: Path, notes) -> None:
+def finish_with_verify(package: Path, notes: Notes) -> NoReturn:
     """`migrate` and `new --from-urdf`: what changed, then verify's report on the result; verify's exit status."""
     from pkgforge.report import render
     from pkgforge.verify.config import Selection
@@ -322,7 +335,7 @@ def finish_with_verify(package: Path, notes) -> None:
     help="Convert Gazebo Classic (gazebo_ros empty_world.launch, spawn_model) to Gazebo with "
     "ros_gz_sim instead of leaving it out.",
 )
-def migrate(path, destination, launch_format, distro, gazebo):
+def migrate(path: Path, destination: Path | None, launch_format: str, distro: str, gazebo: bool) -> None:
     """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
     from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.package import migrate as run_migrate
@@ -381,8 +394,15 @@ def migrate(path, destination, launch_format, distro, gazebo):
     help="Extra CMake argument, e.g. --cmake-args=-DFOO=1. Repeatable.",
 )
 def build(
-    path, build_base, install_base, packages_select, build_tests, no_stubs, parallel_workers, cmake_args
-):
+    path: Path,
+    build_base: Path | None,
+    install_base: Path | None,
+    packages_select: tuple[str, ...],
+    build_tests: bool,
+    no_stubs: bool,
+    parallel_workers: int | None,
+    cmake_args: tuple[str, ...],
+) -> None:
     """Build the workspace or package at PATH with colcon (merged install)."""
     from pkgforge.build.colcon import default_options, run_build
     from pkgforge.workspace import locate
@@ -401,7 +421,7 @@ def build(
     click.echo(f"built {len(result.packages)} package(s) into {os.path.relpath(result.install_base)}/")
 
 
-def color_option(function):
+def color_option(function: _Command) -> _Command:
     """--color, for every command whose output can be coloured."""
     return click.option(
         "--color",
@@ -414,9 +434,10 @@ def color_option(function):
     )(function)
 
 
-def _into_meta(ctx, param, value):
+def _into_meta(ctx: click.Context, param: click.Parameter, value: bool) -> None:
     """verify's --fix options: kept in the context, not in verify()'s signature."""
-    ctx.meta[param.name] = value
+    if param.name:  # an option's name (fix, unsafe_fixes)
+        ctx.meta[param.name] = value
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
@@ -562,28 +583,28 @@ def _into_meta(ctx, param, value):
     help="With --fix: also apply the fixes marked unsafe.",
 )
 def verify(
-    path,
-    fmt,
-    output,
-    junit_xml,
-    select,
-    ignore,
-    strict,
-    color,
-    jobs,
-    build_tree,
-    install_base,
-    launch_args,
-    launch_timeout,
-    worker_memory,
-    launch_engine,
-    ros_prefix,
-    no_cache,
-    target_distro,
-    explain_launch,
-    explain_model,
-    artifacts_dir,
-):
+    path: Path,
+    fmt: str,
+    output: Path | None,
+    junit_xml: Path | None,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
+    strict: bool,
+    color: str,
+    jobs: int | None,
+    build_tree: bool,
+    install_base: Path | None,
+    launch_args: tuple[str, ...],
+    launch_timeout: float,
+    worker_memory: int | None,
+    launch_engine: str,
+    ros_prefix: Path | None,
+    no_cache: bool,
+    target_distro: str | None,
+    explain_launch: Path | None,
+    explain_model: Path | None,
+    artifacts_dir: Path | None,
+) -> None:
     """Check the package(s) at PATH against their install tree.
 
     PATH is a package, a workspace root or its src/. Exit status: 0 no errors,
@@ -678,8 +699,8 @@ def verify(
         fail(error)
     from pkgforge.report import use_color
 
-    color = fmt == "text" and output is None and use_color(color, sys.stdout)
-    text = render(fmt, result, color=color, strict=strict)
+    colored = fmt == "text" and output is None and use_color(color, sys.stdout)
+    text = render(fmt, result, color=colored, strict=strict)
     if output is not None:
         try:
             output.write_text(text, encoding="utf-8")
@@ -690,7 +711,7 @@ def verify(
 
             click.echo(summary(result), err=True)
     else:
-        click.echo(text, nl=False, color=color)
+        click.echo(text, nl=False, color=colored)
     if junit_xml is not None:
         try:
             junit_xml.parent.mkdir(parents=True, exist_ok=True)
@@ -734,7 +755,14 @@ def verify(
     help="Seconds one launch file or model may take to process.",
 )
 @click.option("--no-frame", is_flag=True, help="Do not draw the root link's frame.")
-def view(target, out, joints, launch_args, launch_timeout, no_frame):
+def view(
+    target: str,
+    out: Path,
+    joints: tuple[str, ...],
+    launch_args: tuple[str, ...],
+    launch_timeout: float,
+    no_frame: bool,
+) -> None:
     """Render each robot model verify processes: four views (front, side, top, iso) as PNG and the
     kinematic tree as SVG, headless (no display, no GPU).
 
@@ -769,7 +797,7 @@ def view(target, out, joints, launch_args, launch_timeout, no_frame):
         click.echo(f"{entry['model']}: {', '.join(str(out / f) for f in files)}")
 
 
-def report_internal_errors(result) -> None:
+def report_internal_errors(result: VerifyResult) -> None:
     """A check that crashed: its diagnostic is in the report; say so on stderr (exit 2 follows)."""
     for error in result.internal_errors:
         summary, _, trace = error.partition("\n")
@@ -782,7 +810,7 @@ def report_internal_errors(result) -> None:
 @click.argument("files", nargs=-1, type=click.Path(path_type=Path))
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
 @color_option
-def verify_files(files, strict, color):
+def verify_files(files: tuple[Path, ...], strict: bool, color: str) -> NoReturn:
     """Verify the packages that hold FILES (pre-commit passes the staged files).
 
     Each package found above a file is verified once, in the fast default mode.
@@ -792,8 +820,8 @@ def verify_files(files, strict, color):
     from pkgforge.verify.pipeline import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
-    color = use_color(color, sys.stdout)
-    packages = []
+    colored = use_color(color, sys.stdout)
+    packages: list[Path] = []
     for file in files:
         folder = file.resolve().parent
         while folder != folder.parent and not (folder / "package.xml").is_file():
@@ -808,7 +836,7 @@ def verify_files(files, strict, color):
             fail(error)
         result.root = Path.cwd()  # paths as the repository shows them
         if result.diagnostics:
-            click.echo(render("text", result, color=color), nl=False, color=color)
+            click.echo(render("text", result, color=colored), nl=False, color=colored)
         report_internal_errors(result)
         status = max(status, result.exit_code(strict))
     sys.exit(status)
@@ -823,7 +851,7 @@ def verify_files(files, strict, color):
     show_default=True,
     help="markdown writes docs/checks.md.",
 )
-def checks(fmt):
+def checks(fmt: str) -> None:
     """List every check: code, name, default severity and what it finds."""
     from pkgforge.checks.catalogue import checks_markdown
     from pkgforge.checks.registry import all_checks
@@ -838,7 +866,7 @@ def checks(fmt):
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("check")
-def rule(check):
+def rule(check: str) -> None:
     """Explain one check, by code (PF302) or name (uninstalled-reference): why, an example, the fix."""
     import difflib
 
@@ -856,8 +884,8 @@ def rule(check):
     click.echo(rule_text(found), nl=False)
 
 
-def _launch_arguments(launch_args) -> dict[str, str]:
-    arguments = {}
+def _launch_arguments(launch_args: Sequence[str]) -> dict[str, str]:
+    arguments: dict[str, str] = {}
     for text in launch_args:
         name, sep, value = text.partition(":=")
         if not sep or not name:
@@ -866,7 +894,7 @@ def _launch_arguments(launch_args) -> dict[str, str]:
     return arguments
 
 
-def _fix_targets(paths) -> list[Path]:
+def _fix_targets(paths: Sequence[Path]) -> list[Path]:
     """What to fix: each PATH as given; a file stands for the package that holds it."""
     targets: list[Path] = []
     for path in paths or (Path("."),):
@@ -883,8 +911,18 @@ def _fix_targets(paths) -> list[Path]:
 
 
 def run_fix_command(
-    paths, *, select, ignore, unsafe_fixes, diff, strict, jobs, launch_args, launch_timeout, color="auto"
-) -> None:
+    paths: Sequence[Path],
+    *,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
+    unsafe_fixes: bool,
+    diff: bool,
+    strict: bool,
+    jobs: int | None,
+    launch_args: Sequence[str],
+    launch_timeout: float,
+    color: str = "auto",
+) -> NoReturn:
     """`pkgforge fix` and `pkgforge verify --fix`: fix, then report what was fixed and what remains."""
     from pkgforge.fix.report import render_fix
     from pkgforge.fix.run import FixOptions, run_fix
@@ -962,7 +1000,18 @@ def run_fix_command(
     show_default=True,
     help="Seconds one launch file may take to load and resolve.",
 )
-def fix(paths, diff, unsafe_fixes, select, ignore, strict, color, jobs, launch_args, launch_timeout):
+def fix(
+    paths: tuple[Path, ...],
+    diff: bool,
+    unsafe_fixes: bool,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
+    strict: bool,
+    color: str,
+    jobs: int | None,
+    launch_args: tuple[str, ...],
+    launch_timeout: float,
+) -> None:
     """Verify PATH (default mode), apply the fixes of what it finds, and report what remains.
 
     PATH is a package, a workspace root or its src/, or files (each stands for its package;

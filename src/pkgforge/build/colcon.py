@@ -6,10 +6,14 @@ import subprocess
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, TextIO
 
 from pkgforge.build.toolchain import Toolchain, detect, prepend_path, require_cmake
 from pkgforge.errors import BuildFailed, PkgforgeError
 from pkgforge.workspace import Workspace, discover
+
+if TYPE_CHECKING:
+    from colcon_core.package_descriptor import PackageDescriptor  # untyped: Any to mypy
 
 # Build tools and test-only packages never need a stub: ament_cmake is the
 # toolchain itself, and tests are off unless asked for.
@@ -51,12 +55,13 @@ def default_options(
     )
 
 
-def build_closure(descriptors: list, selection: list[str]) -> list:
+def build_closure(descriptors: list[PackageDescriptor], selection: list[str]) -> list[PackageDescriptor]:
     """The selected packages and every workspace package they depend on (all when none selected)."""
     if not selection:
         return descriptors
     by_name = {d.name: d for d in descriptors}
-    wanted, todo = set(), list(selection)
+    wanted: set[str] = set()
+    todo = list(selection)
     while todo:
         name = todo.pop()
         if name in wanted or name not in by_name:
@@ -67,7 +72,9 @@ def build_closure(descriptors: list, selection: list[str]) -> list:
     return [d for d in descriptors if d.name in wanted]
 
 
-def missing_dependencies(descriptors: list, toolchain: Toolchain, env: dict[str, str]) -> list[str]:
+def missing_dependencies(
+    descriptors: list[PackageDescriptor], toolchain: Toolchain, env: dict[str, str]
+) -> list[str]:
     """Build dependencies of CMake packages that neither the workspace nor a prefix provides.
 
     find_package() on them would stop the configure step on a machine without
@@ -155,7 +162,7 @@ def run_build(
     workspace: Workspace,
     options: BuildOptions,
     *,
-    out=None,
+    out: TextIO | None = None,
     colcon_output_to_stderr: bool = False,
     quiet_failures: bool = False,
 ) -> BuildResult:

@@ -18,7 +18,10 @@ import typing
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal, TypedDict, TypeVar, cast, overload
+from typing import TYPE_CHECKING, Any, Literal, TypedDict, TypeVar, cast, overload
+
+if TYPE_CHECKING:
+    from pkgforge.urdf.structure import RobotStructure
 
 Status = Literal["ok", "load-error", "timeout", "crashed"]
 Engine = Literal["builtin", "ros"]
@@ -98,7 +101,7 @@ class CommandRunRecordDict(RecordDict, total=False):
     mappings: dict[str, str]
     runtime_only: bool
     via: str | None
-    robot: dict[str, Any] | None  # urdf/robot.py's model structure (its JSON, read by the checks)
+    robot: RobotStructure | None  # urdf/robot.py's model structure (its JSON, read by the checks)
     includes: list[str]
     stderr: str
 
@@ -244,7 +247,7 @@ class CommandRun(Record):
     mappings: dict[str, str] = field(default_factory=dict)  # xacro name:=value
     runtime_only: bool = False  # a run-time query, not executed at verify time
     via: str | None = None
-    robot: dict[str, Any] | None = None  # the model's structure, from the launch's own xacro run
+    robot: RobotStructure | None = None  # the model's structure, from the launch's own xacro run
     includes: list[str] = field(default_factory=list)
     stderr: str = ""  # what the command wrote to stderr (Command's on_stderr rule)
 

@@ -17,7 +17,7 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any, cast
@@ -29,6 +29,7 @@ from pkgforge.launch.records import LaunchResultDict, Resolution, resolution_fro
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
+from pkgforge.sandbox.protocol import LaunchRequest, WorkerRequest
 from pkgforge.sandbox.zygote import ForkedProcess, Zygote, worker_environment
 from pkgforge.tree import InstallTree
 from pkgforge.walk import walk
@@ -42,7 +43,6 @@ MACHINE_DEPENDENT = ("timeout", "crashed")
 
 # what crosses the worker's pipe: one JSON object per line (a launch file's LaunchResultDict, or a
 # model's reply: urdf/select.py), the parent's own when the worker timed out or crashed
-Request = dict[str, Any]
 Reply = dict[str, Any]
 
 
@@ -158,7 +158,7 @@ class _Worker:
             pass
         replies.put(None)
 
-    def ask(self, request: Request, timeout: float) -> Reply:
+    def ask(self, request: WorkerRequest, timeout: float) -> Reply:
         process = self.process
         if process is None or process.poll() is not None:
             try:
@@ -307,7 +307,7 @@ def _death(code: int | None, limits: WorkerLimits) -> str:
 
 
 def run_requests(
-    requests: list[Request],
+    requests: Sequence[WorkerRequest],
     tree: InstallTree,
     *,
     jobs: int = 1,
@@ -344,7 +344,7 @@ def run_requests(
     )
     if scratch is not None:
         env["PKGFORGE_SCRATCH"] = scratch
-    work: queue.Queue[tuple[int, Request]] = queue.Queue()
+    work: queue.Queue[tuple[int, WorkerRequest]] = queue.Queue()
     for index, request in enumerate(requests):
         work.put((index, request))
     # a reply, or (its conversion,) once converted as it came
@@ -413,7 +413,7 @@ def resolve(
     engine: LaunchEngine = BUILTIN,
     zygote: Zygote | None = None,
 ) -> list[Resolution]:
-    requests: list[Request] = [
+    requests: list[LaunchRequest] = [
         {"file": str(launch.installed), "arguments": arguments or {}} for launch in launch_files
     ]
 

@@ -80,6 +80,10 @@ class Unknown:
         return f"Unknown({self.why})"
 
 
+# a CMake scope's variables: their values, or why pkgforge cannot know one
+Variables = dict[str, "str | Unknown"]
+
+
 @dataclass(frozen=True)
 class Pattern:
     kind: str  # PATTERN | REGEX
@@ -130,7 +134,7 @@ class _Interpreter:
         self.model = model
         self.depth = 0
 
-    def run_file(self, path: Path, variables: dict) -> None:
+    def run_file(self, path: Path, variables: Variables) -> None:
         if self.depth > MAX_INCLUDE_DEPTH:
             return
         source = read_source(path)
@@ -149,7 +153,7 @@ class _Interpreter:
         finally:
             self.depth -= 1
 
-    def run(self, commands: list[Command], variables: dict, *, conditional: bool) -> None:
+    def run(self, commands: list[Command], variables: Variables, *, conditional: bool) -> None:
         index, if_depth = 0, 0
         while index < len(commands):
             command = commands[index]
@@ -170,7 +174,7 @@ class _Interpreter:
                 self.command(command, variables, conditional or if_depth > 0)
             index += 1
 
-    def foreach(self, command: Command, body: list[Command], variables: dict, conditional: bool) -> None:
+    def foreach(self, command: Command, body: list[Command], variables: Variables, conditional: bool) -> None:
         values = self.expand_args(command.args, variables)
         if not values or isinstance(values[0], Unknown):
             return
@@ -181,7 +185,11 @@ class _Interpreter:
             keyword, rest = items[0], items[1:]
             items = rest
             if keyword == "LISTS":
-                items = [part for name in rest for part in _split_list(variables.get(name, ""))]
+                items = [
+                    part
+                    for name in rest
+                    for part in _split_list(variables.get(name, "") if isinstance(name, str) else "")
+                ]
         if any(isinstance(item, Unknown) for item in items) or (items and items[0] == "RANGE"):
             return
         for item in items:
@@ -189,7 +197,7 @@ class _Interpreter:
             scope[loop_var] = item
             self.run(body, scope, conditional=conditional)
 
-    def command(self, command: Command, variables: dict, conditional: bool) -> None:
+    def command(self, command: Command, variables: Variables, conditional: bool) -> None:
         name = command.name
         if name == "project":
             values = self.expand_args(command.args, variables)
@@ -208,11 +216,12 @@ class _Interpreter:
             values = self.expand_args(command.args, variables)
             if len(values) >= 2 and values[0] == "APPEND" and isinstance(values[1], str):
                 current = variables.get(values[1], "")
-                parts = [current] if current != "" else []
-                if isinstance(current, Unknown) or any(isinstance(v, Unknown) for v in values[2:]):
+                added = [v for v in values[2:] if not isinstance(v, Unknown)]
+                if isinstance(current, Unknown) or len(added) < len(values) - 2:
                     variables[values[1]] = Unknown(f"list {values[1]}")
                 else:
-                    variables[values[1]] = ";".join(parts + list(values[2:]))
+                    parts = [current] if current != "" else []
+                    variables[values[1]] = ";".join(parts + added)
         elif name == "include":
             self.include(command, variables)
         elif name == "add_subdirectory":
@@ -250,7 +259,7 @@ class _Interpreter:
             if values and isinstance(values[0], str):
                 self.model.find_packages.append((values[0], command))
 
-    def auto_package(self, command: Command, variables: dict) -> InstallRule | None:
+    def auto_package(self, command: Command, variables: Variables) -> InstallRule | None:
         rule = InstallRule("DIRECTORY", command, Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])))
         keywords = {"INSTALL_TO_SHARE", "INSTALL_TO_PATH", "USE_SCOPED_HEADER_INSTALL_DIR"}
         collecting = False
@@ -266,7 +275,7 @@ class _Interpreter:
         rule.destination = f"share/{project}" if isinstance(project, str) else Unknown("${PROJECT_NAME}")
         return rule
 
-    def python_install(self, command: Command, variables: dict) -> InstallRule | None:
+    def python_install(self, command: Command, variables: Variables) -> InstallRule | None:
         """ament_cmake_python: the package folder (PACKAGE_DIR, else the name) or module file."""
         values = self.expand_args(command.args, variables)
         if not values or isinstance(values[0], Unknown):
@@ -283,7 +292,7 @@ class _Interpreter:
         rule.destination = PYTHON_SITE
         return rule
 
-    def set(self, command: Command, variables: dict) -> None:
+    def set(self, command: Command, variables: Variables) -> None:
         values = self.expand_args(command.args, variables)
         if not values or isinstance(values[0], Unknown):
             return
@@ -291,12 +300,13 @@ class _Interpreter:
         for stop in ("CACHE", "PARENT_SCOPE"):
             if stop in rest:
                 rest = rest[: rest.index(stop)]
-        if any(isinstance(v, Unknown) for v in rest):
+        known = [v for v in rest if not isinstance(v, Unknown)]
+        if len(known) < len(rest):
             variables[name] = Unknown(f"variable {name}")
         else:
-            variables[name] = ";".join(rest)
+            variables[name] = ";".join(known)
 
-    def include(self, command: Command, variables: dict) -> None:
+    def include(self, command: Command, variables: Variables) -> None:
         values = self.expand_args(command.args, variables)
         if not values or isinstance(values[0], Unknown):
             return
@@ -310,7 +320,7 @@ class _Interpreter:
         if _inside(path, self.package_path) and path.is_file():
             self.run_file(path, variables)
 
-    def install(self, command: Command, variables: dict) -> InstallRule | None:
+    def install(self, command: Command, variables: Variables) -> InstallRule | None:
         args = list(command.args)
         if not args:
             return None
@@ -350,22 +360,22 @@ class _Interpreter:
 
     # --- evaluation of arguments ---------------------------------------------------------
 
-    def expand(self, arg: Argument, variables: dict) -> str | Unknown:
+    def expand(self, arg: Argument, variables: Variables) -> str | Unknown:
         if arg.kind == "bracket":
             return arg.text
         return _expand_text(arg.text, variables)
 
-    def expand_list(self, arg: Argument, variables: dict) -> list[str | Unknown]:
+    def expand_list(self, arg: Argument, variables: Variables) -> list[str | Unknown]:
         value = self.expand(arg, variables)
         if isinstance(value, Unknown) or arg.kind != "unquoted":
             return [value]
         return [part for part in _split_list(value) if part != ""]
 
-    def expand_args(self, args: tuple[Argument, ...], variables: dict) -> list[str | Unknown]:
+    def expand_args(self, args: tuple[Argument, ...], variables: Variables) -> list[str | Unknown]:
         return [value for arg in args for value in self.expand_list(arg, variables)]
 
 
-def _expand_text(text: str, variables: dict) -> str | Unknown:
+def _expand_text(text: str, variables: Variables) -> str | Unknown:
     if ENV_VARIABLE.search(text):
         return Unknown("an environment variable")
     for _ in range(32):  # innermost ${} first, so ${A_${B}} works
@@ -381,10 +391,12 @@ def _expand_text(text: str, variables: dict) -> str | Unknown:
     return re.sub(r"\\(.)", lambda m: ESCAPES.get(m.group(1), m.group(1)), text)
 
 
-def _split_list(value: str | Unknown) -> list:
+def _split_list(value: str | Unknown) -> list[str | Unknown]:
     if isinstance(value, Unknown):
         return [value]
-    parts, current, index = [], [], 0
+    parts: list[str | Unknown] = []
+    current: list[str] = []
+    index = 0
     while index < len(value):
         char = value[index]
         if char == "\\" and index + 1 < len(value) and value[index + 1] == ";":
@@ -413,7 +425,7 @@ def _block_end(commands: list[Command], start: int, opener: str, closer: str) ->
     return len(commands) - 1
 
 
-def _resolve(value: str, variables: dict) -> Path:
+def _resolve(value: str, variables: Variables) -> Path:
     path = Path(value)
     if not path.is_absolute():
         path = Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])) / path
@@ -436,7 +448,7 @@ def _inside(path: Path, folder: Path) -> bool:
 
 def load_cmake(package_path: Path) -> CMakeModel:
     model = CMakeModel()
-    variables = {
+    variables: Variables = {
         "CMAKE_CURRENT_SOURCE_DIR": str(package_path),
         "CMAKE_CURRENT_LIST_DIR": str(package_path),
         "CMAKE_SOURCE_DIR": str(package_path),

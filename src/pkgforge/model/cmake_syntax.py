@@ -40,7 +40,11 @@ class CMakeSyntaxError(Exception):
         super().__init__(message)
         self.message, self.path, self.line, self.column = message, path, line, column
 
-    def __reduce__(self):  # models cross process boundaries (parallel loading) with their errors
+    def __reduce__(
+        self,
+    ) -> tuple[
+        type[CMakeSyntaxError], tuple[str, Path, int, int]
+    ]:  # models cross process boundaries (parallel loading) with their errors
         return type(self), (self.message, self.path, self.line, self.column)
 
 
@@ -67,8 +71,15 @@ class _Scanner:
     def advance_to(self, index: int) -> str:
         return self.advance(index - self.pos)
 
-    def error(self, message: str, line: int | None = None, column: int | None = None):
+    def error(self, message: str, line: int | None = None, column: int | None = None) -> CMakeSyntaxError:
         return CMakeSyntaxError(message, self.path, line or self.line, column or self.column)
+
+    def match(self, pattern: re.Pattern[str]) -> re.Match[str]:
+        """`pattern` at the cursor, where the character there says it matches."""
+        match = pattern.match(self.text, self.pos)
+        if match is None:  # not reached: the callers look at the character first
+            raise self.error(f"unexpected {self.peek()!r}")
+        return match
 
     def skip_line_comment(self) -> None:
         end = self.text.find("\n", self.pos)
@@ -77,7 +88,7 @@ class _Scanner:
     def bracket(self, what: str) -> str:
         """Read `[==[ ... ]==]` at the cursor; return its content."""
         line, column = self.line, self.column
-        match = BRACKET_OPEN.match(self.text, self.pos)
+        match = self.match(BRACKET_OPEN)
         closing = "]" + match.group(1) + "]"
         self.advance(len(match.group(0)))
         end = self.text.find(closing, self.pos)
@@ -114,9 +125,7 @@ def _skip_space_and_comments(scanner: _Scanner, *, newlines: bool) -> None:
     while True:
         char = scanner.peek()
         if char in (" ", "\t", "\r") or (newlines and char == "\n"):
-            scanner.advance_to(
-                SPACE.match(scanner.text, scanner.pos).end()
-            ) if newlines else scanner.advance()
+            scanner.advance_to(scanner.match(SPACE).end()) if newlines else scanner.advance()
         elif char == "#":
             scanner.advance()
             if BRACKET_OPEN.match(scanner.text, scanner.pos):
@@ -172,11 +181,11 @@ def _quoted(scanner: _Scanner) -> str:
         if char == '"':
             scanner.advance()
             return "".join(out)
-        out.append(scanner.advance_to(PLAIN_QUOTED.match(scanner.text, scanner.pos).end()))
+        out.append(scanner.advance_to(scanner.match(PLAIN_QUOTED).end()))
 
 
 def _unquoted(scanner: _Scanner) -> str:
-    out = []
+    out: list[str] = []
     while True:
         char = scanner.peek()
         if not char or char in " \t\r\n()#":
@@ -193,4 +202,4 @@ def _unquoted(scanner: _Scanner) -> str:
                 )
             out.append(scanner.advance(end - scanner.pos + 1))
         else:
-            out.append(scanner.advance_to(PLAIN_UNQUOTED.match(scanner.text, scanner.pos).end()))
+            out.append(scanner.advance_to(scanner.match(PLAIN_UNQUOTED).end()))

@@ -15,6 +15,7 @@ few milliseconds: bench/distro_data.py measures it.
 from __future__ import annotations
 
 import functools
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -176,7 +177,7 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     def distro_words(text: str) -> set[str]:
         return {w for w in text.replace(",", " ").split() if w in names}
 
-    def walk(node, key: str | None = None):
+    def walk(node: object, key: str | None = None) -> None:  # parsed YAML: any JSON-like value
         if isinstance(node, dict):
             for k, v in node.items():
                 walk(v, str(k).lower())
@@ -204,7 +205,7 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
 
 
 def target_distros(
-    package_path: Path, root: Path, option: str | None, configured
+    package_path: Path, root: Path, option: str | None, configured: str | Iterable[str] | None
 ) -> tuple[tuple[str, ...], str]:
     """(distros, where that came from); ((), 'every active distro') when nothing says.
 

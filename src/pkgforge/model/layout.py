@@ -6,6 +6,7 @@ import fnmatch
 import os
 import posixpath
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -63,7 +64,9 @@ class InstallLayout:
     # where a walk of an installed folder stopped (too deep, too many files)
     walk_limits: list[WalkLimit] = field(default_factory=list)
 
-    def add(self, destination: str, source: Path | None, rule_path: Path | None, rule_line: int | None):
+    def add(
+        self, destination: str, source: Path | None, rule_path: Path | None, rule_line: int | None
+    ) -> None:
         self.files.setdefault(destination, InstalledFile(destination, source, rule_path, rule_line))
 
     def installed_sources(self) -> set[Path]:
@@ -99,7 +102,7 @@ def _matches(pattern_kind: str, pattern: str, name: str, full: str) -> bool:
         return False
 
 
-def _directory_files(source: Path, rule: InstallRule, limits: list[WalkLimit]):
+def _directory_files(source: Path, rule: InstallRule, limits: list[WalkLimit]) -> Iterator[tuple[Path, str]]:
     """(file, path relative to source) that install(DIRECTORY) copies, honouring patterns."""
     excludes = [p for p in rule.patterns if p.exclude]
     includes = [p for p in rule.patterns if not p.exclude]

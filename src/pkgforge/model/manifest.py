@@ -97,7 +97,7 @@ class Manifest:
         return max(lines) if lines else self.export_line
 
 
-def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
+def load_manifest(source: SourceFile, parsed_package: object = None) -> Manifest:
     """Build the Manifest; `parsed_package` is catkin_pkg's result when colcon already parsed it."""
     manifest = Manifest(source.path)
     if source.text is None:
@@ -113,7 +113,7 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
         return manifest
     manifest.root_line = root.sourceline or 1
     if root.tag != "package":
-        manifest.problems.append((f"the root element is <{root.tag}>, not <package>", root.sourceline))
+        manifest.problems.append((f"the root element is <{root.tag!s}>, not <package>", root.sourceline))
         return manifest
     try:
         manifest.format = int(root.get("format", "1"))
@@ -121,7 +121,7 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
         manifest.problems.append((f'format="{root.get("format")}" is not a number', root.sourceline))
     for element in root:
         if isinstance(element.tag, str):
-            manifest.element_lines.setdefault(element.tag, element.sourceline)
+            manifest.element_lines.setdefault(element.tag, element.sourceline or 1)  # lxml: 1 at least
     name_element = root.find("name")
     if name_element is not None:
         manifest.name = (name_element.text or "").strip()
@@ -130,7 +130,10 @@ def load_manifest(source: SourceFile, parsed_package=None) -> Manifest:
         if isinstance(element.tag, str) and element.tag in DEPENDENCY_TAGS:
             manifest.dependencies.append(
                 Dependency(
-                    (element.text or "").strip(), element.tag, element.sourceline, element.get("condition")
+                    (element.text or "").strip(),
+                    element.tag,
+                    element.sourceline or 1,
+                    element.get("condition"),
                 )
             )
     export = root.find("export")
@@ -159,7 +162,7 @@ def _validate_with_catkin_pkg(manifest: Manifest, text: str) -> None:
         manifest.problems.append((f"catkin_pkg cannot read it: {exc}", manifest.root_line))
 
 
-def _catkin_messages(exc) -> list[str]:
+def _catkin_messages(exc: InvalidPackage) -> list[str]:
     text = str(exc)
     text = re.sub(r"^Error\(s\) in package '[^']*':\s*", "", text)
     text = re.sub(r"^Error\(s\) in [^:]*:\s*", "", text)

@@ -13,6 +13,7 @@ from pkgforge.model.manifest import Manifest, load_manifest
 from pkgforge.model.references import Reference, launch_kind, scan
 from pkgforge.model.setup_py import SetupPyModel, load_setup_py
 from pkgforge.model.source import SourceFile, read_source
+from pkgforge.walk import WalkLimit
 
 # Top-level folders that hold run-time resources by convention.
 RESOURCE_FOLDERS = (
@@ -47,7 +48,7 @@ class PackageModel:
     sources: dict[Path, SourceFile] = field(default_factory=dict)  # every file read
     skipped: list[SourceFile] = field(default_factory=list)  # too large or unreadable
     # where a walk of the package (or of its installed share folder) stopped: folder-not-walked
-    walk_limits: list = field(default_factory=list)
+    walk_limits: list[WalkLimit] = field(default_factory=list)
 
     @property
     def share_name(self) -> str:

@@ -17,10 +17,16 @@ from __future__ import annotations
 import ast
 import re
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pkgforge.model.source import SourceFile
+
+if TYPE_CHECKING:  # both imported where they are used: most files need neither
+    import yaml
+    from lxml import etree
 
 PACKAGE_NAME = r"[A-Za-z][A-Za-z0-9_]*"
 # what ament accepts in practice (example-robot-data is a real, installed package name)
@@ -79,22 +85,23 @@ def launch_format(name: str) -> str:
 
 
 def scan(source: SourceFile) -> list[Reference]:
-    if source.text is None:
+    text = source.text
+    if text is None:
         return []
     kind = launch_kind(source.path)
     if kind == "py":
-        return _scan_python(source)
+        return _scan_python(source, text)
     if source.path.suffix == ".py":  # the package's own modules and scripts: what they import
-        return [r for r in _scan_python(source) if r.via == "import"]
-    locate = _Locator(source.text)
+        return [r for r in _scan_python(source, text) if r.via == "import"]
+    locate = _Locator(text)
     if source.path.suffix == ".rviz":
-        found = _scan_rviz(source, locate)
+        found = _scan_rviz(source, text, locate)
     elif kind == "yaml":
-        found = _scan_yaml(source, locate)
+        found = _scan_yaml(source, text, locate)
     elif source.path.suffix in (".yaml", ".yml"):
-        found = _scan_config_yaml(source, locate)
+        found = _scan_config_yaml(source, text, locate)
     else:
-        found = _scan_xml(source, locate, launch=kind == "xml")
+        found = _scan_xml(source, text, locate, launch=kind == "xml")
     found.sort(key=lambda r: (r.line, r.column or 0))
     return found
 
@@ -114,9 +121,11 @@ class _Locator:
         return line, None
 
 
-def _in_value(text: str, patterns, path: Path, line: int, locate: _Locator) -> list[Reference]:
+def _in_value(
+    text: str, patterns: list[tuple[re.Pattern[str], str]], path: Path, line: int, locate: _Locator
+) -> list[Reference]:
     """References inside one parsed value (an attribute, an element's text, a YAML scalar)."""
-    found = []
+    found: list[Reference] = []
     for pattern, via in patterns:
         for match in pattern.finditer(text):
             relative = (
@@ -130,14 +139,14 @@ def _in_value(text: str, patterns, path: Path, line: int, locate: _Locator) -> l
     return found
 
 
-def _scan_xml(source: SourceFile, locate: _Locator, *, launch: bool) -> list[Reference]:
+def _scan_xml(source: SourceFile, text: str, locate: _Locator, *, launch: bool) -> list[Reference]:
     from lxml import etree
 
     parser = etree.XMLParser(
         remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False
     )
     try:
-        root = etree.fromstring(source.text.encode("utf-8"), parser)
+        root = etree.fromstring(text.encode("utf-8"), parser)
     except (etree.XMLSyntaxError, ValueError):
         return []  # urdf-invalid, xacro-error or the launch load error reports the file
     patterns = TEXT_PATTERNS + (VALUE_PATTERNS if launch else [])
@@ -169,10 +178,10 @@ PLUGIN_LIBRARIES = {
 }
 
 
-def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
+def _plugin_uses(element: etree._Element, path: Path, locate: _Locator) -> list[Reference]:
     """<plugin>pkg/Class</plugin> (ros2_control hardware) and <plugin filename="lib...so">
     (Gazebo): the package that provides the plugin."""
-    found = []
+    found: list[Reference] = []
     line = element.sourceline or 1
     text = (element.text or "").strip()
     if "/" in text and PACKAGE_ONLY.fullmatch(text.split("/")[0]):
@@ -190,7 +199,7 @@ def _plugin_uses(element, path: Path, locate: _Locator) -> list[Reference]:
     return found
 
 
-def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
+def _scan_config_yaml(source: SourceFile, text: str, locate: _Locator) -> list[Reference]:
     """ros2_control and pluginlib YAML: `type: joint_trajectory_controller/JointTrajectoryController`,
     `plugin: "nav2_..::.."`: the package each class comes from; parameters of the
     controller_manager node (`controller_manager: {ros__parameters: ...}`) use controller_manager."""
@@ -200,7 +209,7 @@ def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
 
     found: list[Reference] = []
     try:
-        documents = compose_all(source.text)
+        documents = compose_all(text)
     except yaml.YAMLError:
         return found
     for document in documents:
@@ -222,7 +231,7 @@ def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
                             "plugin",
                         )
                     )
-    for key, value, line in _yaml_scalars(source.text):
+    for key, value, line in _yaml_scalars(text):
         if key not in ("type", "plugin", "plugin_name", "plugins"):
             continue
         value = value.strip()
@@ -233,7 +242,7 @@ def _scan_config_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
     return found
 
 
-def _yaml_scalars(text: str):
+def _yaml_scalars(text: str) -> Iterator[tuple[str | None, str, int]]:
     """(key or None, scalar value, line) for every scalar of every YAML document."""
     import yaml
 
@@ -243,7 +252,9 @@ def _yaml_scalars(text: str):
         documents = compose_all(text)
     except yaml.YAMLError:
         return
-    todo = [(None, document) for document in documents if document is not None]
+    todo: list[tuple[str | None, yaml.Node]] = [
+        (None, document) for document in documents if document is not None
+    ]
     while todo:
         key, node = todo.pop()
         if isinstance(node, yaml.ScalarNode):
@@ -256,9 +267,9 @@ def _yaml_scalars(text: str):
                 todo.append((name, value_node))
 
 
-def _scan_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
+def _scan_yaml(source: SourceFile, text: str, locate: _Locator) -> list[Reference]:
     found: list[Reference] = []
-    for key, value, line in _yaml_scalars(source.text):
+    for key, value, line in _yaml_scalars(text):
         if key == "pkg" and PACKAGE_ONLY.fullmatch(value.strip()):
             where = locate(value.strip(), line)
             found.append(Reference(value.strip(), None, source.path, where[0], where[1], "node pkg"))
@@ -266,9 +277,9 @@ def _scan_yaml(source: SourceFile, locate: _Locator) -> list[Reference]:
     return found
 
 
-def _scan_rviz(source: SourceFile, locate: _Locator) -> list[Reference]:
+def _scan_rviz(source: SourceFile, text: str, locate: _Locator) -> list[Reference]:
     found: list[Reference] = []
-    for key, value, line in _yaml_scalars(source.text):
+    for key, value, line in _yaml_scalars(text):
         if key == "Class" and "/" in value:
             package = value.split("/")[0].strip()
             if PACKAGE_ONLY.fullmatch(package):
@@ -277,25 +288,25 @@ def _scan_rviz(source: SourceFile, locate: _Locator) -> list[Reference]:
     return found
 
 
-def _scan_python(source: SourceFile) -> list[Reference]:
+def _scan_python(source: SourceFile, text: str) -> list[Reference]:
     try:
-        tree = ast.parse(source.text, filename=str(source.path))
+        tree = ast.parse(text, filename=str(source.path))
     except SyntaxError:
         return []
     found: list[Reference] = []
     bindings = _literal_bindings(tree)
 
-    def literal(node):
+    def literal(node: ast.AST) -> str | None:
         if isinstance(node, ast.Constant) and isinstance(node.value, str):
             return node.value
-        if isinstance(node, ast.Name) and isinstance(bindings.get(node.id), str):
-            return bindings[node.id]
-        return None
+        bound = bindings.get(node.id) if isinstance(node, ast.Name) else None
+        return bound if isinstance(bound, str) else None
 
-    def share_of(node):
+    def share_of(node: ast.AST) -> str | None:
         """The package whose share folder `node` evaluates to, if it is a lookup."""
-        if isinstance(node, ast.Name) and isinstance(bindings.get(node.id), ast.Call):
-            node = bindings[node.id]
+        bound = bindings.get(node.id) if isinstance(node, ast.Name) else None
+        if isinstance(bound, ast.Call):
+            node = bound
         if isinstance(node, ast.Call) and _name(node.func).split(".")[-1] in SHARE_LOOKUPS and node.args:
             return literal(node.args[0])
         return None
@@ -322,8 +333,8 @@ def _scan_python(source: SourceFile) -> list[Reference]:
                 found.append(Reference(package, None, source.path, *position, name))
         elif name in NODE_ACTIONS:
             for keyword in node.keywords:
-                if keyword.arg == "package" and literal(keyword.value):
-                    found.append(Reference(literal(keyword.value), None, source.path, *position, name))
+                if keyword.arg == "package" and (package := literal(keyword.value)):
+                    found.append(Reference(package, None, source.path, *position, name))
         elif name in PATH_JOINS:
             parts = (
                 node.args[0].elts
@@ -334,8 +345,9 @@ def _scan_python(source: SourceFile) -> list[Reference]:
             )
             if parts:
                 package = share_of(parts[0])
-                rest = [literal(p) for p in parts[1:]]
-                if package and rest and all(r is not None for r in rest):
+                literals = [literal(p) for p in parts[1:]]
+                rest = [r for r in literals if r is not None]
+                if package and rest and len(rest) == len(literals):
                     first = parts[1]
                     found.append(
                         Reference(
@@ -353,8 +365,8 @@ def _scan_python(source: SourceFile) -> list[Reference]:
                 if isinstance(node.args[0], (ast.List, ast.Tuple)) and node.args[0].elts
                 else node.args[0]
             )
-            text = literal(first)
-            if text and text.split() and text.split()[0] == "xacro":
+            command = literal(first)
+            if command and command.split() and command.split()[0] == "xacro":
                 found.append(Reference("xacro", None, source.path, *position, "Command xacro"))
         elif name == "FindExecutable":
             for keyword in node.keywords:

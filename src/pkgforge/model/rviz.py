@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TypedDict
 
 import yaml
 
@@ -13,6 +14,24 @@ from pkgforge.model.yamlnodes import compose
 ROBOT_MODEL = "rviz_default_plugins/RobotModel"
 
 
+# one display of an RViz config (a group's displays too), as the checks read it ("class" is a
+# keyword: the functional form)
+Display = TypedDict(
+    "Display",
+    {
+        "class": "str | None",  # rviz_default_plugins/RobotModel …
+        "line": int,  # its Class line, else its first line
+        "name": "str | None",
+        "enabled": bool,
+        "source": "str | None",  # Description Source: Topic | File
+        "topic": "str | None",
+        "topic_line": "int | None",
+        "file": "str | None",
+        "file_line": "int | None",
+    },
+)
+
+
 @dataclass
 class RvizConfig:
     path: Path
@@ -20,21 +39,21 @@ class RvizConfig:
     error_line: int | None = None
     fixed_frame: str | None = None
     fixed_frame_line: int | None = None
-    displays: list[dict] = field(default_factory=list)
+    displays: list[Display] = field(default_factory=list)
 
 
-def _line(node) -> int:
+def _line(node: yaml.Node) -> int:
     return node.start_mark.line + 1
 
 
-def _mapping(node) -> dict:
+def _mapping(node: yaml.Node | None) -> dict[str, yaml.Node]:
     """key → value node, for a YAML mapping node."""
     if not isinstance(node, yaml.MappingNode):
         return {}
     return {key.value: value for key, value in node.value if isinstance(key, yaml.ScalarNode)}
 
 
-def _scalar(node) -> str | None:
+def _scalar(node: yaml.Node | None) -> str | None:
     return node.value if isinstance(node, yaml.ScalarNode) else None
 
 
@@ -65,13 +84,13 @@ def read_rviz(path: Path) -> RvizConfig:
     return config
 
 
-def _key_lines(node) -> dict:
+def _key_lines(node: yaml.Node | None) -> dict[str, int]:
     if not isinstance(node, yaml.MappingNode):
         return {}
     return {key.value: _line(key) for key, _ in node.value if isinstance(key, yaml.ScalarNode)}
 
 
-def _display(node, out: list) -> None:
+def _display(node: yaml.Node, out: list[Display]) -> None:
     entries = _mapping(node)
     keys = _key_lines(node)
     klass = _scalar(entries.get("Class"))

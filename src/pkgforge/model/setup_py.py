@@ -11,13 +11,18 @@ Anything else is Unknown and reported, never guessed.
 from __future__ import annotations
 
 import ast
+import configparser
 import glob as globmodule
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from pkgforge.model.source import SourceFile
 from pkgforge.walk import walk
+
+# a value setup.py computes (str, int, bool, None, list, tuple): the user's data, checked where used
+Value = Any
 
 
 class Unevaluable(Exception):
@@ -87,7 +92,7 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
             value = evaluator.eval(data_files)
             if not isinstance(value, (list, tuple)):
                 raise Unevaluable(data_files, "data_files is not a list")
-            elements = [ast.Constant(entry, lineno=data_files.lineno) for entry in value]
+            elements: list[ast.expr] = [ast.Constant(entry, lineno=data_files.lineno) for entry in value]
         except Unevaluable as exc:
             model.unknown.append((getattr(exc.node, "lineno", data_files.lineno), exc.why))
             return model
@@ -131,7 +136,7 @@ class _Failed(ast.AST):
 class _Evaluator:
     def __init__(self, package_path: Path):
         self.package_path = package_path
-        self.names: dict[str, object] = {}
+        self.names: dict[str, Value] = {}
         self.functions: dict[str, ast.FunctionDef] = {}
         self.failed: dict[str, _Failed] = {}  # name → why its value is unknown
 
@@ -182,15 +187,16 @@ class _Evaluator:
             and isinstance(statement.value.func.value, ast.Name)
             and statement.value.func.attr in ("append", "extend")
         ):
-            call, name = statement.value, statement.value.func.value.id
+            call, method = statement.value, statement.value.func
+            name = statement.value.func.value.id
             if name not in self.names and name not in self.failed:
                 return  # a list pkgforge does not track
             try:
-                current = self.eval(call.func.value)
+                current = self.eval(method.value)
                 if not isinstance(current, list) or len(call.args) != 1 or call.keywords:
-                    raise Unevaluable(call, f"{name}.{call.func.attr}() of something not a list")
+                    raise Unevaluable(call, f"{name}.{method.attr}() of something not a list")
                 value = self.eval(call.args[0])
-                self.names[name] = current + ([value] if call.func.attr == "append" else list(value))
+                self.names[name] = current + ([value] if method.attr == "append" else list(value))
             except Unevaluable as exc:
                 self.fail(name, getattr(exc.node, "lineno", statement.lineno), exc.why)
             except TypeError:
@@ -216,7 +222,7 @@ class _Evaluator:
             for name in _changed_names([statement]):
                 self.fail(name, statement.lineno, f"changed inside a {kind} statement pkgforge does not run")
 
-    def eval(self, node: ast.AST, scope: dict | None = None):
+    def eval(self, node: ast.AST, scope: dict[str, Value] | None = None) -> Value:
         scope = scope or {}
         if isinstance(node, ast.Constant) and isinstance(
             node.value, (str, int, bool, type(None), tuple, list)
@@ -244,7 +250,7 @@ class _Evaluator:
                 raise Unevaluable(node, "'+' of different types")
             return list(left) + list(right) if isinstance(left, (list, tuple)) else left + right
         if isinstance(node, (ast.List, ast.Tuple)):
-            out = []
+            out: list[Value] = []
             for element in node.elts:
                 if isinstance(element, ast.Starred):
                     out.extend(self.eval(element.value, scope))
@@ -257,7 +263,7 @@ class _Evaluator:
             return self.call(node, scope)
         raise Unevaluable(node, f"{type(node).__name__} expressions are not evaluated")
 
-    def call(self, node: ast.Call, scope: dict):
+    def call(self, node: ast.Call, scope: dict[str, Value]) -> Value:
         name = _call_name(node.func)
         args = [self.eval(a, scope) for a in node.args]
         kwargs = {kw.arg: self.eval(kw.value, scope) for kw in node.keywords if kw.arg}
@@ -277,7 +283,7 @@ class _Evaluator:
             return self.local_function(self.functions[name], node, args)
         raise Unevaluable(node, f"{name or 'this'}() is not evaluated")
 
-    def local_function(self, function: ast.FunctionDef, node: ast.Call, args: list):
+    def local_function(self, function: ast.FunctionDef, node: ast.Call, args: list[Value]) -> Value:
         body = [
             s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))
         ]
@@ -288,10 +294,10 @@ class _Evaluator:
             raise Unevaluable(node, f"{function.name}() called with other arguments than it takes")
         return self.eval(body[0].value, dict(zip(params, args, strict=False)))
 
-    def comprehension(self, node: ast.ListComp, scope: dict):
-        results: list = []
+    def comprehension(self, node: ast.ListComp, scope: dict[str, Value]) -> list[Value]:
+        results: list[Value] = []
 
-        def loop(index: int, bound: dict):
+        def loop(index: int, bound: dict[str, Value]) -> None:
             if index == len(node.generators):
                 results.append(self.eval(node.elt, bound))
                 return
@@ -306,7 +312,7 @@ class _Evaluator:
         return results
 
 
-def _bind(target: ast.AST, value, scope: dict, node: ast.AST) -> None:
+def _bind(target: ast.AST, value: Value, scope: dict[str, Value], node: ast.AST) -> None:
     if isinstance(target, ast.Name):
         scope[target.id] = value
     elif isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == len(value):
@@ -338,17 +344,21 @@ def _changed_names(statements: list[ast.stmt]) -> set[str]:
     return names
 
 
+class _CaseKeeping(configparser.ConfigParser):
+    """A ConfigParser whose keys (data_files destinations) keep their case."""
+
+    def optionxform(self, optionstr: str) -> str:
+        return optionstr
+
+
 def _read_setup_cfg(model: SetupPyModel, package_path: Path) -> None:
     """[options.data_files] of setup.cfg: `destination = file, glob ...`, globs as setuptools expands."""
-    import configparser
-
     path = package_path / "setup.cfg"
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return
-    parser = configparser.ConfigParser(interpolation=None)
-    parser.optionxform = str  # destinations keep their case
+    parser = _CaseKeeping(interpolation=None)
     try:
         parser.read_string(text, source=str(path))
     except configparser.Error:

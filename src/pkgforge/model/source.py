@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 # Larger files are listed (they still install) but not read: a 50 MB mesh
 # exported as ASCII must not stall a pre-commit hook.
@@ -22,7 +23,7 @@ class SourceFile:
     # line number → names/codes suppressed for the line after the comment
     suppressions: dict[int, set[str]] = field(default_factory=dict)
 
-    def __getstate__(self) -> dict:
+    def __getstate__(self) -> dict[str, Any]:
         # A model crosses from a worker process to the checks, which never read
         # file text (the loaders did): leave it behind, keeping "was readable".
         state = dict(self.__dict__)

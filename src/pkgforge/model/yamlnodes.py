@@ -19,25 +19,30 @@ _FAST = getattr(yaml, "CSafeLoader", None)
 MEMO_SIZE = 32  # distinct texts kept (a 3 KB config's tree is about 150 KB)
 
 
-def compose(text: str):
+def compose(text: str) -> yaml.Node | None:
     """The single document of `text` (None when empty), as yaml.compose gives it."""
-    return _compose(text, False)
+    nodes = _compose(text, False)
+    return nodes[0] if nodes else None
 
 
-def compose_all(text: str) -> list:
+def compose_all(text: str) -> list[yaml.Node]:
     """Every document of `text`, as list(yaml.compose_all(text, Loader=yaml.SafeLoader))."""
     return list(_compose(text, True))
 
 
 @lru_cache(maxsize=MEMO_SIZE)
-def _compose(text: str, every: bool):
+def _compose(text: str, every: bool) -> tuple[yaml.Node, ...]:
+    """Every document (`every`), or the single one yaml.compose gives (none when empty)."""
     if _FAST is not None:
         try:
-            return tuple(yaml.compose_all(text, Loader=_FAST)) if every else yaml.compose(text, Loader=_FAST)
+            return _documents(text, every, _FAST)
         except yaml.YAMLError:
             pass  # PyYAML's own words below
-    return (
-        tuple(yaml.compose_all(text, Loader=yaml.SafeLoader))
-        if every
-        else yaml.compose(text, Loader=yaml.SafeLoader)
-    )
+    return _documents(text, every, yaml.SafeLoader)
+
+
+def _documents(text: str, every: bool, loader: type[yaml.SafeLoader]) -> tuple[yaml.Node, ...]:
+    if every:
+        return tuple(yaml.compose_all(text, Loader=loader))
+    node = yaml.compose(text, Loader=loader)
+    return () if node is None else (node,)

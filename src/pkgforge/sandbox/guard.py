@@ -35,6 +35,26 @@ import os
 import shutil
 import sys
 import threading
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the guard runs in any Python 3 (guard_site/): typing only for mypy
+    from collections.abc import Callable
+    from typing import TypedDict
+
+    from pkgforge.sandbox.protocol import GuardRecord
+
+    Locator = Callable[[], "tuple[str | None, int | None] | None"]
+    Handler = Callable[..., None]  # an audit event's arguments, as the event gives them
+
+    class _State(TypedDict, total=False):
+        root: str | None  # the real path of PKGFORGE_SANDBOX
+        root_pid: int | None  # the worker's pid
+        locator: Locator | None
+        spawned_at: tuple[str | None, int | None]  # where the running child was started
+        pending: list[GuardRecord]
+        sealed: int | None
+        coverage: str | None  # coverage.py's data file when it measures this process
+
 
 SANDBOX_VARIABLE = "PKGFORGE_SANDBOX"
 ROOT_PID_VARIABLE = "PKGFORGE_SANDBOX_PID"
@@ -47,7 +67,7 @@ ALLOWED_DEVICES = ("/dev/null", "/dev/zero", "/dev/stdout", "/dev/stderr", "/dev
 WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND
 SPAWN_EVENTS = {"subprocess.Popen", "os.system", "os.posix_spawn", "os.exec", "os.spawn", "os.startfile"}
 
-_state: dict = {"root": None, "root_pid": None, "locator": None, "spawned_at": (None, None), "pending": []}
+_state: _State = {"root": None, "root_pid": None, "locator": None, "spawned_at": (None, None), "pending": []}
 _busy = threading.local()
 
 
@@ -87,17 +107,17 @@ def log_path() -> str:
     return os.path.join(_state["root"] or "", LOG_NAME.format(pid=_state["root_pid"]))
 
 
-def set_locator(locator) -> None:
+def set_locator(locator: Locator) -> None:
     """A callable → (file, line) of the user code running now (the worker's launch file frames)."""
     _state["locator"] = locator
 
 
-def take() -> list[dict]:
+def take() -> list[GuardRecord]:
     """What was refused or overwritten since the last call, by this process and its children."""
     _collect()
     records, _state["pending"] = _state["pending"], []
     _state["spawned_at"] = (None, None)
-    unique = {}
+    unique: dict[tuple[str, str, str, str | None, int | None], GuardRecord] = {}
     for record in records:
         unique.setdefault(
             (record["kind"], record["operation"], record["path"], record.get("file"), record.get("line")),
@@ -121,7 +141,7 @@ def _collect() -> None:
         _busy.active = False
     for line in lines:
         try:
-            record = json.loads(line)
+            record: GuardRecord = json.loads(line)
         except ValueError:
             continue
         if record.get("file") is None and record.get("pid") != os.getpid():
@@ -133,14 +153,15 @@ def _collect() -> None:
 # --- the hook ---------------------------------------------------------------------------------
 
 
-def _hook(event: str, args: tuple) -> None:
+def _hook(event: str, args: tuple[Any, ...]) -> None:
     handler = _HANDLERS.get(event)
     if handler is None:
-        if event in SPAWN_EVENTS and _state["locator"] is not None and not getattr(_busy, "active", False):
+        locator = _state["locator"]
+        if event in SPAWN_EVENTS and locator is not None and not getattr(_busy, "active", False):
             _collect()  # what the previous child did belongs to where it was started
             _busy.active = True
             try:
-                where = _state["locator"]()
+                where = locator()
                 _state["spawned_at"] = where if where and where[0] else (None, None)
             finally:
                 _busy.active = False
@@ -154,15 +175,17 @@ def _hook(event: str, args: tuple) -> None:
         _busy.active = False
 
 
-def _path(value, dir_fd=None) -> str | None:
+def _path(value: object, dir_fd: object = None) -> str | None:
     """An absolute path for an audited path argument; None for a file descriptor."""
     if isinstance(value, int):
         return None
+    if not isinstance(value, (str, bytes, os.PathLike)):
+        return None
     try:
-        value = os.fsdecode(value)
+        path = os.fsdecode(value)
     except TypeError:
         return None
-    if not os.path.isabs(value):
+    if not os.path.isabs(path):
         try:
             base = os.getcwd()
         except OSError:
@@ -172,13 +195,13 @@ def _path(value, dir_fd=None) -> str | None:
                 base = os.readlink(f"/proc/self/fd/{dir_fd}")
             except OSError:
                 pass
-        value = os.path.join(base, value)
-    return os.path.normpath(value)
+        path = os.path.join(base, path)
+    return os.path.normpath(path)
 
 
 def _inside(real: str) -> bool:
     root = _state["root"]
-    return real == root or real.startswith(root + os.sep)
+    return real == root or real.startswith(f"{root}{os.sep}")
 
 
 def _location(path: str) -> str:
@@ -197,7 +220,7 @@ def _check(
         or path in ALLOWED_DEVICES
         or path.startswith("/dev/fd/")
         or path.startswith("/proc/self/fd/")
-        or (_state.get("coverage") and path.startswith(_state["coverage"]))
+        or path.startswith(_state.get("coverage") or "\0")  # never a path prefix when unset
     ):
         return
     location = _location(path)
@@ -223,7 +246,7 @@ def _check(
 def _installed(location: str) -> bool:
     """An entry of the install tree as pkgforge made it (not one a launch file made since)."""
     sealed = _state.get("sealed")
-    if not sealed or not location.startswith(os.path.join(_state["root"], "install") + os.sep):
+    if not sealed or not location.startswith(os.path.join(_state["root"] or "", "install") + os.sep):
         return False
     try:
         return os.lstat(location).st_mtime_ns <= sealed
@@ -251,7 +274,7 @@ def _copy_on_write(link: str, target: str) -> None:
 
 
 def _record(kind: str, operation: str, path: str) -> None:
-    record = {"kind": kind, "pid": os.getpid(), "operation": operation, "path": path}
+    record: GuardRecord = {"kind": kind, "pid": os.getpid(), "operation": operation, "path": path}
     locator = _state["locator"]
     if locator is not None:
         record["file"], record["line"] = locator() or (None, None)
@@ -272,17 +295,17 @@ def _refuse(
     raise PermissionError(1, f"{MARKER} to {operation} {path}: {reason}")
 
 
-def _open(path, mode, flags) -> None:
+def _open(path: object, mode: object, flags: object) -> None:
     if isinstance(flags, int) and flags & WRITE_FLAGS or isinstance(mode, str) and set(mode) & set("wax+"):
         _check(_path(path), "write", follow=True)
 
 
-def _truncate(path, *rest) -> None:
+def _truncate(path: object, *rest: object) -> None:
     _check(_path(path), "truncate", follow=True)
 
 
-def _two(operation: str, *, follow_source: bool = False):
-    def handler(source, destination, *rest):
+def _two(operation: str, *, follow_source: bool = False) -> Handler:
+    def handler(source: object, destination: object, *rest: object) -> None:
         source_fd = rest[0] if rest else None
         destination_fd = rest[1] if len(rest) > 1 else None
         if follow_source:  # a hard link to a file out of the folder would write through to it
@@ -296,15 +319,15 @@ def _two(operation: str, *, follow_source: bool = False):
     return handler
 
 
-def _one(operation: str, *, follow: bool, dir_fd: int | None = None, **when):
-    def handler(path, *rest):
+def _one(operation: str, *, follow: bool, dir_fd: int | None = None, **when: bool) -> Handler:
+    def handler(path: object, *rest: object) -> None:
         fd = rest[dir_fd - 1] if dir_fd is not None and len(rest) >= dir_fd else None
         _check(_path(path, fd), operation, follow=follow, **when)
 
     return handler
 
 
-def _symlink(source, destination, dir_fd=None, *rest) -> None:
+def _symlink(source: object, destination: object, dir_fd: object = None, *rest: object) -> None:
     _check(_path(destination, dir_fd), "create a link at", follow=False, creates=True)
 
 
@@ -324,7 +347,7 @@ def _descendant(pid: int) -> bool:
     return False
 
 
-def _kill(pid, signal, *rest) -> None:
+def _kill(pid: object, signal: object, *rest: object) -> None:
     if not isinstance(pid, int):
         return
     if pid == 0 or (pid > 0 and _descendant(pid)):
@@ -334,13 +357,13 @@ def _kill(pid, signal, *rest) -> None:
     _refuse_signal(pid, signal)
 
 
-def _killpg(pgid, signal, *rest) -> None:
+def _killpg(pgid: object, signal: object, *rest: object) -> None:
     if isinstance(pgid, int) and (pgid in (0, os.getpgrp()) or _descendant(pgid)):
         return
     _refuse_signal(-pgid if isinstance(pgid, int) else pgid, signal)
 
 
-def _refuse_signal(pid, signal) -> None:
+def _refuse_signal(pid: object, signal: object) -> None:
     _refuse(
         f"send signal {int(signal) if isinstance(signal, int) else signal} to",
         f"process {pid}",
@@ -348,7 +371,7 @@ def _refuse_signal(pid, signal) -> None:
     )
 
 
-_HANDLERS = {
+_HANDLERS: dict[str, Handler] = {
     "open": _open,
     "os.remove": _one("delete", follow=False, dir_fd=1, needs=True),
     "os.rmdir": _one("delete", follow=False, dir_fd=1, needs=True),

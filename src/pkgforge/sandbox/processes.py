@@ -19,6 +19,8 @@ import signal
 import sys
 import threading
 import time
+from collections.abc import Set as AbstractSet
+from types import FrameType
 
 PR_SET_PDEATHSIG = 1
 PR_SET_CHILD_SUBREAPER = 36
@@ -44,7 +46,8 @@ def _prctl(option: int, value: int) -> bool:
         import ctypes
 
         libc = ctypes.CDLL(None, use_errno=True)
-        return libc.prctl(option, value, 0, 0, 0) == 0
+        status: int = libc.prctl(option, value, 0, 0, 0)  # ctypes: C int
+        return status == 0
     except (OSError, AttributeError):
         return False
 
@@ -105,7 +108,9 @@ def _signal(pid: int, signum: int) -> None:
         pass
 
 
-def kill_tree(roots: set[int], *, below: set[int] = frozenset(), skip: set[int] = frozenset()) -> set[int]:
+def kill_tree(
+    roots: AbstractSet[int], *, below: AbstractSet[int] = frozenset(), skip: AbstractSet[int] = frozenset()
+) -> set[int]:
     """Stop, then kill, the `roots` and every process below them and below `below`.
 
     Processes are stopped until the tree stops growing (a stopped process cannot
@@ -126,7 +131,7 @@ def kill_tree(roots: set[int], *, below: set[int] = frozenset(), skip: set[int] 
     return stopped
 
 
-def reap(pids: set[int], *, timeout: float = 2.0, keep: set[int] = frozenset()) -> None:
+def reap(pids: AbstractSet[int], *, timeout: float = 2.0, keep: AbstractSet[int] = frozenset()) -> None:
     """Collect the exit status of killed processes re-parented to this one (no zombies left).
 
     `keep`: children whose status their subprocess.Popen object collects.
@@ -147,7 +152,7 @@ def reap(pids: set[int], *, timeout: float = 2.0, keep: set[int] = frozenset()) 
             time.sleep(0.005)
 
 
-def kill_descendants(*, except_for: set[int] = frozenset()) -> None:
+def kill_descendants(*, except_for: AbstractSet[int] = frozenset()) -> None:
     """Kill and reap every process below this one (all workers, colcon, what they started)."""
     me = os.getpid()
     roots = descendants(me) - set(except_for)
@@ -160,7 +165,7 @@ def kill_descendants(*, except_for: set[int] = frozenset()) -> None:
 _handling = False
 
 
-def _on_signal(signum: int, frame) -> None:
+def _on_signal(signum: int, frame: FrameType | None) -> None:
     global _handling
     cancelled.set()
     kill_descendants()

@@ -25,7 +25,23 @@ import os
 import signal
 import sys
 import traceback
+from collections.abc import Mapping
 from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING, Any, cast
+
+from pkgforge.sandbox.protocol import (
+    ErrorRecord,
+    LaunchReply,
+    LimitKind,
+    WorkerLimits,
+    WorkerReply,
+    WorkerRequest,
+)
+
+if TYPE_CHECKING:
+    from pkgforge.launch.records import BranchBudget
+    from pkgforge.sandbox.processes import LoadAllowance
 
 API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
@@ -57,14 +73,15 @@ def _install_api() -> None:
 # --- limits ---------------------------------------------------------------------------------
 
 
-def _read_limits() -> dict:
+def _read_limits() -> WorkerLimits:
     try:
-        return json.loads(os.environ.pop("PKGFORGE_WORKER_LIMITS", "{}"))
+        limits: WorkerLimits = json.loads(os.environ.pop("PKGFORGE_WORKER_LIMITS", "{}"))
+        return limits
     except ValueError:
         return {}
 
 
-def _apply_limits(limits: dict) -> None:
+def _apply_limits(limits: WorkerLimits) -> None:
     """Process-wide limits and the parent-death signal, before any user code runs."""
     import resource
 
@@ -74,11 +91,12 @@ def _apply_limits(limits: dict) -> None:
         die_with_parent(int(limits["parent"]))
     become_subreaper()
     _set(resource.RLIMIT_CORE, 0)
-    if limits.get("memory"):
-        _set(resource.RLIMIT_AS, int(limits["memory"]))
+    memory = limits.get("memory")
+    if memory:
+        _set(resource.RLIMIT_AS, int(memory))
     _set(resource.RLIMIT_NOFILE, OPEN_FILES)
 
-    def on_alarm(signum, frame):
+    def on_alarm(signum: int, frame: FrameType | None) -> None:
         # the time it waited for a busy CPU is not its own: the limit grows by it (to a bound)
         more = _allowance.more() if _allowance is not None else 0.0
         if more:
@@ -86,7 +104,7 @@ def _apply_limits(limits: dict) -> None:
             return
         raise TimeLimit()
 
-    def on_xcpu(signum, frame):
+    def on_xcpu(signum: int, frame: FrameType | None) -> None:
         raise CPULimit()
 
     signal.signal(signal.SIGALRM, on_alarm)
@@ -95,7 +113,7 @@ def _apply_limits(limits: dict) -> None:
 
 # this request's LoadAllowance (processes.py), stopped while the extra argument combinations run
 # (their own budget) and between requests; None before the first request with a time limit
-_allowance = None
+_allowance: LoadAllowance | None = None
 
 
 def _set(kind: int, value: int) -> None:
@@ -110,7 +128,7 @@ def _set(kind: int, value: int) -> None:
         pass
 
 
-def _arm(limits: dict) -> None:
+def _arm(limits: WorkerLimits) -> None:
     """This request's wall-time alarm and CPU-time soft limit (the CPU limit counts the whole
     process, so it is set to what was used so far plus this request's share)."""
     import resource
@@ -133,7 +151,7 @@ def _arm(limits: dict) -> None:
         pass
 
 
-def _budget(limits: dict):
+def _budget(limits: WorkerLimits) -> BranchBudget | None:
     """How long this request's argument combinations past the defaults may run (records.BranchBudget):
     until BRANCH_SHARE of the time limit, leaving the rest for the reply. The defaults have the
     whole limit: a file that finishes them is never an error for want of time for the others."""
@@ -173,12 +191,12 @@ def _disarm() -> None:
         pass
 
 
-def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
+def _limit_message(error: ErrorRecord, limits: WorkerLimits) -> tuple[LimitKind, str] | None:
     """(limit, message) when an error record is a limit breach."""
     from pkgforge.sandbox.processes import format_size
 
     kind, message = error.get("type"), str(error.get("message", ""))
-    timeout = limits.get("timeout")
+    timeout = limits.get("timeout") or 0.0
     if kind == "TimeLimit":
         granted = _allowance.granted if _allowance is not None else 0.0
         busy = f" and {granted:.1f} s more it waited for a busy CPU" if granted else ""
@@ -189,7 +207,8 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     if kind == "CPULimit":
         return "cpu", f"used more than the {timeout:g} s CPU time limit; raise it with --launch-timeout"
     if kind == "MemoryError" or message.startswith("MemoryError"):
-        size = format_size(int(limits["memory"])) if limits.get("memory") else "available"
+        memory = limits.get("memory")
+        size = format_size(int(memory)) if memory else "available"
         return "memory", (
             f"the launch worker's {size} memory limit was hit; "
             "raise it with --worker-memory (e.g. --worker-memory 4G)"
@@ -202,7 +221,7 @@ def _limit_message(error: dict, limits: dict) -> tuple[str, str] | None:
     return None
 
 
-def _mark_limits(result: dict, limits: dict) -> None:
+def _mark_limits(result: WorkerReply, limits: WorkerLimits) -> None:
     """Name the limit a breach hit (the parent never caches such a result)."""
     records = [result.get("error")] + list(result.get("errors", []))
     for record in records:
@@ -223,13 +242,13 @@ def _mark_limits(result: dict, limits: dict) -> None:
             record["message"] = f"{prefix}MemoryError: {breach[1]}"
 
 
-def _located(request: dict, error: BaseException) -> dict:
+def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
     """An error that escaped evaluate() (a limit hit while visiting), at the launch file's line."""
-    record = {
+    record: ErrorRecord = {
         "stage": "worker",
         "type": type(error).__name__,
         "message": str(error),
-        "file": request.get("file") or request.get("model"),
+        "file": request["file"] if "file" in request else request["model"],
         "line": None,
     }
     if "file" in request:
@@ -261,12 +280,12 @@ def _install_guard() -> bool:
         os.pathsep + os.environ["PYTHONPATH"] if os.environ.get("PYTHONPATH") else ""
     )
 
-    def where():
+    def where() -> tuple[str | None, int | None]:
         from pkgforge.launch import runtime
 
         file, line = runtime.here()
         if file is None:  # a construct being visited (a Command running): where it was written
-            frame = sys._getframe(1)
+            frame: FrameType | None = sys._getframe(1)
             while frame is not None and file is None:
                 owner = frame.f_locals.get("self")
                 file, line = getattr(owner, "_file", None), getattr(owner, "_line", None)
@@ -277,7 +296,7 @@ def _install_guard() -> bool:
     return True
 
 
-def _refusals(result: dict, request: dict) -> None:
+def _refusals(result: WorkerReply, request: WorkerRequest) -> None:
     """What the guard refused, or saw overwritten in the tree, while answering: located records."""
     from pkgforge.sandbox import guard
 
@@ -298,6 +317,11 @@ def _refusals(result: dict, request: dict) -> None:
                 "line": record.get("line"),
             }
         )
+
+
+def _launch_reply(reply: Mapping[str, Any]) -> LaunchReply:
+    """An engine's reply (plain data, launch/records.as_dict) as the protocol's type."""
+    return cast(LaunchReply, reply)
 
 
 def preload() -> None:
@@ -356,7 +380,8 @@ def main() -> None:
     from pkgforge.urdf.robot import process_model
 
     for line in sys.stdin:
-        request = json.loads(line)
+        request: WorkerRequest = json.loads(line)
+        result: WorkerReply
         try:
             try:
                 _arm(limits)
@@ -364,13 +389,13 @@ def main() -> None:
                 if "model" in request:
                     result = process_model(request["model"], request.get("mappings", {}))
                 elif engine == "ros" and setup_error is not None:
-                    result = dict(ros_engine.error_reply(request["file"], setup_error, distro))
+                    result = _launch_reply(ros_engine.error_reply(request["file"], setup_error, distro))
                 elif engine == "ros":
-                    result = dict(  # a LaunchResultDict, as the JSON line it becomes
+                    result = _launch_reply(
                         ros_engine.evaluate(request["file"], request.get("arguments", {}), distro, budget)
                     )
                 else:
-                    result = dict(evaluate(request["file"], request.get("arguments", {}), budget))
+                    result = _launch_reply(evaluate(request["file"], request.get("arguments", {}), budget))
             finally:
                 _disarm()
         except BaseException as error:  # noqa: BLE001 - the reply must always come
@@ -379,9 +404,9 @@ def main() -> None:
                 from pkgforge.launch.records import as_dict
                 from pkgforge.launch.runtime import RECORDER
 
-                result["errors"] = [as_dict(e) for e in RECORDER.errors]
+                result["errors"] = [cast(ErrorRecord, as_dict(e)) for e in RECORDER.errors]
         _mark_limits(result, limits)
-        if isinstance(result.get("branching"), dict):
+        if "branching" in result and isinstance(result["branching"], dict):
             result["branching"]["limit"] = limits.get("timeout")
         if guarded:
             _refusals(result, request)

@@ -30,6 +30,8 @@ import sys
 import threading
 import time
 
+from pkgforge.sandbox.protocol import Exited, Forked, ForkReply, ForkRequest, WorkerLimits
+
 LIMITS_VARIABLE = "PKGFORGE_WORKER_LIMITS"
 START_TIMEOUT = 60.0  # seconds for the server to fork a child (it imports first)
 
@@ -73,7 +75,8 @@ def serve(channel: int) -> None:
                 _child(json.loads(message), fds, sock, (wake_read, wake_write))
             for fd in fds:
                 os.close(fd)
-            sock.send(json.dumps({"pid": pid}).encode())
+            forked: Forked = {"pid": pid}
+            sock.send(json.dumps(forked).encode())
         _report_exits(sock)
 
 
@@ -85,10 +88,11 @@ def _report_exits(sock: socket.socket) -> None:
             return
         if pid == 0:
             return
-        sock.send(json.dumps({"exit": pid, "code": os.waitstatus_to_exitcode(status)}).encode())
+        exited: Exited = {"exit": pid, "code": os.waitstatus_to_exitcode(status)}
+        sock.send(json.dumps(exited).encode())
 
 
-def _child(request: dict, fds: list[int], sock: socket.socket, wake: tuple[int, int]) -> None:
+def _child(request: ForkRequest, fds: list[int], sock: socket.socket, wake: tuple[int, int]) -> None:
     """In the forked child: become a worker as `python -m pkgforge.sandbox.worker` would. Never returns."""
     code = 1
     try:
@@ -104,7 +108,7 @@ def _child(request: dict, fds: list[int], sock: socket.socket, wake: tuple[int, 
         os.close(stdin)
         os.close(stdout)
         env = dict(request["env"])
-        limits = json.loads(env.get(LIMITS_VARIABLE) or "{}")
+        limits: WorkerLimits = json.loads(env.get(LIMITS_VARIABLE) or "{}")
         limits["parent"] = os.getppid()  # dies with the server, which dies with pkgforge
         env[LIMITS_VARIABLE] = json.dumps(limits)
         os.environ.clear()
@@ -151,7 +155,7 @@ class _Server:
         finally:
             theirs.close()
         self.sock = ours
-        self.forks: queue.Queue = queue.Queue()
+        self.forks: queue.Queue[Forked | None] = queue.Queue()
         self.exits: dict[int, int] = {}
         self.changed = threading.Condition()
         self.gone = False
@@ -165,7 +169,7 @@ class _Server:
                 data = b""
             if not data:
                 break
-            message = json.loads(data)
+            message: ForkReply = json.loads(data)
             if "exit" in message:
                 with self.changed:
                     self.exits[message["exit"]] = message["code"]
@@ -183,7 +187,8 @@ class _Server:
         stdout_read, stdout_write = os.pipe()
         reply, cause = None, ""
         try:
-            socket.send_fds(self.sock, [json.dumps({"env": env}).encode()], [stdin_read, stdout_write])
+            request: ForkRequest = {"env": env}
+            socket.send_fds(self.sock, [json.dumps(request).encode()], [stdin_read, stdout_write])
             reply = self.forks.get(timeout=START_TIMEOUT)
         except (OSError, queue.Empty) as error:
             cause = f": {error}" if str(error) else ""
@@ -301,7 +306,8 @@ class ForkedProcess:
     """A worker forked by the server, with the part of subprocess.Popen the pool uses."""
 
     def __init__(self, server: _Server, pid: int, stdin: int, stdout: int):
-        self.server, self.pid, self.returncode = server, pid, None
+        self.server, self.pid = server, pid
+        self.returncode: int | None = None
         self.stdin = open(stdin, "w", encoding="utf-8", errors="replace")
         self.stdout = open(stdout, encoding="utf-8", errors="replace")
 
@@ -315,6 +321,6 @@ class ForkedProcess:
     def wait(self, timeout: float | None = None) -> int:
         if self.returncode is None:
             self.returncode = self.server.exit_code(self.pid, timeout)
-            if self.returncode is None:
-                raise subprocess.TimeoutExpired(f"launch worker {self.pid}", timeout)
+            if self.returncode is None:  # only with a timeout: without one it waits for the exit
+                raise subprocess.TimeoutExpired(f"launch worker {self.pid}", timeout or 0.0)
         return self.returncode

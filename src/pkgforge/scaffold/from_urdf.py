@@ -15,11 +15,16 @@ import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
+
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.package import CreatedPackage
 
 URI_STYLES = ("package", "find")
 FIND = re.compile(r"\$\(find ([^)\s]+)\)")
@@ -30,7 +35,7 @@ XACRO_NS = "http://www.ros.org/wiki/xacro"
 class Reference:
     uri: str
     file: Path  # the model file that names it
-    line: int
+    line: int | None  # None: lxml knows no line (never for a parsed file)
     kind: str  # mesh | texture | include | inner (a texture a mesh names)
     source: Path | None = None  # the file it resolves to
     problem: str | None = None
@@ -62,7 +67,7 @@ def package_root(name: str, near: Path) -> Path | None:
 def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     """(the file a URI names, None) or (None, why not)."""
 
-    def find(match) -> str:
+    def find(match: re.Match[str]) -> str:
         root = package_root(match.group(1), model.parent)
         if root is None:
             raise LookupError(
@@ -96,8 +101,8 @@ def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     return path, None
 
 
-def _references(model: Path, root) -> list[Reference]:
-    found = []
+def _references(model: Path, root: etree._Element) -> list[Reference]:
+    found: list[Reference] = []
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
@@ -114,7 +119,7 @@ def _references(model: Path, root) -> list[Reference]:
     return found
 
 
-def _parse(path: Path):
+def _parse(path: Path) -> etree._Element:
     try:
         return etree.parse(str(path), etree.XMLParser(remove_comments=False)).getroot()
     except etree.XMLSyntaxError as exc:
@@ -135,7 +140,9 @@ def inner_files(mesh: Path) -> list[Path]:
             names = [
                 e.text.strip()
                 for e in root.iter("{*}init_from")
-                if e.text and e.getparent() is not None and etree.QName(e.getparent()).localname == "image"
+                if e.text
+                and (parent := e.getparent()) is not None
+                and etree.QName(parent).localname == "image"
             ]
         elif suffix in (".obj", ".mtl"):
             for line in mesh.read_text(errors="replace").splitlines():
@@ -154,18 +161,18 @@ def inner_files(mesh: Path) -> list[Path]:
     return files
 
 
-def _line_replace(text: str, line: int, old: str, new: str) -> str:
+def _line_replace(text: str, line: int | None, old: str, new: str) -> str:
     lines = text.split("\n")
-    for index in range(line - 1, len(lines)):  # an attribute may sit below its element's first line
+    for index in range((line or 1) - 1, len(lines)):  # an attribute may sit below its element's first line
         if old in lines[index]:
             lines[index] = lines[index].replace(f'"{old}"', f'"{new}"').replace(f"'{old}'", f"'{new}'")
             return "\n".join(lines)
     return text
 
 
-def root_link(root) -> str | None:
+def root_link(root: etree._Element) -> str | None:
     links = [e.get("name") for e in root.iter("link") if e.get("name")]
-    children = {e.find("child").get("link") for e in root.iter("joint") if e.find("child") is not None}
+    children = {child.get("link") for e in root.iter("joint") if (child := e.find("child")) is not None}
     roots = [link for link in links if link not in children]
     return roots[0] if len(roots) == 1 else None
 
@@ -173,7 +180,7 @@ def root_link(root) -> str | None:
 ROBOT_START_TAG = re.compile(r"""<robot\b(?:[^>"']|"[^"]*"|'[^']*')*>""")
 
 
-def massless_root(text: str, root, path: Path, notes=None) -> str:
+def massless_root(text: str, root: etree._Element, path: Path, notes: Notes | None = None) -> str:
     """The model with a massless root link when its root link has an <inertial>.
 
     KDL ignores a root link's inertia and robot_state_publisher warns (PF604 root-link-inertia);
@@ -188,7 +195,7 @@ def massless_root(text: str, root, path: Path, notes=None) -> str:
     new = f"{name}_root"
     while new in names or f"{new}_joint" in names:
         new += "_"
-    start = sum(len(line) + 1 for line in text.split("\n")[: root.sourceline - 1])
+    start = sum(len(line) + 1 for line in text.split("\n")[: (root.sourceline or 1) - 1])
     tag = ROBOT_START_TAG.search(text, start)
     if tag is None:
         return text
@@ -217,7 +224,9 @@ class Imported:
     missing: list[Reference]
 
 
-def import_model(name: str, model: Path, *, uri_style: str = "package", notes=None) -> Imported:
+def import_model(
+    name: str, model: Path, *, uri_style: str = "package", notes: Notes | None = None
+) -> Imported:
     """Read the model (and the xacro files it includes), find every mesh and texture, and say
     what the new package's urdf/ and meshes/ hold."""
     model = model.absolute()
@@ -228,7 +237,7 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
     models: dict[Path, str] = {}  # model file → its name in urdf/
     references: list[Reference] = []
     queue = [model]
-    roots = {}
+    roots: dict[Path, etree._Element] = {}
     while queue:
         current = queue.pop(0)
         if current in models:
@@ -250,8 +259,9 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
         )
     missing = [r for r in references if r.problem is not None]
     assets = [r for r in references if r.kind != "include" and r.source is not None]
-    inner = {f for r in assets for f in inner_files(r.source)}
-    files_to_copy = sorted({r.source.resolve() for r in assets} | {f.resolve() for f in inner})
+    sources = [r.source for r in assets if r.source is not None]
+    inner = {f for source in sources for f in inner_files(source)}
+    files_to_copy = sorted({source.resolve() for source in sources} | {f.resolve() for f in inner})
     common = Path(os.path.commonpath([str(f.parent) for f in files_to_copy])) if files_to_copy else None
     placed = {f: Path(os.path.relpath(f, common)).as_posix() for f in files_to_copy}
     files: dict[str, bytes] = {f"meshes/{relative}": f.read_bytes() for f, relative in placed.items()}
@@ -290,7 +300,7 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
         files,
         models[model],
         root_link(roots[model]),
-        len({r.source.resolve() for r in assets if r.kind == "mesh"}),
+        len({r.source.resolve() for r in assets if r.kind == "mesh" and r.source is not None}),
         missing,
     )
 
@@ -305,9 +315,14 @@ def missing_message(missing: list[Reference], *, force: bool = True) -> str:
 
 
 def new_from_urdf(
-    spec_options: dict, model: Path, destination: Path, *, force: int = 0, uri_style: str = "package"
-):
-    """Write the package; returns (CreatedPackage, Notes)."""
+    spec_options: dict[str, Any],
+    model: Path,
+    destination: Path,
+    *,
+    force: int = 0,
+    uri_style: str = "package",
+) -> tuple[CreatedPackage, Notes, Imported]:
+    """Write the package; returns (CreatedPackage, Notes, Imported). `spec_options`: make_spec's."""
     from pkgforge.migrate.notes import Notes
     from pkgforge.scaffold.package import create_package, make_spec, render_files
 

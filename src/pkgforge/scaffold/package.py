@@ -10,6 +10,7 @@ import subprocess
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import jinja2
 from catkin_pkg.package import InvalidPackage, parse_package_string
@@ -111,7 +112,7 @@ class PackageSpec:
     def mesh_file(self) -> str:
         return "meshes/arm.stl"
 
-    def template_context(self) -> dict:
+    def template_context(self) -> dict[str, Any]:
         return {
             "spec": self,
             "name": self.name,
@@ -156,7 +157,7 @@ def make_spec(
     license: str = "Apache-2.0",
     description: str = "",
     ci: tuple[str, ...] = (),
-    **more,
+    **more: Any,  # PackageSpec's other fields
 ) -> PackageSpec:
     """Validate options into a PackageSpec; bad input raises PkgforgeError."""
     problem = rep144_problem(name)
@@ -322,7 +323,8 @@ def create_package(
     if target.exists() and not target.is_dir():
         raise PkgforgeError(f"{target} exists and is not a folder")
     files = render_files(spec) if files is None else files
-    overwritten, unchanged = [], []
+    overwritten: list[str] = []
+    unchanged: list[str] = []
     if target.exists():
         for relative in sorted(files):
             link = _symlink_out(target, relative)

@@ -13,11 +13,31 @@ import os
 import re
 import struct
 import threading
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
+from os import PathLike
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, Literal
 
-Matrix = tuple  # 3x3 rotation as three row tuples
-IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+if TYPE_CHECKING:
+    from lxml import etree
+
+    from pkgforge.urdf.structure import Geometry, JointDict, LinkDict, Origin, RobotStructure
+
+Vec3 = tuple[float, float, float]
+Matrix = tuple[Vec3, Vec3, Vec3]  # 3x3 rotation as three row tuples
+Pose = tuple[Matrix, Vec3]  # (rotation, translation)
+Box = tuple[Vec3, Vec3]  # (low, high)
+Matrix4 = list[list[float]]  # a COLLADA node's 4x4 transform, rows
+# a mesh's vertex positions: a list of (x, y, z), or a numpy (n, 3) array for a big file (numpy is
+# optional: the `view` extra)
+Points = Any
+# a mesh URI → the mesh file, or None
+Resolver = Callable[[str], "str | PathLike[str] | None"]
+# a COLLADA geometry's id → its vertex positions and triangle count
+Geometries = dict[str | None, tuple[Points, int]]
+IDENTITY: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 MESH_READ_LIMIT = 64 * 2**20  # a bigger mesh file is not read for its bounds
 
 
@@ -65,7 +85,7 @@ NUMPY_ABOVE = 1 << 20  # numpy (when installed) for bigger mesh files; below, it
 _STATE = threading.local()
 
 
-def _numpy():
+def _numpy() -> ModuleType | None:
     """numpy for a big mesh when installed (the `view` extra); else None: pure Python."""
     if not getattr(_STATE, "large", False):
         return None
@@ -76,7 +96,7 @@ def _numpy():
     return numpy
 
 
-def _bounds(points, triangles: int) -> MeshInfo | None:
+def _bounds(points: Sequence[Sequence[float]], triangles: int) -> MeshInfo | None:
     xs, ys, zs = points
     if not xs:
         return None
@@ -99,7 +119,9 @@ def _stl(data: bytes) -> MeshInfo | None:
                 return MeshInfo(
                     tuple(vertices.min(axis=0).tolist()), tuple(vertices.max(axis=0).tolist()), count
                 )
-            xs, ys, zs = [], [], []
+            xs: list[float] = []
+            ys: list[float] = []
+            zs: list[float] = []
             for record in struct.iter_unpack("<12fH", data[84:]):
                 xs += record[3:12:3]
                 ys += record[4:12:3]
@@ -115,18 +137,19 @@ def _collada(data: bytes) -> MeshInfo | None:
     from lxml import etree
 
     root = etree.fromstring(data, etree.XMLParser(huge_tree=True, remove_comments=True))
-    unit = next((float(u.get("meter")) for u in root.iter("{*}unit") if u.get("meter")), 1.0)
+    unit = next((float(u.get("meter") or "") for u in root.iter("{*}unit") if u.get("meter")), 1.0)
     sources = {s.get("id"): s for s in root.iter("{*}source")}
-    geometries = {}
+    geometries: Geometries = {}
     for geometry in root.iter("{*}geometry"):
-        points, triangles = [], 0
+        points: list[Points] = []
+        triangles = 0
         for vertices in geometry.iter("{*}vertices"):
             for source in _position_sources(sources, vertices):
                 points.append(_floats(source.text or ""))
         for tag in ("triangles", "polylist", "polygons"):
             triangles += sum(int(e.get("count", "0")) for e in geometry.iter("{*}" + tag))
         geometries[geometry.get("id")] = (_join(points), triangles)
-    placed: list[tuple] = []
+    placed: list[Box | None] = []
     count = 0
     scenes = list(root.iter("{*}visual_scene"))
     if scenes:
@@ -140,21 +163,20 @@ def _collada(data: bytes) -> MeshInfo | None:
     boxes = [b for b in placed if b is not None]
     if not boxes:
         return None
-    return MeshInfo(
-        tuple(min(b[0][i] for b in boxes) for i in range(3)),
-        tuple(max(b[1][i] for b in boxes) for i in range(3)),
-        count,
+    low, high = _box(
+        [min(b[0][i] for b in boxes) for i in range(3)], [max(b[1][i] for b in boxes) for i in range(3)]
     )
+    return MeshInfo(low, high, count)
 
 
-def _floats(text: str):
+def _floats(text: str) -> Points:
     np = _numpy()
     if np is not None:
         return np.array(text.split(), dtype=float)
     return [float(v) for v in text.split()]
 
 
-def _join(arrays: list):
+def _join(arrays: list[Points]) -> Points:
     """The x, y, z triples of several position arrays, as one (n, 3) array or list of triples."""
     np = _numpy()
     if np is not None:
@@ -164,7 +186,7 @@ def _join(arrays: list):
     return list(zip(values[0::3], values[1::3], values[2::3], strict=False))
 
 
-def _transform(m, points) -> tuple | None:
+def _transform(m: Matrix4, points: Points) -> Box | None:
     """(low, high) of the points under the 4x4 matrix m, or None when there are none."""
     if len(points) == 0:
         return None
@@ -189,19 +211,20 @@ def _scaled_identity(unit: float) -> list[list[float]]:
     return [[unit, 0, 0, 0], [0, unit, 0, 0], [0, 0, unit, 0], [0, 0, 0, 1]]
 
 
-def _matmul4(a, b):
+def _matmul4(a: Matrix4, b: Matrix4) -> Matrix4:
     return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
 
 
-def _node_matrix(node) -> list[list[float]]:
+def _node_matrix(node: etree._Element) -> Matrix4:
     matrix = _scaled_identity(1.0)
     for child in node:
         tag = child.tag.rsplit("}", 1)[-1] if isinstance(child.tag, str) else ""
         values = (
             [float(v) for v in (child.text or "").split()]
             if tag in ("matrix", "translate", "rotate", "scale")
-            else None
+            else []
         )
+        local: Matrix4
         if tag == "matrix" and len(values) == 16:
             local = [values[0:4], values[4:8], values[8:12], values[12:16]]
         elif tag == "translate" and len(values) == 3:
@@ -209,7 +232,7 @@ def _node_matrix(node) -> list[list[float]]:
         elif tag == "scale" and len(values) == 3:
             local = [[values[0], 0, 0, 0], [0, values[1], 0, 0], [0, 0, values[2], 0], [0, 0, 0, 1]]
         elif tag == "rotate" and len(values) == 4:
-            r = axis_angle(values[:3], math.radians(values[3]))
+            r = axis_angle((values[0], values[1], values[2]), math.radians(values[3]))
             local = [[*r[0], 0], [*r[1], 0], [*r[2], 0], [0, 0, 0, 1]]
         else:
             continue
@@ -217,7 +240,9 @@ def _node_matrix(node) -> list[list[float]]:
     return matrix
 
 
-def _place(node, parent, geometries, placed: list, depth: int = 0) -> int:
+def _place(
+    node: etree._Element, parent: Matrix4, geometries: Geometries, placed: list[Box | None], depth: int = 0
+) -> int:
     """Add the bounds of the node's geometry (and its children's) in the scene's frame."""
     if depth > 64:
         return 0
@@ -234,7 +259,9 @@ def _place(node, parent, geometries, placed: list, depth: int = 0) -> int:
     return count
 
 
-def _position_sources(sources: dict, vertices):
+def _position_sources(
+    sources: dict[str | None, etree._Element], vertices: etree._Element
+) -> Iterator[etree._Element]:
     for child in vertices:
         if isinstance(child.tag, str) and child.tag.endswith("input") and child.get("semantic") == "POSITION":
             source = sources.get((child.get("source") or "").lstrip("#"))
@@ -243,7 +270,10 @@ def _position_sources(sources: dict, vertices):
 
 
 def _obj(data: bytes) -> MeshInfo | None:
-    xs, ys, zs, faces = [], [], [], 0
+    xs: list[float] = []
+    ys: list[float] = []
+    zs: list[float] = []
+    faces = 0
     for line in data.splitlines():
         if line.startswith(b"v "):
             parts = line.split()
@@ -258,11 +288,11 @@ def _obj(data: bytes) -> MeshInfo | None:
 # --- poses -------------------------------------------------------------------------------------
 
 
-def rotation(rpy, axis=None, angle: float = 0.0) -> Matrix:
+def rotation(rpy: Sequence[float], axis: Sequence[float] | None = None, angle: float = 0.0) -> Matrix:
     """URDF fixed-axis roll-pitch-yaw (Rz·Ry·Rx), then `angle` about `axis` (a revolute joint)."""
     r, p, y = rpy
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    matrix = (
+    matrix: Matrix = (
         (cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
         (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
         (-sp, cp * sr, cp * cr),
@@ -272,7 +302,7 @@ def rotation(rpy, axis=None, angle: float = 0.0) -> Matrix:
     return matrix
 
 
-def axis_angle(axis, angle: float) -> Matrix:
+def axis_angle(axis: Sequence[float], angle: float) -> Matrix:
     norm = math.sqrt(sum(a * a for a in axis)) or 1.0
     x, y, z = (a / norm for a in axis)
     c, s, t = math.cos(angle), math.sin(angle), 1 - math.cos(angle)
@@ -284,15 +314,26 @@ def axis_angle(axis, angle: float) -> Matrix:
 
 
 def multiply(a: Matrix, b: Matrix) -> Matrix:
-    return tuple(tuple(sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)) for i in range(3))
+    def row(i: int) -> Vec3:
+        x, y, z = (sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3))
+        return x, y, z
+
+    return row(0), row(1), row(2)
 
 
-def apply(pose, point):
+def apply(pose: Pose, point: Sequence[float]) -> Vec3:
     matrix, offset = pose
-    return tuple(sum(matrix[i][k] * point[k] for k in range(3)) + offset[i] for i in range(3))
+    x, y, z = (sum(matrix[i][k] * point[k] for k in range(3)) + offset[i] for i in range(3))
+    return x, y, z
 
 
-def compose(pose, origin: dict, axis=None, angle: float = 0.0, slide: float = 0.0):
+def compose(
+    pose: Pose,
+    origin: Origin,
+    axis: Sequence[float] | None = None,
+    angle: float = 0.0,
+    slide: float = 0.0,
+) -> Pose:
     """pose · origin (· the joint's motion): (rotation, translation)."""
     matrix, offset = pose
     local = rotation(origin["rpy"], axis, angle)
@@ -304,27 +345,33 @@ def compose(pose, origin: dict, axis=None, angle: float = 0.0, slide: float = 0.
     return multiply(matrix, local), apply(pose, xyz)
 
 
-def link_poses(robot: dict, positions: dict[str, float] | None = None) -> dict[str, tuple]:
-    """Each link's pose in the root link's frame, at zero or the given joint positions."""
+def _zero_origin() -> Origin:
+    return {"xyz": [0.0] * 3, "rpy": [0.0] * 3}
+
+
+def link_poses(robot: RobotStructure, positions: dict[str, float] | None = None) -> dict[str | None, Pose]:
+    """Each link's pose in the root link's frame, at zero or the given joint positions (a name
+    the model leaves out is None)."""
     positions = positions or {}
-    children: dict[str, list] = {}
-    child_names = set()
+    children: dict[str | None, list[JointDict]] = {}
+    child_names: set[str | None] = set()
     for joint in robot.get("joints", []):
         children.setdefault(joint.get("parent"), []).append(joint)
         child_names.add(joint.get("child"))
-    poses: dict[str, tuple] = {}
+    poses: dict[str | None, Pose] = {}
     roots = [link["name"] for link in robot.get("links", []) if link["name"] not in child_names]
-    stack = [(root, (IDENTITY, (0.0, 0.0, 0.0))) for root in roots[:1]]
+    stack: list[tuple[str | None, Pose]] = [(root, (IDENTITY, (0.0, 0.0, 0.0))) for root in roots[:1]]
     while stack:
         name, pose = stack.pop()
         if name in poses:
             continue
         poses[name] = pose
         for joint in children.get(name, []):
-            value = positions.get(joint.get("name"), 0.0)
+            joint_name = joint.get("name")
+            value = positions.get(joint_name, 0.0) if joint_name is not None else 0.0
             axis = joint.get("axis") or [1.0, 0.0, 0.0]
             kind = joint.get("type")
-            origin = joint.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3}
+            origin = joint.get("origin") or _zero_origin()
             child_pose = compose(
                 pose,
                 origin,
@@ -339,47 +386,51 @@ def link_poses(robot: dict, positions: dict[str, float] | None = None) -> dict[s
 # --- shapes and numbers ------------------------------------------------------------------------
 
 
-def local_box(geometry: dict | None, resolve) -> tuple | None:
+def local_box(geometry: Geometry | None, resolve: Resolver) -> Box | None:
     """(low, high) of a shape in its own frame; `resolve(uri)` → a mesh file path or None."""
     if not geometry:
         return None
     kind = geometry.get("type")
-    if kind == "box" and geometry.get("size"):
-        half = [abs(s) / 2 for s in geometry["size"]]
-        return tuple(-h for h in half), tuple(half)
-    if (
-        kind in ("cylinder", "capsule")
-        and geometry.get("radius") is not None
-        and geometry.get("length") is not None
-    ):
-        r, h = (
-            abs(geometry["radius"]),
-            abs(geometry["length"]) / 2 + (abs(geometry["radius"]) if kind == "capsule" else 0),
-        )
+    size, radius, length = geometry.get("size"), geometry.get("radius"), geometry.get("length")
+    if kind == "box" and size:
+        x, y, z = (abs(s) / 2 for s in size)
+        return (-x, -y, -z), (x, y, z)
+    if kind in ("cylinder", "capsule") and radius is not None and length is not None:
+        r, h = abs(radius), abs(length) / 2 + (abs(radius) if kind == "capsule" else 0)
         return (-r, -r, -h), (r, r, h)
-    if kind == "sphere" and geometry.get("radius") is not None:
-        r = abs(geometry["radius"])
+    if kind == "sphere" and radius is not None:
+        r = abs(radius)
         return (-r, -r, -r), (r, r, r)
-    if kind == "mesh" and geometry.get("uri"):
-        path = resolve(geometry["uri"])
+    uri = geometry.get("uri")
+    if kind == "mesh" and uri:
+        path = resolve(uri)
         info = mesh_info(str(path)) if path else None
         if info is None:
             return None
         scale = geometry.get("scale") or [1.0, 1.0, 1.0]
         corners = [(lo * s, hi * s) for lo, hi, s in zip(info.low, info.high, scale, strict=False)]
-        return tuple(min(c) for c in corners), tuple(max(c) for c in corners)
+        return _box([min(c) for c in corners], [max(c) for c in corners])
     return None
 
 
-def box_corners(box):
+def _box(low: Sequence[float], high: Sequence[float]) -> Box:
+    return (low[0], low[1], low[2]), (high[0], high[1], high[2])
+
+
+def box_corners(box: Box) -> list[Vec3]:
     low, high = box
     return [(x, y, z) for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])]
 
 
-def world_bounds(robot: dict, resolve, positions=None, kinds=("visuals",)) -> tuple | None:
+def world_bounds(
+    robot: RobotStructure,
+    resolve: Resolver,
+    positions: dict[str, float] | None = None,
+    kinds: Sequence[Literal["visuals", "collisions"]] = ("visuals",),
+) -> Box | None:
     """The axis-aligned bounds of the model's shapes in the root frame, or None when it has none."""
     poses = link_poses(robot, positions)
-    points = []
+    points: list[Vec3] = []
     for link in robot.get("links", []):
         pose = poses.get(link["name"])
         if pose is None:
@@ -389,20 +440,23 @@ def world_bounds(robot: dict, resolve, positions=None, kinds=("visuals",)) -> tu
                 box = local_box(part.get("geometry"), resolve)
                 if box is None:
                     continue
-                part_pose = compose(pose, part.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+                part_pose = compose(pose, part.get("origin") or _zero_origin())
                 points += [apply(part_pose, corner) for corner in box_corners(box)]
     if not points:
         return None
-    return tuple(min(p[i] for p in points) for i in range(3)), tuple(
-        max(p[i] for p in points) for i in range(3)
-    )
+    return _box([min(p[i] for p in points) for i in range(3)], [max(p[i] for p in points) for i in range(3)])
 
 
-def total_mass(robot: dict) -> float:
-    return sum((link.get("inertial") or {}).get("mass") or 0.0 for link in robot.get("links", []))
+def total_mass(robot: RobotStructure) -> float:
+    return sum(_mass(link) for link in robot.get("links", []))
 
 
-def principal_moments(inertia: dict) -> list[float]:
+def _mass(link: LinkDict) -> float:
+    inertial = link.get("inertial")
+    return (inertial.get("mass") if inertial else None) or 0.0
+
+
+def principal_moments(inertia: dict[str, float]) -> list[float]:
     """Eigenvalues of the symmetric inertia tensor (closed form), smallest first."""
     a, b, c = inertia["ixx"], inertia["iyy"], inertia["izz"]
     d, e, f = inertia["ixy"], inertia["iyz"], inertia["ixz"]

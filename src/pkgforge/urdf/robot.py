@@ -15,8 +15,26 @@ import os
 import re
 import sys
 import typing
+from collections.abc import Mapping
+from typing import Any
 
 from lxml import etree
+
+from pkgforge.sandbox.protocol import ErrorRecord, ModelReply, ModelStatus
+from pkgforge.urdf.structure import (
+    Geometry,
+    Inertial,
+    Limit,
+    LinkDict,
+    MeshKind,
+    Origin,
+    Part,
+    RobotStructure,
+)
+
+Element = etree._Element
+# (tag, literal name) → (file, line) across a model's files
+Sources = dict[tuple[str, str], tuple[str, int]]
 
 GEOMETRY_URI_TAGS = ("mesh",)
 NEEDS_ARGUMENT = re.compile(r"[Uu]ndefined substitution argument (\S+)")
@@ -26,7 +44,7 @@ MAX_BLAME_RUNS = 8
 XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
 
 
-def process_model(path: str, mappings: dict[str, str]) -> dict:
+def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
     """xacro (or plain URDF) → {status, error, robot: {links, joints, meshes, ...}}."""
     try:
         size = os.path.getsize(path)
@@ -55,9 +73,10 @@ def process_model(path: str, mappings: dict[str, str]) -> dict:
                 "stage": "xml",
             },
         }
-    text, includes, error = _expand(path, mappings)
-    if error is not None:
-        return error
+    output = _expand(path, mappings)
+    if not isinstance(output, tuple):
+        return output
+    text, includes = output
     try:
         root = etree.fromstring(text.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
     except etree.XMLSyntaxError as exc:
@@ -71,7 +90,7 @@ def process_model(path: str, mappings: dict[str, str]) -> dict:
             },
         }
     expanded = includes is not None
-    sources = _name_index([path, *includes]) if expanded else {}
+    sources = _name_index([path, *includes]) if includes is not None else {}
     return {
         "status": "ok",
         "error": None,
@@ -80,7 +99,7 @@ def process_model(path: str, mappings: dict[str, str]) -> dict:
     }
 
 
-def structure_of_output(path: str, urdf: str, includes: list[str]) -> dict | None:
+def structure_of_output(path: str, urdf: str, includes: list[str]) -> RobotStructure | None:
     """The structure of a xacro output produced elsewhere (a launch file's Command), or None."""
     try:
         root = etree.fromstring(urdf.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
@@ -124,40 +143,41 @@ def run_xacro(path: str, mappings: dict[str, str]) -> XacroRun:
         sys.stderr = real_stderr
 
 
-def _expand(path: str, mappings: dict[str, str]):
-    """The xacro output (or the file itself when it uses no xacro), with the files it included."""
+def _expand(path: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
+    """The xacro output (or the file itself when it uses no xacro), with the files it included
+    (None: the file itself); or the reply saying why there is none."""
     with open(path, encoding="utf-8", errors="replace") as handle:
         raw = handle.read()
     if "xacro" not in raw:
-        return raw, None, None  # no includes: the output is the file itself
+        return raw, None  # no includes: the output is the file itself
     import xacro
 
     arguments = dict(mappings)  # xacro adds the model's own xacro:arg defaults to it as it reads them
     run = run_xacro(path, arguments)
     exc = run.failure
     if exc is None:
-        return run.document.toxml(), run.includes, None
+        output: str = run.document.toxml()
+        return output, run.includes
     if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
-        return None, [], _recursion_error(xacro, path)
-    error = _xacro_error(xacro, exc, path, mappings)
+        return _recursion_error(xacro, path)
+    status, record = _xacro_error(xacro, exc, path, mappings)
     if (
-        not mappings
-        and error["status"] == "error"
-        and error["error"]["stage"] == "xacro"
-        and "type" not in error["error"]
+        not mappings and status == "error" and record["stage"] == "xacro" and "type" not in record
     ):  # a worker limit hit: no second run
-        _blame_empty_arguments(xacro, path, error, arguments)
-    return None, [], error
+        status = _blame_empty_arguments(xacro, path, record, arguments) or status
+    return {"status": status, "error": record}
 
 
-def _blame_empty_arguments(xacro, path: str, error: dict, declared: dict) -> None:
+def _blame_empty_arguments(
+    xacro: Any, path: str, error: ErrorRecord, declared: dict[str, str]
+) -> ModelStatus | None:
     """A model run on its own with its defaults whose failure comes from xacro:args declared with
     an empty default (values its launch files always give, e.g. dof:=7 naming the file to include)
     needs those values: it becomes needs-arguments, naming them. The test: xacro run again with one
     such argument set to a stand-in value fails otherwise (or not at all); a defect of its own
-    fails the same whatever the value."""
-    failure = (error["error"]["message"], error["error"]["file"], error["error"]["line"])
-    blamed = []
+    fails the same whatever the value. Returns the new status (needs-arguments), or None."""
+    failure = (error["message"], error["file"], error["line"])
+    blamed: list[str] = []
     for name in [n for n, value in declared.items() if value == ""][:MAX_BLAME_RUNS]:
         exc = run_xacro(path, {name: f"pkgforge-stand-in-{name}"}).failure
         if exc is None:
@@ -165,17 +185,18 @@ def _blame_empty_arguments(xacro, path: str, error: dict, declared: dict) -> Non
             continue
         if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
             continue
-        again = _xacro_error(xacro, exc, path, {})["error"]
+        again = _xacro_error(xacro, exc, path, {})[1]
         if (again["message"], again["file"], again["line"]) != failure:
             blamed.append(name)
-    if blamed:
-        file, line = _declaration(path, blamed[0], xacro)
-        error["status"] = "needs-arguments"
-        # the failure keeps its own place (a launch file giving no value makes it an error there)
-        error["error"].update(arguments=blamed, argument=blamed[0], declared={"file": file, "line": line})
+    if not blamed:
+        return None
+    file, line = _declaration(path, blamed[0], xacro)
+    # the failure keeps its own place (a launch file giving no value makes it an error there)
+    error["arguments"], error["argument"], error["declared"] = blamed, blamed[0], {"file": file, "line": line}
+    return "needs-arguments"
 
 
-def _recursion_error(xacro, path: str) -> dict:
+def _recursion_error(xacro: Any, path: str) -> ModelReply:
     stack = list(getattr(xacro, "filestack", None) or [path])
     repeated = next((f for f in stack if stack.count(f) > 1), None)
     # xacro leaves the macros it was expanding on its macrostack when it fails
@@ -211,31 +232,35 @@ def _recursion_error(xacro, path: str) -> dict:
     }
 
 
-def _xacro_error(xacro, exc, path: str, mappings: dict) -> dict:
+def _xacro_error(
+    xacro: Any, exc: BaseException, path: str, mappings: Mapping[str, str]
+) -> tuple[ModelStatus, ErrorRecord]:
     message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
-    if isinstance(getattr(exc, "macro", None), str):
-        message = f"{message} (in macro {exc.macro})"
+    macro = getattr(exc, "macro", None)  # xacro's XacroException names the macro it was in
+    if isinstance(macro, str):
+        message = f"{message} (in macro {macro})"
     needs = NEEDS_ARGUMENT.search(message)
-    status = "needs-arguments" if needs and not mappings else "error"
+    status: ModelStatus = "needs-arguments" if needs and not mappings else "error"
     file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
     stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
-    error = {
+    error: ErrorRecord = {
         "message": message.strip(),
         "file": file,
         "line": line,
         "argument": needs.group(1) if needs else None,
         "stage": stage,
     }
-    cause, seen = exc, set()
+    cause: BaseException | None = exc
+    seen: set[int] = set()
     while cause is not None and id(cause) not in seen:  # a worker limit hit inside xacro: the worker names it
         seen.add(id(cause))
         if isinstance(cause, MemoryError):
             error["type"] = "MemoryError"
         cause = getattr(cause, "exc", None) or cause.__cause__ or cause.__context__
-    return {"status": status, "error": error}
+    return status, error
 
 
-def _xacro_location(exc, path: str, filestack: list):
+def _xacro_location(exc: BaseException, path: str, filestack: list[str]) -> tuple[str, int | None]:
     """The file xacro was in when it failed (the end of its include chain), and the line naming the culprit."""
     file = next((f for f in reversed(filestack) if f), path)
     line = None
@@ -254,7 +279,7 @@ def _xacro_location(exc, path: str, filestack: list):
     return file, line
 
 
-def _declaration(path: str, name: str, xacro) -> tuple[str, int | None]:
+def _declaration(path: str, name: str, xacro: Any) -> tuple[str, int | None]:
     """The file and line of <xacro:arg name="name">: the model's own, else a file it included."""
     pattern = re.compile(XACRO_ARG.format(re.escape(name)))
     for file in [path, *(f for f in (getattr(xacro, "all_includes", None) or []) if f != path)]:
@@ -264,7 +289,7 @@ def _declaration(path: str, name: str, xacro) -> tuple[str, int | None]:
     return path, None
 
 
-def _line_matching(path: str, pattern) -> int | None:
+def _line_matching(path: str, pattern: re.Pattern[str]) -> int | None:
     try:
         with open(path, encoding="utf-8", errors="replace") as handle:
             for number, line in enumerate(handle, start=1):
@@ -291,14 +316,14 @@ MESH_ATTRIBUTE = re.compile(r"<\s*(mesh|texture)\b[^>]*?\bfilename\s*=\s*[\"']([
 JOINT_TYPE = re.compile(r"\btype\s*=")
 
 
-def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
+def _name_index(files: list[str]) -> Sources:
     """(tag, literal name) → (file, line) across the model's files.
 
     A tag may span lines (SolidWorks exports write `<joint` and `name=` on lines of their
     own), so the patterns run over the whole text. A `<joint>` without `type=` is not a
     URDF joint but a ros2_control or transmission one naming it: never its place.
     """
-    index: dict[tuple[str, str], tuple[str, int]] = {}
+    index: Sources = {}
     for file in files:
         try:
             with open(file, encoding="utf-8", errors="replace") as handle:
@@ -319,15 +344,15 @@ def _name_index(files: list[str]) -> dict[tuple[str, str], tuple[str, int]]:
     return index
 
 
-def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
+def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> RobotStructure:
     plain = not expanded  # element lines are the file's own lines
 
-    def where(element, tag: str | None = None, name: str | None = None):
+    def where(element: Element, tag: str | None = None, name: str | None = None) -> tuple[str, int | None]:
         if tag and name and (tag, name) in sources:
             return sources[(tag, name)]
         return (path, element.sourceline if plain else None)
 
-    robot = {
+    robot: RobotStructure = {
         "root_tag": root.tag if isinstance(root.tag, str) else None,
         "name": root.get("name"),
         "links": [],
@@ -340,10 +365,18 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
     for link in root.findall("link"):
         name = link.get("name")
         file, line = where(link, "link", name)
-        robot["links"].append(
-            {"name": name, "file": file, "line": line, **_physical_link(link, materials, plain and line)}
-        )
-        for kind in ("visual", "collision"):
+        inertial, visuals, collisions = _physical_link(link, materials, plain and line)
+        entry: LinkDict = {
+            "name": name,
+            "file": file,
+            "line": line,
+            "inertial": inertial,
+            "visuals": visuals,
+            "collisions": collisions,
+        }
+        robot["links"].append(entry)
+        kinds: tuple[MeshKind, ...] = ("visual", "collision")
+        for kind in kinds:
             for part in link.findall(kind):
                 for mesh in part.iter(*GEOMETRY_URI_TAGS):
                     uri = mesh.get("filename")
@@ -355,10 +388,10 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
                             {"uri": uri, "link": name, "kind": kind, "file": mesh_file, "line": mesh_line}
                         )
     for material in root.iter("texture"):
-        if material.get("filename"):
+        if texture := material.get("filename"):
             robot["meshes"].append(
                 {
-                    "uri": material.get("filename"),
+                    "uri": texture,
                     "link": None,
                     "kind": "texture",
                     "file": path,
@@ -369,6 +402,7 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
         name = joint.get("name")
         file, line = where(joint, "joint", name)
         parent, child = joint.find("parent"), joint.find("child")
+        axis, limit = _physical_joint(joint, plain and line)
         robot["joints"].append(
             {
                 "name": name,
@@ -377,7 +411,9 @@ def _structure(root, path: str, sources: dict, expanded: bool) -> dict:
                 "line": line,
                 "parent": parent.get("link") if parent is not None else None,
                 "child": child.get("link") if child is not None else None,
-                **_physical_joint(joint, plain and line),
+                "origin": _origin(joint),
+                "axis": axis,
+                "limit": limit,
             }
         )
     return robot
@@ -402,7 +438,7 @@ def _number(text: str | None) -> float | None:
     return values[0] if values else None
 
 
-def _origin(element) -> dict:
+def _origin(element: Element | None) -> Origin:
     origin = element.find("origin") if element is not None else None
     if origin is None:
         return {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
@@ -412,16 +448,17 @@ def _origin(element) -> dict:
     }
 
 
-def _color(material) -> list[float] | None:
+def _color(material: Element | None) -> list[float] | None:
     color = material.find("color") if material is not None else None
     return _numbers(color.get("rgba"), 4) if color is not None else None
 
 
-def _materials(root) -> dict[str, list[float]]:
-    return {m.get("name"): _color(m) for m in root.findall("material") if m.get("name") and _color(m)}
+def _materials(root: Element) -> dict[str, list[float]]:
+    colors = {m.get("name"): _color(m) for m in root.findall("material")}
+    return {name: color for name, color in colors.items() if name and color}
 
 
-def _geometry(part) -> dict | None:
+def _geometry(part: Element) -> Geometry | None:
     geometry = part.find("geometry")
     shape = next(iter(geometry), None) if geometry is not None else None
     if shape is None or not isinstance(shape.tag, str):
@@ -445,17 +482,20 @@ def _geometry(part) -> dict | None:
     return {"type": shape.tag}
 
 
-def _physical_link(link, materials: dict, line) -> dict:
-    """A link's inertial and its visual/collision shapes, as plain numbers."""
+def _physical_link(
+    link: Element, materials: dict[str, list[float]], line: int | bool | None
+) -> tuple[Inertial | None, list[Part], list[Part]]:
+    """A link's inertial and its visual and collision shapes, as plain numbers."""
 
-    def line_of(element):
+    def line_of(element: Element) -> int | None:
         return element.sourceline if line else None
 
     inertial = link.find("inertial")
-    data = {"inertial": None, "visuals": [], "collisions": []}
+    data: Inertial | None = None
+    parts: dict[str, list[Part]] = {"visual": [], "collision": []}
     if inertial is not None:
         mass, tensor = inertial.find("mass"), inertial.find("inertia")
-        data["inertial"] = {
+        data = {
             "mass": _number(mass.get("value")) if mass is not None else None,
             "inertia": None
             if tensor is None
@@ -463,14 +503,14 @@ def _physical_link(link, materials: dict, line) -> dict:
             "origin": _origin(inertial),
             "line": line_of(inertial),
         }
-    for kind, key in (("visual", "visuals"), ("collision", "collisions")):
+    for kind in ("visual", "collision"):
         for part in link.findall(kind):
             material = part.find("material") if kind == "visual" else None
             color = _color(material) or (
-                materials.get(material.get("name")) if material is not None else None
+                materials.get(material.get("name") or "") if material is not None else None
             )
             shape = part.find("geometry")
-            data[key].append(
+            parts[kind].append(
                 {
                     "geometry": _geometry(part),
                     "origin": _origin(part),
@@ -478,15 +518,15 @@ def _physical_link(link, materials: dict, line) -> dict:
                     "line": line_of(next(iter(shape), part) if shape is not None else part),
                 }
             )
-    return data
+    return data, parts["visual"], parts["collision"]
 
 
-def _physical_joint(joint, line) -> dict:
+def _physical_joint(joint: Element, line: int | bool | None) -> tuple[list[float] | None, Limit | None]:
+    """A joint's axis and limit, as plain numbers."""
     axis, limit = joint.find("axis"), joint.find("limit")
-    return {
-        "origin": _origin(joint),
-        "axis": None if axis is None else _numbers(axis.get("xyz", "1 0 0"), 3),
-        "limit": None
+    return (
+        None if axis is None else _numbers(axis.get("xyz", "1 0 0"), 3),
+        None
         if limit is None
         else {
             "lower": _number(limit.get("lower")),
@@ -495,4 +535,4 @@ def _physical_joint(joint, line) -> dict:
             "effort": _number(limit.get("effort")),
             "line": limit.sourceline if line else None,
         },
-    }
+    )

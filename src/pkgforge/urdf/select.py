@@ -15,15 +15,23 @@ never alone. A file that is not XML at all is processed, so its error is named.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, TypedDict
 
+from pkgforge.launch.records import LaunchFile, Resolution
 from pkgforge.launch.resolve import run_requests, source_of
 from pkgforge.model.package import PackageModel
+from pkgforge.sandbox.protocol import ModelRequest
 from pkgforge.tree import InstallTree
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.urdf.structure import ModelError, ModelStatus, RobotStructure
 from pkgforge.walk import walk
+
+if TYPE_CHECKING:
+    from pkgforge.launch.resolve import WorkerLimits
+    from pkgforge.sandbox.zygote import Zygote
 
 # folders of a share folder whose files are no model of the package (as for launch files)
 SKIPPED_FOLDERS = ("test", "tests", "__pycache__")
@@ -35,13 +43,21 @@ XACRO_CONDITIONALS = {"if", "unless"}
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 
+class LaunchOrigin(TypedDict):
+    """A launch line that feeds the model to xacro."""
+
+    launch: LaunchFile
+    file: str | None
+    line: int | None
+
+
 @dataclass
 class ModelResult:
     package: str  # the verified package that uses or installs the model
     installed: Path
     source: Path | None
-    mappings: dict
-    origins: list[dict] = field(default_factory=list)  # launch lines that feed it to xacro
+    mappings: dict[str, str]
+    origins: list[LaunchOrigin] = field(default_factory=list)  # launch lines that feed it to xacro
     status: ModelStatus = "ok"
     error: ModelError | None = None
     robot: RobotStructure | None = None
@@ -49,7 +65,8 @@ class ModelResult:
 
     @property
     def links(self) -> set[str | None]:
-        return {link["name"] for link in (self.robot["links"] if self.robot else [])}
+        """The names of the model's links (None: a link without one)."""
+        return {link["name"] for link in self.robot.get("links", [])} if self.robot else set()
 
 
 @dataclass
@@ -91,10 +108,10 @@ def _shape(path: Path, share: Path, package: str) -> _Shape:
         name = etree.QName(element).localname
         if element.prefix != "xacro" and element.tag != f"{{{XACRO_NAMESPACE}}}{name}":
             shape.content = True  # a link, joint, material, gazebo … of its own
-            if name == "link" and element.get("name"):
-                shape.links.add(element.get("name"))
-            elif name == "joint" and element.find("parent") is not None:
-                shape.parents.add(element.find("parent").get("link") or "")
+            if name == "link" and (link := element.get("name")):
+                shape.links.add(link)
+            elif name == "joint" and (parent := element.find("parent")) is not None:
+                shape.parents.add(parent.get("link") or "")
         elif name == "include":
             filename = element.get("filename", "").strip()
             shape.includes.append(os.path.basename(filename))
@@ -173,8 +190,11 @@ def _gives_content(shape: _Shape, by_name: dict[str, list[_Shape]]) -> bool:
     return False
 
 
-def collect(tree: InstallTree, models: list[PackageModel], resolutions: dict[str, list]) -> list[ModelResult]:
-    jobs: dict[tuple, ModelResult] = {}
+def collect(
+    tree: InstallTree, models: list[PackageModel], resolutions: dict[str, list[Resolution]]
+) -> list[ModelResult]:
+    # (package, model, its xacro arguments) → its result
+    jobs: dict[tuple[str, str, tuple[tuple[str, str], ...]], ModelResult] = {}
     by_name = {m.name: m for m in models}
     for package, package_resolutions in resolutions.items():
         owner = by_name.get(package)
@@ -210,13 +230,13 @@ def process(
     *,
     jobs: int,
     timeout: float,
-    on_done=None,
-    limits=None,
-    zygote=None,
+    on_done: Callable[[], None] | None = None,
+    limits: WorkerLimits | None = None,
+    zygote: Zygote | None = None,
 ) -> list[ModelResult]:
     """Run xacro on the models whose structure no launch file's xacro run already gave."""
     pending = [r for r in results if r.robot is None]
-    requests = [{"model": str(r.installed), "mappings": r.mappings} for r in pending]
+    requests: list[ModelRequest] = [{"model": str(r.installed), "mappings": r.mappings} for r in pending]
     for result, reply in zip(
         pending,
         run_requests(

@@ -4,16 +4,19 @@ installs pkgforge's write and signal guard (../guard.py), then the sitecustomize
 import importlib.util
 import os
 import sys
+from types import ModuleType
 
 
-def _load(name, path):
+def _load(name: str, path: str) -> ModuleType:
     spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise ImportError(f"cannot load {path}")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
-def _install():
+def _install() -> None:
     here = os.path.dirname(os.path.abspath(__file__))
     guard = sys.modules.get("pkgforge.sandbox.guard") or _load(
         "_pkgforge_guard", os.path.join(os.path.dirname(here), "guard.py")

@@ -1,0 +1,172 @@
+"""The messages between pkgforge and its launch worker (sandbox/worker.py): one JSON object per line.
+
+The parent (launch/resolve.py) writes a request per launch file or robot model on the worker's
+stdin and reads one reply per request from its stdout; the worker's limits come once, as JSON in
+PKGFORGE_WORKER_LIMITS. These TypedDicts are that protocol: what json.dumps writes and
+json.loads gives back, so the values are plain JSON (lists, str, int, float, None).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal, TypedDict, final
+
+from pkgforge.urdf.structure import RobotStructure
+
+# what a reply's status may be: the engines' own (launch/records.Status), the model's (urdf/robot.py),
+# and the parent's when the worker gave no reply (timeout, crashed)
+ModelStatus = Literal["ok", "error", "too-large", "needs-arguments", "load-error", "timeout", "crashed"]
+LaunchStatus = Literal["ok", "load-error", "timeout", "crashed"]
+# the worker limit a breach hit (worker._limit_message): never cached by the parent
+LimitKind = Literal["time", "cpu", "memory", "files"]
+
+
+class WorkerLimits(TypedDict, total=False):
+    """PKGFORGE_WORKER_LIMITS: the limits the worker sets on itself before any user code runs."""
+
+    timeout: float | None  # seconds of wall and CPU time per request
+    memory: int | None  # bytes of address space; None: no limit
+    parent: int  # the parent's pid: the worker dies with it
+
+
+@final  # no other keys: `"model" in request` tells the kinds apart
+class GuardRecord(TypedDict, total=False):
+    """A write or signal the guard (sandbox/guard.py) refused, or an installed file it saw changed:
+    a JSON line of its log, then an error of the reply (worker._refusals)."""
+
+    kind: str  # refused | installed
+    pid: int  # the process that tried
+    operation: str  # "write", "delete", "send signal 15 to" …
+    path: str
+    file: str | None  # where the launch file (or the start of its child) was running
+    line: int | None
+    child: bool  # a process the launch file started did it
+
+
+@final  # no other keys: `"model" in request` tells the kinds apart
+class LaunchRequest(TypedDict):
+    """Evaluate one installed launch file with these launch arguments."""
+
+    file: str
+    arguments: dict[str, str]
+
+
+@final  # no other keys: `"model" in request` tells the kinds apart
+class ModelRequest(TypedDict):
+    """Run xacro on one installed robot model with these xacro arguments (mappings)."""
+
+    model: str
+    mappings: dict[str, str]
+
+
+WorkerRequest = LaunchRequest | ModelRequest
+
+
+class Declared(TypedDict):
+    """Where a xacro:arg is declared."""
+
+    file: str
+    line: int | None
+
+
+class ErrorRecord(TypedDict, total=False):
+    """A reply's error (and each entity error of a launch reply: launch/records.Error as_dict)."""
+
+    message: str
+    file: str | None
+    line: int | None
+    stage: str  # xml | xacro | load | visit | worker | sandbox
+    type: str  # the exception's class name (TimeLimit, MemoryError, RefusedWrite …)
+    limit: LimitKind  # a worker limit hit
+    hint: str
+    argument: str | None  # needs-arguments: the first xacro:arg the model needs
+    arguments: list[str]  # every xacro:arg it needs
+    declared: Declared
+    # launch/records.Error's other fields, when the record is one
+    entity: str | None
+    package: str | None
+    module: str | None
+    branch: dict[str, str]
+    branches: list[str]
+
+
+class Stopped(TypedDict):
+    """Where the branch that ran out of time was stopped."""
+
+    file: str | None
+    line: int | None
+    branch: dict[str, str]
+
+
+class BranchingReply(TypedDict):
+    """launch/records.Branching as sent."""
+
+    planned: int
+    evaluated: int
+    stopped: Stopped | None
+    limit: float | None
+
+
+@final
+class ModelReply(TypedDict, total=False):
+    """urdf/robot.process_model's answer: the robot's structure, or why there is none."""
+
+    status: ModelStatus
+    error: ErrorRecord | None
+    errors: list[ErrorRecord]  # what the guard refused while answering (none for models)
+    includes: list[str]  # the files the model included (absolute paths)
+    robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
+    request: WorkerRequest  # the request it answers (the worker adds it)
+
+
+@final
+class LaunchReply(TypedDict, total=False):
+    """A launch engine's answer (launch/evaluate.py, launch/ros_engine.py): the records it made,
+    each launch/records dataclass as plain data (records.as_dict)."""
+
+    status: LaunchStatus
+    error: ErrorRecord | None
+    errors: list[ErrorRecord]
+    engine: str
+    distro: str | None
+    files: list[str]  # the launch files it read (the file and those it included)
+    branching: BranchingReply
+    arguments: list[dict[str, Any]]
+    nodes: list[dict[str, Any]]
+    packages: list[dict[str, Any]]
+    paths: list[dict[str, Any]]
+    includes: list[dict[str, Any]]
+    commands: list[dict[str, Any]]
+    conditions: list[dict[str, Any]]
+    unsupported: list[dict[str, Any]]
+    required: list[dict[str, Any]]
+    request: WorkerRequest  # the request it answers (the worker adds it)
+
+
+WorkerReply = LaunchReply | ModelReply
+
+
+# --- the fork server (sandbox/zygote.py): JSON over its Unix socket ---------------------------------
+
+
+class ForkRequest(TypedDict):
+    """Fork a worker with this environment (its stdin and stdout come with it, SCM_RIGHTS)."""
+
+    env: dict[str, str]
+
+
+@final
+class Forked(TypedDict):
+    """The worker forked: its pid."""
+
+    pid: int
+
+
+@final
+class Exited(TypedDict):
+    """A worker of the server ended: its exit status (negative: the signal)."""
+
+    exit: int
+    code: int
+
+
+ForkReply = Forked | Exited
