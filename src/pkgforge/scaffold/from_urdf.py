@@ -15,10 +15,14 @@ import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
+
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
 
 URI_STYLES = ("package", "find")
 FIND = re.compile(r"\$\(find ([^)\s]+)\)")
@@ -95,7 +99,8 @@ def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     return path, None
 
 
-def _references(model: Path, root) -> list[Reference]:
+def model_references(model: Path, root: etree._Element) -> list[Reference]:
+    """The meshes, textures and xacro includes a parsed model names, with their lines."""
     found = []
     for element in root.iter():
         if not isinstance(element.tag, str):
@@ -105,15 +110,16 @@ def _references(model: Path, root) -> list[Reference]:
         if filename is None:
             continue
         if tag == "mesh":
-            found.append(Reference(filename, model, element.sourceline, "mesh"))
+            found.append(Reference(filename, model, element.sourceline or 0, "mesh"))
         elif tag == "texture":
-            found.append(Reference(filename, model, element.sourceline, "texture"))
+            found.append(Reference(filename, model, element.sourceline or 0, "texture"))
         elif tag == "include" and etree.QName(element).namespace == XACRO_NS:
-            found.append(Reference(filename, model, element.sourceline, "include"))
+            found.append(Reference(filename, model, element.sourceline or 0, "include"))
     return found
 
 
-def _parse(path: Path):
+def parse_model(path: Path) -> etree._Element:
+    """The root element of a URDF or xacro file; a located PkgforgeError when it cannot be read."""
     try:
         return etree.parse(str(path), etree.XMLParser(remove_comments=False)).getroot()
     except etree.XMLSyntaxError as exc:
@@ -162,9 +168,9 @@ def _line_replace(text: str, line: int, old: str, new: str) -> str:
     return text
 
 
-def root_link(root) -> str | None:
+def root_link(root: etree._Element) -> str | None:
     links = [e.get("name") for e in root.iter("link") if e.get("name")]
-    children = {e.find("child").get("link") for e in root.iter("joint") if e.find("child") is not None}
+    children = {c.get("link") for e in root.iter("joint") if (c := e.find("child")) is not None}
     roots = [link for link in links if link not in children]
     return roots[0] if len(roots) == 1 else None
 
@@ -172,7 +178,7 @@ def root_link(root) -> str | None:
 ROBOT_START_TAG = re.compile(r"""<robot\b(?:[^>"']|"[^"]*"|'[^']*')*>""")
 
 
-def massless_root(text: str, root, path: Path, notes=None) -> str:
+def massless_root(text: str, root: etree._Element, path: Path, notes: Notes | None = None) -> str:
     """The model with a massless root link when its root link has an <inertial>.
 
     KDL ignores a root link's inertia and robot_state_publisher warns (PF604 root-link-inertia);
@@ -187,7 +193,7 @@ def massless_root(text: str, root, path: Path, notes=None) -> str:
     new = f"{name}_root"
     while new in names or f"{new}_joint" in names:
         new += "_"
-    start = sum(len(line) + 1 for line in text.split("\n")[: root.sourceline - 1])
+    start = sum(len(line) + 1 for line in text.split("\n")[: (root.sourceline or 1) - 1])
     tag = ROBOT_START_TAG.search(text, start)
     if tag is None:
         return text
@@ -235,9 +241,9 @@ def import_model(name: str, model: Path, *, uri_style: str = "package", notes=No
         models[current] = (
             current.name if current.name not in models.values() else f"{current.parent.name}_{current.name}"
         )
-        root = _parse(current)
+        root = parse_model(current)
         roots[current] = root
-        for reference in _references(current, root):
+        for reference in model_references(current, root):
             reference.source, reference.problem = resolve(reference.uri, current)
             references.append(reference)
             if reference.kind == "include" and reference.source is not None:
