@@ -4,9 +4,15 @@ in a workspace package, a model installed in a ROS prefix (share/<package>/...),
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.view import Artifacts
+
+if TYPE_CHECKING:
+    from pkgforge.tree import InstallTree
+    from pkgforge.urdf.select import ModelResult
+    from pkgforge.verify.pipeline import VerifyOptions
 
 MODEL_SUFFIXES = (".urdf", ".xacro")
 
@@ -37,7 +43,7 @@ def _by_name(name: str) -> Path:
     )
 
 
-def run_view(target: str, artifacts: Artifacts, options) -> None:
+def run_view(target: str, artifacts: Artifacts, options: VerifyOptions) -> None:
     """Render through verify's own model processing; `options` are VerifyOptions."""
     path = Path(target)
     if not path.exists():
@@ -56,12 +62,13 @@ def run_view(target: str, artifacts: Artifacts, options) -> None:
         verify(path, options)
 
 
-def _one_model(file: Path, artifacts: Artifacts, options) -> None:
+def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None:
     from pkgforge.launch.resolve import WorkerLimits, source_of
     from pkgforge.urdf import select as robot_models
 
     installed = _installed_prefix(file)
-    if installed is not None or _package_folder(file) is None:
+    folder = _package_folder(file)
+    if installed is not None or folder is None:
         import tempfile
         import time
 
@@ -90,7 +97,7 @@ def _one_model(file: Path, artifacts: Artifacts, options) -> None:
         return
     from pkgforge.verify.explain import _installed
 
-    with _installed(_package_folder(file), file, options) as (tree, installed_file, package, owner):
+    with _installed(folder, file, options) as (tree, installed_file, package, owner):
         result = robot_models.ModelResult(
             package, installed_file, source_of(installed_file, tree, owner), dict(options.launch_arguments)
         )
@@ -104,7 +111,7 @@ def _one_model(file: Path, artifacts: Artifacts, options) -> None:
         _render(artifacts, tree, result)
 
 
-def _render(artifacts: Artifacts, tree, result) -> None:
+def _render(artifacts: Artifacts, tree: InstallTree, result: ModelResult) -> None:
     if result.status not in ("ok",):
         error = result.error or {}
         where = f"{error.get('file') or result.installed}:{error.get('line') or ''}".rstrip(":")
