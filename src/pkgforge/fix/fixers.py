@@ -324,11 +324,17 @@ def _delete_span(source: SourceText, start: int, end: int) -> Edit:
     return Edit(start, end + trailing, "")
 
 
+def _given(diagnostic: Diagnostic, key: str, missing: str) -> str:
+    """The text the finding's fix data holds under `key`; Unfixable(missing) when there is none."""
+    value = (diagnostic.fix or {}).get(key)
+    if not isinstance(value, str) or not value:
+        raise Unfixable(missing)
+    return value
+
+
 @fixer("project-name-mismatch")
 def fix_project_name(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    name = (diagnostic.fix or {}).get("name")
-    if not name:
-        raise Unfixable("the finding does not name the package")
+    name = _given(diagnostic, "name", "the finding does not name the package")
     source = ctx.files.get(diagnostic.path)
     command = _cmake_command_at(source, diagnostic.line, diagnostic.column, "project")
     if not command.args:
@@ -711,9 +717,7 @@ def fix_rviz_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
 
 @fixer("rviz-fixed-frame-unknown")
 def fix_fixed_frame(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    frame = (diagnostic.fix or {}).get("frame")
-    if not frame:
-        raise Unfixable("the model's root link is not known")
+    frame = _given(diagnostic, "frame", "the model's root link is not known")
     source = ctx.files.get(diagnostic.path)
     manager = _mapping(_yaml(source)).get("Visualization Manager")
     options = _mapping(manager[1]).get("Global Options") if manager else None

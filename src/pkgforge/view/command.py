@@ -63,7 +63,7 @@ def run_view(target: str, artifacts: Artifacts, options: VerifyOptions) -> None:
 
 
 def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None:
-    from pkgforge.launch.resolve import WorkerLimits, source_of
+    from pkgforge.launch.resolve import source_of
     from pkgforge.urdf import select as robot_models
 
     installed = _installed_prefix(file)
@@ -84,14 +84,7 @@ def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None
         try:
             package = installed[1] if installed else file.parent.name
             result = robot_models.ModelResult(package, file, file, dict(options.launch_arguments))
-            (result,) = robot_models.process(
-                [result],
-                tree,
-                jobs=1,
-                timeout=options.launch_timeout,
-                limits=WorkerLimits(options.launch_timeout, options.worker_memory),
-            )
-            _render(artifacts, tree, result)
+            _render(artifacts, tree, result, options)
         finally:
             tree.close()
         return
@@ -101,17 +94,21 @@ def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None
         result = robot_models.ModelResult(
             package, installed_file, source_of(installed_file, tree, owner), dict(options.launch_arguments)
         )
-        (result,) = robot_models.process(
-            [result],
-            tree,
-            jobs=1,
-            timeout=options.launch_timeout,
-            limits=WorkerLimits(options.launch_timeout, options.worker_memory),
-        )
-        _render(artifacts, tree, result)
+        _render(artifacts, tree, result, options)
 
 
-def _render(artifacts: Artifacts, tree: InstallTree, result: ModelResult) -> None:
+def _render(artifacts: Artifacts, tree: InstallTree, result: ModelResult, options: VerifyOptions) -> None:
+    """Process the model (xacro in a worker: it is user code) and draw it."""
+    from pkgforge.launch.resolve import WorkerLimits
+    from pkgforge.urdf import select as robot_models
+
+    (result,) = robot_models.process(
+        [result],
+        tree,
+        jobs=1,
+        timeout=options.launch_timeout,
+        limits=WorkerLimits(options.launch_timeout, options.worker_memory),
+    )
     if result.status not in ("ok",):
         error = result.error or {}
         where = f"{error.get('file') or result.installed}:{error.get('line') or ''}".rstrip(":")
