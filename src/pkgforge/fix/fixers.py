@@ -16,9 +16,19 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic
 from pkgforge.fix.edits import Edit, FileSet, SourceText, Unfixable
+
+if TYPE_CHECKING:  # imported where used: `pkgforge fix` loads only what its fixers need
+    import yaml
+    from lxml import etree
+
+    from pkgforge.model.cmake import CMakeModel
+    from pkgforge.model.cmake_syntax import Argument, Command
+    from pkgforge.model.package import PackageModel
+    from pkgforge.model.setup_py import SetupPyModel
 
 DEPENDENCY_ORDER = (
     "buildtool_depend",
@@ -53,9 +63,9 @@ class FixContext:
 
     def __init__(self, files: FileSet):
         self.files = files
-        self._models: dict[Path, object] = {}
+        self._models: dict[Path, PackageModel] = {}
 
-    def model(self, path: Path):
+    def model(self, path: Path) -> PackageModel:
         from pkgforge.model.package import load_package
 
         path = Path(path)
@@ -64,11 +74,12 @@ class FixContext:
         return self._models[path]
 
 
-FIXERS: dict[str, Callable[[Diagnostic, FixContext], Fix]] = {}
+Fixer = Callable[[Diagnostic, FixContext], Fix]
+FIXERS: dict[str, Fixer] = {}
 
 
-def fixer(*names: str):
-    def decorate(function):
+def fixer(*names: str) -> Callable[[Fixer], Fixer]:
+    def decorate(function: Fixer) -> Fixer:
         for name in names:
             FIXERS[name] = function
         return function
@@ -120,7 +131,7 @@ def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, st
             else None
         )
         if following is not None and _starts_line(source, following):
-            line = following.sourceline
+            line = _element_line(following)
             return Edit(
                 source.line_start(line), source.line_start(line), source.indentation(line) + new + eol, name
             ), tag
@@ -132,7 +143,7 @@ def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, st
         return _after_element(source, earlier[-1], new, name), tag
     later = [e for e in dependencies if _starts_line(source, e)]
     for anchor in later + [e for e in elements if e.tag == "export" and _starts_line(source, e)]:
-        line = anchor.sourceline
+        line = _element_line(anchor)
         return Edit(
             source.line_start(line), source.line_start(line), source.indentation(line) + new + eol, name
         ), tag
@@ -141,36 +152,51 @@ def insert_dependency(source: SourceText, tag: str, name: str) -> tuple[Edit, st
     if close < 0 or not source.is_blank_before(close):
         raise Unfixable("no place in package.xml to put the dependency beside others")
     named = next((e for e in elements if e.tag == "name"), None)
-    indent = source.indentation(named.sourceline) if named is not None else "  "
+    indent = source.indentation(_element_line(named)) if named is not None else "  "
     start = source.line_start(source.line_of(close))
     return Edit(start, start, indent + new + eol, name), tag
 
 
-def _start_tag_offset(source: SourceText, element) -> int:
-    line = element.sourceline
+def _element_line(element: etree._Element) -> int:
+    if element.sourceline is None:  # lxml sets it on every element it parses
+        raise Unfixable(f"<{_tag(element)}> has no line in package.xml")
+    return element.sourceline
+
+
+def _tag(element: etree._Element) -> str:
+    """The element's tag: a str for every element lxml parses (the stubs allow bytes and QName)."""
+    tag = element.tag
+    if not isinstance(tag, str):
+        raise Unfixable("an element of package.xml has no plain tag name")
+    return tag
+
+
+def _start_tag_offset(source: SourceText, element: etree._Element) -> int:
+    line = _element_line(element)
+    tag = _tag(element)
     text = source.line_text(line)
     previous = [
         e
         for e in element.itersiblings(preceding=True)
-        if getattr(e, "sourceline", None) == line and e.tag == element.tag
+        if getattr(e, "sourceline", None) == line and e.tag == tag
     ]
-    matches = [m.start() for m in re.finditer(rf"<{re.escape(element.tag)}(?=[\s/>])", text)]
+    matches = [m.start() for m in re.finditer(rf"<{re.escape(tag)}(?=[\s/>])", text)]
     if len(matches) <= len(previous):
-        raise Unfixable(f"cannot find <{element.tag}> at package.xml:{line}")
+        raise Unfixable(f"cannot find <{tag}> at package.xml:{line}")
     return source.line_start(line) + matches[len(previous)]
 
 
-def _starts_line(source: SourceText, element) -> bool:
+def _starts_line(source: SourceText, element: etree._Element) -> bool:
     try:
         return source.is_blank_before(_start_tag_offset(source, element))
     except Unfixable:
         return False
 
 
-def _after_element(source: SourceText, element, new: str, order: str) -> Edit:
+def _after_element(source: SourceText, element: etree._Element, new: str, order: str) -> Edit:
     """A new line holding `new` after the line where element ends, indented as element's line."""
     start = _start_tag_offset(source, element)
-    closing = f"</{element.tag}>"
+    closing = f"</{_tag(element)}>"
     end = source.text.find(closing, start)
     self_closing = source.text.find("/>", start)
     if end < 0 or (0 <= self_closing < source.text.find(">", start) + 1):
@@ -179,7 +205,7 @@ def _after_element(source: SourceText, element, new: str, order: str) -> Edit:
         end += len(closing)
     last_line = source.line_of(end)
     offset = source.line_end(last_line)
-    indent = source.indentation(element.sourceline) if source.is_blank_before(start) else ""
+    indent = source.indentation(_element_line(element)) if source.is_blank_before(start) else ""
     prefix = "" if source.text[:offset].endswith("\n") else source.eol  # the last line had no ending
     return Edit(offset, offset, prefix + indent + new + source.eol, order)
 
@@ -237,7 +263,7 @@ def _refuse_other_declaration(source: SourceText, name: str) -> None:
 # --- CMake ----------------------------------------------------------------------------------------
 
 
-def _cmake_commands(source: SourceText):
+def _cmake_commands(source: SourceText) -> list[Command]:
     from pkgforge.model.cmake_syntax import CMakeSyntaxError, parse
 
     try:
@@ -246,7 +272,9 @@ def _cmake_commands(source: SourceText):
         raise Unfixable(f"{source.path.name} does not parse: {exc.message}") from exc
 
 
-def _cmake_command_at(source: SourceText, line: int | None, column: int | None, name: str | None = None):
+def _cmake_command_at(
+    source: SourceText, line: int | None, column: int | None, name: str | None = None
+) -> Command:
     """The command that starts at (line, column), or that holds an argument there."""
     if line is None:
         raise Unfixable("the finding has no line")
@@ -260,7 +288,7 @@ def _cmake_command_at(source: SourceText, line: int | None, column: int | None, 
     raise Unfixable(f"no {name + '()' if name else 'command'} at {source.path.name}:{line}")
 
 
-def _argument_span(source: SourceText, argument) -> tuple[int, int]:
+def _argument_span(source: SourceText, argument: Argument) -> tuple[int, int]:
     start = source.offset(argument.line, argument.column)
     if argument.kind == "unquoted":
         end = start + len(argument.text)
@@ -271,7 +299,7 @@ def _argument_span(source: SourceText, argument) -> tuple[int, int]:
     return start, end
 
 
-def _command_end(source: SourceText, command) -> int:
+def _command_end(source: SourceText, command: Command) -> int:
     """Offset just past the command's closing parenthesis."""
     from pkgforge.model import cmake_syntax
 
@@ -296,11 +324,17 @@ def _delete_span(source: SourceText, start: int, end: int) -> Edit:
     return Edit(start, end + trailing, "")
 
 
+def _given(diagnostic: Diagnostic, key: str, missing: str) -> str:
+    """The text the finding's fix data holds under `key`; Unfixable(missing) when there is none."""
+    value = (diagnostic.fix or {}).get(key)
+    if not isinstance(value, str) or not value:
+        raise Unfixable(missing)
+    return value
+
+
 @fixer("project-name-mismatch")
 def fix_project_name(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    name = (diagnostic.fix or {}).get("name")
-    if not name:
-        raise Unfixable("the finding does not name the package")
+    name = _given(diagnostic, "name", "the finding does not name the package")
     source = ctx.files.get(diagnostic.path)
     command = _cmake_command_at(source, diagnostic.line, diagnostic.column, "project")
     if not command.args:
@@ -339,10 +373,10 @@ def fix_install_missing_directory(diagnostic: Diagnostic, ctx: FixContext) -> Fi
     return fix
 
 
-def _install_sources(command) -> list:
+def _install_sources(command: Command) -> list[Argument]:
     from pkgforge.model.cmake import INSTALL_KEYWORDS
 
-    out = []
+    out: list[Argument] = []
     for argument in command.args[1:]:
         if argument.kind == "unquoted" and argument.text in INSTALL_KEYWORDS:
             break
@@ -363,19 +397,19 @@ def fix_install_folder(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         raise Unfixable(f"'{folder}' is not a folder name pkgforge writes into an install rule")
     model = ctx.model(Path(package))
     if model.setup_py is not None:
-        return _install_in_setup_py(model, folder, ctx)
+        return _install_in_setup_py(model, model.setup_py, folder, ctx)
     if model.cmake is None:
         raise Unfixable("the package has neither CMakeLists.txt nor setup.py")
-    return _install_in_cmake(model, folder, ctx)
+    return _install_in_cmake(model, model.cmake, folder, ctx)
 
 
-def _install_in_cmake(model, folder: str, ctx: FixContext) -> Fix:
+def _install_in_cmake(model: PackageModel, cmake: CMakeModel, folder: str, ctx: FixContext) -> Fix:
     from pkgforge.model.layout import _normalize_destination
 
     share = f"share/{model.share_name}"
     candidates = [
         r
-        for r in model.cmake.install_rules
+        for r in cmake.install_rules
         if r.mode == "DIRECTORY"
         and isinstance(r.destination, str)
         and _normalize_destination(r.destination) == share
@@ -399,7 +433,9 @@ def _install_in_cmake(model, folder: str, ctx: FixContext) -> Fix:
     # no rule to extend: a new one after the last install rule of CMakeLists.txt
     source = ctx.files.get(model.path / "CMakeLists.txt")
     commands = _cmake_commands(source)
-    depth, last_install, ament = 0, None, None
+    depth = 0
+    last_install: Command | None = None
+    ament: Command | None = None
     for command in commands:
         if command.name == "if":
             depth += 1
@@ -433,7 +469,7 @@ def _install_in_cmake(model, folder: str, ctx: FixContext) -> Fix:
     return fix
 
 
-def _add_to_list(source: SourceText, command, arguments: list, item: str) -> Edit:
+def _add_to_list(source: SourceText, command: Command, arguments: list[Argument], item: str) -> Edit:
     """Insert `item` among `arguments` (alphabetically where they are), keeping their layout."""
     names = [a.text.rstrip("/") for a in arguments]
     ordered = names == sorted(names)
@@ -465,10 +501,10 @@ GLOB_TEMPLATE = re.compile(
 )
 
 
-def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
+def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: str, ctx: FixContext) -> Fix:
     """A data_files entry for `folder`, written as the entries for the other folders are:
     (destination, glob('folder/*')) tuples, or *helper('folder') calls."""
-    source = ctx.files.get(model.setup_py.source.path)
+    source = ctx.files.get(setup_py.source.path)
     try:
         tree = ast.parse(source.text)
     except SyntaxError as exc:
@@ -485,7 +521,8 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
     if not isinstance(data_files, ast.List):
         raise Unfixable("setup.py's data_files is not a list written out in setup()")
     installed = {f for _, _, folders, _ in model.layout.directory_rules for f in folders}
-    templates = []  # (element, folder it installs, its text with that folder replaced by the new one)
+    # (element, folder it installs, its text with that folder replaced by the new one)
+    templates: list[tuple[ast.expr, str, str]] = []
     for element in data_files.elts:
         text = ast.get_source_segment(source.text, element) or ""
         for existing in sorted(installed):
@@ -533,14 +570,14 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
         fix.description += f":{element.lineno}"
         return fix
     element, _, new = templates[-1]
-    start = source.offset_utf8(element.lineno, element.col_offset)
-    end = source.offset_utf8(element.end_lineno, element.end_col_offset)
-    rest = source.text[end : source.line_end(element.end_lineno)]
+    start, end = _span(source, element)
+    end_line = _end_line(element)
+    rest = source.text[end : source.line_end(end_line)]
     comma = rest.lstrip(" \t").startswith(",")
-    fix.description += f":{element.end_lineno + 1}"
+    fix.description += f":{end_line + 1}"
     if source.is_blank_before(start):
         indent = source.indentation(element.lineno)
-        offset = source.line_end(element.end_lineno)
+        offset = source.line_end(end_line)
         if comma:
             fix.add(source.path, Edit(offset, offset, indent + new + "," + source.eol, folder))
         else:
@@ -554,7 +591,7 @@ def _install_in_setup_py(model, folder: str, ctx: FixContext) -> Fix:
 # --- RViz -------------------------------------------------------------------------------------------
 
 
-def _yaml(source: SourceText):
+def _yaml(source: SourceText) -> yaml.Node | None:  # None: an empty file
     import yaml
 
     try:
@@ -563,7 +600,7 @@ def _yaml(source: SourceText):
         raise Unfixable(f"{source.path.name} is not valid YAML") from exc
 
 
-def _mapping(node) -> dict:
+def _mapping(node: yaml.Node | None) -> dict[str, tuple[yaml.Node, yaml.Node]]:
     import yaml
 
     if not isinstance(node, yaml.MappingNode):
@@ -575,7 +612,7 @@ def _plain(value: str) -> str:
     return value if re.fullmatch(r"[A-Za-z_/][A-Za-z0-9_./\-]*", value) else json.dumps(value)
 
 
-def _replace_scalar(node, value: str) -> Edit:
+def _replace_scalar(node: yaml.Node, value: str) -> Edit:
     import yaml
 
     if not isinstance(node, yaml.ScalarNode):
@@ -585,7 +622,7 @@ def _replace_scalar(node, value: str) -> Edit:
     return Edit(node.start_mark.index, node.end_mark.index, _plain(value))
 
 
-def _find_display(node, line: int):
+def _find_display(node: yaml.Node | None, line: int) -> yaml.MappingNode | None:
     """The mapping whose Class value stands at `line` (a display, possibly in a group)."""
     import yaml
 
@@ -605,7 +642,7 @@ def _find_display(node, line: int):
     return None
 
 
-def _insert_key(source: SourceText, mapping, key: str, lines: list[str]) -> Edit:
+def _insert_key(source: SourceText, mapping: yaml.MappingNode, key: str, lines: list[str]) -> Edit:
     """New `key` lines in a block mapping, in alphabetical order where RViz keeps its keys."""
     entries = list(mapping.value)
     column = entries[0][0].start_mark.column
@@ -680,9 +717,7 @@ def fix_rviz_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
 
 @fixer("rviz-fixed-frame-unknown")
 def fix_fixed_frame(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    frame = (diagnostic.fix or {}).get("frame")
-    if not frame:
-        raise Unfixable("the model's root link is not known")
+    frame = _given(diagnostic, "frame", "the model's root link is not known")
     source = ctx.files.get(diagnostic.path)
     manager = _mapping(_yaml(source)).get("Visualization Manager")
     options = _mapping(manager[1]).get("Global Options") if manager else None
@@ -738,7 +773,7 @@ def _python(source: SourceText) -> ast.Module:
         raise Unfixable(f"{source.path.name} does not parse: {exc.msg}") from exc
 
 
-def _call_name(node) -> str:
+def _call_name(node: ast.expr) -> str:
     func = node.func if isinstance(node, ast.Call) else node
     if isinstance(func, ast.Name):
         return func.id
@@ -747,23 +782,32 @@ def _call_name(node) -> str:
     return ""
 
 
-def _span(source: SourceText, node) -> tuple[int, int]:
+_Located = ast.expr | ast.stmt | ast.keyword  # the nodes ast.parse gives positions
+
+
+def _end_line(node: _Located) -> int:
+    # ast.parse sets the end of every node; nodes built by hand may lack it
+    return node.end_lineno if node.end_lineno is not None else node.lineno
+
+
+def _span(source: SourceText, node: _Located) -> tuple[int, int]:
+    end_column = node.end_col_offset if node.end_col_offset is not None else node.col_offset
     return (
         source.offset_utf8(node.lineno, node.col_offset),
-        source.offset_utf8(node.end_lineno, node.end_col_offset),
+        source.offset_utf8(_end_line(node), end_column),
     )
 
 
-def _containing_calls(tree, line: int, name: str) -> list[ast.Call]:
+def _containing_calls(tree: ast.AST, line: int, name: str) -> list[ast.Call]:
     calls = [
         n
         for n in ast.walk(tree)
-        if isinstance(n, ast.Call) and _call_name(n) == name and n.lineno <= line <= n.end_lineno
+        if isinstance(n, ast.Call) and _call_name(n) == name and n.lineno <= line <= _end_line(n)
     ]
-    return sorted(calls, key=lambda n: (n.end_lineno - n.lineno, -n.lineno))
+    return sorted(calls, key=lambda n: (_end_line(n) - n.lineno, -n.lineno))
 
 
-def _parents(tree) -> dict:
+def _parents(tree: ast.AST) -> dict[ast.AST, ast.AST]:
     return {child: parent for parent in ast.walk(tree) for child in ast.iter_child_nodes(parent)}
 
 
@@ -794,15 +838,15 @@ def fix_robot_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     return fix
 
 
-def _robot_description_command(tree, line: int):
+def _robot_description_command(tree: ast.Module, line: int) -> ast.Call | None:
     calls = _containing_calls(tree, line, "Command")
     if calls:
         return calls[0]
     # the line of the node or the dict: follow 'robot_description': <Command or a name bound to one>
     around = [
-        n for n in ast.walk(tree) if isinstance(n, (ast.Dict, ast.Call)) and n.lineno <= line <= n.end_lineno
+        n for n in ast.walk(tree) if isinstance(n, (ast.Dict, ast.Call)) and n.lineno <= line <= _end_line(n)
     ]
-    inner = sorted(around, key=lambda n: n.end_lineno - n.lineno)[:1]
+    inner = sorted(around, key=lambda n: _end_line(n) - n.lineno)[:1]
     dicts = [n for n in ast.walk(inner[0]) if isinstance(n, ast.Dict)] if inner else []
     for node in dicts:
         for key, value in zip(node.keys, node.values, strict=False):
@@ -836,7 +880,7 @@ def _import_edit(source: SourceText, tree: ast.Module, module: str, name: str) -
     line = f"from {module} import {name}"
     if imports:
         last = imports[-1]
-        offset = source.line_end(last.end_lineno)
+        offset = source.line_end(_end_line(last))
         prefix = "" if source.text[:offset].endswith("\n") else source.eol
         return Edit(offset, offset, prefix + line + source.eol, "0")
     first = tree.body[0] if tree.body else None
@@ -845,7 +889,7 @@ def _import_edit(source: SourceText, tree: ast.Module, module: str, name: str) -
         and isinstance(first, ast.Expr)
         and isinstance(getattr(first, "value", None), ast.Constant)
     ):
-        offset = source.line_end(first.end_lineno)
+        offset = source.line_end(_end_line(first))
         return Edit(offset, offset, line + source.eol, "0")
     return Edit(0, 0, line + source.eol, "0")
 
@@ -882,15 +926,15 @@ def _jsp_python(source: SourceText, line: int) -> Fix:
         siblings.sort(key=lambda n: (n.lineno, n.col_offset))
         index = siblings.index(arguments)
         start, end = _span(source, arguments)
-        rest = source.text[end : source.line_end(arguments.end_lineno)]
+        rest = source.text[end : source.line_end(_end_line(arguments))]
         alone = source.is_blank_before(start) and re.fullmatch(r"\s*,?\s*(#.*)?\s*", rest)
         previous = siblings[index - 1] if index > 0 else None
         following = siblings[index + 1] if index + 1 < len(siblings) else None
         if alone:  # the keyword has its own line(s): they go
-            start, end = source.line_start(arguments.lineno), source.line_end(arguments.end_lineno)
-        elif previous is not None and previous.end_lineno == arguments.lineno:
+            start, end = source.line_start(arguments.lineno), source.line_end(_end_line(arguments))
+        elif previous is not None and _end_line(previous) == arguments.lineno:
             start = _span(source, previous)[1]  # `, arguments=[...]`: what follows keeps its place
-        elif following is not None and following.lineno == arguments.end_lineno:
+        elif following is not None and following.lineno == _end_line(arguments):
             end = _span(source, following)[0]  # `arguments=[...], ` up to the next argument
         else:
             end += len(rest) - len(rest.lstrip(" \t,"))
@@ -911,11 +955,11 @@ def _jsp_xml(source: SourceText, line: int) -> Fix:
         or package.group(1) not in JSP_PACKAGES
     ):
         raise Unfixable(f"cannot find the joint_state_publisher <node> at line {line}")
-    package = package.group(1)
+    package_name = package.group(1)
     attribute = re.search(r"""\s+args\s*=\s*("[^"]*"|'[^']*')""", match.group(0))
     if attribute is None:
         raise Unfixable("the node has no args attribute")
-    fix = Fix(f"removed args=... from the {package} node")
+    fix = Fix(f"removed args=... from the {package_name} node")
     fix.add(source.path, Edit(match.start() + attribute.start(), match.start() + attribute.end(), ""))
     return fix
 

@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 from collections import Counter
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pkgforge.report.text import location, render
 
+if TYPE_CHECKING:
+    from pkgforge.fix.run import FixRun
 
-def render_fix(run, *, strict: bool = False, color: bool = False) -> tuple[str, str]:
+
+def render_fix(run: FixRun, *, strict: bool = False, color: bool = False) -> tuple[str, str]:
     """(the report, the diff): with --diff the report goes to stderr, the diff to stdout."""
     root = run.result.root
-    lines = []
+    lines: list[str] = []
     verb = "would fix" if _diff_mode(run) else "fixed"
     for applied in run.fixed:
         d = applied.diagnostic
@@ -38,11 +43,11 @@ def render_fix(run, *, strict: bool = False, color: bool = False) -> tuple[str, 
     return text + detail, run.diff
 
 
-def _diff_mode(run) -> bool:
-    return getattr(run, "diff_mode", False)
+def _diff_mode(run: FixRun) -> bool:
+    return run.diff_mode
 
 
-def _shown(path, root) -> str:
+def _shown(path: Path, root: Path) -> str:
     from pkgforge.report import relative
 
     return relative(path, root)

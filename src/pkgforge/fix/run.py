@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -131,7 +132,11 @@ def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
 
 
 def run_fix(
-    path: Path, options: FixOptions, *, shown_root: Path | None = None, _first: list | None = None
+    path: Path,
+    options: FixOptions,
+    *,
+    shown_root: Path | None = None,
+    _first: list[VerifyResult] | None = None,
 ) -> FixRun:
     shown_root = shown_root or Path.cwd()
     if options.diff:
@@ -143,7 +148,7 @@ def run_fix(
     if _first is not None:
         _first.append(result)
     run = FixRun(result, diff_mode=options.diff)
-    previous: set | None = None
+    previous: set[tuple[str, str, int | None, str]] | None = None
     for number in range(1, MAX_PASSES + 1):
         run.passes = number
         run.not_fixed, run.unsafe_available = [], []
@@ -153,7 +158,8 @@ def run_fix(
         if not planned.fixes or keys == previous:
             break
         previous = keys
-        new_texts, broken = {}, {}
+        new_texts: dict[Path, str] = {}
+        broken: dict[Path, str] = {}
         for file, edits in planned.edits.items():
             source = files.get(file)
             text = apply(source.text, edits)
@@ -164,7 +170,7 @@ def run_fix(
                 broken[file] = problem
                 continue
             new_texts[file] = text
-        applied = []
+        applied: list[tuple[Diagnostic, Fix]] = []
         for diagnostic, fix in planned.fixes:
             bad = [broken[p] for p in fix.edits if p in broken]
             if bad:
@@ -180,7 +186,7 @@ def run_fix(
             )
             run.fixed = [Applied(d, f.description) for d, f in applied]
             return run
-        failed = set()
+        failed: set[Path] = set()
         for file, text in sorted(new_texts.items()):
             outcome = write_atomically(files.get(file), text)
             if outcome.written:
@@ -244,7 +250,7 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
         copy_root = Path(temporary) / "ws"
         copy_base = copy_root / base.relative_to(root)
 
-        def ignore(folder, names):
+        def ignore(folder: str, names: list[str]) -> list[str]:
             return [n for n in names if n in SKIPPED or (Path(folder) == root and n in ROOT_OUTPUTS)]
 
         shutil.copytree(base, copy_base, symlinks=True, ignore=ignore)
@@ -267,7 +273,7 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
         out.not_fixed = [(_moved(d, back), why) for d, why in run.not_fixed]
         out.unsafe_available = [_moved(d, back) for d in run.unsafe_available]
         out.failures = [Outcome(back(o.path), o.written, o.problem) for o in run.failures]
-        diffs = []
+        diffs: list[str] = []
         for written in sorted(run.files_written):
             original = back(written)
             before = original.read_bytes().decode("utf-8")
@@ -284,13 +290,13 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
         return out
 
 
-def _moved(diagnostic: Diagnostic, back) -> Diagnostic:
+def _moved(diagnostic: Diagnostic, back: Callable[[Path], Path]) -> Diagnostic:
     return dataclasses.replace(
         diagnostic, path=back(diagnostic.path), message=diagnostic.message, hint=diagnostic.hint
     )
 
 
-def _remap(result: VerifyResult, back) -> VerifyResult:
+def _remap(result: VerifyResult, back: Callable[[Path], Path]) -> VerifyResult:
     from pkgforge.diagnostics import PackageReport
 
     reports = []

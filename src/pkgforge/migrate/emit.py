@@ -2,18 +2,24 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+from typing import TypeAlias
+
 import yaml
 
-from pkgforge.migrate.roslaunch import Arg, Group, Include, Node
+from pkgforge.migrate.roslaunch import Action, Arg, Condition, Group, Include, Node, Token
 
 HEADER = "Converted from ROS 1 {source} by pkgforge migrate."
+
+# what to_yaml hands yaml.safe_dump
+YamlData: TypeAlias = "str | None | list[YamlData] | dict[str, YamlData]"
 
 
 # --- frontend (XML, YAML) ---------------------------------------------------------------------
 
 
-def frontend(parts: list | None) -> str:
-    out = []
+def frontend(parts: list[Token] | None) -> str:
+    out: list[str] = []
     for part in parts or []:
         kind = part[0]
         if kind == "text":
@@ -31,11 +37,11 @@ def frontend(parts: list | None) -> str:
     return "".join(out)
 
 
-def _words(words: list[list]) -> str:
+def _words(words: list[list[Token]]) -> str:
     return " ".join(frontend(w) for w in words)
 
 
-def _description(parts: list) -> str:
+def _description(parts: list[Token]) -> str:
     return f"$(command 'xacro {frontend(parts)}')"
 
 
@@ -43,16 +49,16 @@ def _xml_attr(value: str) -> str:
     return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
 
 
-def to_xml(actions: list, source: str, *, param_type: bool) -> str:
+def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
     lines = ['<?xml version="1.0"?>', f"<!-- {HEADER.format(source=source)} -->", "<launch>"]
 
-    def attrs(pairs) -> str:
+    def attrs(pairs: Iterable[tuple[str, str | None]]) -> str:
         return "".join(f' {k}="{_xml_attr(v)}"' for k, v in pairs if v is not None)
 
-    def cond(condition) -> list:
+    def cond(condition: Condition | None) -> list[tuple[str, str | None]]:
         return [(condition[0], frontend(condition[1]))] if condition else []
 
-    def emit(items, indent: str) -> None:
+    def emit(items: list[Action], indent: str) -> None:
         for action in items:
             if isinstance(action, Arg):
                 if action.fixed:
@@ -77,7 +83,7 @@ def to_xml(actions: list, source: str, *, param_type: bool) -> str:
                         *cond(action.condition),
                     ]
                 )
-                children = []
+                children: list[str] = []
                 for param in action.params:
                     if param.kind == "file":
                         children.append(f"<param{attrs([('from', frontend(param.value))])}/>")
@@ -121,18 +127,18 @@ def to_xml(actions: list, source: str, *, param_type: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def to_yaml(actions: list, source: str, *, param_type: bool) -> str:
-    def cond(condition) -> dict:
+def to_yaml(actions: list[Action], source: str, *, param_type: bool) -> str:
+    def cond(condition: Condition | None) -> dict[str, YamlData]:
         return {condition[0]: frontend(condition[1])} if condition else {}
 
-    def convert(items) -> list:
-        out = []
+    def convert(items: list[Action]) -> list[YamlData]:
+        out: list[YamlData] = []
         for action in items:
             if isinstance(action, Arg):
                 if action.fixed:
                     out.append({"let": {"name": action.name, "value": frontend(action.default)}})
                     continue
-                entry = {"name": action.name}
+                entry: dict[str, YamlData] = {"name": action.name}
                 if action.default is not None:
                     entry["default"] = frontend(action.default)
                 if action.doc:
@@ -151,7 +157,7 @@ def to_yaml(actions: list, source: str, *, param_type: bool) -> str:
                 if action.arguments:
                     entry["args"] = _words(action.arguments)
                 entry.update(cond(action.condition))
-                params = []
+                params: list[YamlData] = []
                 for param in action.params:
                     if param.kind == "file":
                         params.append({"from": frontend(param.value)})
@@ -189,8 +195,8 @@ def to_yaml(actions: list, source: str, *, param_type: bool) -> str:
 # --- Python -----------------------------------------------------------------------------------
 
 
-def py(parts: list | None) -> str:
-    out = []
+def py(parts: list[Token] | None) -> str:
+    out: list[str] = []
     for part in parts or []:
         kind = part[0]
         if kind == "text":
@@ -211,22 +217,22 @@ def py(parts: list | None) -> str:
     return "[" + ", ".join(out) + "]"
 
 
-def _py_condition(condition) -> str:
+def _py_condition(condition: Condition) -> str:
     kind = "IfCondition" if condition[0] == "if" else "UnlessCondition"
     return f"{kind}({py(condition[1])})"
 
 
-def to_python(actions: list, source: str) -> str:
+def to_python(actions: list[Action], source: str) -> str:
     body: list[str] = []
 
-    def call(name: str, fields: list[str], condition, indent: str) -> None:
+    def call(name: str, fields: list[str], condition: Condition | None, indent: str) -> None:
         if condition:
             fields = [*fields, f"condition={_py_condition(condition)}"]
         body.append(f"{indent}{name}(")
         body.extend(f"{indent}    {f}," for f in fields)
         body.append(f"{indent}),")
 
-    def emit(items, indent: str) -> None:
+    def emit(items: list[Action], indent: str) -> None:
         for action in items:
             if isinstance(action, Arg):
                 if action.fixed:
@@ -248,7 +254,7 @@ def to_python(actions: list, source: str) -> str:
                     fields.append(f"respawn={action.respawn.strip().lower() == 'true'!r}")
                 if action.arguments:
                     fields.append("arguments=[" + ", ".join(py(w) for w in action.arguments) + "]")
-                params = []
+                params: list[str] = []
                 for param in action.params:
                     if param.kind == "file":
                         params.append(py(param.value))
@@ -326,7 +332,7 @@ def to_python(actions: list, source: str) -> str:
     )
 
 
-def used_packages(actions: list) -> set[str]:
+def used_packages(actions: list[Action]) -> set[str]:
     """Packages the converted file starts or looks up (xacro where it runs it)."""
     from pkgforge.migrate.roslaunch import nodes, token_lists
 

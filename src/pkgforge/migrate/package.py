@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
@@ -11,6 +13,12 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import walk
+
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.migrate.roslaunch import Action, Token
+    from pkgforge.scaffold.from_urdf import Reference
+    from pkgforge.scaffold.package import CreatedPackage
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
 DEPENDENCY_TAGS = (
@@ -23,8 +31,10 @@ DEPENDENCY_TAGS = (
 )
 
 
-def _manifest(path: Path):
-    """(catkin_pkg Package, lxml root) of a ROS 1 catkin package, or a located PkgforgeError."""
+def _manifest(path: Path) -> tuple[Any, etree._Element]:
+    """(catkin_pkg Package, lxml root) of a ROS 1 catkin package, or a located PkgforgeError.
+
+    catkin_pkg has no type information: its Package is Any here."""
     from catkin_pkg.package import InvalidPackage, parse_package_string
 
     manifest = path / "package.xml"
@@ -78,21 +88,26 @@ def _is_ros1_launch(relative: str) -> bool:
     return relative.endswith(".launch")
 
 
-def _models(source: Path, files: list[str], notes):
-    """Links of the models in the package, the root link of the first, and missing meshes."""
-    from pkgforge.scaffold.from_urdf import _parse, _references, resolve, root_link
+def _models(
+    source: Path, files: list[str], notes: Notes
+) -> tuple[dict[str, etree._Element], set[str], str | None, list[Reference]]:
+    """Each model parsed (by relative path), the links of all, the root link of the first .urdf,
+    and the meshes that are missing."""
+    from pkgforge.scaffold.from_urdf import model_references, parse_model, resolve, root_link
 
+    roots: dict[str, etree._Element] = {}
     links: set[str] = set()
-    first_root, missing = None, []
+    first_root: str | None = None
+    missing: list[Reference] = []
     for relative in files:
         if not relative.endswith(XACRO_MODEL_SUFFIXES):
             continue
         path = source / relative
-        root = _parse(path)
-        links |= {e.get("name") for e in root.iter("link") if e.get("name")}
+        root = roots[relative] = parse_model(path)
+        links |= {name for e in root.iter("link") if (name := e.get("name"))}
         if first_root is None and relative.endswith(".urdf"):
             first_root = root_link(root)
-        for reference in _references(path, root):
+        for reference in model_references(path, root):
             if (
                 reference.kind in ("mesh", "texture")
                 and "$(" not in reference.uri
@@ -111,7 +126,7 @@ def _models(source: Path, files: list[str], notes):
                     path,
                     element.sourceline,
                 )
-    return links, first_root, missing
+    return roots, links, first_root, missing
 
 
 def migrate(
@@ -121,13 +136,13 @@ def migrate(
     launch_format: str,
     distro: str | None,
     gazebo: bool,
-    notes_factory,
-):
+    notes_factory: Callable[[str], Notes],
+) -> tuple[CreatedPackage, Notes, Path]:
     from pkgforge.migrate.emit import to_python, to_xml, to_yaml, used_packages
     from pkgforge.migrate.roslaunch import Reader
     from pkgforge.migrate.rviz1 import convert as convert_rviz
     from pkgforge.model.distro_data import load
-    from pkgforge.scaffold.from_urdf import _parse, massless_root, missing_message
+    from pkgforge.scaffold.from_urdf import massless_root, missing_message
     from pkgforge.scaffold.package import create_package, make_spec, render_files
 
     source = source.absolute()
@@ -135,7 +150,7 @@ def migrate(
     name = package.name
     notes = notes_factory(name)
     files = _files(source)
-    links, root, missing = _models(source, files, notes)
+    models, links, root, missing = _models(source, files, notes)
     if missing:
         raise PkgforgeError(missing_message(missing, force=False))
     base = make_spec(
@@ -154,12 +169,12 @@ def migrate(
         elif relative.endswith(".rviz") and "/" not in relative:
             moved[relative] = f"rviz/{relative}"
 
-    def rename_launch(parts: list) -> list:
+    def rename_launch(parts: list[Token]) -> list[Token]:
         return _rewrite(parts, name, moved, foreign_launch=".launch.py")  # other packages' ROS 2 launch files
 
     output: dict[str, bytes] = {}
     used: set[str] = set()
-    generated_rviz: dict[str, int] = {}
+    generated_rviz: dict[str, int | None] = {}
     for relative in files:
         path = source / relative
         if relative in moved and _is_ros1_launch(relative):
@@ -183,9 +198,9 @@ def migrate(
             output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode(
                 "utf-8"
             )
-        elif relative.endswith(XACRO_MODEL_SUFFIXES) and etree.QName(_parse(path)).localname == "robot":
+        elif relative in models and etree.QName(models[relative]).localname == "robot":
             output[relative] = massless_root(
-                path.read_text(encoding="utf-8"), _parse(path), path, notes
+                path.read_text(encoding="utf-8"), models[relative], path, notes
             ).encode("utf-8")
         else:
             output[relative] = path.read_bytes()
@@ -206,7 +221,7 @@ def migrate(
         if dependency in table.DROPPED_DEPENDENCIES:
             notes.add(
                 "migrate-dependency-dropped",
-                f"<{element.tag}>{dependency}</{element.tag}> is ROS 1 only: not carried over",
+                f"<{element.tag!s}>{dependency}</{element.tag!s}> is ROS 1 only: not carried over",
                 source / "package.xml",
                 element.sourceline,
             )
@@ -222,13 +237,13 @@ def migrate(
             else:
                 notes.add(
                     "migrate-dependency-dropped",
-                    f"<{element.tag}>{dependency}</{element.tag}>: Gazebo Classic, "
+                    f"<{element.tag!s}>{dependency}</{element.tag!s}>: Gazebo Classic, "
                     "not carried over (--gazebo uses ros_gz_sim)",
                     source / "package.xml",
                     element.sourceline,
                 )
-        elif table.package(dependency) and not data.released(dependency, target):
-            better = table.package(dependency)[0]
+        elif (replacement := table.package(dependency)) and not data.released(dependency, target):
+            better = replacement[0]
             depends.add(better)
             notes.add(
                 "migrate-renamed", f"{dependency} → {better}", source / "package.xml", element.sourceline
@@ -291,8 +306,10 @@ def migrate(
     return created, notes, source
 
 
-def _rewrite(parts: list, name: str, moved: dict[str, str], foreign_launch: str) -> list:
+def _rewrite(parts: list[Token], name: str, moved: dict[str, str], foreign_launch: str) -> list[Token]:
     """$(find NAME)/old → $(find NAME)/new for a moved file; other packages' .launch → ROS 2 name."""
+    from pkgforge.migrate.roslaunch import Token
+
     out = list(parts)
     for index in range(len(out) - 1):
         if out[index][0] == "find" and out[index + 1][0] == "text":
@@ -301,17 +318,23 @@ def _rewrite(parts: list, name: str, moved: dict[str, str], foreign_launch: str)
             if out[index][1] == name:
                 for old, new in moved.items():
                     if relative == old or relative.startswith(old + " "):
-                        out[index + 1] = ("text", "/" + new + relative[len(old) :])
+                        out[index + 1] = Token("text", "/" + new + relative[len(old) :])
             elif relative.endswith(".launch"):
-                out[index + 1] = ("text", rest[: -len(".launch")] + foreign_launch)
+                out[index + 1] = Token("text", rest[: -len(".launch")] + foreign_launch)
     return out
 
 
 def _rewrite_all(
-    actions: list, name: str, moved: dict[str, str], source: Path, generated: dict, notes, path
+    actions: list[Action],
+    name: str,
+    moved: dict[str, str],
+    source: Path,
+    generated: dict[str, int | None],
+    notes: Notes,
+    path: Path,
 ) -> None:
     """References to moved files follow them; an RViz config the source lacks is generated in rviz/."""
-    from pkgforge.migrate.roslaunch import Arg, Group, Node
+    from pkgforge.migrate.roslaunch import Arg, Group, Node, Token
 
     for action in actions:
         if isinstance(action, Arg) and action.default:
@@ -324,7 +347,7 @@ def _rewrite_all(
                 for index, word in enumerate(action.arguments):
                     if (
                         len(word) == 2
-                        and word[0] == ("find", name)
+                        and word[0] == Token("find", name)
                         and word[1][0] == "text"
                         and word[1][1].endswith(".rviz")
                     ):
@@ -332,7 +355,7 @@ def _rewrite_all(
                         if not (source / relative).is_file() and relative not in moved.values():
                             new = f"rviz/{Path(relative).name}"
                             generated[new] = action.line
-                            action.arguments[index] = [("find", name), ("text", "/" + new)]
+                            action.arguments[index] = [Token("find", name), Token("text", "/" + new)]
                             notes.add(
                                 "migrate-generated",
                                 f"{relative} (the -d config of rviz) is not in the source: "

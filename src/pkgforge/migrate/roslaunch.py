@@ -1,19 +1,25 @@
 """ROS 1 launch XML (roslaunch) → plain actions, read with lxml so every element keeps its line.
 
-Substitutions become tokens: ("text", s), ("find", pkg), ("var", name), ("env", name, default),
-("anon", name), ("dirname",). What ROS 2 cannot express is a `migrate-dropped` note at its line.
+Substitutions become tokens: Token("text", s), Token("find", pkg), Token("var", name),
+Token("env", name, default), Token("anon", name), Token("dirname"). What ROS 2 cannot express is a
+`migrate-dropped` note at its line.
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Literal, NamedTuple
 
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
+
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
 
 SUBSTITUTION = re.compile(r"\$\(([a-z_]+)((?:\s+[^)\s]+)*)\s*\)")
 XACRO_COMMAND = re.compile(
@@ -25,44 +31,56 @@ class Unconvertible(Exception):
     pass
 
 
-def tokens(text: str | None) -> list[tuple]:
+class Token(NamedTuple):
+    """A piece of a roslaunch value: text, or a substitution the emitters write in ROS 2 terms."""
+
+    kind: Literal["text", "find", "var", "env", "anon", "dirname"]
+    value: str = ""  # the text, package, argument, variable or name ("" for dirname)
+    default: str | None = None  # env: $(optenv NAME default)'s default
+
+
+# <node if=...>/<group unless=...>: the attribute and its value
+Condition = tuple[Literal["if", "unless"], list[Token]]
+
+
+def tokens(text: str | None) -> list[Token]:
     """A roslaunch attribute value as tokens; $(eval) and unknown substitutions raise Unconvertible."""
     if text is None:
         return []
-    found: list[tuple] = []
+    found: list[Token] = []
     position = 0
     for match in SUBSTITUTION.finditer(text):
         if match.start() > position:
-            found.append(("text", text[position : match.start()]))
+            found.append(Token("text", text[position : match.start()]))
         kind, words = match.group(1), match.group(2).split()
         if kind == "find" and len(words) == 1:
-            found.append(("find", words[0]))
+            found.append(Token("find", words[0]))
         elif kind == "arg" and len(words) == 1:
-            found.append(("var", words[0]))
+            found.append(Token("var", words[0]))
         elif kind in ("env", "optenv") and words:
-            found.append(("env", words[0], " ".join(words[1:]) if kind == "optenv" else None))
+            found.append(Token("env", words[0], " ".join(words[1:]) if kind == "optenv" else None))
         elif kind == "anon" and len(words) == 1:
-            found.append(("anon", words[0]))
+            found.append(Token("anon", words[0]))
         elif kind == "dirname" and not words:
-            found.append(("dirname",))
+            found.append(Token("dirname"))
         else:
             raise Unconvertible(f"$({kind}) has no ROS 2 equivalent pkgforge can write")
         position = match.end()
     if "$(" in text[position:]:
         raise Unconvertible(f"'{text}' holds a substitution pkgforge cannot read")
     if position < len(text):
-        found.append(("text", text[position:]))
+        found.append(Token("text", text[position:]))
     return found
 
 
-def literal(parts: list[tuple]) -> str | None:
+def literal(parts: list[Token]) -> str | None:
     """The text of tokens that are all text, else None."""
     return "".join(p[1] for p in parts) if all(p[0] == "text" for p in parts) else None
 
 
-def split_words(parts: list[tuple]) -> list[list[tuple]]:
+def split_words(parts: list[Token]) -> list[list[Token]]:
     """Tokens split at white space in their text (node args)."""
-    words: list[list[tuple]] = [[]]
+    words: list[list[Token]] = [[]]
     for part in parts:
         if part[0] != "text":
             words[-1].append(part)
@@ -74,72 +92,86 @@ def split_words(parts: list[tuple]) -> list[list[tuple]]:
             if piece.isspace():
                 words.append([])
             else:
-                words[-1].append(("text", piece.strip("'\"")))
+                words[-1].append(Token("text", piece.strip("'\"")))
     return [w for w in words if w]
 
 
+# lines are lxml's sourceline: None only where libxml2 could not count (it does for every file read)
 @dataclass
 class Arg:
     name: str
-    default: list | None
+    default: list[Token] | None
     doc: str | None
-    line: int
+    line: int | None
     fixed: bool = False  # <arg value=...>: a constant (ROS 2: let)
 
 
 @dataclass
 class Param:
-    name: str
-    value: list
-    kind: str = "value"  # value | description (xacro of a file, as a string) | file (a YAML file)
+    name: str | None  # None: <param> without name= (written as found)
+    value: list[Token]
+    # value | description (xacro of a file, as a string) | file (a YAML file)
+    kind: Literal["value", "description", "file"] = "value"
 
 
 @dataclass
 class Node:
     package: str
     executable: str
-    line: int
+    line: int | None
     name: str | None = None
     namespace: str | None = None
-    arguments: list[list] = field(default_factory=list)
+    arguments: list[list[Token]] = field(default_factory=list)
     output: str | None = None
     respawn: str | None = None
     params: list[Param] = field(default_factory=list)
-    remaps: list[tuple[str, str]] = field(default_factory=list)
-    condition: tuple | None = None  # ("if"|"unless", tokens)
+    remaps: list[tuple[str | None, str | None]] = field(default_factory=list)  # (from=, to=)
+    condition: Condition | None = None
 
 
 @dataclass
 class Include:
-    path: list
-    line: int
-    arguments: list[tuple[str, list]] = field(default_factory=list)
-    condition: tuple | None = None
+    path: list[Token]
+    line: int | None
+    arguments: list[tuple[str | None, list[Token]]] = field(default_factory=list)  # (name=, value)
+    condition: Condition | None = None
 
 
 @dataclass
 class Group:
-    line: int
-    namespace: list | None = None
-    condition: tuple | None = None
-    actions: list = field(default_factory=list)
+    line: int | None
+    namespace: list[Token] | None = None
+    condition: Condition | None = None
+    actions: list[Action] = field(default_factory=list)
+
+
+Action = Arg | Node | Include | Group
 
 
 @dataclass
 class LaunchFile:
     source: Path
-    actions: list
+    actions: list[Action]
     used_args: set[str] = field(default_factory=set)
 
 
 class Reader:
-    def __init__(self, path: Path, package: str, notes, *, gazebo: bool, rename_launch):
+    def __init__(
+        self,
+        path: Path,
+        package: str,
+        notes: Notes,
+        *,
+        gazebo: bool,
+        rename_launch: Callable[[list[Token]], list[Token]],
+    ):
         self.path, self.package, self.notes, self.gazebo = path, package, notes, gazebo
         self.rename_launch = rename_launch  # tokens of an included ROS 1 launch file → ROS 2 tokens
-        self.description: tuple[list, int, str] | None = None  # (xacro tokens, line, kind)
-        self.use_gui: list | None = None
+        # (xacro tokens, line, kind)
+        self.description: tuple[list[Token], int | None, str] | None = None
+        self.use_gui: list[Token] | None = None
 
-    def note(self, name: str, message: str, element) -> None:
+    def note(self, name: str, message: str, element: etree._Element) -> None:
         self.notes.add(name, message, self.path, element.sourceline)
 
     def read(self) -> LaunchFile:
@@ -152,7 +184,7 @@ class Reader:
             ) from exc
         if root.tag != "launch":
             raise PkgforgeError(
-                f"{self.path}:{root.sourceline}: the root element is <{root.tag}>, not <launch>: "
+                f"{self.path}:{root.sourceline}: the root element is <{root.tag!s}>, not <launch>: "
                 "not a ROS 1 launch file (nothing written)"
             )
         actions = self.block(root)
@@ -169,25 +201,28 @@ class Reader:
             )
         return LaunchFile(self.path, actions)
 
-    def value(self, element, attribute: str) -> list | None:
+    def value(self, element: etree._Element, attribute: str) -> list[Token] | None:
         text = element.get(attribute)
         if text is None:
             return None
         return tokens(text)
 
-    def condition(self, element) -> tuple | None:
-        for kind in ("if", "unless"):
+    def condition(self, element: etree._Element) -> Condition | None:
+        kinds: tuple[Literal["if", "unless"], ...] = ("if", "unless")
+        for kind in kinds:
             if element.get(kind) is not None:
                 return kind, tokens(element.get(kind))
         return None
 
-    def block(self, parent) -> list:
-        actions = []
+    def block(self, parent: etree._Element) -> list[Action]:
+        actions: list[Action] = []
         for element in parent:
             if not isinstance(element.tag, str):
                 continue
             try:
-                action = getattr(self, "read_" + element.tag.replace("-", "_"), None)
+                action: Callable[[etree._Element], Action | None] | None = getattr(
+                    self, "read_" + element.tag.replace("-", "_"), None
+                )
                 if action is None:
                     self.note(
                         "migrate-dropped",
@@ -200,27 +235,27 @@ class Reader:
                 self.note("migrate-dropped", f"<{element.tag}> left out: {exc}", element)
                 continue
             if result is not None:
-                actions.extend(result if isinstance(result, list) else [result])
+                actions.append(result)
         return actions
 
-    def required(self, element, *names: str) -> None:
+    def required(self, element: etree._Element, *names: str) -> None:
         missing = [n for n in names if not element.get(n)]
         if missing:
             raise Unconvertible(f"it has no {', '.join(missing)}= attribute")
 
-    def read_arg(self, element):
+    def read_arg(self, element: etree._Element) -> Arg:
         self.required(element, "name")
-        name = element.get("name")
+        name = element.get("name", "")  # required: never the default
         if element.get("value") is not None:
             return Arg(name, tokens(element.get("value")), element.get("doc"), element.sourceline, fixed=True)
         return Arg(name, self.value(element, "default"), element.get("doc"), element.sourceline)
 
-    def read_group(self, element):
+    def read_group(self, element: etree._Element) -> Group:
         group = Group(element.sourceline, self.value(element, "ns"), self.condition(element))
         group.actions = self.block(element)
         return group
 
-    def description_of(self, element) -> list | None:
+    def description_of(self, element: etree._Element) -> list[Token] | None:
         """xacro command tokens of a robot_description <param textfile=|command=>."""
         if element.get("textfile") is not None:
             self.note(
@@ -245,7 +280,7 @@ class Reader:
             return tokens(re.sub(r"\s+", " ", rest))
         return None
 
-    def read_param(self, element):
+    def read_param(self, element: etree._Element) -> None:
         self.required(element, "name")
         name = element.get("name", "")
         if name.lstrip("/") == "robot_description":
@@ -266,12 +301,12 @@ class Reader:
             return None
         raise Unconvertible(f"global parameter '{name}': ROS 2 has no global parameters")
 
-    def read_rosparam(self, element):
+    def read_rosparam(self, element: etree._Element) -> None:
         raise Unconvertible(
             "global <rosparam>: ROS 2 has no global parameters (load it in a node's <param from>)"
         )
 
-    def read_include(self, element):
+    def read_include(self, element: etree._Element) -> Include | None:
         self.required(element, "file")
         path = tokens(element.get("file"))
         arguments = [
@@ -301,7 +336,7 @@ class Reader:
                 self.path,
                 element.sourceline,
             )
-            dropped = [k for k, _ in arguments if k != "world_name"]
+            dropped = [k or "(unnamed)" for k, _ in arguments if k != "world_name"]
             if dropped:
                 self.note(
                     "migrate-dropped",
@@ -310,9 +345,9 @@ class Reader:
                     element,
                 )
             return Include(
-                [("find", package), ("text", "/" + launch)],
+                [Token("find", package), Token("text", "/" + launch)],
                 element.sourceline,
-                [("gz_args", (world or [("text", "empty.sdf")]) + [("text", " -r")])],
+                [("gz_args", (world or [Token("text", "empty.sdf")]) + [Token("text", " -r")])],
                 condition,
             )
         renamed = self.rename_launch(path)
@@ -325,9 +360,9 @@ class Reader:
             )
         return Include(renamed, element.sourceline, arguments, condition)
 
-    def read_node(self, element):
+    def read_node(self, element: etree._Element) -> Node | None:
         self.required(element, "pkg", "type")
-        package, executable = element.get("pkg"), element.get("type")
+        package, executable = element.get("pkg", ""), element.get("type", "")  # required
         line = element.sourceline
         if (package, executable) == table.GAZEBO_SPAWNER:
             return self.spawner(element)
@@ -367,7 +402,8 @@ class Reader:
             try:
                 if child.tag == "param":
                     if child.get("name", "").lstrip("~") == "robot_description":
-                        description = self.description_of(child) or self.value(child, "value")
+                        # no value at all: an empty xacro command, as for a global robot_description
+                        description = self.description_of(child) or self.value(child, "value") or []
                         node.params.append(Param("robot_description", description, "description"))
                     elif child.get("name") == "use_gui":
                         self.use_gui = self.value(child, "value")
@@ -393,7 +429,7 @@ class Reader:
             )
         return node
 
-    def transform_arguments(self, words: list[list], element) -> list[list]:
+    def transform_arguments(self, words: list[list[Token]], element: etree._Element) -> list[list[Token]]:
         """tf's `x y z yaw pitch roll frame child period` → tf2_ros's named options."""
         names6 = ["--x", "--y", "--z", "--yaw", "--pitch", "--roll"]
         names7 = ["--x", "--y", "--z", "--qx", "--qy", "--qz", "--qw"]
@@ -406,13 +442,13 @@ class Reader:
                         "(tf2_ros publishes static transforms once, latched)",
                         element,
                     )
-                converted = []
+                converted: list[list[Token]] = []
                 for option, word in zip([*names, "--frame-id", "--child-frame-id"], words, strict=False):
-                    converted += [[("text", option)], word]
+                    converted += [[Token("text", option)], word]
                 return converted
         return words
 
-    def spawner(self, element):
+    def spawner(self, element: etree._Element) -> Node | None:
         words = split_words(tokens(element.get("args", "")))
         if not self.gazebo:
             self.note(
@@ -423,17 +459,18 @@ class Reader:
             return None
         package, executable = table.GZ_SPAWNER
         self.note("migrate-renamed", f"gazebo_ros/spawn_model → {package}/{executable}", element)
-        converted, index = [], 0
+        converted: list[list[Token]] = []
+        index = 0
         flags = ("-urdf", "-sdf", "-unpause", "-wait")
         while index < len(words):
             option = literal(words[index]) or ""
             takes_value = option not in flags and index + 1 < len(words)
             new = table.SPAWN_OPTIONS.get(option)
             if new:
-                converted.append([("text", new)])
+                converted.append([Token("text", new)])
                 if takes_value:
                     converted.append(
-                        [("text", "robot_description")] if option == "-param" else words[index + 1]
+                        [Token("text", "robot_description")] if option == "-param" else words[index + 1]
                     )
             elif option not in flags:
                 self.note(
@@ -451,7 +488,7 @@ class Reader:
             output=element.get("output"),
         )
 
-    def finish(self, actions: list) -> None:
+    def finish(self, actions: list[Action]) -> None:
         """Global robot_description → robot_state_publisher's parameter; use_gui → which publisher."""
         found = list(nodes(actions))
         if self.description is not None:
@@ -488,7 +525,7 @@ class Reader:
             container.insert(container.index(node) + 1, with_gui)
 
 
-def _node_places(actions: list):
+def _node_places(actions: list[Action]) -> Iterator[tuple[list[Action], Node]]:
     for action in list(actions):
         if isinstance(action, Node):
             yield actions, action
@@ -496,15 +533,15 @@ def _node_places(actions: list):
             yield from _node_places(action.actions)
 
 
-def nodes(actions: list):
+def nodes(actions: list[Action]) -> Iterator[Node]:
     for _, node in _node_places(actions):
         yield node
 
 
-def token_lists(actions: list):
+def token_lists(actions: list[Action]) -> Iterator[list[Token]]:
     """Every token list in actions: defaults, arguments, parameters, conditions, includes."""
     for action in actions:
-        condition = getattr(action, "condition", None)
+        condition = None if isinstance(action, Arg) else action.condition
         if condition:
             yield condition[1]
         if isinstance(action, Arg):
@@ -520,6 +557,6 @@ def token_lists(actions: list):
             yield from token_lists(action.actions)
 
 
-def _variables(actions: list) -> set[str]:
+def _variables(actions: list[Action]) -> set[str]:
     """Names of the launch arguments anything in actions reads."""
     return {p[1] for parts in token_lists(actions) for p in parts if p[0] == "var"}

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
+
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
 
 DESCRIPTION_TOPIC = {
     "Depth": 5,
@@ -18,7 +22,7 @@ DESCRIPTION_TOPIC = {
 }
 
 
-def _topic(value: str) -> dict:
+def _topic(value: str) -> dict[str, str | int]:
     return {
         "Depth": 5,
         "Durability Policy": "Volatile",
@@ -44,7 +48,7 @@ class _Lines:
         return None
 
 
-def convert(text: str, path: Path, notes, links: set[str], root_link: str | None) -> str:
+def convert(text: str, path: Path, notes: Notes, links: set[str], root_link: str | None) -> str:
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
@@ -57,7 +61,7 @@ def convert(text: str, path: Path, notes, links: set[str], root_link: str | None
         raise PkgforgeError(f"{path}:1: no 'Visualization Manager': not an RViz config (nothing written)")
     lines = _Lines(text)
 
-    def walk(node):
+    def walk(node: Any) -> bool:  # node: any part of the config's YAML data
         if isinstance(node, dict):
             cls = node.get("Class")
             if isinstance(cls, str) and cls:

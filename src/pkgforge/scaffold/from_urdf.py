@@ -26,6 +26,9 @@ if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
     from pkgforge.scaffold.package import CreatedPackage
 
+if TYPE_CHECKING:
+    from pkgforge.migrate.notes import Notes
+
 URI_STYLES = ("package", "find")
 FIND = re.compile(r"\$\(find ([^)\s]+)\)")
 XACRO_NS = "http://www.ros.org/wiki/xacro"
@@ -101,7 +104,8 @@ def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     return path, None
 
 
-def _references(model: Path, root: etree._Element) -> list[Reference]:
+def model_references(model: Path, root: etree._Element) -> list[Reference]:
+    """The meshes, textures and xacro includes a parsed model names, with their lines."""
     found: list[Reference] = []
     for element in root.iter():
         if not isinstance(element.tag, str):
@@ -111,15 +115,16 @@ def _references(model: Path, root: etree._Element) -> list[Reference]:
         if filename is None:
             continue
         if tag == "mesh":
-            found.append(Reference(filename, model, element.sourceline, "mesh"))
+            found.append(Reference(filename, model, element.sourceline or 0, "mesh"))
         elif tag == "texture":
-            found.append(Reference(filename, model, element.sourceline, "texture"))
+            found.append(Reference(filename, model, element.sourceline or 0, "texture"))
         elif tag == "include" and etree.QName(element).namespace == XACRO_NS:
-            found.append(Reference(filename, model, element.sourceline, "include"))
+            found.append(Reference(filename, model, element.sourceline or 0, "include"))
     return found
 
 
-def _parse(path: Path) -> etree._Element:
+def parse_model(path: Path) -> etree._Element:
+    """The root element of a URDF or xacro file; a located PkgforgeError when it cannot be read."""
     try:
         return etree.parse(str(path), etree.XMLParser(remove_comments=False)).getroot()
     except etree.XMLSyntaxError as exc:
@@ -245,9 +250,9 @@ def import_model(
         models[current] = (
             current.name if current.name not in models.values() else f"{current.parent.name}_{current.name}"
         )
-        root = _parse(current)
+        root = parse_model(current)
         roots[current] = root
-        for reference in _references(current, root):
+        for reference in model_references(current, root):
             reference.source, reference.problem = resolve(reference.uri, current)
             references.append(reference)
             if reference.kind == "include" and reference.source is not None:

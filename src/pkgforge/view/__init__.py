@@ -11,10 +11,19 @@ from __future__ import annotations
 import json
 import os
 import re
+from collections.abc import Iterable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypedDict
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.view.tree_svg import tree_svg
+
+if TYPE_CHECKING:
+    from PIL import Image
+
+    from pkgforge.tree import InstallTree
+    from pkgforge.urdf.select import ModelResult
+    from pkgforge.view.scene import Resolve, Robot
 
 VIEW_NAMES = ("front", "side", "top", "iso")
 INSTALL_HINT = "pip install 'ros-pkgforge[view]'"
@@ -30,8 +39,22 @@ def missing_renderer() -> str | None:
     return None
 
 
-def parse_joints(texts) -> dict[str, float]:
-    joints = {}
+class _ViewEntry(TypedDict):
+    model: str  # the model's source (or installed) file
+    robot: str | None  # <robot name>
+    joints: dict[str, float]  # the --joint positions it was drawn at
+    images: list[dict[str, Any]]  # raster.render's record of each view, and its file name
+    tree: str  # the SVG file's name
+
+
+class ViewEntry(_ViewEntry, total=False):
+    """One model in view.json (and what `pkgforge view` lists)."""
+
+    size: str  # with images: the model's extent
+
+
+def parse_joints(texts: Iterable[str]) -> dict[str, float]:
+    joints: dict[str, float] = {}
     for text in texts:
         name, sep, value = text.partition(":=")
         try:
@@ -43,7 +66,7 @@ def parse_joints(texts) -> dict[str, float]:
     return joints
 
 
-def _stem(result) -> str:
+def _stem(result: ModelResult) -> str:
     name = re.sub(r"\.(urdf|xacro)$", "", re.sub(r"\.xacro$", "", result.installed.name))
     extra = "-" + "-".join(f"{k}_{v}" for k, v in sorted(result.mappings.items())) if result.mappings else ""
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{result.package}-{name}{extra}")
@@ -58,18 +81,18 @@ class Artifacts:
         self.out, self.joints, self.frame = out, joints or {}, frame
         self.missing = missing_renderer() if images else "images not asked for"
         self.written: list[Path] = []
-        self.entries: list[dict] = []
+        self.entries: list[ViewEntry] = []
         self.problems: list[str] = []
         self.used_joints: set[str] = set()
 
-    def __call__(self, tree, results) -> None:
+    def __call__(self, tree: InstallTree, results: Iterable[ModelResult]) -> None:
         from pkgforge.urdf.meshes import resolve_uri
 
         try:
             self.out.mkdir(parents=True, exist_ok=True)
         except OSError as error:
             raise PkgforgeError(f"cannot write {self.out}: {error.strerror}") from None
-        seen = set()
+        seen: set[str] = set()
         for result in results:
             robot = result.robot or {}
             if result.status != "ok" or robot.get("root_tag") != "robot" or not robot.get("links"):
@@ -79,20 +102,25 @@ class Artifacts:
                 continue
             seen.add(stem)
 
-            def resolve(uri, result=result):
+            def resolve(uri: str, result: ModelResult = result) -> Path | None:
                 lookup = resolve_uri(uri, tree, result.installed)
                 return lookup.path if lookup.status == "found" else None
 
             self.model(robot, resolve, stem, str(result.source or result.installed))
 
-    def model(self, robot: dict, resolve, stem: str, source: str) -> None:
+    def model(self, robot: Robot, resolve: Resolve, stem: str, source: str) -> None:
         names = {j.get("name") for j in robot.get("joints", [])}
         positions = {k: v for k, v in self.joints.items() if k in names}
         self.used_joints |= set(positions)
-        entry = {"model": source, "robot": robot.get("name"), "joints": positions, "images": []}
         svg = self.out / f"{stem}-tree.svg"
         self._write(svg, tree_svg(robot).encode("utf-8"))
-        entry["tree"] = svg.name
+        entry: ViewEntry = {
+            "model": source,
+            "robot": robot.get("name"),
+            "joints": positions,
+            "images": [],
+            "tree": svg.name,
+        }
         if self.missing is None:
             from pkgforge.view import raster
             from pkgforge.view import scene as scenes
@@ -120,7 +148,7 @@ class Artifacts:
             raise PkgforgeError(f"cannot write {path}: {error.strerror}") from None
         self.written.append(path)
 
-    def _save(self, path: Path, image) -> None:
+    def _save(self, path: Path, image: Image.Image) -> None:
         import io
 
         buffer = io.BytesIO()
@@ -138,7 +166,7 @@ class Artifacts:
         return index
 
 
-def summary_markdown(entries: list[dict], missing: str | None, link_base: str = "") -> str:
+def summary_markdown(entries: list[ViewEntry], missing: str | None, link_base: str = "") -> str:
     lines = ["## Robot models", ""]
     if not entries:
         lines.append("No robot model was processed.")

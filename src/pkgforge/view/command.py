@@ -4,10 +4,16 @@ in a workspace package, a model installed in a ROS prefix (share/<package>/...),
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.view import Artifacts
+
+if TYPE_CHECKING:
+    from pkgforge.tree import InstallTree
+    from pkgforge.urdf.select import ModelResult
+    from pkgforge.verify.pipeline import VerifyOptions
 
 
 def _installed_prefix(file: Path) -> tuple[Path, str] | None:
@@ -36,7 +42,7 @@ def _by_name(name: str) -> Path:
     )
 
 
-def run_view(target: str, artifacts: Artifacts, options) -> None:
+def run_view(target: str, artifacts: Artifacts, options: VerifyOptions) -> None:
     """Render through verify's own model processing; `options` are VerifyOptions."""
     path = Path(target)
     if not path.exists():
@@ -55,12 +61,13 @@ def run_view(target: str, artifacts: Artifacts, options) -> None:
         verify(path, options)
 
 
-def _one_model(file: Path, artifacts: Artifacts, options) -> None:
-    from pkgforge.launch.resolve import WorkerLimits, source_of
+def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None:
+    from pkgforge.launch.resolve import source_of
     from pkgforge.urdf import select as robot_models
 
     installed = _installed_prefix(file)
-    if installed is not None or _package_folder(file) is None:
+    folder = _package_folder(file)
+    if installed is not None or folder is None:
         import tempfile
         import time
 
@@ -76,34 +83,31 @@ def _one_model(file: Path, artifacts: Artifacts, options) -> None:
         try:
             package = installed[1] if installed else file.parent.name
             result = robot_models.ModelResult(package, file, file, dict(options.launch_arguments))
-            (result,) = robot_models.process(
-                [result],
-                tree,
-                jobs=1,
-                timeout=options.launch_timeout,
-                limits=WorkerLimits(options.launch_timeout, options.worker_memory),
-            )
-            _render(artifacts, tree, result)
+            _render(artifacts, tree, result, options)
         finally:
             tree.close()
         return
     from pkgforge.verify.explain import _installed
 
-    with _installed(_package_folder(file), file, options) as (tree, installed_file, package, owner):
+    with _installed(folder, file, options) as (tree, installed_file, package, owner):
         result = robot_models.ModelResult(
             package, installed_file, source_of(installed_file, tree, owner), dict(options.launch_arguments)
         )
-        (result,) = robot_models.process(
-            [result],
-            tree,
-            jobs=1,
-            timeout=options.launch_timeout,
-            limits=WorkerLimits(options.launch_timeout, options.worker_memory),
-        )
-        _render(artifacts, tree, result)
+        _render(artifacts, tree, result, options)
 
 
-def _render(artifacts: Artifacts, tree, result) -> None:
+def _render(artifacts: Artifacts, tree: InstallTree, result: ModelResult, options: VerifyOptions) -> None:
+    """Process the model (xacro in a worker: it is user code) and draw it."""
+    from pkgforge.launch.resolve import WorkerLimits
+    from pkgforge.urdf import select as robot_models
+
+    (result,) = robot_models.process(
+        [result],
+        tree,
+        jobs=1,
+        timeout=options.launch_timeout,
+        limits=WorkerLimits(options.launch_timeout, options.worker_memory),
+    )
     if result.status not in ("ok",):
         error = result.error or {}
         where = f"{error.get('file') or result.installed}:{error.get('line') or ''}".rstrip(":")

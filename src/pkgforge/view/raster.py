@@ -8,10 +8,18 @@ a container and CI.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
+from numpy.typing import NDArray
 from PIL import Image, ImageDraw, ImageFont
 
-from pkgforge.view.scene import Scene
+from pkgforge.view.scene import Floats, Scene
+
+Ints = NDArray[np.int64]
+# (flat pixel index, depth, triangle) of candidate pixels → the z-buffer keeps the nearest
+KeepNearest = Callable[[Ints, Floats, Ints], None]
 
 BACKGROUND = (255, 255, 255)
 SIZE = 640  # the drawing area, pixels square
@@ -28,16 +36,16 @@ VIEWS = {
 }
 
 
-def camera(view: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def camera(view: str) -> tuple[Floats, Floats, Floats]:
     """(right, up, forward) unit vectors of the view."""
-    forward, up = (np.asarray(v, dtype=float) for v in VIEWS[view])
+    forward, up = (np.asarray(v, dtype=np.float64) for v in VIEWS[view])
     forward /= np.linalg.norm(forward)
     right = np.cross(forward, up)
     right /= np.linalg.norm(right)
     return right, np.cross(right, forward), forward
 
 
-def project(points: np.ndarray, view: str) -> np.ndarray:
+def project(points: Floats, view: str) -> Floats:
     """(..., 3) points → (..., 3): screen right, screen up, depth (larger is farther)."""
     right, up, forward = camera(view)
     return np.stack([points @ right, points @ up, points @ forward], axis=-1)
@@ -45,11 +53,17 @@ def project(points: np.ndarray, view: str) -> np.ndarray:
 
 def render(
     scene: Scene, view: str, *, title: str, frame: bool = True, size: int = SIZE
-) -> tuple[Image.Image, dict]:
-    """The image of one view, and what a reader needs to measure it (pixels per metre, drawing area)."""
+) -> tuple[Image.Image, dict[str, Any]]:
+    """The image of one view, and what a reader needs to measure it (pixels per metre, drawing area).
+
+    The dict is view.json's record of the image (JSON data)."""
     image = Image.new("RGB", (size + 2 * MARGIN, size + 2 * MARGIN + FOOTER), BACKGROUND)
     draw = ImageDraw.Draw(image)
-    info = {"view": view, "pixels_per_metre": None, "area": [MARGIN, MARGIN, MARGIN + size, MARGIN + size]}
+    info: dict[str, Any] = {
+        "view": view,
+        "pixels_per_metre": None,
+        "area": [MARGIN, MARGIN, MARGIN + size, MARGIN + size],
+    }
     if len(scene.triangles):
         screen = project(scene.triangles, view)
         low, high = screen[..., :2].reshape(-1, 2).min(axis=0), screen[..., :2].reshape(-1, 2).max(axis=0)
@@ -57,7 +71,7 @@ def render(
         scale = size / extent.max()
         offset = MARGIN + (size - extent * scale) / 2  # centred
 
-        def to_pixels(uv: np.ndarray) -> np.ndarray:
+        def to_pixels(uv: Floats) -> Floats:
             x = offset[0] + (uv[..., 0] - low[0]) * scale
             y = offset[1] + (high[1] - uv[..., 1]) * scale
             return np.stack([x, y], axis=-1)
@@ -89,14 +103,14 @@ def render(
 CHUNK = 1 << 22  # pixels rasterised at once (bounds the memory to ~200 MB)
 
 
-def _within(counts: np.ndarray) -> np.ndarray:
+def _within(counts: Ints) -> Ints:
     """0..count-1 for each count, concatenated."""
     total = int(counts.sum())
     starts = np.repeat(np.cumsum(counts) - counts, counts)
     return np.arange(total) - starts
 
 
-def _rasterise(canvas: np.ndarray, pixels: np.ndarray, depth: np.ndarray, fills: np.ndarray) -> None:
+def _rasterise(canvas: NDArray[np.uint8], pixels: Floats, depth: Floats, fills: NDArray[np.uint8]) -> None:
     """Fill the triangles (pixel coordinates, depth per corner), nearest wins, into canvas (h, w, 3).
 
     Scanlines, vectorised: every triangle becomes its pixel rows, every row its pixel span, so
@@ -106,7 +120,7 @@ def _rasterise(canvas: np.ndarray, pixels: np.ndarray, depth: np.ndarray, fills:
     zbuffer = np.full(height * width, np.inf)
     owner = np.full(height * width, -1, dtype=np.int64)
 
-    def keep_nearest(flat, z, triangle):
+    def keep_nearest(flat: Ints, z: Floats, triangle: Ints) -> None:
         order = np.lexsort((z, flat))
         flat, z, triangle = flat[order], z[order], triangle[order]
         first = np.ones(len(flat), dtype=bool)
@@ -146,7 +160,17 @@ def _rasterise(canvas: np.ndarray, pixels: np.ndarray, depth: np.ndarray, fills:
     canvas.reshape(-1, 3)[drawn] = fills[owner[drawn]]
 
 
-def _scan(part, pixels, top, rows, z0, zx, zy, width, keep_nearest) -> None:
+def _scan(
+    part: slice,
+    pixels: Floats,
+    top: Ints,
+    rows: Ints,
+    z0: Floats,
+    zx: Floats,
+    zy: Floats,
+    width: int,
+    keep_nearest: KeepNearest,
+) -> None:
     index = np.arange(len(pixels))[part]
     triangle = np.repeat(index, rows[part])
     if not len(triangle):
@@ -168,13 +192,15 @@ def _scan(part, pixels, top, rows, z0, zx, zy, width, keep_nearest) -> None:
     owner = np.repeat(triangle, counts)
     if not len(owner):
         return
-    x = np.repeat(first, counts) + _within(counts)
+    column = np.repeat(first, counts) + _within(counts)  # (x above is a float crossing)
     y = np.repeat(y, counts)
-    z = z0[owner] + zx[owner] * (x + 0.5) + zy[owner] * (y + 0.5)
-    keep_nearest(y * width + x, z, owner)
+    z = z0[owner] + zx[owner] * (column + 0.5) + zy[owner] * (y + 0.5)
+    keep_nearest(y * width + column, z, owner)
 
 
-def _frame(draw, to_pixels, view: str, length: float) -> None:
+def _frame(
+    draw: ImageDraw.ImageDraw, to_pixels: Callable[[Floats], Floats], view: str, length: float
+) -> None:
     """The root link's frame: x red, y green, z blue."""
     origin = to_pixels(project(np.zeros(3), view)[:2])
     for axis, color, label in zip(np.eye(3) * length, AXIS_COLORS, "xyz", strict=False):
@@ -186,7 +212,7 @@ def _frame(draw, to_pixels, view: str, length: float) -> None:
         draw.text(tuple(end + 3), label, fill=color, font=_font(14))
 
 
-def _font(size: int):
+def _font(size: int) -> ImageFont.ImageFont | ImageFont.FreeTypeFont:
     try:
         return ImageFont.load_default(size)
     except TypeError:  # Pillow < 10.1: one bitmap size
@@ -200,7 +226,7 @@ def size_text(scene: Scene) -> str:
     return "size " + " x ".join(f"{e:.3g}" for e in extent) + " m (x, y, z)"
 
 
-def _footer(draw, image, scene: Scene, view: str, title: str) -> None:
+def _footer(draw: ImageDraw.ImageDraw, image: Image.Image, scene: Scene, view: str, title: str) -> None:
     top = image.height - FOOTER
     draw.line([(0, top), (image.width, top)], fill=(210, 210, 210))
     draw.text((MARGIN, top + 6), f"{title} · {view}", fill=(40, 40, 40), font=_font(15))

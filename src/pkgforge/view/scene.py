@@ -7,26 +7,39 @@ kinematics `--explain-model` and the physical checks use.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from pkgforge.urdf import physics
 
 DEFAULT_COLOR = (0.72, 0.74, 0.78)
 ROUND_SEGMENTS = 32
 
+Floats = NDArray[np.float64]
+Color = tuple[float, ...]  # red, green, blue (and alpha) in 0..1
+# a mesh URI → its file, None when not found
+Resolve = Callable[[str], "Path | None"]
+# the model as the xacro worker reports it (JSON data: links, joints, geometry, ...)
+Robot = dict[str, Any]
+
 
 @dataclass
 class Scene:
-    triangles: np.ndarray  # (n, 3, 3) vertices in metres, root frame
-    colors: np.ndarray  # (n, 3) in 0..1
+    triangles: Floats  # (n, 3, 3) vertices in metres, root frame
+    colors: Floats  # (n, 3) in 0..1
     problems: list[str]  # meshes that could not be loaded (drawn as nothing)
 
 
-def _box(size) -> np.ndarray:
-    half = np.abs(np.asarray(size, dtype=float)) / 2
-    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * half
+def _box(size: Sequence[float]) -> Floats:
+    half = np.abs(np.asarray(size, dtype=np.float64)) / 2
+    corners = (
+        np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64) * half
+    )
     faces = [
         (0, 1, 3),
         (0, 3, 2),
@@ -41,16 +54,17 @@ def _box(size) -> np.ndarray:
         (1, 5, 7),
         (1, 7, 3),
     ]
-    return corners[np.array(faces)]
+    triangles: Floats = corners[np.array(faces)]
+    return triangles
 
 
-def _cylinder(radius: float, length: float) -> np.ndarray:
+def _cylinder(radius: float, length: float) -> Floats:
     angles = np.linspace(0, 2 * np.pi, ROUND_SEGMENTS, endpoint=False)
     ring = np.stack([np.cos(angles) * radius, np.sin(angles) * radius], axis=1)
     nxt = np.roll(ring, -1, axis=0)
     top, bottom = length / 2, -length / 2
 
-    def at(points, z):
+    def at(points: Floats, z: float) -> Floats:
         return np.concatenate([points, np.full((len(points), 1), z)], axis=1)
 
     centre_top, centre_bottom = np.array([0, 0, top]), np.array([0, 0, bottom])
@@ -67,26 +81,28 @@ def _cylinder(radius: float, length: float) -> np.ndarray:
     return sides
 
 
-def _sphere(radius: float) -> np.ndarray:
+def _sphere(radius: float) -> Floats:
     import trimesh
 
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=radius)
-    return sphere.vertices[sphere.faces]
+    triangles: Floats = sphere.vertices[sphere.faces]
+    return triangles
 
 
-def _mesh(path: str, scale) -> tuple[np.ndarray, tuple | None]:
+def _mesh(path: str, scale: Sequence[float]) -> tuple[Floats, Color | None]:
     import trimesh
 
-    loaded = trimesh.load(path, force="mesh", process=False)
-    triangles = np.asarray(loaded.vertices, dtype=float)[np.asarray(loaded.faces)] * np.asarray(
-        scale, dtype=float
+    # what trimesh.load(path, force="mesh") does, with its type: every scene as one Trimesh
+    loaded = trimesh.load_mesh(path, process=False)
+    triangles = np.asarray(loaded.vertices, dtype=np.float64)[np.asarray(loaded.faces)] * np.asarray(
+        scale, dtype=np.float64
     )
     return triangles, _mesh_color(loaded)
 
 
-def _mesh_color(mesh) -> tuple | None:
+def _mesh_color(mesh: Any) -> Color | None:  # a trimesh object; its visual is read defensively
     """The mesh's own colour (COLLADA materials), when it has one."""
-    visual = getattr(mesh, "visual", None)
+    visual: Any = getattr(mesh, "visual", None)
     try:
         if getattr(visual, "kind", None) == "texture":
             color = visual.material.main_color
@@ -99,9 +115,13 @@ def _mesh_color(mesh) -> tuple | None:
     return tuple(float(c) / 255 for c in color[:3])
 
 
-def _shape(geometry: dict | None, resolve) -> tuple[np.ndarray | None, tuple | None, str | None]:
+def _shape(
+    geometry: dict[str, Any] | None, resolve: Resolve
+) -> tuple[Floats | None, Color | None, str | None]:
     """(triangles in the shape's frame, its own colour, a problem)."""
-    kind = (geometry or {}).get("type")
+    if geometry is None:
+        return None, None, None
+    kind = geometry.get("type")
     if kind == "box" and geometry.get("size"):
         return _box(geometry["size"]), None, None
     if kind in ("cylinder", "capsule") and geometry.get("radius") and geometry.get("length") is not None:
@@ -120,14 +140,16 @@ def _shape(geometry: dict | None, resolve) -> tuple[np.ndarray | None, tuple | N
     return None, None, None
 
 
-def _matrix(pose) -> tuple[np.ndarray, np.ndarray]:
+def _matrix(pose: tuple[Any, Any]) -> tuple[Floats, Floats]:
     rotation, offset = pose
-    return np.asarray(rotation, dtype=float), np.asarray(offset, dtype=float)
+    return np.asarray(rotation, dtype=np.float64), np.asarray(offset, dtype=np.float64)
 
 
-def build(robot: dict, resolve, positions: dict[str, float] | None = None) -> Scene:
+def build(robot: Robot, resolve: Resolve, positions: dict[str, float] | None = None) -> Scene:
     poses = physics.link_poses(robot, positions)
-    parts, colors, problems = [], [], []
+    parts: list[Floats] = []
+    colors: list[Floats] = []
+    problems: list[str] = []
     for link in robot.get("links", []):
         pose = poses.get(link["name"])
         if pose is None:
@@ -143,7 +165,7 @@ def build(robot: dict, resolve, positions: dict[str, float] | None = None) -> Sc
             )
             parts.append(triangles @ rotation.T + offset)
             color = visual.get("color") or own_color or DEFAULT_COLOR
-            colors.append(np.broadcast_to(np.asarray(color[:3], dtype=float), (len(triangles), 3)))
+            colors.append(np.broadcast_to(np.asarray(color[:3], dtype=np.float64), (len(triangles), 3)))
     if not parts:
         return Scene(np.zeros((0, 3, 3)), np.zeros((0, 3)), problems)
     return Scene(np.concatenate(parts), np.concatenate(colors), problems)

@@ -5,12 +5,16 @@ Plain text, no library: verify --artifacts writes it even without the `view` ext
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import escape
+
+if TYPE_CHECKING:  # scene needs numpy; the tree does not
+    from pkgforge.view.scene import Robot
 
 BOX_W, BOX_H, GAP_X, GAP_Y = 150, 30, 24, 78
 
 
-def _joint_label(joint: dict) -> list[str]:
+def _joint_label(joint: dict[str, Any]) -> list[str]:
     lines = [f"{joint.get('name')} ({joint.get('type')})"]
     if joint.get("type") not in ("fixed", "floating", "planar"):
         axis = joint.get("axis") or [1.0, 0.0, 0.0]
@@ -24,11 +28,11 @@ def _joint_label(joint: dict) -> list[str]:
     return lines
 
 
-def tree_svg(robot: dict) -> str:
+def tree_svg(robot: Robot) -> str:
     links = [link["name"] for link in robot.get("links", [])]
     joints = robot.get("joints", [])
-    children: dict[str, list] = {}
-    parent_of = {}
+    children: dict[str, list[dict[str, Any]]] = {}
+    parent_of: dict[str, dict[str, Any]] = {}
     for joint in joints:
         children.setdefault(joint.get("parent"), []).append(joint)
         parent_of.setdefault(joint.get("child"), joint)
@@ -36,10 +40,11 @@ def tree_svg(robot: dict) -> str:
     position: dict[str, tuple[float, int]] = {}
     column = [0]
 
-    def place(name: str, depth: int, seen: frozenset) -> float:
+    def place(name: str, depth: int, seen: frozenset[str]) -> float:
         kids = [
             j for j in children.get(name, []) if j.get("child") not in seen and j.get("child") not in position
         ]
+        x: float
         if not kids:
             x = column[0]
             column[0] += 1
