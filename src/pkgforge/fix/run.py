@@ -29,7 +29,7 @@ from pkgforge.fix.edits import (
 )
 from pkgforge.fix.fixers import FIXERS, Fix, FixContext
 from pkgforge.verify.pipeline import VerifyOptions, VerifyResult, verify
-from pkgforge.walk import walk
+from pkgforge.walk import WalkLimit, walk
 
 MAX_PASSES = 4
 
@@ -237,7 +237,8 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
 
     workspace = locate(path)
     root, base = workspace.root, workspace.base_path
-    files, size, limits = 0, 0, []
+    files, size = 0, 0
+    limits: list[WalkLimit] = []
     for folder, dirs, names in walk(base, limits=limits):
         dirs[:] = [d for d in dirs if d not in SKIPPED and not (Path(folder) == root and d in ROOT_OUTPUTS)]
         files += len(names)

@@ -25,7 +25,9 @@ from typing import Any, TypeGuard, TypeVar
 # --- where a construct stands in the launch file --------------------------------------------
 
 _LAUNCH_FILES: set[str] = set()  # files being evaluated; frames in them are "user" frames
-_FRONTEND_LOCATION: list[tuple[str, int | None]] = []  # (file, line) while the XML/YAML frontend builds
+_FRONTEND_LOCATION: list[
+    tuple[str | None, int | None]
+] = []  # (file, line) while the XML/YAML frontend builds
 _RUNNING_XACRO = False  # pkgforge's own xacro run (a Command), not the launch file's
 
 

@@ -12,7 +12,7 @@ from lxml import etree
 from pkgforge.errors import PkgforgeError
 from pkgforge.migrate import table
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
-from pkgforge.walk import walk
+from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -69,7 +69,8 @@ def _manifest(path: Path) -> tuple[Any, etree._Element]:
 def _files(source: Path) -> list[str]:
     """The package's files to convert (the walk over the user's folder is pkgforge's one bounded walk:
     a folder it cannot read or a bound it hits stops the migration before anything is written)."""
-    found, limits = [], []
+    found: list[str] = []
+    limits: list[WalkLimit] = []
     for folder, folders, names in walk(source, limits=limits):
         folders[:] = sorted(f for f in folders if not f.startswith(".") and f not in SKIPPED_FOLDERS)
         for name in sorted(names):

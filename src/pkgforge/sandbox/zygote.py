@@ -29,8 +29,12 @@ import subprocess
 import sys
 import threading
 import time
+from typing import TYPE_CHECKING
 
 from pkgforge.sandbox.protocol import Exited, Forked, ForkReply, ForkRequest, WorkerLimits
+
+if TYPE_CHECKING:
+    from pkgforge.launch.engines import LaunchEngine  # not imported at run time: the server starts first
 
 LIMITS_VARIABLE = "PKGFORGE_WORKER_LIMITS"
 START_TIMEOUT = 60.0  # seconds for the server to fork a child (it imports first)
@@ -272,7 +276,7 @@ class Zygote:
             server.stop()
 
 
-def worker_environment(env: dict[str, str], engine) -> dict[str, str]:
+def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, str]:
     """A launch worker's environment: `env` (the tree's) with the real xacro and python3 first on
     PATH, and the engine's (launch.engines.LaunchEngine) variables."""
     env = dict(env)
@@ -280,7 +284,7 @@ def worker_environment(env: dict[str, str], engine) -> dict[str, str]:
     return engine.environment(env)
 
 
-def start_zygote(engine) -> Zygote:
+def start_zygote(engine: LaunchEngine) -> Zygote:
     """The run's fork server, started now (from the main thread), so that its imports overlap
     discovery and model loading; the tree's variables come with each worker. (Here, not in
     resolve.py: importing the resolver and the model layer first would delay the start ~0.15 s.)"""

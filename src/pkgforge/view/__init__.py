@@ -94,8 +94,13 @@ class Artifacts:
             raise PkgforgeError(f"cannot write {self.out}: {error.strerror}") from None
         seen: set[str] = set()
         for result in results:
-            robot = result.robot or {}
-            if result.status != "ok" or robot.get("root_tag") != "robot" or not robot.get("links"):
+            robot = result.robot
+            if (
+                result.status != "ok"
+                or robot is None
+                or robot.get("root_tag") != "robot"
+                or not robot.get("links")
+            ):
                 continue
             stem = _stem(result)
             if stem in seen:
@@ -106,7 +111,7 @@ class Artifacts:
                 lookup = resolve_uri(uri, tree, result.installed)
                 return lookup.path if lookup.status == "found" else None
 
-            self.model(robot, resolve, stem, str(result.source or result.installed))
+            self.model(dict(robot), resolve, stem, str(result.source or result.installed))
 
     def model(self, robot: Robot, resolve: Resolve, stem: str, source: str) -> None:
         names = {j.get("name") for j in robot.get("joints", [])}

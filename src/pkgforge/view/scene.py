@@ -10,12 +10,13 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from pkgforge.urdf import physics
+from pkgforge.urdf.structure import Origin, RobotStructure
 
 DEFAULT_COLOR = (0.72, 0.74, 0.78)
 ROUND_SEGMENTS = 32
@@ -25,6 +26,7 @@ Color = tuple[float, ...]  # red, green, blue (and alpha) in 0..1
 # a mesh URI → its file, None when not found
 Resolve = Callable[[str], "Path | None"]
 # the model as the xacro worker reports it (JSON data: links, joints, geometry, ...)
+# the renderer reads the model structure as plain JSON data (urdf.structure types its keys)
 Robot = dict[str, Any]
 
 
@@ -146,7 +148,7 @@ def _matrix(pose: tuple[Any, Any]) -> tuple[Floats, Floats]:
 
 
 def build(robot: Robot, resolve: Resolve, positions: dict[str, float] | None = None) -> Scene:
-    poses = physics.link_poses(robot, positions)
+    poses = physics.link_poses(cast(RobotStructure, robot), positions)
     parts: list[Floats] = []
     colors: list[Floats] = []
     problems: list[str] = []
@@ -161,7 +163,9 @@ def build(robot: Robot, resolve: Resolve, positions: dict[str, float] | None = N
             if triangles is None or not len(triangles):
                 continue
             rotation, offset = _matrix(
-                physics.compose(pose, visual.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+                physics.compose(
+                    pose, cast(Origin, visual.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+                )
             )
             parts.append(triangles @ rotation.T + offset)
             color = visual.get("color") or own_color or DEFAULT_COLOR
