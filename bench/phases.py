@@ -3,7 +3,7 @@
     .venv/bin/python bench/phases.py WORKSPACE [verify options...]
 
 Runs the verify command in this process with timers wrapped around the phases of
-verify.py (the model loading, the install tree, launch evaluation, robot models,
+verify/pipeline.py (the model loading, the install tree, launch evaluation, robot models,
 RViz configs, the checks) and prints each phase's wall seconds. Asserts nothing.
 """
 

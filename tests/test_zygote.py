@@ -1,4 +1,4 @@
-"""The launch workers' fork server (launch/zygote.py): started early only when launch files or
+"""The launch workers' fork server (sandbox/zygote.py): started early only when launch files or
 models will be evaluated, and never left running after verify, whatever way verify ends."""
 
 from __future__ import annotations

@@ -8,7 +8,7 @@
 The worker never sees the user's files through this tree: each is materialised
 in a pkgforge-owned temporary folder (tmpfs /dev/shm when it has room), small
 files copied, large meshes and images (over LINK_THRESHOLD) left as links that
-the worker's guard (launch/guard.py) copies before any write through them. For
+the worker's guard (sandbox/guard.py) copies before any write through them. For
 `--build` and `--install-base` the worker sees such a shadow of the install
 base, never the install base itself; `locate` works on the shadow, `origin` and
 `in_tree` map between the shadow and the user's paths.
@@ -126,7 +126,7 @@ class InstallTree:
             env["PKGFORGE_PHANTOM_PREFIX"] = str(self.phantom)
         if self.root is not None:
             env["PKGFORGE_SANDBOX"] = str(self.root)  # the worker's guard allows writes only here
-            # and refuses changes to what is installed there, as made (launch/guard.py)
+            # and refuses changes to what is installed there, as made (sandbox/guard.py)
             env["PKGFORGE_SANDBOX_SEALED"] = str(self.sealed)
         return env
 

@@ -18,7 +18,7 @@ ERROR_LINE = re.compile(
 )
 
 
-# verify.py reports it from the build's outcome (no check function reads a context)
+# verify/pipeline.py reports it from the build's outcome (no check function reads a context)
 register(
     "PF902",
     "build-failed",

@@ -1,5 +1,5 @@
 """What a launch file tried to change at run time: the worker's guard refused it, or let it
-change only pkgforge's private copy of the install tree (launch/guard.py, trees.py)."""
+change only pkgforge's private copy of the install tree (sandbox/guard.py, tree.py)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from pkgforge.launch.records import Error, Resolution
 
 SANDBOX_TYPES = ("RefusedWrite", "RefusedSignal", "TreeWrite")
 CHILD = " (in a process it started)"
-MARKER = "pkgforge refused"  # launch/guard.py's PermissionError
+MARKER = "pkgforge refused"  # sandbox/guard.py's PermissionError
 
 
 def stopped_by_guard(resolution: Resolution) -> bool:

@@ -2,7 +2,7 @@
 
 Launch files and xacro are user code, and verify must never change the user's
 files. The install tree the worker sees is pkgforge's own temporary copy (see
-trees.py); this guard is the second layer, an audit hook (`sys.addaudithook`)
+tree.py); this guard is the second layer, an audit hook (`sys.addaudithook`)
 installed before any user code runs:
 
 - a write-type operation (open for writing, remove, rename, mkdir, chmod, chown,

@@ -7,7 +7,7 @@ dependencies are all unchanged. A file's fingerprint is its content and its
 permission bits (a `chmod 000` changes what verify can read); content digests
 are memoized by (size, mtime, ctime, mode), as git's index does, so an
 unchanged file is not read again. Results that depend on the machine's state
-(a timeout, a crashed worker, a limit hit) are never stored (verify.py). Entries are written
+(a timeout, a crashed worker, a limit hit) are never stored (verify/pipeline.py). Entries are written
 to a temporary file and renamed: two runs at once never see half an entry, and
 the folder is safe to delete.
 """

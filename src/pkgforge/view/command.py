@@ -74,7 +74,7 @@ def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None
         from pkgforge.tree import InstallTree, _index
 
         prefixes = [installed[0]] if installed else []
-        # xacro is user code: its worker may write only in an empty temporary folder (launch/guard.py)
+        # xacro is user code: its worker may write only in an empty temporary folder (sandbox/guard.py)
         sandbox = tempfile.TemporaryDirectory(prefix="pkgforge-view-")
         tree = InstallTree(
             "existing", prefixes, _temporary=sandbox, root=Path(sandbox.name), sealed=time.time_ns()
