@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypedDict, TypeVar, cast, overload
 
+from pkgforge.sandbox.protocol import LaunchRequest, LimitKind
+
 if TYPE_CHECKING:
     from pkgforge.urdf.structure import RobotStructure
 
@@ -28,7 +30,6 @@ Engine = Literal["builtin", "ros"]
 NodeKind = Literal["node", "process"]
 ParameterForm = Literal["plain", "typed", "typed-str", "command-untyped", "file"]
 ErrorStage = Literal["load", "visit", "worker", "sandbox"]  # sandbox: the worker's guard (sandbox/worker.py)
-LimitKind = Literal["time", "cpu", "memory", "files"]  # the worker limit an error hit
 RecordKind = Literal[
     "nodes", "packages", "paths", "includes", "commands", "conditions", "unsupported", "required", "errors"
 ]
@@ -174,7 +175,7 @@ class LaunchResultDict(RecordsDict, _StatusDict, total=False):
     engine: Engine
     distro: str | None
     branching: BranchingDict
-    request: dict[str, Any]  # the worker's echo of the request it answered
+    request: LaunchRequest  # the worker's echo of the request it answered
 
 
 @dataclass

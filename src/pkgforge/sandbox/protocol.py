@@ -8,14 +8,14 @@ json.loads gives back, so the values are plain JSON (lists, str, int, float, Non
 
 from __future__ import annotations
 
-from typing import Any, Literal, TypedDict, final
+from typing import Literal, TypedDict, final
 
-from pkgforge.urdf.structure import RobotStructure
+from pkgforge.urdf.structure import ModelStatus, RobotStructure
 
-# what a reply's status may be: the engines' own (launch/records.Status), the model's (urdf/robot.py),
-# and the parent's when the worker gave no reply (timeout, crashed)
-ModelStatus = Literal["ok", "error", "too-large", "needs-arguments", "load-error", "timeout", "crashed"]
-LaunchStatus = Literal["ok", "load-error", "timeout", "crashed"]
+# A launch file's reply is launch/records.LaunchResultDict (the records' own JSON shape, defined
+# beside the records); a model's is ModelReply below. Both statuses are defined once, where their
+# replies are made: launch/records.Status, urdf/structure.ModelStatus.
+
 # the worker limit a breach hit (worker._limit_message): never cached by the parent
 LimitKind = Literal["time", "cpu", "memory", "files"]
 
@@ -89,23 +89,6 @@ class ErrorRecord(TypedDict, total=False):
     branches: list[str]
 
 
-class Stopped(TypedDict):
-    """Where the branch that ran out of time was stopped."""
-
-    file: str | None
-    line: int | None
-    branch: dict[str, str]
-
-
-class BranchingReply(TypedDict):
-    """launch/records.Branching as sent."""
-
-    planned: int
-    evaluated: int
-    stopped: Stopped | None
-    limit: float | None
-
-
 @final
 class ModelReply(TypedDict, total=False):
     """urdf/robot.process_model's answer: the robot's structure, or why there is none."""
@@ -116,33 +99,6 @@ class ModelReply(TypedDict, total=False):
     includes: list[str]  # the files the model included (absolute paths)
     robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
     request: WorkerRequest  # the request it answers (the worker adds it)
-
-
-@final
-class LaunchReply(TypedDict, total=False):
-    """A launch engine's answer (launch/evaluate.py, launch/ros_engine.py): the records it made,
-    each launch/records dataclass as plain data (records.as_dict)."""
-
-    status: LaunchStatus
-    error: ErrorRecord | None
-    errors: list[ErrorRecord]
-    engine: str
-    distro: str | None
-    files: list[str]  # the launch files it read (the file and those it included)
-    branching: BranchingReply
-    arguments: list[dict[str, Any]]
-    nodes: list[dict[str, Any]]
-    packages: list[dict[str, Any]]
-    paths: list[dict[str, Any]]
-    includes: list[dict[str, Any]]
-    commands: list[dict[str, Any]]
-    conditions: list[dict[str, Any]]
-    unsupported: list[dict[str, Any]]
-    required: list[dict[str, Any]]
-    request: WorkerRequest  # the request it answers (the worker adds it)
-
-
-WorkerReply = LaunchReply | ModelReply
 
 
 # --- the fork server (sandbox/zygote.py): JSON over its Unix socket ---------------------------------

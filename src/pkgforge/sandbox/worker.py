@@ -30,17 +30,12 @@ from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING, Any, cast
 
-from pkgforge.sandbox.protocol import (
-    ErrorRecord,
-    LaunchReply,
-    LimitKind,
-    WorkerLimits,
-    WorkerReply,
-    WorkerRequest,
-)
+from pkgforge.sandbox.protocol import ErrorRecord, LimitKind, ModelReply, WorkerLimits, WorkerRequest
 
 if TYPE_CHECKING:
-    from pkgforge.launch.records import BranchBudget
+    from pkgforge.launch.records import BranchBudget, LaunchResultDict
+
+    WorkerReply = LaunchResultDict | ModelReply
     from pkgforge.sandbox.processes import LoadAllowance
 
 API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
@@ -191,7 +186,7 @@ def _disarm() -> None:
         pass
 
 
-def _limit_message(error: ErrorRecord, limits: WorkerLimits) -> tuple[LimitKind, str] | None:
+def _limit_message(error: Mapping[str, Any], limits: WorkerLimits) -> tuple[LimitKind, str] | None:
     """(limit, message) when an error record is a limit breach."""
     from pkgforge.sandbox.processes import format_size
 
@@ -319,9 +314,9 @@ def _refusals(result: WorkerReply, request: WorkerRequest) -> None:
         )
 
 
-def _launch_reply(reply: Mapping[str, Any]) -> LaunchReply:
+def _launch_reply(reply: Mapping[str, Any]) -> LaunchResultDict:
     """An engine's reply (plain data, launch/records.as_dict) as the protocol's type."""
-    return cast(LaunchReply, reply)
+    return cast("LaunchResultDict", reply)
 
 
 def preload() -> None:
@@ -410,7 +405,8 @@ def main() -> None:
             result["branching"]["limit"] = limits.get("timeout")
         if guarded:
             _refusals(result, request)
-        result["request"] = request
+        # the request it answers: a launch reply answers a launch request, a model reply a model one
+        cast("dict[str, Any]", result)["request"] = request
         replies.write(json.dumps(result, default=str) + "\n")
 
 

@@ -20,13 +20,14 @@ from typing import Any
 
 from lxml import etree
 
-from pkgforge.sandbox.protocol import ErrorRecord, ModelReply, ModelStatus
+from pkgforge.sandbox.protocol import ErrorRecord, ModelReply
 from pkgforge.urdf.structure import (
     Geometry,
     Inertial,
     Limit,
     LinkDict,
     MeshKind,
+    ModelStatus,
     Origin,
     Part,
     RobotStructure,

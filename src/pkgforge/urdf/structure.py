@@ -10,9 +10,12 @@ from __future__ import annotations
 
 from typing import Literal, TypedDict
 
-# ok | error | needs-arguments | too-large | timeout | crashed | library (only macros: checked
-# through the models that include it)
-ModelStatus = Literal["ok", "error", "needs-arguments", "too-large", "timeout", "crashed", "library"]
+# the worker's: ok | error | needs-arguments | too-large | load-error (a limit hit while parsing);
+# the parent's: timeout | crashed (no reply), library (only macros: checked through the models
+# that include it)
+ModelStatus = Literal[
+    "ok", "error", "needs-arguments", "too-large", "load-error", "timeout", "crashed", "library"
+]
 MeshKind = Literal["visual", "collision", "texture"]
 
 
