@@ -26,6 +26,7 @@ import re
 import stat
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
@@ -438,14 +439,30 @@ def predicted_tree(models: list[PackageModel], user_install: Path | None = None)
                 os.path.normpath(os.path.join("install", destination)),
                 None if installed.source is None else str(installed.source),
             )
+    return _materialised("predicted", plan, models, user_install, lambda root: {str(root / "install"): None})
+
+
+def _materialised(
+    mode: str,
+    plan: _Plan,
+    models: list[PackageModel],
+    user_install: Path | None,
+    prefixes_in: Callable[[Path], dict[str, str | None]],
+) -> InstallTree:
+    """The tree `plan` builds in pkgforge's temporary folder, indexed, with the models' packages
+    it lacks stood in. `prefixes_in(root)`: each prefix of the tree, and the user's folder it
+    shadows (None: a prefix of pkgforge's own). Nothing of it stays when this fails."""
     temporary, root = _temporary(plan.bytes)
     try:
         copied = plan.build(root)
+        prefixes = prefixes_in(root)
+        shadows = {prefix: user for prefix, user in prefixes.items() if user is not None}
         tree = InstallTree(
-            "predicted",
-            [root / "install"],
+            mode,
+            [Path(p) for p in prefixes],
             _temporary=temporary,
             root=root,
+            shadows=shadows,
             copied=copied,
             _plan=plan,
             _stamps=plan.stamps(root),
@@ -537,28 +554,15 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
         )
     plan = _Plan()
     _plan_shadow(plan, install_base, "install")
-    temporary, root = _temporary(plan.bytes)
-    try:
-        copied = plan.build(root)
-        shadows = {os.path.normpath(root / "install" / p.relative_to(install_base)): str(p) for p in prefixes}
-        tree = InstallTree(
-            "existing",
-            [Path(p) for p in shadows],
-            _temporary=temporary,
-            root=root,
-            shadows=shadows,
-            copied=copied,
-            _plan=plan,
-            _stamps=plan.stamps(root),
-            sealed=time.time_ns(),
-            user_install=install_base,
-        )
-        tree.packages = _index(tree.prefixes)
-        _add_phantoms(tree, models, root)
-    except BaseException:
-        temporary.cleanup()
-        raise
-    return tree
+    return _materialised(
+        "existing",
+        plan,
+        models,
+        install_base,
+        lambda root: {
+            os.path.normpath(root / "install" / p.relative_to(install_base)): str(p) for p in prefixes
+        },
+    )
 
 
 def built_tree(workspace: Workspace, models: list[PackageModel], *, out: TextIO | None = None) -> InstallTree:
