@@ -233,6 +233,11 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
     from concurrent.futures import ProcessPoolExecutor
     from multiprocessing import get_context
 
+    # imported here, before the fork, so that the loaders inherit them: this process needs them
+    # anyway to unpickle the models, and each loader importing them again cost ~0.16 CPU s
+    import pkgforge.model.package
+    import pkgforge.model.rviz  # noqa: F401
+
     # as many as cores: this process's discovery (colcon's ROS extension alone) ends long before
     # the loading, and a core would then wait for the last chunks of one worker
     workers = max(1, jobs)
