@@ -305,6 +305,16 @@ def test_gazebo_ros_on_jazzy_is_package_not_in_distro(jazzy, workspace):
     assert gazebo["hint"].startswith("use ros_gz_sim instead")
 
 
+def test_a_condition_on_a_variable_of_the_users_build_counts_as_declared(every_distro, workspace):
+    # husarion's panther_gazebo: <depend condition="$HUSARION_ROS_BUILD_TYPE == simulation">;
+    # colcon and rosdep read the variable from the build's environment, which verify cannot know
+    launch = src(workspace, "build_type_description", "launch/display.launch.py")
+    assert findings(every_distro, "build_type_description") == [
+        # $ROS_VERSION == 1 never holds on ROS 2: still missing
+        ("missing-exec-depend", "launch/display.launch.py", line_of(launch, "'joint_state_publisher'")),
+    ]
+
+
 def test_an_undeclared_use_not_released_for_the_target(every_distro, jazzy, workspace):
     launch = src(workspace, "gz_use_description", "launch/display.launch.py")
     gazebo, ignition = line_of(launch, "'gazebo_ros'"), line_of(launch, "'ros_ign_gazebo'")
