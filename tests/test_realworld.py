@@ -315,6 +315,17 @@ def test_a_condition_on_a_variable_of_the_users_build_counts_as_declared(every_d
     ]
 
 
+def test_an_undeclared_ros_module_import_is_missing_exec_depend_not_a_load_error(every_distro, workspace):
+    # agilex limo: `import lifecycle_msgs.msg` undeclared; on the user's machine lifecycle_msgs is
+    # most likely installed, so the fault is the missing exec_depend, and the file that includes
+    # it loads there too
+    lidar = src(workspace, "lidar_bringup", "launch/lidar.launch.py")
+    assert findings(every_distro, "lidar_bringup") == [
+        ("launch-unevaluated", "launch/lidar.launch.py", line_of(lidar, "import lifecycle_msgs")),
+        ("missing-exec-depend", "launch/lidar.launch.py", line_of(lidar, "import lifecycle_msgs")),
+    ]
+
+
 def test_an_undeclared_use_not_released_for_the_target(every_distro, jazzy, workspace):
     launch = src(workspace, "gz_use_description", "launch/display.launch.py")
     gazebo, ignition = line_of(launch, "'gazebo_ros'"), line_of(launch, "'ros_ign_gazebo'")

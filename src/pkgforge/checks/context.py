@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
+from pkgforge.launch.records import Error as LaunchError
 from pkgforge.launch.records import LaunchFile, Resolution
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
@@ -265,19 +266,29 @@ class CheckContext:
             return "package"
         if error.type == "XacroException":
             return "xacro"
-        module = (error.module or "").split(".")[0]
-        if (
-            error.type == "ModuleNotFoundError"
-            and module
-            and module not in STAND_IN_MODULES
-            and (module in self.model.manifest.declared() or module in self.tree_packages())
-        ):
+        if self.package_not_installed_here(error):
             return "unevaluated"
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
         if error.type == "KeyError" and self.unset_environment(resolution):
             return "environment"
         return "load"
+
+    def package_not_installed_here(self, error: LaunchError) -> bool:
+        """Whether an error is the import of a ROS package's module that is not installed on this
+        machine: declared or not (an undeclared one is missing-exec-depend's), on the user's
+        machine it may well be installed, so the failure here is not the launch file's."""
+        module = (error.module or "").split(".")[0]
+        return (
+            error.type == "ModuleNotFoundError"
+            and bool(module)
+            and module not in STAND_IN_MODULES
+            and (
+                module in self.model.manifest.declared()
+                or module in self.tree_packages()
+                or module in self.real_packages()
+            )
+        )
 
     def unset_environment(self, resolution: Resolution) -> list[str]:
         """Environment variables the launch file reads without a default and that are not set

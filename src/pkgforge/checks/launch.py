@@ -111,6 +111,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # launch-writes-files reports what the worker's guard refused
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
+            if ctx.package_not_installed_here(item):
+                continue  # an included file's import: that file is evaluated, and reported, on its own
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
                 yield Finding(
@@ -591,9 +593,10 @@ def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
         "from nav2_common.launch import RewrittenYaml"
     ),
     good="$ pkgforge verify . --install-base install   # on a machine with nav2_common installed",
-    summary="a launch file imports a module of a package that is declared but not installed here",
+    summary="a launch file imports a module of a ROS package that is not installed here",
     explanation="Not the launch file's fault: the package is simply not on this machine. Its "
-    "literal package and path references are still checked, statically.",
+    "literal package and path references are still checked, statically; a package it does not "
+    "declare is missing-exec-depend's.",
     hint="verify on a machine with the dependency installed (or --install-base) to evaluate it",
 )
 def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:

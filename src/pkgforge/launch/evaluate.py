@@ -208,17 +208,17 @@ def record_visit_failure(entity: object, error: Exception) -> None:
             entity,
         )
         return
-    RECORDER.add(
-        "errors",
-        {
-            "stage": "visit",
-            "type": type(error).__name__,
-            "message": str(error),
-            "file": getattr(entity, "_file", None),
-            "line": getattr(entity, "_line", None),
-            "entity": type(entity).__name__,
-        },
-    )
+    record: ErrorRecordDict = {
+        "stage": "visit",
+        "type": type(error).__name__,
+        "message": str(error),
+        "file": getattr(entity, "_file", None),
+        "line": getattr(entity, "_line", None),
+        "entity": type(entity).__name__,
+    }
+    if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
+        record["module"] = error.name
+    RECORDER.add("errors", record)
 
 
 def _watch_xacro() -> None:
