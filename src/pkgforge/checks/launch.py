@@ -13,7 +13,7 @@ from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
-from pkgforge.diagnostics import Finding
+from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.model.package import PackageModel
 from pkgforge.urdf import ANY_MODEL_SUFFIXES
@@ -173,7 +173,9 @@ def uninstalled_reference(ctx: CheckContext) -> Iterator[Finding]:
     ),
     summary="a launch file resolves a path that exists nowhere",
     explanation="Neither the install tree nor the package's source has the file: a typo in a "
-    "file or folder name, or a file never committed.",
+    "file or folder name, or a file never committed. A warning when the path is another "
+    "argument's default on one argument choice only (wheel_type:=custom making "
+    "wheel_config_path's default config/custom.yaml): with that choice the user gives it.",
     hint="fix the path in the launch file",
 )
 def missing_file(ctx: CheckContext) -> Iterator[Finding]:
@@ -260,6 +262,17 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
                 line,
                 hint=UNREADABLE_HINT,
             )
+        elif (default := argument_default_in_branch(item, resolution)) is not None:
+            argument, setting = default
+            yield Finding(
+                f"{shown} does not exist: it is the default of argument '{argument}' with "
+                f"{setting}, so that setting works only when {argument} is given too{more}",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"with {setting}, give {argument}:=PATH (say so in the argument's description), "
+                f"or add {relative} to {package}",
+            )
         else:
             hint = None
             if owner is not None:
@@ -272,6 +285,33 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
                 line,
                 hint=hint,
             )
+
+
+def argument_default_in_branch(item: ResolvedPath, resolution: Resolution) -> tuple[str, str] | None:
+    """(argument, the branch's setting) when a path missing only on some argument branches is
+    another declared argument's default there: a default computed from a choice (panther's
+    wheel_type:=custom makes controller_config_path's default .../custom_controller.yaml), which
+    the user overrides when choosing it. None when the path is missing on every branch."""
+    branches = [b for b in item.branches if b]
+    if not branches or len(branches) >= resolution.branches:
+        return None
+    defaults = {a.name: a.default for a in resolution.arguments}
+    changed = {
+        name: value
+        for name, value in item.branch.items()
+        if value is not None and defaults.get(name) not in (None, "", value)
+    }
+    for argument in resolution.arguments:
+        if argument.name in item.branch or not argument.default:
+            continue
+        text, used = argument.default, []
+        for name, value in sorted(changed.items()):
+            if str(defaults[name]) in text:
+                text = text.replace(str(defaults[name]), value)
+                used.append(f"{name}:={value}")
+        if used and text == item.path:
+            return argument.name, " ".join(used)
+    return None
 
 
 def _looked_up(ctx: CheckContext) -> Iterator[Use]:

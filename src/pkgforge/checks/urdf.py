@@ -64,6 +64,14 @@ def _path_split_at_spaces(files: FileFacts, words: list[str], model: str) -> str
     return None
 
 
+def _missing_file_given(ctx: CheckContext, result: ModelResult, message: str | None) -> bool:
+    """Whether xacro failed on a file that a launch file gave it as an argument (xacro:arg), that
+    does not exist and that the launch file's own resolution found missing (missing-file's)."""
+    text = str(message or "")
+    missing = {p.path for r in ctx.resolutions for p in r.paths if not p.exists}
+    return any(value in missing and value in text for value in result.mappings.values())
+
+
 def _split_for_the_user(tree: InstallTree | None, command: CommandRun) -> tuple[str, str] | None:
     """(the user's path, the piece of it the command gets) when the command line, with pkgforge's
     tree written as the user's install base, splits a path at a space (ROS's Command splits its
@@ -112,6 +120,8 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
+            if _missing_file_given(ctx, result, error.get("message")):
+                continue  # one defect, one diagnostic: missing-file names the path the launch file gave
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
             yield Finding(
                 f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
