@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import ast
 import json
-import os
 import posixpath
 import re
 from collections.abc import Callable
@@ -962,10 +961,3 @@ def _jsp_xml(source: SourceText, line: int) -> Fix:
     fix = Fix(f"removed args=... from the {package_name} node")
     fix.add(source.path, Edit(match.start() + attribute.start(), match.start() + attribute.end(), ""))
     return fix
-
-
-def relative_to(path: Path, base: Path) -> str:
-    try:
-        return os.path.relpath(path, base)
-    except ValueError:
-        return str(path)
