@@ -693,6 +693,34 @@ def test_find_package_undeclared_plugs_in(tmp_path):
     )
 
 
+def test_find_package_for_tests_gets_a_test_depend(tmp_path):
+    """A find_package() inside if(BUILD_TESTING) (panther's ament_cmake_gtest) is a test
+    dependency: verify's hint and fix's edit say <test_depend>; its else() branch is not."""
+    package = copy_fixture("seed001/small_turtle", tmp_path / "src")
+    cmake = package / "CMakeLists.txt"
+    cmake.write_text(
+        cmake.read_text().replace(
+            "ament_package()",
+            "if(BUILD_TESTING)\n  find_package(ament_cmake_gtest REQUIRED)\nelse()\n"
+            "  find_package(urdf REQUIRED)\nendif()\nament_package()",
+        )
+    )
+    report = json.loads(run_pkgforge("verify", "--format", "json", "--no-cache", cwd=tmp_path).stdout)
+    found = {
+        d["message"].split("(")[1].split(")")[0]: (d["line"], d["hint"])
+        for d in report["diagnostics"]
+        if d["name"] == "find-package-undeclared"
+    }
+    text = cmake.read_text().splitlines()
+    assert found["ament_cmake_gtest"][0] == text.index("  find_package(ament_cmake_gtest REQUIRED)") + 1
+    assert found["ament_cmake_gtest"][1].startswith("add <test_depend>ament_cmake_gtest</test_depend>")
+    assert found["urdf"][1].startswith("add <build_depend>urdf</build_depend>")
+    fix(tmp_path)
+    manifest = (package / "package.xml").read_text()
+    assert "<test_depend>ament_cmake_gtest</test_depend>" in manifest
+    assert "<build_depend>urdf</build_depend>" in manifest
+
+
 def test_checks_list_shows_the_fix_kind():
     result = run_pkgforge("checks", cwd=Path(__file__).parent)
     assert any(

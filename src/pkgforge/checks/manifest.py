@@ -390,7 +390,10 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
         reported.add(name)
         other = next((d for d in manifest.active_dependencies() if d.name == name), None)
         why = f" (only <{other.tag}> at package.xml:{other.line})" if other is not None else ""
-        tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
+        if (command.path, command.line) in model.cmake.test_only:
+            tag = "test_depend"  # inside if(BUILD_TESTING): colcon builds with it on by default
+        else:
+            tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
         yield Finding(
             f"find_package({name}) but package.xml does not declare {name} for the build{why}",
             command.path,
@@ -401,4 +404,6 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
                 if other is not None
                 else f"add <{tag}>{name}</{tag}> to package.xml" + (f" after line {after}" if after else "")
             ),
+            # `fix` adds the test_depend the hint names (otherwise it works the tag out itself)
+            fix={"dependency": name, "tag": tag} if tag == "test_depend" and other is None else None,
         )

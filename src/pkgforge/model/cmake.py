@@ -121,6 +121,8 @@ class CMakeModel:
     ament_package_command: Command | None = None
     install_rules: list[InstallRule] = field(default_factory=list)
     find_packages: list[tuple[str, Command]] = field(default_factory=list)
+    # the find_package() commands inside if(BUILD_TESTING): what they find is a test dependency
+    test_only: set[tuple[Path, int]] = field(default_factory=set)
     # ament_auto_find_build_dependencies(): every build dependency of package.xml is found
     auto_find_command: Command | None = None
     files: list[SourceFile] = field(default_factory=list)  # every CMake file read
@@ -133,6 +135,7 @@ class _Interpreter:
         self.package_path = package_path
         self.model = model
         self.depth = 0
+        self.testing = 0  # how many enclosing if(BUILD_TESTING) blocks are open
 
     def run_file(self, path: Path, variables: Variables) -> None:
         if self.depth > MAX_INCLUDE_DEPTH:
@@ -155,6 +158,7 @@ class _Interpreter:
 
     def run(self, commands: list[Command], variables: Variables, *, conditional: bool) -> None:
         index, if_depth = 0, 0
+        testing_blocks: list[bool] = []  # per open if(): whether it is an if(BUILD_TESTING) still counted
         while index < len(commands):
             command = commands[index]
             name = command.name
@@ -168,8 +172,17 @@ class _Interpreter:
                 continue
             if name == "if":
                 if_depth += 1
+                words = [a.text for a in command.args]
+                testing_blocks.append(bool(words) and words[0] == "BUILD_TESTING")
+                self.testing += testing_blocks[-1]
+            elif name in ("else", "elseif"):
+                if testing_blocks and testing_blocks[-1]:  # the other branch of if(BUILD_TESTING)
+                    testing_blocks[-1] = False
+                    self.testing -= 1
             elif name == "endif":
                 if_depth = max(0, if_depth - 1)
+                if testing_blocks and testing_blocks.pop():
+                    self.testing -= 1
             else:
                 self.command(command, variables, conditional or if_depth > 0)
             index += 1
@@ -258,6 +271,8 @@ class _Interpreter:
             values = self.expand_args(command.args, variables)
             if values and isinstance(values[0], str):
                 self.model.find_packages.append((values[0], command))
+                if self.testing:
+                    self.model.test_only.add((command.path, command.line))
 
     def auto_package(self, command: Command, variables: Variables) -> InstallRule | None:
         rule = InstallRule("DIRECTORY", command, Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])))
