@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import pytest
 from conftest import VARIANTS, copy_fixture, run_pkgforge, xacro_command
 from lxml import etree
@@ -58,6 +60,16 @@ def test_seed000_shape_builds_without_ros(tmp_path):
     ).is_file()
     # seed case 1: rviz/ is not in the install rule, so it is not installed
     assert not (tmp_path / "install" / "share" / "robot_description" / "rviz").exists()
+
+
+def test_a_dependency_under_a_build_set_up_condition_is_stubbed(tmp_path):
+    """<depend condition="$ROBOT_BUILD_TYPE == simulation">std_msgs</depend> with the variable
+    unset: colcon leaves it out, the CMakeLists.txt still finds it (panther_gazebo's shape)."""
+    copy_fixture("realworld/build_type_description", tmp_path)
+    env = {k: v for k, v in os.environ.items() if k != "ROBOT_BUILD_TYPE"}
+    result = run_pkgforge("build", cwd=tmp_path, env=env)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "stubbed for find_package(): std_msgs" in result.stderr
 
 
 def test_seed001_shape_fails_with_cmakes_message(tmp_path):

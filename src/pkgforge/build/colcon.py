@@ -85,8 +85,9 @@ def missing_dependencies(
     for descriptor in descriptors:
         if not str(descriptor.type).endswith("cmake"):
             continue
-        for dep in descriptor.dependencies.get("build", set()):
-            name = str(dep)
+        for name in sorted(
+            {str(dep) for dep in descriptor.dependencies.get("build", set())} | _conditional(descriptor)
+        ):
             if name in in_workspace or name.startswith(NEVER_STUBBED_PREFIXES):
                 continue
             if not toolchain.find_cmake_config(name, env):
@@ -156,6 +157,17 @@ def log_tail(log_base: Path, package: str, lines: int = LOG_TAIL_LINES) -> str:
     except OSError:
         return f"(no log at {log})"
     return "\n".join(text[-lines:])
+
+
+def _conditional(descriptor: PackageDescriptor) -> set[str]:
+    """Build dependencies under a condition on a variable of the user's own build set-up
+    ($HUSARION_ROS_BUILD_TYPE): colcon left them out, as the variable is unset here, but the
+    CMakeLists.txt may still find_package() them (verify counts them as declared too)."""
+    from pkgforge.model.manifest import load_manifest
+    from pkgforge.model.source import read_source
+
+    manifest = load_manifest(read_source(Path(descriptor.path) / "package.xml"))
+    return {d.name for d in manifest.dependencies if d.condition} & manifest.build_dependencies()
 
 
 def run_build(
