@@ -244,6 +244,10 @@ def test_broken_launch_files_are_reported_and_the_rest_verified(tmp_path):
             by_package.setdefault(d["package"], []).append(d)
     for name, (_, line, text) in BROKEN.items():
         (diagnostic,) = by_package[f"b_{name}"]
+        if name == "loops" and diagnostic["line"] is None:
+            # a machine busy enough that the worker's own stop came after the parent's grace: the
+            # parent killed it, knowing no line (test_processes holds the worker's located stop)
+            line, text = None, "still running after the 3 s limit"
         assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == (
             "PF301",
             f"src/b_{name}/launch/display.launch.py",
