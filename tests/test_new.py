@@ -165,6 +165,17 @@ def test_destination_option(tmp_path):
     assert (tmp_path / "deep" / "er" / "rob_description" / "package.xml").is_file()
 
 
+def test_next_steps_build_the_workspace_the_package_landed_in(tmp_path):
+    """The README's main job: `new --destination ws/src` from the folder above ws/; a bare
+    `pkgforge build` there would look for packages in the wrong folder."""
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--destination", "ws/src", cwd=tmp_path)
+    assert "  pkgforge build ws " in result.stdout
+    assert "  pkgforge verify ws/src/rob_description\n" in result.stdout
+    (tmp_path / "w2" / "src").mkdir(parents=True)
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=tmp_path / "w2")
+    assert "  pkgforge build  " in result.stdout
+
+
 def test_maintainer_defaults_from_git_config(tmp_path):
     gitconfig = tmp_path / "gitconfig"
     gitconfig.write_text("[user]\n\tname = Ada Lovelace\n\temail = ada@example.org\n")

@@ -274,9 +274,14 @@ def new(
             else ""
         )
         click.echo(f"  {relative}{mark}")
+    from pkgforge.workspace import locate
+
+    # the workspace the package landed in: `pkgforge build` run here would look elsewhere
+    root = locate(created.path).root
+    build = "pkgforge build" if root == Path.cwd().resolve() else f"pkgforge build {os.path.relpath(root)}"
     click.echo(
         "next:\n"
-        f"  pkgforge build            # colcon build into install/\n"
+        f"  {build:<26}# colcon build into install/\n"
         f"  pkgforge verify {shown}\n"
         f"  ros2 launch {spec.name} display.launch.{spec.launch_format}"
     )
