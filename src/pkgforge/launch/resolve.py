@@ -17,6 +17,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -125,6 +126,7 @@ class _Worker:
         self.zygote = zygote
         self.process: subprocess.Popen[str] | ForkedProcess | None = None
         self.replies: queue.Queue[str | None] = queue.Queue()
+        self.in_flight = 0  # requests the worker has and has not answered
 
     def start(self) -> subprocess.Popen[str] | ForkedProcess:
         if processes.cancelled.is_set():
@@ -159,6 +161,13 @@ class _Worker:
         replies.put(None)
 
     def ask(self, request: WorkerRequest, timeout: float) -> Reply:
+        """One request answered (a worker started first when there is none)."""
+        failure = self.send(request)
+        return failure if failure is not None else self.receive(timeout)
+
+    def send(self, request: WorkerRequest) -> Reply | None:
+        """Hand the worker a request when it has none (one started first when there is none);
+        the reply (crashed) when it cannot take it, else None: `receive` gives the answer."""
         process = self.process
         if process is None or process.poll() is not None:
             try:
@@ -172,14 +181,35 @@ class _Worker:
                         "line": None,
                     },
                 }
-        allowance = processes.LoadAllowance(timeout, process.pid)
+        if not self._write(process, request):
+            self.stop()
+            return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
+        return None
+
+    def send_ahead(self, request: WorkerRequest) -> bool:
+        """Queue a request behind the one the worker is on, so that it starts it the moment it
+        answered (not when the parent's thread gets round to sending it); False when the worker
+        cannot take it now (the caller sends it again later)."""
+        process = self.process
+        return process is not None and process.poll() is None and self._write(process, request)
+
+    def _write(self, process: subprocess.Popen[str] | ForkedProcess, request: WorkerRequest) -> bool:
         try:
             stdin = _pipe(process.stdin)
             stdin.write(json.dumps(request) + "\n")
             stdin.flush()
         except (BrokenPipeError, OSError):
-            self.stop()
+            return False
+        self.in_flight += 1
+        return True
+
+    def receive(self, timeout: float) -> Reply:
+        """The answer to the oldest request the worker has: its reply, or the parent's own when
+        the worker hung or died (it is stopped then, with any request queued behind)."""
+        process = self.process
+        if process is None:
             return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
+        allowance = processes.LoadAllowance(timeout, process.pid)
         # the worker stops the launch file itself at the limit, at the line it was running;
         # past this grace the parent kills it (stuck in an extension module, signals blocked).
         # Both grow the limit by the time the worker waited for a busy CPU (processes.LoadAllowance)
@@ -208,6 +238,8 @@ class _Worker:
                         "limit": "time",
                     },
                 }
+        if line is not None:
+            self.in_flight -= 1
         if line is None:
             try:  # its replies closed: it is ending (or closed them and goes on: killed below)
                 code = process.wait(timeout=1.0)
@@ -249,13 +281,15 @@ class _Worker:
 
         `polite` (the worker answered and waits for its next request): what it started is killed,
         its stdin closed, and it ends as it would after its last request (coverage.py writes its
-        data then); killed after STOP_GRACE seconds all the same. Otherwise it is killed at once.
+        data then); killed after STOP_GRACE seconds all the same. Otherwise, or when it has a
+        request still to answer (it would start on that first), it is killed at once.
         """
         process, self.process = self.process, None
+        in_flight, self.in_flight = self.in_flight, 0
         if process is None:
             return
         killed: set[int] = set()
-        if polite and process.poll() is None and not processes.cancelled.is_set():
+        if polite and not in_flight and process.poll() is None and not processes.cancelled.is_set():
             # reaped once the worker ended: until then they are its children
             killed = processes.kill_tree(processes.descendants(process.pid))
             try:
@@ -350,22 +384,55 @@ def run_requests(
     # a reply, or (its conversion,) once converted as it came
     replies: list[Any] = [None] * len(requests)
 
+    def answered(index: int, reply: Reply) -> None:
+        replies[index] = reply
+        if convert is not None:
+            try:
+                replies[index] = (convert(index, reply),)
+            except Exception:  # noqa: BLE001 - converted again below, where it raises as before
+                pass
+        if on_done is not None:
+            on_done()
+
     def run() -> None:
         worker = _Worker(env, limits, zygote)
+        # taken from `work`, not answered, and not with the current worker (a stopped worker's)
+        backlog: deque[tuple[int, WorkerRequest]] = deque()
+        sent: deque[tuple[int, WorkerRequest]] = deque()  # with the worker, oldest first
+
+        def take() -> tuple[int, WorkerRequest] | None:
+            if backlog:
+                return backlog.popleft()
+            try:
+                return work.get_nowait()
+            except queue.Empty:
+                return None
+
         try:
             while not processes.cancelled.is_set():
-                try:
-                    index, request = work.get_nowait()
-                except queue.Empty:
-                    return
-                replies[index] = worker.ask(request, timeout)
-                if convert is not None:
-                    try:
-                        replies[index] = (convert(index, replies[index]),)
-                    except Exception:  # noqa: BLE001 - converted again below, where it raises as before
-                        pass
-                if on_done is not None:
-                    on_done()
+                if not sent:
+                    item = take()
+                    if item is None:
+                        return
+                    failure = worker.send(item[1])
+                    if failure is not None:
+                        answered(item[0], failure)
+                        continue
+                    sent.append(item)
+                # one request ahead: the worker goes on the moment it answered, instead of waiting
+                # for this thread to read, convert, and send (measured: ~4 ms idle per file)
+                ahead = take()
+                if ahead is not None:
+                    if worker.send_ahead(ahead[1]):
+                        sent.append(ahead)
+                    else:
+                        backlog.appendleft(ahead)
+                index, _ = sent.popleft()
+                reply = worker.receive(timeout)
+                if worker.process is None:  # stopped: what it had not answered goes to a fresh one
+                    backlog.extendleft(reversed(sent))
+                    sent.clear()
+                answered(index, reply)
         except _Cancelled:
             return
         finally:
