@@ -189,6 +189,9 @@ LIMITS = {
         "import resource\n\n",
     ),
     "l_wall": launch_file("    time.sleep(600)\n", "import time\n\n"),
+    # reads its stdin: waits until the wall limit, as a sleep does, and never reads the request the
+    # parent queued behind it in the same worker (another package's file, then wrongly timed out)
+    "l_stdin": launch_file("    sys.stdin.readline()\n", "import sys\n\n"),
     "l_killed": launch_file("    os.kill(os.getpid(), signal.SIGKILL)\n", "import os\nimport signal\n\n"),
 }
 TIMEOUT = 4
@@ -279,6 +282,12 @@ def test_wall_time_limit_is_located(limits_workspace):
     workspace, errors = limits_workspace
     assert located(errors["l_wall"]) == at(workspace, "l_wall", "time.sleep(600)")
     assert f"still running after the {TIMEOUT} s limit" in errors["l_wall"]["message"]
+
+
+def test_launch_file_reading_stdin_waits_for_the_wall_limit_and_takes_no_request(limits_workspace):
+    workspace, errors = limits_workspace
+    assert located(errors["l_stdin"]) == at(workspace, "l_stdin", "sys.stdin.readline()")
+    assert f"still running after the {TIMEOUT} s limit" in errors["l_stdin"]["message"]
 
 
 def test_worker_that_kills_itself_is_reported_and_pkgforge_goes_on(limits_workspace):

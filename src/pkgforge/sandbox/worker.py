@@ -350,6 +350,14 @@ def main() -> None:
     guarded = _install_guard()
     limits = _read_limits()
     replies = os.fdopen(os.dup(1), "w", buffering=1)
+    requests = os.fdopen(os.dup(0), encoding="utf-8", errors="replace")
+    # the launch file's own stdin is a pipe nobody writes (the write end stays open here): input()
+    # waits until the wall limit as before, and never reads the request the parent queued behind
+    # this one (resolve.py sends one ahead)
+    unwritten, _keep_open = os.pipe()
+    os.dup2(unwritten, 0)
+    os.close(unwritten)
+    sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)
     os.dup2(devnull, 2)
@@ -374,7 +382,7 @@ def main() -> None:
     from pkgforge.launch.evaluate import evaluate
     from pkgforge.urdf.robot import process_model
 
-    for line in sys.stdin:
+    for line in requests:
         request: WorkerRequest = json.loads(line)
         result: WorkerReply
         try:
