@@ -35,6 +35,36 @@ MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "tes
 NOBODY = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
 
 
+def pytest_sessionstart(session: pytest.Session) -> None:
+    """The tests run the installed pkgforge: a non-editable install older than src/ (scripts/bootstrap
+    installs a copy, as CI does) would test the old code and pass. Stop at once when a file differs."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("pkgforge")
+    source = Path(__file__).resolve().parent.parent / "src" / "pkgforge"
+    if spec is None or spec.origin is None or not source.is_dir():
+        return
+    installed = Path(spec.origin).resolve().parent
+    if installed == source.resolve():
+        return  # editable
+    stale = [
+        path.relative_to(source)
+        for path in sorted(source.rglob("*"))
+        if path.is_file()
+        and "__pycache__" not in path.parts
+        and (
+            not (installed / path.relative_to(source)).is_file()
+            or (installed / path.relative_to(source)).read_bytes() != path.read_bytes()
+        )
+    ]
+    if stale:
+        pytest.exit(
+            f"the installed pkgforge ({installed}) is not src/ ({stale[0]} differs, {len(stale)} in all): "
+            "run scripts/bootstrap test again, or .venv/bin/pip install -e '.[ament,test]'",
+            returncode=2,
+        )
+
+
 # every check code a real pkgforge run printed in this session: a test marked
 # @pytest.mark.triggers(CODE) must have made pkgforge print CODE (see _triggers_printed)
 PRINTED_CODES: set[str] = set()
