@@ -340,6 +340,32 @@ def test_a_choice_whose_files_the_user_gives_is_a_warning_not_an_error(every_dis
     assert not by_name(every_distro, "choice_description", "xacro-error")
 
 
+def test_a_find_only_under_a_xacro_option_is_a_warning(every_distro, workspace):
+    # franka_description: $(find franka_gazebo_bringup) inside <xacro:if value="${gazebo}">;
+    # franka_gazebo_bringup depends on franka_description, so declaring it would be a cycle
+    model = src(workspace, "gazebo_option_description", "urdf/robot.urdf.xacro")
+    assert findings(every_distro, "gazebo_option_description") == [
+        ("missing-exec-depend", "urdf/robot.urdf.xacro", line_of(model, "$(find controller_manager)")),
+    ]
+    (warning,) = by_name(every_distro, "gazebo_option_description", "missing-exec-depend")
+    assert warning["severity"] == "warning"
+    assert 'only inside <xacro:if value="$(arg gazebo)">' in warning["message"]
+
+
+def test_a_package_template_shipped_as_data_is_no_unknown_package(every_distro):
+    # clearpath_customization installs project_bringup/ (its own package.xml: a template the user
+    # copies); its launch file finds its own name, which is no typo
+    assert findings(every_distro, "template_kit") == []
+
+
+def test_a_dependency_the_repos_file_brings_from_source_is_no_distro_error(jazzy, workspace):
+    # husarion rosbot_ros (humble): rosbot_hardware_interfaces comes from rosbot_hardware.repos
+    manifest = src(workspace, "source_deps_description", "package.xml")
+    assert findings(jazzy, "source_deps_description") == [
+        ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>create_driver")),
+    ]
+
+
 def test_an_undeclared_use_not_released_for_the_target(every_distro, jazzy, workspace):
     launch = src(workspace, "gz_use_description", "launch/display.launch.py")
     gazebo, ignition = line_of(launch, "'gazebo_ros'"), line_of(launch, "'ros_ign_gazebo'")

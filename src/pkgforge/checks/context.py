@@ -26,6 +26,7 @@ if TYPE_CHECKING:
     from pkgforge.urdf.select import ModelResult
 
 # an ImportError of a launch name (the built-in engine's message is ROS's own)
+NESTED_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")
 # the distros whose own launch name lists the built-in engine has (launch/api_names.json)
 GENERATED_LISTS = ("humble", "jazzy")
@@ -178,8 +179,61 @@ class CheckContext:
         known: frozenset[str] = self._shared(
             ("known", self.distros), lambda: self.real_packages() | released_set(())
         )
-        declared = self.model.manifest.declared()
+        declared = self.model.manifest.declared() | self.nested_packages()
         return known if declared <= known else known | declared
+
+    def source_repositories(self) -> frozenset[str]:
+        """Repositories the workspace's vcs .repos files bring in from source (in a package, or
+        beside the packages): rosbot_ros builds rosbot_hardware_interfaces from one for humble,
+        where it is not released. Their packages are the workspace's once imported."""
+
+        def compute() -> frozenset[str]:
+            import yaml
+
+            files = {
+                model.path / relative
+                for model in (self.model, *self.models.values())
+                for relative in model.files
+                if relative.suffix == ".repos"
+            }
+            for folder in {path.parent for path in (self.model.path, *self.workspace.values())}:
+                try:
+                    files.update(p for p in folder.iterdir() if p.suffix == ".repos" and p.is_file())
+                except OSError:
+                    continue
+            names: set[str] = set()
+            for path in files:
+                try:
+                    data = yaml.safe_load(path.read_text(encoding="utf-8", errors="replace"))
+                except (OSError, yaml.YAMLError):
+                    continue
+                repositories = data.get("repositories") if isinstance(data, dict) else None
+                if isinstance(repositories, dict):
+                    names.update(str(name).rsplit("/", 1)[-1] for name in repositories)
+            return frozenset(names)
+
+        found: frozenset[str] = self._shared("repositories", compute)
+        return found
+
+    def nested_packages(self) -> frozenset[str]:
+        """Names of the packages inside this one's folders (each with its own package.xml): colcon
+        does not look inside a package, so they are templates or data the package ships (clearpath's
+        project_bringup inside clearpath_customization), and their files name them."""
+        model = self.model
+
+        def compute() -> frozenset[str]:
+            names = set()
+            for folder in model.nested_packages:
+                try:
+                    text = (model.path / folder / "package.xml").read_text(encoding="utf-8", errors="replace")
+                except OSError:
+                    text = ""
+                found = NESTED_NAME.search(text)
+                names.add(found.group(1) if found else folder.name)
+            return frozenset(names)
+
+        nested: frozenset[str] = self._shared(("nested", str(model.path)), compute)
+        return nested
 
     def install_base_packages(self) -> Collection[str]:
         """Packages the install base (--install-base) holds: the tree's, else those its ament index

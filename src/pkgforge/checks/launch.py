@@ -444,7 +444,9 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     good=("<!-- package.xml -->\n<exec_depend>rviz2</exec_depend>"),
     summary="a package used at run time is not an exec_depend",
     explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
-    "machine the node, file or tool is missing (user story 6).",
+    "machine the node, file or tool is missing (user story 6). A model's use that xacro reads "
+    "only inside <xacro:if>/<xacro:unless> is a warning, with no fix: such a package is often "
+    "left out on purpose (a simulation package that itself depends on the description).",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -454,23 +456,35 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     declared = model.manifest.run_dependencies()
     own = {model.name, model.share_name}
     known = ctx.real_packages()
-    reported = set()
-    # a use with a line first: that is where the diagnostic points
-    for name, path, line, via, item, resolution in sorted(
-        _looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)
-    ):
-        if (
-            name in own
-            or name in declared
-            or name in reported
-            or name not in known
-            or name in LAUNCH_INFRASTRUCTURE
-        ):
+    # a model's reference that xacro reads only under a condition (<xacro:if>): a warning, for
+    # the package is often left out on purpose (franka_gazebo_bringup depends on franka_description)
+    conditions: dict[tuple[str, Path, int | None], str] = {
+        (r.package, r.path, r.line): r.condition for r in model.references if r.condition is not None
+    }
+    chosen: dict[str, tuple[Use, str | None]] = {}
+    # an unconditional use first, then one with a line: that is where the diagnostic points
+    for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
+        name, path, line, via = use[:4]
+        if name in own or name in declared or name not in known or name in LAUNCH_INFRASTRUCTURE:
             continue
         if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
-        reported.add(name)
+        condition = conditions.get((name, path, line)) if use[4] is None else None
+        if name not in chosen or (chosen[name][1] is not None and condition is None):
+            chosen[name] = use, condition
+    for (name, path, line, via, item, resolution), condition in chosen.values():
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
+        if condition is not None:
+            yield Finding(
+                f"{via} '{name}' is used only inside <xacro:{condition.split(' ', 1)[0]} "
+                f'value="{condition.split(" ", 1)[-1]}"> but package.xml does not declare it',
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"add <exec_depend>{name}</exec_depend> if the model is used with that setting "
+                f"(leave it out when {name} itself depends on this package)",
+            )  # no fix: only the user knows whether the setting is meant for this package's users
+            continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
             path,

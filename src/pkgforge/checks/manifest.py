@@ -313,7 +313,7 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     manifest = model.manifest
     if not manifest.valid:
         return
-    local = set(ctx.workspace) | {model.name, model.share_name}
+    local = set(ctx.workspace) | {model.name, model.share_name} | ctx.source_repositories()
     reported = set()
     for dependency in manifest.active_dependencies():
         name = dependency.name

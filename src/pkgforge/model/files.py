@@ -11,12 +11,21 @@ from pkgforge.walk import WalkLimit, walk
 SKIPPED_DIRS = {"build", "install", "log", "__pycache__", "node_modules", "test", "tests"}
 
 
-def walk_files(root: Path, limits: list[WalkLimit] | None = None) -> list[Path]:
-    """Every file of the package, not descending into nested packages or build folders."""
-    return [Path(name) for name in walk_file_names(root, limits)]
+def walk_files(
+    root: Path, limits: list[WalkLimit] | None = None, nested: list[Path] | None = None
+) -> list[Path]:
+    """Every file of the package, not descending into nested packages or build folders (the
+    nested packages' folders, relative, go to `nested`)."""
+    folders: list[str] = []
+    files = [Path(name) for name in walk_file_names(root, limits, folders)]
+    if nested is not None:
+        nested += [Path(folder) for folder in folders]
+    return files
 
 
-def walk_file_names(root: Path, limits: list[WalkLimit] | None = None) -> list[str]:
+def walk_file_names(
+    root: Path, limits: list[WalkLimit] | None = None, nested: list[str] | None = None
+) -> list[str]:
     """walk_files as relative path strings (the cache's fast path builds no Path objects)."""
     files = []
     top = str(root)
@@ -28,9 +37,11 @@ def walk_file_names(root: Path, limits: list[WalkLimit] | None = None) -> list[s
             if d.startswith(".") or (current == top and d in SKIPPED_DIRS):
                 continue
             sub = os.path.join(current, d)
-            if os.path.exists(os.path.join(sub, "package.xml")) or os.path.exists(
-                os.path.join(sub, "COLCON_IGNORE")
-            ):
+            if os.path.exists(os.path.join(sub, "COLCON_IGNORE")):
+                continue
+            if os.path.exists(os.path.join(sub, "package.xml")):
+                if nested is not None:
+                    nested.append(d if relative_dir == "." else f"{relative_dir}/{d}")
                 continue
             keep.append(d)
         dirs[:] = keep

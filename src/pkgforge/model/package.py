@@ -49,6 +49,8 @@ class PackageModel:
     skipped: list[SourceFile] = field(default_factory=list)  # too large or unreadable
     # where a walk of the package (or of its installed share folder) stopped: folder-not-walked
     walk_limits: list[WalkLimit] = field(default_factory=list)
+    # folders inside it with their own package.xml (not walked: colcon does not look inside a package)
+    nested_packages: list[Path] = field(default_factory=list)
 
     @property
     def share_name(self) -> str:
@@ -97,7 +99,7 @@ def load_package(
     build_type = manifest.build_type or (colcon_type or "").removeprefix("ros.") or "unknown"
     model = PackageModel(name=manifest.name or path.name, path=path, build_type=build_type, manifest=manifest)
     model.sources[manifest_source.path] = manifest_source
-    model.files = _walk_files(path, model.walk_limits)
+    model.files = _walk_files(path, model.walk_limits, model.nested_packages)
 
     if (path / "CMakeLists.txt").exists() and build_type not in ("ament_python",):
         model.cmake = load_cmake(path)

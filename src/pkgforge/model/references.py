@@ -15,6 +15,7 @@ literals followed through the file.
 from __future__ import annotations
 
 import ast
+import dataclasses
 import re
 import sys
 from collections.abc import Iterator
@@ -59,6 +60,9 @@ class Reference:
     line: int
     column: int | None
     via: str
+    # a model's reference inside <xacro:if>/<xacro:unless>: that element's condition as written
+    # ("if ${gazebo}"), the innermost one; None when xacro always reads it
+    condition: str | None = None
 
 
 def launch_kind(path: Path) -> str | None:
@@ -155,16 +159,39 @@ def _scan_xml(source: SourceFile, text: str, locate: _Locator, *, launch: bool) 
         if not isinstance(element.tag, str):
             continue
         line = element.sourceline or 1
+        here: list[Reference] = []
         for name, value in element.attrib.items():
             if launch and name == "pkg" and PACKAGE_ONLY.fullmatch(value.strip()):
                 where = locate(f"{name}=", line)
-                found.append(Reference(value.strip(), None, source.path, where[0], where[1], "node pkg"))
-            found += _in_value(value, patterns, source.path, line, locate)
+                here.append(Reference(value.strip(), None, source.path, where[0], where[1], "node pkg"))
+            here += _in_value(value, patterns, source.path, line, locate)
         if element.text and element.text.strip():
-            found += _in_value(element.text, patterns, source.path, line, locate)
+            here += _in_value(element.text, patterns, source.path, line, locate)
         if element.tag == "plugin":
-            found += _plugin_uses(element, source.path, locate)
+            here += _plugin_uses(element, source.path, locate)
+        if here and not launch and (condition := _xacro_condition(element)) is not None:
+            here = [dataclasses.replace(r, condition=condition) for r in here]
+        found += here
     return found
+
+
+def _xacro_condition(element: etree._Element) -> str | None:
+    """The condition of the innermost <xacro:if>/<xacro:unless> around `element`, as written:
+    xacro reads what is inside only when it holds (franka's $(find franka_gazebo_bringup) under
+    <xacro:if value="${gazebo}">)."""
+    for ancestor in element.iterancestors():
+        tag = ancestor.tag
+        if not isinstance(tag, str):
+            continue
+        # xacro goes by the prefix, whatever namespace it is bound to (files use both
+        # http://www.ros.org/wiki/xacro and http://wiki.ros.org/xacro); unbound, lxml keeps it in the tag
+        if ancestor.prefix == "xacro":
+            kind = tag.rpartition("}")[2]
+        else:
+            kind = tag.removeprefix("xacro:") if tag.startswith("xacro:") else ""
+        if kind in ("if", "unless"):
+            return f"{kind} {ancestor.get('value', '')}".strip()
+    return None
 
 
 # Gazebo plugin libraries whose file name is not their package's name
