@@ -14,7 +14,7 @@ from pkgforge.checks.context import CheckContext, FileFacts
 from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
-from pkgforge.diagnostics import Finding
+from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import CommandRun, LaunchFile
 from pkgforge.tree import InstallTree
 from pkgforge.urdf.meshes import MeshLookup
@@ -107,7 +107,9 @@ def _split_for_the_user(tree: InstallTree | None, command: CommandRun) -> tuple[
     summary="xacro fails on the model a launch file processes",
     explanation="robot_state_publisher gets no description and RViz shows nothing; xacro's own "
     "message says why (an include that does not resolve, an undefined property, "
-    "a $(find) of an unknown package).",
+    "a $(find) of an unknown package). When launch files feed the model to xacro with those "
+    "arguments only under settings other than their defaults (a choice that needs more "
+    "arguments given with it), it is a warning that names the setting.",
     hint="fix the model as xacro's message says",
 )
 def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
@@ -123,11 +125,23 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
             if _missing_file_given(ctx, result, error.get("message")):
                 continue  # one defect, one diagnostic: missing-file names the path the launch file gave
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
-            yield Finding(
-                f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}",
-                *model_item_position(ctx, result, error),
-                hint=error.get("hint") or read_problem_hint(error.get("message")),
-            )
+            message = f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}"
+            hint = error.get("hint") or read_problem_hint(error.get("message"))
+            # fed to xacro only by argument settings other than the defaults (kortex's
+            # robot_type:=gen3_lite with the default dof:=7, where gen3_lite has 6): the setting
+            # works when the user gives more arguments with it, so a warning that says which
+            settings = sorted({s for o in result.origins for s in o["only_with"]})
+            if result.status == "error" and result.origins and all(o["only_with"] for o in result.origins):
+                yield Finding(
+                    f"{message} (only with {', '.join(settings)})",
+                    *model_item_position(ctx, result, error),
+                    severity=Severity.WARNING,
+                    hint=f"with {settings[0]}, the user must give other arguments too: say which in "
+                    "the arguments' descriptions, or make the model work with that setting alone"
+                    + (f" ({hint})" if hint else ""),
+                )
+                continue
+            yield Finding(message, *model_item_position(ctx, result, error), hint=hint)
     # a launch file's xacro run on a model not processed above (failures above are at the model's line)
     seen: set[tuple[Path, int | None]] = set()
     for resolution in ctx.resolutions:
@@ -168,8 +182,8 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue
             if _undeclared_find(ctx, command.message):
                 continue
-            message = _untree_xacro(ctx, command.message).strip().splitlines()
-            yield Finding(f"xacro {Path(model or '').name}: {message[0] if message else 'failed'}", *position)
+            lines = _untree_xacro(ctx, command.message).strip().splitlines()
+            yield Finding(f"xacro {Path(model or '').name}: {lines[0] if lines else 'failed'}", *position)
         load_error = resolution.error
         models = {c.model for c in resolution.commands}
         if ctx.load_error_kind(resolution) == "xacro" and load_error is not None and not models & covered:

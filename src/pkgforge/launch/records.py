@@ -129,6 +129,7 @@ class ErrorRecordDict(RecordDict, total=False):
     entity: str | None
     package: str | None
     module: str | None
+    program: str | None
     limit: LimitKind | None
 
 
@@ -279,6 +280,7 @@ class Error(Record):
     entity: str | None = None
     package: str | None = None  # PackageNotFoundError: which package
     module: str | None = None  # ModuleNotFoundError: which module
+    program: str | None = None  # FileNotFoundError of a program the file runs (by name, from PATH)
     limit: LimitKind | None = None  # a worker limit hit (never cached)
 
 
@@ -501,6 +503,17 @@ class Resolution:
     engine: Engine = "builtin"
     distro: str | None = None
     branching: Branching = field(default_factory=lambda: Branching())  # combinations evaluated in time
+
+    def off_default(self, item: Record) -> list[str]:
+        """The branches `item` was seen in when the visit with every argument at its default is not
+        one of them (a record of other settings only); else [] (seen with the defaults, or no
+        branching). The defaults visit's label is made as _merged makes every label."""
+        branches = [b for b in item.branches if b]
+        varying = sorted((a for a in self.arguments if a.values), key=lambda a: a.name)
+        if not branches or not varying:
+            return []
+        defaults = " ".join(f"{a.name}:={a.default}" for a in varying)
+        return [] if defaults in branches else branches
 
     @property
     def unevaluated(self) -> int:

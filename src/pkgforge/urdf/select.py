@@ -49,6 +49,8 @@ class LaunchOrigin(TypedDict):
     launch: LaunchFile
     file: str | None
     line: int | None
+    # the argument settings it is fed with when never with the defaults (Resolution.off_default)
+    only_with: list[str]
 
 
 @dataclass
@@ -212,7 +214,12 @@ def collect(
                     # the launch's own xacro run already gave the structure
                     jobs[key].robot, jobs[key].includes = command.robot, list(command.includes)
                 jobs[key].origins.append(
-                    {"launch": resolution.launch, "file": command.file, "line": command.line}
+                    {
+                        "launch": resolution.launch,
+                        "file": command.file,
+                        "line": command.line,
+                        "only_with": resolution.off_default(command),
+                    }
                 )
     fed = {key[:2] for key in jobs}  # (package, model) a launch file feeds to xacro
     for model in models:
