@@ -366,6 +366,55 @@ def test_a_dependency_the_repos_file_brings_from_source_is_no_distro_error(jazzy
     ]
 
 
+def test_a_model_failing_only_with_a_choice_is_a_warning_that_names_it(every_distro, workspace):
+    # kortex view_robot.launch.py: robot_type:=gen3_lite with the default dof:=7 (gen3_lite has 6)
+    assert findings(every_distro, "choice_model_description") == [
+        ("xacro-error", "urdf/robot.urdf.xacro", None)
+    ]
+    (warning,) = by_name(every_distro, "choice_model_description", "xacro-error")
+    assert warning["severity"] == "warning"
+    assert warning["message"].endswith("(only with robot_type:=small)")
+    assert warning["hint"].startswith("with robot_type:=small, the user must give other arguments too")
+
+
+def test_a_model_failing_with_the_defaults_stays_an_error(tmp_path):
+    shutil.copytree(REALWORLD / "choice_model_description", tmp_path / "src" / "choice_model_description")
+    launch = tmp_path / "src" / "choice_model_description" / "launch" / "display.launch.py"
+    edit(launch, "default_value='big'", "default_value='small'")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert findings(report, "choice_model_description") == [("xacro-error", "urdf/robot.urdf.xacro", None)]
+    (error,) = by_name(report, "choice_model_description", "xacro-error")
+    assert error["severity"] == "error" and "only with" not in error["message"]
+
+
+def test_what_this_machine_lacks_is_no_launch_error(every_distro, workspace):
+    # linorobot2: sensor:=xv11 runs xv_11_driver, cloned from source (a warning, only with it);
+    # open_manipulator: rs_launch imported from realsense2_camera's share folder (not installed
+    # here); realsense-ros: `ros2 component types` run while loading (no ros2 here)
+    launch = workspace / "src" / "driver_options_bringup" / "launch"
+    assert findings(every_distro, "driver_options_bringup") == [
+        (
+            "launch-unevaluated",
+            "launch/camera.launch.py",
+            line_of(launch / "camera.launch.py", "import rs_launch"),
+        ),
+        (
+            "launch-unevaluated",
+            "launch/components.launch.py",
+            line_of(launch / "components.launch.py", "subprocess.run("),
+        ),
+        (
+            "unknown-package",
+            "launch/lasers.launch.py",
+            line_of(launch / "lasers.launch.py", "from source") + 1,  # the Node( below the comment
+        ),
+    ]
+    (unknown,) = by_name(every_distro, "driver_options_bringup", "unknown-package")
+    assert unknown["severity"] == "warning" and unknown["message"].endswith("(only with sensor:=xv11)")
+    (_, program) = by_name(every_distro, "driver_options_bringup", "launch-unevaluated")
+    assert "runs ros2 while loading, a program not installed here" in program["message"]
+
+
 def test_an_undeclared_use_not_released_for_the_target(every_distro, jazzy, workspace):
     launch = src(workspace, "gz_use_description", "launch/display.launch.py")
     gazebo, ignition = line_of(launch, "'gazebo_ros'"), line_of(launch, "'ros_ign_gazebo'")

@@ -179,7 +179,7 @@ class CheckContext:
         known: frozenset[str] = self._shared(
             ("known", self.distros), lambda: self.real_packages() | released_set(())
         )
-        declared = self.model.manifest.declared() | self.nested_packages()
+        declared = self.model.manifest.declared() | self.nested_packages() | self.source_repositories()
         return known if declared <= known else known | declared
 
     def source_repositories(self) -> frozenset[str]:
@@ -320,8 +320,8 @@ class CheckContext:
             return "package"
         if error.type == "XacroException":
             return "xacro"
-        if self.package_not_installed_here(error):
-            return "unevaluated"
+        if self.package_not_installed_here(error) or (error.type == "FileNotFoundError" and error.program):
+            return "unevaluated"  # (a program it runs at load, by name, that this machine lacks)
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
         if error.type == "KeyError" and self.unset_environment(resolution):
@@ -332,7 +332,8 @@ class CheckContext:
         """Whether an error is the import of a ROS package's module that is not installed on this
         machine: declared or not (an undeclared one is missing-exec-depend's), on the user's
         machine it may well be installed, so the failure here is not the launch file's."""
-        module = (error.module or "").split(".")[0]
+        # the module's own name, or the package whose folder the file put on sys.path for it
+        module = error.package or (error.module or "").split(".")[0]
         return (
             error.type == "ModuleNotFoundError"
             and bool(module)

@@ -383,7 +383,9 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
     explanation="The package is not in the workspace, not declared in package.xml, not "
     "installed and released in no active ROS 2 distro: almost always a typo or a "
     "package renamed (user story 3: "
-    "`robot_description` looked up in package `rob_description`).",
+    "`robot_description` looked up in package `rob_description`). Used only with argument "
+    "settings other than the defaults, it is a warning: more likely an optional driver the "
+    "robot's users build from source.",
     hint="fix the package name",
 )
 def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
@@ -391,7 +393,7 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
     seen = set()
-    for name, path, line, via, _item, resolution in _looked_up(ctx):
+    for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
         if not name or (
@@ -401,6 +403,20 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
         ):
             continue  # built from a launch argument left empty (a template's caller gives it): no typo
         seen.add((name, str(path), line))
+        only = resolution.off_default(item) if resolution is not None and item is not None else []
+        if only:
+            # used only with settings other than the defaults (linorobot2's sensor:=ydlidar runs
+            # ydlidar_ros2_driver, which its users clone from source): more likely an optional
+            # driver built from source than a typo
+            yield Finding(
+                f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
+                f"and released in no ROS 2 distro (only with {', '.join(only)})",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"{_unknown_hint(ctx, name)}; if it is built from source, list it in a .repos file",
+            )
+            continue
         yield Finding(
             f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
             "and released in no ROS 2 distro",
@@ -647,8 +663,9 @@ def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
         "from nav2_common.launch import RewrittenYaml"
     ),
     good="$ pkgforge verify . --install-base install   # on a machine with nav2_common installed",
-    summary="a launch file imports a module of a ROS package that is not installed here",
-    explanation="Not the launch file's fault: the package is simply not on this machine. Its "
+    summary="a launch file imports a module of a ROS package (or runs a program) not installed here",
+    explanation="Not the launch file's fault: the package (or a program it runs while loading, "
+    "such as ros2) is simply not on this machine. Its "
     "literal package and path references are still checked, statically; a package it does not "
     "declare is missing-exec-depend's.",
     hint="verify on a machine with the dependency installed (or --install-base) to evaluate it",
@@ -661,11 +678,12 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 resolution.launch.source or resolution.launch.installed,
                 None,
             )
-            yield Finding(
-                f"{resolution.launch.installed.name} imports {error.module}, from a "
-                "package not installed here; checked statically instead",
-                *position,
+            what = (
+                f"runs {error.program} while loading, a program not installed here"
+                if error.program
+                else f"imports {error.module}, from a package not installed here"
             )
+            yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
 
 
 @register(

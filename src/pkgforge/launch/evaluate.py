@@ -92,12 +92,39 @@ def _missing_package_of(error: BaseException) -> str | None:
     """The package not found here whose stand-in folder this error touched (a consequence of
     that lookup, already reported), else None."""
     texts = [str(error), str(getattr(error, "filename", "") or "")]
+    if isinstance(error, ModuleNotFoundError):
+        # a module looked for in a folder the file put on sys.path from a package not found here
+        # (sys.path.append(os.path.join(get_package_share_directory('realsense2_camera'), 'launch')))
+        texts += [entry for entry in reversed(sys.path) if isinstance(entry, str)]
     for text in texts:
         index = text.find(runtime.MISSING_PACKAGE_ROOT + "/")
         if index >= 0:
             rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1 :]
             return re.split(r"[/'\"\s]", rest, maxsplit=1)[0] or None
     return None
+
+
+def _declared_folder_on_path() -> str | None:
+    """The declared package, not installed here, whose (empty, phantom) share folder the file put
+    on sys.path to import a module from: the module is that package's."""
+    phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
+    if not phantom:
+        return None
+    share = os.path.join(phantom, "share") + os.sep
+    for entry in reversed(sys.path):
+        if isinstance(entry, str) and entry.startswith(share):
+            return entry[len(share) :].split(os.sep)[0] or None
+    return None
+
+
+def _program_not_found(error: BaseException) -> str | None:
+    """The program a subprocess call named by its bare name and did not find on PATH
+    (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed)."""
+    name = getattr(error, "filename", None)
+    if not isinstance(error, FileNotFoundError) or not isinstance(name, str) or not name or os.sep in name:
+        return None
+    frames = traceback.extract_tb(error.__traceback__)
+    return name if any(os.path.basename(f.filename) == "subprocess.py" for f in frames) else None
 
 
 def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRecordDict:
@@ -140,6 +167,12 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
             return as_dict(from_dict(Error, record))
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
+        owner = _declared_folder_on_path()
+        if owner is not None:
+            record["package"] = owner
+    program = _program_not_found(error)
+    if program is not None:
+        record["program"] = program
     line = getattr(error, "line", None)  # the built-in front end's FrontendError
     if line and type(error).__name__ == "FrontendError":
         record["line"] = line
@@ -320,6 +353,16 @@ def _watch_ament() -> None:
 def evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None = None) -> LaunchResultDict:
     """Resolve one launch file; the result is plain data (JSON). `budget`: how long the argument
     combinations past the defaults may run (records.evaluate_branches)."""
+    # what the file adds to sys.path (a folder of another package's share, to import a module
+    # from: openmanipulator's rs_launch) is its own: the next file in this worker starts without it
+    path_before = list(sys.path)
+    try:
+        return _evaluate(path, overrides, budget)
+    finally:
+        sys.path[:] = path_before
+
+
+def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None) -> LaunchResultDict:
     _watch_xacro()
     _watch_ament()
     runtime.RECORDER.reset()  # a fresh record for each file

@@ -918,6 +918,16 @@ def evaluate(
 ) -> LaunchResultDict:
     """Resolve one launch file with the real libraries; the result is plain data (JSON). `budget`
     (records.BranchBudget): how long the argument combinations past the defaults may run."""
+    path_before = list(sys.path)  # what the file adds is its own (as the built-in engine keeps it)
+    try:
+        return _evaluate(path, overrides, distro, budget)
+    finally:
+        sys.path[:] = path_before
+
+
+def _evaluate(
+    path: str, overrides: dict[str, str], distro: str | None, budget: BranchBudget | None
+) -> LaunchResultDict:
     from pkgforge.launch import evaluate as builtin
 
     builtin._watch_xacro()
