@@ -390,7 +390,8 @@ def test_a_model_failing_with_the_defaults_stays_an_error(tmp_path):
 def test_what_this_machine_lacks_is_no_launch_error(every_distro, workspace):
     # linorobot2: sensor:=xv11 runs xv_11_driver, cloned from source (a warning, only with it);
     # open_manipulator: rs_launch imported from realsense2_camera's share folder (not installed
-    # here); realsense-ros: `ros2 component types` run while loading (no ros2 here)
+    # here); realsense-ros: `ros2 component types` run while loading (no ros2 here); linorobot2's
+    # EnvironmentVariable('ROS_DISTRO') with no default (set wherever ROS 2 is: distro.launch.py)
     launch = workspace / "src" / "driver_options_bringup" / "launch"
     assert findings(every_distro, "driver_options_bringup") == [
         (

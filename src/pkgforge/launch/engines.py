@@ -41,6 +41,12 @@ class LaunchEngine:
         env.pop(DISTRO_ENV, None)
         if self.name == "builtin" and self.distro:
             env[BUILTIN_DISTRO_ENV] = self.distro
+        # what a shell with ROS 2 sourced always has, and launch files read without a default
+        # (linorobot2's EnvironmentVariable('ROS_DISTRO')); here ROS may not be sourced at all
+        if self.distro:
+            env.setdefault("ROS_DISTRO", self.distro)
+        env.setdefault("ROS_VERSION", "2")
+        env.setdefault("ROS_PYTHON_VERSION", "3")
         if self.name == "ros":
             env[PREFIX_ENV] = self.prefix or ""
             env[DISTRO_ENV] = self.distro or ""
