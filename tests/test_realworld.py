@@ -343,13 +343,22 @@ def test_a_choice_whose_files_the_user_gives_is_a_warning_not_an_error(every_dis
 def test_a_find_only_under_a_xacro_option_is_a_warning(every_distro, workspace):
     # franka_description: $(find franka_gazebo_bringup) inside <xacro:if value="${gazebo}">;
     # franka_gazebo_bringup depends on franka_description, so declaring it would be a cycle
+    # husky_description: urdf/accessories/sick_lms1xx_mount.urdf.xacro and its $(find lms1xx), a
+    # file no model of the package includes (an accessory for integrators' models)
     model = src(workspace, "gazebo_option_description", "urdf/robot.urdf.xacro")
+    accessory = src(workspace, "gazebo_option_description", "urdf/accessories/lidar_mount.urdf.xacro")
     assert findings(every_distro, "gazebo_option_description") == [
+        (
+            "missing-exec-depend",
+            "urdf/accessories/lidar_mount.urdf.xacro",
+            line_of(accessory, "$(find velodyne_description)"),
+        ),
         ("missing-exec-depend", "urdf/robot.urdf.xacro", line_of(model, "$(find controller_manager)")),
     ]
-    (warning,) = by_name(every_distro, "gazebo_option_description", "missing-exec-depend")
-    assert warning["severity"] == "warning"
-    assert 'only inside <xacro:if value="$(arg gazebo)">' in warning["message"]
+    mount, gazebo = by_name(every_distro, "gazebo_option_description", "missing-exec-depend")
+    assert mount["severity"] == gazebo["severity"] == "warning"
+    assert 'only inside <xacro:if value="$(arg gazebo)">' in gazebo["message"]
+    assert "which no robot model of gazebo_option_description reads" in mount["message"]
 
 
 def test_a_package_template_shipped_as_data_is_no_unknown_package(every_distro):

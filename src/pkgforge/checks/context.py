@@ -255,6 +255,21 @@ class CheckContext:
 
         return source_of(Path(installed), self.tree, self.model) if self.tree is not None else None
 
+    def model_files_read(self) -> set[Path] | None:
+        """The package's own files some processed robot model reads (the model, its includes);
+        None when one failed (what it would have included is not known)."""
+        read: set[Path] = set()
+        for result in self.model_results:
+            if result.status != "ok":
+                return None
+            for installed in [str(result.installed), *result.includes]:
+                source = self.own_source(installed)
+                if source is not None:
+                    read.add(source)
+            if result.source is not None:
+                read.add(result.source)
+        return read
+
     def source_position(
         self, resolution: Resolution, item_file: str | None, line: int | None
     ) -> tuple[Path, int | None] | None:

@@ -16,7 +16,7 @@ from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.model.package import PackageModel
-from pkgforge.urdf import ANY_MODEL_SUFFIXES
+from pkgforge.urdf import ANY_MODEL_SUFFIXES, XACRO_MODEL_SUFFIXES
 from pkgforge.walk import UNREADABLE_HINT
 
 JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
@@ -426,6 +426,12 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
         )
 
 
+def _xacro_condition_text(condition: str) -> str:
+    """'inside <xacro:if value="${gazebo}">' from a reference's condition ('if ${gazebo}')."""
+    kind, _, value = condition.partition(" ")
+    return f'inside <xacro:{kind} value="{value}">'
+
+
 def _unknown_hint(ctx: CheckContext, name: str) -> str:
     """The package's ROS 2 name, or close names from the workspace, package.xml and the distros."""
     from pkgforge.model.distro_data import load, replacement
@@ -461,8 +467,9 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     summary="a package used at run time is not an exec_depend",
     explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
     "machine the node, file or tool is missing (user story 6). A model's use that xacro reads "
-    "only inside <xacro:if>/<xacro:unless> is a warning, with no fix: such a package is often "
-    "left out on purpose (a simulation package that itself depends on the description).",
+    "only inside <xacro:if>/<xacro:unless>, or in a model file no robot model of the package "
+    "reads (an accessory for others to include), is a warning, with no fix: such a package is "
+    "often left out on purpose (a simulation package that itself depends on the description).",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -475,8 +482,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     # a model's reference that xacro reads only under a condition (<xacro:if>): a warning, for
     # the package is often left out on purpose (franka_gazebo_bringup depends on franka_description)
     conditions: dict[tuple[str, Path, int | None], str] = {
-        (r.package, r.path, r.line): r.condition for r in model.references if r.condition is not None
+        (r.package, r.path, r.line): _xacro_condition_text(r.condition)
+        for r in model.references
+        if r.condition is not None
     }
+    # and a model file no robot model of the package reads (an accessory for others to include:
+    # husky's sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)); None: not known
+    read = ctx.model_files_read()
     chosen: dict[str, tuple[Use, str | None]] = {}
     # an unconditional use first, then one with a line: that is where the diagnostic points
     for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
@@ -486,20 +498,33 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
         condition = conditions.get((name, path, line)) if use[4] is None else None
+        if (
+            condition is None
+            and use[4] is None
+            and via in ("$(find)", "package://")
+            and read is not None
+            and path.name.endswith(XACRO_MODEL_SUFFIXES)
+            and path not in read
+        ):
+            condition = f"in {ctx.relative(path)}, which no robot model of {model.name} reads,"
         if name not in chosen or (chosen[name][1] is not None and condition is None):
             chosen[name] = use, condition
     for (name, path, line, via, item, resolution), condition in chosen.values():
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
         if condition is not None:
             yield Finding(
-                f"{via} '{name}' is used only inside <xacro:{condition.split(' ', 1)[0]} "
-                f'value="{condition.split(" ", 1)[-1]}"> but package.xml does not declare it',
+                f"{via} '{name}' is used only {condition} but package.xml does not declare it",
                 path,
                 line,
                 severity=Severity.WARNING,
-                hint=f"add <exec_depend>{name}</exec_depend> if the model is used with that setting "
-                f"(leave it out when {name} itself depends on this package)",
-            )  # no fix: only the user knows whether the setting is meant for this package's users
+                hint=(
+                    f"add <exec_depend>{name}</exec_depend> if the file is meant to be included "
+                    "(an accessory for other packages' models), or remove the file"
+                    if condition.startswith("in ")
+                    else f"add <exec_depend>{name}</exec_depend> if the model is used with that "
+                    f"setting (leave it out when {name} itself depends on this package)"
+                ),
+            )  # no fix: only the user knows whether that use is meant for this package's users
             continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
