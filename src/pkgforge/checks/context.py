@@ -179,33 +179,24 @@ class CheckContext:
         known: frozenset[str] = self._shared(
             ("known", self.distros), lambda: self.real_packages() | released_set(())
         )
-        declared = self.model.manifest.declared() | self.nested_packages() | self.source_repositories()
+        declared = self.model.manifest.declared() | self.source_repositories()
         return known if declared <= known else known | declared
 
     def source_repositories(self) -> frozenset[str]:
-        """Repositories the workspace's vcs .repos files bring in from source (in a package, or
-        beside the packages): rosbot_ros builds rosbot_hardware_interfaces from one for humble,
+        """Repositories the workspace's vcs .repos files bring in from source (in a package's folder,
+        or beside the packages): rosbot_ros builds rosbot_hardware_interfaces from one for humble,
         where it is not released. Their packages are the workspace's once imported."""
 
         def compute() -> frozenset[str]:
             import yaml
 
-            files = {
-                model.path / relative
-                for model in (self.model, *self.models.values())
-                for relative in model.files
-                if relative.suffix == ".repos"
-            }
-            for folder in {path.parent for path in (self.model.path, *self.workspace.values())}:
-                try:
-                    files.update(p for p in folder.iterdir() if p.suffix == ".repos" and p.is_file())
-                except OSError:
-                    continue
+            from pkgforge.model.files import vcs_repos_files
+
             names: set[str] = set()
-            for path in files:
+            for path in vcs_repos_files([self.model.path, *self.workspace.values()]):
                 try:
                     data = yaml.safe_load(path.read_text(encoding="utf-8", errors="replace"))
-                except (OSError, yaml.YAMLError):
+                except (OSError, yaml.YAMLError, RecursionError):  # (a file nested past the parser's depth)
                     continue
                 repositories = data.get("repositories") if isinstance(data, dict) else None
                 if isinstance(repositories, dict):
@@ -215,25 +206,25 @@ class CheckContext:
         found: frozenset[str] = self._shared("repositories", compute)
         return found
 
-    def nested_packages(self) -> frozenset[str]:
-        """Names of the packages inside this one's folders (each with its own package.xml): colcon
-        does not look inside a package, so they are templates or data the package ships (clearpath's
-        project_bringup inside clearpath_customization), and their files name them."""
+    def nested_packages(self) -> dict[str, Path]:
+        """The packages inside this one's folders (each with its own package.xml), name → folder:
+        colcon does not look inside a package, so they are templates or data the package ships
+        (clearpath's project_bringup inside clearpath_customization); their own files name them."""
         model = self.model
 
-        def compute() -> frozenset[str]:
-            names = set()
+        def compute() -> dict[str, Path]:
+            nested = {}
             for folder in model.nested_packages:
                 try:
                     text = (model.path / folder / "package.xml").read_text(encoding="utf-8", errors="replace")
                 except OSError:
                     text = ""
                 found = NESTED_NAME.search(text)
-                names.add(found.group(1) if found else folder.name)
-            return frozenset(names)
+                nested[found.group(1) if found else folder.name] = model.path / folder
+            return nested
 
-        nested: frozenset[str] = self._shared(("nested", str(model.path)), compute)
-        return nested
+        found: dict[str, Path] = self._shared(("nested", str(model.path)), compute)
+        return found
 
     def install_base_packages(self) -> Collection[str]:
         """Packages the install base (--install-base) holds: the tree's, else those its ament index
@@ -258,6 +249,8 @@ class CheckContext:
     def model_files_read(self) -> set[Path] | None:
         """The package's own files some processed robot model reads (the model, its includes);
         None when one failed (what it would have included is not known)."""
+        if not self.model_results:
+            return None  # no model of its own: its model files are for other packages to include
         read: set[Path] = set()
         for result in self.model_results:
             if result.status != "ok":

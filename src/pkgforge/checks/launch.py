@@ -392,10 +392,13 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
     if not ctx.model.manifest.valid:
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
+    nested = ctx.nested_packages()
     seen = set()
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
+        if name in nested and path.is_relative_to(nested[name]):
+            continue  # a template package's own files name it
         if not name or (
             resolution is not None
             and EMPTY_PART.search(name)

@@ -131,7 +131,18 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
             # robot_type:=gen3_lite with the default dof:=7, where gen3_lite has 6): the setting
             # works when the user gives more arguments with it, so a warning that says which
             settings = sorted({s for o in result.origins for s in o["only_with"]})
-            if result.status == "error" and result.origins and all(o["only_with"] for o in result.origins):
+            # ...and xacro processed the same model with other arguments (the defaults') fine; a
+            # model broken whatever it is given stays an error
+            works_otherwise = any(
+                r is not result and r.installed == result.installed and r.status == "ok"
+                for r in ctx.model_results
+            )
+            if (
+                result.status == "error"
+                and works_otherwise
+                and result.origins
+                and all(o["only_with"] for o in result.origins)
+            ):
                 yield Finding(
                     f"{message} (only with {', '.join(settings)})",
                     *model_item_position(ctx, result, error),

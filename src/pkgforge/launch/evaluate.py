@@ -92,7 +92,7 @@ def _missing_package_of(error: BaseException) -> str | None:
     """The package not found here whose stand-in folder this error touched (a consequence of
     that lookup, already reported), else None."""
     texts = [str(error), str(getattr(error, "filename", "") or "")]
-    if isinstance(error, ModuleNotFoundError):
+    if _nowhere_else(error):
         # a module looked for in a folder the file put on sys.path from a package not found here
         # (sys.path.append(os.path.join(get_package_share_directory('realsense2_camera'), 'launch')))
         texts += [entry for entry in reversed(sys.path) if isinstance(entry, str)]
@@ -104,11 +104,22 @@ def _missing_package_of(error: BaseException) -> str | None:
     return None
 
 
-def _declared_folder_on_path() -> str | None:
+def _nowhere_else(error: BaseException) -> bool:
+    """A module not found whose top-level name is found nowhere on the path: a module of its own
+    (rs_launch), not a misspelt name inside an installed one (launch_ros.actionz)."""
+    if not isinstance(error, ModuleNotFoundError) or not error.name:
+        return False
+    try:
+        return importlib.util.find_spec(error.name.split(".")[0]) is None
+    except (ImportError, ValueError):
+        return False
+
+
+def _declared_folder_on_path(error: BaseException) -> str | None:
     """The declared package, not installed here, whose (empty, phantom) share folder the file put
-    on sys.path to import a module from: the module is that package's."""
+    on sys.path to import a module from (found nowhere else): the module is that package's."""
     phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
-    if not phantom:
+    if not phantom or not _nowhere_else(error):
         return None
     share = os.path.join(phantom, "share") + os.sep
     for entry in reversed(sys.path):
@@ -117,11 +128,16 @@ def _declared_folder_on_path() -> str | None:
     return None
 
 
+# the command-line tools of a ROS 2 (and Gazebo) installation: a launch file may run one while
+# loading, and this machine may have none. Any other program not found is the file's own error
+ROS_PROGRAMS = frozenset({"ros2", "gz", "ign"})
+
+
 def _program_not_found(error: BaseException) -> str | None:
-    """The program a subprocess call named by its bare name and did not find on PATH
+    """The ROS tool a subprocess call named by its bare name and did not find on PATH
     (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed)."""
     name = getattr(error, "filename", None)
-    if not isinstance(error, FileNotFoundError) or not isinstance(name, str) or not name or os.sep in name:
+    if not isinstance(error, FileNotFoundError) or name not in ROS_PROGRAMS:
         return None
     frames = traceback.extract_tb(error.__traceback__)
     return name if any(os.path.basename(f.filename) == "subprocess.py" for f in frames) else None
@@ -167,7 +183,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
             return as_dict(from_dict(Error, record))
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
-        owner = _declared_folder_on_path()
+        owner = _declared_folder_on_path(error)
         if owner is not None:
             record["package"] = owner
     program = _program_not_found(error)

@@ -37,6 +37,7 @@ from pkgforge.walk import walk
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
+AHEAD_LIMIT = 16384  # bytes of a request sent ahead to a busy worker: a quarter of a Linux pipe
 KILL_GRACE = 2.0  # seconds past the time limit before the parent kills a worker that did not stop
 STOP_GRACE = 2.0  # seconds an idle worker has to end after its stdin closed, before it is killed
 # a result that depends on the machine's load or limits, never cached
@@ -191,12 +192,18 @@ class _Worker:
         answered (not when the parent's thread gets round to sending it); False when the worker
         cannot take it now (the caller sends it again later)."""
         process = self.process
-        return process is not None and process.poll() is None and self._write(process, request)
+        line = json.dumps(request) + "\n"
+        # the worker is busy: a write that fills the pipe would block this thread before it starts
+        # watching the worker's time (a hung worker would then hang pkgforge). One request at most
+        # waits in the pipe, so a small one never blocks; a larger one waits for an idle worker
+        if len(line.encode()) > AHEAD_LIMIT:
+            return False
+        return process is not None and process.poll() is None and self._write(process, line)
 
-    def _write(self, process: subprocess.Popen[str] | ForkedProcess, request: WorkerRequest) -> bool:
+    def _write(self, process: subprocess.Popen[str] | ForkedProcess, request: WorkerRequest | str) -> bool:
         try:
             stdin = _pipe(process.stdin)
-            stdin.write(json.dumps(request) + "\n")
+            stdin.write(request if isinstance(request, str) else json.dumps(request) + "\n")
             stdin.flush()
         except (BrokenPipeError, OSError):
             return False

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from pathlib import Path
 
 from pkgforge.walk import WalkLimit, walk
@@ -49,3 +50,20 @@ def walk_file_names(
             if not name.startswith("."):
                 files.append(name if relative_dir == "." else f"{relative_dir}/{name}")
     return files
+
+
+def vcs_repos_files(package_folders: Iterable[Path]) -> list[Path]:
+    """The vcs .repos files in the packages' own folders and beside them (where rosbot_ros keeps
+    rosbot_hardware.repos; a workspace's src/), sorted: what `vcs import` brings in from source."""
+    found: set[Path] = set()
+    for folder in {f for p in package_folders for f in (p, p.parent)}:
+        try:
+            with os.scandir(folder) as entries:
+                found.update(
+                    Path(e.path)
+                    for e in entries
+                    if e.name.endswith(".repos") and e.is_file(follow_symlinks=False)
+                )
+        except OSError:
+            continue
+    return sorted(found)

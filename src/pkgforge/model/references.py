@@ -155,6 +155,12 @@ def _scan_xml(source: SourceFile, text: str, locate: _Locator, *, launch: bool) 
         return []  # urdf-invalid, xacro-error or the launch load error reports the file
     patterns = TEXT_PATTERNS + (VALUE_PATTERNS if launch else [])
     found: list[Reference] = []
+    # the file's own <xacro:arg name default>: a condition on one of them is decided at the defaults
+    arg_defaults = {
+        e.get("name", ""): e.get("default", "")
+        for e in root.iter()
+        if isinstance(e.tag, str) and _xacro_kind(e) == "arg" and e.get("default") is not None
+    }
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
@@ -169,28 +175,43 @@ def _scan_xml(source: SourceFile, text: str, locate: _Locator, *, launch: bool) 
             here += _in_value(element.text, patterns, source.path, line, locate)
         if element.tag == "plugin":
             here += _plugin_uses(element, source.path, locate)
-        if here and not launch and (condition := _xacro_condition(element)) is not None:
+        if here and not launch and (condition := _xacro_condition(element, arg_defaults)) is not None:
             here = [dataclasses.replace(r, condition=condition) for r in here]
         found += here
     return found
 
 
-def _xacro_condition(element: etree._Element) -> str | None:
-    """The condition of the innermost <xacro:if>/<xacro:unless> around `element`, as written:
-    xacro reads what is inside only when it holds (franka's $(find franka_gazebo_bringup) under
-    <xacro:if value="${gazebo}">)."""
+def _xacro_kind(element: etree._Element) -> str:
+    """'if' for <xacro:if>, and so on; '' for an element that is not xacro's. xacro goes by the
+    prefix, whatever namespace it is bound to (files use both http://www.ros.org/wiki/xacro and
+    http://wiki.ros.org/xacro); unbound, lxml keeps the prefix in the tag."""
+    tag = element.tag
+    if not isinstance(tag, str):
+        return ""
+    if element.prefix == "xacro":
+        return tag.rpartition("}")[2]
+    return tag.removeprefix("xacro:") if tag.startswith("xacro:") else ""
+
+
+ARG_REFERENCE = re.compile(r"^\$\(arg\s+([\w-]+)\)$")
+XACRO_TRUE, XACRO_FALSE = ("true", "1"), ("false", "0")
+
+
+def _xacro_condition(element: etree._Element, arg_defaults: dict[str, str]) -> str | None:
+    """The condition of an <xacro:if>/<xacro:unless> around `element` that does not hold at the
+    file's defaults (or cannot be decided), as written: xacro reads what is inside only when it
+    holds (franka's $(find franka_gazebo_bringup) under <xacro:if value="${gazebo}">). None when
+    every one around it holds with the defaults: xacro reads it then."""
     for ancestor in element.iterancestors():
-        tag = ancestor.tag
-        if not isinstance(tag, str):
+        kind = _xacro_kind(ancestor)
+        if kind not in ("if", "unless"):
             continue
-        # xacro goes by the prefix, whatever namespace it is bound to (files use both
-        # http://www.ros.org/wiki/xacro and http://wiki.ros.org/xacro); unbound, lxml keeps it in the tag
-        if ancestor.prefix == "xacro":
-            kind = tag.rpartition("}")[2]
-        else:
-            kind = tag.removeprefix("xacro:") if tag.startswith("xacro:") else ""
-        if kind in ("if", "unless"):
-            return f"{kind} {ancestor.get('value', '')}".strip()
+        value = (ancestor.get("value") or "").strip()
+        argument = ARG_REFERENCE.match(value)
+        decided = ((arg_defaults.get(argument.group(1)) or "") if argument else value).strip().lower()
+        if decided in (XACRO_TRUE if kind == "if" else XACRO_FALSE):
+            continue  # holds at the defaults
+        return f"{kind} {value}".strip()
     return None
 
 

@@ -484,19 +484,25 @@ def _cache_lookup(
     workspace: Workspace, config: Config, options: VerifyOptions
 ) -> tuple[ResultCache, dict[Path, str], dict[Path, tuple[PackageReport, set[str]]]]:
     """(cache, package folder → key, package folder → cached report) for the packages to verify."""
-    from pkgforge.model.files import walk_file_names
+    import hashlib
+
+    from pkgforge.model.files import vcs_repos_files, walk_file_names
     from pkgforge.verify.cache import ResultCache, manifest_text, workspace_key
 
     cache = ResultCache(cache_folder(workspace), options.cache_key())
     every = package_folders(workspace.base_path)
     folders = [workspace.package_path.resolve()] if workspace.package_path is not None else every
     texts = {folder: manifest_text(folder) for folder in every}  # each package.xml read once
-    signature = workspace_key(every, texts)
+    # the .repos files name packages every check may count as the workspace's (source_repositories)
+    repos = "".join(f"{path}\0{cache.digest(str(path)) or '-'}\0" for path in vcs_repos_files(every))
+    signature = workspace_key(every, texts) + hashlib.sha256(repos.encode()).hexdigest()
     keys: dict[Path, str] = {}
     hits: dict[Path, tuple[PackageReport, set[str]]] = {}
     for folder in folders:
         name = quick_name(folder, texts[folder] if folder in texts else "")
-        files = walk_file_names(folder)
+        nested: list[str] = []
+        # a nested package's package.xml names it (context.nested_packages): part of the key
+        files = walk_file_names(folder, None, nested) + [f"{n}/package.xml" for n in nested]
         selection = config.for_package(name, folder)
         targets = _targets(folder, workspace, config, options)
         keys[folder] = cache.package_key(folder, files, f"{selection.key()}|{','.join(targets)}", signature)

@@ -1,0 +1,151 @@
+"""The edges of stop 23's false-error fixes (tests/test_realworld.py has the fixes themselves):
+what a real defect next to each of them still is, found by a second reader of the change. Each
+test runs the real pkgforge on a copy of a realworld fixture changed in one place."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from conftest import FIXTURES, edit, line_of, run_pkgforge, verify_report
+
+from pkgforge.model import references
+from pkgforge.model.source import SourceFile
+
+REALWORLD = FIXTURES / "realworld"
+
+
+def copied(tmp_path: Path, name: str) -> Path:
+    shutil.copytree(REALWORLD / name, tmp_path / "src" / name)
+    return tmp_path / "src" / name
+
+
+def errors(report: dict, package: str) -> list[tuple[str, str, int | None]]:
+    return sorted(
+        (d["name"], d["path"].removeprefix(f"src/{package}/"), d["line"])
+        for d in report["diagnostics"]
+        if d["package"] == package and d["severity"] == "error"
+    )
+
+
+def test_a_model_broken_whatever_it_is_given_stays_an_error(tmp_path):
+    # fed to xacro only under a setting other than the defaults, and no other run of it worked
+    package = copied(tmp_path, "choice_model_description")
+    launch = package / "launch" / "display.launch.py"
+    edit(
+        launch,
+        "from launch.actions import",
+        "from launch.conditions import LaunchConfigurationEquals\nfrom launch.actions import",
+    )
+    edit(
+        launch,
+        "            executable='robot_state_publisher',",
+        "            executable='robot_state_publisher',\n            condition=LaunchConfigurationEquals('robot_type', 'small'),",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "choice_model_description") == [("xacro-error", "urdf/robot.urdf.xacro", None)]
+
+
+def test_a_misspelt_module_next_to_a_folder_on_sys_path_is_a_load_error(tmp_path):
+    package = copied(tmp_path, "driver_options_bringup")
+    launch = package / "launch" / "camera.launch.py"
+    edit(launch, "import rs_launch  # noqa: E402", "from launch_ros.actionz import Node  # noqa: E402")
+    edit(launch, "rs_launch.declare_configurable_parameters(rs_launch.configurable_parameters)", "[]")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert ("launch-load-error", "launch/camera.launch.py", line_of(launch, "launch_ros.actionz")) in errors(
+        report, "driver_options_bringup"
+    )
+
+
+def test_a_misspelt_program_run_while_loading_is_a_load_error(tmp_path):
+    package = copied(tmp_path, "driver_options_bringup")
+    launch = package / "launch" / "components.launch.py"
+    edit(launch, "['ros2', 'component', 'types']", "['xacr0', '--version']")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert ("launch-load-error", "launch/components.launch.py", line_of(launch, "xacr0")) in errors(
+        report, "driver_options_bringup"
+    )
+
+
+def test_a_package_without_a_model_of_its_own_keeps_its_find_errors(tmp_path):
+    # its model files are for other packages to include: what they find, their users need
+    package = copied(tmp_path, "gazebo_option_description")
+    (package / "urdf" / "robot.urdf.xacro").unlink()
+    _, report = verify_report(tmp_path, "--no-cache")
+    accessory = package / "urdf" / "accessories" / "lidar_mount.urdf.xacro"
+    assert errors(report, "gazebo_option_description") == [
+        ("missing-exec-depend", "urdf/accessories/lidar_mount.urdf.xacro", line_of(accessory, "$(find")),
+    ]
+
+
+def test_a_template_name_in_the_parents_own_launch_file_is_still_unknown(tmp_path):
+    package = copied(tmp_path, "template_kit")
+    (package / "launch").mkdir()
+    shutil.copy(package / "project_bringup" / "launch" / "project_bringup.launch.py", package / "launch")
+    edit(
+        package / "CMakeLists.txt",
+        "install(DIRECTORY project_bringup",
+        "install(DIRECTORY launch project_bringup",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    launch = package / "launch" / "project_bringup.launch.py"
+    assert errors(report, "template_kit") == [
+        (
+            "unknown-package",
+            "launch/project_bringup.launch.py",
+            line_of(launch, "FindPackageShare('project_bringup')"),
+        )
+    ]
+
+
+def test_an_added_repos_file_is_seen_by_a_cached_run(tmp_path):
+    copied(tmp_path, "source_deps_description")
+    first = verify_report(tmp_path, "--distro", "jazzy")[1]
+    assert [d["name"] for d in first["diagnostics"] if d["severity"] == "error"] == ["package-not-in-distro"]
+    (tmp_path / "src" / "deps.repos").write_text(
+        "repositories:\n  create_driver:\n    type: git\n    url: https://example.com/c.git\n    version: main\n"
+    )
+    second = verify_report(tmp_path, "--distro", "jazzy")[1]
+    assert [d for d in second["diagnostics"] if d["severity"] == "error"] == []
+
+
+def test_a_repos_file_past_the_parsers_depth_is_no_internal_error(tmp_path):
+    copied(tmp_path, "source_deps_description")
+    (tmp_path / "src" / "deep.repos").write_text("[" * 20000)
+    result = run_pkgforge("verify", tmp_path, "--no-cache", "--distro", "jazzy", cwd=tmp_path)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "internal error" not in result.stdout + result.stderr
+
+
+def test_a_launch_argument_larger_than_a_pipe_share_is_evaluated(tmp_path):
+    # requests sent ahead to a busy worker stay small; a larger one waits for it to be idle
+    copied(tmp_path, "choice_model_description")
+    copied(tmp_path, "driver_options_bringup")
+    _, report = verify_report(tmp_path, "--no-cache", "--launch-arg", "note:=" + "x" * 40000)
+    assert errors(report, "choice_model_description") == []
+
+
+def test_a_xacro_condition_that_holds_at_the_defaults_is_no_condition(tmp_path):
+    text = (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="sim" default="true"/>\n'
+        '  <xacro:arg name="gz" default="false"/>\n'
+        '  <xacro:if value="$(arg sim)"><a f="$(find p_sim)/x"/></xacro:if>\n'
+        '  <xacro:unless value="$(arg gz)"><a f="$(find p_not_gz)/x"/></xacro:unless>\n'
+        '  <xacro:if value="true"><a f="$(find p_true)/x"/></xacro:if>\n'
+        '  <xacro:if value="$(arg gz)"><a f="$(find p_gz)/x"/></xacro:if>\n'
+        '  <xacro:if value="${x}"><a f="$(find p_property)/x"/></xacro:if>\n'
+        '  <xacro:if value="$(arg sim)"><xacro:if value="$(arg gz)"><a f="$(find p_both)/x"/></xacro:if></xacro:if>\n'
+        "</robot>\n"
+    )
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text(text)
+    found = {r.package: r.condition for r in references.scan(SourceFile(path, text))}
+    assert found == {
+        "p_sim": None,
+        "p_not_gz": None,
+        "p_true": None,
+        "p_gz": "if $(arg gz)",
+        "p_property": "if ${x}",
+        "p_both": "if $(arg gz)",
+    }
