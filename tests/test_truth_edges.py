@@ -149,3 +149,62 @@ def test_a_xacro_condition_that_holds_at_the_defaults_is_no_condition(tmp_path):
         "p_property": "if ${x}",
         "p_both": "if $(arg gz)",
     }
+
+
+BRINGUP_CMAKE = """cmake_minimum_required(VERSION 3.10)
+project(choice_bringup NONE)
+find_package(ament_cmake REQUIRED)
+install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})
+ament_package()
+"""
+BRINGUP_XML = """<?xml version="1.0"?>
+<package format="3">
+  <name>choice_bringup</name>
+  <version>0.1.0</version>
+  <description>includes choice_model_description's display launch</description>
+  <maintainer email="test@example.com">Test Maintainer</maintainer>
+  <license>Apache-2.0</license>
+  <buildtool_depend>ament_cmake</buildtool_depend>
+  <exec_depend>choice_model_description</exec_depend>
+  <exec_depend>launch</exec_depend>
+  <exec_depend>launch_ros</exec_depend>
+  <export><build_type>ament_cmake</build_type></export>
+</package>
+"""
+BRINGUP_LAUNCH = """from launch import LaunchDescription
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    display = PathJoinSubstitution([FindPackageShare('choice_model_description'), 'launch', 'display.launch.py'])
+    return LaunchDescription([
+        IncludeLaunchDescription(PythonLaunchDescriptionSource([display])),
+    ])
+"""
+
+
+def test_a_model_another_packages_launch_runs_is_placed_at_the_include_line(tmp_path):
+    # arduinobot_bringup includes arduinobot_description's launch file, which runs xacro: the
+    # bringup's diagnostics on that model pointed into pkgforge's temporary install tree
+    package = copied(tmp_path, "choice_model_description")
+    edit(
+        package / "urdf" / "arms" / "big_7.xacro",
+        "    </link>",
+        "    </link>\n"
+        '    <joint name="j1" type="fixed"><parent link="base_link"/><child link="link1"/></joint>\n'
+        '    <link name="link1"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>',
+    )
+    bringup = tmp_path / "src" / "choice_bringup"
+    (bringup / "launch").mkdir(parents=True)
+    (bringup / "CMakeLists.txt").write_text(BRINGUP_CMAKE)
+    (bringup / "package.xml").write_text(BRINGUP_XML)
+    (bringup / "launch" / "bringup.launch.py").write_text(BRINGUP_LAUNCH)
+    _, report = verify_report(tmp_path, "--no-cache")
+    placed = sorted(
+        (d["name"], d["path"], d["line"]) for d in report["diagnostics"] if d["package"] == "choice_bringup"
+    )
+    include = line_of(bringup / "launch" / "bringup.launch.py", "IncludeLaunchDescription(Python")
+    assert placed == [("collision-without-inertial", "src/choice_bringup/launch/bringup.launch.py", include)]

@@ -15,7 +15,7 @@ from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
-from pkgforge.launch.records import CommandRun, LaunchFile
+from pkgforge.launch.records import CommandRun, LaunchFile, Resolution
 from pkgforge.tree import InstallTree
 from pkgforge.urdf.meshes import MeshLookup
 from pkgforge.urdf.select import ModelResult
@@ -35,13 +35,31 @@ def model_source_position(
         for origin in result.origins:
             resolution = next((r for r in ctx.resolutions if r.launch == origin["launch"]), None)
             position = (
-                None
-                if resolution is None
-                else ctx.source_position(resolution, origin["file"], origin["line"])
+                None if resolution is None else _fed_from(ctx, resolution, origin["file"], origin["line"])
             )
             if position is not None:
                 return position
     return (result.source or result.installed), None
+
+
+def _fed_from(
+    ctx: CheckContext, resolution: Resolution, file: str | None, line: int | None
+) -> tuple[Path, int | None] | None:
+    """The line of this package's launch file that leads to a construct: the construct's own
+    line, else the include line that (through other packages' launch files) brings in the file
+    it stands in (arduinobot_bringup includes arduinobot_description's gazebo.launch.py, which
+    runs xacro)."""
+    seen: set[str | None] = set()
+    while file not in seen:
+        seen.add(file)
+        position = ctx.source_position(resolution, file, line)
+        if position is not None:
+            return position
+        include = next((i for i in resolution.includes if i.path == file), None)
+        if include is None:
+            return None
+        file, line = include.file, include.line
+    return None
 
 
 def model_item_position(
