@@ -208,3 +208,25 @@ def test_a_model_another_packages_launch_runs_is_placed_at_the_include_line(tmp_
     )
     include = line_of(bringup / "launch" / "bringup.launch.py", "IncludeLaunchDescription(Python")
     assert placed == [("collision-without-inertial", "src/choice_bringup/launch/bringup.launch.py", include)]
+
+
+def test_a_test_subdirectory_find_package_hints_test_depend(tmp_path):
+    # gz_ros2_control_tests: add_subdirectory(tests) under if(BUILD_TESTING), the package found
+    # there declared only as <exec_depend>: the build gets it as a <test_depend>
+    package = copied(tmp_path, "choice_model_description")
+    edit(
+        package / "CMakeLists.txt",
+        "ament_package()",
+        "if(BUILD_TESTING)\n  add_subdirectory(tests)\nendif()\nament_package()",
+    )
+    (package / "tests").mkdir()
+    (package / "tests" / "CMakeLists.txt").write_text("find_package(launch_testing_ament_cmake REQUIRED)\n")
+    edit(
+        package / "package.xml",
+        "  <exec_depend>xacro</exec_depend>",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>launch_testing_ament_cmake</exec_depend>",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    (found,) = [d for d in report["diagnostics"] if d["name"] == "find-package-undeclared"]
+    assert (found["path"], found["line"]) == ("src/choice_model_description/tests/CMakeLists.txt", 1)
+    assert found["hint"].startswith("add <test_depend>launch_testing_ament_cmake</test_depend>")

@@ -401,9 +401,9 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             command.column,
             hint=(
                 f"change package.xml:{other.line} to <depend>{name}</depend>"
-                if other is not None
+                if other is not None and tag != "test_depend"
                 else f"add <{tag}>{name}</{tag}> to package.xml" + (f" after line {after}" if after else "")
             ),
             # `fix` adds the test_depend the hint names (otherwise it works the tag out itself)
-            fix={"dependency": name, "tag": tag} if tag == "test_depend" and other is None else None,
+            fix={"dependency": name, "tag": tag} if tag == "test_depend" else None,
         )
