@@ -230,3 +230,77 @@ def test_a_test_subdirectory_find_package_hints_test_depend(tmp_path):
     (found,) = [d for d in report["diagnostics"] if d["name"] == "find-package-undeclared"]
     assert (found["path"], found["line"]) == ("src/choice_model_description/tests/CMakeLists.txt", 1)
     assert found["hint"].startswith("add <test_depend>launch_testing_ament_cmake</test_depend>")
+
+
+FLAGS_XML = """<?xml version="1.0"?>
+<package format="3">
+  <name>flags_description</name>
+  <version>0.1.0</version>
+  <description>flags written True/False, and a model given its xacro arguments in Python</description>
+  <maintainer email="test@example.com">Test Maintainer</maintainer>
+  <license>Apache-2.0</license>
+  <buildtool_depend>ament_cmake</buildtool_depend>
+  <exec_depend>ament_index_python</exec_depend>
+  <exec_depend>launch</exec_depend>
+  <exec_depend>launch_ros</exec_depend>
+  <exec_depend>robot_state_publisher</exec_depend>
+  <exec_depend>xacro</exec_depend>
+  <export><build_type>ament_cmake</build_type></export>
+</package>
+"""
+# andino's rosbag_record.launch.py: default_value='True' and PythonExpression(['not ', flag])
+FLAGS_RECORD = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, LogInfo
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration, PythonExpression
+
+
+def generate_launch_description():
+    mcap = LaunchConfiguration('mcap_format')
+    return LaunchDescription([
+        DeclareLaunchArgument('mcap_format', default_value='True'),
+        LogInfo(msg='sqlite3', condition=IfCondition(PythonExpression(['not ', mcap]))),
+    ])
+"""
+# andino's spawn_robot.launch.py: xacro.process_file(path, mappings={...}) in the launch file
+FLAGS_SPAWN = """import os
+
+import xacro
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    path = os.path.join(get_package_share_directory('flags_description'), 'urdf', 'robot.urdf.xacro')
+    description = xacro.process_file(path, mappings={'wheels': 'four'}).toxml()
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'robot_description': description}]),
+    ])
+"""
+FLAGS_MODEL = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="flags">
+  <!-- no xacro:arg: the caller must give it (andino_gz_classic.xacro's use_gazebo_ros_control) -->
+  <link name="base_$(arg wheels)">
+    <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>
+  </link>
+</robot>
+"""
+
+
+def test_true_false_flags_and_xacro_arguments_given_in_python(tmp_path):
+    package = tmp_path / "src" / "flags_description"
+    (package / "launch").mkdir(parents=True)
+    (package / "urdf").mkdir()
+    (package / "CMakeLists.txt").write_text(
+        BRINGUP_CMAKE.replace("choice_bringup", "flags_description").replace(
+            "DIRECTORY launch", "DIRECTORY launch urdf"
+        )
+    )
+    (package / "package.xml").write_text(FLAGS_XML)
+    (package / "launch" / "record.launch.py").write_text(FLAGS_RECORD)
+    (package / "launch" / "spawn.launch.py").write_text(FLAGS_SPAWN)
+    (package / "urdf" / "robot.urdf.xacro").write_text(FLAGS_MODEL)
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "flags_description") == []

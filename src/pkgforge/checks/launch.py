@@ -354,11 +354,14 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
             if mesh["uri"].startswith("package://"):
                 package = mesh["uri"][len("package://") :].split("/")[0]
                 own = ctx.own_source(mesh.get("file") or "")
-                # a mesh written in another package's file: this model's file, no line
+                # a mesh written in another package's file: this model's file, no line. Another
+                # package's model (run by this package's launch file) needs its meshes' packages
+                # itself: its own verification names them (andino_navigation runs
+                # andino_gz_classic's model, whose meshes are andino_description's)
                 if own:
                     yield package, own, mesh.get("line"), "package://", None, None
-                else:
-                    yield package, result.source or result.installed, None, "package://", None, None
+                elif result.source is not None:
+                    yield package, result.source, None, "package://", None, None
     # a Python launch file that imports a ROS package's module needs that package at run time
     evaluated = {r.launch.source for r in ctx.resolutions if r.status == "ok" and r.launch.source}
     for reference in ctx.model.references:
@@ -492,6 +495,7 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     # and a model file no robot model of the package reads (an accessory for others to include:
     # husky's sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)); None: not known
     read = ctx.model_files_read()
+    written = {(r.package, r.path, r.line) for r in model.references}  # as written, not as xacro made it
     chosen: dict[str, tuple[Use, str | None]] = {}
     # an unconditional use first, then one with a line: that is where the diagnostic points
     for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
@@ -505,6 +509,7 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             condition is None
             and use[4] is None
             and via in ("$(find)", "package://")
+            and (name, path, line) in written
             and read is not None
             and path.name.endswith(XACRO_MODEL_SUFFIXES)
             and path not in read

@@ -278,21 +278,28 @@ def _watch_xacro() -> None:
         return
     real_parse, real_process_file = xacro.parse, xacro.process_file
 
-    def note(path: object, via: str) -> None:
+    def note(path: object, via: str, mappings: object = None) -> None:
         # only a call from the launch file itself: xacro calls parse() for every include too
         caller = sys._getframe(2).f_code.co_filename
         if caller not in runtime._LAUNCH_FILES:
             return
         if not runtime._RUNNING_XACRO and isinstance(path, str) and os.path.isabs(path):
             file, line = runtime.here()
+            # the xacro arguments it gives (andino's spawn_robot: use_gazebo_ros_control), so the
+            # model is checked as the file processes it, not failing for want of them
+            given = (
+                {str(k): str(v) for k, v in mappings.items() if isinstance(v, (str, int, float, bool))}
+                if isinstance(mappings, dict)
+                else {}
+            )
             RECORDER.add(
                 "commands",
                 {
-                    "command": ["xacro", path],
+                    "command": ["xacro", path, *(f"{k}:={v}" for k, v in sorted(given.items()))],
                     "ok": True,
                     "message": "",
                     "model": path,
-                    "mappings": {},
+                    "mappings": given,
                     "via": via,
                     "file": file,
                     "line": line,
@@ -305,7 +312,7 @@ def _watch_xacro() -> None:
         return real_parse(inp, filename, **kwargs)
 
     def process_file(input_file_name: str, **kwargs: Any) -> Any:
-        note(input_file_name, "xacro.process_file")
+        note(input_file_name, "xacro.process_file", kwargs.get("mappings"))
         return real_process_file(input_file_name, **kwargs)
 
     xacro._pkgforge_real_process_file = real_process_file  # Command(['xacro', ...]) records itself

@@ -674,7 +674,13 @@ def evaluate_branches(
         for item in getattr(recorder, kind):
             if not item.branch:
                 item.branch = dict(defaults)
-    domains = [a.choices or ["true", "false"] for a in varying]
+    # a true/false default written True/False (Python's spelling) gets the other value spelt the
+    # same way: a PythonExpression(['not ', flag]) is meant for it, and 'not false' is a NameError
+    # (andino's rosbag_record.launch.py, default_value='True'), in ROS as here
+    domains = [
+        a.choices or (["True", "False"] if a.default in ("True", "False") else ["true", "false"])
+        for a in varying
+    ]
     for argument, domain in zip(varying, domains, strict=False):
         argument.values = list(domain)
     names = [a.name for a in varying]
