@@ -304,3 +304,24 @@ def test_true_false_flags_and_xacro_arguments_given_in_python(tmp_path):
     (package / "urdf" / "robot.urdf.xacro").write_text(FLAGS_MODEL)
     _, report = verify_report(tmp_path, "--no-cache")
     assert errors(report, "flags_description") == []
+
+
+def test_another_packages_model_names_no_mesh_package_for_this_one(tmp_path):
+    # andino_navigation runs andino_gz_classic's model, whose meshes are andino_description's:
+    # the model's own package must declare them, and its own verification says so
+    package = copied(tmp_path, "choice_model_description")
+    edit(
+        package / "urdf" / "arms" / "big_7.xacro",
+        '<geometry><box size="0.1 0.1 0.1"/></geometry>',
+        '<geometry><mesh filename="package://velodyne_description/meshes/VLP16_base_1.dae"/></geometry>',
+    )
+    bringup = tmp_path / "src" / "choice_bringup"
+    (bringup / "launch").mkdir(parents=True)
+    (bringup / "CMakeLists.txt").write_text(BRINGUP_CMAKE)
+    (bringup / "package.xml").write_text(BRINGUP_XML)
+    (bringup / "launch" / "bringup.launch.py").write_text(BRINGUP_LAUNCH)
+    _, report = verify_report(tmp_path, "--no-cache")
+    undeclared = [
+        (d["package"], d["message"]) for d in report["diagnostics"] if d["name"] == "missing-exec-depend"
+    ]
+    assert [p for p, m in undeclared if "velodyne_description" in m] == ["choice_model_description"]
