@@ -325,3 +325,19 @@ def test_another_packages_model_names_no_mesh_package_for_this_one(tmp_path):
         (d["package"], d["message"]) for d in report["diagnostics"] if d["name"] == "missing-exec-depend"
     ]
     assert [p for p, m in undeclared if "velodyne_description" in m] == ["choice_model_description"]
+
+
+def test_a_path_join_that_starts_a_longer_name_is_no_missing_file(tmp_path):
+    # interbotix: default_value=[PathJoinSubstitution([share, 'config', 'motor_specs_']),
+    # LaunchConfiguration('robot_model'), '.yaml']: the join alone names no file
+    package = copied(tmp_path, "choice_model_description")
+    launch = package / "launch" / "display.launch.py"
+    edit(
+        launch,
+        "        DeclareLaunchArgument('dof', default_value='7'),",
+        "        DeclareLaunchArgument('dof', default_value='7'),\n"
+        "        DeclareLaunchArgument('arm_file', default_value=[PathJoinSubstitution(\n"
+        "            [FindPackageShare('choice_model_description'), 'urdf', 'arms', 'big_']), '7.xacro']),",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [d for d in report["diagnostics"] if d["name"] == "missing-file"] == []

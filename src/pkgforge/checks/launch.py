@@ -25,6 +25,8 @@ JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 RVIZ_BUILTIN = {"rviz_common", "rviz_default_plugins"}
 # uses that missing-exec-depend checks; unknown names there are xacro's or RViz's error to report
 # ("import": a file read statically; a module that is no ROS package is a Python library)
+# how a path that is only the first part of a name ends: no file is named like that
+FRAGMENT_ENDINGS = ("_", "-", ".")
 STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", "RViz display from"}
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {
@@ -200,6 +202,9 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
         for item in resolution.paths:
             if item.exists:
                 continue
+            if item.via == "PathJoinSubstitution" and item.path.endswith(FRAGMENT_ENDINGS):
+                continue  # the start of a name the file goes on to build (interbotix's
+                # [PathJoinSubstitution([share, 'config', 'motor_specs_']), robot_model, '.yaml'])
             located = _share_reference(ctx, item.path)
             if located is None:
                 continue
