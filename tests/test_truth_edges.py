@@ -341,3 +341,61 @@ def test_a_path_join_that_starts_a_longer_name_is_no_missing_file(tmp_path):
     )
     _, report = verify_report(tmp_path, "--no-cache")
     assert [d for d in report["diagnostics"] if d["name"] == "missing-file"] == []
+
+
+def test_a_scheduled_build_of_another_branch_targets_no_distro(tmp_path):
+    # Universal_Robots_ROS2_Driver on main: humble-binary-main.yml runs on a schedule only and
+    # checks out the humble branch (ref_for_scheduled_build); main itself is built for rolling
+    from pkgforge.model.distro_data import ci_distros
+
+    workflows = tmp_path / ".github" / "workflows"
+    workflows.mkdir(parents=True)
+    (workflows / "humble-binary-main.yml").write_text(
+        "on:\n  workflow_dispatch:\n  schedule:\n    - cron: '03 5 * * *'\n"
+        "jobs:\n  humble:\n    uses: ./.github/workflows/reusable_ici.yml\n"
+        "    with:\n      ros_distro: humble\n      ref_for_scheduled_build: humble\n"
+    )
+    (workflows / "rolling-binary-main.yml").write_text(
+        "on:\n  push:\n    branches: [main]\n  schedule:\n    - cron: '13 4 * * *'\n"
+        "jobs:\n  rolling:\n    uses: ./.github/workflows/reusable_ici.yml\n"
+        "    with:\n      ros_distro: rolling\n      ref_for_scheduled_build: main\n"
+    )
+    assert ci_distros(tmp_path) == ("rolling",)
+
+
+SHUTDOWN_AND_SDF = """import os
+
+from launch import LaunchDescription
+from launch.actions import OpaqueFunction, RegisterEventHandler
+from launch.event_handlers import OnShutdown
+from launch.substitutions import Command, PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    world = '/nonexistent-pkgforge-test/world.sdf'  # written by a process at run time
+    sdf = PathJoinSubstitution([FindPackageShare('choice_model_description'), 'urdf', 'robot.sdf.xacro'])
+    return LaunchDescription([
+        Node(package='ros_gz_sim', executable='create', arguments=['-string', Command(['xacro ', sdf])]),
+        RegisterEventHandler(OnShutdown(on_shutdown=[OpaqueFunction(function=lambda _: os.remove(world))])),
+    ])
+"""
+
+
+def test_a_shutdown_function_and_an_sdf_through_xacro_are_no_errors(tmp_path):
+    # nav2_minimal_tb4_sim: an OnShutdown OpaqueFunction removes a file a process wrote; nav2's
+    # gz_waffle.sdf.xacro is an SDF model spawned in Gazebo, not a URDF
+    package = copied(tmp_path, "choice_model_description")
+    (package / "launch" / "gazebo.launch.py").write_text(SHUTDOWN_AND_SDF)
+    (package / "urdf" / "robot.sdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<sdf version="1.8" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <model name="m"><link name="base"/></model>\n</sdf>\n'
+    )
+    edit(
+        package / "package.xml",
+        "  <exec_depend>xacro</exec_depend>",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>ros_gz_sim</exec_depend>",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [e for e in errors(report, "choice_model_description") if e[1] != "urdf/robot.urdf.xacro"] == []

@@ -350,6 +350,8 @@ def urdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
         robot = result.robot
         if result.status != "ok" or robot is None:
             continue
+        if robot.get("root_tag") == "sdf" and not result.installed.name.endswith((".urdf", ".urdf.xacro")):
+            continue  # an SDF through xacro (nav2's gz_waffle.sdf.xacro, spawned in Gazebo): no URDF
         if robot.get("root_tag") != "robot":
             yield Finding(
                 f"{result.installed.name} has <{robot.get('root_tag')}> at its root, not <robot>",

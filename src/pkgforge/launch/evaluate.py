@@ -199,7 +199,12 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     return as_dict(from_dict(Error, record))
 
 
-def visit(entities: list[object], context: LaunchContext, depth: int = 0) -> None:
+# what an event handler runs with the event's effects (nav2_minimal_tb4_sim's OnShutdown
+# OpaqueFunction removes the file an ExecuteProcess wrote): its failure before the event is no finding
+RUNS_ON_THE_EVENT = ("OpaqueFunction", "OpaqueCoroutine")
+
+
+def visit(entities: list[object], context: LaunchContext, depth: int = 0, in_handler: bool = False) -> None:
     if depth > MAX_DEPTH:
         RECORDER.add(
             "errors",
@@ -228,10 +233,12 @@ def visit(entities: list[object], context: LaunchContext, depth: int = 0) -> Non
                     continue
             children = entity.visit(context)
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
-            record_visit_failure(entity, error)
+            if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
+                record_visit_failure(entity, error)
             continue
         if children:
-            visit(list(children), context, depth + 1)
+            handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
+            visit(list(children), context, depth + 1, handler)
 
 
 def record_visit_failure(entity: object, error: Exception) -> None:

@@ -868,7 +868,7 @@ def _missing_configuration(error: Exception) -> str | None:
     return match.group(1) if match else None
 
 
-def visit(entity: Any, context: Any, depth: int = 0) -> None:
+def visit(entity: Any, context: Any, depth: int = 0, in_handler: bool = False) -> None:
     launch = L.launch
     if depth > MAX_DEPTH:
         RECORDER.add(
@@ -902,12 +902,14 @@ def visit(entity: Any, context: Any, depth: int = 0) -> None:
         if missing is not None:
             RECORDER.add("required", {"name": missing, "skipped": type(entity).__name__}, entity)
             return
-        from pkgforge.launch.evaluate import record_visit_failure
+        from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT, record_visit_failure
 
-        record_visit_failure(entity, error)
+        if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
+            record_visit_failure(entity, error)
         return
+    handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
     for child in children or []:
-        visit(child, context, depth + 1)
+        visit(child, context, depth + 1, handler)
 
 
 # --- one file -----------------------------------------------------------------------------

@@ -200,8 +200,34 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
         except (OSError, UnicodeDecodeError, yaml.YAMLError):
             continue  # not ours to report; the CI system does
         for document in documents:
-            walk(document)
+            if not _builds_another_branch(document):
+                walk(document)
     return tuple(d for d in DISTROS if d in found)
+
+
+OTHER_BRANCH_KEYS = {"ref", "ref_for_scheduled_build"}
+
+
+def _builds_another_branch(document: object) -> bool:
+    """A GitHub workflow run only on a schedule (or by hand) that checks out a named ref: a build
+    of another branch (ros-controls' and Universal_Robots' humble-binary-main.yml on main, with
+    ref_for_scheduled_build: humble), not of the code it sits beside."""
+    if not isinstance(document, dict):
+        return False
+    triggers = document.get("on", document.get(True))  # (YAML 1.1 reads the key `on` as true)
+    names = set(triggers) if isinstance(triggers, (dict, list)) else {triggers}
+    if not names or not names <= {"schedule", "workflow_dispatch"}:
+        return False
+    stack: list[object] = [document.get("jobs")]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, dict):
+            if any(str(k).lower() in OTHER_BRANCH_KEYS and isinstance(v, str) and v for k, v in node.items()):
+                return True
+            stack.extend(node.values())
+        elif isinstance(node, list):
+            stack.extend(node)
+    return False
 
 
 def target_distros(
