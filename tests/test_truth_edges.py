@@ -399,3 +399,23 @@ def test_a_shutdown_function_and_an_sdf_through_xacro_are_no_errors(tmp_path):
     )
     _, report = verify_report(tmp_path, "--no-cache")
     assert [e for e in errors(report, "choice_model_description") if e[1] != "urdf/robot.urdf.xacro"] == []
+
+
+def test_a_python_library_declared_by_its_rosdep_key_is_not_installed_here(tmp_path):
+    # usb_cam: camera.launch.py imports pydantic, declared as <exec_depend>python3-pydantic
+    package = copied(tmp_path, "driver_options_bringup")
+    for name in ("declared", "undeclared"):
+        module = f"{name}_vendor_sdk"
+        (package / "launch" / f"{name}.launch.py").write_text(
+            f"import {module}  # noqa: F401\nfrom launch import LaunchDescription\n\n\n"
+            "def generate_launch_description():\n    return LaunchDescription([])\n"
+        )
+    edit(
+        package / "package.xml",
+        "  <exec_depend>launch</exec_depend>",
+        "  <exec_depend>launch</exec_depend>\n  <exec_depend>python3-declared-vendor-sdk</exec_depend>",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    found = {(d["name"], d["path"].rsplit("/", 1)[-1]) for d in report["diagnostics"]}
+    assert ("launch-unevaluated", "declared.launch.py") in found
+    assert ("launch-load-error", "undeclared.launch.py") in found

@@ -342,12 +342,16 @@ class CheckContext:
         machine it may well be installed, so the failure here is not the launch file's."""
         # the module's own name, or the package whose folder the file put on sys.path for it
         module = error.package or (error.module or "").split(".")[0]
+        declared = self.model.manifest.declared()
+        # a Python library the package declares by its rosdep key (usb_cam: python3-pydantic)
+        keys = {f"python3-{name}" for name in (module.lower(), module.lower().replace("_", "-"))}
         return (
             error.type == "ModuleNotFoundError"
             and bool(module)
             and module not in STAND_IN_MODULES
             and (
-                module in self.model.manifest.declared()
+                module in declared
+                or bool(keys & declared)
                 or module in self.tree_packages()
                 or module in self.real_packages()
             )
