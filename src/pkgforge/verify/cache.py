@@ -28,7 +28,8 @@ if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
 
 # 4: a model failing on its own for want of its empty-default xacro:args is PF406, no longer PF308
-# 5: PF305 under <xacro:if> a warning; nested template packages and .repos repositories known
+# 5: stop 23's answers (PF305/PF304/PF308 warnings off the defaults, PF311 for what this machine
+#    lacks, nested templates and .repos repositories known, True/False branches, SDF through xacro)
 CACHE_FORMAT = 5
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
