@@ -186,27 +186,44 @@ def generate_launch_description():
 """
 
 
+def write_package(folder: Path, files: dict[str, str]) -> None:
+    """A package made of these files (relative path → text)."""
+    for relative, text in files.items():
+        (folder / relative).parent.mkdir(parents=True, exist_ok=True)
+        (folder / relative).write_text(text)
+
+
+def model_and_bringup(tmp_path: Path, old: str, new: str) -> Path:
+    """choice_model_description with `old` changed to `new` in its arm, and choice_bringup, which
+    includes its display launch file (that runs xacro on the model); the bringup's launch file."""
+    edit(copied(tmp_path, "choice_model_description") / "urdf" / "arms" / "big_7.xacro", old, new)
+    bringup = tmp_path / "src" / "choice_bringup"
+    write_package(
+        bringup,
+        {
+            "CMakeLists.txt": BRINGUP_CMAKE,
+            "package.xml": BRINGUP_XML,
+            "launch/bringup.launch.py": BRINGUP_LAUNCH,
+        },
+    )
+    return bringup / "launch" / "bringup.launch.py"
+
+
 def test_a_model_another_packages_launch_runs_is_placed_at_the_include_line(tmp_path):
     # arduinobot_bringup includes arduinobot_description's launch file, which runs xacro: the
     # bringup's diagnostics on that model pointed into pkgforge's temporary install tree
-    package = copied(tmp_path, "choice_model_description")
-    edit(
-        package / "urdf" / "arms" / "big_7.xacro",
+    launch = model_and_bringup(
+        tmp_path,
         "    </link>",
         "    </link>\n"
         '    <joint name="j1" type="fixed"><parent link="base_link"/><child link="link1"/></joint>\n'
         '    <link name="link1"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>',
     )
-    bringup = tmp_path / "src" / "choice_bringup"
-    (bringup / "launch").mkdir(parents=True)
-    (bringup / "CMakeLists.txt").write_text(BRINGUP_CMAKE)
-    (bringup / "package.xml").write_text(BRINGUP_XML)
-    (bringup / "launch" / "bringup.launch.py").write_text(BRINGUP_LAUNCH)
     _, report = verify_report(tmp_path, "--no-cache")
     placed = sorted(
         (d["name"], d["path"], d["line"]) for d in report["diagnostics"] if d["package"] == "choice_bringup"
     )
-    include = line_of(bringup / "launch" / "bringup.launch.py", "IncludeLaunchDescription(Python")
+    include = line_of(launch, "IncludeLaunchDescription(Python")
     assert placed == [("collision-without-inertial", "src/choice_bringup/launch/bringup.launch.py", include)]
 
 
@@ -290,18 +307,17 @@ FLAGS_MODEL = """<?xml version="1.0"?>
 
 
 def test_true_false_flags_and_xacro_arguments_given_in_python(tmp_path):
-    package = tmp_path / "src" / "flags_description"
-    (package / "launch").mkdir(parents=True)
-    (package / "urdf").mkdir()
-    (package / "CMakeLists.txt").write_text(
-        BRINGUP_CMAKE.replace("choice_bringup", "flags_description").replace(
-            "DIRECTORY launch", "DIRECTORY launch urdf"
-        )
+    cmake = BRINGUP_CMAKE.replace("choice_bringup", "flags_description")
+    write_package(
+        tmp_path / "src" / "flags_description",
+        {
+            "CMakeLists.txt": cmake.replace("DIRECTORY launch", "DIRECTORY launch urdf"),
+            "package.xml": FLAGS_XML,
+            "launch/record.launch.py": FLAGS_RECORD,
+            "launch/spawn.launch.py": FLAGS_SPAWN,
+            "urdf/robot.urdf.xacro": FLAGS_MODEL,
+        },
     )
-    (package / "package.xml").write_text(FLAGS_XML)
-    (package / "launch" / "record.launch.py").write_text(FLAGS_RECORD)
-    (package / "launch" / "spawn.launch.py").write_text(FLAGS_SPAWN)
-    (package / "urdf" / "robot.urdf.xacro").write_text(FLAGS_MODEL)
     _, report = verify_report(tmp_path, "--no-cache")
     assert errors(report, "flags_description") == []
 
@@ -309,17 +325,11 @@ def test_true_false_flags_and_xacro_arguments_given_in_python(tmp_path):
 def test_another_packages_model_names_no_mesh_package_for_this_one(tmp_path):
     # andino_navigation runs andino_gz_classic's model, whose meshes are andino_description's:
     # the model's own package must declare them, and its own verification says so
-    package = copied(tmp_path, "choice_model_description")
-    edit(
-        package / "urdf" / "arms" / "big_7.xacro",
+    model_and_bringup(
+        tmp_path,
         '<geometry><box size="0.1 0.1 0.1"/></geometry>',
         '<geometry><mesh filename="package://velodyne_description/meshes/VLP16_base_1.dae"/></geometry>',
     )
-    bringup = tmp_path / "src" / "choice_bringup"
-    (bringup / "launch").mkdir(parents=True)
-    (bringup / "CMakeLists.txt").write_text(BRINGUP_CMAKE)
-    (bringup / "package.xml").write_text(BRINGUP_XML)
-    (bringup / "launch" / "bringup.launch.py").write_text(BRINGUP_LAUNCH)
     _, report = verify_report(tmp_path, "--no-cache")
     undeclared = [
         (d["package"], d["message"]) for d in report["diagnostics"] if d["name"] == "missing-exec-depend"
@@ -383,15 +393,18 @@ def generate_launch_description():
 """
 
 
+SDF_MODEL = """<?xml version="1.0"?>
+<sdf version="1.8" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <model name="m"><link name="base"/></model>
+</sdf>
+"""
+
+
 def test_a_shutdown_function_and_an_sdf_through_xacro_are_no_errors(tmp_path):
     # nav2_minimal_tb4_sim: an OnShutdown OpaqueFunction removes a file a process wrote; nav2's
     # gz_waffle.sdf.xacro is an SDF model spawned in Gazebo, not a URDF
     package = copied(tmp_path, "choice_model_description")
-    (package / "launch" / "gazebo.launch.py").write_text(SHUTDOWN_AND_SDF)
-    (package / "urdf" / "robot.sdf.xacro").write_text(
-        '<?xml version="1.0"?>\n<sdf version="1.8" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-        '  <model name="m"><link name="base"/></model>\n</sdf>\n'
-    )
+    write_package(package, {"launch/gazebo.launch.py": SHUTDOWN_AND_SDF, "urdf/robot.sdf.xacro": SDF_MODEL})
     edit(
         package / "package.xml",
         "  <exec_depend>xacro</exec_depend>",
@@ -419,3 +432,72 @@ def test_a_python_library_declared_by_its_rosdep_key_is_not_installed_here(tmp_p
     found = {(d["name"], d["path"].rsplit("/", 1)[-1]) for d in report["diagnostics"]}
     assert ("launch-unevaluated", "declared.launch.py") in found
     assert ("launch-load-error", "undeclared.launch.py") in found
+
+
+def test_a_repos_file_at_the_root_of_a_repository_of_package_groups(tmp_path):
+    # c3pzero: c3pzero.repos at the repository root, packages two folders below (c300/c300_bringup)
+    target = tmp_path / "src" / "robot_repo" / "group" / "source_deps_description"
+    shutil.copytree(REALWORLD / "source_deps_description", target)
+    (tmp_path / "src" / "robot_repo" / "robot.repos").write_text(
+        "repositories:\n  create_driver:\n    type: git\n    url: https://example.com/c.git\n    version: main\n"
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert errors(report, "source_deps_description") == []
+
+
+SRDF_MODEL = """<?xml version="1.0"?>
+<robot name="choice" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <group name="gripper"><link name="finger"/></group>
+</robot>
+"""
+MOVEIT_LAUNCH = """<launch>
+  <node pkg="robot_state_publisher" exec="robot_state_publisher">
+    <param name="robot_description_semantic"
+           value="$(command 'xacro $(find-pkg-share choice_model_description)/urdf/robot.srdf.xacro')"/>
+  </node>
+</launch>
+"""
+
+
+def test_semantic_descriptions_and_undeclared_namespace_prefixes_are_no_invalid_urdf(tmp_path):
+    # c3pzero_moveit_config's c3pzero.srdf.xacro (<robot>, no links); c300's xacro output with
+    # gz:expressed_in and no xmlns:gz (tinyxml2, urdfdom's parser, knows no namespaces)
+    package = copied(tmp_path, "choice_model_description")
+    # c3pzero_moveit_config's demo.launch.xml: robot_description_semantic from xacro on it
+    write_package(package, {"launch/moveit.launch.xml": MOVEIT_LAUNCH, "urdf/robot.srdf.xacro": SRDF_MODEL})
+    # declared on the root of a file included inside an <xacro:if> (c300.urdf.xacro's gazebo
+    # part): xacro leaves that declaration out of its output
+    (package / "urdf" / "arms" / "gazebo.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" xmlns:gz="http://gazebosim.org/schema">\n'
+        '  <gazebo><sensor name="imu"><pose gz:expressed_in="base_link">0 0 0 0 0 0</pose></sensor></gazebo>\n'
+        "</robot>\n"
+    )
+    edit(
+        package / "urdf" / "robot.urdf.xacro",
+        "  <xacro:arm/>",
+        '  <xacro:arm/>\n  <xacro:if value="true"><xacro:include filename="arms/gazebo.xacro"/></xacro:if>',
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [d for d in report["diagnostics"] if d["name"] == "urdf-invalid"] == []
+
+
+def test_an_included_file_reading_the_robots_variable_is_no_load_error_of_the_includer(tmp_path):
+    # turtlebot3_gazebo: empty_world.launch.py includes robot_state_publisher.launch.py, which
+    # reads os.environ['TURTLEBOT3_MODEL'] (the robot's setup sets it)
+    package = copied(tmp_path, "driver_options_bringup")
+    launch = package / "launch"
+    (launch / "model.launch.py").write_text(
+        "import os\n\nfrom launch import LaunchDescription\n\n\ndef generate_launch_description():\n"
+        "    model = os.environ['PKGFORGE_TEST_ROBOT_MODEL']\n    return LaunchDescription([])\n"
+    )
+    (launch / "world.launch.py").write_text(
+        "import os\n\nfrom launch import LaunchDescription\nfrom launch.actions import IncludeLaunchDescription\n"
+        "from launch.launch_description_sources import PythonLaunchDescriptionSource\n\n\n"
+        "def generate_launch_description():\n"
+        "    model = os.path.join(os.path.dirname(__file__), 'model.launch.py')\n"
+        "    return LaunchDescription([IncludeLaunchDescription(PythonLaunchDescriptionSource(model))])\n"
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    found = {(d["name"], d["path"].rsplit("/", 1)[-1]) for d in report["diagnostics"]}
+    assert ("launch-environment-unset", "model.launch.py") in found
+    assert not {f for f in found if f[1] == "world.launch.py"}

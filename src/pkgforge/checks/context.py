@@ -26,7 +26,6 @@ if TYPE_CHECKING:
     from pkgforge.urdf.select import ModelResult
 
 # an ImportError of a launch name (the built-in engine's message is ROS's own)
-NESTED_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")
 # the distros whose own launch name lists the built-in engine has (launch/api_names.json)
 GENERATED_LISTS = ("humble", "jazzy")
@@ -112,6 +111,7 @@ class CheckContext:
     rviz_launches: list[tuple[RvizConfig, LaunchFile]] = field(default_factory=list)
     distros: tuple[str, ...] = ()  # the ROS 2 distros the package targets; empty: every active distro
     install_base: Path | None = None  # --install-base, when verifying against one
+    workspace_base: Path | None = None  # the folder the workspace's packages are found under
     # one dict for every context of a run (the workspace and the tree are the same for each):
     # the package-name sets and file-system facts built once per run, not once per package
     shared: dict[Any, Any] = field(default_factory=dict)
@@ -193,7 +193,7 @@ class CheckContext:
             from pkgforge.model.files import vcs_repos_files
 
             names: set[str] = set()
-            for path in vcs_repos_files([self.model.path, *self.workspace.values()]):
+            for path in vcs_repos_files([self.model.path, *self.workspace.values()], self.workspace_base):
                 try:
                     data = yaml.safe_load(path.read_text(encoding="utf-8", errors="replace"))
                 except (OSError, yaml.YAMLError, RecursionError):  # (a file nested past the parser's depth)
@@ -213,15 +213,9 @@ class CheckContext:
         model = self.model
 
         def compute() -> dict[str, Path]:
-            nested = {}
-            for folder in model.nested_packages:
-                try:
-                    text = (model.path / folder / "package.xml").read_text(encoding="utf-8", errors="replace")
-                except OSError:
-                    text = ""
-                found = NESTED_NAME.search(text)
-                nested[found.group(1) if found else folder.name] = model.path / folder
-            return nested
+            from pkgforge.model.files import quick_name
+
+            return {quick_name(model.path / folder): model.path / folder for folder in model.nested_packages}
 
         found: dict[str, Path] = self._shared(("nested", str(model.path)), compute)
         return found
@@ -371,6 +365,12 @@ class CheckContext:
             key = re.search(r"'([^']+)'", str(error.message or ""))
             return [key.group(1)] if key and key.group(1) in unset else []
         return unset
+
+    def variable_unset_here(self, message: str | None) -> bool:
+        """Whether a KeyError's message names an environment variable one of this package's launch
+        files reads without a default and that is not set here (the robot's own setup sets it)."""
+        key = re.search(r"'([^']+)'", str(message or ""))
+        return key is not None and any(key.group(1) in self.unset_environment(r) for r in self.resolutions)
 
     def newer_launch_name(self, resolution: Resolution) -> str | None:
         """The launch API name the built-in engine lacks where its list is only the nearest older

@@ -6,7 +6,7 @@ import difflib
 import re
 from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint, untree
@@ -16,6 +16,7 @@ from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.model.package import PackageModel
+from pkgforge.model.references import Reference
 from pkgforge.urdf import ANY_MODEL_SUFFIXES, XACRO_MODEL_SUFFIXES
 from pkgforge.walk import UNREADABLE_HINT
 
@@ -23,10 +24,10 @@ JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
 # rviz2 depends on these: their displays come with whatever starts RViz (an rviz2 Node is checked
 # where it is started; a config that another package's launch file opens needs nothing of its own)
 RVIZ_BUILTIN = {"rviz_common", "rviz_default_plugins"}
-# uses that missing-exec-depend checks; unknown names there are xacro's or RViz's error to report
-# ("import": a file read statically; a module that is no ROS package is a Python library)
 # how a path that is only the first part of a name ends: no file is named like that
 FRAGMENT_ENDINGS = ("_", "-", ".")
+# uses that missing-exec-depend checks; unknown names there are xacro's or RViz's error to report
+# ("import": a file read statically; a module that is no ROS package is a Python library)
 STATIC_ONLY_FOR_DEPENDENCIES = {"import of", "import", "package://", "$(find)", "RViz display from"}
 # `ros2 launch` (ros2launch) depends on these: whoever can launch has them
 LAUNCH_INFRASTRUCTURE = {
@@ -115,6 +116,9 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # xacro-error reports it with xacro's message
             if ctx.package_not_installed_here(item):
                 continue  # an included file's import: that file is evaluated, and reported, on its own
+            if item.type == "KeyError" and ctx.variable_unset_here(item.message):
+                continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
+                # that file is evaluated, and reported (launch-environment-unset), on its own
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
                 yield Finding(
@@ -414,33 +418,60 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
         ):
             continue  # built from a launch argument left empty (a template's caller gives it): no typo
         seen.add((name, str(path), line))
-        only = resolution.off_default(item) if resolution is not None and item is not None else []
-        if only:
-            # used only with settings other than the defaults (linorobot2's sensor:=ydlidar runs
-            # ydlidar_ros2_driver, which its users clone from source): more likely an optional
-            # driver built from source than a typo
-            yield Finding(
-                f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
-                f"and released in no ROS 2 distro (only with {', '.join(only)})",
-                path,
-                line,
-                severity=Severity.WARNING,
-                hint=f"{_unknown_hint(ctx, name)}; if it is built from source, list it in a .repos file",
-            )
-            continue
-        yield Finding(
+        message = (
             f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
-            "and released in no ROS 2 distro",
+            "and released in no ROS 2 distro"
+        )
+        only = resolution.off_default(item) if resolution is not None and item is not None else []
+        if not only:
+            yield Finding(message, path, line, hint=_unknown_hint(ctx, name))
+            continue
+        # used only with settings other than the defaults (linorobot2's sensor:=xv11 runs
+        # xv_11_driver, which its users clone from source): more likely an optional driver built
+        # from source than a typo
+        yield Finding(
+            f"{message} (only with {', '.join(only)})",
             path,
             line,
-            hint=_unknown_hint(ctx, name),
+            severity=Severity.WARNING,
+            hint=f"{_unknown_hint(ctx, name)}; if it is built from source, list it in a .repos file",
         )
 
 
-def _xacro_condition_text(condition: str) -> str:
-    """'inside <xacro:if value="${gazebo}">' from a reference's condition ('if ${gazebo}')."""
-    kind, _, value = condition.partition(" ")
-    return f'inside <xacro:{kind} value="{value}">'
+class _OptionalUse(NamedTuple):
+    """A model's use of a package that package.xml may leave out on purpose: where it stands, and
+    when to declare the package all the same (the hint)."""
+
+    where: str
+    when: str
+
+
+def _optional_use(ctx: CheckContext, reference: Reference, read: set[Path] | None) -> _OptionalUse | None:
+    """Whether a model's reference, as written, is needed only in some uses of the package:
+    inside an <xacro:if>/<xacro:unless> that does not hold at the defaults (franka's
+    $(find franka_gazebo_bringup) under gazebo:=true; franka_gazebo_bringup depends on
+    franka_description), or in a model file no robot model of the package reads (husky's
+    urdf/accessories/sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)). `read`: the package's
+    files its models read, None when not known."""
+    if reference.condition is not None:
+        kind, _, value = reference.condition.partition(" ")
+        return _OptionalUse(
+            f'inside <xacro:{kind} value="{value}">',
+            f"if the model is used with that setting (leave it out when {reference.package} "
+            "itself depends on this package)",
+        )
+    if (
+        reference.via in ("$(find)", "package://")
+        and read is not None
+        and reference.path.name.endswith(XACRO_MODEL_SUFFIXES)
+        and reference.path not in read
+    ):
+        return _OptionalUse(
+            f"in {ctx.relative(reference.path)}, which no robot model of {ctx.model.name} reads,",
+            "if the file is meant to be included (an accessory for other packages' models), "
+            "or remove the file",
+        )
+    return None
 
 
 def _unknown_hint(ctx: CheckContext, name: str) -> str:
@@ -490,55 +521,34 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     declared = model.manifest.run_dependencies()
     own = {model.name, model.share_name}
     known = ctx.real_packages()
-    # a model's reference that xacro reads only under a condition (<xacro:if>): a warning, for
-    # the package is often left out on purpose (franka_gazebo_bringup depends on franka_description)
-    conditions: dict[tuple[str, Path, int | None], str] = {
-        (r.package, r.path, r.line): _xacro_condition_text(r.condition)
-        for r in model.references
-        if r.condition is not None
+    # a model's reference as written (not as xacro made it), for the uses a package may leave out
+    written: dict[tuple[str, Path, int | None], Reference] = {
+        (r.package, r.path, r.line): r for r in model.references
     }
-    # and a model file no robot model of the package reads (an accessory for others to include:
-    # husky's sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)); None: not known
     read = ctx.model_files_read()
-    written = {(r.package, r.path, r.line) for r in model.references}  # as written, not as xacro made it
-    chosen: dict[str, tuple[Use, str | None]] = {}
-    # an unconditional use first, then one with a line: that is where the diagnostic points
+    chosen: dict[str, tuple[Use, _OptionalUse | None]] = {}
+    # a use needed whatever the settings first, then one with a line: where the diagnostic points
     for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
-        name, path, line, via = use[:4]
+        name, path, line, via, item, _ = use
         if name in own or name in declared or name not in known or name in LAUNCH_INFRASTRUCTURE:
             continue
         if name in RVIZ_BUILTIN and (via == "RViz display from" or "rviz2" in declared):
             continue  # rviz2 depends on them
-        condition = conditions.get((name, path, line)) if use[4] is None else None
-        if (
-            condition is None
-            and use[4] is None
-            and via in ("$(find)", "package://")
-            and (name, path, line) in written
-            and read is not None
-            and path.name.endswith(XACRO_MODEL_SUFFIXES)
-            and path not in read
-        ):
-            condition = f"in {ctx.relative(path)}, which no robot model of {model.name} reads,"
-        if name not in chosen or (chosen[name][1] is not None and condition is None):
-            chosen[name] = use, condition
-    for (name, path, line, via, item, resolution), condition in chosen.values():
-        note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
-        if condition is not None:
+        reference = written.get((name, path, line)) if item is None else None
+        optional = _optional_use(ctx, reference, read) if reference is not None else None
+        if name not in chosen or (chosen[name][1] is not None and optional is None):
+            chosen[name] = use, optional
+    for (name, path, line, via, item, resolution), optional in chosen.values():
+        if optional is not None:
             yield Finding(
-                f"{via} '{name}' is used only {condition} but package.xml does not declare it",
+                f"{via} '{name}' is used only {optional.where} but package.xml does not declare it",
                 path,
                 line,
                 severity=Severity.WARNING,
-                hint=(
-                    f"add <exec_depend>{name}</exec_depend> if the file is meant to be included "
-                    "(an accessory for other packages' models), or remove the file"
-                    if condition.startswith("in ")
-                    else f"add <exec_depend>{name}</exec_depend> if the model is used with that "
-                    f"setting (leave it out when {name} itself depends on this package)"
-                ),
+                hint=f"add <exec_depend>{name}</exec_depend> {optional.when}",
             )  # no fix: only the user knows whether that use is meant for this package's users
             continue
+        note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
             path,

@@ -146,21 +146,17 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
             message = f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}"
             hint = error.get("hint") or read_problem_hint(error.get("message"))
             # fed to xacro only by argument settings other than the defaults (kortex's
-            # robot_type:=gen3_lite with the default dof:=7, where gen3_lite has 6): the setting
-            # works when the user gives more arguments with it, so a warning that says which
-            settings = sorted({s for o in result.origins for s in o["only_with"]})
-            # ...and xacro processed the same model with other arguments (the defaults') fine; a
-            # model broken whatever it is given stays an error
-            works_otherwise = any(
-                r is not result and r.installed == result.installed and r.status == "ok"
-                for r in ctx.model_results
-            )
+            # robot_type:=gen3_lite with the default dof:=7, where gen3_lite has 6), and xacro
+            # processed the same model with other arguments fine: the setting works when the user
+            # gives more arguments with it, so a warning that says which. A model broken whatever
+            # it is given stays an error
             if (
                 result.status == "error"
-                and works_otherwise
                 and result.origins
                 and all(o["only_with"] for o in result.origins)
+                and any(r.installed == result.installed and r.status == "ok" for r in ctx.model_results)
             ):
+                settings = sorted({s for o in result.origins for s in o["only_with"]})
                 yield Finding(
                     f"{message} (only with {', '.join(settings)})",
                     *model_item_position(ctx, result, error),

@@ -92,16 +92,14 @@ def _missing_package_of(error: BaseException) -> str | None:
     """The package not found here whose stand-in folder this error touched (a consequence of
     that lookup, already reported), else None."""
     texts = [str(error), str(getattr(error, "filename", "") or "")]
-    if _nowhere_else(error):
-        # a module looked for in a folder the file put on sys.path from a package not found here
-        # (sys.path.append(os.path.join(get_package_share_directory('realsense2_camera'), 'launch')))
-        texts += [entry for entry in reversed(sys.path) if isinstance(entry, str)]
     for text in texts:
         index = text.find(runtime.MISSING_PACKAGE_ROOT + "/")
         if index >= 0:
             rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1 :]
             return re.split(r"[/'\"\s]", rest, maxsplit=1)[0] or None
-    return None
+    # a module looked for in a folder the file put on sys.path from a package not found here
+    # (sys.path.append(os.path.join(get_package_share_directory('realsense2_camera'), 'launch')))
+    return _package_folder_on_path(runtime.MISSING_PACKAGE_ROOT + "/", error)
 
 
 def _nowhere_else(error: BaseException) -> bool:
@@ -115,17 +113,22 @@ def _nowhere_else(error: BaseException) -> bool:
         return False
 
 
+def _package_folder_on_path(root: str, error: BaseException) -> str | None:
+    """The package under `root` whose folder the file put on sys.path (the last one) when `error`
+    is the import of a module found nowhere else: the module is that package's."""
+    if not _nowhere_else(error):
+        return None
+    for entry in reversed(sys.path):
+        if isinstance(entry, str) and entry.startswith(root):
+            return entry[len(root) :].split(os.sep)[0] or None
+    return None
+
+
 def _declared_folder_on_path(error: BaseException) -> str | None:
     """The declared package, not installed here, whose (empty, phantom) share folder the file put
-    on sys.path to import a module from (found nowhere else): the module is that package's."""
+    on sys.path to import a module from."""
     phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
-    if not phantom or not _nowhere_else(error):
-        return None
-    share = os.path.join(phantom, "share") + os.sep
-    for entry in reversed(sys.path):
-        if isinstance(entry, str) and entry.startswith(share):
-            return entry[len(share) :].split(os.sep)[0] or None
-    return None
+    return _package_folder_on_path(os.path.join(phantom, "share") + os.sep, error) if phantom else None
 
 
 # the command-line tools of a ROS 2 (and Gazebo) installation: a launch file may run one while

@@ -48,6 +48,11 @@ MACHINE_DEPENDENT = ("timeout", "crashed")
 Reply = dict[str, Any]
 
 
+def _died() -> Reply:
+    """The parent's own answer for a request its worker could not take or never answered."""
+    return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
+
+
 def find_launch_files(
     tree: InstallTree, models: list[PackageModel]
 ) -> tuple[list[LaunchFile], list[LaunchFile]]:
@@ -161,11 +166,6 @@ class _Worker:
             pass
         replies.put(None)
 
-    def ask(self, request: WorkerRequest, timeout: float) -> Reply:
-        """One request answered (a worker started first when there is none)."""
-        failure = self.send(request)
-        return failure if failure is not None else self.receive(timeout)
-
     def send(self, request: WorkerRequest) -> Reply | None:
         """Hand the worker a request when it has none (one started first when there is none);
         the reply (crashed) when it cannot take it, else None: `receive` gives the answer."""
@@ -182,9 +182,9 @@ class _Worker:
                         "line": None,
                     },
                 }
-        if not self._write(process, request):
+        if not self._write(process, json.dumps(request) + "\n"):
             self.stop()
-            return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
+            return _died()
         return None
 
     def send_ahead(self, request: WorkerRequest) -> bool:
@@ -200,10 +200,11 @@ class _Worker:
             return False
         return process is not None and process.poll() is None and self._write(process, line)
 
-    def _write(self, process: subprocess.Popen[str] | ForkedProcess, request: WorkerRequest | str) -> bool:
+    def _write(self, process: subprocess.Popen[str] | ForkedProcess, line: str) -> bool:
+        """One request line to the worker; counted as in flight once written."""
         try:
             stdin = _pipe(process.stdin)
-            stdin.write(request if isinstance(request, str) else json.dumps(request) + "\n")
+            stdin.write(line)
             stdin.flush()
         except (BrokenPipeError, OSError):
             return False
@@ -215,7 +216,7 @@ class _Worker:
         the worker hung or died (it is stopped then, with any request queued behind)."""
         process = self.process
         if process is None:
-            return {"status": "crashed", "error": {"message": "the launch worker died", "line": None}}
+            return _died()
         allowance = processes.LoadAllowance(timeout, process.pid)
         # the worker stops the launch file itself at the limit, at the line it was running;
         # past this grace the parent kills it (stuck in an extension module, signals blocked).

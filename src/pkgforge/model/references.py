@@ -18,7 +18,7 @@ import ast
 import dataclasses
 import re
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -155,12 +155,20 @@ def _scan_xml(source: SourceFile, text: str, locate: _Locator, *, launch: bool) 
         return []  # urdf-invalid, xacro-error or the launch load error reports the file
     patterns = TEXT_PATTERNS + (VALUE_PATTERNS if launch else [])
     found: list[Reference] = []
-    # the file's own <xacro:arg name default>: a condition on one of them is decided at the defaults
-    arg_defaults = {
-        e.get("name", ""): e.get("default", "")
-        for e in root.iter()
-        if isinstance(e.tag, str) and _xacro_kind(e) == "arg" and e.get("default") is not None
-    }
+    # the file's own <xacro:arg name default>: a condition on one of them is decided at the
+    # defaults. Read once, and only for a file with a reference inside a condition (few are)
+    arg_defaults: dict[str, str] | None = None
+
+    def defaults() -> dict[str, str]:
+        nonlocal arg_defaults
+        if arg_defaults is None:
+            arg_defaults = {
+                e.get("name", ""): e.get("default", "")
+                for e in root.iter()
+                if isinstance(e.tag, str) and _xacro_kind(e) == "arg" and e.get("default") is not None
+            }
+        return arg_defaults
+
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
@@ -175,7 +183,7 @@ def _scan_xml(source: SourceFile, text: str, locate: _Locator, *, launch: bool) 
             here += _in_value(element.text, patterns, source.path, line, locate)
         if element.tag == "plugin":
             here += _plugin_uses(element, source.path, locate)
-        if here and not launch and (condition := _xacro_condition(element, arg_defaults)) is not None:
+        if here and not launch and (condition := _xacro_condition(element, defaults)) is not None:
             here = [dataclasses.replace(r, condition=condition) for r in here]
         found += here
     return found
@@ -197,7 +205,7 @@ ARG_REFERENCE = re.compile(r"^\$\(arg\s+([\w-]+)\)$")
 XACRO_TRUE, XACRO_FALSE = ("true", "1"), ("false", "0")
 
 
-def _xacro_condition(element: etree._Element, arg_defaults: dict[str, str]) -> str | None:
+def _xacro_condition(element: etree._Element, arg_defaults: Callable[[], dict[str, str]]) -> str | None:
     """The condition of an <xacro:if>/<xacro:unless> around `element` that does not hold at the
     file's defaults (or cannot be decided), as written: xacro reads what is inside only when it
     holds (franka's $(find franka_gazebo_bringup) under <xacro:if value="${gazebo}">). None when
@@ -208,7 +216,7 @@ def _xacro_condition(element: etree._Element, arg_defaults: dict[str, str]) -> s
             continue
         value = (ancestor.get("value") or "").strip()
         argument = ARG_REFERENCE.match(value)
-        decided = ((arg_defaults.get(argument.group(1)) or "") if argument else value).strip().lower()
+        decided = ((arg_defaults().get(argument.group(1)) or "") if argument else value).strip().lower()
         if decided in (XACRO_TRUE if kind == "if" else XACRO_FALSE):
             continue  # holds at the defaults
         return f"{kind} {value}".strip()

@@ -79,7 +79,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
         return output
     text, includes = output
     try:
-        root = etree.fromstring(text.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
+        root = parse_model_xml(text)
     except etree.XMLSyntaxError as exc:
         return {
             "status": "error",
@@ -100,10 +100,28 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
     }
 
 
+def parse_model_xml(text: str) -> etree._Element:
+    """A processed model as robot_state_publisher reads it: urdfdom parses with tinyxml2, which
+    knows no namespaces, so a prefix nobody declared (c300's gz:expressed_in inside <gazebo>) is
+    no error there and none here; any other XML error raises XMLSyntaxError as lxml's own."""
+    data = text.encode("utf-8")
+    try:
+        return etree.fromstring(data, etree.XMLParser(remove_comments=True, huge_tree=False))
+    except etree.XMLSyntaxError:
+        lenient = etree.XMLParser(remove_comments=True, huge_tree=False, recover=True)
+        root = etree.fromstring(data, lenient)
+        other = next((e for e in lenient.error_log if e.domain_name != "NAMESPACE"), None)
+        if other is not None:
+            raise etree.XMLSyntaxError(other.message, other.type, other.line, other.column) from None
+        if root is None:
+            raise
+        return root
+
+
 def structure_of_output(path: str, urdf: str, includes: list[str]) -> RobotStructure | None:
     """The structure of a xacro output produced elsewhere (a launch file's Command), or None."""
     try:
-        root = etree.fromstring(urdf.encode("utf-8"), etree.XMLParser(remove_comments=True, huge_tree=False))
+        root = parse_model_xml(urdf)
     except etree.XMLSyntaxError:
         return None
     return _structure(root, path, _name_index([path, *includes]), expanded=True)

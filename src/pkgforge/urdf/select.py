@@ -25,7 +25,7 @@ from pkgforge.launch.resolve import run_requests, source_of
 from pkgforge.model.package import PackageModel
 from pkgforge.sandbox.protocol import ModelRequest
 from pkgforge.tree import InstallTree
-from pkgforge.urdf import XACRO_MODEL_SUFFIXES
+from pkgforge.urdf import SEMANTIC_SUFFIXES, XACRO_MODEL_SUFFIXES
 from pkgforge.urdf.structure import ModelError, ModelStatus, RobotStructure
 from pkgforge.walk import walk
 
@@ -146,7 +146,7 @@ def _installed_models(tree: InstallTree, model: PackageModel) -> list[Path]:
     for root, dirs, files in walk(share, follow_links=True, inside=(model.path,), limits=model.walk_limits):
         dirs[:] = sorted(d for d in dirs if d not in SKIPPED_FOLDERS and not d.startswith("."))
         for name in sorted(files):
-            if name.endswith(XACRO_MODEL_SUFFIXES):
+            if name.endswith(XACRO_MODEL_SUFFIXES) and not name.endswith(SEMANTIC_SUFFIXES):
                 shapes[Path(root) / name] = _shape(Path(root) / name, share, model.share_name)
     by_name: dict[str, list[_Shape]] = {}
     for path, shape in shapes.items():
@@ -203,7 +203,12 @@ def collect(
         for resolution in package_resolutions:
             for command in resolution.commands:
                 model_path = command.model
-                if not model_path or not os.path.isfile(model_path) or tree.is_phantom(model_path):
+                if (
+                    not model_path
+                    or model_path.endswith(SEMANTIC_SUFFIXES)
+                    or not os.path.isfile(model_path)
+                    or tree.is_phantom(model_path)
+                ):
                     continue
                 key = (package, os.path.normpath(model_path), tuple(sorted(command.mappings.items())))
                 if key not in jobs:

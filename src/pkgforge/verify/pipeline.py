@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import os
-import re
 import sys
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -18,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Diagnostic, Finding, PackageReport, Severity
 from pkgforge.errors import BuildFailed, PkgforgeError
+from pkgforge.model.files import quick_name
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
 from pkgforge.verify.config import Config, Selection, load_config
 from pkgforge.verify.progress import Progress
@@ -41,7 +41,6 @@ if TYPE_CHECKING:
 # must be verified: a run answered from the cache never imports them.
 
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
-NAME_ELEMENT = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
@@ -161,17 +160,6 @@ def package_folders(base: Path) -> list[Path]:
             continue
         dirs[:] = [d for d in dirs if not d.startswith(".")]
     return found
-
-
-def quick_name(folder: Path, text: str | None = "") -> str:
-    """The package name for the workspace index, before colcon has identified anything. `text`:
-    the package.xml already read (None: unreadable)."""
-    if text == "":
-        from pkgforge.verify.cache import manifest_text
-
-        text = manifest_text(folder)
-    match = NAME_ELEMENT.search(text) if text is not None else None
-    return match.group(1) if match else folder.name
 
 
 def find_targets(workspace: Workspace) -> list[PackageTarget]:
@@ -486,15 +474,17 @@ def _cache_lookup(
     """(cache, package folder → key, package folder → cached report) for the packages to verify."""
     import hashlib
 
-    from pkgforge.model.files import vcs_repos_files, walk_file_names
-    from pkgforge.verify.cache import ResultCache, manifest_text, workspace_key
+    from pkgforge.model.files import manifest_text, vcs_repos_files, walk_file_names
+    from pkgforge.verify.cache import ResultCache, workspace_key
 
     cache = ResultCache(cache_folder(workspace), options.cache_key())
     every = package_folders(workspace.base_path)
     folders = [workspace.package_path.resolve()] if workspace.package_path is not None else every
     texts = {folder: manifest_text(folder) for folder in every}  # each package.xml read once
     # the .repos files name packages every check may count as the workspace's (source_repositories)
-    repos = "".join(f"{path}\0{cache.digest(str(path)) or '-'}\0" for path in vcs_repos_files(every))
+    repos = "".join(
+        f"{path}\0{cache.digest(str(path)) or '-'}\0" for path in vcs_repos_files(every, workspace.base_path)
+    )
     signature = workspace_key(every, texts) + hashlib.sha256(repos.encode()).hexdigest()
     keys: dict[Path, str] = {}
     hits: dict[Path, tuple[PackageReport, set[str]]] = {}
@@ -708,6 +698,7 @@ def run(
                 launches,
                 distros=model.manifest.distros,
                 install_base=options.install_base if options.mode == "install-base" else None,
+                workspace_base=workspace.base_path,
                 shared=shared,
             )
             reports.append(run_checks(context, codes[target.path]))
