@@ -219,3 +219,89 @@ def test_setup_py_syntax_error(tmp_path):
     write(tmp_path, {"setup.py": "from setuptools import setup\nsetup(name='x',,)\n"})
     model = load_setup_py(read_source(tmp_path / "setup.py"), tmp_path)
     assert model.syntax_error[0] == 2
+
+
+# --- catkin_pkg without its condition grammar until a condition needs it ------------------------
+
+CONDITIONS = [
+    None,
+    "$ROS_VERSION == 2",
+    "$ROS_VERSION == 1",
+    "$ROS_DISTRO == humble or $ROS_DISTRO == jazzy",
+    "$ROS_DISTRO != rolling and $ROS_PYTHON_VERSION == 3",
+    "($ROS_VERSION == 2) and ($UNSET == '')",
+    "$ROS_DISTRO >= humble",
+    "$ROS_VERSION ==",  # refused: ValueError naming the condition
+    "ROS_VERSION = 2",
+    "",
+]
+CONDITION_SCRIPT = """
+import json, sys
+if sys.argv[1] == "deferred":
+    import pkgforge.model.catkin
+import catkin_pkg.package as package
+before = "pyparsing" in sys.modules
+answers = []
+for condition in json.loads(sys.argv[2]):
+    try:
+        answers.append(["value", package.evaluate_condition(
+            condition, {"ROS_VERSION": "2", "ROS_DISTRO": "jazzy", "ROS_PYTHON_VERSION": "3"})])
+    except Exception as error:
+        answers.append([type(error).__name__, str(error)])
+print(json.dumps([before, answers]))
+"""
+
+
+def test_catkin_conditions_answer_as_catkin_pkg_does_and_build_no_grammar_before_one():
+    """pkgforge.model.catkin defers catkin_pkg.condition (its pyparsing grammar costs ~25 ms per
+    run): every condition, None, valid or refused, gets catkin_pkg's own answer."""
+    import json
+    import subprocess
+    import sys
+
+    def answers(mode: str) -> list:
+        run = subprocess.run(
+            [sys.executable, "-c", CONDITION_SCRIPT, mode, json.dumps(CONDITIONS)],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        return json.loads(run.stdout)
+
+    deferred_before, deferred = answers("deferred")
+    real_before, real = answers("real")
+    assert deferred == real
+    assert [kind for kind, _ in real].count("ValueError") >= 2  # the refused ones were refused
+    assert (deferred_before, real_before) == (False, True)
+
+
+def test_packages_identify_without_the_grammar_until_a_condition(tmp_path):
+    """colcon's ROS extension (identify_folder) and pkgforge's manifest reader through the deferred
+    module: no grammar for a package without conditions; a condition loads it and is evaluated."""
+    import subprocess
+    import sys
+
+    manifest = (
+        '<?xml version="1.0"?>\n<package format="3"><name>{name}</name><version>0.1.0</version>'
+        '<description>d</description><maintainer email="m@x.org">m</maintainer><license>MIT</license>'
+        "<exec_depend>xacro</exec_depend>{more}"
+        "<export><build_type>ament_cmake</build_type></export></package>\n"
+    )
+    write(tmp_path / "plain", {"package.xml": manifest.format(name="plain", more="")})
+    conditioned = '<exec_depend condition="$ROS_VERSION == 1">rospy</exec_depend>'
+    write(tmp_path / "conditioned", {"package.xml": manifest.format(name="conditioned", more=conditioned)})
+    script = (
+        "import sys\nfrom pathlib import Path\nfrom pkgforge.workspace import identify_folder\n"
+        "from pkgforge.model.manifest import load_manifest\nfrom pkgforge.model.source import read_source\n"
+        "for name in ('plain', 'conditioned'):\n"
+        "    folder = Path(sys.argv[1]) / name\n"
+        "    d = identify_folder(folder)\n"
+        "    m = load_manifest(read_source(folder / 'package.xml'))\n"
+        "    print(d.name, d.type, [x.name for x in m.active_dependencies()], 'pyparsing' in sys.modules)\n"
+    )
+    run = subprocess.run([sys.executable, "-c", script, str(tmp_path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.splitlines() == [
+        "plain ros.ament_cmake ['xacro'] False",
+        "conditioned ros.ament_cmake ['xacro'] True",
+    ]

@@ -63,6 +63,8 @@ def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -
 
     from colcon_core.package_discovery import add_package_discovery_arguments, discover_packages
 
+    import pkgforge.model.catkin  # noqa: F401  (before colcon's ROS extension imports catkin_pkg)
+
     parser = argparse.ArgumentParser(add_help=False)
     add_package_discovery_arguments(parser)
     args = parser.parse_args(["--base-paths", str(base_path)])
@@ -156,6 +158,8 @@ def identify_folder(folder: Path) -> Any:
     that is not certain (another colcon extension installed, an extension blocklist, a folder
     colcon ignores or whose manifest the ROS extension rejects): discover() decides then."""
     import logging
+
+    import pkgforge.model.catkin  # noqa: F401  (before colcon's ROS extension imports catkin_pkg)
 
     groups = _ros_identification()
     if groups is None:

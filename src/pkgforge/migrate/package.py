@@ -35,7 +35,7 @@ def _manifest(path: Path) -> tuple[Any, etree._Element]:
     """(catkin_pkg Package, lxml root) of a ROS 1 catkin package, or a located PkgforgeError.
 
     catkin_pkg has no type information: its Package is Any here."""
-    from catkin_pkg.package import InvalidPackage, parse_package_string
+    from pkgforge.model.catkin import InvalidPackage, parse_package_string
 
     manifest = path / "package.xml"
     if not path.is_dir():

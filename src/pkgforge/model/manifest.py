@@ -6,9 +6,9 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from catkin_pkg.package import InvalidPackage, parse_package_string
 from lxml import etree
 
+from pkgforge.model.catkin import InvalidPackage, parse_package_string
 from pkgforge.model.source import SourceFile
 
 DEPENDENCY_TAGS = (

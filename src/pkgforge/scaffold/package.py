@@ -13,10 +13,10 @@ from pathlib import Path
 from typing import Any
 
 import jinja2
-from catkin_pkg.package import InvalidPackage, parse_package_string
 
 from pkgforge import DISTRIBUTION, __version__
 from pkgforge.errors import PkgforgeError
+from pkgforge.model.catkin import InvalidPackage, parse_package_string
 from pkgforge.model.distros import DISTROS, Distro, default_distro
 from pkgforge.model.names import REP144_RULE, rep144_problem
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
