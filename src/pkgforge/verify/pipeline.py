@@ -375,7 +375,9 @@ def rviz_configs(
     return out
 
 
-def verify(path: Path, options: VerifyOptions) -> VerifyResult:
+def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> VerifyResult:
+    """Verify the package(s) at `path`. `zygote`: the launch workers' fork server, when the caller
+    started it already (cli: before its imports); closed here once verify is done with it."""
     root = path.resolve()
     engine = options.engine()  # before any work: a --launch-engine that cannot be had stops here
     workspace = locate(path)
@@ -398,7 +400,7 @@ def verify(path: Path, options: VerifyOptions) -> VerifyResult:
             codes = set().union(*(codes for _, codes in hits.values()))
             _store_whole(cache, whole, keys, reports)
             return VerifyResult(root, reports, codes, engine=engine.name, distro=engine.distro)
-    zygote = _early_zygote(options, engine)
+    zygote = zygote if zygote is not None else _early_zygote(options, engine)
     try:
         if workspace.package_path is not None:
             targets, models, everything = load_one_package(workspace)
