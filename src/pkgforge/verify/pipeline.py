@@ -706,8 +706,8 @@ def run(
         shared: dict[
             Any, Any
         ] = {}  # what every package's checks would otherwise build again (CheckContext.shared)
-        reports = []
-        for target in targets:
+
+        def check(target: PackageTarget) -> tuple[PackageReport, set[str] | None]:
             model = models[target.path]
             configs, launches = rviz.get(model.name, ([], []))
             model.manifest.distros = _targets(target.path, workspace, config, options)
@@ -726,14 +726,24 @@ def run(
                 workspace_base=workspace.base_path,
                 shared=shared,
             )
-            reports.append(run_checks(context, codes[target.path]))
+            report = run_checks(context, codes[target.path])
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
-                _report_build_failure(reports[-1], model, build_failure, {t.name for t in targets})
-            selections[target.path].apply_severity(reports[-1])  # [severity] of pkgforge.toml
+                _report_build_failure(report, model, build_failure, {t.name for t in targets})
+            selections[target.path].apply_severity(report)  # [severity] of pkgforge.toml
             if options.use_cache and tree is not None:
                 from pkgforge.verify.cache import externals as read_elsewhere
 
-                read[target.path] = read_elsewhere(context)
+                return report, read_elsewhere(context)
+            return report, None
+
+        # in forked processes (verify/forked.py), each computing CheckContext.shared for its own slice
+        from pkgforge.verify.forked import forked_map
+
+        reports = []
+        for target, (report, elsewhere) in zip(targets, forked_map(check, targets, jobs), strict=True):
+            reports.append(report)
+            if elsewhere is not None:
+                read[target.path] = elsewhere
     finally:
         if tree is not None:
             tree.close()

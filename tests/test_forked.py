@@ -1,0 +1,78 @@
+"""verify/forked.py: a map over forked children that share this process's memory, whose answers
+are always the serial map's (in order, with its exceptions), whatever happens to a child."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import threading
+
+import pytest
+
+from pkgforge.verify.forked import FORK_THRESHOLD, forked_map
+
+ITEMS = list(range(FORK_THRESHOLD * 3 + 5))
+PARENT = os.getpid()
+
+
+def square_where(item: int) -> tuple[int, bool]:
+    return item * item, os.getpid() == PARENT
+
+
+def test_answers_in_order_and_children_did_their_slices():
+    answers = forked_map(square_where, ITEMS, jobs=3)
+    assert [value for value, _ in answers] == [i * i for i in ITEMS]
+    here = [i for i, (_, in_parent) in zip(ITEMS, answers, strict=True) if in_parent]
+    assert here == ITEMS[: len(here)] and 0 < len(here) < len(ITEMS)  # the first slice only, here
+
+
+def test_few_items_one_job_or_a_running_thread_map_here():
+    assert all(here for _, here in forked_map(square_where, ITEMS[: FORK_THRESHOLD - 1], jobs=2))
+    assert all(here for _, here in forked_map(square_where, ITEMS, jobs=1))
+    stop = threading.Event()
+    thread = threading.Thread(target=stop.wait)
+    thread.start()
+    try:  # a lock another thread holds would stay held in a child: no fork then
+        assert all(here for _, here in forked_map(square_where, ITEMS, jobs=2))
+    finally:
+        stop.set()
+        thread.join()
+
+
+def die_in_a_child(item: int) -> int:
+    if os.getpid() != PARENT and item == len(ITEMS) - 1:
+        os._exit(3)  # killed, as the OOM killer would
+    return -item
+
+
+def test_a_child_that_dies_has_its_slice_done_here():
+    assert forked_map(die_in_a_child, ITEMS, jobs=2) == [-i for i in ITEMS]
+
+
+def refuse(item: int) -> int:
+    if item == len(ITEMS) - 2:
+        raise ValueError(f"no {item}")
+    return item
+
+
+def test_an_exception_of_the_function_is_raised_here_as_the_serial_map_raises_it():
+    with pytest.raises(ValueError, match=f"^no {len(ITEMS) - 2}$"):
+        forked_map(refuse, ITEMS, jobs=2)
+
+
+def unpicklable(item: int) -> object:
+    return (lambda: item) if os.getpid() != PARENT else item
+
+
+def test_an_answer_that_cannot_come_back_is_computed_here():
+    assert forked_map(unpicklable, ITEMS, jobs=2) == ITEMS
+
+
+def test_children_leave_this_process_s_temporary_folders_alone():
+    """A child ends without this process's exit handlers: the install tree (a temporary folder
+    cleaned up at exit) is still there after the map."""
+    with tempfile.TemporaryDirectory() as folder:
+        marker = os.path.join(folder, "tree")
+        open(marker, "w").close()
+        forked_map(square_where, ITEMS, jobs=2)
+        assert os.path.exists(marker)
