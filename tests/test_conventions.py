@@ -583,10 +583,12 @@ def test_junit_xml_that_cannot_be_written_is_exit_2(workspace):
 # --- parallel model loading ------------------------------------------------------------------
 
 
-@pytest.mark.triggers("PF103", "PF104")
+@pytest.mark.triggers("PF101", "PF103", "PF104")
 def test_parallel_model_loading_matches_the_serial_one(tmp_path):
     """16 packages or more and -j 2 load the models in worker processes while colcon discovers;
-    the result must be the serial one (including a folder named unlike its package)."""
+    the result must be the serial one (including a folder named unlike its package, and a
+    manifest catkin_pkg refuses: the loaders leave catkin_pkg to colcon's discovery, so that
+    package is loaded again with catkin_pkg's message)."""
     import shutil
 
     from pkgforge.verify.pipeline import PARALLEL_THRESHOLD
@@ -606,6 +608,11 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
         .replace("<name>p05_description</name>", "<name>p05_robot</name>")
     )
 
+    refused = tmp_path / "src" / "p07_description"
+    (refused / "package.xml").write_text(
+        re.sub(r"<version>[^<]*</version>", "<version>1.0</version>", (refused / "package.xml").read_text())
+    )
+
     def verify(jobs: str) -> dict:
         result = run_pkgforge(
             "verify", ".", "--format", "json", "--no-cache", "--select", "PF1", "-j", jobs, cwd=tmp_path
@@ -618,9 +625,12 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
     assert len(parallel["packages"]) == PARALLEL_THRESHOLD + 2
     found = {(d["code"], d["path"], d["line"]) for d in parallel["diagnostics"]}
     assert found == {
+        ("PF101", "src/p07_description/package.xml", line_of(refused / "package.xml", "<version>")),
         ("PF103", "src/p05_description/CMakeLists.txt", line_of(renamed / "CMakeLists.txt", "project(")),
         ("PF104", "src/p05_description/package.xml", line_of(renamed / "package.xml", "<name>")),
     }
+    (message,) = [d["message"] for d in parallel["diagnostics"] if d["code"] == "PF101"]
+    assert message == 'Package version "1.0" does not follow version conventions'
 
 
 # --- packaging -------------------------------------------------------------------------------

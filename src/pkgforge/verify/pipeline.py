@@ -190,7 +190,10 @@ def _load(target: PackageTarget) -> PackageModel:
 
 
 def _load_chunk(folders: list[Path]) -> list[PackageModel]:
-    models = [_load(PackageTarget(folder, folder.name, None, False)) for folder in folders]
+    # catkin_pkg is not run on the manifests here: colcon's discovery runs it beside the loaders
+    # (its ROS extension parses every package.xml), and a package it could not parse is loaded
+    # again once discovery is done, with catkin_pkg's messages (load_models)
+    models = [_load(PackageTarget(folder, folder.name, None, True)) for folder in folders]
     for model in models:  # read here, where loading just parsed the same texts (yamlnodes' memo)
         model.rviz_read = {source: read for source, read in _rviz_files(model)}  # type: ignore[attr-defined]
     return models
@@ -239,7 +242,7 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
     models = {}
     for target in targets:
         model = loaded.get(target.path)
-        if model is None or model.name != target.name:
+        if model is None or model.name != target.name or not target.parsed_by_colcon:
             model = _load(target)
         elif target.colcon_type and model.manifest.build_type is None:
             model.build_type = target.colcon_type.removeprefix("ros.")
