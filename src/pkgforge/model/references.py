@@ -350,7 +350,8 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
     except SyntaxError:
         return []
     found: list[Reference] = []
-    bindings = _literal_bindings(tree)
+    nodes = list(ast.walk(tree))  # walked once: the bindings and the calls both look at every node
+    bindings = _literal_bindings(nodes)
 
     def literal(node: ast.AST) -> str | None:
         if isinstance(node, ast.Constant) and isinstance(node.value, str):
@@ -367,7 +368,7 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
             return literal(node.args[0])
         return None
 
-    for node in ast.walk(tree):
+    for node in nodes:
         if isinstance(node, (ast.Import, ast.ImportFrom)):
             if isinstance(node, ast.ImportFrom) and node.level:
                 continue  # a relative import names no package
@@ -431,10 +432,10 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
     return found
 
 
-def _literal_bindings(tree: ast.AST) -> dict[str, object]:
-    """name → str literal or lookup Call, from every simple assignment in the file."""
+def _literal_bindings(nodes: list[ast.AST]) -> dict[str, object]:
+    """name → str literal or lookup Call, from every simple assignment among the file's nodes."""
     bindings: dict[str, object] = {}
-    for node in ast.walk(tree):
+    for node in nodes:
         if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
             value = node.value
             if isinstance(value, ast.Constant) and isinstance(value.value, str):
