@@ -108,6 +108,71 @@ def test_folder_name_mismatch(package):
     ]
 
 
+@pytest.mark.triggers("PF110", "PF301", "PF304")
+def test_package_name_duplicate(tmp_path, template_package):
+    """Two copies of one package in a workspace (a repository of a course's sections): colcon build
+    refuses it. Each copy gets package-name-duplicate; the copy the install tree does not hold is
+    not resolved in the other's files (its launch error is not seen there, nor the other's found
+    twice), and no diagnostic points into pkgforge's temporary tree."""
+    first, second = tmp_path / "src" / "a" / "rob_description", tmp_path / "src" / "b" / "rob_description"
+    shutil.copytree(template_package, first)
+    shutil.copytree(template_package, second)
+    broken = second / "launch" / "display.launch.py"
+    broken.write_text(broken.read_text() + "\nbroken(\n")
+    # a launch file only the tree's copy has: resolved once, as that copy's (not again as the
+    # other's, which has no such source: it would point into the tree)
+    extra = first / "launch" / "extra.launch.py"
+    extra.write_text(
+        "from ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\n\n\n"
+        "def generate_launch_description():\n"
+        "    get_package_share_directory('no_such_package')\n"
+        "    return LaunchDescription([])\n"
+    )
+    # and one only the other copy has: the tree holds one copy whole, not a mix of both
+    (second / "launch" / "only_here.launch.py").write_text(extra.read_text().replace("no_such", "absent"))
+    name_line = line_of(first / "package.xml", "<name>")
+    status, report = verify_report(tmp_path, "--no-cache")
+    assert status == 1
+    assert all(d["path"].startswith("src/") for d in report["diagnostics"]), report["diagnostics"]
+    assert [(d["code"], d["path"], d["line"]) for d in at_least(report, "warning")] == [
+        ("PF304", "src/a/rob_description/launch/extra.launch.py", line_of(extra, "no_such_package")),
+        ("PF110", "src/a/rob_description/package.xml", name_line),
+        ("PF110", "src/b/rob_description/package.xml", name_line),
+    ]
+    messages = [d["message"] for d in report["diagnostics"] if d["code"] == "PF110"]
+    assert messages == [
+        "package 'rob_description' is also at src/b/rob_description: colcon build refuses a workspace "
+        "with two packages of one name",
+        "package 'rob_description' is also at src/a/rob_description: colcon build refuses a workspace "
+        "with two packages of one name; its launch files and models are not checked: the install tree "
+        "holds the other copy",
+    ]
+    # the copy alone (pre-commit): it is the tree's, so its launch error is found; the name still clashes
+    status, alone = verify_report(second, "--no-cache")
+    assert status == 1
+    assert [(d["code"], d["path"], d["line"]) for d in at_least(alone, "warning")] == [
+        ("PF301", "launch/display.launch.py", line_of(broken, "broken(")),
+        ("PF304", "launch/only_here.launch.py", line_of(second / "launch" / "only_here.launch.py", "absent")),
+        ("PF110", "package.xml", name_line),
+    ]
+
+
+@pytest.mark.triggers("PF110")
+def test_a_second_copy_added_later_is_seen_by_the_cached_run(tmp_path, template_package):
+    first = tmp_path / "src" / "a" / "rob_description"
+    shutil.copytree(template_package, first)
+    status, report = verify_report(tmp_path)
+    assert status == 0 and not at_least(report, "warning")
+    shutil.copytree(template_package, tmp_path / "src" / "b" / "rob_description")
+    status, report = verify_report(tmp_path)
+    assert status == 1
+    assert [(d["code"], d["path"]) for d in at_least(report, "warning")] == [
+        ("PF110", "src/a/rob_description/package.xml"),
+        ("PF110", "src/b/rob_description/package.xml"),
+    ]
+
+
 @pytest.mark.triggers("PF105")
 def test_build_type_missing(package):
     manifest = package / "package.xml"

@@ -112,6 +112,10 @@ class CheckContext:
     distros: tuple[str, ...] = ()  # the ROS 2 distros the package targets; empty: every active distro
     install_base: Path | None = None  # --install-base, when verifying against one
     workspace_base: Path | None = None  # the folder the workspace's packages are found under
+    # the other folders of the workspace whose package has this one's name (colcon build refuses it)
+    namesakes: tuple[Path, ...] = ()
+    # another of those is what the install tree holds: this one's launch files and models are unchecked
+    shadowed: bool = False
     # one dict for every context of a run (the workspace and the tree are the same for each):
     # the package-name sets and file-system facts built once per run, not once per package
     shared: dict[Any, Any] = field(default_factory=dict)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -407,3 +408,46 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             # `fix` adds the test_depend the hint names (otherwise it works the tag out itself)
             fix={"dependency": name, "tag": tag} if tag == "test_depend" else None,
         )
+
+
+@register(
+    "PF110",
+    "package-name-duplicate",
+    "error",
+    area="manifest",
+    bad="# src/a/twin_description/package.xml and src/b/twin_description/package.xml:\n"
+    "<name>twin_description</name>",
+    good="# src/b/twin_description/COLCON_IGNORE (an empty file): colcon builds the other copy",
+    summary="another package of the workspace has the same name",
+    explanation='colcon build and colcon test refuse the whole workspace ("Duplicate package '
+    'names not supported") before building anything. It happens when a repository holds '
+    "several workspaces (a course's sections) or a package was copied to try a change. The "
+    "install tree can hold one copy only: the launch files and models of the others are not "
+    "checked.",
+    hint="build one copy: put an empty COLCON_IGNORE file in the other's folder, or verify the "
+    "one workspace you build",
+)
+def package_name_duplicate(ctx: CheckContext) -> Iterator[Finding]:
+    model = ctx.model
+    name = model.manifest.name
+    if not ctx.namesakes or not name:
+        return
+    top = ctx.workspace_base.parent if ctx.workspace_base is not None else model.path.parent
+
+    def shown(folder: Path) -> str:
+        return os.path.relpath(folder, top) if folder.is_relative_to(top) else str(folder)
+
+    others = ", ".join(shown(folder) for folder in ctx.namesakes)
+    unchecked = (
+        "; its launch files and models are not checked: the install tree holds the other copy"
+        if ctx.shadowed
+        else ""
+    )
+    yield Finding(
+        f"package '{name}' is also at {others}: colcon build refuses a workspace with two packages "
+        f"of one name{unchecked}",
+        model.manifest.path,
+        model.manifest.name_line,
+        hint="build one copy: put an empty COLCON_IGNORE file in the other's folder, or verify the "
+        "folder of the one workspace you build",
+    )

@@ -31,7 +31,8 @@ if TYPE_CHECKING:
 # 4: a model failing on its own for want of its empty-default xacro:args is PF406, no longer PF308
 # 5: stop 23's answers (PF305/PF304/PF308 warnings off the defaults, PF311 for what this machine
 #    lacks, nested templates and .repos repositories known, True/False branches, SDF through xacro)
-CACHE_FORMAT = 5
+# 6: PF110 (two workspace packages with one name); the workspace key holds such names' folders
+CACHE_FORMAT = 6
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 
 
@@ -263,16 +264,22 @@ def store_workspace(
 
 
 def workspace_key(folders: list[Path], texts: dict[Path, str | None] | None = None) -> str:
-    """The names and declared dependencies of every package: what lookups depend on. `texts`:
-    the package.xml texts already read (None: unreadable), by folder."""
-    names, dependencies = set(), set()
+    """The names and declared dependencies of every package: what lookups depend on (and the
+    folders of a name two packages have). `texts`: the package.xml texts already read (None:
+    unreadable), by folder."""
+    folders_by_name: dict[str, list[str]] = {}
+    dependencies = set()
     for folder in folders:
         text = texts[folder] if texts is not None and folder in texts else manifest_text(folder)
         if text is None:
             continue
-        names.add(quick_name(folder, text))
+        folders_by_name.setdefault(quick_name(folder, text), []).append(str(folder))
         dependencies.update(DEPENDENCY.findall(text))
-    return hashlib.sha256(json.dumps([sorted(names), sorted(dependencies)]).encode()).hexdigest()
+    # a name two folders hold (package-name-duplicate, and which copy the tree holds): those folders
+    twice = sorted((name, sorted(where)) for name, where in folders_by_name.items() if len(where) > 1)
+    return hashlib.sha256(
+        json.dumps([sorted(folders_by_name), sorted(dependencies), twice]).encode()
+    ).hexdigest()
 
 
 BUILD_FILES = ("package.xml", "CMakeLists.txt", "setup.py", "setup.cfg")

@@ -322,8 +322,9 @@ def make_tree(options: VerifyOptions, workspace: Workspace, models: list[Package
 
 def load_one_package(
     workspace: Workspace,
-) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict[str, Path]]:
-    """One package of a workspace (pre-commit): it, and the workspace packages it declares.
+) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict[str, Path], Namesakes]:
+    """One package of a workspace (pre-commit): it, the workspace packages it declares, every
+    package's name, and the other folders holding a package of its name.
 
     The other packages matter only by name, which a walk reads cheaply; colcon
     identifies just this folder.
@@ -331,7 +332,8 @@ def load_one_package(
     if workspace.package_path is None:
         raise ValueError("load_one_package: the workspace is no single package")
     folder = workspace.package_path.resolve()
-    everything = {quick_name(p): p for p in package_folders(workspace.base_path)}
+    named = [(quick_name(p), p) for p in package_folders(workspace.base_path)]
+    everything = dict(named)
     from pkgforge.workspace import identify_folder
 
     descriptor = identify_folder(folder)
@@ -340,7 +342,8 @@ def load_one_package(
     else:
         targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
     if not targets:
-        return [], {}, everything
+        return [], {}, everything, {}
+    namesakes = namesakes_of([(name, p) for name, p in named if p != folder] + [(targets[0].name, folder)])
     models = {folder: _load(targets[0])}
     todo = [models[folder]]
     while todo:
@@ -349,7 +352,38 @@ def load_one_package(
             if path is not None and path not in models:
                 models[path] = _load(PackageTarget(path, dependency, None, False))
                 todo.append(models[path])
-    return targets, models, everything
+    return targets, models, everything, {folder: namesakes[folder]} if folder in namesakes else {}
+
+
+# a package folder → the other folders of the workspace whose package has the same name
+Namesakes = dict[Path, tuple[Path, ...]]
+
+
+def namesakes_of(named: list[tuple[str, Path]]) -> Namesakes:
+    """For each (name, folder) whose name another folder has too: the other folders, sorted."""
+    folders: dict[str, list[Path]] = {}
+    for name, folder in named:
+        folders.setdefault(name, []).append(folder)
+    return {
+        folder: tuple(sorted(other for other in same if other != folder))
+        for same in folders.values()
+        if len(same) > 1
+        for folder in same
+    }
+
+
+def _shadowed(models: list[PackageModel], namesakes: Namesakes, tree: InstallTree) -> set[Path]:
+    """The packages sharing their name with another whose files the install tree holds instead (its
+    package.xml there is not theirs): their launch files and models cannot be resolved in it."""
+    shadowed = set()
+    for model in models:
+        if model.path not in namesakes:
+            continue
+        share = tree.share(model.share_name)
+        manifest = str(share / "package.xml") if share is not None else None
+        if manifest is None or tree.origin(manifest) != os.path.realpath(model.path / "package.xml"):
+            shadowed.add(model.path)
+    return shadowed
 
 
 def rviz_configs(
@@ -429,15 +463,16 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
     zygote = zygote if zygote is not None else _early_zygote(options, engine)
     try:
         if workspace.package_path is not None:
-            targets, models, everything = load_one_package(workspace)
+            targets, models, everything, namesakes = load_one_package(workspace)
         else:
             targets, models = load_models(workspace, jobs)
             everything = {model.name: path for path, model in models.items()}
+            namesakes = namesakes_of([(t.name, t.path) for t in targets])
         if not targets:
             raise PkgforgeError(f"no package found under {root}")
         todo = [t for t in targets if t.path not in hits]
         result = (
-            run(root, workspace, config, todo, models, everything, options, zygote)
+            run(root, workspace, config, todo, models, everything, options, zygote, namesakes)
             if todo
             else VerifyResult(root, [], set())
         )
@@ -623,9 +658,11 @@ def run(
     everything: dict[str, Path],
     options: VerifyOptions,
     zygote: Zygote | None = None,
+    namesakes: Namesakes | None = None,
 ) -> VerifyResult:
     """Verify the targets; `models` holds every package the install tree needs. `zygote`: the
-    launch workers' fork server, when one was started already (closed here)."""
+    launch workers' fork server, when one was started already (closed here). `namesakes`: the
+    targets whose package name another workspace folder has too."""
     from pkgforge.checks.context import CheckContext
 
     jobs = options.jobs or os.cpu_count() or 1
@@ -648,8 +685,13 @@ def run(
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
         progress.show(f"{len(checked)} packages: install tree")
+        # one copy of a name, as an install folder holds one (the first; the others are shadowed,
+        # PF110): files only another copy has would stand in its share folder with no source
+        placed: dict[str, PackageModel] = {}
+        for model in models.values():
+            placed.setdefault(model.share_name, model)
         try:
-            tree = make_tree(options, workspace, list(models.values()))
+            tree = make_tree(options, workspace, list(placed.values()))
         except BuildFailed as failure:
             if options.mode != "build":
                 raise
@@ -657,14 +699,21 @@ def run(
             codes = {
                 path: selected - tree_codes | (selected & {BUILD_FAILED}) for path, selected in codes.items()
             }
+    shadowed: set[Path] = set()
     if tree is not None:
         from pkgforge.sandbox.zygote import Zygote
 
+        # a package whose namesake's files the tree holds: its tree checks would read the other's
+        shadowed = _shadowed(checked, namesakes or {}, tree)
+        codes = {
+            path: selected - tree_codes if path in shadowed else selected for path, selected in codes.items()
+        }
+        in_tree = [model for model in checked if model.path not in shadowed]
         # one fork server for the launch files' and the models' workers
         zygote = zygote if zygote is not None else Zygote()
         try:  # a signal or an error: the temporary tree goes too
-            launch_files, ros1_files = find_launch_files(tree, checked)
-            launch_files += source_only(checked, launch_files)  # evaluated from the source
+            launch_files, ros1_files = find_launch_files(tree, in_tree)
+            launch_files += source_only(in_tree, launch_files)  # evaluated from the source
             for resolution in resolve(
                 launch_files,
                 tree,
@@ -680,7 +729,7 @@ def run(
             for launch in ros1_files:
                 ros1.setdefault(launch.package, []).append(launch)
             tree.restore()  # the checks read the user's files, not what a launch file wrote over them
-            to_process = robot_models.collect(tree, checked, resolutions)
+            to_process = robot_models.collect(tree, in_tree, resolutions)
             pending = sum(1 for r in to_process if r.robot is None)
             for result in robot_models.process(
                 to_process,
@@ -695,7 +744,7 @@ def run(
             zygote.close()
             if options.on_models is not None:
                 options.on_models(tree, [r for results in model_results.values() for r in results])
-            rviz = rviz_configs(tree, checked, resolutions)
+            rviz = rviz_configs(tree, in_tree, resolutions)
             progress.clear()
         except BaseException:
             progress.clear()
@@ -712,21 +761,25 @@ def run(
 
         def check(target: PackageTarget) -> tuple[PackageReport, set[str] | None]:
             model = models[target.path]
-            configs, launches = rviz.get(model.name, ([], []))
+            # (by name: a shadowed namesake's would be the tree's copy's)
+            own = target.path not in shadowed
+            configs, launches = rviz.get(model.name, ([], [])) if own else ([], [])
             model.manifest.distros = _targets(target.path, workspace, config, options)
             context = CheckContext(
                 model,
                 everything,
                 by_share,
                 tree,
-                resolutions.get(model.name, []),
-                ros1.get(model.name, []),
-                model_results.get(model.name, []),
+                resolutions.get(model.name, []) if own else [],
+                ros1.get(model.name, []) if own else [],
+                model_results.get(model.name, []) if own else [],
                 configs,
                 launches,
                 distros=model.manifest.distros,
                 install_base=options.install_base if options.mode == "install-base" else None,
                 workspace_base=workspace.base_path,
+                namesakes=(namesakes or {}).get(target.path, ()),
+                shadowed=not own,
                 shared=shared,
             )
             report = run_checks(context, codes[target.path])
