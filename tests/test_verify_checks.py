@@ -143,10 +143,10 @@ def test_package_name_duplicate(tmp_path, template_package):
     messages = [d["message"] for d in report["diagnostics"] if d["code"] == "PF110"]
     assert messages == [
         "package 'rob_description' is also at src/b/rob_description: colcon build refuses a workspace "
-        "with two packages of one name",
+        "where packages share a name",
         "package 'rob_description' is also at src/a/rob_description: colcon build refuses a workspace "
-        "with two packages of one name; its launch files and models are not checked: the install tree "
-        "holds the other copy",
+        "where packages share a name; its launch files and models are not checked: the install tree "
+        "holds another copy",
     ]
     # the copy alone (pre-commit): it is the tree's, so its launch error is found; the name still clashes
     status, alone = verify_report(second, "--no-cache")

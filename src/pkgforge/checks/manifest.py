@@ -424,7 +424,7 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
     "several workspaces (a course's sections) or a package was copied to try a change. The "
     "install tree can hold one copy only: the launch files and models of the others are not "
     "checked.",
-    hint="build one copy: put an empty COLCON_IGNORE file in the other's folder, or verify the "
+    hint="build one copy: put an empty COLCON_IGNORE file in each other copy's folder, or verify the "
     "one workspace you build",
 )
 def package_name_duplicate(ctx: CheckContext) -> Iterator[Finding]:
@@ -439,15 +439,15 @@ def package_name_duplicate(ctx: CheckContext) -> Iterator[Finding]:
 
     others = ", ".join(shown(folder) for folder in ctx.namesakes)
     unchecked = (
-        "; its launch files and models are not checked: the install tree holds the other copy"
+        "; its launch files and models are not checked: the install tree holds another copy"
         if ctx.shadowed
         else ""
     )
     yield Finding(
-        f"package '{name}' is also at {others}: colcon build refuses a workspace with two packages "
-        f"of one name{unchecked}",
+        f"package '{name}' is also at {others}: colcon build refuses a workspace where packages "
+        f"share a name{unchecked}",
         model.manifest.path,
         model.manifest.name_line,
-        hint="build one copy: put an empty COLCON_IGNORE file in the other's folder, or verify the "
+        hint="build one copy: put an empty COLCON_IGNORE file in each other copy's folder, or verify the "
         "folder of the one workspace you build",
     )
