@@ -305,3 +305,21 @@ def test_packages_identify_without_the_grammar_until_a_condition(tmp_path):
         "plain ros.ament_cmake ['xacro'] False",
         "conditioned ros.ament_cmake ['xacro'] True",
     ]
+
+
+def test_the_deferred_condition_module_is_catkin_pkg_s_attribute_as_the_real_one_is():
+    """`import catkin_pkg.condition` then `catkin_pkg.condition.evaluate_condition(...)`: how a
+    colcon extension in the same process may call it, before and after the real module loads."""
+    import subprocess
+    import sys
+
+    script = (
+        "import sys\nimport pkgforge.model.catkin\nimport catkin_pkg.condition\nimport catkin_pkg\n"
+        "first = catkin_pkg.condition.evaluate_condition(None, {})\n"
+        "before = 'pyparsing' in sys.modules\n"
+        "second = catkin_pkg.condition.evaluate_condition('$ROS_VERSION == 2', {'ROS_VERSION': '2'})\n"
+        "print(first, before, second, catkin_pkg.condition is sys.modules['catkin_pkg.condition'])\n"
+    )
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["True", "False", "True", "True"]

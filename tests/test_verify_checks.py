@@ -173,6 +173,132 @@ def test_a_second_copy_added_later_is_seen_by_the_cached_run(tmp_path, template_
     ]
 
 
+def _copies(root: Path, template: Path, *folders: str) -> list[Path]:
+    """Copies of the clean package under root/<folder>/rob_description."""
+    made = []
+    for folder in folders:
+        made.append(root / folder / "rob_description")
+        shutil.copytree(template, made[-1])
+    return made
+
+
+def _break_launch(package: Path) -> tuple[Path, int]:
+    launch = package / "launch" / "display.launch.py"
+    launch.write_text(launch.read_text() + "\nbroken(\n")
+    return launch, line_of(launch, "broken(")
+
+
+@pytest.mark.triggers("PF110", "PF301")
+def test_a_copy_checked_alone_is_never_answered_by_a_workspace_run_from_the_cache(tmp_path, template_package):
+    """The workspace run leaves the second copy's launch files unchecked (the tree holds the first);
+    the copy alone is the tree's, so its broken launch file is found, cached run or not."""
+    _, second = _copies(tmp_path / "src", template_package, "a", "b")
+    launch, line = _break_launch(second)
+    verify_report(tmp_path)  # with the cache
+    status, alone = verify_report(second)
+    assert status == 1
+    assert ("PF301", "launch/display.launch.py", line) in [
+        (d["code"], d["path"], d["line"]) for d in at_least(alone, "error")
+    ]
+    status, report = verify_report(tmp_path)  # and the workspace again, after the copy alone
+    assert [
+        d["message"].endswith("holds another copy") for d in report["diagnostics"] if d["code"] == "PF110"
+    ] == [
+        False,
+        True,
+    ]
+    assert "PF301" not in {d["code"] for d in report["diagnostics"]}
+
+
+@pytest.mark.triggers("PF110", "PF301")
+def test_against_an_install_base_the_installed_copy_is_checked(tmp_path, template_package):
+    """A copied install does not say which copy it holds: the first is taken for it, as the
+    predicted tree would hold it; its launch files are checked there, the other's are not."""
+    (first,) = _copies(tmp_path / "src", template_package, "a")
+    _, line = _break_launch(first)
+    built = run_pkgforge("build", cwd=tmp_path)
+    assert built.returncode == 0, built.stdout + built.stderr
+    _copies(tmp_path / "src", template_package, "b")
+    status, report = verify_report(tmp_path, "--no-cache", "--install-base", "install")
+    assert status == 1
+    assert [(d["code"], d["path"], d["line"]) for d in at_least(report, "error")] == [
+        ("PF301", "src/a/rob_description/launch/display.launch.py", line),
+        ("PF110", "src/a/rob_description/package.xml", line_of(first / "package.xml", "<name>")),
+        ("PF110", "src/b/rob_description/package.xml", line_of(first / "package.xml", "<name>")),
+    ]
+    messages = [d["message"] for d in report["diagnostics"] if d["code"] == "PF110"]
+    assert [m.endswith("holds another copy") for m in messages] == [False, True]
+
+
+@pytest.mark.triggers("PF103", "PF304")
+def test_two_packages_installing_one_share_folder_are_both_resolved(tmp_path, template_package):
+    """Two packages named differently whose project() names agree (PF103) are no namesakes: both
+    are placed in the tree, as before PF110, and the second's launch file is still resolved."""
+    first, second = _copies(tmp_path / "src", template_package, "pkg_a", "pkg_b")
+    edit(first / "package.xml", "<name>rob_description</name>", "<name>pkg_a</name>")
+    edit(second / "package.xml", "<name>rob_description</name>", "<name>pkg_b</name>")
+    extra = second / "launch" / "only_b.launch.py"
+    extra.write_text(
+        "from ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\n\n\n"
+        "def generate_launch_description():\n"
+        "    get_package_share_directory('absent_package')\n"
+        "    return LaunchDescription([])\n"
+    )
+    status, report = verify_report(tmp_path, "--no-cache")
+    assert status == 1
+    codes = {(d["code"], d["path"]) for d in at_least(report, "error")}
+    assert ("PF304", "src/pkg_b/rob_description/launch/only_b.launch.py") in codes, codes
+    assert "PF110" not in {code for code, _ in codes}
+
+
+@pytest.mark.triggers("PF110", "PF303")
+def test_a_lookup_in_a_name_two_copies_have_reads_the_copy_the_tree_holds(tmp_path, template_package):
+    """Only the second copy has config/params.yaml: another package's launch file asking the
+    first copy's share folder (the tree's) for it gets missing-file, the same alone and in the
+    workspace, not an uninstalled-reference naming the other copy's source."""
+    _, second = _copies(tmp_path / "src", template_package, "a", "b")
+    (second / "config").mkdir()
+    (second / "config" / "params.yaml").write_text("x: 1\n")
+    edit(second / "CMakeLists.txt", "DIRECTORY launch", "DIRECTORY config launch")
+    user = tmp_path / "src" / "user_bringup"
+    shutil.copytree(template_package, user)
+    edit(user / "package.xml", "<name>rob_description</name>", "<name>user_bringup</name>")
+    edit(user / "CMakeLists.txt", "project(rob_description", "project(user_bringup")
+    edit(
+        user / "package.xml",
+        "<exec_depend>xacro</exec_depend>",
+        "<exec_depend>xacro</exec_depend>\n  <exec_depend>rob_description</exec_depend>",
+    )
+    (user / "launch" / "params.launch.xml").write_text(
+        '<launch>\n  <node pkg="rob_description" exec="x" name="x">\n'
+        '    <param from="$(find-pkg-share rob_description)/config/params.yaml"/>\n  </node>\n</launch>\n'
+    )
+    line = line_of(user / "launch" / "params.launch.xml", "params.yaml")
+    _, report = verify_report(tmp_path, "--no-cache")
+    _, alone = verify_report(user, "--no-cache")
+    in_workspace = [
+        (d["code"], d["line"]) for d in report["diagnostics"] if d["path"].endswith("params.launch.xml")
+    ]
+    by_itself = [
+        (d["code"], d["line"]) for d in alone["diagnostics"] if d["path"].endswith("params.launch.xml")
+    ]
+    assert in_workspace == by_itself and ("PF303", line) in in_workspace, (in_workspace, by_itself)
+
+
+@pytest.mark.triggers("PF110")
+def test_namesakes_are_named_from_the_workspace_root(tmp_path, template_package):
+    """A repository of workspaces verified from its root (no src/ there): the other copy's folder in
+    the message reads as the report's paths do."""
+    _copies(tmp_path, template_package, "s1/src", "s2/src")
+    _, report = verify_report(tmp_path, "--no-cache")
+    found = [(d["path"], d["message"].split(":")[0]) for d in report["diagnostics"] if d["code"] == "PF110"]
+    assert found == [
+        ("s1/src/rob_description/package.xml", "package 'rob_description' is also at s2/src/rob_description"),
+        ("s2/src/rob_description/package.xml", "package 'rob_description' is also at s1/src/rob_description"),
+    ]
+
+
 @pytest.mark.triggers("PF105")
 def test_build_type_missing(package):
     manifest = package / "package.xml"

@@ -74,3 +74,26 @@ def test_cli_starts_the_fork_server_first_without_cache_and_ends_it_on_an_error(
     assert result.output.strip().splitlines() == [f"pkgforge: error: {missing} does not exist"]
     assert len(started) == 1 and started[0] is not None
     assert _fork_servers() == []
+
+
+def test_the_fork_server_writes_no_byte_code_beside_a_module_from_the_user_s_path(tmp_path, template_package):
+    """The server's preload imports ament_index_python (and xacro) from the user's PYTHONPATH when
+    it is there (a sourced overlay): nothing may be written in those folders, even where the
+    interpreter would write byte code."""
+    import shutil
+    from pathlib import Path
+
+    from conftest import run_pkgforge
+
+    import pkgforge
+
+    overlay = tmp_path / "overlay"
+    stand_in = Path(pkgforge.__file__).parent / "launch" / "api_ament" / "ament_index_python"
+    shutil.copytree(stand_in, overlay / "ament_index_python", ignore=shutil.ignore_patterns("__pycache__"))
+    workspace = tmp_path / "ws"
+    shutil.copytree(template_package, workspace / "src" / "rob_description")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(overlay), env.get("PYTHONPATH")]))
+    result = run_pkgforge("verify", "src/rob_description", "--no-cache", cwd=workspace, env=env)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert not list(overlay.rglob("__pycache__")) and not list(overlay.rglob("*.pyc"))

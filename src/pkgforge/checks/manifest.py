@@ -432,7 +432,9 @@ def package_name_duplicate(ctx: CheckContext) -> Iterator[Finding]:
     name = model.manifest.name
     if not ctx.namesakes or not name:
         return
-    top = ctx.workspace_base.parent if ctx.workspace_base is not None else model.path.parent
+    # the workspace's root (where colcon runs: the paths of the report, run there, start there)
+    base = ctx.workspace_base if ctx.workspace_base is not None else model.path.parent
+    top = base.parent if base.name == "src" else base
 
     def shown(folder: Path) -> str:
         return os.path.relpath(folder, top) if folder.is_relative_to(top) else str(folder)

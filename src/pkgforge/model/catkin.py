@@ -58,4 +58,7 @@ def defer() -> None:
 defer()
 from catkin_pkg.package import InvalidPackage, parse_package_string  # noqa: E402
 
+if not hasattr(sys.modules["catkin_pkg"], "condition"):  # `catkin_pkg.condition` as an attribute too
+    sys.modules["catkin_pkg"].condition = sys.modules[CONDITION_MODULE]  # type: ignore[attr-defined]
+
 __all__ = ["InvalidPackage", "defer", "parse_package_string"]

@@ -51,13 +51,12 @@ def serve(channel: int) -> None:
 
     parent = os.getppid()
     die_with_parent(parent)
+    # as in a worker: no byte code written, also for what the preload imports (xacro and
+    # ament_index_python may come from the user's PYTHONPATH: a sourced overlay's folders)
+    sys.dont_write_bytecode = True
     from pkgforge.sandbox import worker
 
-    # pkgforge's own modules and libraries only, byte code written as the main process writes its
-    # own (else the modules only workers import were compiled again every run where no installer
-    # compiled them: an editable install, ~20 ms of the server's start); no user code runs here
     worker.preload()
-    sys.dont_write_bytecode = True  # as in a worker: nothing written beside any module a fork imports
     sock = socket.socket(fileno=channel)
     wake_read, wake_write = os.pipe()
     os.set_blocking(wake_write, False)

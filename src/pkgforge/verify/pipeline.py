@@ -344,6 +344,7 @@ def load_one_package(
     if not targets:
         return [], {}, everything, {}
     namesakes = namesakes_of([(name, p) for name, p in named if p != folder] + [(targets[0].name, folder)])
+    everything[targets[0].name] = folder  # its own name is itself, whatever other copy the walk met
     models = {folder: _load(targets[0])}
     todo = [models[folder]]
     while todo:
@@ -373,16 +374,20 @@ def namesakes_of(named: list[tuple[str, Path]]) -> Namesakes:
 
 
 def _shadowed(models: list[PackageModel], namesakes: Namesakes, tree: InstallTree) -> set[Path]:
-    """The packages sharing their name with another whose files the install tree holds instead (its
-    package.xml there is not theirs): their launch files and models cannot be resolved in it."""
-    shadowed = set()
+    """Of the packages sharing a name, all but the one the install tree holds: the copy whose
+    package.xml the tree's is (a predicted tree, a symlinked install), else the first, which the
+    predicted tree would hold (a copied install does not say whose it is). The others' launch
+    files and models cannot be resolved in it."""
+    copies: dict[str, list[PackageModel]] = {}
     for model in models:
-        if model.path not in namesakes:
-            continue
-        share = tree.share(model.share_name)
-        manifest = str(share / "package.xml") if share is not None else None
-        if manifest is None or tree.origin(manifest) != os.path.realpath(model.path / "package.xml"):
-            shadowed.add(model.path)
+        if model.path in namesakes:
+            copies.setdefault(model.name, []).append(model)
+    shadowed = set()
+    for same in copies.values():
+        share = tree.share(same[0].share_name)
+        origin = tree.origin(str(share / "package.xml")) if share is not None else None
+        held = next((m for m in same if origin == os.path.realpath(m.path / "package.xml")), same[0])
+        shadowed |= {m.path for m in same if m is not held}
     return shadowed
 
 
@@ -466,7 +471,9 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
             targets, models, everything, namesakes = load_one_package(workspace)
         else:
             targets, models = load_models(workspace, jobs)
-            everything = {model.name: path for path, model in models.items()}
+            everything = {}  # the first copy of a name, as the install tree holds (PF110)
+            for path, model in models.items():
+                everything.setdefault(model.name, path)
             namesakes = namesakes_of([(t.name, t.path) for t in targets])
         if not targets:
             raise PkgforgeError(f"no package found under {root}")
@@ -685,11 +692,11 @@ def run(
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
         progress.show(f"{len(checked)} packages: install tree")
-        # one copy of a name, as an install folder holds one (the first; the others are shadowed,
-        # PF110): files only another copy has would stand in its share folder with no source
+        # one copy of a package name, as an install folder holds one (the first; the others are
+        # shadowed, PF110): files only another copy has would stand in its share folder, sourceless
         placed: dict[str, PackageModel] = {}
         for model in models.values():
-            placed.setdefault(model.share_name, model)
+            placed.setdefault(model.name, model)
         try:
             tree = make_tree(options, workspace, list(placed.values()))
         except BuildFailed as failure:
@@ -754,7 +761,9 @@ def run(
     read: dict[Path, set[str]] = {}
     try:
         check_launch_arguments(options.launch_arguments, resolutions)
-        by_share = {m.share_name: m for m in models.values()}
+        by_share: dict[str, PackageModel] = {}  # the first of a name, as the tree holds (PF110)
+        for model in models.values():
+            by_share.setdefault(model.share_name, model)
         shared: dict[
             Any, Any
         ] = {}  # what every package's checks would otherwise build again (CheckContext.shared)
@@ -810,6 +819,9 @@ def run(
         if _machine_dependent(
             resolutions.get(models[t.path].name, []), model_results.get(models[t.path].name, [])
         )
+        # a package sharing its name: which copy the tree holds differs between a run on the
+        # workspace and one on the package alone, and so do its checks (PF110)
+        or t.path in (namesakes or {})
     }
     engine = options.engine()
     return VerifyResult(
