@@ -76,3 +76,16 @@ def test_children_leave_this_process_s_temporary_folders_alone():
         open(marker, "w").close()
         forked_map(square_where, ITEMS, jobs=2)
         assert os.path.exists(marker)
+
+
+def test_a_fork_refused_has_every_slice_done_here(monkeypatch):
+    """No child can be started (EAGAIN at the process limit, ENOMEM): the map is the serial one,
+    never an error of its own."""
+    import concurrent.futures
+    import errno
+
+    def refuse(self, *args, **kwargs):
+        raise OSError(errno.EAGAIN, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(concurrent.futures.ProcessPoolExecutor, "submit", refuse)
+    assert forked_map(square_where, ITEMS, jobs=2) == [(i * i, True) for i in ITEMS]

@@ -35,7 +35,7 @@ def forked_map(function: Callable[[T], A], items: Sequence[T], jobs: int) -> lis
     in the child); in order, exceptions as the serial map raises them."""
     if jobs <= 1 or len(items) < FORK_THRESHOLD or threading.active_count() > 1:
         return [function(item) for item in items]
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import Future, ProcessPoolExecutor
     from multiprocessing import get_context
 
     size = -(-len(items) // jobs)
@@ -45,11 +45,16 @@ def forked_map(function: Callable[[T], A], items: Sequence[T], jobs: int) -> lis
     try:
         # the first slice is this process's own, done while the children do theirs: one fork fewer
         with ProcessPoolExecutor(max_workers=len(bounds) - 1, mp_context=get_context("fork")) as pool:
-            futures = [pool.submit(_slice, start, stop) for start, stop in bounds[1:]]
+            futures: list[Future[list[A]] | None] = []
+            for start, stop in bounds[1:]:
+                try:
+                    futures.append(pool.submit(_slice, start, stop))
+                except Exception:  # noqa: BLE001 - no child (the fork refused: EAGAIN, ENOMEM): done here
+                    futures.append(None)
             answers[0] = _slice(*bounds[0])
             for index, future in enumerate(futures, start=1):
                 try:
-                    answers[index] = future.result()
+                    answers[index] = future.result() if future is not None else None
                 except Exception:  # noqa: BLE001 - the slice is done again below, where `function`'s own exception is raised
                     pass
     finally:
