@@ -89,3 +89,31 @@ def test_a_fork_refused_has_every_slice_done_here(monkeypatch):
 
     monkeypatch.setattr(concurrent.futures.ProcessPoolExecutor, "submit", refuse)
     assert forked_map(square_where, ITEMS, jobs=2) == [(i * i, True) for i in ITEMS]
+
+
+def test_model_loading_without_loader_processes_loads_every_model_here(
+    tmp_path, template_package, monkeypatch
+):
+    """verify's parallel model loading (16 packages or more) when no loader process can be
+    forked: the same targets and models, loaded in this process, not an error."""
+    import concurrent.futures
+    import errno
+    import shutil
+
+    from pkgforge.verify.pipeline import PARALLEL_THRESHOLD, load_models
+    from pkgforge.workspace import Workspace
+
+    for number in range(PARALLEL_THRESHOLD + 1):
+        shutil.copytree(template_package, tmp_path / "src" / f"copy{number:02d}" / "rob_description")
+    workspace = Workspace(tmp_path, tmp_path / "src")
+    targets, models = load_models(workspace, 2)
+
+    def refuse(self, *args, **kwargs):
+        raise OSError(errno.EAGAIN, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(concurrent.futures.ProcessPoolExecutor, "submit", refuse)
+    alone_targets, alone_models = load_models(workspace, 2)
+    assert alone_targets == targets and len(targets) == PARALLEL_THRESHOLD + 1
+    assert {p: (m.name, m.build_type, sorted(map(str, m.files))) for p, m in alone_models.items()} == {
+        p: (m.name, m.build_type, sorted(map(str, m.files))) for p, m in models.items()
+    }

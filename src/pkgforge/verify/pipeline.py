@@ -235,10 +235,18 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
     workers = max(1, jobs)
     size = max(1, -(-len(guessed) // (workers * 4)))
     chunks = [guessed[i : i + size] for i in range(0, len(guessed), size)]
+    loaded: dict[Path, PackageModel] = {}
     with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("fork")) as pool:
-        futures = [pool.submit(_load_chunk, chunk) for chunk in chunks]
+        try:
+            futures = [pool.submit(_load_chunk, chunk) for chunk in chunks]
+        except Exception:  # noqa: BLE001 - no loader (the fork refused: EAGAIN, ENOMEM): loaded below
+            futures = []
         targets = find_targets(workspace)
-        loaded = {model.path: model for future in futures for model in future.result()}
+        for future in futures:
+            try:
+                loaded.update((model.path, model) for model in future.result())
+            except Exception:  # noqa: BLE001 - a loader that died: its models are loaded below, here
+                pass
     models = {}
     for target in targets:
         model = loaded.get(target.path)
