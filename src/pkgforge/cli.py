@@ -58,6 +58,20 @@ def internal_error(what: str, trace: str) -> NoReturn:
     sys.exit(2)
 
 
+def _exit_now(status: int) -> NoReturn:
+    """Exit with `status` as the interpreter would, without its teardown of every module and
+    object: the streams flushed and the exit handlers run (temporary folders, coverage data)."""
+    import atexit
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    atexit._run_exitfuncs()
+    os._exit(status)
+
+
 class _Group(click.Group):
     def main(self, args: Sequence[str] | None = None, *rest: Any, **kwargs: Any) -> Any:
         from pkgforge.sandbox.processes import Interrupted, install_signal_handlers
@@ -71,15 +85,14 @@ class _Group(click.Group):
         except Interrupted as stop:
             # unwound (every child killed, temporary trees removed): skip the interpreter's slow
             # teardown of every module, so Ctrl-C returns the prompt at once
-            import atexit
-
-            for stream in (sys.stdout, sys.stderr):
-                try:
-                    stream.flush()
-                except (OSError, ValueError):
-                    pass
-            atexit._run_exitfuncs()
-            os._exit(128 + stop.signum)  # its exit status (stop.code)
+            _exit_now(128 + stop.signum)  # its exit status (stop.code)
+        except SystemExit as done:
+            if args is None and (done.code is None or isinstance(done.code, int)):
+                # the command has ended (its output written, its files closed, its processes and
+                # temporary trees gone): the interpreter's teardown would only free every object
+                # one by one, ~10 ms of a pre-commit run and ~50 ms at 800 packages
+                _exit_now(done.code or 0)
+            raise
 
     def invoke(self, ctx: click.Context) -> Any:
         """Every command's errors end as one line and exit 2: a PkgforgeError as it says, an
