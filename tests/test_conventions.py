@@ -663,3 +663,17 @@ def test_shell_completion_is_documented_and_works(tmp_path):
         [str(SCRIPTS / "pkgforge")], env=env, capture_output=True, text=True, timeout=60, cwd=tmp_path
     )
     assert result.returncode == 0 and "plain,rule" in result.stdout.split(), result.stdout + result.stderr
+
+
+def test_exit_status_with_a_standard_stream_closed():
+    """Started with stdout or stderr closed (`>&-`), Python has no stream there: the command's
+    own exit status still comes out (cli._exit_now flushes only the streams that exist)."""
+    for closed, args, status in ((1, ["checks"], 0), (2, ["checks"], 0), (2, ["rule", "PF999"], 2)):
+        result = subprocess.run(
+            [sys.executable, "-m", "pkgforge", *args],
+            stdout=subprocess.DEVNULL if closed == 2 else None,
+            stderr=subprocess.DEVNULL if closed == 1 else None,
+            preexec_fn=lambda fd=closed: os.close(fd),  # noqa: PLW1509 - only os.close, before exec
+            timeout=120,
+        )
+        assert result.returncode == status, (closed, args, result.returncode)

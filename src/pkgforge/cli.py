@@ -65,7 +65,8 @@ def _exit_now(status: int) -> NoReturn:
 
     for stream in (sys.stdout, sys.stderr):
         try:
-            stream.flush()
+            if stream is not None:  # None: started with that descriptor closed (`>&-`)
+                stream.flush()
         except (OSError, ValueError):
             pass
     atexit._run_exitfuncs()
