@@ -78,26 +78,48 @@ def test_children_leave_this_process_s_temporary_folders_alone():
         assert os.path.exists(marker)
 
 
-def test_a_fork_refused_has_every_slice_done_here(monkeypatch):
-    """No child can be started (EAGAIN at the process limit, ENOMEM): the map is the serial one,
-    never an error of its own."""
-    import concurrent.futures
+def _forks_allowed(monkeypatch, allowed: int) -> list[int]:
+    """os.fork succeeds `allowed` times, then the system refuses it (EAGAIN, as at the process
+    limit); → the pids it gave."""
     import errno
 
-    def refuse(self, *args, **kwargs):
-        raise OSError(errno.EAGAIN, "Resource temporarily unavailable")
+    real, given = os.fork, []
 
-    monkeypatch.setattr(concurrent.futures.ProcessPoolExecutor, "submit", refuse)
-    assert forked_map(square_where, ITEMS, jobs=2) == [(i * i, True) for i in ITEMS]
+    def fork() -> int:
+        if len(given) >= allowed:
+            raise OSError(errno.EAGAIN, "Resource temporarily unavailable")
+        pid = real()
+        if pid:
+            given.append(pid)
+        return pid
+
+    monkeypatch.setattr(os, "fork", fork)
+    return given
 
 
+def _gone(pids: list[int]) -> bool:
+    return all(not os.path.exists(f"/proc/{pid}") for pid in pids)
+
+
+@pytest.mark.parametrize("allowed", [0, 1])
+def test_a_fork_refused_has_its_slice_done_here_and_leaves_nothing_waiting(monkeypatch, allowed):
+    """No child at all, or the second fork refused after the first worked (a pool kept that first
+    worker, and the exit handlers waited for it forever): the serial answers, every child reaped."""
+    given = _forks_allowed(monkeypatch, allowed)
+    answers = forked_map(square_where, ITEMS, jobs=3)
+    assert [value for value, _ in answers] == [i * i for i in ITEMS]
+    assert len(given) == allowed and _gone(given)
+    here = sum(1 for _, in_parent in answers if in_parent)
+    assert here == (len(ITEMS) if allowed == 0 else len(ITEMS) - len(ITEMS) // 3 - 1)
+
+
+@pytest.mark.parametrize("allowed", [0, 1])
 def test_model_loading_without_loader_processes_loads_every_model_here(
-    tmp_path, template_package, monkeypatch
+    tmp_path, template_package, monkeypatch, allowed
 ):
-    """verify's parallel model loading (16 packages or more) when no loader process can be
-    forked: the same targets and models, loaded in this process, not an error."""
-    import concurrent.futures
-    import errno
+    """verify's parallel model loading (16 packages or more) when no loader, or only the first,
+    can be forked: the same targets and models, the rest loaded in this process, not an error,
+    and no loader left behind."""
     import shutil
 
     from pkgforge.verify.pipeline import PARALLEL_THRESHOLD, load_models
@@ -108,11 +130,9 @@ def test_model_loading_without_loader_processes_loads_every_model_here(
     workspace = Workspace(tmp_path, tmp_path / "src")
     targets, models = load_models(workspace, 2)
 
-    def refuse(self, *args, **kwargs):
-        raise OSError(errno.EAGAIN, "Resource temporarily unavailable")
-
-    monkeypatch.setattr(concurrent.futures.ProcessPoolExecutor, "submit", refuse)
+    given = _forks_allowed(monkeypatch, allowed)
     alone_targets, alone_models = load_models(workspace, 2)
+    assert len(given) == allowed and _gone(given)
     assert alone_targets == targets and len(targets) == PARALLEL_THRESHOLD + 1
     assert {p: (m.name, m.build_type, sorted(map(str, m.files))) for p, m in alone_models.items()} == {
         p: (m.name, m.build_type, sorted(map(str, m.files))) for p, m in models.items()

@@ -189,14 +189,14 @@ def _load(target: PackageTarget) -> PackageModel:
     return load_package(target.path, colcon_type=target.colcon_type, parsed_by_colcon=target.parsed_by_colcon)
 
 
-def _load_chunk(folders: list[Path]) -> list[PackageModel]:
-    # catkin_pkg is not run on the manifests here: colcon's discovery runs it beside the loaders
-    # (its ROS extension parses every package.xml), and a package it could not parse is loaded
-    # again once discovery is done, with catkin_pkg's messages (load_models)
-    models = [_load(PackageTarget(folder, folder.name, None, True)) for folder in folders]
-    for model in models:  # read here, where loading just parsed the same texts (yamlnodes' memo)
-        model.rviz_read = {source: read for source, read in _rviz_files(model)}  # type: ignore[attr-defined]
-    return models
+def _load_folder(folder: Path) -> PackageModel:
+    """A package folder's model, in a model loader. catkin_pkg is not run on its manifest here:
+    colcon's discovery runs it beside the loaders (its ROS extension parses every package.xml),
+    and a package it could not parse is loaded again after, with catkin_pkg's messages."""
+    model = _load(PackageTarget(folder, folder.name, None, True))
+    # read here, where loading just parsed the same texts (yamlnodes' memo)
+    model.rviz_read = {source: read for source, read in _rviz_files(model)}  # type: ignore[attr-defined]
+    return model
 
 
 def _rviz_files(
@@ -222,31 +222,22 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
     if jobs <= 1 or len(guessed) < PARALLEL_THRESHOLD:
         targets = find_targets(workspace)
         return targets, {t.path: _load(t) for t in targets}
-    from concurrent.futures import ProcessPoolExecutor
-    from multiprocessing import get_context
-
     # imported here, before the fork, so that the loaders inherit them: this process needs them
     # anyway to unpickle the models, and each loader importing them again cost ~0.16 CPU s
     import pkgforge.model.package
     import pkgforge.model.rviz  # noqa: F401
+    from pkgforge.verify.forked import Forked, slices
 
-    # as many as cores: this process's discovery (colcon's ROS extension alone) ends long before
-    # the loading, and a core would then wait for the last chunks of one worker
-    workers = max(1, jobs)
-    size = max(1, -(-len(guessed) // (workers * 4)))
-    chunks = [guessed[i : i + size] for i in range(0, len(guessed), size)]
-    loaded: dict[Path, PackageModel] = {}
-    with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("fork")) as pool:
-        try:
-            futures = [pool.submit(_load_chunk, chunk) for chunk in chunks]
-        except Exception:  # noqa: BLE001 - no loader (the fork refused: EAGAIN, ENOMEM): loaded below
-            futures = []
+    # as many loaders as cores: this process's discovery (colcon's ROS extension alone) ends long
+    # before the loading. A loader that cannot be forked, or dies, leaves its models to this
+    # process, below (verify/forked.py)
+    loaders = Forked(_load_folder, guessed, slices(len(guessed), max(1, jobs)))
+    try:
         targets = find_targets(workspace)
-        for future in futures:
-            try:
-                loaded.update((model.path, model) for model in future.result())
-            except Exception:  # noqa: BLE001 - a loader that died: its models are loaded below, here
-                pass
+        answers = loaders.answers()
+    finally:
+        loaders.stop()
+    loaded = {model.path: model for answer in answers if answer is not None for model in answer}
     models = {}
     for target in targets:
         model = loaded.get(target.path)
