@@ -475,6 +475,26 @@ def test_install_wrong_destination(package):
     ]
 
 
+@pytest.mark.triggers("PF203")
+def test_a_resource_also_installed_under_share_may_stand_beside_a_program_too(package):
+    """doosan's common2 installs bin/DRCF/config beside its emulator (bin/common2) and, by another
+    rule, under share/common2: lookups find it there, so the copy beside the program is no
+    mistake. A resource installed only beside it stays install-wrong-destination."""
+    cmake = package / "CMakeLists.txt"
+    (package / "config").mkdir()
+    (package / "config" / "params.yaml").write_text("x: 1\n")
+    edit(
+        cmake,
+        "ament_package()",
+        "install(DIRECTORY urdf DESTINATION lib/${PROJECT_NAME})\n"
+        "install(DIRECTORY config DESTINATION lib/${PROJECT_NAME})\nament_package()",
+    )
+    status, report = verify_json(package)
+    assert [f for f in findings(report) if f[0] == "PF203"] == [
+        ("PF203", "install-wrong-destination", "error", "CMakeLists.txt", line_of(cmake, "DIRECTORY config"))
+    ]
+
+
 def test_cmake_invalid_unterminated_argument(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "DESTINATION share/${PROJECT_NAME}", 'DESTINATION "share/${PROJECT_NAME}')

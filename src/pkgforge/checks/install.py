@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Collection, Iterator
 from pathlib import Path
 from typing import Any
@@ -274,13 +275,34 @@ def _referenced_folders(
 def install_wrong_destination(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     share = f"share/{model.share_name}"
+    # what another rule installs under share/<package> as well is found there: a copy in a
+    # folder of its own beside it is no mistake (doosan's common2 installs bin/DRCF/config beside
+    # its emulator in bin/common2, and its whole bin/ folder under share/common2); one in share/
+    # itself is (it lands among every package's folders)
+    in_share = [
+        str(f.source)
+        for d, f in model.layout.files.items()
+        if d.startswith(share + "/") and f.source is not None
+    ]
+
+    def also_in_share(source: str) -> bool:
+        where = str(model.path / source.rstrip("/"))
+        return any(s == where or s.startswith(where + os.sep) for s in in_share)
+
     for rule in model.layout.destinations:
         resources = [
             s
             for s in rule.sources
-            if Path(s.rstrip("/")).name in RESOURCE_FOLDERS
-            or s.endswith(RESOURCE_SUFFIXES)
-            or (Path(s).parts and Path(s).parts[0] in RESOURCE_FOLDERS)
+            if (
+                Path(s.rstrip("/")).name in RESOURCE_FOLDERS
+                or s.endswith(RESOURCE_SUFFIXES)
+                or (Path(s).parts and Path(s).parts[0] in RESOURCE_FOLDERS)
+            )
+            and not (
+                rule.destination is not None
+                and rule.destination.split("/")[0] != "share"
+                and also_in_share(s)
+            )
         ]
         if not resources:
             continue
