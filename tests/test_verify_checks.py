@@ -495,6 +495,31 @@ def test_a_resource_also_installed_under_share_may_stand_beside_a_program_too(pa
     ]
 
 
+@pytest.mark.triggers("PF109")
+def test_an_optional_find_package_undeclared_is_a_warning(package):
+    """find_package(X QUIET) without REQUIRED, then if(X_FOUND) (zed_components'
+    point_cloud_transport): a clean machine builds without what needs it. A REQUIRED one that
+    package.xml does not declare stays an error."""
+    cmake = package / "CMakeLists.txt"
+    edit(
+        cmake,
+        "ament_package()",
+        "find_package(urdf QUIET)\nif(urdf_FOUND)\nendif()\nfind_package(tf2 REQUIRED)\nament_package()",
+    )
+    status, report = verify_json(package)
+    assert status == 1
+    assert [f for f in findings(report) if f[0] == "PF109"] == [
+        ("PF109", "find-package-undeclared", "error", "CMakeLists.txt", line_of(cmake, "find_package(tf2")),
+        (
+            "PF109",
+            "find-package-undeclared",
+            "warning",
+            "CMakeLists.txt",
+            line_of(cmake, "find_package(urdf"),
+        ),
+    ]
+
+
 def test_cmake_invalid_unterminated_argument(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "DESTINATION share/${PROJECT_NAME}", 'DESTINATION "share/${PROJECT_NAME}')

@@ -395,11 +395,21 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             tag = "test_depend"  # inside if(BUILD_TESTING): colcon builds with it on by default
         else:
             tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
+        words = {argument.text for argument in command.args[1:]}
+        # find_package(X QUIET) without REQUIRED (zed_components' point_cloud_transport, then
+        # if(X_FOUND)): the build goes on without it, it only leaves out what needs it
+        optional = "QUIET" in words and "REQUIRED" not in words
         yield Finding(
-            f"find_package({name}) but package.xml does not declare {name} for the build{why}",
+            f"find_package({name}) but package.xml does not declare {name} for the build{why}"
+            + (
+                "; it is optional (QUIET), so a clean machine builds without what needs it"
+                if optional
+                else ""
+            ),
             command.path,
             command.line,
             command.column,
+            severity=Severity.WARNING if optional else None,
             hint=(
                 f"change package.xml:{other.line} to <depend>{name}</depend>"
                 if other is not None and tag != "test_depend"
