@@ -157,20 +157,29 @@ find_package(ament_cmake REQUIRED)
 install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})
 ament_package()
 """
-BRINGUP_XML = """<?xml version="1.0"?>
+
+
+def manifest(name: str, description: str, exec_depends: list[str]) -> str:
+    """A format-3 ament_cmake package.xml with these run-time dependencies."""
+    depends = "".join(f"  <exec_depend>{d}</exec_depend>\n" for d in exec_depends)
+    return f"""<?xml version="1.0"?>
 <package format="3">
-  <name>choice_bringup</name>
+  <name>{name}</name>
   <version>0.1.0</version>
-  <description>includes choice_model_description's display launch</description>
+  <description>{description}</description>
   <maintainer email="test@example.com">Test Maintainer</maintainer>
   <license>Apache-2.0</license>
   <buildtool_depend>ament_cmake</buildtool_depend>
-  <exec_depend>choice_model_description</exec_depend>
-  <exec_depend>launch</exec_depend>
-  <exec_depend>launch_ros</exec_depend>
-  <export><build_type>ament_cmake</build_type></export>
+{depends}  <export><build_type>ament_cmake</build_type></export>
 </package>
 """
+
+
+BRINGUP_XML = manifest(
+    "choice_bringup",
+    "includes choice_model_description's display launch",
+    ["choice_model_description", "launch", "launch_ros"],
+)
 BRINGUP_LAUNCH = """from launch import LaunchDescription
 from launch.actions import IncludeLaunchDescription
 from launch.launch_description_sources import PythonLaunchDescriptionSource
@@ -249,22 +258,11 @@ def test_a_test_subdirectory_find_package_hints_test_depend(tmp_path):
     assert found["hint"].startswith("add <test_depend>launch_testing_ament_cmake</test_depend>")
 
 
-FLAGS_XML = """<?xml version="1.0"?>
-<package format="3">
-  <name>flags_description</name>
-  <version>0.1.0</version>
-  <description>flags written True/False, and a model given its xacro arguments in Python</description>
-  <maintainer email="test@example.com">Test Maintainer</maintainer>
-  <license>Apache-2.0</license>
-  <buildtool_depend>ament_cmake</buildtool_depend>
-  <exec_depend>ament_index_python</exec_depend>
-  <exec_depend>launch</exec_depend>
-  <exec_depend>launch_ros</exec_depend>
-  <exec_depend>robot_state_publisher</exec_depend>
-  <exec_depend>xacro</exec_depend>
-  <export><build_type>ament_cmake</build_type></export>
-</package>
-"""
+FLAGS_XML = manifest(
+    "flags_description",
+    "flags written True/False, and a model given its xacro arguments in Python",
+    ["ament_index_python", "launch", "launch_ros", "robot_state_publisher", "xacro"],
+)
 # andino's rosbag_record.launch.py: default_value='True' and PythonExpression(['not ', flag])
 FLAGS_RECORD = """from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, LogInfo

@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 import os
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -355,6 +355,15 @@ def load_one_package(
     return targets, models, everything, {folder: namesakes[folder]} if folder in namesakes else {}
 
 
+def first_of_each(models: Iterable[PackageModel], attribute: str) -> dict[str, PackageModel]:
+    """The first model of each value of `attribute` (name, share_name), in the models' order:
+    the copy of a name the install tree holds, and what every lookup of that name reads (PF110)."""
+    first: dict[str, PackageModel] = {}
+    for model in models:
+        first.setdefault(getattr(model, attribute), model)
+    return first
+
+
 # a package folder → the other folders of the workspace whose package has the same name
 Namesakes = dict[Path, tuple[Path, ...]]
 
@@ -470,9 +479,7 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
             targets, models, everything, namesakes = load_one_package(workspace)
         else:
             targets, models = load_models(workspace, jobs)
-            everything = {}  # the first copy of a name, as the install tree holds (PF110)
-            for path, model in models.items():
-                everything.setdefault(model.name, path)
+            everything = {name: m.path for name, m in first_of_each(models.values(), "name").items()}
             namesakes = namesakes_of([(t.name, t.path) for t in targets])
         if not targets:
             raise PkgforgeError(f"no package found under {root}")
@@ -691,11 +698,9 @@ def run(
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress()
         progress.show(f"{len(checked)} packages: install tree")
-        # one copy of a package name, as an install folder holds one (the first; the others are
-        # shadowed, PF110): files only another copy has would stand in its share folder, sourceless
-        placed: dict[str, PackageModel] = {}
-        for model in models.values():
-            placed.setdefault(model.name, model)
+        # one copy of a package name, as an install folder holds one (the others are shadowed,
+        # PF110): files only another copy has would stand in its share folder, sourceless
+        placed = first_of_each(models.values(), "name")
         try:
             tree = make_tree(options, workspace, list(placed.values()))
         except BuildFailed as failure:
@@ -760,9 +765,7 @@ def run(
     read: dict[Path, set[str]] = {}
     try:
         check_launch_arguments(options.launch_arguments, resolutions)
-        by_share: dict[str, PackageModel] = {}  # the first of a name, as the tree holds (PF110)
-        for model in models.values():
-            by_share.setdefault(model.share_name, model)
+        by_share = first_of_each(models.values(), "share_name")
         shared: dict[
             Any, Any
         ] = {}  # what every package's checks would otherwise build again (CheckContext.shared)
