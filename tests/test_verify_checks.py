@@ -520,27 +520,6 @@ def test_an_optional_find_package_undeclared_is_a_warning(package):
     ]
 
 
-@pytest.mark.triggers("PF304")
-def test_a_package_renamed_since_an_end_of_life_distro_is_named_in_the_hint(package):
-    """articubot_one's navigation launch file still runs nav2_recoveries (Foxy, Galactic)."""
-    launch = package / "launch" / "nav.launch.py"
-    launch.write_text(
-        "from launch import LaunchDescription\nfrom launch_ros.actions import Node\n\n\n"
-        "def generate_launch_description():\n"
-        "    return LaunchDescription([Node(package='nav2_recoveries', executable='recoveries_server')])\n"
-    )
-    status, report = verify_json(package)
-    (diagnostic,) = [d for d in report["diagnostics"] if d["code"] == "PF304"]
-    assert (diagnostic["path"], diagnostic["line"]) == (
-        "launch/nav.launch.py",
-        line_of(launch, "nav2_recoveries"),
-    )
-    assert (
-        diagnostic["hint"]
-        == "use nav2_behaviors: nav2_recoveries (Foxy, Galactic) was renamed nav2_behaviors"
-    )
-
-
 def test_cmake_invalid_unterminated_argument(package):
     cmake = package / "CMakeLists.txt"
     edit(cmake, "DESTINATION share/${PROJECT_NAME}", 'DESTINATION "share/${PROJECT_NAME}')
