@@ -499,3 +499,142 @@ def test_an_included_file_reading_the_robots_variable_is_no_load_error_of_the_in
     found = {(d["name"], d["path"].rsplit("/", 1)[-1]) for d in report["diagnostics"]}
     assert ("launch-environment-unset", "model.launch.py") in found
     assert not {f for f in found if f[1] == "world.launch.py"}
+
+
+STAND_IN_LAUNCH = """import os
+
+import yaml
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+
+
+def load_yaml(package_name, file_path):
+    absolute_file_path = os.path.join(get_package_share_directory(package_name), file_path)
+    try:
+        with open(absolute_file_path) as file:
+            return yaml.safe_load(file)
+    except EnvironmentError:
+        return None
+
+
+def generate_launch_description():
+    pipeline = {'move_group': {'planning_plugin': 'ompl_interface/OMPLPlanner'}}
+    pipeline['move_group'].update(load_yaml('LOOKED_UP', 'config/ompl_planning.yaml'))
+    return LaunchDescription([])
+"""
+
+
+def stand_in_package(tmp_path: Path, looked_up: str, exec_depends: list[str]) -> Path:
+    """A package whose launch file reads a YAML file of `looked_up` the way doosan-robot2's
+    dsr_moveit2.launch.py does (its own try returns None); the launch file."""
+    folder = tmp_path / "src" / "stand_in_bringup"
+    write_package(
+        folder,
+        {
+            "CMakeLists.txt": BRINGUP_CMAKE.replace("choice_bringup", "stand_in_bringup"),
+            "package.xml": manifest("stand_in_bringup", "reads another package's YAML", exec_depends),
+            "launch/moveit.launch.py": STAND_IN_LAUNCH.replace("LOOKED_UP", looked_up),
+        },
+    )
+    return folder / "launch" / "moveit.launch.py"
+
+
+def test_a_load_failure_after_a_package_not_found_is_that_lookups_error(tmp_path):
+    # doosan-robot2: moveit_config_m1013 is COLCON_IGNOREd; in ROS get_package_share_directory
+    # raises PackageNotFoundError at the lookup; the stand-in folder let loading go on to a
+    # TypeError (dict.update(None)) reported as PF301 at a line with nothing wrong on it
+    launch = stand_in_package(tmp_path, "pkgforge_test_absent_config", ["launch", "python3-yaml"])
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == [
+        (
+            "unknown-package",
+            "launch/moveit.launch.py",
+            line_of(launch, "get_package_share_directory(package_name)"),
+        )
+    ]
+
+
+def test_a_load_failure_with_every_package_found_stays_a_load_error(tmp_path):
+    # the same file, its package found (the YAML file is not there): the TypeError is its own
+    launch = stand_in_package(tmp_path, "stand_in_bringup", ["launch", "python3-yaml"])
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == [
+        ("launch-load-error", "launch/moveit.launch.py", line_of(launch, ".update(load_yaml("))
+    ]
+
+
+def test_a_package_looked_up_in_an_ignored_folder_is_named_in_the_hint(tmp_path):
+    # doosan-robot2's moveit_config_m1013 holds a COLCON_IGNORE: "not in the workspace" for colcon
+    launch = stand_in_package(tmp_path, "pkgforge_test_absent_config", ["launch", "python3-yaml"])
+    ignored = tmp_path / "src" / "configs" / "absent_config"
+    write_package(ignored, {"package.xml": manifest("pkgforge_test_absent_config", "ignored", [])})
+    (tmp_path / "src" / "configs" / "COLCON_IGNORE").write_text("")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == [
+        (
+            "unknown-package",
+            "launch/moveit.launch.py",
+            line_of(launch, "get_package_share_directory(package_name)"),
+        )
+    ]
+    (unknown,) = [d for d in report["diagnostics"] if d["name"] == "unknown-package"]
+    assert unknown["hint"] == (
+        "its folder configs/absent_config is inside configs, which holds a COLCON_IGNORE, so colcon "
+        "does not build it: delete that file to build it, or drop the lookup"
+    )
+
+
+MOVEIT_CONFIG = "moveit_resources_panda_moveit_config"  # released in every distro, not installed here
+
+
+def test_a_load_failure_after_reading_a_declared_package_not_installed_here_is_unevaluated(tmp_path):
+    # the MoveIt tutorials' load_yaml: the YAML file of a declared moveit config package, not
+    # installed here, read as None, then dict.update(None): a TypeError that ROS never raises
+    launch = stand_in_package(tmp_path, MOVEIT_CONFIG, ["launch", "python3-yaml", MOVEIT_CONFIG])
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == []
+    (unevaluated,) = [d for d in report["diagnostics"] if d["code"] == "PF311"]
+    assert (unevaluated["path"], unevaluated["line"]) == (
+        "src/stand_in_bringup/launch/moveit.launch.py",
+        line_of(launch, ".update(load_yaml("),
+    )
+    assert unevaluated["message"] == (
+        f"moveit.launch.py reads files of {MOVEIT_CONFIG} while loading, a package not installed "
+        "here; checked statically instead"
+    )
+
+
+def test_a_direct_read_of_a_declared_package_not_installed_here_is_unevaluated(tmp_path):
+    launch = stand_in_package(tmp_path, MOVEIT_CONFIG, ["launch", "python3-yaml", MOVEIT_CONFIG])
+    edit(launch, "    except EnvironmentError:\n        return None\n", "    finally:\n        pass\n")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == []
+    assert [(d["code"], d["line"]) for d in report["diagnostics"] if d["code"] == "PF311"] == [
+        ("PF311", line_of(launch, "with open(absolute_file_path)"))
+    ]
+
+
+def test_a_defect_of_its_own_after_reading_a_package_not_installed_here_stays_a_load_error(tmp_path):
+    launch = stand_in_package(tmp_path, MOVEIT_CONFIG, ["launch", "python3-yaml", MOVEIT_CONFIG])
+    edit(launch, "pipeline['move_group'].update(", "print(")  # the read's None used harmlessly
+    edit(launch, "    return LaunchDescription([])", "    return LaunchDescriptio([])")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == [
+        ("launch-load-error", "launch/moveit.launch.py", line_of(launch, "LaunchDescriptio("))
+    ]
+
+
+def test_a_type_error_of_its_own_after_a_package_not_found_stays_a_load_error(tmp_path):
+    # doosan's dsr_control2.launch.py: Node() without executable= is a TypeError about no None
+    launch = stand_in_package(tmp_path, "pkgforge_test_absent_config", ["launch", "python3-yaml"])
+    edit(launch, "pipeline['move_group'].update(", "print(")
+    edit(launch, "    return LaunchDescription([])", "    return LaunchDescription([len(5)])")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "stand_in_bringup") == [
+        ("launch-load-error", "launch/moveit.launch.py", line_of(launch, "len(5)")),
+        (
+            "unknown-package",
+            "launch/moveit.launch.py",
+            line_of(launch, "get_package_share_directory(package_name)"),
+        ),
+    ]

@@ -92,6 +92,9 @@ def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -
     return sorted(descriptors, key=lambda d: (d.name or "", str(d.path)))
 
 
+# the files that keep colcon out of a folder and everything below it (colcon's ignore extension)
+IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
+
 # what colcon's cmake, python and python_setup_py identification extensions look for in a folder
 BUILD_FILES = ("CMakeLists.txt", "setup.py")
 

@@ -224,6 +224,36 @@ class CheckContext:
         found: dict[str, Path] = self._shared(("nested", str(model.path)), compute)
         return found
 
+    def ignored_packages(self) -> dict[str, tuple[Path, Path]]:
+        """The packages in the workspace's folders that an ignore marker (COLCON_IGNORE,
+        AMENT_IGNORE, CATKIN_IGNORE) keeps colcon from building: name → (folder, the marker
+        file), the first folder of each name. doosan-robot2's moveit_config_m1013, looked up by
+        another package's launch file, is in no workspace colcon sees while its folder is right
+        there. Walked once per run, and only when a lookup found no package."""
+
+        def compute() -> dict[str, tuple[Path, Path]]:
+            from pkgforge.model.files import quick_name
+            from pkgforge.walk import walk
+            from pkgforge.workspace import IGNORE_MARKERS
+
+            found: dict[str, tuple[Path, Path]] = {}
+            if self.workspace_base is None:
+                return found
+            for folder, dirs, files in walk(self.workspace_base):
+                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+                marker = next((m for m in IGNORE_MARKERS if m in files), None)
+                if marker is None:
+                    continue
+                dirs[:] = []  # what is below is walked here, once
+                for inner, inner_dirs, inner_files in walk(folder):
+                    inner_dirs[:] = sorted(d for d in inner_dirs if not d.startswith("."))
+                    if "package.xml" in inner_files:
+                        found.setdefault(quick_name(Path(inner)), (Path(inner), Path(folder) / marker))
+            return found
+
+        result: dict[str, tuple[Path, Path]] = self._shared(("ignored", str(self.workspace_base)), compute)
+        return result
+
     def install_base_packages(self) -> Collection[str]:
         """Packages the install base (--install-base) holds: the tree's, else those its ament index
         names (a merged or an isolated install)."""
@@ -326,7 +356,11 @@ class CheckContext:
             return "package"
         if error.type == "XacroException":
             return "xacro"
-        if self.package_not_installed_here(error) or (error.type == "FileNotFoundError" and error.program):
+        if (
+            self.package_not_installed_here(error)
+            or (error.type == "FileNotFoundError" and error.program)
+            or error.read_from
+        ):
             return "unevaluated"  # (a program it runs at load, by name, that this machine lacks)
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"

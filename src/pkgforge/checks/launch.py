@@ -487,6 +487,16 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
             f"'{name}' is the name of the folder; the package is named '{own}' (package.xml "
             f"<name>), and lookups use that: write '{own}', or rename one to match the other"
         )
+    ignored = ctx.ignored_packages().get(name)
+    if ignored is not None:
+        folder, marker = ignored
+        base = ctx.workspace_base or folder.parent
+        where = (
+            f"its folder {folder.relative_to(base)} holds"
+            if marker.parent == folder
+            else f"its folder {folder.relative_to(base)} is inside {marker.parent.relative_to(base)}, which holds"
+        )
+        return f"{where} a {marker.name}, so colcon does not build it: delete that file to build it, or drop the lookup"
     # candidates are package names only: a folder's name is no package (the lookup of a folder
     # named unlike its package is this very mistake), and never the wrong name itself
     candidates = sorted((set(ctx.workspace) | ctx.model.manifest.declared() | {own}) - {name})
@@ -711,9 +721,13 @@ def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
         "from nav2_common.launch import RewrittenYaml"
     ),
     good="$ pkgforge verify . --install-base install   # on a machine with nav2_common installed",
-    summary="a launch file imports a module of a ROS package (or runs a program) not installed here",
+    summary="a launch file imports a module of a ROS package, reads its files (or runs a program) "
+    "not installed here",
     explanation="Not the launch file's fault: the package (or a program it runs while loading, "
-    "such as ros2) is simply not on this machine. Its "
+    "such as ros2) is simply not on this machine. A file that reads a declared package's files "
+    "while loading (the MoveIt tutorials' load_yaml) and fails on what it did not find (None "
+    "from its own `except EnvironmentError`) is this too: where the package is installed, the "
+    "files are there. Its "
     "literal package and path references are still checked, statically; a package it does not "
     "declare is missing-exec-depend's.",
     hint="verify on a machine with the dependency installed (or --install-base) to evaluate it",
@@ -726,11 +740,12 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 resolution.launch.source or resolution.launch.installed,
                 None,
             )
-            what = (
-                f"runs {error.program} while loading, a program not installed here"
-                if error.program
-                else f"imports {error.module}, from a package not installed here"
-            )
+            if error.program:
+                what = f"runs {error.program} while loading, a program not installed here"
+            elif error.read_from:
+                what = f"reads files of {error.read_from} while loading, a package not installed here"
+            else:
+                what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
 
 

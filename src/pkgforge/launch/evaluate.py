@@ -102,6 +102,54 @@ def _missing_package_of(error: BaseException) -> str | None:
     return _package_folder_on_path(runtime.MISSING_PACKAGE_ROOT + "/", error)
 
 
+def _empty_read_consequence(error: BaseException) -> bool:
+    """Whether a failure is what reading a file that is not there becomes in a launch file's own
+    code: its helper returned None (the MoveIt tutorials' load_yaml: `except EnvironmentError:
+    return None`) or an empty list, and the next line used it. A NameError, an ImportError, a
+    KeyError or a TypeError about anything but None (Node() without executable=) is the file's."""
+    if isinstance(error, IndexError):
+        return True
+    return isinstance(error, (TypeError, AttributeError)) and "NoneType" in str(error)
+
+
+def _first_missing_lookup() -> str | None:
+    """The first package a loading file looked up and was not found (its lookup not inside a
+    try that catches the failure: those raise here as in ROS), for a failure an empty read
+    leads to. Where the package is not found either, that lookup raised PackageNotFoundError
+    and loading stopped there; here it returned an empty stand-in and loading went on, so the
+    failure is that lookup's consequence: doosan's dsr_moveit2.launch.py reads a YAML file
+    from the stand-in, its own try returns None, and `dict.update(None)` raised a TypeError at
+    a line with nothing wrong on it. Any other failure stays the file's own (mogi's
+    os.environ['GZ_SIM_RESOURCE_PATH'] after a lookup of ros_gz_sim, not installed here)."""
+    return next((p.name for p in RECORDER.packages if p.found is False), None)
+
+
+def _not_installed_read(error: BaseException) -> str | None:
+    """The declared package, not installed here (its share folder an empty phantom), that a
+    loading file read from when its loading failed: a file not found there, or (for an error
+    that an empty read leads to) the first such package it looked up. On the user's machine the
+    package is installed and the file is there, so the failure is not the launch file's."""
+    phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
+    if not phantom:
+        return None
+    root = phantom.rstrip(os.sep) + os.sep
+    filename = getattr(error, "filename", None)
+    if isinstance(error, OSError) and isinstance(filename, str):
+        if filename.startswith(root + "share" + os.sep):
+            return filename[len(root + "share" + os.sep) :].split(os.sep)[0] or None
+        return None
+    if not _empty_read_consequence(error):
+        return None
+    return next(
+        (
+            package
+            for package, prefix in RECORDER.prefix_cache.items()
+            if isinstance(prefix, str) and (prefix + os.sep).startswith(root)
+        ),
+        None,
+    )
+
+
 def _nowhere_else(error: BaseException) -> bool:
     """A module not found whose top-level name is found nowhere on the path: a module of its own
     (rs_launch), not a misspelt name inside an installed one (launch_ros.actionz)."""
@@ -171,6 +219,8 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         match = NOT_FOUND.search(str(error))
         record["package"] = match.group(1) if match else str(error).strip("'\"")
     missing = _missing_package_of(error)
+    if missing is None and stage == "load" and _empty_read_consequence(error):
+        missing = _first_missing_lookup()
     if missing is not None:
         # the file stopped on the empty stand-in of a package not found: that lookup is the cause
         lookup = next((p for p in RECORDER.packages if p.name == missing and p.found is False), None)
@@ -184,6 +234,10 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         if lookup is not None:
             record["file"], record["line"] = lookup.file, lookup.line
             return as_dict(from_dict(Error, record))
+    if missing is None and stage == "load":
+        absent = _not_installed_read(error)
+        if absent is not None:
+            record["read_from"] = absent
     if isinstance(error, ModuleNotFoundError):
         record["module"] = error.name
         owner = _declared_folder_on_path(error)

@@ -130,6 +130,7 @@ class ErrorRecordDict(RecordDict, total=False):
     package: str | None
     module: str | None
     program: str | None
+    read_from: str | None
     limit: LimitKind | None
 
 
@@ -281,6 +282,9 @@ class Error(Record):
     package: str | None = None  # PackageNotFoundError: which package
     module: str | None = None  # ModuleNotFoundError: which module
     program: str | None = None  # FileNotFoundError of a program the file runs (by name, from PATH)
+    # a declared package not installed here whose (empty) share folder the loading file read:
+    # what failed after is that read's consequence (on the user's machine the files are there)
+    read_from: str | None = None
     limit: LimitKind | None = None  # a worker limit hit (never cached)
 
 

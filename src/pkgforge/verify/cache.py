@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
 from pkgforge.model.files import manifest_text, quick_name
+from pkgforge.workspace import IGNORE_MARKERS
 
 if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
@@ -32,7 +33,10 @@ if TYPE_CHECKING:
 # 5: stop 23's answers (PF305/PF304/PF308 warnings off the defaults, PF311 for what this machine
 #    lacks, nested templates and .repos repositories known, True/False branches, SDF through xacro)
 # 6: PF110 (two workspace packages with one name); the workspace key holds such names' folders
-CACHE_FORMAT = 6
+# 7: a launch file's load failure after a package not found, or after reading a declared package
+#    not installed here, is that lookup's (PF304/PF305) or PF311, not PF301; PF304's hint names
+#    an ignored folder holding the package
+CACHE_FORMAT = 7
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 
 
@@ -152,7 +156,6 @@ class ResultCache:
 
 WORKSPACE_ENTRY = "workspace.whole"  # (not *.json: one file, not a package's entry)
 PRUNED = (".git",)  # never read by verify, and large
-IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
 # a file's (size, mtime ns, ctime ns, mode), or [errno] when it cannot be stat'ed
 FileStamp = list[int | None]
 MAX_STAMPED = 100_000  # more files: no workspace entry (the per-package lookup as before)

@@ -22,7 +22,7 @@ from pkgforge.model.files import quick_name
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
 from pkgforge.verify.config import Config, Selection, load_config
 from pkgforge.verify.progress import Progress
-from pkgforge.workspace import Workspace, discover, locate
+from pkgforge.workspace import IGNORE_MARKERS, Workspace, discover, locate
 
 if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
@@ -41,7 +41,6 @@ if TYPE_CHECKING:
 # The model layer (lxml, catkin_pkg) and the checks load only when something
 # must be verified: a run answered from the cache never imports them.
 
-IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
