@@ -567,7 +567,13 @@ def test_a_package_looked_up_in_an_ignored_folder_is_named_in_the_hint(tmp_path)
     # doosan-robot2's moveit_config_m1013 holds a COLCON_IGNORE: "not in the workspace" for colcon
     launch = stand_in_package(tmp_path, "pkgforge_test_absent_config", ["launch", "python3-yaml"])
     ignored = tmp_path / "src" / "configs" / "absent_config"
-    write_package(ignored, {"package.xml": manifest("pkgforge_test_absent_config", "ignored", [])})
+    write_package(
+        ignored,
+        {
+            "package.xml": manifest("pkgforge_test_absent_config", "ignored", []),
+            "CMakeLists.txt": BRINGUP_CMAKE,
+        },
+    )
     (tmp_path / "src" / "configs" / "COLCON_IGNORE").write_text("")
     _, report = verify_report(tmp_path, "--no-cache")
     assert errors(report, "stand_in_bringup") == [
@@ -638,3 +644,99 @@ def test_a_type_error_of_its_own_after_a_package_not_found_stays_a_load_error(tm
             line_of(launch, "get_package_share_directory(package_name)"),
         ),
     ]
+
+
+def bringup_with(tmp_path: Path, launch_text: str, exec_depends: list[str]) -> Path:
+    """A package whose one launch file is `launch_text`; the launch file."""
+    folder = tmp_path / "src" / "edge_bringup"
+    write_package(
+        folder,
+        {
+            "CMakeLists.txt": BRINGUP_CMAKE.replace("choice_bringup", "edge_bringup"),
+            "package.xml": manifest("edge_bringup", "one launch file", exec_depends),
+            "launch/edge.launch.py": launch_text,
+        },
+    )
+    return folder / "launch" / "edge.launch.py"
+
+
+def test_a_none_of_its_own_after_looking_up_a_package_not_installed_here_stays_a_load_error(tmp_path):
+    # looked up, never read: the AttributeError is the file's (a second reader's case)
+    launch = bringup_with(
+        tmp_path,
+        "from ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\n\nROBOTS = {'panda': 'panda.urdf'}\n\n\n"
+        "def generate_launch_description():\n"
+        f"    config = get_package_share_directory('{MOVEIT_CONFIG}')\n"
+        "    urdf = ROBOTS.get('pandaa').upper()\n"
+        "    return LaunchDescription([])\n",
+        ["launch", MOVEIT_CONFIG],
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "edge_bringup") == [
+        ("launch-load-error", "launch/edge.launch.py", line_of(launch, ".upper()"))
+    ]
+
+
+def test_a_lookup_in_a_helper_called_inside_a_try_is_caught_as_in_ros(tmp_path):
+    # the helper's lookup raises to its caller's try in ROS: no unknown package, and the
+    # IndexError after it is the file's own
+    launch = bringup_with(
+        tmp_path,
+        "from ament_index_python.packages import PackageNotFoundError, get_package_share_directory\n"
+        "from launch import LaunchDescription\n\n\ndef share_of(package):\n"
+        "    return get_package_share_directory(package)\n\n\n"
+        "def generate_launch_description():\n"
+        "    try:\n        extra = share_of('pkgforge_test_optional_driver')\n"
+        "    except PackageNotFoundError:\n        extra = None\n"
+        "    worlds = [w for w in ('empty', 'house') if w == 'houses']\n"
+        "    world = worlds[0]\n"
+        "    return LaunchDescription([])\n",
+        ["launch"],
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert errors(report, "edge_bringup") == [
+        ("launch-load-error", "launch/edge.launch.py", line_of(launch, "worlds[0]"))
+    ]
+
+
+LOOKUP_LAUNCH = (
+    "from ament_index_python.packages import get_package_share_directory\n"
+    "from launch import LaunchDescription\n\n\ndef generate_launch_description():\n"
+    "    share = get_package_share_directory('pkgforge_test_old_name')\n"
+    "    return LaunchDescription([])\n"
+)
+
+
+def hint_of(report: dict) -> str:
+    (unknown,) = [d for d in report["diagnostics"] if d["name"] == "unknown-package"]
+    return str(unknown["hint"])
+
+
+def test_colcons_own_install_folder_is_no_ignored_package(tmp_path):
+    # a repository with no src/: an earlier colcon build left install/ (ignored by colcon) with
+    # the old name's package.xml; deleting install/COLCON_IGNORE is no advice to give
+    bringup_with(tmp_path, LOOKUP_LAUNCH, ["launch"])
+    repository = tmp_path / "src"  # verified as the workspace: its packages and install/ side by side
+    old = repository / "install" / "share" / "pkgforge_test_old_name"
+    write_package(old, {"package.xml": manifest("pkgforge_test_old_name", "old", []), "CMakeLists.txt": ""})
+    (repository / "install" / "COLCON_IGNORE").write_text("")
+    (repository / "install" / ".colcon_install_layout").write_text("isolated\n")
+    _, report = verify_report(repository, "--no-cache")
+    assert hint_of(report) == "check the name against package.xml <name>"
+
+
+def test_a_cached_run_sees_an_ignored_package_come_and_go(tmp_path):
+    bringup_with(tmp_path, LOOKUP_LAUNCH, ["launch"])
+    (tmp_path / "src" / "old" / "COLCON_IGNORE").parent.mkdir()
+    (tmp_path / "src" / "old" / "COLCON_IGNORE").write_text("")
+    assert hint_of(verify_report(tmp_path)[1]) == "check the name against package.xml <name>"
+    write_package(
+        tmp_path / "src" / "old" / "deep" / "pkg",
+        {"package.xml": manifest("pkgforge_test_old_name", "old", []), "CMakeLists.txt": BRINGUP_CMAKE},
+    )
+    assert hint_of(verify_report(tmp_path)[1]).startswith(
+        "its folder old/deep/pkg is inside old, which holds"
+    )
+    shutil.rmtree(tmp_path / "src" / "old" / "deep")
+    assert hint_of(verify_report(tmp_path)[1]) == "check the name against package.xml <name>"

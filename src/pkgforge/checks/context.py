@@ -37,6 +37,10 @@ LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", 
 _T = TypeVar("_T")
 
 
+# what colcon leaves in its own build/ and install/ folders (beside their COLCON_IGNORE)
+COLCON_OUTPUT_MARKERS = frozenset({".built_by", ".colcon_install_layout"})
+
+
 class FileFacts:
     """The file-system facts the checks ask for, each looked up once per run: whether a path
     exists (is a file, a folder, a link), where a link points, a path's real location, the names
@@ -119,6 +123,9 @@ class CheckContext:
     # one dict for every context of a run (the workspace and the tree are the same for each):
     # the package-name sets and file-system facts built once per run, not once per package
     shared: dict[Any, Any] = field(default_factory=dict)
+    # files outside the workspace's packages whose content this package's checks used (the cache
+    # stamps them: verify/cache.py externals)
+    read_elsewhere: set[str] = field(default_factory=set)
 
     def _shared(self, key: object, compute: Any) -> Any:
         if key not in self.shared:
@@ -231,27 +238,39 @@ class CheckContext:
         another package's launch file, is in no workspace colcon sees while its folder is right
         there. Walked once per run, and only when a lookup found no package."""
 
-        def compute() -> dict[str, tuple[Path, Path]]:
+        def compute() -> tuple[dict[str, tuple[Path, Path]], frozenset[str]]:
             from pkgforge.model.files import quick_name
             from pkgforge.walk import walk
-            from pkgforge.workspace import IGNORE_MARKERS
+            from pkgforge.workspace import BUILD_FILES, IGNORE_MARKERS
 
             found: dict[str, tuple[Path, Path]] = {}
+            read: set[str] = set()
             if self.workspace_base is None:
-                return found
+                return found, frozenset()
             for folder, dirs, files in walk(self.workspace_base):
                 dirs[:] = sorted(d for d in dirs if not d.startswith("."))
                 marker = next((m for m in IGNORE_MARKERS if m in files), None)
                 if marker is None:
                     continue
                 dirs[:] = []  # what is below is walked here, once
+                if COLCON_OUTPUT_MARKERS & set(files):
+                    continue  # colcon's own build/ or install/ (its share/<pkg>/package.xml is no source)
+                read.add(os.path.join(folder, marker))
                 for inner, inner_dirs, inner_files in walk(folder):
                     inner_dirs[:] = sorted(d for d in inner_dirs if not d.startswith("."))
-                    if "package.xml" in inner_files:
+                    read.add(inner)  # (a folder's stamp changes when an entry is added to it)
+                    # a package as colcon would identify it without the marker: a manifest beside
+                    # a build file; colcon does not look inside a package
+                    if "package.xml" in inner_files and any(b in inner_files for b in BUILD_FILES):
+                        inner_dirs[:] = []
+                        read.add(os.path.join(inner, "package.xml"))
                         found.setdefault(quick_name(Path(inner)), (Path(inner), Path(folder) / marker))
-            return found
+            return found, frozenset(read)
 
-        result: dict[str, tuple[Path, Path]] = self._shared(("ignored", str(self.workspace_base)), compute)
+        found, read = self._shared(("ignored", str(self.workspace_base)), compute)
+        # the hint depends on them: a cached answer must not outlive a change to them
+        self.read_elsewhere.update(read)
+        result: dict[str, tuple[Path, Path]] = found
         return result
 
     def install_base_packages(self) -> Collection[str]:

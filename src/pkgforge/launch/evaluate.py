@@ -112,42 +112,67 @@ def _empty_read_consequence(error: BaseException) -> bool:
     return isinstance(error, (TypeError, AttributeError)) and "NoneType" in str(error)
 
 
-def _first_missing_lookup() -> str | None:
-    """The first package a loading file looked up and was not found (its lookup not inside a
-    try that catches the failure: those raise here as in ROS), for a failure an empty read
-    leads to. Where the package is not found either, that lookup raised PackageNotFoundError
-    and loading stopped there; here it returned an empty stand-in and loading went on, so the
-    failure is that lookup's consequence: doosan's dsr_moveit2.launch.py reads a YAML file
-    from the stand-in, its own try returns None, and `dict.update(None)` raised a TypeError at
-    a line with nothing wrong on it. Any other failure stays the file's own (mogi's
-    os.environ['GZ_SIM_RESOURCE_PATH'] after a lookup of ros_gz_sim, not installed here)."""
-    return next((p.name for p in RECORDER.packages if p.found is False), None)
+def _read_package(root: str) -> str | None:
+    """The package whose folder under `root` (`root`/<package>/...) the file read first."""
+    for path in RECORDER.stand_in_reads:
+        if path.startswith(root):
+            return path[len(root) :].split(os.sep)[0] or None
+    return None
+
+
+def _missing_package_read() -> str | None:
+    """The package not found here whose empty stand-in the loading file read (opened or listed)
+    first. Where the package is not found either, its lookup raised PackageNotFoundError and
+    loading stopped there; here the lookup returned the stand-in and loading went on, so a
+    failure an empty read leads to is that lookup's consequence: doosan's dsr_moveit2.launch.py
+    reads a YAML file from the stand-in, its own try returns None, and `dict.update(None)` raised
+    a TypeError at a line with nothing wrong on it. A failure with no such read before it stays
+    the file's own (a lookup caught by a try in a caller may return the stand-in too)."""
+    return _read_package(runtime.MISSING_PACKAGE_ROOT + os.sep)
 
 
 def _not_installed_read(error: BaseException) -> str | None:
-    """The declared package, not installed here (its share folder an empty phantom), that a
-    loading file read from when its loading failed: a file not found there, or (for an error
-    that an empty read leads to) the first such package it looked up. On the user's machine the
-    package is installed and the file is there, so the failure is not the launch file's."""
+    """The declared package, not installed here (its share folder an empty phantom), that the
+    loading file read from when its loading failed: the file not found there, or (for a failure
+    an empty read leads to) the first such package whose share folder it opened or listed. On the
+    user's machine the package is installed and the file is there: not the launch file's fault."""
     phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
     if not phantom:
         return None
-    root = phantom.rstrip(os.sep) + os.sep
+    share = os.path.join(phantom, "share") + os.sep
     filename = getattr(error, "filename", None)
     if isinstance(error, OSError) and isinstance(filename, str):
-        if filename.startswith(root + "share" + os.sep):
-            return filename[len(root + "share" + os.sep) :].split(os.sep)[0] or None
-        return None
-    if not _empty_read_consequence(error):
-        return None
-    return next(
-        (
-            package
-            for package, prefix in RECORDER.prefix_cache.items()
-            if isinstance(prefix, str) and (prefix + os.sep).startswith(root)
-        ),
-        None,
-    )
+        return filename[len(share) :].split(os.sep)[0] or None if filename.startswith(share) else None
+    return _read_package(share) if _empty_read_consequence(error) else None
+
+
+# what reading a file (or a folder) is to Python's audit hooks
+READ_EVENTS = frozenset({"open", "os.listdir", "os.scandir", "glob.glob"})
+_READS_WATCHED: list[bool] = []
+
+
+def _watch_stand_in_reads() -> None:
+    """Note every path the launch file opens or lists in a package's stand-in (not found here) or
+    phantom share folder (declared, not installed here): an audit hook, once per process (a hook
+    cannot be removed; it notes into the recorder of the file being evaluated)."""
+    if _READS_WATCHED:
+        return
+    _READS_WATCHED.append(True)
+    roots = [runtime.MISSING_PACKAGE_ROOT + os.sep]
+    phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
+    if phantom:
+        roots.append(os.path.join(phantom, "share") + os.sep)
+    prefixes = tuple(roots)
+    index = tuple(os.path.join(root, "ament_index") + os.sep for root in roots)
+
+    def note(event: str, args: tuple[Any, ...]) -> None:
+        if event not in READ_EVENTS or not args or not isinstance(args[0], str):
+            return
+        # (the package lookups' own reads of the ament index are not the file's)
+        if args[0].startswith(prefixes) and not args[0].startswith(index):
+            RECORDER.stand_in_reads.append(args[0])
+
+    sys.addaudithook(note)
 
 
 def _nowhere_else(error: BaseException) -> bool:
@@ -220,7 +245,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         record["package"] = match.group(1) if match else str(error).strip("'\"")
     missing = _missing_package_of(error)
     if missing is None and stage == "load" and _empty_read_consequence(error):
-        missing = _first_missing_lookup()
+        missing = _missing_package_read()
     if missing is not None:
         # the file stopped on the empty stand-in of a package not found: that lookup is the cause
         lookup = next((p for p in RECORDER.packages if p.name == missing and p.found is False), None)
@@ -452,6 +477,7 @@ def evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None =
 def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None) -> LaunchResultDict:
     _watch_xacro()
     _watch_ament()
+    _watch_stand_in_reads()
     runtime.RECORDER.reset()  # a fresh record for each file
     runtime._LAUNCH_FILES.clear()
     runtime._LAUNCH_FILES.add(path)

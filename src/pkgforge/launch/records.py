@@ -411,6 +411,9 @@ class Recorder:
     )
     # package -> its prefix, or the lookup's error (a file asks ~9 times)
     prefix_cache: dict[str, str | BaseException] = field(default_factory=dict)
+    # paths in the empty stand-in of a package not found, or in the phantom share folder of one
+    # not installed here, that the file opened or listed (not sent: what a load failure came from)
+    stand_in_reads: list[str] = field(default_factory=list)
 
     # one signature per kind: the item's keys are checked against that record's TypedDict
     @overload

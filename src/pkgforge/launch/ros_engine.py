@@ -936,6 +936,7 @@ def _evaluate(
     # the launch file's own ament_index lookups, recorded (and a package not found here standing
     # in as an empty one) as the built-in engine does; launch_ros's own lookups are left alone
     builtin._watch_ament()
+    builtin._watch_stand_in_reads()
     RECORDER.reset()
     rt._LAUNCH_FILES.clear()
     rt._LAUNCH_FILES.add(path)

@@ -640,7 +640,7 @@ def lookup_package(
     guarded = False
     if isinstance(where, tuple):
         item["file"], item["line"] = where
-        guarded = _guarded(*where)
+        guarded = _guarded(*where) or _guarded_on_stack()
         where = None
     known = RECORDER.prefix_cache  # one search of the prefixes per package and file (a file asks ~9 times)
     if package not in known:
@@ -665,6 +665,18 @@ def lookup_package(
 
 _GUARDS: dict[str, list[tuple[int, int]]] = {}
 CATCHING = {"PackageNotFoundError", "KeyError", "LookupError", "Exception", "BaseException"}
+
+
+def _guarded_on_stack() -> bool:
+    """Whether any launch file's frame on the stack stands inside a try that catches a failed
+    lookup: a helper (`def share_of(p): return get_package_share_directory(p)`) called inside the
+    try of its caller raises to that try in ROS, as here."""
+    frame: FrameType | None = sys._getframe(1)
+    while frame is not None:
+        if frame.f_code.co_filename in _LAUNCH_FILES and _guarded(frame.f_code.co_filename, frame.f_lineno):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _guarded(file: str | None, line: int | None) -> bool:

@@ -19,6 +19,7 @@ import json
 import os
 import re
 from pathlib import Path
+from stat import S_ISDIR
 from typing import TYPE_CHECKING, Any
 
 from pkgforge import __version__
@@ -71,8 +72,9 @@ class ResultCache:
     # --- digests ------------------------------------------------------------------------------
 
     def digest(self, path: str) -> str | None:
-        """sha256 of a file's content and its mode (None when missing), memoized by size, mtime,
-        ctime and mode; an unreadable file's fingerprint is its mode alone."""
+        """sha256 of a file's content (a folder's: its entries' names) and its mode (None when
+        missing), memoized by size, mtime, ctime and mode; an unreadable file's fingerprint is its
+        mode alone."""
         try:
             stat = os.stat(path)
         except OSError as error:
@@ -86,9 +88,12 @@ class ResultCache:
             return f"{known[4]}:{mode}"
         digest = hashlib.sha256()
         try:
-            with open(path, "rb") as handle:
-                for block in iter(lambda: handle.read(1 << 20), b""):
-                    digest.update(block)
+            if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
+                digest.update("\0".join(sorted(os.listdir(path))).encode())
+            else:
+                with open(path, "rb") as handle:
+                    for block in iter(lambda: handle.read(1 << 20), b""):
+                        digest.update(block)
         except OSError:
             return f"unreadable:{mode}"
         self.index[path] = [*stamp, digest.hexdigest()]
@@ -307,6 +312,7 @@ def externals(context: CheckContext) -> set[str]:
             lookup = context.mesh(mesh["uri"], result.installed)  # the checks' own lookup
             if lookup.path is not None:
                 found.add(str(lookup.path))
+    found.update(context.read_elsewhere)
     own = str(context.model.path) + os.sep
     temporary = [str(p) + os.sep for p in (tree.prefixes if tree is not None else [])]
     if tree is not None and tree.root is not None:
