@@ -144,6 +144,13 @@ def test_jsp_given_the_model_as_an_argument(tmp_path):
         'executable="joint_state_publisher_gui",',
         'executable="joint_state_publisher_gui", arguments=[urdf_model_path],',
     )
+    # a model written with xacro (user story 4): the node parses it unexpanded
+    model = package / "urdf" / "small_turtle.urdf"
+    edit(
+        model,
+        '<robot name="small_turtle">',
+        '<robot name="small_turtle" xmlns:xacro="http://www.ros.org/wiki/xacro">',
+    )
     status, report = verify(package)
     assert status == 1
     assert found(report) == [
@@ -154,6 +161,26 @@ def test_jsp_given_the_model_as_an_argument(tmp_path):
             line_of(launch, 'package="joint_state_publisher_gui"'),
         )
     ]
+
+
+def test_jsp_given_a_plain_urdf_reads_it_as_robot_state_publisher_does(tmp_path):
+    # joint_state_publisher's description_file: a plain URDF (or SDF: ros_gz_project_template's
+    # rrbot_setup.launch.py) that robot_state_publisher gets as it is, not through xacro, is read
+    # the same way by both; no finding
+    package = jazzy_package(tmp_path)
+    launch = package / "launch" / "display.launch.py"
+    edit(
+        launch,
+        'executable="joint_state_publisher_gui",',
+        'executable="joint_state_publisher_gui", arguments=[urdf_model_path],',
+    )
+    edit(
+        launch,
+        'Command(["xacro ", LaunchConfiguration("model")])',
+        'Command(["cat ", LaunchConfiguration("model")])',
+    )
+    status, report = verify(package)
+    assert (status, found(report)) == (0, [])
 
 
 @pytest.mark.triggers("PF307")

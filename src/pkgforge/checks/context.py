@@ -231,6 +231,44 @@ class CheckContext:
         found: dict[str, Path] = self._shared(("nested", str(model.path)), compute)
         return found
 
+    def text_head(self, path: str) -> str:
+        """The first MiB of a text file ('' when it cannot be read), read once per run."""
+
+        def compute() -> str:
+            try:
+                with open(path, encoding="utf-8", errors="replace") as handle:
+                    return handle.read(1 << 20)
+            except OSError:
+                return ""
+
+        head: str = self._shared(("head", path), compute)
+        return head
+
+    def depends_on(self, start: str, goal: str) -> bool:
+        """Whether workspace package `start` depends on `goal` through the declared dependencies
+        of workspace packages (any tag but doc_depend: colcon orders by all of them), so that a
+        dependency of `goal` on `start` would be a cycle colcon refuses to order."""
+        edges: dict[str, set[str]] = self._shared("dependency-edges", self._dependency_edges)
+        seen, todo = {start}, [start]
+        while todo:
+            for name in edges.get(todo.pop(), ()):
+                if name == goal:
+                    return True
+                if name not in seen:
+                    seen.add(name)
+                    todo.append(name)
+        return False
+
+    def _dependency_edges(self) -> dict[str, set[str]]:
+        """Workspace package name → the names its package.xml declares (doc_depend left out)."""
+        edges: dict[str, set[str]] = {}
+        for model in [*self.models.values(), self.model]:
+            if model.manifest.valid:
+                edges.setdefault(model.name, set()).update(
+                    d.name for d in model.manifest.active_dependencies() if d.tag != "doc_depend"
+                )
+        return edges
+
     def ignored_packages(self) -> dict[str, tuple[Path, Path]]:
         """The packages in the workspace's folders that an ignore marker (COLCON_IGNORE,
         AMENT_IGNORE, CATKIN_IGNORE) keeps colcon from building: name → (folder, the marker

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import os
 import re
 from collections.abc import Iterator, Mapping
 from pathlib import Path
@@ -559,6 +560,17 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )  # no fix: only the user knows whether that use is meant for this package's users
             continue
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
+        if name in ctx.workspace and ctx.depends_on(name, model.name):
+            # (husky_description's xacro finds husky_control, which depends on husky_description)
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml does not declare it{note}; "
+                f"{name} depends on {model.name}, so declaring it here makes a cycle colcon refuses",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"install {name} beside {model.name} (its users have it), or move the use into {name}",
+            )  # no fix: the dependency the hint would add breaks the build
+            continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
             path,
@@ -571,6 +583,20 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             ),
             fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
         )
+
+
+def _needs_xacro(ctx: CheckContext, argument: str, xacro_inputs: set[str]) -> bool:
+    """Whether a node argument names a model only xacro reads right: a .xacro file, a model file
+    written with xacro elements, or one the same launch file feeds to xacro (seed 001 runs
+    `xacro $(var model)` for robot_state_publisher: a model:= the user gives may be xacro)."""
+    if argument.endswith(".xacro"):
+        return True
+    if not argument.endswith(ANY_MODEL_SUFFIXES):
+        return False
+    if os.path.normpath(argument) in xacro_inputs:
+        return True
+    head = ctx.text_head(argument)
+    return "xmlns:xacro" in head or "<xacro:" in head
 
 
 @register(
@@ -588,10 +614,12 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         "# launch/display.launch.py\n"
         "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui')"
     ),
-    summary="joint_state_publisher is given the robot model as an argument",
+    summary="joint_state_publisher is given a model that needs xacro as an argument",
     explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
-    "itself (a xacro file fails, links go missing, the TF tree breaks; user story "
-    "4). It reads /robot_description from robot_state_publisher.",
+    "itself, unexpanded (links go missing, the TF tree breaks; user story 4). It reads "
+    "/robot_description from robot_state_publisher. A plain .urdf or .sdf file that the launch "
+    "file also hands to robot_state_publisher as it is (not through xacro) is read the same "
+    "way by both: no finding.",
     hint="remove the model from the node's arguments",
 )
 def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
@@ -600,7 +628,11 @@ def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
         for node in resolution.nodes:
             if node.package not in JSP_PACKAGES:
                 continue
-            models = [a for a in node.arguments if str(a).endswith(ANY_MODEL_SUFFIXES)]
+            # a xacro file: parsed as URDF by the node itself, unexpanded. A plain .urdf or .sdf it
+            # reads as robot_state_publisher does (main's description_file; configure_robot takes
+            # <sdf> too: ros_gz_project_template's rrbot_setup.launch.py): no harm done
+            xacro_inputs = {os.path.normpath(c.model) for c in resolution.commands if c.model}
+            models = [a for a in node.arguments if _needs_xacro(ctx, str(a), xacro_inputs)]
             position = ctx.source_position(resolution, node.file, node.line)
             if models and position is not None and position not in seen:
                 seen.add(position)

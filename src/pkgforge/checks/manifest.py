@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -255,6 +256,22 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )
 
 
+# first words too common to tie a package to a repository (ros2_control holds no ros_x_driver)
+GENERIC_WORDS = frozenset({"ros", "ros2", "robot", "gazebo", "gz", "ign", "moveit", "nav2", "urdf", "common"})
+
+
+def _from_a_repository(ctx: CheckContext, name: str) -> bool:
+    """Whether a repository the workspace's .repos files import plausibly holds `name`: its first
+    word is the package's (c3pzero.repos imports piper_ros2, which holds piper_description;
+    `rosdep install --ignore-src` skips a package imported from source)."""
+    word = re.split(r"[_-]", name, maxsplit=1)[0]
+    if len(word) < 3 or word in GENERIC_WORDS:
+        return False
+    return any(
+        re.split(r"[_-]", repository, maxsplit=1)[0] == word for repository in ctx.source_repositories()
+    )
+
+
 def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str, str] | None:
     """(message, hint) when `name` is not released for the target distros, else None."""
     from pkgforge.model.distro_data import load, replacement
@@ -287,6 +304,8 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
     near = data.close_names(name, n=1, cutoff=0.85, same_start=True)
     if not near:
         return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
+    if _from_a_repository(ctx, name):
+        return None
     return (
         f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
         f"did you mean {near[0]}?",
@@ -334,9 +353,22 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     from pkgforge.checks.launch import _looked_up
 
     uses: dict[str, list[tuple[bool, str, int, Path, int | None, str]]] = {}
-    for name, path, line, via, _, _ in _looked_up(ctx):
+    # the argument settings other than the defaults each use is seen only with ([]: the defaults)
+    settings: dict[str, list[list[str]]] = {}
+    # a file checked statically: its actions given a condition= (the file could not be evaluated)
+    conditional = {
+        (r.package, r.path, r.line): r.launch_condition
+        for references in ctx.static_fallback().values()
+        for r in references
+        if r.launch_condition
+    }
+    for name, path, line, via, item, resolution in _looked_up(ctx):
         if name not in local and name not in reported and name not in manifest.declared():
             uses.setdefault(name, []).append((line is None, str(path), line or 0, path, line, via))
+            only = resolution.off_default(item) if resolution is not None and item is not None else []
+            if resolution is None and (condition := conditional.get((name, path, line or 0))):
+                only = [f"condition={condition}"]
+            settings.setdefault(name, []).append(only)
     for name, found in sorted(uses.items()):
         problem = _not_in_distro(ctx, name, declared=False)
         if problem is None:
@@ -344,12 +376,20 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
         found.sort()
         _, _, _, path, line, via = found[0]
         more = len({(f[1], f[2]) for f in found}) - 1
-        yield Finding(
-            f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else ""),
-            path,
-            line,
-            hint=problem[1],
-        )
+        message = f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else "")
+        if all(settings[name]):
+            # only with settings other than the defaults (moveit_resources' demo.launch.py runs
+            # warehouse_ros_mongo only with db:=True): the default launch runs, that option fails
+            only = sorted({s for one in settings[name] for s in one})
+            yield Finding(
+                f"{message} (only with {', '.join(only)})",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"{problem[1]}; or leave that setting unsupported on this distro",
+            )
+            continue
+        yield Finding(message, path, line, hint=problem[1])
 
 
 @register(
@@ -364,7 +404,10 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     explanation="rosdep installs only declared build dependencies: on a clean machine (a "
     "build farm, a Docker image after `rosdep install`) the find_package() fails. "
     "It builds here because the package is installed anyway, or because "
-    "pkgforge build stubs declared packages.",
+    "pkgforge build stubs declared packages. A warning when it builds all the same: "
+    "optional (QUIET), declared as another kind (rosdep installs every kind), or brought "
+    "along by a declared core package (ament_cmake brings ament_cmake_python, rclcpp brings "
+    "rmw: the package.xml files of the core repositories, model/exports.py).",
     hint="declare it with <build_depend> (or <depend>)",
 )
 def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
@@ -399,17 +442,25 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
         # find_package(X QUIET) without REQUIRED (zed_components' point_cloud_transport, then
         # if(X_FOUND)): the build goes on without it, it only leaves out what needs it
         optional = "QUIET" in words and "REQUIRED" not in words
+        if optional:
+            because = "; it is optional (QUIET), so a clean machine builds without what needs it"
+        elif other is not None:
+            # declared as another kind: `rosdep install` (every kind by default) installs it, a
+            # build-dependencies-only install (the build farm, bloom) does not
+            because = (
+                "; rosdep installs it anyway, only a build-dependencies-only install (the build farm) fails"
+            )
+        elif provider := _brought_by(ctx, name, tag == "test_depend"):
+            # ament_cmake brings ament_cmake_python, rclcpp brings rmw (model/exports.py)
+            because = f"; {provider}, which it declares, brings it along, so it builds"
+        else:
+            because = ""
         yield Finding(
-            f"find_package({name}) but package.xml does not declare {name} for the build{why}"
-            + (
-                "; it is optional (QUIET), so a clean machine builds without what needs it"
-                if optional
-                else ""
-            ),
+            f"find_package({name}) but package.xml does not declare {name} for the build{why}{because}",
             command.path,
             command.line,
             command.column,
-            severity=Severity.WARNING if optional else None,
+            severity=Severity.WARNING if because else None,
             hint=(
                 f"change package.xml:{other.line} to <depend>{name}</depend>"
                 if other is not None and tag != "test_depend"
@@ -418,6 +469,18 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             # `fix` adds the test_depend the hint names (otherwise it works the tag out itself)
             fix={"dependency": name, "tag": tag} if tag == "test_depend" else None,
         )
+
+
+def _brought_by(ctx: CheckContext, name: str, testing: bool) -> str | None:
+    """The declared build dependency (test dependency too, for a find_package inside
+    BUILD_TESTING) whose binary install brings `name` along in every target distro."""
+    from pkgforge.model.exports import brought_by
+
+    manifest = ctx.model.manifest
+    start = manifest.build_dependencies() | (
+        {d.name for d in manifest.active_dependencies() if d.tag == "test_depend"} if testing else set()
+    )
+    return brought_by(name, start, ctx.distros)
 
 
 @register(

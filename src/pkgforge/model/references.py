@@ -63,6 +63,9 @@ class Reference:
     # a model's reference inside <xacro:if>/<xacro:unless>: that element's condition as written
     # ("if ${gazebo}"), the innermost one; None when xacro always reads it
     condition: str | None = None
+    # a Python launch file's action given a condition= (Node(..., condition=IfCondition(db))):
+    # that argument as written; what a file that could not be evaluated runs only sometimes
+    launch_condition: str | None = None
 
 
 def launch_kind(path: Path) -> str | None:
@@ -389,9 +392,12 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
             if package:
                 found.append(Reference(package, None, source.path, *position, name))
         elif name in NODE_ACTIONS:
+            condition = next((ast.unparse(k.value) for k in node.keywords if k.arg == "condition"), None)
             for keyword in node.keywords:
                 if keyword.arg == "package" and (package := literal(keyword.value)):
-                    found.append(Reference(package, None, source.path, *position, name))
+                    found.append(
+                        Reference(package, None, source.path, *position, name, launch_condition=condition)
+                    )
         elif name in PATH_JOINS:
             parts = (
                 node.args[0].elts

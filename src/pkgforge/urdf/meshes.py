@@ -44,6 +44,11 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
         return _check(share / normal, package, normal)
     if uri.startswith("file://"):
         path = Path(unquote(urlparse(uri).path))
+        located = tree.locate(str(path)) if tree.is_phantom(str(path)) else None
+        if located is not None and located[0] in tree.phantom_packages:
+            # file://$(find zed_msgs)/meshes/zed.stl: a declared package not installed here, as
+            # its package:// URI would be (zed-ros2-wrapper's zed_descr.urdf.xacro)
+            return MeshLookup("unchecked", None, located[0], located[1])
         return _check(path, None, None)
     if "://" in uri:
         return MeshLookup("unsupported")

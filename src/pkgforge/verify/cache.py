@@ -36,7 +36,8 @@ if TYPE_CHECKING:
 # 6: PF110 (two workspace packages with one name); the workspace key holds such names' folders
 # 7: a launch file's load failure after a package not found, or after reading a declared package
 #    not installed here, is that lookup's (PF304/PF305) or PF311, not PF301; PF304's hint names
-#    an ignored folder holding the package
+#    an ignored folder holding the package; stop 25's audit of real workspaces: PF109 warnings for
+#    what a declared package brings along, PF108/PF306/PF402/PF305 false errors; folder digests
 CACHE_FORMAT = 7
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 

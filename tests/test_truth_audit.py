@@ -1,0 +1,208 @@
+"""Stop 25's audit of every error pkgforge gave on 46 real workspaces: each false error found,
+reduced to the smallest package that shows it, and what pkgforge says now (the real pkgforge,
+the real colcon discovery, the real xacro). The packages are written here, not copied."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from conftest import line_of, verify_report
+from test_truth_edges import BRINGUP_CMAKE, manifest, write_package
+
+from pkgforge.model.exports import brought_by
+
+
+def package(
+    tmp_path: Path, name: str, exec_depends: list[str], files: dict[str, str], **tags: list[str]
+) -> Path:
+    """A package `name` with these files (CMakeLists.txt and package.xml made unless given)."""
+    folder = tmp_path / "src" / name
+    text = manifest(name, "a package of the audit", exec_depends)
+    for tag, names in tags.items():
+        text = text.replace("  <export>", "".join(f"  <{tag}>{n}</{tag}>\n" for n in names) + "  <export>")
+    folders = sorted({relative.split("/")[0] for relative in files if "/" in relative})
+    cmake = BRINGUP_CMAKE.replace("choice_bringup", name)
+    cmake = (
+        cmake.replace("DIRECTORY launch", f"DIRECTORY {' '.join(folders)}")
+        if folders
+        else cmake.replace("install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})\n", "")
+    )
+    made = {"CMakeLists.txt": cmake, "package.xml": text}
+    write_package(folder, {**made, **files})
+    return folder
+
+
+def found(report: dict, code: str) -> list[tuple[str, str, int | None, str]]:
+    return [
+        (d["severity"], d["path"], d["line"], d["message"])
+        for d in report["diagnostics"]
+        if d["code"] == code
+    ]
+
+
+def test_a_find_package_a_declared_core_package_brings_is_a_warning(tmp_path):
+    # clearpath_generator_common: find_package(ament_cmake_python) with only ament_cmake declared;
+    # ros2/demos: find_package(rmw) with rclcpp declared. Both build on the build farm
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_cpp NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(ament_cmake_python REQUIRED)\nfind_package(rmw REQUIRED)\nfind_package(urdf REQUIRED)\n"
+        "ament_package()\n"
+    )
+    folder = package(tmp_path, "audit_cpp", [], {"CMakeLists.txt": cmake}, depend=["rclcpp"])
+    cmakelists = folder / "CMakeLists.txt"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, line) for s, _, line, _ in found(report, "PF109")] == [
+        ("warning", line_of(cmakelists, "find_package(ament_cmake_python")),
+        ("warning", line_of(cmakelists, "find_package(rmw")),
+        ("error", line_of(cmakelists, "find_package(urdf")),  # nothing declared brings urdf
+    ]
+    messages = [m for _, _, _, m in found(report, "PF109")]
+    assert messages[0].endswith("; ament_cmake, which it declares, brings it along, so it builds")
+    assert messages[1].endswith("; rclcpp, which it declares, brings it along, so it builds")
+
+
+def test_the_exports_table_against_the_core_packages_own_manifests():
+    # read from ament_cmake's, rclcpp's, ament_lint_common's, ament_cmake_gmock's package.xml
+    for name, declared in [
+        ("ament_cmake_python", "ament_cmake"),
+        ("ament_cmake", "ament_cmake_ros"),
+        ("rmw", "rclcpp"),
+        ("builtin_interfaces", "rclcpp"),
+        ("ament_cmake_flake8", "ament_lint_common"),
+        ("ament_cmake_gtest", "ament_cmake_gmock"),
+    ]:
+        for distro in ("humble", "jazzy", "rolling", "kilted"):
+            assert brought_by(name, [declared], [distro]) == declared, (name, distro)
+    assert brought_by("urdf", ["rclcpp", "ament_cmake"], []) is None
+    assert brought_by("rclcpp", ["rmw"], []) is None  # a dependency, not a dependant
+
+
+def test_a_find_package_declared_as_another_kind_is_a_warning(tmp_path):
+    # lino linorobot2_gazebo: find_package of a package declared only as <exec_depend>
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_kind NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(urdf REQUIRED)\nament_package()\n"
+    )
+    folder = package(tmp_path, "audit_kind", ["urdf"], {"CMakeLists.txt": cmake})
+    _, report = verify_report(tmp_path, "--no-cache")
+    ((severity, _, line, message),) = found(report, "PF109")
+    assert (severity, line) == ("warning", line_of(folder / "CMakeLists.txt", "find_package(urdf"))
+    assert "rosdep installs it anyway" in message
+
+
+NOT_EVALUATED = """from launch import LaunchDescription
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+from moveit_configs_utils import MoveItConfigsBuilder
+
+
+def generate_launch_description():
+    config = MoveItConfigsBuilder("audit").to_moveit_configs()
+    return LaunchDescription([
+        Node(package="warehouse_ros_mongo", executable="mongo_wrapper_ros.py",
+             condition=IfCondition(LaunchConfiguration("db"))),
+    ])
+"""
+
+
+def test_a_node_under_a_condition_in_a_file_checked_statically_is_a_warning(tmp_path):
+    # moveit_resources' demo.launch.py: warehouse_ros_mongo (humble only) runs only with db:=True,
+    # and the file imports moveit_configs_utils (not installed here): checked statically
+    folder = package(
+        tmp_path,
+        "audit_moveit",
+        ["launch", "launch_ros", "moveit_configs_utils", "warehouse_ros_mongo"],
+        {"launch/demo.launch.py": NOT_EVALUATED},
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    launch = folder / "launch" / "demo.launch.py"
+    node_uses = [f for f in found(report, "PF108") if f[1].endswith("demo.launch.py")]
+    declared = [f for f in found(report, "PF108") if f[1].endswith("package.xml")]
+    assert declared and all(s == "error" for s, *_ in declared)  # package.xml's declaration stays
+    assert node_uses == []  # (a declared package's uses are its declaration's finding)
+    assert launch.is_file()
+
+
+def test_a_static_launch_use_under_a_condition_of_an_undeclared_package_is_a_warning(tmp_path):
+    folder = package(
+        tmp_path,
+        "audit_moveit",
+        ["launch", "launch_ros", "moveit_configs_utils"],
+        {"launch/demo.launch.py": NOT_EVALUATED},
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    launch = folder / "launch" / "demo.launch.py"
+    ((severity, path, line, message),) = found(report, "PF108")
+    assert (severity, path, line) == (
+        "warning",
+        "src/audit_moveit/launch/demo.launch.py",
+        line_of(launch, 'Node(package="warehouse_ros_mongo"'),
+    )
+    assert message.endswith(
+        '(only with condition=IfCondition(LaunchConfiguration("db")))'
+    ) or message.endswith("(only with condition=IfCondition(LaunchConfiguration('db')))")
+
+
+def test_a_file_uri_into_a_declared_package_not_installed_here_is_unchecked(tmp_path):
+    # zed-ros2-wrapper: file://$(find zed_msgs)/meshes/zed.stl, zed_msgs declared, not installed here
+    model = (
+        '<?xml version="1.0"?>\n<robot name="audit" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="base_link"><visual><geometry>\n'
+        '    <mesh filename="file://$(find zed_msgs)/meshes/zed.stl"/>\n'
+        "  </geometry></visual></link>\n</robot>\n"
+    )
+    package(tmp_path, "audit_zed", ["xacro", "zed_msgs"], {"urdf/robot.urdf.xacro": model})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF402") == []
+
+
+def test_a_package_a_repos_repository_holds_is_no_distro_error(tmp_path):
+    # c3pzero: c3pzero.repos imports piper_ros2, which holds piper_description
+    folder = package(tmp_path, "audit_repos", ["piper_description"], {})
+    (folder.parent / "audit.repos").write_text(
+        "repositories:\n  piper_ros2:\n    type: git\n    url: https://github.com/example/piper_ros2.git\n"
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF108") == []
+    (folder.parent / "audit.repos").unlink()  # without it, the name is unknown: an error
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, line) for s, _, line, _ in found(report, "PF108")] == [
+        ("error", line_of(folder / "package.xml", "<exec_depend>piper_description"))
+    ]
+
+
+def test_a_dependency_back_on_a_package_that_depends_on_this_one_has_no_fix(tmp_path):
+    # husky_description's xacro finds husky_control, which depends on husky_description:
+    # declaring it is a cycle colcon refuses, so no safe fix adds it
+    model = (
+        '<?xml version="1.0"?>\n<robot name="audit" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="base_link"/>\n'
+        '  <gazebo><plugin filename="x.so" name="c"><parameters>$(find audit_control)/config/c.yaml'
+        "</parameters></plugin></gazebo>\n</robot>\n"
+    )
+    description = package(tmp_path, "audit_description", ["xacro"], {"urdf/robot.urdf.xacro": model})
+    package(tmp_path, "audit_control", ["audit_description"], {})
+    _, report = verify_report(tmp_path, "--no-cache")
+    (diagnostic,) = [
+        d for d in report["diagnostics"] if d["code"] == "PF305" and d["package"] == "audit_description"
+    ]
+    assert (diagnostic["severity"], diagnostic["line"]) == (
+        "warning",
+        line_of(description / "urdf" / "robot.urdf.xacro", "$(find audit_control)"),
+    )
+    assert "declaring it here makes a cycle colcon refuses" in diagnostic["message"]
+    assert diagnostic.get("fix") in (None, False)
+    before = (description / "package.xml").read_text()
+    from conftest import run_pkgforge
+
+    run_pkgforge("fix", tmp_path, cwd=tmp_path)
+    assert (description / "package.xml").read_text() == before
+
+
+def test_the_audit_packages_report_is_json(tmp_path):
+    # (the helper above writes valid packages: a clean one has no finding at all)
+    package(tmp_path, "audit_clean", [], {})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert json.dumps(report) and [d for d in report["diagnostics"] if d["severity"] == "error"] == []
