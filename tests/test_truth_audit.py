@@ -206,3 +206,38 @@ def test_the_audit_packages_report_is_json(tmp_path):
     package(tmp_path, "audit_clean", [], {})
     _, report = verify_report(tmp_path, "--no-cache")
     assert json.dumps(report) and [d for d in report["diagnostics"] if d["severity"] == "error"] == []
+
+
+def test_an_imported_python_library_uses_its_rosdep_key(tmp_path):
+    # the MoveIt tutorials' launch files `import yaml` and declare python3-yaml
+    launch = "import cv2\nimport yaml\nfrom launch import LaunchDescription\n\n\ndef generate_launch_description():\n    return LaunchDescription([])\n"
+    package(
+        tmp_path,
+        "audit_keys",
+        ["launch", "python3-yaml", "python3-opencv", "python3-numpy"],
+        {"launch/a.launch.py": launch},
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [m for _, _, _, m in found(report, "PF107")] == [
+        "nothing in audit_keys uses exec_depend 'python3-numpy'"
+    ]
+
+
+def test_a_package_handed_to_the_files_own_lookup_function_is_a_use(tmp_path):
+    # the MoveIt tutorials' load_yaml(package_name, file_path) calls get_package_share_directory
+    # (package_name): load_yaml('moveit_resources_panda_moveit_config', ...) uses that package
+    launch = (
+        "import os\n\nfrom ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\n\n\n"
+        "def load_file(package_name, file_path):\n"
+        "    return os.path.join(get_package_share_directory(package_name), file_path)\n\n\n"
+        "class Config:\n    def share(self, package):\n        return get_package_share_directory(package)\n\n\n"
+        "def generate_launch_description():\n"
+        "    load_file(file_path='config/a.yaml', package_name='moveit_resources_panda_moveit_config')\n"
+        "    Config().share('moveit_resources_fanuc_moveit_config')\n"
+        "    return LaunchDescription([])\n"
+    )
+    names = ["moveit_resources_panda_moveit_config", "moveit_resources_fanuc_moveit_config"]
+    package(tmp_path, "audit_wrapper", ["launch", *names], {"launch/a.launch.py": launch})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF107") == []

@@ -211,6 +211,10 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                 )
 
 
+# imports whose rosdep key is not python3-<module>
+PYTHON_KEYS = {"cv2": "python3-opencv", "PIL": "python3-pil", "serial": "python3-serial", "usb": "python3-usb"}
+
+
 @register(
     "PF107",
     "unused-exec-depend",
@@ -232,6 +236,10 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     # launch, models, RViz displays, ros2_control and Gazebo plugins, controller types in YAML,
     # the imports of the package's own Python modules
     used = {r.package for r in model.references}
+    # an import of a Python library is a use of its rosdep key (import yaml: python3-yaml)
+    for module in {r.package for r in model.references if r.via == "import"}:
+        used |= {f"python3-{module.lower()}", f"python3-{module.lower().replace('_', '-')}"}
+        used |= {key for key in [PYTHON_KEYS.get(module)] if key}
     if model.cmake is not None:
         used |= {name for name, _ in model.cmake.find_packages}
         if model.cmake.auto_find_command is not None:  # ament_auto_find_build_dependencies()

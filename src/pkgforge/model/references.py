@@ -355,6 +355,7 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
     found: list[Reference] = []
     nodes = list(ast.walk(tree))  # walked once: the bindings and the calls both look at every node
     bindings = _literal_bindings(nodes)
+    wrappers = _lookup_wrappers(nodes)
 
     def literal(node: ast.AST) -> str | None:
         if isinstance(node, ast.Constant) and isinstance(node.value, str):
@@ -391,6 +392,15 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
             package = literal(node.args[0])
             if package:
                 found.append(Reference(package, None, source.path, *position, name))
+        elif name in wrappers:
+            # load_yaml('moveit_resources_panda_moveit_config', 'config/kinematics.yaml'): the
+            # file's own function hands that argument to get_package_share_directory
+            index, parameter, lookup = wrappers[name]
+            given = node.args[index] if index < len(node.args) else None
+            given = next((k.value for k in node.keywords if k.arg == parameter), given)
+            package = literal(given) if given is not None else None
+            if package:
+                found.append(Reference(package, None, source.path, *position, lookup))
         elif name in NODE_ACTIONS:
             condition = next((ast.unparse(k.value) for k in node.keywords if k.arg == "condition"), None)
             for keyword in node.keywords:
@@ -436,6 +446,29 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
                 if keyword.arg == "name" and literal(keyword.value) == "xacro":
                     found.append(Reference("xacro", None, source.path, *position, "FindExecutable"))
     return found
+
+
+def _lookup_wrappers(nodes: list[ast.AST]) -> dict[str, tuple[int, str, str]]:
+    """The file's functions that hand one of their parameters straight to a package lookup:
+    name → (that parameter's position, its name, the lookup)."""
+    wrappers: dict[str, tuple[int, str, str]] = {}
+    for node in nodes:
+        if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        parameters = [a.arg for a in [*node.args.posonlyargs, *node.args.args]]
+        if parameters and parameters[0] in ("self", "cls"):
+            parameters = parameters[1:]  # a method: its callers do not pass it
+        for inner in ast.walk(node):
+            if (
+                isinstance(inner, ast.Call)
+                and (lookup := _name(inner.func).split(".")[-1]) in SHARE_LOOKUPS | PREFIX_LOOKUPS
+                and inner.args
+                and isinstance(inner.args[0], ast.Name)
+                and inner.args[0].id in parameters
+            ):
+                wrappers[node.name] = (parameters.index(inner.args[0].id), inner.args[0].id, lookup)
+                break
+    return wrappers
 
 
 def _literal_bindings(nodes: list[ast.AST]) -> dict[str, object]:
