@@ -88,10 +88,11 @@ def test_a_find_package_declared_as_another_kind_is_a_warning(tmp_path):
     _, report = verify_report(tmp_path, "--no-cache")
     ((severity, _, line, message),) = found(report, "PF109")
     assert (severity, line) == ("warning", line_of(folder / "CMakeLists.txt", "find_package(urdf"))
-    assert "rosdep installs it anyway" in message
+    assert "`rosdep install` installs it, so it builds from source, but the release build" in message
 
 
 NOT_EVALUATED = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
 from launch.conditions import IfCondition
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
@@ -101,6 +102,7 @@ from moveit_configs_utils import MoveItConfigsBuilder
 def generate_launch_description():
     config = MoveItConfigsBuilder("audit").to_moveit_configs()
     return LaunchDescription([
+        DeclareLaunchArgument("db", default_value="False"),
         Node(package="warehouse_ros_mongo", executable="mongo_wrapper_ros.py",
              condition=IfCondition(LaunchConfiguration("db"))),
     ])
@@ -241,3 +243,106 @@ def test_a_package_handed_to_the_files_own_lookup_function_is_a_use(tmp_path):
     package(tmp_path, "audit_wrapper", ["launch", *names], {"launch/a.launch.py": launch})
     _, report = verify_report(tmp_path, "--no-cache")
     assert found(report, "PF107") == []
+
+
+# --- a second reader's corrections of the audit's fixes --------------------------------------
+
+PLAIN = '<?xml version="1.0"?>\n<robot name="audit"><link name="base_link"/></robot>\n'
+XACRO = '<?xml version="1.0"?>\n<robot name="audit" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base_link"/></robot>\n'
+
+
+def jsp_launch(description: str, jsp_argument: str) -> str:
+    return (
+        "import os\nfrom ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\nfrom launch.substitutions import Command\n"
+        "from launch_ros.actions import Node\nfrom launch_ros.parameter_descriptions import ParameterValue\n\n\n"
+        "def generate_launch_description():\n"
+        "    share = get_package_share_directory('audit_jsp')\n"
+        f"    desc = {description}\n"
+        "    return LaunchDescription([\n"
+        "        Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
+        "             parameters=[{'robot_description': desc}]),\n"
+        f"        Node(package='joint_state_publisher', executable='joint_state_publisher', arguments=[{jsp_argument}]),\n"
+        "    ])\n"
+    )
+
+
+def test_jsp_given_a_plain_file_robot_state_publisher_does_not_get_stays_an_error(tmp_path):
+    # robot_state_publisher runs xacro on robot.urdf.xacro; joint_state_publisher reads another,
+    # plain file (a stale model), or a relative path it opens from wherever it is started
+    xacro_run = (
+        "ParameterValue(Command(['xacro ', os.path.join(share, 'urdf', 'robot.urdf.xacro')]), value_type=str)"
+    )
+    files = {
+        "urdf/robot.urdf.xacro": XACRO,
+        "urdf/plain.urdf": PLAIN,
+        "launch/stale.launch.py": jsp_launch(xacro_run, "os.path.join(share, 'urdf', 'plain.urdf')"),
+        "launch/relative.launch.py": jsp_launch(xacro_run, "'urdf/plain.urdf'"),
+        "launch/same.launch.py": jsp_launch(
+            "open(os.path.join(share, 'urdf', 'plain.urdf')).read()",
+            "os.path.join(share, 'urdf', 'plain.urdf')",
+        ),
+    }
+    package(
+        tmp_path,
+        "audit_jsp",
+        ["launch", "launch_ros", "robot_state_publisher", "joint_state_publisher", "xacro"],
+        files,
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert sorted((s, p.rsplit("/", 1)[-1]) for s, p, _, _ in found(report, "PF306")) == [
+        ("error", "relative.launch.py"),
+        ("error", "stale.launch.py"),
+    ]  # same.launch.py: robot_state_publisher reads that very text
+
+
+def test_a_repos_file_does_not_hide_a_typo_of_a_released_package(tmp_path):
+    folder = package(tmp_path, "audit_typo", ["image_transprot"], {})
+    (folder.parent / "deps.repos").write_text(
+        "repositories:\n  image_common:\n    type: git\n    url: https://github.com/ros-perception/image_common.git\n"
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, line) for s, _, line, _ in found(report, "PF108")] == [
+        ("error", line_of(folder / "package.xml", "<exec_depend>image_transprot"))
+    ]
+
+
+def test_a_node_whose_condition_holds_at_the_defaults_stays_an_error(tmp_path):
+    launch = NOT_EVALUATED.replace("IfCondition", "UnlessCondition")  # db's default False: it runs
+    package(
+        tmp_path,
+        "audit_moveit",
+        ["launch", "launch_ros", "moveit_configs_utils"],
+        {"launch/demo.launch.py": launch},
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert [s for s, *_ in found(report, "PF108")] == ["error"]
+
+
+def test_a_find_package_declared_only_as_doc_depend_stays_an_error(tmp_path):
+    # rosdep's default dependency types are every kind but doc
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_doc NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(urdf REQUIRED)\nament_package()\n"
+    )
+    package(tmp_path, "audit_doc", [], {"CMakeLists.txt": cmake}, doc_depend=["urdf"])
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [s for s, *_ in found(report, "PF109")] == ["error"]
+
+
+def test_a_cycle_through_a_package_not_verified_has_no_fix_either(tmp_path):
+    # cyc_description verified alone: cyc_control exec_depends cyc_middle, which test_depends on it
+    model = PLAIN.replace(
+        "<link",
+        '<gazebo><plugin filename="x.so" name="c">$(find audit_control)/c.yaml</plugin></gazebo><link',
+    )
+    description = package(tmp_path, "audit_description", ["xacro"], {"urdf/robot.urdf.xacro": model})
+    package(tmp_path, "audit_control", ["audit_middle"], {})
+    package(tmp_path, "audit_middle", [], {}, test_depend=["audit_description"])
+    _, report = verify_report(description, "--no-cache")
+    assert [s for s, *_ in found(report, "PF305")] == ["warning"]
+    before = (description / "package.xml").read_text()
+    from conftest import run_pkgforge
+
+    run_pkgforge("fix", description, cwd=description)
+    assert (description / "package.xml").read_text() == before

@@ -37,6 +37,11 @@ LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", 
 _T = TypeVar("_T")
 
 
+# a dependency element of a package.xml, read without parsing it (doc_depend left out)
+DEPENDENCY_ELEMENT = re.compile(
+    r"<((?:build_|buildtool_|build_export_|buildtool_export_|exec_|run_|test_)?depend)\b[^>]*>([^<]+)</\1>"
+)
+
 # what colcon leaves in its own build/ and install/ folders (beside their COLCON_IGNORE)
 COLCON_OUTPUT_MARKERS = frozenset({".built_by", ".colcon_install_layout"})
 
@@ -260,13 +265,20 @@ class CheckContext:
         return False
 
     def _dependency_edges(self) -> dict[str, set[str]]:
-        """Workspace package name → the names its package.xml declares (doc_depend left out)."""
+        """Workspace package name → the names its package.xml declares (doc_depend left out): the
+        loaded models' (conditions evaluated), and every other workspace folder's read plainly (a
+        package verified alone has only its own model; a condition counts as holding, so a cycle
+        is rather seen than missed)."""
         edges: dict[str, set[str]] = {}
         for model in [*self.models.values(), self.model]:
             if model.manifest.valid:
                 edges.setdefault(model.name, set()).update(
                     d.name for d in model.manifest.active_dependencies() if d.tag != "doc_depend"
                 )
+        for name, folder in self.workspace.items():
+            if name not in edges:
+                text = self.text_head(str(folder / "package.xml"))
+                edges[name] = {m.group(2).strip() for m in DEPENDENCY_ELEMENT.finditer(text)}
         return edges
 
     def ignored_packages(self) -> dict[str, tuple[Path, Path]]:

@@ -585,18 +585,30 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         )
 
 
-def _needs_xacro(ctx: CheckContext, argument: str, xacro_inputs: set[str]) -> bool:
-    """Whether a node argument names a model only xacro reads right: a .xacro file, a model file
-    written with xacro elements, or one the same launch file feeds to xacro (seed 001 runs
-    `xacro $(var model)` for robot_state_publisher: a model:= the user gives may be xacro)."""
-    if argument.endswith(".xacro"):
-        return True
-    if not argument.endswith(ANY_MODEL_SUFFIXES):
-        return False
-    if os.path.normpath(argument) in xacro_inputs:
-        return True
+def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str) -> bool:
+    """Whether a plain model file (no xacro in it) is, as it is, what robot_state_publisher gets
+    as robot_description in the same launch file: ros_gz_project_template's rrbot_setup.launch.py
+    reads model.sdf into robot_description and hands the same file to joint_state_publisher_gui,
+    which reads it as robot_state_publisher does (main's description_file; <sdf> too)."""
+    if not os.path.isabs(argument):
+        return False  # the node opens it from where it is started: nothing to compare
     head = ctx.text_head(argument)
-    return "xmlns:xacro" in head or "<xacro:" in head
+    if not head or "xmlns:xacro" in head or "<xacro:" in head:
+        return False
+    return any(
+        parameter.name == "robot_description"
+        and parameter.form in ("plain", "typed-str")
+        and parameter.value_preview
+        and head[: len(parameter.value_preview)] == parameter.value_preview
+        and len(parameter.value_preview) == min(len(head), PREVIEW_LENGTH)
+        for node in resolution.nodes
+        if node.package == "robot_state_publisher"
+        for parameter in node.parameters
+    )
+
+
+# what a launch record keeps of a parameter's value (launch/runtime.py value_preview)
+PREVIEW_LENGTH = 200
 
 
 @register(
@@ -614,12 +626,12 @@ def _needs_xacro(ctx: CheckContext, argument: str, xacro_inputs: set[str]) -> bo
         "# launch/display.launch.py\n"
         "Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui')"
     ),
-    summary="joint_state_publisher is given a model that needs xacro as an argument",
+    summary="joint_state_publisher is given the robot model as an argument",
     explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
     "itself, unexpanded (links go missing, the TF tree breaks; user story 4). It reads "
-    "/robot_description from robot_state_publisher. A plain .urdf or .sdf file that the launch "
-    "file also hands to robot_state_publisher as it is (not through xacro) is read the same "
-    "way by both: no finding.",
+    "/robot_description from robot_state_publisher. A plain .urdf or .sdf file whose text the "
+    "launch file also gives robot_state_publisher as it is (not through xacro) is read the "
+    "same way by both: no finding.",
     hint="remove the model from the node's arguments",
 )
 def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
@@ -631,8 +643,11 @@ def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:
             # a xacro file: parsed as URDF by the node itself, unexpanded. A plain .urdf or .sdf it
             # reads as robot_state_publisher does (main's description_file; configure_robot takes
             # <sdf> too: ros_gz_project_template's rrbot_setup.launch.py): no harm done
-            xacro_inputs = {os.path.normpath(c.model) for c in resolution.commands if c.model}
-            models = [a for a in node.arguments if _needs_xacro(ctx, str(a), xacro_inputs)]
+            models = [
+                a
+                for a in node.arguments
+                if str(a).endswith(ANY_MODEL_SUFFIXES) and not _read_as_is_by_rsp(ctx, resolution, str(a))
+            ]
             position = ctx.source_position(resolution, node.file, node.line)
             if models and position is not None and position not in seen:
                 seen.add(position)

@@ -212,7 +212,12 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
 
 
 # imports whose rosdep key is not python3-<module>
-PYTHON_KEYS = {"cv2": "python3-opencv", "PIL": "python3-pil", "serial": "python3-serial", "usb": "python3-usb"}
+PYTHON_KEYS = {
+    "cv2": "python3-opencv",
+    "PIL": "python3-pil",
+    "serial": "python3-serial",
+    "usb": "python3-usb",
+}
 
 
 @register(
@@ -268,16 +273,18 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
 GENERIC_WORDS = frozenset({"ros", "ros2", "robot", "gazebo", "gz", "ign", "moveit", "nav2", "urdf", "common"})
 
 
+def _first_word(name: str) -> str:
+    return re.split(r"[_-]", name, maxsplit=1)[0]
+
+
 def _from_a_repository(ctx: CheckContext, name: str) -> bool:
     """Whether a repository the workspace's .repos files import plausibly holds `name`: its first
     word is the package's (c3pzero.repos imports piper_ros2, which holds piper_description;
     `rosdep install --ignore-src` skips a package imported from source)."""
-    word = re.split(r"[_-]", name, maxsplit=1)[0]
+    word = _first_word(name)
     if len(word) < 3 or word in GENERIC_WORDS:
         return False
-    return any(
-        re.split(r"[_-]", repository, maxsplit=1)[0] == word for repository in ctx.source_repositories()
-    )
+    return any(_first_word(repository) == word for repository in ctx.source_repositories())
 
 
 def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str, str] | None:
@@ -312,8 +319,8 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
     near = data.close_names(name, n=1, cutoff=0.85, same_start=True)
     if not near:
         return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
-    if _from_a_repository(ctx, name):
-        return None
+    if _from_a_repository(ctx, name) and _first_word(near[0]) != _first_word(name):
+        return None  # (a released sibling's near-spelling is a typo, whatever the .repos files hold)
     return (
         f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
         f"did you mean {near[0]}?",
@@ -452,11 +459,12 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
         optional = "QUIET" in words and "REQUIRED" not in words
         if optional:
             because = "; it is optional (QUIET), so a clean machine builds without what needs it"
-        elif other is not None:
-            # declared as another kind: `rosdep install` (every kind by default) installs it, a
-            # build-dependencies-only install (the build farm, bloom) does not
+        elif other is not None and other.tag != "doc_depend":
+            # declared as another kind: `rosdep install` (every kind but doc by default) installs
+            # it, the release build (bloom's Build-Depends, the build farm) does not
             because = (
-                "; rosdep installs it anyway, only a build-dependencies-only install (the build farm) fails"
+                "; `rosdep install` installs it, so it builds from source, but the release build "
+                "(bloom, the build farm) installs build dependencies only and fails"
             )
         elif provider := _brought_by(ctx, name, tag == "test_depend"):
             # ament_cmake brings ament_cmake_python, rclcpp brings rmw (model/exports.py)

@@ -63,8 +63,9 @@ class Reference:
     # a model's reference inside <xacro:if>/<xacro:unless>: that element's condition as written
     # ("if ${gazebo}"), the innermost one; None when xacro always reads it
     condition: str | None = None
-    # a Python launch file's action given a condition= (Node(..., condition=IfCondition(db))):
-    # that argument as written; what a file that could not be evaluated runs only sometimes
+    # a Python launch file's action given a condition= that does not hold with the declared
+    # defaults (Node(..., condition=IfCondition(db)), db's default false): that argument as
+    # written; what a file that could not be evaluated runs only with other settings
     launch_condition: str | None = None
 
 
@@ -356,6 +357,32 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
     nodes = list(ast.walk(tree))  # walked once: the bindings and the calls both look at every node
     bindings = _literal_bindings(nodes)
     wrappers = _lookup_wrappers(nodes)
+    defaults, configurations = _argument_defaults(nodes)
+
+    def off_at_defaults(condition: ast.AST) -> bool:
+        """IfCondition(LaunchConfiguration('db')) with db's declared default false (Unless with
+        true): the action does not run with the defaults."""
+        if not isinstance(condition, ast.Call) or not condition.args:
+            return False
+        kind = _name(condition.func).split(".")[-1]
+        argument = condition.args[0]
+        if isinstance(argument, ast.Name):
+            argument = configurations.get(argument.id, argument)
+        if not (
+            isinstance(argument, ast.Call)
+            and _name(argument.func).split(".")[-1] == "LaunchConfiguration"
+            and argument.args
+        ):
+            return False
+        default = defaults.get(literal(argument.args[0]) or "")
+        if default is None:
+            return False
+        return (kind, default.lower()) in {
+            ("IfCondition", "false"),
+            ("IfCondition", "0"),
+            ("UnlessCondition", "true"),
+            ("UnlessCondition", "1"),
+        }
 
     def literal(node: ast.AST) -> str | None:
         if isinstance(node, ast.Constant) and isinstance(node.value, str):
@@ -402,7 +429,14 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
             if package:
                 found.append(Reference(package, None, source.path, *position, lookup))
         elif name in NODE_ACTIONS:
-            condition = next((ast.unparse(k.value) for k in node.keywords if k.arg == "condition"), None)
+            condition = next(
+                (
+                    ast.unparse(k.value)
+                    for k in node.keywords
+                    if k.arg == "condition" and off_at_defaults(k.value)
+                ),
+                None,
+            )
             for keyword in node.keywords:
                 if keyword.arg == "package" and (package := literal(keyword.value)):
                     found.append(
@@ -446,6 +480,34 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
                 if keyword.arg == "name" and literal(keyword.value) == "xacro":
                     found.append(Reference("xacro", None, source.path, *position, "FindExecutable"))
     return found
+
+
+def _argument_defaults(nodes: list[ast.AST]) -> tuple[dict[str, str], dict[str, ast.Call]]:
+    """The file's DeclareLaunchArgument literal defaults (name → default), and the names bound to
+    a LaunchConfiguration (db_config = LaunchConfiguration('db'))."""
+    defaults: dict[str, str] = {}
+    configurations: dict[str, ast.Call] = {}
+    for node in nodes:
+        if isinstance(node, ast.Call) and _name(node.func).split(".")[-1] == "DeclareLaunchArgument":
+            keywords = {k.arg: k.value for k in node.keywords}
+            name = node.args[0] if node.args else keywords.get("name")
+            default = node.args[1] if len(node.args) > 1 else keywords.get("default_value")
+            if (
+                isinstance(name, ast.Constant)
+                and isinstance(name.value, str)
+                and isinstance(default, ast.Constant)
+                and isinstance(default.value, str)
+            ):
+                defaults[name.value] = default.value
+        elif (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.targets[0], ast.Name)
+            and isinstance(node.value, ast.Call)
+            and _name(node.value.func).split(".")[-1] == "LaunchConfiguration"
+        ):
+            configurations[node.targets[0].id] = node.value
+    return defaults, configurations
 
 
 def _lookup_wrappers(nodes: list[ast.AST]) -> dict[str, tuple[int, str, str]]:

@@ -38,7 +38,9 @@ if TYPE_CHECKING:
 #    not installed here, is that lookup's (PF304/PF305) or PF311, not PF301; PF304's hint names
 #    an ignored folder holding the package; stop 25's audit of real workspaces: PF109 warnings for
 #    what a declared package brings along, PF108/PF306/PF402/PF305 false errors; folder digests
-CACHE_FORMAT = 7
+# 8: a second reader's corrections of 7 (PF306 read as-is, PF108 repos and conditions, PF109
+#    doc_depend, PF305 cycles through every workspace package), PF107 rosdep keys and wrappers
+CACHE_FORMAT = 8
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 
 
