@@ -219,7 +219,7 @@ def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
     assert not [d for d in json.loads(result.stdout)["diagnostics"] if d["code"].startswith("PF6")]
 
 
-def test_zero_effort_is_a_warning_zero_velocity_an_error(tmp_path):
+def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp_path):
     """ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose (position controlled): only a
     warning; a zero velocity stops MoveIt and controllers: an error."""
     package = physics_package(tmp_path, "joint-limit-invalid")
@@ -244,6 +244,17 @@ def test_zero_effort_is_a_warning_zero_velocity_an_error(tmp_path):
             "revolute joint 'shoulder': effort limit is 0.0",
         )
     ]
+    # SolidWorks' exporter writes velocity="0" (mycobot_ros2): only planning and simulation read it
     model.write_text(model.read_text().replace('velocity="1.0" effort="0"', 'velocity="0" effort="10"'))
+    status, report = verify_report(tmp_path, "--no-cache")
+    assert status == 0 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [
+        ("PF605", "warning")
+    ]
+    # reversed limits leave no allowed position: an error
+    model.write_text(
+        model.read_text().replace(
+            'lower="-1.57" upper="1.57" velocity="0"', 'lower="1.57" upper="-1.57" velocity="1"'
+        )
+    )
     status, report = verify_report(tmp_path, "--no-cache")
     assert status == 1 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [("PF605", "error")]

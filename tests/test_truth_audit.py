@@ -346,3 +346,90 @@ def test_a_cycle_through_a_package_not_verified_has_no_fix_either(tmp_path):
 
     run_pkgforge("fix", description, cwd=description)
     assert (description / "package.xml").read_text() == before
+
+
+# --- a fresh campaign on ten repositories never seen before (stop 25) -------------------------
+
+
+def test_a_find_package_a_declared_workspace_package_brings_is_a_warning(tmp_path):
+    # xarm_ros2: xarm_controller finds xarm_sdk, which its declared xarm_api <depend>s on
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_controller NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(audit_sdk REQUIRED)\nament_package()\n"
+    )
+    package(tmp_path, "audit_sdk", [], {})
+    package(tmp_path, "audit_api", [], {}, depend=["audit_sdk"])
+    package(tmp_path, "audit_controller", [], {"CMakeLists.txt": cmake}, depend=["audit_api"])
+    _, report = verify_report(tmp_path, "--no-cache")
+    ((severity, _, _, message),) = found(report, "PF109")
+    assert severity == "warning" and message.endswith(
+        "; audit_api, which it declares, brings it along, so it builds"
+    )
+
+
+def test_a_file_an_unreadable_install_rule_may_install_is_a_warning(tmp_path):
+    # limo_ros2's voice_control: setup.py computes data_files; the old hint's glob broke the build
+    setup = (
+        "import os\nfrom glob import glob\nfrom setuptools import setup\n\n"
+        "plugins = glob('Plugins/**/**.**')\n"
+        "plugin_path = [(os.path.join('share', 'audit_py', os.path.dirname(c)), [c]) for c in plugins]\n"
+        "setup(name='audit_py', version='0.1.0', packages=[],\n"
+        "      data_files=[('share/ament_index/resource_index/packages', ['resource/audit_py']),\n"
+        "                  ('share/audit_py', ['package.xml']), ('share/audit_py', glob('launch/*.launch.py')),\n"
+        "                  *plugin_path])\n"
+    )
+    launch = (
+        "import os\nfrom ament_index_python.packages import get_package_share_path\n"
+        "from launch import LaunchDescription\nfrom launch.actions import DeclareLaunchArgument\n"
+        "from launch.substitutions import LaunchConfiguration\nfrom launch_ros.actions import Node\n\n\n"
+        "def generate_launch_description():\n"
+        "    plugin_path = os.path.join(get_package_share_path('audit_py'), 'Plugins')\n"
+        "    declare = DeclareLaunchArgument(name='plugin_path', default_value=plugin_path)\n"
+        "    node = Node(package='audit_py', executable='voice',\n"
+        "                parameters=[{'plugin_path': LaunchConfiguration('plugin_path', default=declare)}])\n"
+        "    return LaunchDescription([declare, node])\n"
+    )
+    folder = tmp_path / "src" / "audit_py"
+    text = manifest("audit_py", "python", ["launch", "launch_ros"]).replace("ament_cmake", "ament_python")
+    write_package(
+        folder,
+        {
+            "package.xml": text,
+            "setup.py": setup,
+            "resource/audit_py": "",
+            "launch/a.launch.py": launch,
+            "Plugins/test/one.py": "",
+        },
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, m.split(":")[0]) for s, _, _, m in found(report, "PF302")] == [
+        ("warning", "share/audit_py/Plugins is not in the predicted install tree")
+    ]
+
+
+def test_a_package_named_by_an_unset_variable_is_environment_unset(tmp_path):
+    # dobot: get_package_share_directory(os.getenv('DOBOT_TYPE') + '_moveit') and a model path
+    # 'urdf/None_robot.xacro' were PF304 and PF301 errors; with the variable set, none
+    launch = (
+        "import os\nfrom ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\n\n\ndef generate_launch_description():\n"
+        "    robot = os.getenv('PKGFORGE_TEST_DOBOT_TYPE')\n"
+        "    config = get_package_share_directory(f'{robot}_moveit')\n"
+        "    model = open(os.path.join(get_package_share_directory('audit_env'), f'{robot}_robot.xacro')).read()\n"
+        "    return LaunchDescription([])\n"
+    )
+    package(tmp_path, "audit_env", ["launch"], {"launch/a.launch.py": launch})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [d["code"] for d in report["diagnostics"] if d["severity"] == "error"] == []
+    (unset,) = found(report, "PF317")
+    assert "PKGFORGE_TEST_DOBOT_TYPE is not set here" in unset[3]
+
+
+def test_a_rosinstall_file_brings_its_repositories_from_source(tmp_path):
+    # ROBOTIS-OP3: .robotis_op3.rosinstall lists robotis_controller_msgs (built from source)
+    folder = package(tmp_path, "audit_op3", ["robotis_controller_msgs"], {})
+    (folder.parent / ".audit.rosinstall").write_text(
+        "- git: {local-name: robotis_controller_msgs , uri: 'https://github.com/ROBOTIS-GIT/ROBOTIS-Framework-msgs.git', version: master}\n"
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF108") == []

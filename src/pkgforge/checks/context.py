@@ -42,6 +42,14 @@ DEPENDENCY_ELEMENT = re.compile(
     r"<((?:build_|buildtool_|build_export_|buildtool_export_|exec_|run_|test_)?depend)\b[^>]*>([^<]+)</\1>"
 )
 
+# the text None standing in a path or a name for an unset variable (os.getenv('X') + '_robot')
+NONE_TEXT = re.compile(r"(^|[/'\"])None([./_-]|$)")
+
+# the dependency kinds an installed package brings along (a binary's Depends)
+EXPORT_TAGS = frozenset(
+    {"depend", "exec_depend", "run_depend", "build_export_depend", "buildtool_export_depend"}
+)
+
 # what colcon leaves in its own build/ and install/ folders (beside their COLCON_IGNORE)
 COLCON_OUTPUT_MARKERS = frozenset({".built_by", ".colcon_install_layout"})
 
@@ -217,6 +225,14 @@ class CheckContext:
                 repositories = data.get("repositories") if isinstance(data, dict) else None
                 if isinstance(repositories, dict):
                     names.update(str(name).rsplit("/", 1)[-1] for name in repositories)
+                for entry in data if isinstance(data, list) else []:
+                    # .rosinstall: - git: {local-name: robotis_controller_msgs, uri: ...ROBOTIS-Framework-msgs.git}
+                    for spec in entry.values() if isinstance(entry, dict) else []:
+                        if isinstance(spec, dict):
+                            for key in ("local-name", "uri"):
+                                value = str(spec.get(key) or "").strip().rstrip("/").removesuffix(".git")
+                                if value:
+                                    names.add(value.rsplit("/", 1)[-1])
             return frozenset(names)
 
         found: frozenset[str] = self._shared("repositories", compute)
@@ -263,6 +279,24 @@ class CheckContext:
                     seen.add(name)
                     todo.append(name)
         return False
+
+    def workspace_exports(self) -> dict[str, set[str]]:
+        """Workspace package name → what its install brings along (its <depend>, <exec_depend>,
+        <build_export_depend>, <buildtool_export_depend>), read plainly from every folder's
+        package.xml."""
+
+        def compute() -> dict[str, set[str]]:
+            return {
+                name: {
+                    m.group(2).strip()
+                    for m in DEPENDENCY_ELEMENT.finditer(self.text_head(str(folder / "package.xml")))
+                    if m.group(1) in EXPORT_TAGS
+                }
+                for name, folder in self.workspace.items()
+            }
+
+        found: dict[str, set[str]] = self._shared("workspace-exports", compute)
+        return found
 
     def _dependency_edges(self) -> dict[str, set[str]]:
         """Workspace package name → the names its package.xml declares (doc_depend left out): the
@@ -434,6 +468,9 @@ class CheckContext:
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
         if error.type == "KeyError" and self.unset_environment(resolution):
+            return "environment"
+        if NONE_TEXT.search(error.message or "") and self.unset_environment(resolution):
+            # os.getenv('DOBOT_TYPE') gave None: 'urdf/None_robot.xacro' not found (dobot's launch files)
             return "environment"
         return "load"
 

@@ -249,6 +249,23 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
                     line,
                     hint=linked[1],
                 )
+        elif want_source and owner is not None and (owner.layout.unknown or not owner.layout.known):
+            # an install rule pkgforge cannot evaluate (PF206) may install it: limo_ros2's
+            # voice_control setup.py computes its data_files (and the hint's glob broke the build)
+            rule = (
+                f" ({ctx.relative(owner.layout.unknown[0][0])}:{owner.layout.unknown[0][1]})"
+                if owner.layout.unknown
+                else ""
+            )
+            yield Finding(
+                f"{shown} is not in the predicted install tree: {relative} is in the source of "
+                f"{package}, and an install rule pkgforge cannot evaluate{rule} may install it"
+                f"{_branch_note(item, resolution)}{more}",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint="check against a real build: pkgforge verify --build (or --install-base install)",
+            )
         elif want_source and owner is not None:
             elsewhere = next((d for d, f in owner.layout.files.items() if f.source == source), None)
             why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
@@ -410,6 +427,8 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
+        if NONE_PART.search(name) and resolution is not None and ctx.unset_environment(resolution):
+            continue  # 'None_moveit': os.getenv('DOBOT_TYPE') + '_moveit' (launch-environment-unset)
         if name in nested and path.is_relative_to(nested[name]):
             continue  # a template package's own files name it
         if not name or (
@@ -815,7 +834,12 @@ def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
         if not names:
             continue
         failed = ctx.load_error_kind(resolution) == "environment"
-        none_paths = [item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)]
+        none_paths: list[ResolvedPath | PackageLookup] = [
+            item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)
+        ]
+        none_paths += [
+            item for item in resolution.packages if item.found is False and NONE_PART.search(item.name)
+        ]
         if not failed and not none_paths:
             continue
         error = resolution.error
@@ -828,7 +852,12 @@ def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
             resolution.launch.source or resolution.launch.installed,
             None,
         )
-        what = "stops loading" if failed else "resolves a path with 'None' in it"
+        if failed:
+            what = "stops loading"
+        elif isinstance(none_paths[0], PackageLookup):
+            what = f"looks up a package named '{none_paths[0].name}'"
+        else:
+            what = "resolves a path with 'None' in it"
         yield Finding(
             f"{resolution.launch.installed.name} {what}: environment variable "
             f"{' or '.join(names)} is not set here; what depends on it is not checked",

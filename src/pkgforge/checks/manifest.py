@@ -496,7 +496,7 @@ def _brought_by(ctx: CheckContext, name: str, testing: bool) -> str | None:
     start = manifest.build_dependencies() | (
         {d.name for d in manifest.active_dependencies() if d.tag == "test_depend"} if testing else set()
     )
-    return brought_by(name, start, ctx.distros)
+    return brought_by(name, start, ctx.distros, ctx.workspace_exports())
 
 
 @register(

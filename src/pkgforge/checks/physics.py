@@ -176,8 +176,9 @@ def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
     summary="a revolute or prismatic joint's <limit> is missing, reversed (lower > upper), or has "
     "zero or negative velocity or effort",
     explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
-    "leave no allowed position; controllers and MoveIt cannot move a joint whose "
-    "velocity or effort limit is 0.",
+    "leave no allowed position (errors). Controllers, simulators and MoveIt cannot move a joint "
+    "whose velocity or effort limit is 0; RViz and the state publishers never read them, and "
+    "exporters write 0 by default, so those two are warnings.",
     hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
     "velocity, effort > 0",
 )
@@ -200,10 +201,15 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
                     hint="swap lower and upper",
                 )
             if not (limit.get("velocity") or 0) > 0:
+                # SolidWorks' URDF exporter writes velocity="0": urdfdom, robot_state_publisher,
+                # joint_state_publisher and RViz accept and never read it (mycobot_ros2's 259
+                # joints). MoveIt's time parameterization and a simulator's joints do: a warning
                 yield Finding(
                     f"{name}: velocity limit is {limit.get('velocity')}",
                     *where,
-                    hint="set velocity= to the joint's real maximum (> 0)",
+                    severity=Severity.WARNING,
+                    hint="set velocity= to the joint's real maximum (> 0) if the joint is planned "
+                    "(MoveIt) or simulated",
                 )
             if not (limit.get("effort") or 0) > 0:
                 # ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose: they are position

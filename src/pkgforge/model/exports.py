@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import functools
 import json
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 DATA_FILE = Path(__file__).parent / "data" / "exports.json"
@@ -28,16 +28,37 @@ def _exports() -> dict[str, dict[str, list[str]]]:
     return data
 
 
-def brought_by(name: str, declared: Iterable[str], distros: Iterable[str]) -> str | None:
-    """The declared package whose binary install brings `name` along in every one of `distros`
-    (all the table has when none are given), else None."""
+def brought_by(
+    name: str,
+    declared: Iterable[str],
+    distros: Iterable[str],
+    workspace: Mapping[str, Iterable[str]] | None = None,
+) -> str | None:
+    """The declared package whose install brings `name` along in every one of `distros` (all the
+    table has when none are given), else None. `workspace`: the run-time exports of the
+    workspace's own packages (built from source, they bring theirs as a binary does: xarm_api's
+    <depend>xarm_sdk</depend>), followed before the table."""
     table = _exports()
     targets = [d if d in table else NEWEST for d in distros] or sorted(table)
     candidates = sorted(set(declared))
     for candidate in candidates:
-        if all(name in _closure(candidate, distro) for distro in set(targets)):
+        if all(name in _closure_with(candidate, distro, workspace) for distro in set(targets)):
             return candidate
     return None
+
+
+def _closure_with(package: str, distro: str, workspace: Mapping[str, Iterable[str]] | None) -> frozenset[str]:
+    if not workspace:
+        return _closure(package, distro)
+    exports = _exports()[distro]
+    seen: set[str] = set()
+    todo = list(workspace.get(package, exports.get(package, [])))
+    while todo:
+        current = todo.pop()
+        if current not in seen:
+            seen.add(current)
+            todo.extend(workspace.get(current, exports.get(current, [])))
+    return frozenset(seen)
 
 
 @functools.cache

@@ -56,7 +56,7 @@ def walk_file_names(
 
 
 def vcs_repos_files(package_folders: Iterable[Path], base: Path | None = None) -> list[Path]:
-    """The vcs .repos files in the packages' own folders and in every folder above them up to the
+    """The vcs .repos (and wstool .rosinstall) files in the packages' own folders and in every folder above them up to the
     workspace's `base` (where packages are found) and the one above it (rosbot_ros keeps
     rosbot_hardware.repos in a package, c3pzero its c3pzero.repos at the root of a repository of
     package groups, a workspace in src/ or beside it), sorted: what `vcs import` brings in from
@@ -76,7 +76,7 @@ def vcs_repos_files(package_folders: Iterable[Path], base: Path | None = None) -
                 found.update(
                     Path(e.path)
                     for e in entries
-                    if e.name.endswith(".repos") and e.is_file(follow_symlinks=False)
+                    if e.name.endswith((".repos", ".rosinstall")) and e.is_file(follow_symlinks=False)
                 )
         except OSError:
             continue

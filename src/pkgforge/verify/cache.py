@@ -40,7 +40,9 @@ if TYPE_CHECKING:
 #    what a declared package brings along, PF108/PF306/PF402/PF305 false errors; folder digests
 # 8: a second reader's corrections of 7 (PF306 read as-is, PF108 repos and conditions, PF109
 #    doc_depend, PF305 cycles through every workspace package), PF107 rosdep keys and wrappers
-CACHE_FORMAT = 8
+# 9: ten new repositories: PF605 velocity 0 a warning, PF302 under an unevaluated rule a warning,
+#    PF109 through workspace packages' exports, an unset variable's None is PF317, .rosinstall
+CACHE_FORMAT = 9
 DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
 
 
