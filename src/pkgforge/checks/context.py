@@ -45,6 +45,11 @@ DEPENDENCY_ELEMENT = re.compile(
 # the text None standing in a path or a name for an unset variable (os.getenv('X') + '_robot')
 NONE_TEXT = re.compile(r"(^|[/'\"])None([./_-]|$)")
 
+# packages that read a joint's velocity limit: MoveIt's planning, simulators, ros2_control.
+# (controller_manager alone is left out: mycobot_ros2 declares it in 15 packages and starts it
+# nowhere; a robot really controlled declares ros2_control or its controllers too)
+MOTION_PREFIXES = ("moveit", "gazebo", "gz_", "ros_gz", "ign_", "ros_ign", "ros2_control", "webots")
+
 # the dependency kinds an installed package brings along (a binary's Depends)
 EXPORT_TAGS = frozenset(
     {"depend", "exec_depend", "run_depend", "build_export_depend", "buildtool_export_depend"}
@@ -279,6 +284,12 @@ class CheckContext:
                     seen.add(name)
                     todo.append(name)
         return False
+
+    def planned_or_simulated(self) -> bool:
+        """Whether a package of the workspace uses MoveIt, a simulator or ros2_control (a
+        dependency of that family declared anywhere): then the models' joint limits are read."""
+        edges: dict[str, set[str]] = self._shared("dependency-edges", self._dependency_edges)
+        return any(name.startswith(MOTION_PREFIXES) for names in edges.values() for name in names)
 
     def workspace_exports(self) -> dict[str, set[str]]:
         """Workspace package name → what its install brings along (its <depend>, <exec_depend>,

@@ -178,7 +178,8 @@ def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
     explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
     "leave no allowed position (errors). Controllers, simulators and MoveIt cannot move a joint "
     "whose velocity or effort limit is 0; RViz and the state publishers never read them, and "
-    "exporters write 0 by default, so those two are warnings.",
+    "exporters write 0 by default: a zero effort is a warning, a zero velocity too unless a "
+    "package of the workspace uses MoveIt, a simulator or ros2_control.",
     hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
     "velocity, effort > 0",
 )
@@ -203,13 +204,20 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
             if not (limit.get("velocity") or 0) > 0:
                 # SolidWorks' URDF exporter writes velocity="0": urdfdom, robot_state_publisher,
                 # joint_state_publisher and RViz accept and never read it (mycobot_ros2's 259
-                # joints). MoveIt's time parameterization and a simulator's joints do: a warning
+                # joints): a warning. MoveIt's time parameterization, simulators and ros2_control
+                # do: an error where the workspace uses one of them (dobot's MoveIt and Gazebo)
+                planned = ctx.planned_or_simulated()
                 yield Finding(
-                    f"{name}: velocity limit is {limit.get('velocity')}",
+                    f"{name}: velocity limit is {limit.get('velocity')}"
+                    + (
+                        ""
+                        if planned
+                        else " (no package here plans or simulates it: only RViz reads the model)"
+                    ),
                     *where,
-                    severity=Severity.WARNING,
-                    hint="set velocity= to the joint's real maximum (> 0) if the joint is planned "
-                    "(MoveIt) or simulated",
+                    severity=None if planned else Severity.WARNING,
+                    hint="set velocity= to the joint's real maximum (> 0)"
+                    + ("" if planned else " before MoveIt, a simulator or ros2_control moves it"),
                 )
             if not (limit.get("effort") or 0) > 0:
                 # ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose: they are position
