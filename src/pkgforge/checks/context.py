@@ -21,6 +21,7 @@ from pkgforge.model.rviz import RvizConfig
 from pkgforge.tree import InstallTree
 
 if TYPE_CHECKING:
+    from pkgforge.model.manifest import Dependency
     from pkgforge.model.references import Reference
     from pkgforge.urdf.meshes import MeshLookup
     from pkgforge.urdf.select import ModelResult
@@ -37,13 +38,8 @@ LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", 
 _T = TypeVar("_T")
 
 
-# a dependency element of a package.xml, read without parsing it (doc_depend left out)
-DEPENDENCY_ELEMENT = re.compile(
-    r"<((?:build_|buildtool_|build_export_|buildtool_export_|exec_|run_|test_)?depend)\b[^>]*>([^<]+)</\1>"
-)
-
 # the text None standing in a path or a name for an unset variable (os.getenv('X') + '_robot')
-NONE_TEXT = re.compile(r"(^|[/'\"])None([./_-]|$)")
+NONE_TEXT = re.compile(r"(^|[/'\"])None([./_'\"-]|$)")
 
 # packages that read a joint's velocity limit: MoveIt's planning, simulators, ros2_control.
 # (controller_manager alone is left out: mycobot_ros2 declares it in 15 packages and starts it
@@ -293,38 +289,46 @@ class CheckContext:
 
     def workspace_exports(self) -> dict[str, set[str]]:
         """Workspace package name → what its install brings along (its <depend>, <exec_depend>,
-        <build_export_depend>, <buildtool_export_depend>), read plainly from every folder's
-        package.xml."""
+        <build_export_depend>, <buildtool_export_depend>), conditions evaluated."""
 
         def compute() -> dict[str, set[str]]:
             return {
-                name: {
-                    m.group(2).strip()
-                    for m in DEPENDENCY_ELEMENT.finditer(self.text_head(str(folder / "package.xml")))
-                    if m.group(1) in EXPORT_TAGS
-                }
-                for name, folder in self.workspace.items()
+                name: {d.name for d in dependencies if d.tag in EXPORT_TAGS}
+                for name, dependencies in self._workspace_dependencies().items()
             }
 
         found: dict[str, set[str]] = self._shared("workspace-exports", compute)
         return found
 
+    def _workspace_dependencies(self) -> dict[str, list[Dependency]]:
+        """Every workspace package's active dependencies (their conditions evaluated for the
+        target distros, comments being no elements): the loaded models', and the other folders'
+        manifests read here, so a package verified alone sees what the workspace run sees."""
+
+        def compute() -> dict[str, list[Dependency]]:
+            from pkgforge.model.manifest import load_manifest
+            from pkgforge.model.source import read_source
+
+            out: dict[str, list[Dependency]] = {}
+            for model in [*self.models.values(), self.model]:
+                if model.manifest.valid:
+                    out.setdefault(model.name, model.manifest.active_dependencies())
+            for name, folder in self.workspace.items():
+                if name not in out:
+                    manifest = load_manifest(read_source(folder / "package.xml"))
+                    manifest.distros = self.distros
+                    out[name] = manifest.active_dependencies() if manifest.valid else []
+            return out
+
+        found: dict[str, list[Dependency]] = self._shared("workspace-dependencies", compute)
+        return found
+
     def _dependency_edges(self) -> dict[str, set[str]]:
-        """Workspace package name → the names its package.xml declares (doc_depend left out): the
-        loaded models' (conditions evaluated), and every other workspace folder's read plainly (a
-        package verified alone has only its own model; a condition counts as holding, so a cycle
-        is rather seen than missed)."""
-        edges: dict[str, set[str]] = {}
-        for model in [*self.models.values(), self.model]:
-            if model.manifest.valid:
-                edges.setdefault(model.name, set()).update(
-                    d.name for d in model.manifest.active_dependencies() if d.tag != "doc_depend"
-                )
-        for name, folder in self.workspace.items():
-            if name not in edges:
-                text = self.text_head(str(folder / "package.xml"))
-                edges[name] = {m.group(2).strip() for m in DEPENDENCY_ELEMENT.finditer(text)}
-        return edges
+        """Workspace package name → the names its package.xml declares (doc_depend left out)."""
+        return {
+            name: {d.name for d in dependencies if d.tag != "doc_depend"}
+            for name, dependencies in self._workspace_dependencies().items()
+        }
 
     def ignored_packages(self) -> dict[str, tuple[Path, Path]]:
         """The packages in the workspace's folders that an ignore marker (COLCON_IGNORE,
@@ -480,9 +484,6 @@ class CheckContext:
             return "newer-api"
         if error.type == "KeyError" and self.unset_environment(resolution):
             return "environment"
-        if NONE_TEXT.search(error.message or "") and self.unset_environment(resolution):
-            # os.getenv('DOBOT_TYPE') gave None: 'urdf/None_robot.xacro' not found (dobot's launch files)
-            return "environment"
         return "load"
 
     def package_not_installed_here(self, error: LaunchError) -> bool:
@@ -505,6 +506,13 @@ class CheckContext:
                 or module in self.real_packages()
             )
         )
+
+    def none_from_unset(self, resolution: Resolution, text: str) -> list[str]:
+        """The unset variables the file reads when `text` (a name, a path, an error message) has
+        the text None in it where a name was built ('urdf/None_robot.xacro', 'None_moveit'):
+        os.getenv('DOBOT_TYPE') may have given it. Not proven (a dict.get() may have too), so
+        what is said of it is a warning that names the variables, not silence."""
+        return self.unset_environment(resolution) if NONE_TEXT.search(text) else []
 
     def unset_environment(self, resolution: Resolution) -> list[str]:
         """Environment variables the launch file reads without a default and that are not set

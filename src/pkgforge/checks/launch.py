@@ -109,6 +109,16 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                         "the error names no line of this file: run `pkgforge verify --explain-launch "
                         "FILE` to see how far it got"
                     )
+                if unset := ctx.none_from_unset(resolution, text):
+                    # dobot: os.getenv('DOBOT_TYPE') + '_robot.xacro' → 'None_robot.xacro' not found
+                    yield Finding(
+                        f"{message} (None in it: environment variable {' or '.join(unset)} is not set here)",
+                        *position,
+                        severity=Severity.WARNING,
+                        hint=f"set {unset[0]} when you run verify (e.g. {unset[0]}=value pkgforge verify), "
+                        "or give it a default",
+                    )
+                    continue
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
             if item.type in SANDBOX_TYPES:
@@ -198,6 +208,15 @@ def _unreadable_folder(owner: PackageModel, source: Path) -> Path | None:
     return None
 
 
+def _may_install(owner: PackageModel, destination: str) -> tuple[Path, int] | None:
+    """The (path, line) of an install rule pkgforge cannot evaluate that may install files at
+    `destination` (its own destination unknown, or one `destination` is under), else None."""
+    for path, line, where in owner.layout.may_install:
+        if where is None or destination == where or destination.startswith(where.rstrip("/") + "/"):
+            return path, line
+    return None
+
+
 def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]:
     # one defect, one diagnostic: the first line of a file that names the path, "and N more"
     found: dict[
@@ -249,14 +268,14 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
                     line,
                     hint=linked[1],
                 )
-        elif want_source and owner is not None and (owner.layout.unknown or not owner.layout.known):
+        elif (
+            want_source
+            and owner is not None
+            and (not owner.layout.known or (may := _may_install(owner, f"share/{package}/{relative}")))
+        ):
             # an install rule pkgforge cannot evaluate (PF206) may install it: limo_ros2's
             # voice_control setup.py computes its data_files (and the hint's glob broke the build)
-            rule = (
-                f" ({ctx.relative(owner.layout.unknown[0][0])}:{owner.layout.unknown[0][1]})"
-                if owner.layout.unknown
-                else ""
-            )
+            rule = f" ({ctx.relative(may[0])}:{may[1]})" if owner.layout.known and may else ""
             yield Finding(
                 f"{shown} is not in the predicted install tree: {relative} is in the source of "
                 f"{package}, and an install rule pkgforge cannot evaluate{rule} may install it"
@@ -427,8 +446,7 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
-        if NONE_PART.search(name) and resolution is not None and ctx.unset_environment(resolution):
-            continue  # 'None_moveit': os.getenv('DOBOT_TYPE') + '_moveit' (launch-environment-unset)
+        unset = ctx.none_from_unset(resolution, name) if resolution is not None else []
         if name in nested and path.is_relative_to(nested[name]):
             continue  # a template package's own files name it
         if not name or (
@@ -443,6 +461,17 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
             "and released in no ROS 2 distro"
         )
         only = resolution.off_default(item) if resolution is not None and item is not None else []
+        if unset:
+            # dobot: get_package_share_directory(os.getenv('DOBOT_TYPE') + '_moveit') → 'None_moveit'
+            yield Finding(
+                f"{message} (None in it: environment variable {' or '.join(unset)} is not set here)",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"set {unset[0]} when you run verify (e.g. {unset[0]}=value pkgforge verify), "
+                "or give it a default",
+            )
+            continue
         if not only:
             yield Finding(message, path, line, hint=_unknown_hint(ctx, name))
             continue
@@ -834,12 +863,7 @@ def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
         if not names:
             continue
         failed = ctx.load_error_kind(resolution) == "environment"
-        none_paths: list[ResolvedPath | PackageLookup] = [
-            item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)
-        ]
-        none_paths += [
-            item for item in resolution.packages if item.found is False and NONE_PART.search(item.name)
-        ]
+        none_paths = [item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)]
         if not failed and not none_paths:
             continue
         error = resolution.error
@@ -852,12 +876,7 @@ def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
             resolution.launch.source or resolution.launch.installed,
             None,
         )
-        if failed:
-            what = "stops loading"
-        elif isinstance(none_paths[0], PackageLookup):
-            what = f"looks up a package named '{none_paths[0].name}'"
-        else:
-            what = "resolves a path with 'None' in it"
+        what = "stops loading" if failed else "resolves a path with 'None' in it"
         yield Finding(
             f"{resolution.launch.installed.name} {what}: environment variable "
             f"{' or '.join(names)} is not set here; what depends on it is not checked",

@@ -59,6 +59,9 @@ class InstallLayout:
     destinations: list[RuleDestination] = field(default_factory=list)
     # (path, line, why) for rules whose effect pkgforge cannot know
     unknown: list[tuple[Path, int, str]] = field(default_factory=list)
+    # of those, the ones that may install files (not programs, not targets): (path, line, their
+    # destination when known, else None). A file a launch file finds missing may come from one
+    may_install: list[tuple[Path, int, str | None]] = field(default_factory=list)
     # the rules that install folders, for fix hints: (path, line, installed top-level folders)
     directory_rules: list[tuple[Path, int, tuple[str, ...], str]] = field(default_factory=list)
     # where a walk of an installed folder stopped (too deep, too many files)
@@ -137,17 +140,17 @@ def layout_from_cmake(cmake: CMakeModel, package_path: Path, share_name: str) ->
 def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
     dest_arg: Argument | None = rule.destination_arg
     column = dest_arg.column if dest_arg else None
+    installs_files = rule.mode in ("DIRECTORY", "FILES")  # (PROGRAMS go to lib/, TARGETS are built)
     if rule.destination is None:
         layout.unknown.append((rule.path, rule.line, "install() without DESTINATION"))
+        if installs_files:
+            layout.may_install.append((rule.path, rule.line, None))
         return
     if isinstance(rule.destination, Unknown):
-        layout.unknown.append(
-            (
-                rule.path,
-                dest_arg.line if dest_arg else rule.line,
-                f"DESTINATION depends on {rule.destination.why}",
-            )
-        )
+        line = dest_arg.line if dest_arg else rule.line
+        layout.unknown.append((rule.path, line, f"DESTINATION depends on {rule.destination.why}"))
+        if installs_files:
+            layout.may_install.append((rule.path, line, None))
         return
     destination = _normalize_destination(rule.destination)
     known_sources = tuple(s for s, _ in rule.sources if isinstance(s, str))
@@ -167,6 +170,8 @@ def _apply_rule(layout: InstallLayout, rule: InstallRule) -> None:
     for value, arg in rule.sources:
         if isinstance(value, Unknown):
             layout.unknown.append((rule.path, arg.line, f"a source depends on {value.why}"))
+            if installs_files and destination is not None:
+                layout.may_install.append((rule.path, arg.line, destination))
             continue
         if value.startswith(BINARY_DIR):
             continue  # generated at build time; not in the source tree
@@ -197,6 +202,7 @@ def layout_from_setup_py(setup_py: SetupPyModel, package_path: Path) -> InstallL
     path = setup_py.source.path
     for line, why in setup_py.unknown:
         layout.unknown.append((path, line, why))
+        layout.may_install.append((path, line, None))  # data_files: anywhere under the prefix
     for entry in setup_py.entries:
         path = entry.path or setup_py.source.path
         destination = _normalize_destination(entry.destination)

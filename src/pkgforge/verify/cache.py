@@ -42,8 +42,12 @@ if TYPE_CHECKING:
 #    doc_depend, PF305 cycles through every workspace package), PF107 rosdep keys and wrappers
 # 9: ten new repositories: PF605 velocity 0 a warning, PF302 under an unevaluated rule a warning,
 #    PF109 through workspace packages' exports, an unset variable's None is PF317, .rosinstall
-CACHE_FORMAT = 9
-DEPENDENCY = re.compile(r"<(?:depend|\w+_depend)[^>]*>\s*([^<\s]+)\s*<")
+# 10: a second reader's corrections of 9: manifests read with conditions and without comments,
+#    the workspace key holds each package's dependency elements, PF302 only for rules that may
+#    install files there, an unset variable's None a warning (PF301/PF304)
+CACHE_FORMAT = 10
+DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
+COMMENT = re.compile(r"<!--.*?-->", re.S)
 
 
 def _atomic_write(path: Path, text: str) -> None:
@@ -281,18 +285,24 @@ def workspace_key(folders: list[Path], texts: dict[Path, str | None] | None = No
     folders of a name two packages have). `texts`: the package.xml texts already read (None:
     unreadable), by folder."""
     folders_by_name: dict[str, list[str]] = {}
-    dependencies = set()
+    # each package's dependency elements as written (kind, attributes such as a condition, name):
+    # which package declares what, and how, is read by checks of other packages (what a declared
+    # package brings along, PF109; a dependency cycle, PF305; MoveIt or a simulator used, PF605)
+    dependencies: dict[str, list[tuple[str, str, str]]] = {}
     for folder in folders:
         text = texts[folder] if texts is not None and folder in texts else manifest_text(folder)
         if text is None:
             continue
-        folders_by_name.setdefault(quick_name(folder, text), []).append(str(folder))
-        dependencies.update(DEPENDENCY.findall(text))
+        name = quick_name(folder, text)
+        folders_by_name.setdefault(name, []).append(str(folder))
+        elements = DEPENDENCY.findall(COMMENT.sub("", text))
+        dependencies.setdefault(name, []).extend(
+            (kind, " ".join(attributes.split()), what) for kind, attributes, what in elements
+        )
     # a name two folders hold (package-name-duplicate, and which copy the tree holds): those folders
     twice = sorted((name, sorted(where)) for name, where in folders_by_name.items() if len(where) > 1)
-    return hashlib.sha256(
-        json.dumps([sorted(folders_by_name), sorted(dependencies), twice]).encode()
-    ).hexdigest()
+    written = sorted((name, sorted(elements)) for name, elements in dependencies.items())
+    return hashlib.sha256(json.dumps([sorted(folders_by_name), written, twice]).encode()).hexdigest()
 
 
 BUILD_FILES = ("package.xml", "CMakeLists.txt", "setup.py", "setup.cfg")
