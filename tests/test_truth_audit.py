@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 
 from conftest import line_of, verify_report
-from test_truth_edges import BRINGUP_CMAKE, manifest, write_package
+from test_truth_edges import BRINGUP_CMAKE, MOVEIT_CONFIG, manifest, write_package
 
 from pkgforge.model.exports import brought_by
 
@@ -501,3 +501,80 @@ def test_a_rule_that_installs_programs_cannot_install_a_missing_share_file(tmp_p
     )
     _, report = verify_report(tmp_path, "--no-cache")
     assert [s for s, *_ in found(report, "PF302")] == ["error"]
+
+
+# --- a second fresh campaign (ardupilot_gz, create3_sim, denso, Bumper-Bot, go2, neobotix, SO-ARM100,
+# stretch_ros2) ------------------------------------------------------------------------------
+
+
+def test_an_opaque_function_reading_a_declared_package_not_installed_here_is_unevaluated(tmp_path):
+    # ardupilot_gz's launch_setup opens ardupilot_gazebo's model.sdf (declared, not installed here)
+    launch = (
+        "import os\nfrom ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\nfrom launch.actions import OpaqueFunction\n\n\n"
+        "def setup(context):\n"
+        f"    with open(os.path.join(get_package_share_directory('{MOVEIT_CONFIG}'), 'config', 'a.yaml')) as f:\n"
+        "        f.read()\n"
+        "    return []\n\n\n"
+        "def generate_launch_description():\n    return LaunchDescription([OpaqueFunction(function=setup)])\n"
+    )
+    folder = package(tmp_path, "audit_opaque", ["launch", MOVEIT_CONFIG], {"launch/a.launch.py": launch})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF301") == []
+    ((severity, _, line, message),) = found(report, "PF311")
+    assert (severity, line) == ("info", line_of(folder / "launch" / "a.launch.py", "OpaqueFunction(function"))
+    assert message == (
+        f"a.launch.py: OpaqueFunction reads files of {MOVEIT_CONFIG}, a package not installed here; "
+        "what it starts is not checked"
+    )
+
+
+def test_a_build_export_depend_is_declared_for_run_time_too(tmp_path):
+    # stretch_calibration: <build_export_depend>stretch_core</build_export_depend>, used by its launch
+    launch = (
+        "from launch import LaunchDescription\nfrom launch_ros.actions import Node\n\n\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([Node(package='robot_state_publisher', executable='robot_state_publisher')])\n"
+    )
+    package(
+        tmp_path,
+        "audit_export",
+        ["launch", "launch_ros"],
+        {"launch/a.launch.py": launch},
+        build_export_depend=["robot_state_publisher"],
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == []
+
+
+def test_a_long_path_in_an_action_failure_is_kept_whole():
+    # ardupilot_gz: "No such file or directory: 'share/ardupilo.../'" named no file
+    from pkgforge.checks.launch import _one_line
+
+    path = "/dev/shm/pkgforge-tree-1/phantom/share/ardupilot_gazebo/models/iris_with_gimbal/model.sdf"
+    assert _one_line(f"[Errno 2] No such file or directory: '{path}'").endswith(f"'{path}'")
+    value = "x" * 100
+    assert _one_line(f"cannot parse '{value}'") == f"cannot parse '{'x' * 60}...'"
+
+
+def test_what_loading_records_holds_for_every_argument_setting(tmp_path):
+    # denso, stretch, rox: a lookup at the top of generate_launch_description() was said to
+    # happen "(only with sim:=true …)", the defaults, as if other settings skipped it
+    launch = (
+        "from ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\nfrom launch.actions import DeclareLaunchArgument\n\n\n"
+        "def generate_launch_description():\n"
+        "    share = get_package_share_directory('tf2_ros')\n"
+        "    return LaunchDescription([DeclareLaunchArgument('gui', default_value='true'),\n"
+        "                              Node(package='robot_state_publisher', executable='robot_state_publisher')])\n"
+    )
+    launch = launch.replace("from launch.actions", "from launch_ros.actions import Node\nfrom launch.actions")
+    package(
+        tmp_path,
+        "audit_load",
+        ["launch", "launch_ros", "robot_state_publisher"],
+        {"launch/a.launch.py": launch},
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    ((severity, _, _, message),) = found(report, "PF305")
+    assert severity == "error" and message.endswith("is used at run time but package.xml does not declare it")

@@ -127,13 +127,16 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # xacro-error reports it with xacro's message
             if ctx.package_not_installed_here(item):
                 continue  # an included file's import: that file is evaluated, and reported, on its own
+            if item.read_from:
+                continue  # an OpaqueFunction read a file of a package not installed here (launch-unevaluated)
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None:
                 yield Finding(
-                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(item.message)}"
+                    # (the tree's paths named as the user's before a long value is shortened)
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
                     f"{_branch_note(item, resolution)}",
                     *position,
                 )
@@ -144,7 +147,8 @@ def _one_line(message: str) -> str:
     could not read as YAML) shortened to its start."""
     import re
 
-    message = re.sub(r"'([^']{60})[^']{20,}'", lambda m: f"'{m.group(1)}...'", message, flags=re.S)
+    # (a path is kept whole: the report shows it in the user's terms, and its end is the file)
+    message = re.sub(r"'([^'/][^']{59})[^']{20,}'", lambda m: f"'{m.group(1)}...'", message, flags=re.S)
     return " ".join(part.strip() for part in message.splitlines() if part.strip())
 
 
@@ -577,7 +581,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     if not model.manifest.valid:
         return  # with no readable manifest, nothing is known to be declared
-    declared = model.manifest.run_dependencies()
+    # a <build_export_depend> is installed with the package too (rosdep installs every kind,
+    # bloom puts it in the binary's Depends): stretch_calibration declares stretch_core so
+    declared = model.manifest.run_dependencies() | {
+        d.name
+        for d in model.manifest.active_dependencies()
+        if d.tag in ("build_export_depend", "buildtool_export_depend")
+    }
     own = {model.name, model.share_name}
     known = ctx.real_packages()
     # a model's reference as written (not as xacro made it), for the uses a package may leave out
@@ -828,6 +838,7 @@ def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
     hint="verify on a machine with the dependency installed (or --install-base) to evaluate it",
 )
 def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
+    said: set[tuple[Path, int | None, str]] = set()  # (an included file's action: said once, at its line)
     for resolution in ctx.resolutions:
         error = resolution.error
         if ctx.load_error_kind(resolution) == "unevaluated" and error is not None:
@@ -842,6 +853,17 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
             else:
                 what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
+        for item in resolution.errors if resolution.status == "ok" else []:
+            if item.read_from:
+                # ardupilot_gz's launch_setup (an OpaqueFunction) opens ardupilot_gazebo's model.sdf
+                where = ctx.source_position(resolution, item.file, item.line)
+                if where is not None and (*where, item.read_from) not in said:
+                    said.add((*where, item.read_from))
+                    yield Finding(
+                        f"{resolution.launch.installed.name}: {item.entity or 'an action'} reads files of "
+                        f"{item.read_from}, a package not installed here; what it starts is not checked",
+                        *where,
+                    )
 
 
 @register(

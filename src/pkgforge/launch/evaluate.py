@@ -356,6 +356,9 @@ def record_visit_failure(entity: object, error: Exception) -> None:
     }
     if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
         record["module"] = error.name
+    absent = _not_installed_read(error)
+    if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
+        record["read_from"] = absent
     RECORDER.add("errors", record)
 
 

@@ -668,6 +668,8 @@ def evaluate_branches(
     choices or a true/false default (at most MAX_BRANCHES), while `budget` lasts. Both engines
     branch through this one function, so their records can only differ in what a visit records,
     never in which visits run. `run(values, label)` performs one visit."""
+    # what loading the file recorded (before any visit) holds whatever the arguments: no branch
+    loaded = {id(item) for kind in ITEM_KINDS for item in getattr(recorder, kind)}
     run({}, {})
     varying = [
         a
@@ -679,7 +681,7 @@ def evaluate_branches(
     defaults = {a.name: a.default for a in varying}
     for kind in ITEM_KINDS:
         for item in getattr(recorder, kind):
-            if not item.branch:
+            if not item.branch and id(item) not in loaded:
                 item.branch = dict(defaults)
     # a true/false default written True/False (Python's spelling) gets the other value spelt the
     # same way: a PythonExpression(['not ', flag]) is meant for it, and 'not false' is a NameError

@@ -45,7 +45,9 @@ if TYPE_CHECKING:
 # 10: a second reader's corrections of 9: manifests read with conditions and without comments,
 #    the workspace key holds each package's dependency elements, PF302 only for rules that may
 #    install files there, an unset variable's None a warning (PF301/PF304)
-CACHE_FORMAT = 10
+# 11: an OpaqueFunction reading a package not installed here is PF311; build_export_depend counts
+#    for PF305; what loading records holds for every argument setting (no "only with" note)
+CACHE_FORMAT = 11
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
