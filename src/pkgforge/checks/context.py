@@ -270,7 +270,7 @@ class CheckContext:
         """Whether workspace package `start` depends on `goal` through the declared dependencies
         of workspace packages (any tag but doc_depend: colcon orders by all of them), so that a
         dependency of `goal` on `start` would be a cycle colcon refuses to order."""
-        edges: dict[str, set[str]] = self._shared("dependency-edges", self._dependency_edges)
+        edges: dict[str, set[str]] = self._shared(("dependency-edges", self.distros), self._dependency_edges)
         seen, todo = {start}, [start]
         while todo:
             for name in edges.get(todo.pop(), ()):
@@ -284,7 +284,7 @@ class CheckContext:
     def planned_or_simulated(self) -> bool:
         """Whether a package of the workspace uses MoveIt, a simulator or ros2_control (a
         dependency of that family declared anywhere): then the models' joint limits are read."""
-        edges: dict[str, set[str]] = self._shared("dependency-edges", self._dependency_edges)
+        edges: dict[str, set[str]] = self._shared(("dependency-edges", self.distros), self._dependency_edges)
         return any(name.startswith(MOTION_PREFIXES) for names in edges.values() for name in names)
 
     def workspace_exports(self) -> dict[str, set[str]]:
@@ -297,7 +297,7 @@ class CheckContext:
                 for name, dependencies in self._workspace_dependencies().items()
             }
 
-        found: dict[str, set[str]] = self._shared("workspace-exports", compute)
+        found: dict[str, set[str]] = self._shared(("workspace-exports", self.distros), compute)
         return found
 
     def _workspace_dependencies(self) -> dict[str, list[Dependency]]:
@@ -309,18 +309,18 @@ class CheckContext:
             from pkgforge.model.manifest import load_manifest
             from pkgforge.model.source import read_source
 
+            # (the dependencies as parsed whatever catkin_pkg's validation says of the rest of the
+            # manifest, their conditions evaluated for this package's target distros)
             out: dict[str, list[Dependency]] = {}
             for model in [*self.models.values(), self.model]:
-                if model.manifest.valid:
-                    out.setdefault(model.name, model.manifest.active_dependencies())
+                out.setdefault(model.name, [d for d in model.manifest.dependencies if d.active(self.distros)])
             for name, folder in self.workspace.items():
                 if name not in out:
                     manifest = load_manifest(read_source(folder / "package.xml"))
-                    manifest.distros = self.distros
-                    out[name] = manifest.active_dependencies() if manifest.valid else []
+                    out[name] = [d for d in manifest.dependencies if d.active(self.distros)]
             return out
 
-        found: dict[str, list[Dependency]] = self._shared("workspace-dependencies", compute)
+        found: dict[str, list[Dependency]] = self._shared(("workspace-dependencies", self.distros), compute)
         return found
 
     def _dependency_edges(self) -> dict[str, set[str]]:

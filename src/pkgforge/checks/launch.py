@@ -50,7 +50,7 @@ Use = tuple[str, Path, "int | None", str, "Record | None", "Resolution | None"]
 
 def _branch_note(item: Record, resolution: Resolution) -> str:
     branches = [b for b in item.branches if b]
-    if branches and len(branches) < resolution.branches:
+    if branches and len(branches) < resolution.branches and "" not in item.branches:  # "": while loading
         return f" (only with {', '.join(branches)})"
     return ""
 
@@ -148,7 +148,13 @@ def _one_line(message: str) -> str:
     import re
 
     # (a path is kept whole: the report shows it in the user's terms, and its end is the file)
-    message = re.sub(r"'([^'/][^']{59})[^']{20,}'", lambda m: f"'{m.group(1)}...'", message, flags=re.S)
+    def shorten(match: re.Match[str]) -> str:
+        value = match.group(1)
+        if value.startswith("/") and "\n" not in value:
+            return match.group(0)
+        return f"'{value[:60]}...'"
+
+    message = re.sub(r"'([^']{80,})'", shorten, message, flags=re.S)
     return " ".join(part.strip() for part in message.splitlines() if part.strip())
 
 
@@ -216,7 +222,12 @@ def _may_install(owner: PackageModel, destination: str) -> tuple[Path, int] | No
     """The (path, line) of an install rule pkgforge cannot evaluate that may install files at
     `destination` (its own destination unknown, or one `destination` is under), else None."""
     for path, line, where in owner.layout.may_install:
-        if where is None or destination == where or destination.startswith(where.rstrip("/") + "/"):
+        if (
+            where is None
+            or where.strip("/.") == ""
+            or destination == where
+            or destination.startswith(where.rstrip("/") + "/")
+        ):
             return path, line
     return None
 
@@ -595,6 +606,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         (r.package, r.path, r.line): r for r in model.references
     }
     read = ctx.model_files_read()
+    # the RViz configs a launch file of this package opens (-d): a display of another config is
+    # needed only by whoever opens it (Bumper-Bot's rviz/global_localization.rviz, opened nowhere)
+    opened = {config.path.name for config, _ in ctx.rviz_launches} | {
+        Path(r.relative).name for r in model.references if r.relative and r.relative.endswith(".rviz")
+    }
+    # a launch file not evaluated here may open any of them
+    all_evaluated = all(ctx.load_error_kind(r) is None for r in ctx.resolutions)
     chosen: dict[str, tuple[Use, _OptionalUse | None]] = {}
     # a use needed whatever the settings first, then one with a line: where the diagnostic points
     for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
@@ -605,6 +623,11 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             continue  # rviz2 depends on them
         reference = written.get((name, path, line)) if item is None else None
         optional = _optional_use(ctx, reference, read) if reference is not None else None
+        if optional is None and via == "RViz display from" and all_evaluated and path.name not in opened:
+            optional = _OptionalUse(
+                f"in {ctx.relative(path)}, which no launch file of {model.name} opens,",
+                "if the config is meant to be opened (rviz2 -d), or remove the display",
+            )
         if name not in chosen or (chosen[name][1] is not None and optional is None):
             chosen[name] = use, optional
     for (name, path, line, via, item, resolution), optional in chosen.values():

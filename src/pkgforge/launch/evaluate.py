@@ -112,9 +112,10 @@ def _empty_read_consequence(error: BaseException) -> bool:
     return isinstance(error, (TypeError, AttributeError)) and "NoneType" in str(error)
 
 
-def _read_package(root: str) -> str | None:
-    """The package whose folder under `root` (`root`/<package>/...) the file read first."""
-    for path in RECORDER.stand_in_reads:
+def _read_package(root: str, since: int = 0) -> str | None:
+    """The package whose folder under `root` (`root`/<package>/...) the file read first (of the
+    reads from `since` on: what the failing action itself read)."""
+    for path in RECORDER.stand_in_reads[since:]:
         if path.startswith(root):
             return path[len(root) :].split(os.sep)[0] or None
     return None
@@ -131,7 +132,7 @@ def _missing_package_read() -> str | None:
     return _read_package(runtime.MISSING_PACKAGE_ROOT + os.sep)
 
 
-def _not_installed_read(error: BaseException) -> str | None:
+def _not_installed_read(error: BaseException, since: int = 0) -> str | None:
     """The declared package, not installed here (its share folder an empty phantom), that the
     loading file read from when its loading failed: the file not found there, or (for a failure
     an empty read leads to) the first such package whose share folder it opened or listed. On the
@@ -143,7 +144,7 @@ def _not_installed_read(error: BaseException) -> str | None:
     filename = getattr(error, "filename", None)
     if isinstance(error, OSError) and isinstance(filename, str):
         return filename[len(share) :].split(os.sep)[0] or None if filename.startswith(share) else None
-    return _read_package(share) if _empty_read_consequence(error) else None
+    return _read_package(share, since) if _empty_read_consequence(error) else None
 
 
 # what reading a file (or a folder) is to Python's audit hooks
@@ -303,6 +304,7 @@ def visit(entities: list[object], context: LaunchContext, depth: int = 0, in_han
         if not isinstance(entity, LaunchDescriptionEntity):
             continue
         condition = getattr(entity, "condition", None) if isinstance(entity, Action) else None
+        reads = len(RECORDER.stand_in_reads)  # (what this entity reads from here on is its own)
         try:
             if condition is not None:
                 taken = bool(condition.evaluate(context))
@@ -316,15 +318,16 @@ def visit(entities: list[object], context: LaunchContext, depth: int = 0, in_han
             children = entity.visit(context)
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
             if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
-                record_visit_failure(entity, error)
+                record_visit_failure(entity, error, reads)
             continue
         if children:
             handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
             visit(list(children), context, depth + 1, handler)
 
 
-def record_visit_failure(entity: object, error: Exception) -> None:
-    """What an entity's failure during the visit records; the visit goes on (both engines)."""
+def record_visit_failure(entity: object, error: Exception, reads: int = 0) -> None:
+    """What an entity's failure during the visit records; the visit goes on (both engines).
+    `reads`: how many stand-in reads were noted before the entity ran (its own come after)."""
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
         return
@@ -356,7 +359,7 @@ def record_visit_failure(entity: object, error: Exception) -> None:
     }
     if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
         record["module"] = error.name
-    absent = _not_installed_read(error)
+    absent = _not_installed_read(error, reads)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent
     RECORDER.add("errors", record)

@@ -517,7 +517,7 @@ class Resolution:
         branching). The defaults visit's label is made as _merged makes every label."""
         branches = [b for b in item.branches if b]
         varying = sorted((a for a in self.arguments if a.values), key=lambda a: a.name)
-        if not branches or not varying:
+        if not branches or not varying or "" in item.branches:  # "": recorded while loading
             return []
         defaults = " ".join(f"{a.name}:={a.default}" for a in varying)
         return [] if defaults in branches else branches

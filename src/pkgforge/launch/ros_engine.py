@@ -882,6 +882,7 @@ def visit(entity: Any, context: Any, depth: int = 0, in_handler: bool = False) -
             },
         )
         return
+    reads = len(RECORDER.stand_in_reads)  # (what this entity reads from here on is its own)
     try:
         if isinstance(entity, launch.Action):
             condition = entity.condition
@@ -905,7 +906,7 @@ def visit(entity: Any, context: Any, depth: int = 0, in_handler: bool = False) -
         from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT, record_visit_failure
 
         if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
-            record_visit_failure(entity, error)
+            record_visit_failure(entity, error, reads)
         return
     handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
     for child in children or []:
@@ -951,7 +952,6 @@ def _evaluate(
         def run(values: dict[str, str], label: dict[str, str]) -> None:
             global _VISITING
             nonlocal first
-            RECORDER.branch = label
             context = launch.LaunchContext(noninteractive=True)
             for key, value in {**overrides, **values}.items():
                 context.launch_configurations[key] = value
@@ -961,8 +961,15 @@ def _evaluate(
                 {"current_launch_file_path": path, "current_launch_file_directory": os.path.dirname(path)}
             )
             # a fresh description for each evaluation: included sources cache what they loaded
-            description = first if first is not None else _load(path)
+            if first is not None:
+                description = first
+            else:
+                # what loading records holds for every setting, as the first load's records do
+                # (records.evaluate_branches): not this branch's alone
+                RECORDER.branch = {}
+                description = _load(path)
             first = None
+            RECORDER.branch = label
             _VISITING = context
             try:
                 visit(description, context)

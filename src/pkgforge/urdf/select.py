@@ -88,7 +88,12 @@ def _shape(path: Path, share: Path, package: str) -> _Shape:
     from lxml import etree
 
     try:
-        if path.stat().st_size > CLASSIFY_MAX_BYTES:
+        size = path.stat().st_size
+        if size == 0:
+            # an empty file (rox_description's meca_wheel.xacro, 0 bytes in git) is no robot:
+            # nothing xacro could read, and nothing includes it
+            return _Shape(robot=False, content=False)
+        if size > CLASSIFY_MAX_BYTES:
             return _Shape()
         parser = etree.XMLParser(
             remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False

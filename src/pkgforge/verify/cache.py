@@ -47,7 +47,10 @@ if TYPE_CHECKING:
 #    install files there, an unset variable's None a warning (PF301/PF304)
 # 11: an OpaqueFunction reading a package not installed here is PF311; build_export_depend counts
 #    for PF305; what loading records holds for every argument setting (no "only with" note)
-CACHE_FORMAT = 11
+# 12: a second reader's corrections of 11 (the ros engine's reloads, an action's own reads, other
+#    packages' conditions for the target distros, a manifest's dependencies whatever its defects,
+#    a rule at the prefix root), an empty model file, an RViz config no launch file opens
+CACHE_FORMAT = 12
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
