@@ -738,3 +738,50 @@ def test_a_manifest_with_a_defect_elsewhere_still_brings_its_dependencies(tmp_pa
     package(tmp_path, "audit_a", [], {"CMakeLists.txt": cmake}, depend=["audit_b"])
     _, report = verify_report(tmp_path, "--no-cache")
     assert [s for s, *_ in found(report, "PF109")] == ["warning"]
+
+
+def test_an_action_stopped_by_the_guards_refusal_is_no_load_error(tmp_path):
+    # Automatic Addison's yahboom tutorial: an OpaqueFunction rewrites ros2_controllers.yaml in the
+    # user's workspace; the guard refuses (PF316), and the PermissionError that ROS never raises
+    # was a PF301 error too
+    target = tmp_path / "elsewhere" / "ros2_controllers.yaml"
+    target.parent.mkdir()
+    target.write_text("a: 1\n")
+    launch = (
+        "from launch import LaunchDescription\nfrom launch.actions import OpaqueFunction\n\n\n"
+        "def rewrite(context):\n"
+        f"    with open({str(target)!r}, 'w') as f:\n"
+        "        f.write('a: 2\\n')\n"
+        "    return []\n\n\n"
+        "def generate_launch_description():\n    return LaunchDescription([OpaqueFunction(function=rewrite)])\n"
+    )
+    package(tmp_path, "audit_guard", ["launch"], {"launch/a.launch.py": launch})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF301") == []
+    assert [s for s, *_ in found(report, "PF316")] == ["warning"]
+    assert target.read_text() == "a: 1\n"
+
+
+def test_gazebo_is_a_rosdep_key_on_humble(tmp_path):
+    # a Gazebo Classic course for Humble: rosdep's base.yaml resolves 'gazebo' on Ubuntu jammy
+    folder = package(tmp_path, "audit_gazebo", ["gazebo"], {})
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "humble")
+    assert found(report, "PF108") == []
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert [(s, line) for s, _, line, _ in found(report, "PF108")] == [
+        ("error", line_of(folder / "package.xml", "<exec_depend>gazebo"))
+    ]
+
+
+def test_a_node_a_declared_package_brings_along_is_a_warning(tmp_path):
+    # spot_ros2_control exec_depends spot_description, which exec_depends robot_state_publisher
+    launch = (
+        "from launch import LaunchDescription\nfrom launch_ros.actions import Node\n\n\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([Node(package='robot_state_publisher', executable='robot_state_publisher')])\n"
+    )
+    package(tmp_path, "audit_desc", ["robot_state_publisher"], {})
+    package(tmp_path, "audit_control", ["launch", "launch_ros", "audit_desc"], {"launch/a.launch.py": launch})
+    _, report = verify_report(tmp_path, "--no-cache")
+    ((severity, _, _, message),) = found(report, "PF305")
+    assert severity == "warning" and message.endswith("; audit_desc, which it declares, brings it along")

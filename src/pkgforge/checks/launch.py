@@ -13,6 +13,7 @@ from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
+from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
 from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
@@ -123,6 +124,10 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
         for item in resolution.errors:
             if item.type in SANDBOX_TYPES:
                 continue  # launch-writes-files reports what the worker's guard refused
+            if item.type == "PermissionError" and GUARD_MARKER in (item.message or ""):
+                # an action stopped by the guard's refusal, which ROS does not make (Automatic
+                # Addison's OpaqueFunction rewriting ros2_controllers.yaml): launch-writes-files
+                continue
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
             if ctx.package_not_installed_here(item):
@@ -584,8 +589,12 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
     "machine the node, file or tool is missing (user story 6). A model's use that xacro reads "
     "only inside <xacro:if>/<xacro:unless>, or in a model file no robot model of the package "
-    "reads (an accessory for others to include), is a warning, with no fix: such a package is "
-    "often left out on purpose (a simulation package that itself depends on the description).",
+    "reads (an accessory for others to include), or in an RViz config no launch file of the "
+    "package opens, is a warning, with no fix: such a package is often left out on purpose (a "
+    "simulation package that itself depends on the description). A package that depends on "
+    "this one already gets a warning with no fix too (declaring it back is a cycle colcon "
+    "refuses). A package a declared one brings along (spot_description brings robot_state_"
+    "publisher) is installed on a fresh machine all the same: a warning, with the fix.",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -641,6 +650,20 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )  # no fix: only the user knows whether that use is meant for this package's users
             continue
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
+        provider = _brought_along(ctx, name, declared)
+        if provider is not None:
+            # spot_ros2_control exec_depends spot_description, which exec_depends rviz2: installed
+            # with it, the launch file runs; declaring what it uses directly is still the rule
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml does not declare it{note}; "
+                f"{provider}, which it declares, brings it along",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"add <exec_depend>{name}</exec_depend> to package.xml",
+                fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
+            )
+            continue
         if name in ctx.workspace and ctx.depends_on(name, model.name):
             # (husky_description's xacro finds husky_control, which depends on husky_description)
             yield Finding(
@@ -664,6 +687,14 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             ),
             fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
         )
+
+
+def _brought_along(ctx: CheckContext, name: str, declared: set[str]) -> str | None:
+    """The declared run dependency whose install brings `name` along (the core packages' table,
+    and the workspace's own manifests: model/exports.py), in every target distro."""
+    from pkgforge.model.exports import brought_by
+
+    return brought_by(name, declared, ctx.distros, ctx.workspace_exports())
 
 
 def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str) -> bool:

@@ -269,6 +269,10 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )
 
 
+# names the ROS 1 → ROS 2 table renames that are also rosdep keys of a system package on some
+# distros' platforms: the distros where they resolve, and what they are
+SYSTEM_KEYS = {"gazebo": (("humble",), "Gazebo Classic, packaged for Ubuntu jammy")}
+
 # first words too common to tie a package to a repository (ros2_control holds no ros_x_driver)
 GENERIC_WORDS = frozenset({"ros", "ros2", "robot", "gazebo", "gz", "ign", "moveit", "nav2", "urdf", "common"})
 
@@ -309,6 +313,19 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
         return message, hint
     if not declared or name in ctx.installed_packages():
         return None
+    system = SYSTEM_KEYS.get(name)
+    if system is not None:
+        # a rosdep key of the system's own package where it has one (ros/rosdistro rosdep/base.yaml)
+        missing = [d for d in ctx.distros if d not in system[0]]
+        if not missing:
+            return None  # (no target distro given: a distro where it resolves counts)
+        return (
+            f"'{name}' is a rosdep key only for {', '.join(system[0])} ({system[1]}), not for "
+            f"{', '.join(missing)} (rosdep install fails on it there)",
+            f"use {better[0]} instead: {better[1]}"
+            if better is not None
+            else f"target {', '.join(system[0])}",
+        )
     if better is not None:
         return (
             f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",

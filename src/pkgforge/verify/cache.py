@@ -50,7 +50,9 @@ if TYPE_CHECKING:
 # 12: a second reader's corrections of 11 (the ros engine's reloads, an action's own reads, other
 #    packages' conditions for the target distros, a manifest's dependencies whatever its defects,
 #    a rule at the prefix root), an empty model file, an RViz config no launch file opens
-CACHE_FORMAT = 12
+# 13: an action stopped by the guard is no PF301; 'gazebo' a rosdep key on humble; PF305 for what a
+#    declared package brings along a warning
+CACHE_FORMAT = 13
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
