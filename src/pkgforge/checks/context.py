@@ -292,8 +292,12 @@ class CheckContext:
         <build_export_depend>, <buildtool_export_depend>), conditions evaluated."""
 
         def compute() -> dict[str, set[str]]:
+            # (an export under a condition may hold on some target distros only: it brings
+            # nothing along for sure, and a lowered error must hold on every one)
             return {
-                name: {d.name for d in dependencies if d.tag in EXPORT_TAGS}
+                name: {
+                    d.name for d in dependencies if d.tag in EXPORT_TAGS and d.holds_on_every(self.distros)
+                }
                 for name, dependencies in self._workspace_dependencies().items()
             }
 

@@ -589,8 +589,7 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
     "machine the node, file or tool is missing (user story 6). A model's use that xacro reads "
     "only inside <xacro:if>/<xacro:unless>, or in a model file no robot model of the package "
-    "reads (an accessory for others to include), or in an RViz config no launch file of the "
-    "package opens, is a warning, with no fix: such a package is often left out on purpose (a "
+    "reads (an accessory for others to include), is a warning, with no fix: such a package is often left out on purpose (a "
     "simulation package that itself depends on the description). A package that depends on "
     "this one already gets a warning with no fix too (declaring it back is a cycle colcon "
     "refuses). A package a declared one brings along (spot_description brings robot_state_"
@@ -615,13 +614,6 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         (r.package, r.path, r.line): r for r in model.references
     }
     read = ctx.model_files_read()
-    # the RViz configs a launch file of this package opens (-d): a display of another config is
-    # needed only by whoever opens it (Bumper-Bot's rviz/global_localization.rviz, opened nowhere)
-    opened = {config.path.name for config, _ in ctx.rviz_launches} | {
-        Path(r.relative).name for r in model.references if r.relative and r.relative.endswith(".rviz")
-    }
-    # a launch file not evaluated here may open any of them
-    all_evaluated = all(ctx.load_error_kind(r) is None for r in ctx.resolutions)
     chosen: dict[str, tuple[Use, _OptionalUse | None]] = {}
     # a use needed whatever the settings first, then one with a line: where the diagnostic points
     for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
@@ -632,11 +624,6 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             continue  # rviz2 depends on them
         reference = written.get((name, path, line)) if item is None else None
         optional = _optional_use(ctx, reference, read) if reference is not None else None
-        if optional is None and via == "RViz display from" and all_evaluated and path.name not in opened:
-            optional = _OptionalUse(
-                f"in {ctx.relative(path)}, which no launch file of {model.name} opens,",
-                "if the config is meant to be opened (rviz2 -d), or remove the display",
-            )
         if name not in chosen or (chosen[name][1] is not None and optional is None):
             chosen[name] = use, optional
     for (name, path, line, via, item, resolution), optional in chosen.values():
@@ -650,7 +637,18 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )  # no fix: only the user knows whether that use is meant for this package's users
             continue
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
-        provider = _brought_along(ctx, name, declared)
+        if name in ctx.workspace and ctx.depends_on(name, model.name):
+            # (husky_description's xacro finds husky_control, which depends on husky_description)
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml does not declare it{note}; "
+                f"{name} depends on {model.name}, so declaring it here makes a cycle colcon refuses",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"install {name} beside {model.name} (its users have it), or move the use into {name}",
+            )  # no fix: the dependency the hint would add breaks the build
+            continue
+        provider = _brought_along(ctx, name)
         if provider is not None:
             # spot_ros2_control exec_depends spot_description, which exec_depends rviz2: installed
             # with it, the launch file runs; declaring what it uses directly is still the rule
@@ -663,17 +661,6 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 hint=f"add <exec_depend>{name}</exec_depend> to package.xml",
                 fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
             )
-            continue
-        if name in ctx.workspace and ctx.depends_on(name, model.name):
-            # (husky_description's xacro finds husky_control, which depends on husky_description)
-            yield Finding(
-                f"{via} '{name}' is used at run time but package.xml does not declare it{note}; "
-                f"{name} depends on {model.name}, so declaring it here makes a cycle colcon refuses",
-                path,
-                line,
-                severity=Severity.WARNING,
-                hint=f"install {name} beside {model.name} (its users have it), or move the use into {name}",
-            )  # no fix: the dependency the hint would add breaks the build
             continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
@@ -689,12 +676,21 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         )
 
 
-def _brought_along(ctx: CheckContext, name: str, declared: set[str]) -> str | None:
-    """The declared run dependency whose install brings `name` along (the core packages' table,
-    and the workspace's own manifests: model/exports.py), in every target distro."""
+def _brought_along(ctx: CheckContext, name: str) -> str | None:
+    """The declared run dependency (one with no condition: it holds on every target distro)
+    whose install brings `name` along (the core packages' table, and the workspace's own
+    manifests: model/exports.py), in every target distro."""
     from pkgforge.model.exports import brought_by
 
+    manifest = ctx.model.manifest
+    declared = {
+        d.name for d in manifest.active_dependencies() if d.tag in RUN_EXPORT_TAGS and not d.condition
+    }
     return brought_by(name, declared, ctx.distros, ctx.workspace_exports())
+
+
+# what a package's install brings along: a binary's Depends
+RUN_EXPORT_TAGS = ("depend", "exec_depend", "run_depend", "build_export_depend", "buildtool_export_depend")
 
 
 def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str) -> bool:

@@ -510,9 +510,12 @@ def _brought_by(ctx: CheckContext, name: str, testing: bool) -> str | None:
     from pkgforge.model.exports import brought_by
 
     manifest = ctx.model.manifest
-    start = manifest.build_dependencies() | (
-        {d.name for d in manifest.active_dependencies() if d.tag == "test_depend"} if testing else set()
-    )
+    # (a declaration under a condition may hold on some target distros only: it brings nothing
+    # along for sure)
+    tags = ("depend", "build_depend", "buildtool_depend", *(("test_depend",) if testing else ()))
+    start = {
+        d.name for d in manifest.active_dependencies() if d.tag in tags and d.holds_on_every(ctx.distros)
+    }
     return brought_by(name, start, ctx.distros, ctx.workspace_exports())
 
 

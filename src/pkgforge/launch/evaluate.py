@@ -114,8 +114,10 @@ def _empty_read_consequence(error: BaseException) -> bool:
 
 def _read_package(root: str, since: int = 0) -> str | None:
     """The package whose folder under `root` (`root`/<package>/...) the file read first (of the
-    reads from `since` on: what the failing action itself read)."""
-    for path in RECORDER.stand_in_reads[since:]:
+    reads loading made and those from `since` on: what the failing action and the actions it
+    came from read, not its siblings)."""
+    reads = RECORDER.stand_in_reads
+    for path in [*reads[: min(RECORDER.load_reads, since)], *reads[since:]]:
         if path.startswith(root):
             return path[len(root) :].split(os.sep)[0] or None
     return None
@@ -287,7 +289,14 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
 RUNS_ON_THE_EVENT = ("OpaqueFunction", "OpaqueCoroutine")
 
 
-def visit(entities: list[object], context: LaunchContext, depth: int = 0, in_handler: bool = False) -> None:
+def visit(
+    entities: list[object],
+    context: LaunchContext,
+    depth: int = 0,
+    in_handler: bool = False,
+    since: int | None = None,
+) -> None:
+    """Visit the entities; `since`: the stand-in reads mark of the action they came from."""
     if depth > MAX_DEPTH:
         RECORDER.add(
             "errors",
@@ -304,7 +313,8 @@ def visit(entities: list[object], context: LaunchContext, depth: int = 0, in_han
         if not isinstance(entity, LaunchDescriptionEntity):
             continue
         condition = getattr(entity, "condition", None) if isinstance(entity, Action) else None
-        reads = len(RECORDER.stand_in_reads)  # (what this entity reads from here on is its own)
+        # (what this entity reads from here on is its own; what the action it came from read too)
+        reads = len(RECORDER.stand_in_reads) if since is None else since
         try:
             if condition is not None:
                 taken = bool(condition.evaluate(context))
@@ -322,7 +332,15 @@ def visit(entities: list[object], context: LaunchContext, depth: int = 0, in_han
             continue
         if children:
             handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
-            visit(list(children), context, depth + 1, handler)
+            # (an OpaqueFunction's own reads count for the actions it returns; a description's
+            # or a group's are no reads of theirs, and their children are siblings)
+            visit(
+                list(children),
+                context,
+                depth + 1,
+                handler,
+                reads if type(entity).__name__ in RUNS_ON_THE_EVENT else None,
+            )
 
 
 def record_visit_failure(entity: object, error: Exception, reads: int = 0) -> None:
@@ -491,6 +509,7 @@ def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None)
         description = load_description(path)
     except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
         return _result("load-error", _error_record(path, error, "load"), RECORDER)
+    RECORDER.load_reads = len(RECORDER.stand_in_reads)
 
     def run(values: dict[str, str], label: dict[str, str]) -> None:
         RECORDER.branch = label

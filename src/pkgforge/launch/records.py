@@ -414,6 +414,7 @@ class Recorder:
     # paths in the empty stand-in of a package not found, or in the phantom share folder of one
     # not installed here, that the file opened or listed (not sent: what a load failure came from)
     stand_in_reads: list[str] = field(default_factory=list)
+    load_reads: int = 0  # how many of those loading the file made (they count for every action)
 
     # one signature per kind: the item's keys are checked against that record's TypedDict
     @overload

@@ -868,7 +868,9 @@ def _missing_configuration(error: Exception) -> str | None:
     return match.group(1) if match else None
 
 
-def visit(entity: Any, context: Any, depth: int = 0, in_handler: bool = False) -> None:
+def visit(
+    entity: Any, context: Any, depth: int = 0, in_handler: bool = False, since: int | None = None
+) -> None:
     launch = L.launch
     if depth > MAX_DEPTH:
         RECORDER.add(
@@ -882,7 +884,8 @@ def visit(entity: Any, context: Any, depth: int = 0, in_handler: bool = False) -
             },
         )
         return
-    reads = len(RECORDER.stand_in_reads)  # (what this entity reads from here on is its own)
+    # (what this entity reads from here on is its own; what the action it came from read too)
+    reads = len(RECORDER.stand_in_reads) if since is None else since
     try:
         if isinstance(entity, launch.Action):
             condition = entity.condition
@@ -910,7 +913,12 @@ def visit(entity: Any, context: Any, depth: int = 0, in_handler: bool = False) -
         return
     handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
     for child in children or []:
-        visit(child, context, depth + 1, handler)
+        from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT
+
+        # (an OpaqueFunction's own reads count for the actions it returns; a group's children are siblings)
+        visit(
+            child, context, depth + 1, handler, reads if type(entity).__name__ in RUNS_ON_THE_EVENT else None
+        )
 
 
 # --- one file -----------------------------------------------------------------------------
@@ -948,6 +956,7 @@ def _evaluate(
             first = _load(path)  # a file that does not load is a load error, as in `ros2 launch`
         except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
             return _result("load-error", _load_error(path, error), distro)
+        RECORDER.load_reads = len(RECORDER.stand_in_reads)
 
         def run(values: dict[str, str], label: dict[str, str]) -> None:
             global _VISITING

@@ -40,6 +40,13 @@ class Dependency:
     line: int
     condition: str | None = None  # REP 149 condition="$ROS_VERSION == 2", evaluated as catkin_pkg does
 
+    def holds_on_every(self, distros: tuple[str, ...]) -> bool:
+        """Whether the dependency counts on each of `distros` (`active` asks: on any of them). With
+        no target distro, only an unconditional one does."""
+        if not self.condition:
+            return True
+        return bool(distros) and all(self.active((distro,)) for distro in distros)
+
     def active(self, distros: tuple[str, ...] = ()) -> bool:
         """Whether the dependency counts on ROS 2 (for any of `distros`; every distro when empty)."""
         if not self.condition:

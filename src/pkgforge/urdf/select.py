@@ -89,8 +89,8 @@ def _shape(path: Path, share: Path, package: str) -> _Shape:
 
     try:
         size = path.stat().st_size
-        if size == 0:
-            # an empty file (rox_description's meca_wheel.xacro, 0 bytes in git) is no robot:
+        if size == 0 or (size < 4096 and not path.read_bytes().strip()):
+            # an empty file (rox_description's meca_wheel.xacro, 0 bytes in git; or blank) is no robot:
             # nothing xacro could read, and nothing includes it
             return _Shape(robot=False, content=False)
         if size > CLASSIFY_MAX_BYTES:

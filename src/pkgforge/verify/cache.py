@@ -52,7 +52,10 @@ if TYPE_CHECKING:
 #    a rule at the prefix root), an empty model file, an RViz config no launch file opens
 # 13: an action stopped by the guard is no PF301; 'gazebo' a rosdep key on humble; PF305 for what a
 #    declared package brings along a warning
-CACHE_FORMAT = 13
+# 14: a second reader's corrections of 13: a link under a condition brings nothing along unless it
+#    holds on every target distro, the cycle first, reads while loading and by the OpaqueFunction
+#    an action came from count, an RViz config's displays stay errors, a blank model file
+CACHE_FORMAT = 14
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
