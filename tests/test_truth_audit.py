@@ -836,9 +836,10 @@ def test_a_cycle_is_checked_before_what_a_package_brings_along(tmp_path):
     assert (app / "package.xml").read_text() == before
 
 
-def test_a_read_while_loading_counts_for_the_action_that_fails_on_it(tmp_path):
+def test_a_read_while_loading_makes_an_actions_failure_a_warning(tmp_path):
     # worlds globbed from a package not installed here while loading, then worlds[0] in an
-    # OpaqueFunction: that read's consequence (PF311), not the action's own bug
+    # OpaqueFunction: maybe that read's consequence, maybe the action's own bug (a reader's
+    # case: an unrelated names[0]): a PF301 warning that says so, neither an error nor an info
     launch = (
         "import glob\nimport os\nfrom ament_index_python.packages import get_package_share_directory\n"
         "from launch import LaunchDescription\nfrom launch.actions import ExecuteProcess, OpaqueFunction\n\n\n"
@@ -850,5 +851,60 @@ def test_a_read_while_loading_counts_for_the_action_that_fails_on_it(tmp_path):
     )
     package(tmp_path, "audit_glob", ["launch", MOVEIT_CONFIG], {"launch/a.launch.py": launch})
     _, report = verify_report(tmp_path, "--no-cache")
+    ((severity, _, _, message),) = found(report, "PF301")
+    assert severity == "warning" and f"(after loading read files of {MOVEIT_CONFIG}," in message
+    assert found(report, "PF311") == []
+
+
+SIBLINGS = (
+    "import glob\nimport os\nfrom ament_index_python.packages import get_package_share_directory\n"
+    "from launch import LaunchDescription\nfrom launch.actions import ExecuteProcess, GroupAction, OpaqueFunction\n\n\n"
+    "def generate_launch_description():\n"
+    "    def a(context):\n"
+    f"        return glob.glob(os.path.join(get_package_share_directory('{MOVEIT_CONFIG}'), 'w', '*'))\n\n"
+    "    def b(context):\n"
+    "        names = context.launch_configurations.get('names', '').split()\n"
+    "        return [ExecuteProcess(cmd=['echo', names[0]])]\n\n"
+    "    def setup(context):\n"
+    "        return [OpaqueFunction(function=a), OpaqueFunction(function=b)]\n\n"
+    "    return LaunchDescription([OpaqueFunction(function=setup)])\n"
+)
+
+
+def test_a_sibling_actions_read_does_not_excuse_an_actions_own_bug(tmp_path):
+    folder = package(tmp_path, "audit_sib", ["launch", MOVEIT_CONFIG], {"launch/a.launch.py": SIBLINGS})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, line) for s, _, line, _ in found(report, "PF301")] == [
+        ("error", line_of(folder / "launch" / "a.launch.py", "return [OpaqueFunction(function=a)"))
+    ]
+
+
+def test_what_an_opaque_function_read_counts_for_what_it_returns_through_a_group(tmp_path):
+    launch = SIBLINGS.replace(
+        "    def a(context):\n"
+        f"        return glob.glob(os.path.join(get_package_share_directory('{MOVEIT_CONFIG}'), 'w', '*'))\n\n",
+        "",
+    ).replace(
+        "        return [OpaqueFunction(function=a), OpaqueFunction(function=b)]\n",
+        f"        glob.glob(os.path.join(get_package_share_directory('{MOVEIT_CONFIG}'), 'w', '*'))\n"
+        "        return [GroupAction([OpaqueFunction(function=b)])]\n",
+    )
+    package(tmp_path, "audit_group", ["launch", MOVEIT_CONFIG], {"launch/a.launch.py": launch})
+    _, report = verify_report(tmp_path, "--no-cache")
     assert found(report, "PF301") == []
     assert [s for s, *_ in found(report, "PF311")] == ["info"]
+
+
+def test_a_ros_version_condition_holds_on_every_distro(tmp_path):
+    # <depend condition="$ROS_VERSION == 2">rclcpp</depend>: brings rmw along wherever ROS 2 is
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_rv NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(rmw REQUIRED)\nament_package()\n"
+    )
+    folder = package(tmp_path, "audit_rv", [], {"CMakeLists.txt": cmake})
+    text = (folder / "package.xml").read_text()
+    (folder / "package.xml").write_text(
+        text.replace("  <export>", '  <depend condition="$ROS_VERSION == 2">rclcpp</depend>\n  <export>')
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [s for s, *_ in found(report, "PF109")] == ["warning"]

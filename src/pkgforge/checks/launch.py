@@ -138,6 +138,18 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
             position = ctx.source_position(resolution, item.file, item.line)
+            if position is not None and item.read_before:
+                # loading read a package not installed here, the action failed on something empty
+                # after: maybe that read's consequence, maybe its own defect (an error neither way)
+                yield Finding(
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                    f" (after loading read files of {item.read_before}, a package not installed here: "
+                    f"maybe its consequence){_branch_note(item, resolution)}",
+                    *position,
+                    severity=Severity.WARNING,
+                    hint=f"verify on a machine with {item.read_before} installed (or --install-base) to tell",
+                )
+                continue
             if position is not None:
                 yield Finding(
                     # (the tree's paths named as the user's before a long value is shortened)
@@ -684,7 +696,9 @@ def _brought_along(ctx: CheckContext, name: str) -> str | None:
 
     manifest = ctx.model.manifest
     declared = {
-        d.name for d in manifest.active_dependencies() if d.tag in RUN_EXPORT_TAGS and not d.condition
+        d.name
+        for d in manifest.active_dependencies()
+        if d.tag in RUN_EXPORT_TAGS and d.holds_on_every(ctx.distros)
     }
     return brought_by(name, declared, ctx.distros, ctx.workspace_exports())
 

@@ -112,12 +112,16 @@ def _empty_read_consequence(error: BaseException) -> bool:
     return isinstance(error, (TypeError, AttributeError)) and "NoneType" in str(error)
 
 
-def _read_package(root: str, since: int = 0) -> str | None:
-    """The package whose folder under `root` (`root`/<package>/...) the file read first (of the
-    reads loading made and those from `since` on: what the failing action and the actions it
-    came from read, not its siblings)."""
+# spans of RECORDER.stand_in_reads, (start, end); end None: to the last one
+Spans = list[tuple[int, "int | None"]]
+
+
+def _read_package(root: str, spans: Spans | None = None) -> str | None:
+    """The package whose folder under `root` (`root`/<package>/...) the file read first, among
+    the reads in `spans` (all of them when None)."""
     reads = RECORDER.stand_in_reads
-    for path in [*reads[: min(RECORDER.load_reads, since)], *reads[since:]]:
+    chosen = reads if spans is None else [path for start, end in spans for path in reads[start:end]]
+    for path in chosen:
         if path.startswith(root):
             return path[len(root) :].split(os.sep)[0] or None
     return None
@@ -134,7 +138,7 @@ def _missing_package_read() -> str | None:
     return _read_package(runtime.MISSING_PACKAGE_ROOT + os.sep)
 
 
-def _not_installed_read(error: BaseException, since: int = 0) -> str | None:
+def _not_installed_read(error: BaseException, spans: Spans | None = None) -> str | None:
     """The declared package, not installed here (its share folder an empty phantom), that the
     loading file read from when its loading failed: the file not found there, or (for a failure
     an empty read leads to) the first such package whose share folder it opened or listed. On the
@@ -146,7 +150,7 @@ def _not_installed_read(error: BaseException, since: int = 0) -> str | None:
     filename = getattr(error, "filename", None)
     if isinstance(error, OSError) and isinstance(filename, str):
         return filename[len(share) :].split(os.sep)[0] or None if filename.startswith(share) else None
-    return _read_package(share, since) if _empty_read_consequence(error) else None
+    return _read_package(share, spans) if _empty_read_consequence(error) else None
 
 
 # what reading a file (or a folder) is to Python's audit hooks
@@ -294,9 +298,10 @@ def visit(
     context: LaunchContext,
     depth: int = 0,
     in_handler: bool = False,
-    since: int | None = None,
+    ancestors: tuple[tuple[int, int], ...] = (),
 ) -> None:
-    """Visit the entities; `since`: the stand-in reads mark of the action they came from."""
+    """Visit the entities; `ancestors`: the stand-in reads the OpaqueFunctions they came from made
+    themselves (spans of RECORDER.stand_in_reads)."""
     if depth > MAX_DEPTH:
         RECORDER.add(
             "errors",
@@ -313,8 +318,7 @@ def visit(
         if not isinstance(entity, LaunchDescriptionEntity):
             continue
         condition = getattr(entity, "condition", None) if isinstance(entity, Action) else None
-        # (what this entity reads from here on is its own; what the action it came from read too)
-        reads = len(RECORDER.stand_in_reads) if since is None else since
+        start = len(RECORDER.stand_in_reads)  # (what this entity reads from here on is its own)
         try:
             if condition is not None:
                 taken = bool(condition.evaluate(context))
@@ -328,24 +332,20 @@ def visit(
             children = entity.visit(context)
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
             if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
-                record_visit_failure(entity, error, reads)
+                record_visit_failure(entity, error, [*ancestors, (start, None)])
             continue
         if children:
             handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
-            # (an OpaqueFunction's own reads count for the actions it returns; a description's
-            # or a group's are no reads of theirs, and their children are siblings)
-            visit(
-                list(children),
-                context,
-                depth + 1,
-                handler,
-                reads if type(entity).__name__ in RUNS_ON_THE_EVENT else None,
-            )
+            # an OpaqueFunction's own reads count for the actions it returns; a description's or
+            # a group's children are siblings, each with its own reads
+            own = (start, len(RECORDER.stand_in_reads))
+            inherited = (*ancestors, own) if type(entity).__name__ in RUNS_ON_THE_EVENT else ancestors
+            visit(list(children), context, depth + 1, handler, inherited)
 
 
-def record_visit_failure(entity: object, error: Exception, reads: int = 0) -> None:
+def record_visit_failure(entity: object, error: Exception, spans: Spans | None = None) -> None:
     """What an entity's failure during the visit records; the visit goes on (both engines).
-    `reads`: how many stand-in reads were noted before the entity ran (its own come after)."""
+    `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors'."""
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
         return
@@ -377,9 +377,11 @@ def record_visit_failure(entity: object, error: Exception, reads: int = 0) -> No
     }
     if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
         record["module"] = error.name
-    absent = _not_installed_read(error, reads)
+    absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent
+    elif spans is not None and (before := _not_installed_read(error, [(0, RECORDER.load_reads)])):
+        record["read_before"] = before  # what loading read: maybe the cause, maybe not
     RECORDER.add("errors", record)
 
 

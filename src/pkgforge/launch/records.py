@@ -131,6 +131,7 @@ class ErrorRecordDict(RecordDict, total=False):
     module: str | None
     program: str | None
     read_from: str | None
+    read_before: str | None
     limit: LimitKind | None
 
 
@@ -285,6 +286,9 @@ class Error(Record):
     # a declared package not installed here whose (empty) share folder the loading file read:
     # what failed after is that read's consequence (on the user's machine the files are there)
     read_from: str | None = None
+    # an action's failure after loading read such a package's files (not the action itself):
+    # maybe a consequence of that read, maybe the action's own defect
+    read_before: str | None = None
     limit: LimitKind | None = None  # a worker limit hit (never cached)
 
 

@@ -869,8 +869,14 @@ def _missing_configuration(error: Exception) -> str | None:
 
 
 def visit(
-    entity: Any, context: Any, depth: int = 0, in_handler: bool = False, since: int | None = None
+    entity: Any,
+    context: Any,
+    depth: int = 0,
+    in_handler: bool = False,
+    ancestors: tuple[tuple[int, int], ...] = (),
 ) -> None:
+    """Visit one entity; `ancestors`: the stand-in reads the OpaqueFunctions it came from made
+    themselves (evaluate.visit's, the same rule)."""
     launch = L.launch
     if depth > MAX_DEPTH:
         RECORDER.add(
@@ -884,8 +890,7 @@ def visit(
             },
         )
         return
-    # (what this entity reads from here on is its own; what the action it came from read too)
-    reads = len(RECORDER.stand_in_reads) if since is None else since
+    start = len(RECORDER.stand_in_reads)  # (what this entity reads from here on is its own)
     try:
         if isinstance(entity, launch.Action):
             condition = entity.condition
@@ -909,16 +914,16 @@ def visit(
         from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT, record_visit_failure
 
         if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
-            record_visit_failure(entity, error, reads)
+            record_visit_failure(entity, error, [*ancestors, (start, None)])
         return
-    handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
-    for child in children or []:
-        from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT
+    from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT
 
-        # (an OpaqueFunction's own reads count for the actions it returns; a group's children are siblings)
-        visit(
-            child, context, depth + 1, handler, reads if type(entity).__name__ in RUNS_ON_THE_EVENT else None
-        )
+    handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
+    # an OpaqueFunction's own reads count for the actions it returns; a group's children are siblings
+    own = (start, len(RECORDER.stand_in_reads))
+    inherited = (*ancestors, own) if type(entity).__name__ in RUNS_ON_THE_EVENT else ancestors
+    for child in children or []:
+        visit(child, context, depth + 1, handler, inherited)
 
 
 # --- one file -----------------------------------------------------------------------------

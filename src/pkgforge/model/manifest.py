@@ -42,9 +42,11 @@ class Dependency:
 
     def holds_on_every(self, distros: tuple[str, ...]) -> bool:
         """Whether the dependency counts on each of `distros` (`active` asks: on any of them). With
-        no target distro, only an unconditional one does."""
+        no target distro, a condition on $ROS_DISTRO holds nowhere for sure."""
         if not self.condition:
             return True
+        if "ROS_DISTRO" not in self.condition:
+            return self.active(())  # ($ROS_VERSION == 2: the same on every distro)
         return bool(distros) and all(self.active((distro,)) for distro in distros)
 
     def active(self, distros: tuple[str, ...] = ()) -> bool:

@@ -55,7 +55,9 @@ if TYPE_CHECKING:
 # 14: a second reader's corrections of 13: a link under a condition brings nothing along unless it
 #    holds on every target distro, the cycle first, reads while loading and by the OpaqueFunction
 #    an action came from count, an RViz config's displays stay errors, a blank model file
-CACHE_FORMAT = 14
+# 15: only an action's own reads and its OpaqueFunction ancestors' excuse its failure (PF311); a
+#    read while loading makes it a PF301 warning; a $ROS_VERSION-only condition holds everywhere
+CACHE_FORMAT = 15
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
