@@ -852,7 +852,9 @@ def test_a_read_while_loading_makes_an_actions_failure_a_warning(tmp_path):
     package(tmp_path, "audit_glob", ["launch", MOVEIT_CONFIG], {"launch/a.launch.py": launch})
     _, report = verify_report(tmp_path, "--no-cache")
     ((severity, _, _, message),) = found(report, "PF301")
-    assert severity == "warning" and f"(after loading read files of {MOVEIT_CONFIG}," in message
+    assert (
+        severity == "warning" and f"(the file read files of {MOVEIT_CONFIG}, not installed here," in message
+    )
     assert found(report, "PF311") == []
 
 
@@ -908,3 +910,45 @@ def test_a_ros_version_condition_holds_on_every_distro(tmp_path):
     )
     _, report = verify_report(tmp_path, "--no-cache")
     assert [s for s, *_ in found(report, "PF109")] == ["warning"]
+
+
+def test_a_condition_on_a_variable_of_the_users_own_build_brings_nothing_for_sure(tmp_path):
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_uv NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(rmw REQUIRED)\nament_package()\n"
+    )
+    folder = package(tmp_path, "audit_uv", [], {"CMakeLists.txt": cmake})
+    text = (folder / "package.xml").read_text()
+    (folder / "package.xml").write_text(
+        text.replace(
+            "  <export>", '  <depend condition="$BUILD_TYPE == hardware">rclcpp</depend>\n  <export>'
+        )
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [s for s, *_ in found(report, "PF109")] == ["error"]
+
+
+def test_an_included_files_reads_while_loading_count_as_loading_reads(tmp_path):
+    sub = (
+        "import glob\nimport os\nfrom ament_index_python.packages import get_package_share_directory\n"
+        "from launch import LaunchDescription\nfrom launch.actions import ExecuteProcess, OpaqueFunction\n\n\n"
+        "def generate_launch_description():\n"
+        f"    worlds = glob.glob(os.path.join(get_package_share_directory('{MOVEIT_CONFIG}'), 'w', '*'))\n\n"
+        "    def setup(context):\n        return [ExecuteProcess(cmd=['gz', worlds[0]])]\n\n"
+        "    return LaunchDescription([OpaqueFunction(function=setup)])\n"
+    )
+    top = (
+        "import os\nfrom launch import LaunchDescription\nfrom launch.actions import IncludeLaunchDescription\n"
+        "from launch.launch_description_sources import PythonLaunchDescriptionSource\n\n\n"
+        "def generate_launch_description():\n"
+        "    sub = os.path.join(os.path.dirname(__file__), 'sub.launch.py')\n"
+        "    return LaunchDescription([IncludeLaunchDescription(PythonLaunchDescriptionSource(sub))])\n"
+    )
+    package(
+        tmp_path,
+        "audit_inc",
+        ["launch", MOVEIT_CONFIG],
+        {"launch/top.launch.py": top, "launch/sub.launch.py": sub},
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [s for s, *_ in found(report, "PF301")] == ["warning"]

@@ -143,8 +143,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 # after: maybe that read's consequence, maybe its own defect (an error neither way)
                 yield Finding(
                     f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
-                    f" (after loading read files of {item.read_before}, a package not installed here: "
-                    f"maybe its consequence){_branch_note(item, resolution)}",
+                    f" (the file read files of {item.read_before}, not installed here, while loading: "
+                    f"maybe the cause){_branch_note(item, resolution)}",
                     *position,
                     severity=Severity.WARNING,
                     hint=f"verify on a machine with {item.read_before} installed (or --install-base) to tell",

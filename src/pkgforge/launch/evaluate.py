@@ -299,9 +299,11 @@ def visit(
     depth: int = 0,
     in_handler: bool = False,
     ancestors: tuple[tuple[int, int], ...] = (),
+    loading: tuple[tuple[int, int], ...] = (),
 ) -> None:
     """Visit the entities; `ancestors`: the stand-in reads the OpaqueFunctions they came from made
-    themselves (spans of RECORDER.stand_in_reads)."""
+    themselves; `loading`: those the included files they came from made while loading (spans of
+    RECORDER.stand_in_reads)."""
     if depth > MAX_DEPTH:
         RECORDER.add(
             "errors",
@@ -332,20 +334,29 @@ def visit(
             children = entity.visit(context)
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
             if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
-                record_visit_failure(entity, error, [*ancestors, (start, None)])
+                record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
             continue
         if children:
             handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
             # an OpaqueFunction's own reads count for the actions it returns; a description's or
             # a group's children are siblings, each with its own reads
             own = (start, len(RECORDER.stand_in_reads))
-            inherited = (*ancestors, own) if type(entity).__name__ in RUNS_ON_THE_EVENT else ancestors
-            visit(list(children), context, depth + 1, handler, inherited)
+            kind = type(entity).__name__
+            inherited = (*ancestors, own) if kind in RUNS_ON_THE_EVENT else ancestors
+            loaded = (*loading, own) if kind in INCLUDES else loading  # (an included file's loading)
+            visit(list(children), context, depth + 1, handler, inherited, loaded)
 
 
-def record_visit_failure(entity: object, error: Exception, spans: Spans | None = None) -> None:
+# the actions that load another launch file when visited
+INCLUDES = ("IncludeLaunchDescription", "ScopedIncludeLaunchDescription")
+
+
+def record_visit_failure(
+    entity: object, error: Exception, spans: Spans | None = None, loading: Spans | None = None
+) -> None:
     """What an entity's failure during the visit records; the visit goes on (both engines).
-    `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors'."""
+    `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors';
+    `loading`: those the included files it came from made while loading."""
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
         return
@@ -380,7 +391,9 @@ def record_visit_failure(entity: object, error: Exception, spans: Spans | None =
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent
-    elif spans is not None and (before := _not_installed_read(error, [(0, RECORDER.load_reads)])):
+    elif spans is not None and (
+        before := _not_installed_read(error, [(0, RECORDER.load_reads), *(loading or [])])
+    ):
         record["read_before"] = before  # what loading read: maybe the cause, maybe not
     RECORDER.add("errors", record)
 

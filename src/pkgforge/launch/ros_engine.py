@@ -874,9 +874,10 @@ def visit(
     depth: int = 0,
     in_handler: bool = False,
     ancestors: tuple[tuple[int, int], ...] = (),
+    loading: tuple[tuple[int, int], ...] = (),
 ) -> None:
-    """Visit one entity; `ancestors`: the stand-in reads the OpaqueFunctions it came from made
-    themselves (evaluate.visit's, the same rule)."""
+    """Visit one entity; `ancestors` and `loading`: the stand-in reads of the OpaqueFunctions and
+    the included files' loading it came from (evaluate.visit's, the same rule)."""
     launch = L.launch
     if depth > MAX_DEPTH:
         RECORDER.add(
@@ -914,16 +915,18 @@ def visit(
         from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT, record_visit_failure
 
         if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
-            record_visit_failure(entity, error, [*ancestors, (start, None)])
+            record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
         return
-    from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT
+    from pkgforge.launch.evaluate import INCLUDES, RUNS_ON_THE_EVENT
 
     handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
     # an OpaqueFunction's own reads count for the actions it returns; a group's children are siblings
     own = (start, len(RECORDER.stand_in_reads))
-    inherited = (*ancestors, own) if type(entity).__name__ in RUNS_ON_THE_EVENT else ancestors
+    kind = type(entity).__name__
+    inherited = (*ancestors, own) if kind in RUNS_ON_THE_EVENT else ancestors
+    loaded = (*loading, own) if kind in INCLUDES else loading  # (an included file's loading)
     for child in children or []:
-        visit(child, context, depth + 1, handler, inherited)
+        visit(child, context, depth + 1, handler, inherited, loaded)
 
 
 # --- one file -----------------------------------------------------------------------------

@@ -45,7 +45,10 @@ class Dependency:
         no target distro, a condition on $ROS_DISTRO holds nowhere for sure."""
         if not self.condition:
             return True
-        if "ROS_DISTRO" not in self.condition:
+        variables = set(re.findall(r"\$(\w+)", self.condition))
+        if variables - {"ROS_VERSION", "ROS_PYTHON_VERSION", "ROS_DISTRO"}:
+            return False  # a variable of the user's own build ($BUILD_TYPE): may hold, not for sure
+        if "ROS_DISTRO" not in variables:
             return self.active(())  # ($ROS_VERSION == 2: the same on every distro)
         return bool(distros) and all(self.active((distro,)) for distro in distros)
 

@@ -57,7 +57,9 @@ if TYPE_CHECKING:
 #    an action came from count, an RViz config's displays stay errors, a blank model file
 # 15: only an action's own reads and its OpaqueFunction ancestors' excuse its failure (PF311); a
 #    read while loading makes it a PF301 warning; a $ROS_VERSION-only condition holds everywhere
-CACHE_FORMAT = 15
+# 16: an included file's loading reads count as loading reads; a condition on a variable of the
+#    user's own build brings nothing along for sure
+CACHE_FORMAT = 16
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
