@@ -952,3 +952,22 @@ def test_an_included_files_reads_while_loading_count_as_loading_reads(tmp_path):
     )
     _, report = verify_report(tmp_path, "--no-cache")
     assert [s for s, *_ in found(report, "PF301")] == ["warning"]
+
+
+def test_what_holds_on_every_target_distro_for_sure():
+    # a comparison on a variable of the user's own build may be false; joined by `or` with one
+    # that holds on ROS 2, the whole holds for sure (a reader's case: a false PF109 error)
+    from pkgforge.model.manifest import Dependency
+
+    def sure(condition: str, distros: tuple[str, ...]) -> bool:
+        return Dependency("x", "depend", 1, condition).holds_on_every(distros)
+
+    assert sure("$ROS_VERSION == 2 or $BUILD_TYPE == hardware", ())
+    assert sure("hardware == $BUILD_TYPE or $ROS_VERSION == 2", ())
+    assert not sure("$BUILD_TYPE == hardware", ("jazzy",))
+    assert not sure("$ROS_VERSION == 2 and $BUILD_TYPE == hardware", ())
+    assert sure("$ROS_VERSION == 2", ())
+    assert not sure("$ROS_VERSION == 1", ("humble",))
+    assert not sure("$ROS_DISTRO == humble", ())
+    assert sure("$ROS_DISTRO == humble", ("humble",))
+    assert not sure("$ROS_DISTRO == humble", ("humble", "jazzy"))

@@ -31,6 +31,11 @@ GENERIC_OVERLAPS = {"build_depend", "build_export_depend", "exec_depend"}
 
 # a variable in a REP 149 condition, as catkin_pkg's condition grammar reads it
 CONDITION_VARIABLE = re.compile(r"\$([A-Za-z0-9_]+)")
+# one comparison of a condition with a variable on either side: its variable in group 1 or 2
+_OPERAND = r"(?:\"[^\"]*\"|'[^']*'|[A-Za-z0-9_.\-]+)"
+UNKNOWN_COMPARISON = re.compile(
+    rf"\$([A-Za-z0-9_]+)\s*(?:==|!=|>=|<=|>|<)\s*{_OPERAND}|{_OPERAND}\s*(?:==|!=|>=|<=|>|<)\s*\$([A-Za-z0-9_]+)"
+)
 
 
 @dataclass(frozen=True)
@@ -45,12 +50,20 @@ class Dependency:
         no target distro, a condition on $ROS_DISTRO holds nowhere for sure."""
         if not self.condition:
             return True
-        variables = set(re.findall(r"\$(\w+)", self.condition))
-        if variables - {"ROS_VERSION", "ROS_PYTHON_VERSION", "ROS_DISTRO"}:
-            return False  # a variable of the user's own build ($BUILD_TYPE): may hold, not for sure
-        if "ROS_DISTRO" not in variables:
-            return self.active(())  # ($ROS_VERSION == 2: the same on every distro)
-        return bool(distros) and all(self.active((distro,)) for distro in distros)
+        known = {"ROS_VERSION", "ROS_PYTHON_VERSION", "ROS_DISTRO"}
+        # a comparison on a variable of the user's own build ($BUILD_TYPE == hardware) may be
+        # false: it is made false, and what still holds then holds for sure (conditions join
+        # comparisons with and/or only, so a false one never makes the whole true)
+        condition = UNKNOWN_COMPARISON.sub(
+            lambda m: m.group(0) if (m.group(1) or m.group(2)) in known else "$ROS_VERSION == pkgforge_never",
+            self.condition,
+        )
+        if set(CONDITION_VARIABLE.findall(condition)) - known:
+            return False  # (a variable in a form not compared: not for sure)
+        sure = Dependency(self.name, self.tag, self.line, condition)
+        if "ROS_DISTRO" not in condition:
+            return sure.active(())  # ($ROS_VERSION == 2: the same on every distro)
+        return bool(distros) and all(sure.active((distro,)) for distro in distros)
 
     def active(self, distros: tuple[str, ...] = ()) -> bool:
         """Whether the dependency counts on ROS 2 (for any of `distros`; every distro when empty)."""

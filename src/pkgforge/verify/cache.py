@@ -59,7 +59,8 @@ if TYPE_CHECKING:
 #    read while loading makes it a PF301 warning; a $ROS_VERSION-only condition holds everywhere
 # 16: an included file's loading reads count as loading reads; a condition on a variable of the
 #    user's own build brings nothing along for sure
-CACHE_FORMAT = 16
+# 17: ... unless joined by `or` with a comparison that holds on ROS 2 (only such comparisons made false)
+CACHE_FORMAT = 17
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
