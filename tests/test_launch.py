@@ -135,8 +135,9 @@ def test_missing_exec_depend_found_through_the_gui_branch(tmp_path, fmt, marker)
     assert diagnostic["hint"].startswith("add <exec_depend>joint_state_publisher_gui</exec_depend>")
 
 
-@pytest.mark.triggers("PF306")
-def test_jsp_given_the_model_as_an_argument(tmp_path):
+def jsp_given_the_model(tmp_path: Path) -> tuple[Path, Path]:
+    """Seed 001's package, its joint_state_publisher_gui given the model file (user story 4);
+    (the package, its launch file)."""
     package = jazzy_package(tmp_path)
     launch = package / "launch" / "display.launch.py"
     edit(
@@ -144,6 +145,12 @@ def test_jsp_given_the_model_as_an_argument(tmp_path):
         'executable="joint_state_publisher_gui",',
         'executable="joint_state_publisher_gui", arguments=[urdf_model_path],',
     )
+    return package, launch
+
+
+@pytest.mark.triggers("PF306")
+def test_jsp_given_the_model_as_an_argument(tmp_path):
+    package, launch = jsp_given_the_model(tmp_path)
     # a model written with xacro (user story 4): the node parses it unexpanded
     model = package / "urdf" / "small_turtle.urdf"
     edit(
@@ -167,13 +174,7 @@ def test_jsp_given_a_plain_urdf_reads_it_as_robot_state_publisher_does(tmp_path)
     # joint_state_publisher's description_file: a plain URDF (or SDF: ros_gz_project_template's
     # rrbot_setup.launch.py) that robot_state_publisher gets as it is, not through xacro, is read
     # the same way by both; no finding
-    package = jazzy_package(tmp_path)
-    launch = package / "launch" / "display.launch.py"
-    edit(
-        launch,
-        'executable="joint_state_publisher_gui",',
-        'executable="joint_state_publisher_gui", arguments=[urdf_model_path],',
-    )
+    package, launch = jsp_given_the_model(tmp_path)
     edit(
         launch,
         'Command(["xacro ", LaunchConfiguration("model")])',

@@ -33,6 +33,27 @@ def package(
     return folder
 
 
+def finding_cmake(project: str, *found: str) -> str:
+    """An ament_cmake CMakeLists.txt that find_package()s these packages and installs nothing."""
+    finds = "".join(f"find_package({name} REQUIRED)\n" for name in found)
+    return (
+        f"cmake_minimum_required(VERSION 3.10)\nproject({project} NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        f"{finds}ament_package()\n"
+    )
+
+
+def params_launch(package_name: str, relative: str) -> str:
+    """A launch file starting a node of `package_name` with the parameter file `relative` of its share."""
+    parts = ", ".join(repr(part) for part in relative.split("/"))
+    return (
+        "from launch import LaunchDescription\nfrom launch.substitutions import PathJoinSubstitution\n"
+        "from launch_ros.actions import Node\nfrom launch_ros.substitutions import FindPackageShare\n\n\n"
+        "def generate_launch_description():\n"
+        f"    params = PathJoinSubstitution([FindPackageShare('{package_name}'), {parts}])\n"
+        f"    return LaunchDescription([Node(package='{package_name}', executable='x', parameters=[params])])\n"
+    )
+
+
 def found(report: dict, code: str) -> list[tuple[str, str, int | None, str]]:
     return [
         (d["severity"], d["path"], d["line"], d["message"])
@@ -44,11 +65,7 @@ def found(report: dict, code: str) -> list[tuple[str, str, int | None, str]]:
 def test_a_find_package_a_declared_core_package_brings_is_a_warning(tmp_path):
     # clearpath_generator_common: find_package(ament_cmake_python) with only ament_cmake declared;
     # ros2/demos: find_package(rmw) with rclcpp declared. Both build on the build farm
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_cpp NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(ament_cmake_python REQUIRED)\nfind_package(rmw REQUIRED)\nfind_package(urdf REQUIRED)\n"
-        "ament_package()\n"
-    )
+    cmake = finding_cmake("audit_cpp", "ament_cmake_python", "rmw", "urdf")
     folder = package(tmp_path, "audit_cpp", [], {"CMakeLists.txt": cmake}, depend=["rclcpp"])
     cmakelists = folder / "CMakeLists.txt"
     _, report = verify_report(tmp_path, "--no-cache")
@@ -80,10 +97,7 @@ def test_the_exports_table_against_the_core_packages_own_manifests():
 
 def test_a_find_package_declared_as_another_kind_is_a_warning(tmp_path):
     # lino linorobot2_gazebo: find_package of a package declared only as <exec_depend>
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_kind NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(urdf REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_kind", "urdf")
     folder = package(tmp_path, "audit_kind", ["urdf"], {"CMakeLists.txt": cmake})
     _, report = verify_report(tmp_path, "--no-cache")
     ((severity, _, line, message),) = found(report, "PF109")
@@ -321,10 +335,7 @@ def test_a_node_whose_condition_holds_at_the_defaults_stays_an_error(tmp_path):
 
 def test_a_find_package_declared_only_as_doc_depend_stays_an_error(tmp_path):
     # rosdep's default dependency types are every kind but doc
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_doc NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(urdf REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_doc", "urdf")
     package(tmp_path, "audit_doc", [], {"CMakeLists.txt": cmake}, doc_depend=["urdf"])
     _, report = verify_report(tmp_path, "--no-cache")
     assert [s for s, *_ in found(report, "PF109")] == ["error"]
@@ -353,10 +364,7 @@ def test_a_cycle_through_a_package_not_verified_has_no_fix_either(tmp_path):
 
 def test_a_find_package_a_declared_workspace_package_brings_is_a_warning(tmp_path):
     # xarm_ros2: xarm_controller finds xarm_sdk, which its declared xarm_api <depend>s on
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_controller NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(audit_sdk REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_controller", "audit_sdk")
     package(tmp_path, "audit_sdk", [], {})
     package(tmp_path, "audit_api", [], {}, depend=["audit_sdk"])
     package(tmp_path, "audit_controller", [], {"CMakeLists.txt": cmake}, depend=["audit_api"])
@@ -446,10 +454,7 @@ def test_a_rosinstall_file_brings_its_repositories_from_source(tmp_path):
 
 
 def test_a_commented_out_or_ros1_only_export_brings_nothing_along(tmp_path):
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_controller NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(audit_sdk REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_controller", "audit_sdk")
     package(tmp_path, "audit_sdk", [], {})
     api = package(tmp_path, "audit_api", [], {})
     text = (api / "package.xml").read_text()
@@ -465,10 +470,7 @@ def test_a_commented_out_or_ros1_only_export_brings_nothing_along(tmp_path):
 
 
 def test_a_cached_run_sees_another_packages_dependency_change_kind(tmp_path):
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_controller NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(audit_sdk REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_controller", "audit_sdk")
     package(tmp_path, "audit_sdk", [], {})
     api = package(tmp_path, "audit_api", [], {}, depend=["audit_sdk"])
     package(tmp_path, "audit_controller", [], {"CMakeLists.txt": cmake}, depend=["audit_api"])
@@ -486,13 +488,7 @@ def test_a_rule_that_installs_programs_cannot_install_a_missing_share_file(tmp_p
         "install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})\n"
         "install(PROGRAMS $ENV{EXTRA_SCRIPTS} DESTINATION lib/${PROJECT_NAME})\nament_package()\n"
     )
-    launch = (
-        "from launch import LaunchDescription\nfrom launch.substitutions import PathJoinSubstitution\n"
-        "from launch_ros.actions import Node\nfrom launch_ros.substitutions import FindPackageShare\n\n\n"
-        "def generate_launch_description():\n"
-        "    params = PathJoinSubstitution([FindPackageShare('audit_programs'), 'config', 'params.yaml'])\n"
-        "    return LaunchDescription([Node(package='audit_programs', executable='x', parameters=[params])])\n"
-    )
+    launch = params_launch("audit_programs", "config/params.yaml")
     package(
         tmp_path,
         "audit_programs",
@@ -690,10 +686,7 @@ def test_an_actions_own_bug_after_another_action_read_a_package_not_installed_he
 
 
 def test_another_packages_distro_condition_is_evaluated_for_the_target(tmp_path):
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_c NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(urdf REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_c", "urdf")
     b = package(tmp_path, "audit_b", [], {})
     (b / "package.xml").write_text(
         (b / "package.xml")
@@ -714,13 +707,7 @@ def test_an_unreadable_rule_installing_at_the_prefix_root_may_install_a_share_fi
         "install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})\n"
         "install(DIRECTORY ${EXTRA} DESTINATION .)\nament_package()\n"
     )
-    launch = (
-        "from launch import LaunchDescription\nfrom launch.substitutions import PathJoinSubstitution\n"
-        "from launch_ros.actions import Node\nfrom launch_ros.substitutions import FindPackageShare\n\n\n"
-        "def generate_launch_description():\n"
-        "    params = PathJoinSubstitution([FindPackageShare('audit_root'), 'config', 'x.yaml'])\n"
-        "    return LaunchDescription([Node(package='audit_root', executable='x', parameters=[params])])\n"
-    )
+    launch = params_launch("audit_root", "config/x.yaml")
     package(
         tmp_path,
         "audit_root",
@@ -732,10 +719,7 @@ def test_an_unreadable_rule_installing_at_the_prefix_root_may_install_a_share_fi
 
 
 def test_a_manifest_with_a_defect_elsewhere_still_brings_its_dependencies(tmp_path):
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_a NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(urdf REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_a", "urdf")
     b = package(tmp_path, "audit_b", [], {}, depend=["urdf"])
     (b / "package.xml").write_text(
         (b / "package.xml").read_text().replace("test@example.com", "test@example")
@@ -899,10 +883,7 @@ def test_what_an_opaque_function_read_counts_for_what_it_returns_through_a_group
 
 def test_a_ros_version_condition_holds_on_every_distro(tmp_path):
     # <depend condition="$ROS_VERSION == 2">rclcpp</depend>: brings rmw along wherever ROS 2 is
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_rv NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(rmw REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_rv", "rmw")
     folder = package(tmp_path, "audit_rv", [], {"CMakeLists.txt": cmake})
     text = (folder / "package.xml").read_text()
     (folder / "package.xml").write_text(
@@ -913,10 +894,7 @@ def test_a_ros_version_condition_holds_on_every_distro(tmp_path):
 
 
 def test_a_condition_on_a_variable_of_the_users_own_build_brings_nothing_for_sure(tmp_path):
-    cmake = (
-        "cmake_minimum_required(VERSION 3.10)\nproject(audit_uv NONE)\nfind_package(ament_cmake REQUIRED)\n"
-        "find_package(rmw REQUIRED)\nament_package()\n"
-    )
+    cmake = finding_cmake("audit_uv", "rmw")
     folder = package(tmp_path, "audit_uv", [], {"CMakeLists.txt": cmake})
     text = (folder / "package.xml").read_text()
     (folder / "package.xml").write_text(

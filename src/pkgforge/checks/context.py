@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 from pkgforge.launch.records import Error as LaunchError
 from pkgforge.launch.records import LaunchFile, Resolution
+from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
 from pkgforge.tree import InstallTree
@@ -45,11 +46,6 @@ NONE_TEXT = re.compile(r"(^|[/'\"])None([./_'\"-]|$)")
 # (controller_manager alone is left out: mycobot_ros2 declares it in 15 packages and starts it
 # nowhere; a robot really controlled declares ros2_control or its controllers too)
 MOTION_PREFIXES = ("moveit", "gazebo", "gz_", "ros_gz", "ign_", "ros_ign", "ros2_control", "webots")
-
-# the dependency kinds an installed package brings along (a binary's Depends)
-EXPORT_TAGS = frozenset(
-    {"depend", "exec_depend", "run_depend", "build_export_depend", "buildtool_export_depend"}
-)
 
 # what colcon leaves in its own build/ and install/ folders (beside their COLCON_IGNORE)
 COLCON_OUTPUT_MARKERS = frozenset({".built_by", ".colcon_install_layout"})
@@ -286,6 +282,19 @@ class CheckContext:
         dependency of that family declared anywhere): then the models' joint limits are read."""
         edges: dict[str, set[str]] = self._shared(("dependency-edges", self.distros), self._dependency_edges)
         return any(name.startswith(MOTION_PREFIXES) for names in edges.values() for name in names)
+
+    def brought_along(self, name: str, tags: tuple[str, ...]) -> str | None:
+        """The dependency package.xml declares with one of `tags` (holding on every target
+        distro) whose install brings `name` along, in every target distro: through the
+        workspace's own manifests and the core packages' table (model/exports.py)."""
+        from pkgforge.model.exports import brought_by
+
+        declared = {
+            d.name
+            for d in self.model.manifest.active_dependencies()
+            if d.tag in tags and d.holds_on_every(self.distros)
+        }
+        return brought_by(name, declared, self.distros, self.workspace_exports())
 
     def workspace_exports(self) -> dict[str, set[str]]:
         """Workspace package name → what its install brings along (its <depend>, <exec_depend>,

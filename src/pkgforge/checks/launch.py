@@ -9,14 +9,15 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from pkgforge.checks.context import CheckContext
+from pkgforge.checks.context import NONE_TEXT, CheckContext
 from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
 from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
-from pkgforge.launch.records import PackageLookup, Record, Resolution, ResolvedPath
+from pkgforge.launch.records import PREVIEW_LENGTH, PackageLookup, Record, Resolution, ResolvedPath
+from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import Reference
 from pkgforge.urdf import ANY_MODEL_SUFFIXES, XACRO_MODEL_SUFFIXES
@@ -43,7 +44,6 @@ LAUNCH_INFRASTRUCTURE = {
 # a package name with an empty part: f"kuka_{family}_support" of an empty argument
 EMPTY_PART = re.compile(r"^_|__|_$")
 # a path part that is the text of None (an f-string of os.getenv() of a variable not set)
-NONE_PART = re.compile(r"(^|/)None([./_-]|$)")
 # a package a launch file, a model or a file of the package uses: (name, source path, line, how,
 # the launch record, its resolution); the last two are None for a static reference
 Use = tuple[str, Path, "int | None", str, "Record | None", "Resolution | None"]
@@ -265,7 +265,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
             if located is None:
                 continue
             package, relative, _ = located
-            if NONE_PART.search(relative) and ctx.unset_environment(resolution):
+            if NONE_TEXT.search(relative) and ctx.unset_environment(resolution):
                 continue  # launch-environment-unset: os.getenv() gave None here
             owner = ctx.model_for_share(package)
             source = owner.path / relative if owner is not None else None
@@ -614,11 +614,7 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         return  # with no readable manifest, nothing is known to be declared
     # a <build_export_depend> is installed with the package too (rosdep installs every kind,
     # bloom puts it in the binary's Depends): stretch_calibration declares stretch_core so
-    declared = model.manifest.run_dependencies() | {
-        d.name
-        for d in model.manifest.active_dependencies()
-        if d.tag in ("build_export_depend", "buildtool_export_depend")
-    }
+    declared = {d.name for d in model.manifest.active_dependencies() if d.tag in EXPORT_TAGS}
     own = {model.name, model.share_name}
     known = ctx.real_packages()
     # a model's reference as written (not as xacro made it), for the uses a package may leave out
@@ -660,7 +656,7 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 hint=f"install {name} beside {model.name} (its users have it), or move the use into {name}",
             )  # no fix: the dependency the hint would add breaks the build
             continue
-        provider = _brought_along(ctx, name)
+        provider = ctx.brought_along(name, EXPORT_TAGS)
         if provider is not None:
             # spot_ros2_control exec_depends spot_description, which exec_depends rviz2: installed
             # with it, the launch file runs; declaring what it uses directly is still the rule
@@ -688,25 +684,6 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         )
 
 
-def _brought_along(ctx: CheckContext, name: str) -> str | None:
-    """The declared run dependency (one with no condition: it holds on every target distro)
-    whose install brings `name` along (the core packages' table, and the workspace's own
-    manifests: model/exports.py), in every target distro."""
-    from pkgforge.model.exports import brought_by
-
-    manifest = ctx.model.manifest
-    declared = {
-        d.name
-        for d in manifest.active_dependencies()
-        if d.tag in RUN_EXPORT_TAGS and d.holds_on_every(ctx.distros)
-    }
-    return brought_by(name, declared, ctx.distros, ctx.workspace_exports())
-
-
-# what a package's install brings along: a binary's Depends
-RUN_EXPORT_TAGS = ("depend", "exec_depend", "run_depend", "build_export_depend", "buildtool_export_depend")
-
-
 def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str) -> bool:
     """Whether a plain model file (no xacro in it) is, as it is, what robot_state_publisher gets
     as robot_description in the same launch file: ros_gz_project_template's rrbot_setup.launch.py
@@ -727,10 +704,6 @@ def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str)
         if node.package == "robot_state_publisher"
         for parameter in node.parameters
     )
-
-
-# what a launch record keeps of a parameter's value (launch/runtime.py value_preview)
-PREVIEW_LENGTH = 200
 
 
 @register(
@@ -949,7 +922,7 @@ def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
         if not names:
             continue
         failed = ctx.load_error_kind(resolution) == "environment"
-        none_paths = [item for item in resolution.paths if not item.exists and NONE_PART.search(item.path)]
+        none_paths = [item for item in resolution.paths if not item.exists and NONE_TEXT.search(item.path)]
         if not failed and not none_paths:
             continue
         error = resolution.error

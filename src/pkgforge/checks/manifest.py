@@ -273,6 +273,9 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
 # distros' platforms: the distros where they resolve, and what they are
 SYSTEM_KEYS = {"gazebo": (("humble",), "Gazebo Classic, packaged for Ubuntu jammy")}
 
+# what a build installs first (a find_package inside BUILD_TESTING: test_depend too)
+BUILD_TAGS = ("depend", "build_depend", "buildtool_depend")
+
 # first words too common to tie a package to a repository (ros2_control holds no ros_x_driver)
 GENERIC_WORDS = frozenset({"ros", "ros2", "robot", "gazebo", "gz", "ign", "moveit", "nav2", "urdf", "common"})
 
@@ -483,7 +486,9 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
                 "; `rosdep install` installs it, so it builds from source, but the release build "
                 "(bloom, the build farm) installs build dependencies only and fails"
             )
-        elif provider := _brought_by(ctx, name, tag == "test_depend"):
+        elif provider := ctx.brought_along(
+            name, BUILD_TAGS + (("test_depend",) if tag == "test_depend" else ())
+        ):
             # ament_cmake brings ament_cmake_python, rclcpp brings rmw (model/exports.py)
             because = f"; {provider}, which it declares, brings it along, so it builds"
         else:
@@ -502,21 +507,6 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             # `fix` adds the test_depend the hint names (otherwise it works the tag out itself)
             fix={"dependency": name, "tag": tag} if tag == "test_depend" else None,
         )
-
-
-def _brought_by(ctx: CheckContext, name: str, testing: bool) -> str | None:
-    """The declared build dependency (test dependency too, for a find_package inside
-    BUILD_TESTING) whose binary install brings `name` along in every target distro."""
-    from pkgforge.model.exports import brought_by
-
-    manifest = ctx.model.manifest
-    # (a declaration under a condition may hold on some target distros only: it brings nothing
-    # along for sure)
-    tags = ("depend", "build_depend", "buildtool_depend", *(("test_depend",) if testing else ()))
-    start = {
-        d.name for d in manifest.active_dependencies() if d.tag in tags and d.holds_on_every(ctx.distros)
-    }
-    return brought_by(name, start, ctx.distros, ctx.workspace_exports())
 
 
 @register(

@@ -338,17 +338,29 @@ def visit(
             continue
         if children:
             handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
-            # an OpaqueFunction's own reads count for the actions it returns; a description's or
-            # a group's children are siblings, each with its own reads
-            own = (start, len(RECORDER.stand_in_reads))
-            kind = type(entity).__name__
-            inherited = (*ancestors, own) if kind in RUNS_ON_THE_EVENT else ancestors
-            loaded = (*loading, own) if kind in INCLUDES else loading  # (an included file's loading)
-            visit(list(children), context, depth + 1, handler, inherited, loaded)
+            visit(
+                list(children), context, depth + 1, handler, *child_spans(entity, start, ancestors, loading)
+            )
 
 
 # the actions that load another launch file when visited
 INCLUDES = ("IncludeLaunchDescription", "ScopedIncludeLaunchDescription")
+ReadSpans = tuple[tuple[int, int], ...]
+
+
+def child_spans(
+    entity: object, start: int, ancestors: ReadSpans, loading: ReadSpans
+) -> tuple[ReadSpans, ReadSpans]:
+    """(ancestors, loading) for the entities `entity` returned, its visit having begun at stand-in
+    read `start` (both engines): an OpaqueFunction's own reads count for the actions it returns,
+    an include's for what the included file loaded; a description's or a group's children are
+    siblings, each with its own reads."""
+    own = (start, len(RECORDER.stand_in_reads))
+    kind = type(entity).__name__
+    return (
+        (*ancestors, own) if kind in RUNS_ON_THE_EVENT else ancestors,
+        (*loading, own) if kind in INCLUDES else loading,
+    )
 
 
 def record_visit_failure(

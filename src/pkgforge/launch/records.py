@@ -200,6 +200,10 @@ class Argument(Record):
     values: list[str] = field(default_factory=list)  # the values evaluated (choices, true/false)
 
 
+# what a record keeps of a parameter's value (Parameter.value_preview)
+PREVIEW_LENGTH = 200
+
+
 @dataclass
 class Parameter(Record):
     name: str | None = None  # None: a parameter file

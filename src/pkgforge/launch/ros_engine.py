@@ -33,6 +33,7 @@ from typing import Any
 from pkgforge.launch import runtime as rt
 from pkgforge.launch.engines import python_paths
 from pkgforge.launch.records import (
+    PREVIEW_LENGTH,
     BranchBudget,
     ErrorRecordDict,
     LaunchResultDict,
@@ -681,7 +682,7 @@ def _parameters(context: Any, groups: Iterable[Any], owner: Any) -> list[Paramet
                     {
                         "name": name,
                         "form": form,
-                        "value_preview": str(text)[:200],
+                        "value_preview": str(text)[:PREVIEW_LENGTH],
                         "file": owner._file,
                         "line": getattr(value, "_line", None) or owner._line,
                     }
@@ -719,7 +720,7 @@ def _record_node(node: Any, context: Any) -> None:
         {
             "name": group[0],
             "form": "plain",
-            "value_preview": str(group[1])[:200],
+            "value_preview": str(group[1])[:PREVIEW_LENGTH],
             "file": node._file,
             "line": node._line,
         }
@@ -917,16 +918,12 @@ def visit(
         if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
             record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
         return
-    from pkgforge.launch.evaluate import INCLUDES, RUNS_ON_THE_EVENT
+    from pkgforge.launch.evaluate import child_spans
 
     handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
-    # an OpaqueFunction's own reads count for the actions it returns; a group's children are siblings
-    own = (start, len(RECORDER.stand_in_reads))
-    kind = type(entity).__name__
-    inherited = (*ancestors, own) if kind in RUNS_ON_THE_EVENT else ancestors
-    loaded = (*loading, own) if kind in INCLUDES else loading  # (an included file's loading)
+    spans = child_spans(entity, start, ancestors, loading)
     for child in children or []:
-        visit(child, context, depth + 1, handler, inherited, loaded)
+        visit(child, context, depth + 1, handler, *spans)
 
 
 # --- one file -----------------------------------------------------------------------------

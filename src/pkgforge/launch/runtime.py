@@ -110,6 +110,7 @@ class Unresolved(Exception):
 # --- the record -----------------------------------------------------------------------------
 
 from pkgforge.launch.records import (  # noqa: E402  (the record format both engines share)
+    PREVIEW_LENGTH,
     CommandRunRecordDict,
     NodeRecordDict,
     PackageLookupRecordDict,
@@ -1454,7 +1455,7 @@ class Node(ExecuteProcess):
                     {
                         "name": group[0],
                         "form": "plain",
-                        "value_preview": str(group[1])[:200],
+                        "value_preview": str(group[1])[:PREVIEW_LENGTH],
                         "file": self._file,
                         "line": self._line,
                     }
@@ -1563,7 +1564,7 @@ def _evaluate_parameters(
                 {
                     "name": name,
                     "form": given,
-                    "value_preview": str(text)[:200],
+                    "value_preview": str(text)[:PREVIEW_LENGTH],
                     "file": node._file,
                     "line": getattr(value, "_line", None) or node._line,
                 }
@@ -1576,7 +1577,7 @@ def _evaluate_parameters(
             {
                 "name": perform(context, group.name),
                 "form": _value_form(group.value),
-                "value_preview": str(text)[:200],
+                "value_preview": str(text)[:PREVIEW_LENGTH],
                 "file": node._file,
                 "line": node._line,
             }

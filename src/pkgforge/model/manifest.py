@@ -24,6 +24,8 @@ DEPENDENCY_TAGS = (
 )
 # what satisfies a run-time need (REP 149: <depend> is build + build_export + exec)
 RUN_TAGS = ("depend", "exec_depend", "run_depend")
+# what an installed package brings along (a binary's Depends; rosdep installs them with it)
+EXPORT_TAGS = (*RUN_TAGS, "build_export_depend", "buildtool_export_depend")
 # catkin_pkg refuses <depend>X</depend> beside a specific tag for X (colcon then skips the package)
 REDUNDANT_GENERIC = "is redundant with"
 GENERIC_OVERLAPS = {"build_depend", "build_export_depend", "exec_depend"}
