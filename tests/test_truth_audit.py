@@ -949,3 +949,95 @@ def test_what_holds_on_every_target_distro_for_sure():
     assert not sure("$ROS_DISTRO == humble", ())
     assert sure("$ROS_DISTRO == humble", ("humble",))
     assert not sure("$ROS_DISTRO == humble", ("humble", "jazzy"))
+
+
+INCLUDED_ONLY_LAUNCH = """import yaml
+from launch import LaunchDescription
+from launch.actions import OpaqueFunction
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def launch_setup(context, *args, **kwargs):
+    dump = LaunchConfiguration('config_dump', default='').perform(context)
+    config = yaml.safe_load(dump) if dump else {}
+    description = {'robot_description': config['robot_description']}
+    return [Node(package='robot_state_publisher', executable='robot_state_publisher', parameters=[description])]
+
+
+def generate_launch_description():
+    return LaunchDescription([OpaqueFunction(function=launch_setup)])
+"""
+
+INCLUDER_LAUNCH = """import yaml
+from launch import LaunchDescription
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    dump = yaml.dump({'robot_description': '<robot name="r"><link name="base"/></robot>'})
+    inner = IncludeLaunchDescription(
+        PythonLaunchDescriptionSource(PathJoinSubstitution([FindPackageShare('audit_alone'), 'launch', '_inner.launch.py'])),
+        launch_arguments={'config_dump': dump}.items(),
+    )
+    return LaunchDescription([inner])
+"""
+
+
+def test_a_file_made_to_be_included_failing_on_its_own_is_a_warning(tmp_path):
+    # xarm_ros2's _robot_on_mbot_gazebo.launch.py reads moveit_config_dump, which only its
+    # includer gives: launched alone it fails (ros2 launch too), through its includer it loads
+    from ros_prefix import make_prefix
+
+    prefix, _ = make_prefix("jazzy", tmp_path / "ros")
+    folder = package(
+        tmp_path,
+        "audit_alone",
+        ["launch", "launch_ros", "robot_state_publisher"],
+        {"launch/_inner.launch.py": INCLUDED_ONLY_LAUNCH, "launch/outer.launch.py": INCLUDER_LAUNCH},
+    )
+    inner, outer = folder / "launch" / "_inner.launch.py", folder / "launch" / "outer.launch.py"
+    for engine in ("builtin", "ros"):
+        if engine == "ros" and prefix is None:
+            continue  # (no real launch library here)
+        extra = ["--ros-prefix", str(prefix)] if engine == "ros" else []
+        _, report = verify_report(
+            tmp_path, "--no-cache", "--distro", "jazzy", "--launch-engine", engine, *extra
+        )
+        assert found(report, "PF301") == [
+            (
+                "warning",
+                "src/audit_alone/launch/_inner.launch.py",
+                line_of(inner, "OpaqueFunction(function=launch_setup)"),
+                "OpaqueFunction failed: KeyError: 'robot_description' (launched on its own; "
+                f"outer.launch.py:{line_of(outer, 'IncludeLaunchDescription(')} includes it with "
+                "config_dump and it loads there)",
+            )
+        ], engine
+        hints = [d["hint"] for d in report["diagnostics"] if d["code"] == "PF301"]
+        assert hints == [
+            "launch it through outer.launch.py, or give its launch arguments defaults it runs with"
+        ]
+
+
+def test_a_file_made_to_be_included_failing_through_its_includer_too_stays_an_error(tmp_path):
+    folder = package(
+        tmp_path,
+        "audit_alone",
+        ["launch", "launch_ros", "robot_state_publisher"],
+        {
+            "launch/_inner.launch.py": INCLUDED_ONLY_LAUNCH,
+            "launch/outer.launch.py": INCLUDER_LAUNCH.replace("{'robot_description':", "{'description':"),
+        },
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF301")] == [
+        (
+            "error",
+            "src/audit_alone/launch/_inner.launch.py",
+            line_of(folder / "launch" / "_inner.launch.py", "OpaqueFunction(function=launch_setup)"),
+        )
+    ]

@@ -73,12 +73,15 @@ def _branch_note(item: Record, resolution: Resolution) -> str:
         "    return LaunchDescription([Node(package='rviz2', executable='rviz2')])"
     ),
     summary="a launch file raises, fails to import, or runs past the time limit",
-    explanation="`ros2 launch` would stop at the same place; nothing after it starts.",
+    explanation="`ros2 launch` would stop at the same place; nothing after it starts. A warning "
+    "when the file fails only launched on its own, and another launch file of its package includes "
+    "it with launch arguments and it loads there (a file made to be included).",
     hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
     "resolved tree)",
 )
 def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
     for resolution in ctx.resolutions:
+        alone = _loads_when_included(ctx, resolution)
         error = resolution.error
         if resolution.status != "ok" and error is not None and ctx.load_error_kind(resolution) == "load":
             if stopped_by_guard(resolution):
@@ -120,6 +123,9 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                         "or give it a default",
                     )
                     continue
+            if alone is not None:
+                yield _failing_alone(f"{message}{alone[0]}", position, alone[1])
+                continue
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
             if item.type in SANDBOX_TYPES:
@@ -150,6 +156,14 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                     hint=f"verify on a machine with {item.read_before} installed (or --install-base) to tell",
                 )
                 continue
+            if (
+                position is not None
+                and alone is not None
+                and item.file in (None, str(resolution.launch.installed))
+            ):
+                message = f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                yield _failing_alone(f"{message}{alone[0]}", position, alone[1])
+                continue
             if position is not None:
                 yield Finding(
                     # (the tree's paths named as the user's before a long value is shortened)
@@ -157,6 +171,34 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                     f"{_branch_note(item, resolution)}",
                     *position,
                 )
+
+
+def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str, str] | None:
+    """(message note, hint) when another launch file of the package includes this one with launch
+    arguments and evaluates it without an error there: a file made to be included (xarm's
+    _robot_on_mbot_gazebo.launch.py, given moveit_config_dump by its includer) that fails only
+    when launched on its own. `ros2 launch` of it alone fails too, but nobody launches it so."""
+    installed = str(resolution.launch.installed)
+    for other in ctx.resolutions:
+        if other is resolution or other.status != "ok" or installed not in other.files:
+            continue
+        if any(item.file == installed for item in other.errors):
+            continue  # it fails there too: an error, said where it fails
+        include = next((i for i in other.includes if i.path == installed and i.arguments), None)
+        if include is None:
+            continue
+        includer = other.launch.source or other.launch.installed
+        where = f"{includer.name}:{include.line}" if include.line else includer.name
+        given = ", ".join(sorted(include.arguments))
+        return (
+            f" (launched on its own; {where} includes it with {given} and it loads there)",
+            f"launch it through {includer.name}, or give its launch arguments defaults it runs with",
+        )
+    return None
+
+
+def _failing_alone(message: str, position: tuple[Path, int | None], hint: str) -> Finding:
+    return Finding(message, *position, severity=Severity.WARNING, hint=hint)
 
 
 def _one_line(message: str) -> str:
