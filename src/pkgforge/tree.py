@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
-from pkgforge.build.toolchain import prepend_path
+from pkgforge.build.toolchain import TREE_PYTHONPATH, prepend_path, python_paths
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.package import PackageModel
 from pkgforge.walk import MAX_DEPTH
@@ -123,6 +123,15 @@ class InstallTree:
         for prefix in reversed(self.prefixes):
             value = prepend_path(str(prefix), value)
         env["AMENT_PREFIX_PATH"] = value
+        # what sourcing the tree's setup script adds: its Python packages (a launch file's import
+        # of a workspace package's module), first; a launch worker puts them on sys.path
+        own = [folder for prefix in self.prefixes for folder in python_paths(str(prefix))]
+        if own:
+            python = env.get("PYTHONPATH", "")
+            for folder in reversed(own):
+                python = prepend_path(folder, python)
+            env["PYTHONPATH"] = python
+            env[TREE_PYTHONPATH] = os.pathsep.join(own)
         if self.phantom is not None:
             env["PKGFORGE_PHANTOM_PREFIX"] = str(self.phantom)
         if self.root is not None:

@@ -6,6 +6,7 @@ environment handed to colcon is built from this interpreter's own prefix.
 
 from __future__ import annotations
 
+import glob
 import os
 import shutil
 import sys
@@ -53,6 +54,29 @@ def prepend_path(entry: str, value: str) -> str:
     """entry first in an os.pathsep list, without duplicates or empty parts."""
     parts = [p for p in value.split(os.pathsep) if p and p != entry]
     return os.pathsep.join([entry, *parts])
+
+
+# an install tree's Python folders (python_paths of its prefixes), for a launch worker forked
+# after its own start, whose sys.path PYTHONPATH no longer changes (sandbox/worker.py)
+TREE_PYTHONPATH = "PKGFORGE_TREE_PYTHONPATH"
+
+
+def python_paths(prefix: str) -> list[str]:
+    """The folders of a prefix (a ROS distro, an install tree) that hold Python packages (any
+    Python version): what sourcing its setup script puts on PYTHONPATH."""
+    patterns = (
+        "lib/python3*/site-packages",
+        "lib/python3*/dist-packages",
+        "local/lib/python3*/dist-packages",
+        "local/lib/python3*/site-packages",
+        "lib/python3/dist-packages",
+    )
+    found: list[str] = []
+    for pattern in patterns:
+        for folder in sorted(glob.glob(os.path.join(prefix, pattern))):
+            if folder not in found:
+                found.append(folder)
+    return found
 
 
 def detect() -> Toolchain:

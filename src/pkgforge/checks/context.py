@@ -36,6 +36,8 @@ STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_
 
 # why a launch file was not loaded (CheckContext.load_error_kind); None: it was
 LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", "environment"]
+# the kinds whose launch file's literal references are checked statically instead
+STATIC_KINDS: tuple[LoadErrorKind, ...] = ("unevaluated", "newer-api", "environment")
 _T = TypeVar("_T")
 
 
@@ -567,7 +569,8 @@ class CheckContext:
         """Static references of the launch files that could not be evaluated here."""
         out: dict[Path, list[Reference]] = {}
         for resolution in self.resolutions:
-            if self.load_error_kind(resolution) in ("unevaluated", "newer-api") and resolution.launch.source:
+            # (a file stopped by an unset environment variable: what it names literally is still its own)
+            if self.load_error_kind(resolution) in STATIC_KINDS and resolution.launch.source:
                 out[resolution.launch.source] = [
                     r for r in self.model.references if r.path == resolution.launch.source
                 ]

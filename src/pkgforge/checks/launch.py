@@ -955,7 +955,9 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     summary="a launch file reads an environment variable that is not set here",
     explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
     "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
-    "builds paths with the text None; what depends on it is not checked.",
+    "builds paths with the text None; what depends on it is not checked. When it stops the file, "
+    "what the file names literally (packages, paths, nodes) is still checked, as for a file that "
+    "cannot be evaluated here.",
     hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default",
 )
 def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
@@ -978,9 +980,10 @@ def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
             None,
         )
         what = "stops loading" if failed else "resolves a path with 'None' in it"
+        rest = "what depends on it is not checked" + ("; the rest checked statically" if failed else "")
         yield Finding(
             f"{resolution.launch.installed.name} {what}: environment variable "
-            f"{' or '.join(names)} is not set here; what depends on it is not checked",
+            f"{' or '.join(names)} is not set here; {rest}",
             *position,
         )
 

@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Literal
 
+from pkgforge.build.toolchain import python_paths
 from pkgforge.errors import PkgforgeError
 
 ENGINE_ENV = "PKGFORGE_LAUNCH_ENGINE"
@@ -78,23 +79,6 @@ def builtin(target: str | None = None, environ: Mapping[str, str] = os.environ) 
     environment = environ.get("ROS_DISTRO", "")
     distro = target or (environment if environment in DISTROS else default_distro())
     return LaunchEngine("builtin", None, distro, "built-in")
-
-
-def python_paths(prefix: str) -> list[str]:
-    """The folders of a ROS prefix that hold Python packages (any Python version)."""
-    patterns = (
-        "lib/python3*/site-packages",
-        "lib/python3*/dist-packages",
-        "local/lib/python3*/dist-packages",
-        "local/lib/python3*/site-packages",
-        "lib/python3/dist-packages",
-    )
-    found: list[str] = []
-    for pattern in patterns:
-        for folder in sorted(glob.glob(os.path.join(prefix, pattern))):
-            if folder not in found:
-                found.append(folder)
-    return found
 
 
 def has_launch(prefix: str) -> bool:

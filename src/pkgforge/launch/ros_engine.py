@@ -30,8 +30,8 @@ import types
 from collections.abc import Callable, Iterable
 from typing import Any
 
+from pkgforge.build.toolchain import python_paths
 from pkgforge.launch import runtime as rt
-from pkgforge.launch.engines import python_paths
 from pkgforge.launch.records import (
     PREVIEW_LENGTH,
     BranchBudget,

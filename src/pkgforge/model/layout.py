@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pkgforge.model.cmake import BINARY_DIR, INSTALL_PREFIX, CMakeModel, InstallRule, Unknown
+from pkgforge.model.cmake import BINARY_DIR, INSTALL_PREFIX, PYTHON_SITE, CMakeModel, InstallRule, Unknown
 from pkgforge.model.cmake_syntax import Argument
 from pkgforge.model.setup_py import SetupPyModel
 from pkgforge.walk import WalkLimit, walk
@@ -203,6 +203,7 @@ def layout_from_setup_py(setup_py: SetupPyModel, package_path: Path) -> InstallL
     for line, why in setup_py.unknown:
         layout.unknown.append((path, line, why))
         layout.may_install.append((path, line, None))  # data_files: anywhere under the prefix
+    _add_python_modules(layout, setup_py, package_path)
     for entry in setup_py.entries:
         path = entry.path or setup_py.source.path
         destination = _normalize_destination(entry.destination)
@@ -224,3 +225,24 @@ def layout_from_setup_py(setup_py: SetupPyModel, package_path: Path) -> InstallL
         if top:
             layout.directory_rules.append((path, entry.line, top, destination))
     return layout
+
+
+def _add_python_modules(layout: InstallLayout, setup_py: SetupPyModel, package_path: Path) -> None:
+    """The .py files of setup()'s packages and py_modules, where setuptools installs them
+    (lib/pythonX.Y/site-packages: one folder for any version here), so that a launch file of the
+    workspace imports them from the tree as from a sourced install."""
+    line = setup_py.packages_line
+    for dotted in setup_py.python_packages:
+        relative = dotted.replace(".", "/")
+        try:
+            names = sorted(e.name for e in os.scandir(package_path / relative) if e.name.endswith(".py"))
+        except OSError:
+            continue
+        for name in names:
+            source = package_path / relative / name
+            if source.is_file():
+                layout.add(f"{PYTHON_SITE}/{relative}/{name}", source, setup_py.source.path, line)
+    for module in setup_py.py_modules:
+        source = package_path / f"{module.replace('.', '/')}.py"
+        if source.is_file():
+            layout.add(f"{PYTHON_SITE}/{source.name}", source, setup_py.source.path, line)

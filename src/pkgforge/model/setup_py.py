@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import ast
 import configparser
+import fnmatch
 import glob as globmodule
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -48,6 +50,11 @@ class SetupPyModel:
     syntax_error: tuple[int, str] | None = None
     has_setup_call: bool = False
     name: str | None = None
+    # the Python packages (dotted names) and top-level modules setup() installs, when evaluated:
+    # `packages=` (a list, or find_packages() with its where/include/exclude), `py_modules=`
+    python_packages: list[str] = field(default_factory=list)
+    py_modules: list[str] = field(default_factory=list)
+    packages_line: int | None = None
 
 
 def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
@@ -82,6 +89,7 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
             model.name = evaluator.eval(keywords["name"])
         except Unevaluable:
             pass
+    _read_python_packages(model, keywords, evaluator)
     data_files = keywords.get("data_files")
     if data_files is None:
         _read_setup_cfg(model, package_path)
@@ -115,6 +123,58 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
         except (TypeError, ValueError):
             model.unknown.append((element.lineno, "an entry is not (destination, [files])"))
     return model
+
+
+def _read_python_packages(model: SetupPyModel, keywords: dict[str, ast.expr], evaluator: _Evaluator) -> None:
+    """`packages=` and `py_modules=` of setup(), when pkgforge can evaluate them: what a launch
+    file of the workspace imports from this package (`package_dir=` moves them: left alone)."""
+    if "package_dir" in keywords:
+        return
+    for keyword, into in (("packages", model.python_packages), ("py_modules", model.py_modules)):
+        node = keywords.get(keyword)
+        if node is None:
+            continue
+        try:
+            value = evaluator.eval(node)
+        except (Unevaluable, TypeError, ValueError):
+            continue
+        if isinstance(value, (list, tuple)) and all(isinstance(v, str) and _DOTTED.match(v) for v in value):
+            into.extend(value)
+            model.packages_line = model.packages_line or node.lineno
+
+
+_DOTTED = re.compile(r"^[A-Za-z_]\w*(\.[A-Za-z_]\w*)*$")
+
+
+def find_packages(where: Path, include: tuple[str, ...] = ("*",), exclude: tuple[str, ...] = ()) -> list[str]:
+    """setuptools.find_packages(where, exclude, include): the folders under `where` holding an
+    __init__.py, as dotted names, a folder that is not a package not searched further."""
+    exclude = (*exclude, "ez_setup", "*__pycache__")
+    found: list[str] = []
+    stack = [(where, "")]
+    while stack:
+        folder, dotted = stack.pop()
+        try:
+            entries = sorted(os.scandir(folder), key=lambda e: e.name)
+        except OSError:
+            continue
+        for entry in entries:
+            if (
+                "." in entry.name
+                or not entry.is_dir()
+                or not os.path.isfile(os.path.join(entry.path, "__init__.py"))
+            ):
+                continue
+            name = f"{dotted}.{entry.name}" if dotted else entry.name
+            if any(fnmatch.fnmatchcase(name, p) for p in include) and not any(
+                fnmatch.fnmatchcase(name, p) for p in exclude
+            ):
+                found.append(name)
+            if f"{name}*" in exclude or f"{name}.*" in exclude:
+                continue
+            if len(found) < 1000:  # bounded: a package tree of a launch helper, not a walk of the disk
+                stack.append((Path(entry.path), name))
+    return sorted(found)
 
 
 def _call_name(func: ast.AST) -> str:
@@ -279,6 +339,13 @@ class _Evaluator:
                 (os.path.relpath(root, self.package_path), dirs, files)
                 for root, dirs, files in walk(self.package_path / args[0])
             ]  # bounded, no recursion
+        if name in ("find_packages", "setuptools.find_packages"):
+            where = kwargs.get("where", args[0] if args else ".")
+            exclude = kwargs.get("exclude", args[1] if len(args) > 1 else ())
+            include = kwargs.get("include", args[2] if len(args) > 2 else ("*",))
+            if not (isinstance(where, str) and all(isinstance(p, str) for p in (*exclude, *include))):
+                raise Unevaluable(node, "find_packages() with arguments that are not text")
+            return find_packages(self.package_path / where, tuple(include), tuple(exclude))
         if name in self.functions:
             return self.local_function(self.functions[name], node, args)
         raise Unevaluable(node, f"{name or 'this'}() is not evaluated")

@@ -346,6 +346,19 @@ def preload() -> None:
     from pkgforge.urdf import robot  # noqa: F401
 
 
+def _tree_python_first() -> None:
+    """The install tree's Python folders first on sys.path, as PYTHONPATH puts them in a sourced
+    shell (after the engine's distro: an overlay before its underlay); a forked worker's sys.path
+    was made before the tree existed."""
+    from pkgforge.build.toolchain import TREE_PYTHONPATH
+
+    folders = [f for f in os.environ.get(TREE_PYTHONPATH, "").split(os.pathsep) if f]
+    for folder in reversed(folders):
+        if folder in sys.path:
+            sys.path.remove(folder)
+        sys.path.insert(0, folder)
+
+
 def main() -> None:
     guarded = _install_guard()
     limits = _read_limits()
@@ -379,6 +392,7 @@ def main() -> None:
             setup_error = f"the ROS 2 launch libraries could not be imported: {type(error).__name__}: {error}"
     else:
         _install_api()
+    _tree_python_first()
     from pkgforge.launch.evaluate import evaluate
     from pkgforge.urdf.robot import process_model
 

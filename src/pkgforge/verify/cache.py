@@ -62,7 +62,9 @@ if TYPE_CHECKING:
 # 17: ... unless joined by `or` with a comparison that holds on ROS 2 (only such comparisons made false)
 # 18: a file another launch file of the package includes with arguments, failing only on its own: a
 #    PF301 warning
-CACHE_FORMAT = 18
+# 19: setup.py's Python packages in the predicted tree and on the workers' path; a file stopped by an
+#    unset variable checked statically
+CACHE_FORMAT = 19
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
