@@ -555,12 +555,13 @@ def test_a_long_path_in_an_action_failure_is_kept_whole():
 
 def test_what_loading_records_holds_for_every_argument_setting(tmp_path):
     # denso, stretch, rox: a lookup at the top of generate_launch_description() was said to
-    # happen "(only with sim:=true …)", the defaults, as if other settings skipped it
+    # happen "(only with sim:=true …)", the defaults, as if other settings skipped it (rviz2: what
+    # nothing declared brings; robot_state_publisher brings tf2_ros, the lookup this had first)
     launch = (
         "from ament_index_python.packages import get_package_share_directory\n"
         "from launch import LaunchDescription\nfrom launch.actions import DeclareLaunchArgument\n\n\n"
         "def generate_launch_description():\n"
-        "    share = get_package_share_directory('tf2_ros')\n"
+        "    share = get_package_share_directory('rviz2')\n"
         "    return LaunchDescription([DeclareLaunchArgument('gui', default_value='true'),\n"
         "                              Node(package='robot_state_publisher', executable='robot_state_publisher')])\n"
     )

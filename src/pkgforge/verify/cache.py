@@ -60,7 +60,9 @@ if TYPE_CHECKING:
 # 16: an included file's loading reads count as loading reads; a condition on a variable of the
 #    user's own build brings nothing along for sure
 # 17: ... unless joined by `or` with a comparison that holds on ROS 2 (only such comparisons made false)
-CACHE_FORMAT = 17
+# 18: the exports table (model/data/exports.json, not in the key) covers navigation2, rviz, moveit2,
+#     ros2_controllers, ros_gz, xacro, ...; packages colcon ignores left out of it
+CACHE_FORMAT = 18
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
