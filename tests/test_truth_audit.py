@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from conftest import line_of, verify_report
+from conftest import at_least, line_of, verify_report
 from test_truth_edges import BRINGUP_CMAKE, MOVEIT_CONFIG, manifest, write_package
 
 from pkgforge.model.exports import brought_by
@@ -555,12 +555,13 @@ def test_a_long_path_in_an_action_failure_is_kept_whole():
 
 def test_what_loading_records_holds_for_every_argument_setting(tmp_path):
     # denso, stretch, rox: a lookup at the top of generate_launch_description() was said to
-    # happen "(only with sim:=true …)", the defaults, as if other settings skipped it
+    # happen "(only with sim:=true …)", the defaults, as if other settings skipped it (rviz2: what
+    # nothing declared brings; robot_state_publisher brings tf2_ros, the lookup this had first)
     launch = (
         "from ament_index_python.packages import get_package_share_directory\n"
         "from launch import LaunchDescription\nfrom launch.actions import DeclareLaunchArgument\n\n\n"
         "def generate_launch_description():\n"
-        "    share = get_package_share_directory('tf2_ros')\n"
+        "    share = get_package_share_directory('rviz2')\n"
         "    return LaunchDescription([DeclareLaunchArgument('gui', default_value='true'),\n"
         "                              Node(package='robot_state_publisher', executable='robot_state_publisher')])\n"
     )
@@ -1041,3 +1042,107 @@ def test_a_file_made_to_be_included_failing_through_its_includer_too_stays_an_er
             line_of(folder / "launch" / "_inner.launch.py", "OpaqueFunction(function=launch_setup)"),
         )
     ]
+
+
+# --- the exports table beyond the core: what bringup packages start (navigation2, urdf_launch) --
+
+
+def nodes_launch(*packages: str) -> str:
+    """A launch file starting one node of each of these packages, one per line."""
+    nodes = "".join(f"        Node(package='{name}', executable='x'),\n" for name in packages)
+    return (
+        "from launch import LaunchDescription\nfrom launch_ros.actions import Node\n\n\n"
+        f"def generate_launch_description():\n    return LaunchDescription([\n{nodes}    ])\n"
+    )
+
+
+def test_the_exports_table_against_the_bringup_packages_own_manifests():
+    # navigation2's, urdf_tutorial's, rviz2's, moveit's, ros_gz's package.xml: on every distro
+    for name, declared in [
+        ("nav2_bt_navigator", "navigation2"),
+        ("nav2_controller", "navigation2"),
+        ("nav2_rviz_plugins", "navigation2"),
+        ("nav2_rviz_plugins", "nav2_bringup"),
+        ("urdf_launch", "urdf_tutorial"),
+        ("xacro", "urdf_launch"),
+        ("rviz_common", "rviz2"),
+        ("rviz_default_plugins", "rviz2"),
+        ("moveit_ros_move_group", "moveit"),
+        ("moveit_ros_planning", "moveit_ros_planning_interface"),
+        ("ros_gz_bridge", "ros_gz"),
+        ("ros_gz_sim", "ros_gz"),
+        ("joint_state_publisher", "joint_state_publisher_gui"),
+    ]:
+        for distro in ("humble", "jazzy", "rolling", "kilted"):
+            assert brought_by(name, [declared], [distro]) == declared, (name, distro)
+    # Gazebo Classic's gazebo_ros_pkgs is part of humble only
+    assert brought_by("gazebo_ros", ["gazebo_ros_pkgs"], ["humble"]) == "gazebo_ros_pkgs"
+    assert brought_by("gazebo_ros", ["gazebo_ros_pkgs"], ["jazzy"]) is None
+    assert brought_by("gazebo_ros", ["gazebo_ros_pkgs"], []) is None
+    assert brought_by("robot_state_publisher", ["navigation2"], []) is None
+
+
+def test_a_node_the_declared_navigation2_brings_is_a_warning(tmp_path):
+    # andino_navigation, turtlebot4_navigation: navigation2 exec_depends every nav2_* package
+    folder = package(
+        tmp_path,
+        "audit_nav",
+        ["launch", "launch_ros", "navigation2"],
+        {"launch/nav.launch.py": nodes_launch("nav2_bt_navigator")},
+    )
+    launch = folder / "launch" / "nav.launch.py"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(d["code"], d["severity"], d["path"], d["line"]) for d in at_least(report, "warning")] == [
+        ("PF305", "warning", str(launch.relative_to(tmp_path)), line_of(launch, "nav2_bt_navigator"))
+    ]
+    ((_, _, _, message),) = found(report, "PF305")
+    assert message == (
+        "Node package 'nav2_bt_navigator' is used at run time but package.xml does not declare it; "
+        "navigation2, which it declares, brings it along"
+    )
+
+
+def test_an_include_of_urdf_launch_with_urdf_tutorial_declared_is_no_error(tmp_path):
+    # bme_gazebo_basics: urdf_launch's display.launch.py, which urdf_tutorial exec_depends on
+    launch = (
+        "from launch import LaunchDescription\nfrom launch.actions import IncludeLaunchDescription\n"
+        "from launch.substitutions import PathJoinSubstitution\n"
+        "from launch_ros.substitutions import FindPackageShare\n\n\n"
+        "def generate_launch_description():\n"
+        "    display = PathJoinSubstitution([FindPackageShare('urdf_launch'), 'launch', 'display.launch.py'])\n"
+        "    return LaunchDescription([IncludeLaunchDescription(display)])\n"
+    )
+    folder = package(
+        tmp_path, "audit_tutorial", ["launch", "launch_ros", "urdf_tutorial"], {"launch/a.launch.py": launch}
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [d for d in report["diagnostics"] if d["severity"] == "error"] == []
+    ((severity, _, line, message),) = found(report, "PF305")
+    assert (severity, line) == (
+        "warning",
+        line_of(folder / "launch" / "a.launch.py", "FindPackageShare('urdf_launch')"),
+    )
+    assert message.endswith("; urdf_tutorial, which it declares, brings it along")
+
+
+def test_a_node_nothing_declared_brings_stays_an_error(tmp_path):
+    # navigation2 brings nav2_* but not robot_state_publisher; gazebo_ros_pkgs (Gazebo Classic)
+    # brings gazebo_ros on humble, the one distro it is part of, so not on every active distro
+    folder = package(
+        tmp_path,
+        "audit_none",
+        ["launch", "launch_ros", "navigation2", "gazebo_ros_pkgs"],
+        {"launch/a.launch.py": nodes_launch("nav2_controller", "robot_state_publisher", "gazebo_ros")},
+    )
+    launch = folder / "launch" / "a.launch.py"
+
+    def pf305(*args: str) -> list[tuple[str, int | None]]:
+        return [
+            (s, line) for s, _, line, _ in found(verify_report(tmp_path, "--no-cache", *args)[1], "PF305")
+        ]
+
+    nav2, rsp, gazebo = (
+        line_of(launch, name) for name in ("nav2_controller", "robot_state_publisher", "gazebo_ros")
+    )
+    assert pf305("--distro", "humble") == [("warning", nav2), ("error", rsp), ("warning", gazebo)]
+    assert pf305() == [("warning", nav2), ("error", rsp), ("error", gazebo)]

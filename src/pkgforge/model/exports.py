@@ -2,11 +2,13 @@
 
 The data ships in the wheel as data/exports.json, written by scripts/update-exports from the
 package.xml files of the core repositories (ament_cmake, ament_lint, rclcpp, rcl, rosidl,
-common_interfaces, geometry2, ros2_control, ...) for humble, jazzy and rolling: each package's
-run-time exports (<depend>, <build_export_depend>, <buildtool_export_depend>, <exec_depend>).
-A package the user declares for the build arrives with the closure of these, so a
-find_package() of one of them builds on a clean machine (ament_cmake brings
-ament_cmake_python). Packages outside those repositories are not in the table: for them no
+common_interfaces, geometry2, ros2_control, ...) and of those robot bringup packages use
+(launch_ros, xacro, robot_state_publisher, rviz, ros2_controllers, ros_gz, navigation2, moveit2,
+...) for humble, jazzy and rolling: each package's run-time exports (<depend>,
+<build_export_depend>, <buildtool_export_depend>, <exec_depend>). A package the user declares
+arrives with the closure of these, so a find_package() of one of them builds on a clean machine
+(ament_cmake brings ament_cmake_python) and a node of one of them starts (navigation2 brings
+nav2_bt_navigator). Packages outside those repositories are not in the table: for them no
 closure is known, and nothing is assumed.
 """
 
