@@ -129,3 +129,51 @@ def test_a_file_stopped_by_an_unset_variable_is_still_checked_statically(tmp_pat
             "depends on it is not checked; the rest checked statically",
         )
     ]
+
+
+OPTIONAL_RVIZ_LAUNCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('rviz', default_value='false'),
+        Node(package='robot_state_publisher', executable='robot_state_publisher'),
+        Node(package='rviz2', executable='rviz2', condition=IfCondition(LaunchConfiguration('rviz'))),
+        Node(package='joy', executable='joy_node', condition=IfCondition('true')),
+    ])
+"""
+
+
+def test_a_node_started_only_with_a_setting_other_than_the_defaults_is_a_warning(tmp_path):
+    # kobuki_description, gz_ros2_control_demos (gui:=true), linorobot2: RViz only on request;
+    # a headless robot leaves rviz2 out on purpose (unknown-package already says so)
+    folder = package(
+        tmp_path,
+        "audit_headless",
+        ["launch_ros", "robot_state_publisher"],
+        {"launch/a.launch.py": OPTIONAL_RVIZ_LAUNCH},
+    )
+    launch = folder / "launch" / "a.launch.py"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == [
+        (
+            "warning",
+            "src/audit_headless/launch/a.launch.py",
+            line_of(launch, "package='rviz2'"),
+            "Node package 'rviz2' is used at run time but package.xml does not declare it (only with rviz:=true)",
+        ),
+        (  # started with the defaults: an error as before
+            "error",
+            "src/audit_headless/launch/a.launch.py",
+            line_of(launch, "package='joy'"),
+            "Node package 'joy' is used at run time but package.xml does not declare it",
+        ),
+    ]
+    hints = [d["hint"] for d in report["diagnostics"] if d["code"] == "PF305"]
+    assert (
+        hints[0] == "add <exec_depend>rviz2</exec_depend> if the package's users launch it with that setting"
+    )

@@ -647,7 +647,9 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "simulation package that itself depends on the description). A package that depends on "
     "this one already gets a warning with no fix too (declaring it back is a cycle colcon "
     "refuses). A package a declared one brings along (spot_description brings robot_state_"
-    "publisher) is installed on a fresh machine all the same: a warning, with the fix.",
+    "publisher) is installed on a fresh machine all the same: a warning, with the fix. A launch "
+    "file's use only with argument settings other than the defaults (rviz2 under rviz:=true, "
+    "default false) is a warning with no fix: a headless robot leaves RViz out on purpose.",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -711,6 +713,17 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 hint=f"add <exec_depend>{name}</exec_depend> to package.xml",
                 fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
             )
+            continue
+        if note and resolution is not None and item is not None and resolution.off_default(item):
+            # kobuki_description's rviz2 under rviz:=true (default false): a headless robot leaves
+            # it out on purpose, as unknown-package and package-not-in-distro already allow
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"add <exec_depend>{name}</exec_depend> if the package's users launch it with that setting",
+            )  # no fix: only the user knows whether that setting is meant for this package's users
             continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
