@@ -177,3 +177,59 @@ def test_a_node_started_only_with_a_setting_other_than_the_defaults_is_a_warning
     assert (
         hints[0] == "add <exec_depend>rviz2</exec_depend> if the package's users launch it with that setting"
     )
+
+
+CAMERA_MODEL = """<?xml version="1.0"?>
+<robot name="audit" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find orbbec_description)/urdf/femto_bolt.urdf.xacro"/>
+  <link name="base_link"/>
+</robot>
+"""
+
+XACRO_LIBRARY_LAUNCH = """import os
+
+import xacro
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch.actions import OpaqueFunction
+from launch_ros.actions import Node
+
+
+def setup(context):
+    path = os.path.join(get_package_share_directory('{package}'), 'urdf', 'robot.urdf.xacro')
+    urdf = xacro.process_file(path).toxml()
+    return [Node(package='robot_state_publisher', executable='robot_state_publisher',
+                 parameters=[{{'robot_description': urdf}}])]
+
+
+def generate_launch_description():
+    return LaunchDescription([OpaqueFunction(function=setup)])
+"""
+
+
+def test_the_xacro_library_on_a_model_including_a_declared_package_not_installed_here(tmp_path):
+    # acl-robotgroup's mobile_manipulator: xacro.process_file() in an OpaqueFunction on a model
+    # including orbbec_description (declared, released, not installed here) was a PF301 error,
+    # while Command(['xacro ', ...]) on the same model was model-unevaluated's info
+    folder = package(
+        tmp_path,
+        "audit_camera",
+        ["launch_ros", "robot_state_publisher", "xacro", "orbbec_description"],
+        {
+            "launch/a.launch.py": XACRO_LIBRARY_LAUNCH.format(package="audit_camera"),
+            "urdf/robot.urdf.xacro": CAMERA_MODEL,
+        },
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert found(report, "PF301") == []
+    model = folder / "urdf" / "robot.urdf.xacro"
+    assert found(report, "PF407") == [
+        (
+            "info",
+            "src/audit_camera/urdf/robot.urdf.xacro",
+            line_of(model, "xacro:include"),
+            "robot.urdf.xacro includes urdf/femto_bolt.urdf.xacro of orbbec_description, a declared "
+            "package not installed here; the model is not checked",
+        )
+    ]
+    assert report["summary"]["errors"] == 0

@@ -36,6 +36,8 @@ STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_
 
 # why a launch file was not loaded (CheckContext.load_error_kind); None: it was
 LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", "environment"]
+# xacro's message for a file it could not open (an include of a package not installed here)
+MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
 # the kinds whose launch file's literal references are checked statically instead
 STATIC_KINDS: tuple[LoadErrorKind, ...] = ("unevaluated", "newer-api", "environment")
 _T = TypeVar("_T")
@@ -423,6 +425,21 @@ class CheckContext:
             if result.source is not None:
                 read.add(result.source)
         return read
+
+    def absent_include(self, message: str | None) -> tuple[str, str] | None:
+        """(package, file) when xacro failed only because it includes a file of a package that
+        is declared but not installed here (its share folder an empty stand-in): ROS has the file."""
+        found = MISSING_FILE.search(str(message or ""))
+        tree = self.tree
+        if found is None or tree is None or tree.phantom is None:
+            return None
+        path = found.group(1)
+        if not os.path.isabs(path):  # xacro names it relative to the stand-ins' prefix
+            path = str(tree.phantom / path)
+        located = tree.locate(path) if tree.is_phantom(path) else None
+        if located is None or located[0] not in tree.phantom_packages:
+            return None
+        return located[0], located[1]
 
     def source_position(
         self, resolution: Resolution, item_file: str | None, line: int | None

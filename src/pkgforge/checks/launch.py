@@ -140,6 +140,9 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # an included file's import: that file is evaluated, and reported, on its own
             if item.read_from:
                 continue  # an OpaqueFunction read a file of a package not installed here (launch-unevaluated)
+            if item.type == "XacroException" and (absent := ctx.absent_include(item.message)):
+                if absent[0] in ctx.model.manifest.declared():
+                    continue  # its own xacro.process_file(): model-unevaluated says it (ROS has the file)
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own

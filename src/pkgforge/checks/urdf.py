@@ -136,7 +136,7 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
         error: ModelError = result.error or {}
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
-            if _absent_include(ctx, error.get("message")) is not None:
+            if ctx.absent_include(error.get("message")) is not None:
                 continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
@@ -187,7 +187,7 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 )
             if split is None and model is not None and not ctx.files.exists(model):
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
-            if _absent_include(ctx, command.message) is not None:
+            if ctx.absent_include(command.message) is not None:
                 continue  # model-unevaluated
             position = ctx.source_position(resolution, command.file, command.line)
             if position is None or position in seen:
@@ -240,24 +240,6 @@ def _untree_xacro(ctx: CheckContext, message: str | None) -> str:
     return re.sub(r'("[^"]+") \1', r"\1", text)  # xacro quotes the same message twice
 
 
-MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
-
-
-def _absent_include(ctx: CheckContext, message: str | None) -> tuple[str, str] | None:
-    """(package, file) when xacro failed only because it includes a file of a package that is
-    declared but not installed here (its share folder is an empty stand-in): ROS has the file."""
-    found = MISSING_FILE.search(str(message or ""))
-    if found is None or ctx.tree is None or ctx.tree.phantom is None:
-        return None
-    path = found.group(1)
-    if not os.path.isabs(path):  # xacro names it relative to the stand-ins' prefix
-        path = str(ctx.tree.phantom / path)
-    located = ctx.tree.locate(path) if ctx.tree.is_phantom(path) else None
-    if located is None or located[0] not in ctx.tree.phantom_packages:
-        return None
-    return located[0], located[1]
-
-
 @register(
     "PF407",
     "model-unevaluated",
@@ -275,13 +257,15 @@ def _absent_include(ctx: CheckContext, message: str | None) -> tuple[str, str] |
 )
 def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     covered = set()
+    said: set[tuple[str, str]] = set()  # (package, file) already named at a model's own line
     for result in ctx.model_results:
         error: ModelError = result.error or {}
         if result.status not in ("error", "timeout", "crashed"):
             continue
         covered.add(str(result.installed))
-        absent = _absent_include(ctx, error.get("message"))
+        absent = ctx.absent_include(error.get("message"))
         if absent is not None and absent[0] in ctx.model.manifest.declared():
+            said.add(absent)
             yield Finding(
                 f"{result.installed.name} includes {absent[1]} of {absent[0]}, a declared package "
                 "not installed here; the model is not checked",
@@ -292,7 +276,7 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
         for command in resolution.commands:
             if command.ok or command.model is None or command.model in covered:
                 continue
-            absent = _absent_include(ctx, command.message)
+            absent = ctx.absent_include(command.message)
             position = ctx.source_position(resolution, command.file, command.line)
             if (
                 absent is not None
@@ -304,6 +288,19 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 yield Finding(
                     f"{Path(command.model).name} includes {absent[1]} of {absent[0]}, a declared "
                     "package not installed here; the model is not checked",
+                    *position,
+                )
+        # xacro.process_file() in the launch file's own code (an OpaqueFunction) failing so
+        for item in resolution.errors:
+            absent = ctx.absent_include(item.message) if item.type == "XacroException" else None
+            position = ctx.source_position(resolution, item.file, item.line)
+            if absent is None or absent[0] not in ctx.model.manifest.declared() or position is None:
+                continue
+            if position not in seen and absent not in said:
+                seen.add(position)
+                yield Finding(
+                    f"a model includes {absent[1]} of {absent[0]}, a declared package not installed "
+                    "here; the model is not checked",
                     *position,
                 )
 
