@@ -233,3 +233,37 @@ def test_the_xacro_library_on_a_model_including_a_declared_package_not_installed
         )
     ]
     assert report["summary"]["errors"] == 0
+
+
+MOVE_GROUP_LAUNCH = """from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package='moveit_ros_move_group', executable='move_group')])
+"""
+
+
+def test_a_declared_package_that_brings_a_use_along_is_not_unused(tmp_path):
+    # moveit2_tutorials: moveit declared, moveit_ros_move_group used. missing-exec-depend names
+    # moveit as what installs it; unused-exec-depend said nothing used moveit
+    folder = package(
+        tmp_path, "audit_moveit", ["launch_ros", "moveit", "joy"], {"launch/a.launch.py": MOVE_GROUP_LAUNCH}
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert [(s, m) for s, _, _, m in found(report, "PF305")] == [
+        (
+            "warning",
+            "Node package 'moveit_ros_move_group' is used at run time but package.xml does not declare it; "
+            "moveit, which it declares, brings it along",
+        )
+    ]
+    manifest = folder / "package.xml"
+    assert found(report, "PF107") == [
+        (
+            "info",
+            "src/audit_moveit/package.xml",
+            line_of(manifest, "<exec_depend>joy<"),
+            "nothing in audit_moveit uses exec_depend 'joy'",
+        )
+    ]

@@ -11,6 +11,7 @@ from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
+from pkgforge.model.exports import brought_by
 from pkgforge.model.manifest import GENERIC_OVERLAPS, RUN_TAGS, Dependency
 from pkgforge.model.names import REP144_RULE, rep144_problem
 from pkgforge.model.references import launch_kind
@@ -231,7 +232,9 @@ PYTHON_KEYS = {
     explanation="A run-time dependency no launch file, model, RViz config, ros2_control or "
     "plugin YAML, <plugin> element or Python module of the package names is "
     "usually left over from a tutorial; it costs installs on every machine that "
-    "deploys the package. Metapackages are exempt.",
+    "deploys the package. Metapackages are exempt, and so is a dependency that brings along "
+    "a package the package uses without declaring it (moveit brings moveit_ros_move_group): "
+    "removing it would leave that use uninstalled.",
     hint="remove it if nothing needs it at run time",
 )
 def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -255,18 +258,35 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             used.add(name)
     if "rviz_default_plugins" in used or "rviz_common" in used:
         used |= {"rviz_common", "rviz_default_plugins"}
+    # a use the package leaves undeclared, which a declared package brings along (moveit brings
+    # moveit_ros_move_group): that declaration is what installs it (missing-exec-depend names it)
+    from pkgforge.checks.launch import LAUNCH_INFRASTRUCTURE
+
+    undeclared = (used & ctx.real_packages()) - model.manifest.declared() - LAUNCH_INFRASTRUCTURE
+    undeclared -= {model.name, model.share_name}
+    # (brought by a dependency the package uses itself: that one installs it; rviz2 brings the
+    # RViz displays, urdf_tutorial does too, and is still unused)
+    directly = sorted(used & model.manifest.declared())
+    workspace = ctx.workspace_exports()
+    undeclared = {u for u in undeclared if brought_by(u, directly, ctx.distros, workspace) is None}
     for dependency in model.manifest.active_dependencies():
         if (
             dependency.tag in RUN_TAGS
             and dependency.tag != "depend"
             and dependency.name not in used
-            and _not_in_distro(ctx, dependency.name, declared=True) is None
-        ):  # that one says it
+            and _not_in_distro(ctx, dependency.name, declared=True) is None  # that one says it
+            and not _brings_a_use(ctx, dependency.name, undeclared)
+        ):
             yield Finding(
                 f"nothing in {model.name} uses exec_depend '{dependency.name}'",
                 model.manifest.path,
                 dependency.line,
             )
+
+
+def _brings_a_use(ctx: CheckContext, name: str, uses: set[str]) -> bool:
+    workspace = ctx.workspace_exports()
+    return any(brought_by(use, [name], ctx.distros, workspace) == name for use in sorted(uses))
 
 
 # names the ROS 1 → ROS 2 table renames that are also rosdep keys of a system package on some

@@ -68,7 +68,8 @@ if TYPE_CHECKING:
 #    ros2_controllers, ros_gz, xacro, ...; packages colcon ignores left out of it
 # 21: PF305 for a use only with argument settings other than the defaults a warning
 # 22: an own xacro.process_file() failing on a declared package not installed here: PF407, not PF301
-CACHE_FORMAT = 22
+# 23: PF107 not for a dependency that brings along an undeclared use
+CACHE_FORMAT = 23
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
