@@ -267,3 +267,125 @@ def test_a_declared_package_that_brings_a_use_along_is_not_unused(tmp_path):
             "nothing in audit_moveit uses exec_depend 'joy'",
         )
     ]
+
+
+# --- CI distros: a matrix of several branches -------------------------------------------------
+
+# moveit2_tutorials' ci.yaml (main): the package's build, rolling only
+ROLLING_BUILD = """name: CI
+on:
+  pull_request:
+    branches: [main]
+  push:
+    branches: [main]
+jobs:
+  default:
+    strategy:
+      matrix:
+        env:
+          - IMAGE: rolling-source
+    env:
+      DOCKER_IMAGE: moveit/moveit2:${{ matrix.env.IMAGE }}
+      ROS_DISTRO: rolling
+    runs-on: ubuntu-latest
+    steps:
+      - uses: actions/checkout@v4
+      - uses: ros-industrial/industrial_ci@master
+        env: ${{ matrix.env }}
+"""
+
+# moveit2_tutorials' deploy.yml, the same on main and humble: the pages of each branch, each
+# built in its distro's container
+DOCS_OF_EACH_BRANCH = """name: Website
+on:
+  push:
+    branches: [main, humble]
+jobs:
+  upload_site_artifacts:
+    strategy:
+      matrix:
+        include:
+          - container: 'moveit/moveit2:rolling-source'
+            branch: 'main'
+            rosdistro: 'rolling'
+          - container: 'moveit/moveit2:humble-source'
+            branch: 'humble'
+            rosdistro: 'humble'
+    runs-on: ubuntu-latest
+    container:
+      image: ${{ matrix.container }}
+    steps:
+      - uses: actions/checkout@v4
+      - run: |
+          source /opt/ros/${{ matrix.rosdistro }}/setup.bash
+          make generate_api_artifacts BRANCH=${{ matrix.branch }}
+"""
+
+# a build of the package itself on humble and rolling (industrial_ci)
+HUMBLE_AND_ROLLING_BUILD = """name: CI
+on: [push, pull_request]
+jobs:
+  industrial_ci:
+    strategy:
+      matrix:
+        env:
+          - {ROS_DISTRO: humble, ROS_REPO: main}
+          - {ROS_DISTRO: rolling, ROS_REPO: main}
+    runs-on: ubuntu-latest
+    steps:
+      - uses: actions/checkout@v4
+      - uses: ros-industrial/industrial_ci@master
+        env: ${{ matrix.env }}
+"""
+
+
+def workflows(folder: Path, files: dict[str, str]) -> None:
+    (folder / ".github" / "workflows").mkdir(parents=True)
+    for name, text in files.items():
+        (folder / ".github" / "workflows" / name).write_text(text)
+
+
+def test_a_docs_matrix_of_each_branch_targets_no_distro(tmp_path):
+    # moveit2_tutorials on main: its build is rolling only, deploy.yml's humble row builds the
+    # humble branch's pages; moveit_py (jazzy on) was "not released for humble", an error
+    folder = package(tmp_path, "audit_tutorials", ["moveit_py"], {})
+    workflows(folder, {"ci.yaml": ROLLING_BUILD, "deploy.yml": DOCS_OF_EACH_BRANCH})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert report["diagnostics"] == []
+
+
+def test_a_build_on_humble_keeps_its_package_not_in_distro_error(tmp_path):
+    # the package's own build runs humble: moveit_py is not there, whatever deploy.yml holds
+    folder = package(tmp_path, "audit_tutorials", ["moveit_py"], {})
+    workflows(folder, {"ci.yaml": HUMBLE_AND_ROLLING_BUILD, "deploy.yml": DOCS_OF_EACH_BRANCH})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(d["code"], d["severity"], d["path"], d["line"]) for d in report["diagnostics"]] == [
+        ("PF108", "error", "src/audit_tutorials/package.xml", line_of(folder / "package.xml", "moveit_py"))
+    ]
+    assert report["diagnostics"][0]["message"] == (
+        "<exec_depend>moveit_py</exec_depend>: 'moveit_py' is not released for humble "
+        "(released for jazzy, kilted, lyrical, rolling)"
+    )
+
+
+def test_which_matrix_keys_name_a_branch_of_this_repository(tmp_path):
+    from pkgforge.model.distro_data import ci_distros
+
+    def distros(name: str, text: str) -> tuple[str, ...]:
+        folder = tmp_path / name
+        workflows(folder, {"ci.yml": text})
+        return ci_distros(folder)
+
+    checkout = "    steps:\n      - uses: actions/checkout@v4\n        with:\n"
+    # the branch checked out is the distro's (humble, jazzy branches): not this checkout's distros
+    each_branch = "    strategy:\n      matrix:\n        ros_distro: [humble, jazzy]\n"
+    assert (
+        distros("a", "jobs:\n  b:\n" + each_branch + checkout + "          ref: ${{ matrix.ros_distro }}\n")
+        == ()
+    )
+    # another repository's branch: this package is built on both distros
+    upstream = "          repository: org/dependency\n          ref: ${{ matrix.ros_distro }}\n"
+    assert distros("b", "jobs:\n  b:\n" + each_branch + checkout + upstream) == ("humble", "jazzy")
+    # one branch: what it is built for
+    one = "    strategy:\n      matrix:\n        branch: [main]\n        ros_distro: [humble, jazzy]\n"
+    assert distros("c", "jobs:\n  b:\n" + one) == ("humble", "jazzy")

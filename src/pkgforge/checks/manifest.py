@@ -379,8 +379,9 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
     "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
     "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
     "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
-    "distro or the package's CI file; without one, a package released in any "
-    "active distro counts.",
+    "distro or the package's CI files (not a matrix that names several branches, "
+    "nor a scheduled build of another branch); without one, a package released in "
+    "any active distro counts.",
     hint="use the ROS 2 package released for the distro",
 )
 def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:

@@ -15,6 +15,7 @@ few milliseconds: bench/distro_data.py measures it.
 from __future__ import annotations
 
 import functools
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -201,7 +202,7 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
             continue  # not ours to report; the CI system does
         for document in documents:
             if not _builds_another_branch(document):
-                walk(document)
+                walk(_without_branch_matrices(document))
     return tuple(d for d in DISTROS if d in found)
 
 
@@ -228,6 +229,61 @@ def _builds_another_branch(document: object) -> bool:
         elif isinstance(node, list):
             stack.extend(node)
     return False
+
+
+BRANCH_MATRIX_KEYS = {"branch", "branches", "ref"}
+MATRIX_VALUE = re.compile(r"\$\{\{\s*matrix\.([\w-]+)\s*\}\}")
+
+
+def _without_branch_matrices(document: object) -> object:
+    """The workflow without the matrices of jobs that build several branches: a matrix whose rows
+    name two or more branches pairs each distro with a branch, and at most one of them is the
+    checkout read here (which one pkgforge cannot tell). moveit2_tutorials' deploy.yml, the same
+    file on main and on humble, builds the pages of {branch: main, rosdistro: rolling} and
+    {branch: humble, rosdistro: humble}: neither branch targets both distros. A matrix naming no
+    branch, or one only, still says what the code beside it is built for."""
+    if not isinstance(document, dict) or not isinstance(document.get("jobs"), dict):
+        return document
+    jobs = dict(document["jobs"])
+    for name, job in jobs.items():
+        strategy = job.get("strategy") if isinstance(job, dict) else None
+        if not isinstance(strategy, dict):
+            continue
+        matrix = strategy.get("matrix")
+        if isinstance(matrix, dict) and len(_matrix_branches(job, matrix)) > 1:
+            jobs[name] = {**job, "strategy": {k: v for k, v in strategy.items() if k != "matrix"}}
+    return {**document, "jobs": jobs}
+
+
+def _matrix_branches(job: dict[object, object], matrix: dict[object, object]) -> set[str]:
+    """The branches of this repository a job's matrix rows name: the literal values of a `branch`,
+    `branches` or `ref` key, or of the key a checkout (or a reusable workflow's `ref`) of this
+    repository reads. A key only another repository's checkout reads (`repository:` given) names
+    that repository's branch: the code here is built on each row's distro."""
+    own: set[str] = set()
+    other: set[str] = set()
+    steps = job.get("steps")
+    for step in [job] + (list(steps) if isinstance(steps, list) else []):  # a reusable workflow's `with` too
+        given = step.get("with") if isinstance(step, dict) else None
+        if not isinstance(given, dict):
+            continue
+        for key in OTHER_BRANCH_KEYS:
+            value = given.get(key)
+            if isinstance(value, str):
+                (other if "repository" in given else own).update(
+                    k.lower() for k in MATRIX_VALUE.findall(value)
+                )
+    keys = own | (BRANCH_MATRIX_KEYS - other)
+    include = matrix.get("include")
+    rows = [matrix] + ([r for r in include if isinstance(r, dict)] if isinstance(include, list) else [])
+    branches: set[str] = set()
+    for row in rows:
+        for name, value in row.items():
+            if str(name).lower() in keys:
+                for v in value if isinstance(value, list) else [value]:
+                    if isinstance(v, (str, int, float)) and "${{" not in str(v):
+                        branches.add(str(v))
+    return branches
 
 
 def target_distros(

@@ -69,7 +69,8 @@ if TYPE_CHECKING:
 # 21: PF305 for a use only with argument settings other than the defaults a warning
 # 22: an own xacro.process_file() failing on a declared package not installed here: PF407, not PF301
 # 23: PF107 not for a dependency that brings along an undeclared use
-CACHE_FORMAT = 23
+# 24: a CI matrix whose rows name several branches (moveit2_tutorials' deploy.yml) gives no target distro
+CACHE_FORMAT = 24
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
