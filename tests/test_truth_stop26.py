@@ -389,3 +389,24 @@ def test_which_matrix_keys_name_a_branch_of_this_repository(tmp_path):
     # one branch: what it is built for
     one = "    strategy:\n      matrix:\n        branch: [main]\n        ros_distro: [humble, jazzy]\n"
     assert distros("c", "jobs:\n  b:\n" + one) == ("humble", "jazzy")
+
+
+def test_a_package_name_ending_in_an_underscore_is_a_warning(tmp_path):
+    # ros2_learning's composition_: colcon builds it, REP 144 does not forbid it; `new` refuses it
+    from conftest import run_pkgforge
+
+    folder = package(tmp_path, "audit_name_", [], {})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF102") == [
+        (
+            "warning",
+            "src/audit_name_/package.xml",
+            line_of(folder / "package.xml", "<name>"),
+            "package name: 'audit_name_' ends with '_', which REP 144 means as a separator between words",
+        )
+    ]
+    made = run_pkgforge(
+        "new", "rob_", "--maintainer-name", "A", "--maintainer-email", "a@example.com", cwd=tmp_path
+    )
+    assert made.returncode != 0 and "ends with '_'" in made.stderr and "Traceback" not in made.stderr
+    assert not (tmp_path / "rob_").exists()

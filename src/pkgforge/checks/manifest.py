@@ -13,7 +13,7 @@ from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.model.exports import brought_by
 from pkgforge.model.manifest import GENERIC_OVERLAPS, RUN_TAGS, Dependency
-from pkgforge.model.names import REP144_RULE, rep144_problem
+from pkgforge.model.names import REP144_RULE, rep144_advice, rep144_problem
 from pkgforge.model.references import launch_kind
 
 # Used by a package without being named in any file it ships.
@@ -69,7 +69,8 @@ def manifest_invalid(ctx: CheckContext) -> Iterator[Finding]:
     good=("<!-- package.xml -->\n<name>rob_description</name>"),
     summary="the package name breaks REP 144",
     explanation="ROS 2 tools and the build farm refuse names outside REP 144; "
-    "some accept them locally and fail later.",
+    "some accept them locally and fail later. A trailing '_' is a warning: REP 144's rules do "
+    "not forbid it and catkin_pkg and colcon take it (`pkgforge new` still refuses it).",
     hint=REP144_RULE,
 )
 def package_name_invalid(ctx: CheckContext) -> Iterator[Finding]:
@@ -79,6 +80,13 @@ def package_name_invalid(ctx: CheckContext) -> Iterator[Finding]:
     problem = rep144_problem(manifest.name)
     if problem:
         yield Finding(f"invalid package name: {problem}", manifest.path, manifest.name_line)
+    elif advice := rep144_advice(manifest.name):
+        yield Finding(
+            f"package name: {advice}, which REP 144 means as a separator between words",
+            manifest.path,
+            manifest.name_line,
+            severity=Severity.WARNING,
+        )
 
 
 @register(

@@ -30,7 +30,14 @@ def rep144_problem(name: str) -> str | None:
         return f"'{name}' has characters other than a-z, 0-9 and '_'"
     if "__" in name:
         return f"'{name}' has a double underscore"
-    if name.endswith("_"):
+    return None
+
+
+def rep144_advice(name: str) -> str | None:
+    """Why `name`, valid by REP 144's mandatory rules, is still a poor one (`new` refuses it,
+    verify warns), or None. A trailing '_': REP 144 calls '_' a separator without forbidding it
+    at the end, and catkin_pkg and colcon take it (a composition_ package builds)."""
+    if name.endswith("_") and rep144_problem(name) is None:
         return f"'{name}' ends with '_'"
     return None
 

@@ -18,7 +18,7 @@ from pkgforge import DISTRIBUTION, __version__
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.catkin import InvalidPackage, parse_package_string
 from pkgforge.model.distros import DISTROS, Distro, default_distro
-from pkgforge.model.names import REP144_RULE, rep144_problem
+from pkgforge.model.names import REP144_RULE, rep144_advice, rep144_problem
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 from pkgforge.scaffold.stl import binary_stl, box_triangles
 
@@ -160,7 +160,7 @@ def make_spec(
     **more: Any,  # PackageSpec's other fields
 ) -> PackageSpec:
     """Validate options into a PackageSpec; bad input raises PkgforgeError."""
-    problem = rep144_problem(name)
+    problem = rep144_problem(name) or rep144_advice(name)
     if problem:
         raise PkgforgeError(f"invalid package name: {problem}; {REP144_RULE}")
     distro = distro or default_distro()  # ROS_DISTRO when set, else the newest LTS

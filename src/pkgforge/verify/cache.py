@@ -70,7 +70,8 @@ if TYPE_CHECKING:
 # 22: an own xacro.process_file() failing on a declared package not installed here: PF407, not PF301
 # 23: PF107 not for a dependency that brings along an undeclared use
 # 24: a CI matrix whose rows name several branches (moveit2_tutorials' deploy.yml) gives no target distro
-CACHE_FORMAT = 24
+# 25: a package name ending in "_" a PF102 warning
+CACHE_FORMAT = 25
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
