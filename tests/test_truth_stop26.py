@@ -410,3 +410,45 @@ def test_a_package_name_ending_in_an_underscore_is_a_warning(tmp_path):
     )
     assert made.returncode != 0 and "ends with '_'" in made.stderr and "Traceback" not in made.stderr
     assert not (tmp_path / "rob_").exists()
+
+
+STEERING_MODEL = """<?xml version="1.0"?>
+<robot name="steer">
+  <link name="base_link"/>
+  <joint name="base_joint" type="fixed"><parent link="base_link"/><child link="chassis"/></joint>
+  <link name="chassis">
+    <inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+  </link>
+  <link name="knuckle">
+    <inertial><mass value="0.1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+  </link>
+  <joint name="steering_joint" type="revolute">
+    <parent link="chassis"/><child link="knuckle"/><axis xyz="0 0 1"/>
+    <limit effort="10" lower="-1" upper="1" velocity="3"/>
+  </joint>
+  <link name="wheel">
+    <inertial><mass value="1"/><inertia ixx="0.05" ixy="0" ixz="0" iyy="0.05" iyz="0" izz="0.09"/></inertial>
+  </link>
+  <joint name="wheel_joint" type="continuous">
+    <parent link="knuckle"/><child link="wheel"/><axis xyz="0 1 0"/>
+  </joint>
+  <link name="flag">
+    <inertial><mass value="0.1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+  </link>
+  <joint name="flag_joint" type="continuous">
+    <parent link="chassis"/><child link="flag"/><axis xyz="0 0 1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_a_point_mass_a_moving_joint_carries_with_a_wheel_below_is_a_warning(tmp_path):
+    # gz_ros2_control_demos' ackermann steering knuckles: gz-sim takes a zero inertia (the wheel
+    # below carries the joint); a point mass alone on a moving joint is still no rigid body
+    folder = package(tmp_path, "audit_steer", [], {"urdf/steer.urdf": STEERING_MODEL})
+    model = folder / "urdf" / "steer.urdf"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, line, m.split(":")[0]) for s, _, line, m in found(report, "PF602")] == [
+        ("warning", line_of(model, '<link name="knuckle">') + 1, "link 'knuckle'"),
+        ("error", line_of(model, '<link name="flag">') + 1, "link 'flag'"),
+    ]

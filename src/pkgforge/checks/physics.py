@@ -42,6 +42,38 @@ def _links_that_move(robot: RobotStructure) -> set[str]:
     }
 
 
+def _carrying_inertia(robot: RobotStructure) -> set[str]:
+    """The links with a link below them (through any joints) whose inertia is not all zero: a
+    joint moving such a link moves that inertia too, so a point mass there is no singular body."""
+    with_inertia: set[str | None] = set()
+    for link in robot["links"]:
+        inertial = link.get("inertial")
+        inertia = inertial.get("inertia") if inertial is not None else None
+        if inertia is not None and any(physics.principal_moments(inertia)):
+            with_inertia.add(link["name"])
+    children: dict[str, list[str]] = {}
+    for joint in robot.get("joints", []):
+        parent, child = joint.get("parent"), joint.get("child")
+        if parent is not None and child is not None:
+            children.setdefault(parent, []).append(child)
+    carrying: set[str] = set()
+    for link in robot["links"]:
+        own = link["name"]
+        if own is None:
+            continue
+        seen, todo = set(), list(children.get(own, []))
+        while todo:
+            name = todo.pop()
+            if name in seen:
+                continue  # (a loop in a broken model: each link once)
+            seen.add(name)
+            if name in with_inertia:
+                carrying.add(own)
+                break
+            todo.extend(children.get(name, []))
+    return carrying
+
+
 def _root(robot: RobotStructure) -> str | None:
     children = {joint.get("child") for joint in robot.get("joints", [])}
     return next((link["name"] for link in robot["links"] if link["name"] not in children), None)
@@ -88,12 +120,14 @@ def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
     summary="a link's inertia tensor is not positive definite or breaks the triangle inequality",
     explanation="No rigid body has such an inertia: simulators reject it or the link spins and "
     "explodes (every principal moment must be > 0 and each at most the sum of the "
-    "other two).",
+    "other two). An inertia all zero is a point mass: none on a fixed frame, a warning on a "
+    "link that moves (gz-sim takes it, Gazebo Classic's ODE does not).",
     hint="compute the inertia from the link's shape and mass (CAD export, or the box/cylinder formulas)",
 )
 def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         moving = _links_that_move(robot)
+        carried = _carrying_inertia(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
             inertia = inertial.get("inertia") if inertial is not None else None
@@ -105,7 +139,18 @@ def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
             shown = ", ".join(f"{m:.4g}" for m in moments)
             # all zero: a point mass, fine on a frame fixed to its parent (sensor frames, tool0)
             point = not any(moments)
-            if moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
+            if point and link["name"] in moving and link["name"] in carried:
+                # gz-sim takes it (MassMatrix3: moments near positive, triangle inequality holds)
+                # and the child below carries the joint (gz_ros2_control's ackermann steering
+                # knuckles); ODE (Gazebo Classic) refuses a moving body without inertia
+                yield Finding(
+                    f"link '{link['name']}': a point mass (inertia all zero) on a joint that moves",
+                    *model_item_position(ctx, result, link, inertial.get("line")),
+                    severity=Severity.WARNING,
+                    hint="give it the inertia of its shape; Gazebo Classic (ODE) needs one, gz-sim and "
+                    "KDL do not",
+                )
+            elif moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
                 yield Finding(
                     f"link '{link['name']}': inertia not positive definite (principal moments {shown})",
                     *model_item_position(ctx, result, link, inertial.get("line")),

@@ -71,7 +71,8 @@ if TYPE_CHECKING:
 # 23: PF107 not for a dependency that brings along an undeclared use
 # 24: a CI matrix whose rows name several branches (moveit2_tutorials' deploy.yml) gives no target distro
 # 25: a package name ending in "_" a PF102 warning
-CACHE_FORMAT = 25
+# 26: PF602 a warning for a point mass on a moving link with inertia below it
+CACHE_FORMAT = 26
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
