@@ -49,9 +49,22 @@ def brought_by(
     return None
 
 
+# closures through a workspace's exports, per workspace mapping (kept alive here, so its id stays
+# its own): a run asks for the same closures once per package and check
+_WORKSPACE_CLOSURES: dict[int, tuple[Mapping[str, Iterable[str]], dict[tuple[str, str], frozenset[str]]]] = {}
+
+
 def _closure_with(package: str, distro: str, workspace: Mapping[str, Iterable[str]] | None) -> frozenset[str]:
     if not workspace:
         return _closure(package, distro)
+    memo = _WORKSPACE_CLOSURES.setdefault(id(workspace), (workspace, {}))[1]
+    key = (package, distro)
+    if key not in memo:
+        memo[key] = _walk_closure(package, distro, workspace)
+    return memo[key]
+
+
+def _walk_closure(package: str, distro: str, workspace: Mapping[str, Iterable[str]]) -> frozenset[str]:
     exports = _exports()[distro]
     seen: set[str] = set()
     todo = list(workspace.get(package, exports.get(package, [])))
