@@ -452,3 +452,50 @@ def test_a_point_mass_a_moving_joint_carries_with_a_wheel_below_is_a_warning(tmp
         ("warning", line_of(model, '<link name="knuckle">') + 1, "link 'knuckle'"),
         ("error", line_of(model, '<link name="flag">') + 1, "link 'flag'"),
     ]
+
+
+LIDAR_LAUNCH = """import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    lidar = os.environ['AUDIT_LDS_MODEL']
+    if lidar == 'LDS-01':
+        driver = os.path.join(get_package_share_directory('hls_lfcd_lds_driver'), 'launch')
+    elif lidar == 'LDS-02':
+        driver = os.path.join(get_package_share_directory('ld08_driver'), 'launch')
+    return LaunchDescription([Node(package='rviz2', executable='rviz2', arguments=[driver])])
+"""
+
+
+def test_a_use_in_a_python_branch_of_a_file_checked_statically_is_a_warning(tmp_path):
+    # turtlebot3_bringup's robot.launch.py: the lidar driver by $LDS_MODEL; unset here, the file
+    # is checked statically and which branch runs is unknown. What every branch reaches stays
+    folder = package(tmp_path, "audit_lidar", ["launch_ros"], {"launch/a.launch.py": LIDAR_LAUNCH})
+    launch = folder / "launch" / "a.launch.py"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == [
+        (
+            "warning",
+            "src/audit_lidar/launch/a.launch.py",
+            line_of(launch, "'hls_lfcd_lds_driver'"),
+            "os.path.join 'hls_lfcd_lds_driver' is used only in the branch `if lidar == "
+            "'LDS-01'` of a launch file not evaluated here, but package.xml does not declare it",
+        ),
+        (
+            "warning",
+            "src/audit_lidar/launch/a.launch.py",
+            line_of(launch, "'ld08_driver'"),
+            "os.path.join 'ld08_driver' is used only in the branch `if lidar == 'LDS-02'` "
+            "of a launch file not evaluated here, but package.xml does not declare it",
+        ),
+        (
+            "error",
+            "src/audit_lidar/launch/a.launch.py",
+            line_of(launch, "Node(package='rviz2'"),
+            "Node 'rviz2' is used at run time but package.xml does not declare it",
+        ),
+    ]

@@ -579,6 +579,12 @@ def _optional_use(ctx: CheckContext, reference: Reference, read: set[Path] | Non
     franka_description), or in a model file no robot model of the package reads (husky's
     urdf/accessories/sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)). `read`: the package's
     files its models read, None when not known."""
+    if reference.python_branch is not None:
+        # a file checked statically (not evaluated here): which branch runs is unknown
+        return _OptionalUse(
+            f"in the branch `{reference.python_branch}` of a launch file not evaluated here,",
+            "if the package's users run that branch",
+        )
     if reference.condition is not None:
         kind, _, value = reference.condition.partition(" ")
         return _OptionalUse(
@@ -652,7 +658,9 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "refuses). A package a declared one brings along (spot_description brings robot_state_"
     "publisher) is installed on a fresh machine all the same: a warning, with the fix. A launch "
     "file's use only with argument settings other than the defaults (rviz2 under rviz:=true, "
-    "default false) is a warning with no fix: a headless robot leaves RViz out on purpose.",
+    "default false) is a warning with no fix: a headless robot leaves RViz out on purpose. So is a "
+    "use in one if/else branch of a launch file pkgforge could not evaluate (which branch runs is "
+    "unknown: turtlebot3's lidar driver by $LDS_MODEL).",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:

@@ -421,17 +421,19 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     settings: dict[str, list[list[str]]] = {}
     # a file checked statically: its actions given a condition= (the file could not be evaluated)
     conditional = {
-        (r.package, r.path, r.line): r.launch_condition
+        (r.package, r.path, r.line): f"condition={r.launch_condition}"
+        if r.launch_condition
+        else r.python_branch
         for references in ctx.static_fallback().values()
         for r in references
-        if r.launch_condition
+        if r.launch_condition or r.python_branch
     }
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name not in local and name not in reported and name not in manifest.declared():
             uses.setdefault(name, []).append((line is None, str(path), line or 0, path, line, via))
             only = resolution.off_default(item) if resolution is not None and item is not None else []
             if resolution is None and (condition := conditional.get((name, path, line or 0))):
-                only = [f"condition={condition}"]
+                only = [condition]
             settings.setdefault(name, []).append(only)
     for name, found in sorted(uses.items()):
         problem = _not_in_distro(ctx, name, declared=False)

@@ -67,6 +67,10 @@ class Reference:
     # defaults (Node(..., condition=IfCondition(db)), db's default false): that argument as
     # written; what a file that could not be evaluated runs only with other settings
     launch_condition: str | None = None
+    # a Python file's use inside an if/else branch of one of its functions: the branch as
+    # written ("if LDS_MODEL == 'LDS-02'"); in a file that could not be evaluated, which branch
+    # runs is unknown (turtlebot3's robot.launch.py picks a lidar driver by $LDS_MODEL)
+    python_branch: str | None = None
 
 
 def launch_kind(path: Path) -> str | None:
@@ -479,7 +483,32 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
             for keyword in node.keywords:
                 if keyword.arg == "name" and literal(keyword.value) == "xacro":
                     found.append(Reference("xacro", None, source.path, *position, "FindExecutable"))
-    return found
+    branches = _python_branches(nodes)
+    return [
+        dataclasses.replace(r, python_branch=branches.get((r.line, r.column))) if r.via != "import" else r
+        for r in found
+    ]
+
+
+def _python_branches(nodes: list[ast.AST]) -> dict[tuple[int, int | None], str]:
+    """(line, column) of every node inside an if/elif/else branch of a function → that branch, the
+    innermost, as written ("if LDS_MODEL == 'LDS-02'", "else of if use_sim")."""
+    ifs: list[ast.If] = []
+    for function in (n for n in nodes if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
+        ifs += [
+            n for n in ast.walk(function) if isinstance(n, ast.If) and not isinstance(n.test, ast.Constant)
+        ]
+    branches: dict[tuple[int, int | None], str] = {}
+    # outer first (ast.walk is breadth first within a function; sorted by position across them):
+    # an inner branch overwrites its outer one
+    for branch in sorted(ifs, key=lambda n: (n.lineno, n.col_offset)):
+        test = ast.unparse(branch.test)
+        for body, text in ((branch.body, f"if {test}"), (branch.orelse, f"else of if {test}")):
+            for statement in body:
+                for node in ast.walk(statement):
+                    if isinstance(node, (ast.expr, ast.stmt)):
+                        branches[(node.lineno, node.col_offset + 1)] = text
+    return branches
 
 
 def _argument_defaults(nodes: list[ast.AST]) -> tuple[dict[str, str], dict[str, ast.Call]]:

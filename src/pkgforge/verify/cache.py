@@ -72,7 +72,8 @@ if TYPE_CHECKING:
 # 24: a CI matrix whose rows name several branches (moveit2_tutorials' deploy.yml) gives no target distro
 # 25: a package name ending in "_" a PF102 warning
 # 26: PF602 a warning for a point mass on a moving link with inertia below it
-CACHE_FORMAT = 26
+# 27: a use in a Python if/else branch of a file checked statically: PF305/PF108 warnings
+CACHE_FORMAT = 27
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
