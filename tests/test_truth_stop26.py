@@ -499,3 +499,33 @@ def test_a_use_in_a_python_branch_of_a_file_checked_statically_is_a_warning(tmp_
             "Node 'rviz2' is used at run time but package.xml does not declare it",
         ),
     ]
+
+
+def test_a_file_an_unevaluated_includer_names_failing_on_its_own_is_a_warning(tmp_path):
+    # xarm_ros2's mbot_moveit_gazebo.launch.py imports uf_ros_lib, which imports
+    # launch_param_builder (declared, not installed here): the includer is checked statically,
+    # so whether _robot_on_mbot_gazebo.launch.py loads through it is unknown
+    from test_truth_audit import INCLUDED_ONLY_LAUNCH, INCLUDER_LAUNCH
+
+    includer = "from launch_param_builder import ParameterBuilder\n" + INCLUDER_LAUNCH.replace(
+        "audit_alone", "audit_unknown"
+    )
+    folder = package(
+        tmp_path,
+        "audit_unknown",
+        ["launch", "launch_ros", "robot_state_publisher", "launch_param_builder"],
+        {"launch/_inner.launch.py": INCLUDED_ONLY_LAUNCH, "launch/outer.launch.py": includer},
+    )
+    inner, outer = folder / "launch" / "_inner.launch.py", folder / "launch" / "outer.launch.py"
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert found(report, "PF301") == [
+        (
+            "warning",
+            "src/audit_unknown/launch/_inner.launch.py",
+            line_of(inner, "OpaqueFunction(function=launch_setup)"),
+            "OpaqueFunction failed: KeyError: 'robot_description' (launched on its own; "
+            f"outer.launch.py:{line_of(outer, '_inner.launch.py')} includes it and could not be "
+            "evaluated here: whether it loads there is not known)",
+        )
+    ]
+    assert [s for s, *_ in found(report, "PF311")] == ["info"]  # the includer, checked statically

@@ -75,7 +75,8 @@ def _branch_note(item: Record, resolution: Resolution) -> str:
     summary="a launch file raises, fails to import, or runs past the time limit",
     explanation="`ros2 launch` would stop at the same place; nothing after it starts. A warning "
     "when the file fails only launched on its own, and another launch file of its package includes "
-    "it with launch arguments and it loads there (a file made to be included).",
+    "it with launch arguments and it loads there (a file made to be included), or names it in a "
+    "launch file pkgforge could not evaluate here (whether it loads there is not known).",
     hint="fix the line named in the message (run `pkgforge verify --explain-launch FILE` to see the "
     "resolved tree)",
 )
@@ -197,6 +198,23 @@ def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str
             f" (launched on its own; {where} includes it with {given} and it loads there)",
             f"launch it through {includer.name}, or give its launch arguments defaults it runs with",
         )
+    # an includer pkgforge could not evaluate here (its imports are not installed): it names the
+    # file literally; whether the file loads there is unknown, so its failure alone is no error
+    own = (ctx.model.share_name, ctx.model.name)
+    for source, references in sorted(ctx.static_fallback().items()):
+        for reference in references:
+            if (
+                source != resolution.launch.source
+                and reference.package in own
+                and reference.relative
+                and installed.endswith(f"/share/{ctx.model.share_name}/{reference.relative.strip('/')}")
+            ):
+                return (
+                    f" (launched on its own; {source.name}:{reference.line} includes it and could "
+                    "not be evaluated here: whether it loads there is not known)",
+                    f"verify where {source.name} can be evaluated (its dependencies installed, or "
+                    "--install-base), or give this file's launch arguments defaults it runs with",
+                )
     return None
 
 

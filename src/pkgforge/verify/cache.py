@@ -73,7 +73,8 @@ if TYPE_CHECKING:
 # 25: a package name ending in "_" a PF102 warning
 # 26: PF602 a warning for a point mass on a moving link with inertia below it
 # 27: a use in a Python if/else branch of a file checked statically: PF305/PF108 warnings
-CACHE_FORMAT = 27
+# 28: a file an includer checked statically names, failing on its own: a PF301 warning
+CACHE_FORMAT = 28
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
