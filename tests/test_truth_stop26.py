@@ -529,3 +529,88 @@ def test_a_file_an_unevaluated_includer_names_failing_on_its_own_is_a_warning(tm
         )
     ]
     assert [s for s, *_ in found(report, "PF311")] == ["info"]  # the includer, checked statically
+
+
+ROBOT_WITH_SIM_BRANCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, OpaqueFunction
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def launch_setup(context, *args, **kwargs):
+    sim = LaunchConfiguration('use_sim_time').perform(context) == 'true'
+    if sim:
+        params = {'use_sim_time': True}
+    else:
+        params = {'port': serial_port}  # never defined: the real robot's path is broken
+    return [Node(package='robot_state_publisher', executable='robot_state_publisher', parameters=[params])]
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('use_sim_time', default_value='false'),
+        OpaqueFunction(function=launch_setup),
+    ])
+"""
+
+SIM_INCLUDER = """from launch import LaunchDescription
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    return LaunchDescription([IncludeLaunchDescription(
+        PythonLaunchDescriptionSource(PathJoinSubstitution([FindPackageShare('audit_bot'), 'launch', 'robot.launch.py'])),
+        launch_arguments=ARGUMENTS.items(),
+    )])
+"""
+
+RAISING_INNER = """from launch import LaunchDescription
+
+
+def generate_launch_description():
+    table = {'a': 1}
+    return LaunchDescription([]) if table['b'] else None
+"""
+
+
+def test_an_includer_giving_a_declared_argument_does_not_excuse_the_default_branch(tmp_path):
+    # a reader's case: sim.launch.py gives use_sim_time:=true, which robot.launch.py declares
+    # (default false); launched with its defaults it crashes on the real robot: still an error
+    files = {
+        "launch/robot.launch.py": ROBOT_WITH_SIM_BRANCH,
+        "launch/sim.launch.py": SIM_INCLUDER.replace("ARGUMENTS", "{'use_sim_time': 'true'}"),
+    }
+    folder = package(tmp_path, "audit_bot", ["launch_ros", "robot_state_publisher"], files)
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, line, m) for s, _, line, m in found(report, "PF301")] == [
+        (
+            "error",
+            line_of(folder / "launch" / "robot.launch.py", "OpaqueFunction(function=launch_setup)"),
+            "OpaqueFunction failed: NameError: name 'serial_port' is not defined (only with use_sim_time:=false)",
+        )
+    ]
+
+
+def test_a_file_failing_through_its_includer_at_the_include_stays_an_error(tmp_path):
+    # a reader's case: the include fails (recorded at the includer's line), not inside the file
+    files = {
+        "launch/robot.launch.py": RAISING_INNER,
+        "launch/sim.launch.py": SIM_INCLUDER.replace("ARGUMENTS", "{'unrelated': 'x'}"),
+    }
+    folder = package(tmp_path, "audit_bot", ["launch_ros"], files)
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF301")] == [
+        (
+            "error",
+            "src/audit_bot/launch/robot.launch.py",
+            line_of(folder / "launch" / "robot.launch.py", "table['b']"),
+        ),
+        (
+            "error",
+            "src/audit_bot/launch/sim.launch.py",
+            line_of(folder / "launch" / "sim.launch.py", "IncludeLaunchDescription("),
+        ),
+    ]

@@ -183,17 +183,28 @@ def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str
     _robot_on_mbot_gazebo.launch.py, given moveit_config_dump by its includer) that fails only
     when launched on its own. `ros2 launch` of it alone fails too, but nobody launches it so."""
     installed = str(resolution.launch.installed)
+    # what the file declares: an includer's value for one of those is one more setting, which its
+    # own branches cover (robot.launch.py's use_sim_time:=true through sim.launch.py is no reason
+    # to excuse its failure with the default false); only a value it does not declare is the
+    # includer's to give (xarm's moveit_config_dump, read with LaunchConfiguration(..., default=''))
+    declared = {argument.name for argument in resolution.arguments}
     for other in ctx.resolutions:
         if other is resolution or other.status != "ok" or installed not in other.files:
             continue
-        if any(item.file == installed for item in other.errors):
-            continue  # it fails there too: an error, said where it fails
-        include = next((i for i in other.includes if i.path == installed and i.arguments), None)
+        include = next(
+            (i for i in other.includes if i.path == installed and set(i.arguments) - declared), None
+        )
         if include is None:
             continue
+        includer_file = str(other.launch.installed)
+        if any(
+            item.file == installed or (item.file in (None, includer_file) and item.line == include.line)
+            for item in other.errors
+        ):
+            continue  # it fails there too (in the file, or at the include): an error, said there
         includer = other.launch.source or other.launch.installed
         where = f"{includer.name}:{include.line}" if include.line else includer.name
-        given = ", ".join(sorted(include.arguments))
+        given = ", ".join(sorted(set(include.arguments) - declared))
         return (
             f" (launched on its own; {where} includes it with {given} and it loads there)",
             f"launch it through {includer.name}, or give its launch arguments defaults it runs with",
