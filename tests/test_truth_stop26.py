@@ -614,3 +614,59 @@ def test_a_file_failing_through_its_includer_at_the_include_stays_an_error(tmp_p
             line_of(folder / "launch" / "sim.launch.py", "IncludeLaunchDescription("),
         ),
     ]
+
+
+def test_a_workspace_modules_own_missing_import_leaves_the_file_unevaluated(tmp_path):
+    # a reader's case: the helper module imports cv2 (its package declares python3-opencv, which
+    # rosdep installs there); not installed here, the launch file is checked statically as before
+    folder = helpers_package(tmp_path)
+    (folder / "audit_helpers" / "names.py").write_text("import cv2  # noqa: F401\n\nVIEWER = 'rviz2'\n")
+    user = package(
+        tmp_path, "audit_user", ["launch_ros", "audit_helpers", "rviz2"], {"launch/a.launch.py": USING_LAUNCH}
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF301") == []
+    assert [(s, line) for s, _, line, _ in found(report, "PF311")] == [
+        ("info", line_of(user / "launch" / "a.launch.py", "from audit_helpers.names import VIEWER"))
+    ]
+
+
+def test_package_data_lands_beside_the_modules_and_evaluation_uses_count(tmp_path):
+    # a reader's cases: the module reads robots.yaml beside its __file__ (package_data); the node's
+    # package comes from the module, so only evaluation sees rviz2 used (no unused-exec-depend)
+    folder = helpers_package(tmp_path)
+    setup = (folder / "setup.py").read_text()
+    (folder / "setup.py").write_text(
+        setup.replace("    data_files=[", "    package_data={'audit_helpers': ['*.yaml']},\n    data_files=[")
+    )
+    (folder / "audit_helpers" / "robots.yaml").write_text("viewer: rviz2\n")
+    (folder / "audit_helpers" / "names.py").write_text(
+        "import os\n\nwith open(os.path.join(os.path.dirname(__file__), 'robots.yaml')) as f:\n"
+        "    VIEWER = f.read().split(':')[1].strip()\n"
+    )
+    package(
+        tmp_path, "audit_user", ["launch_ros", "audit_helpers", "rviz2"], {"launch/a.launch.py": USING_LAUNCH}
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [d for d in report["diagnostics"] if d["package"] == "audit_user"] == []
+
+
+def test_dotted_py_modules_install_in_their_folder(tmp_path):
+    from pkgforge.model.layout import layout_from_setup_py
+    from pkgforge.model.setup_py import load_setup_py
+    from pkgforge.model.source import read_source
+
+    folder = tmp_path / "pkg"
+    write_package(
+        folder,
+        {
+            "setup.py": "from setuptools import setup\nsetup(name='pkg', py_modules=['tools.names', 'top'])\n",
+            "tools/names.py": "",
+            "top.py": "",
+        },
+    )
+    layout = layout_from_setup_py(load_setup_py(read_source(folder / "setup.py"), folder), folder)
+    assert sorted(layout.files) == [
+        "lib/python3/site-packages/tools/names.py",
+        "lib/python3/site-packages/top.py",
+    ]

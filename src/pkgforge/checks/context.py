@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 from pkgforge.launch.records import Error as LaunchError
 from pkgforge.launch.records import LaunchFile, Resolution
+from pkgforge.model.cmake import PYTHON_SITE
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
@@ -536,8 +537,40 @@ class CheckContext:
                 or bool(keys & declared)
                 or module in self.tree_packages()
                 or module in self.real_packages()
+                or self.through_workspace_module(error)
             )
         )
+
+    def through_workspace_module(self, error: LaunchError) -> bool:
+        """Whether a module was not found by the import of a workspace package's Python module
+        (at the launch file's line that imports it): that module's own imports, which its
+        package declares and rosdep installs on the user's machine (audit_helpers' `import cv2`)."""
+        source = self.own_source(error.file) if error.file else None
+        if source is None or error.line is None:
+            return False
+        imported = {
+            r.package
+            for r in self.model.references
+            if r.via == "import" and r.path == source and r.line == error.line
+        }
+        missing = (error.module or "").split(".")[0]
+        return bool(imported & self.workspace_python_modules()) and missing not in imported
+
+    def workspace_python_modules(self) -> frozenset[str]:
+        """The top-level Python modules the verified packages install (setup.py's packages=,
+        ament_python_install_package): what the tree puts on a launch file's sys.path."""
+
+        def compute() -> frozenset[str]:
+            prefix = PYTHON_SITE + "/"
+            return frozenset(
+                destination[len(prefix) :].split("/")[0].removesuffix(".py")
+                for model in [self.model, *self.models.values()]
+                for destination in model.layout.files
+                if destination.startswith(prefix)
+            )
+
+        modules: frozenset[str] = self._shared("workspace-python-modules", compute)
+        return modules
 
     def none_from_unset(self, resolution: Resolution, text: str) -> list[str]:
         """The unset variables the file reads when `text` (a name, a path, an error message) has

@@ -982,6 +982,8 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 what = f"runs {error.program} while loading, a program not installed here"
             elif error.read_from:
                 what = f"reads files of {error.read_from} while loading, a package not installed here"
+            elif ctx.through_workspace_module(error):
+                what = f"imports a workspace package's module that imports {error.module}, not installed here"
             else:
                 what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)

@@ -264,6 +264,8 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     for name, rule in IMPLICIT_USES.items():
         if rule(kinds, model.files):
             used.add(name)
+    # what evaluation saw the launch files use (Node(package=VIEWER), VIEWER from a helper module)
+    used |= {item.name for resolution in ctx.resolutions for item in resolution.packages}
     if "rviz_default_plugins" in used or "rviz_common" in used:
         used |= {"rviz_common", "rviz_default_plugins"}
     # a use the package leaves undeclared, which a declared package brings along (moveit brings

@@ -243,6 +243,8 @@ def _add_python_modules(layout: InstallLayout, setup_py: SetupPyModel, package_p
             if source.is_file():
                 layout.add(f"{PYTHON_SITE}/{relative}/{name}", source, setup_py.source.path, line)
     for module in setup_py.py_modules:
-        source = package_path / f"{module.replace('.', '/')}.py"
-        if source.is_file():
-            layout.add(f"{PYTHON_SITE}/{source.name}", source, setup_py.source.path, line)
+        relative = f"{module.replace('.', '/')}.py"  # (a.b: a/b.py, as setuptools installs it)
+        if (package_path / relative).is_file():
+            layout.add(f"{PYTHON_SITE}/{relative}", package_path / relative, setup_py.source.path, line)
+    for relative in setup_py.package_data:
+        layout.add(f"{PYTHON_SITE}/{relative}", package_path / relative, setup_py.source.path, line)

@@ -54,6 +54,9 @@ class SetupPyModel:
     # `packages=` (a list, or find_packages() with its where/include/exclude), `py_modules=`
     python_packages: list[str] = field(default_factory=list)
     py_modules: list[str] = field(default_factory=list)
+    # package_data={'pkg': ['*.yaml']}: the files it adds to the packages, relative to the package
+    # folder (setuptools installs them beside the modules)
+    package_data: list[str] = field(default_factory=list)
     packages_line: int | None = None
 
 
@@ -141,6 +144,23 @@ def _read_python_packages(model: SetupPyModel, keywords: dict[str, ast.expr], ev
         if isinstance(value, (list, tuple)) and all(isinstance(v, str) and _DOTTED.match(v) for v in value):
             into.extend(value)
             model.packages_line = model.packages_line or node.lineno
+    data = keywords.get("package_data")
+    if isinstance(data, ast.Dict):
+        for key, patterns in zip(data.keys, data.values, strict=True):
+            try:
+                name = evaluator.eval(key) if key is not None else None
+                globs = evaluator.eval(patterns)
+            except (Unevaluable, TypeError, ValueError):
+                continue
+            if not isinstance(name, str) or not isinstance(globs, (list, tuple)):
+                continue
+            for dotted in model.python_packages if name in ("", "*") else [name]:
+                folder = evaluator.package_path / dotted.replace(".", "/")
+                for pattern in (g for g in globs if isinstance(g, str)):
+                    found = globmodule.glob(str(folder / pattern), recursive=True)
+                    model.package_data += sorted(
+                        os.path.relpath(f, evaluator.package_path) for f in found if os.path.isfile(f)
+                    )
 
 
 _DOTTED = re.compile(r"^[A-Za-z_]\w*(\.[A-Za-z_]\w*)*$")
