@@ -670,3 +670,35 @@ def test_dotted_py_modules_install_in_their_folder(tmp_path):
         "lib/python3/site-packages/tools/names.py",
         "lib/python3/site-packages/top.py",
     ]
+
+
+DEPENDENCY_BRANCH_MATRIX = """name: CI
+on: [push, pull_request]
+jobs:
+  build:
+    runs-on: ubuntu-latest
+    strategy:
+      matrix:
+        include:
+          - ros_distro: humble
+            branch: humble
+          - ros_distro: jazzy
+            branch: jazzy
+    steps:
+      - uses: actions/checkout@v4
+      - uses: ros-tooling/action-ros-ci@v0.3
+        with:
+          target-ros2-distro: ${{ matrix.ros_distro }}
+          vcs-repo-file-url: https://raw.githubusercontent.com/example/deps/${{ matrix.branch }}/deps.repos
+"""
+
+
+def test_a_matrix_branch_of_the_dependencies_keeps_the_distros(tmp_path):
+    # a reader's case: `branch` names the dependencies' .repos branch, not a branch of this
+    # repository (its triggers name none): the code here is built on humble and on jazzy
+    folder = package(tmp_path, "audit_ci", ["gazebo_ros"], {})
+    workflows(folder, {"ci.yml": DEPENDENCY_BRANCH_MATRIX})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(d["code"], d["severity"], d["line"]) for d in report["diagnostics"]] == [
+        ("PF108", "error", line_of(folder / "package.xml", "gazebo_ros"))
+    ]

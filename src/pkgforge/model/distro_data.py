@@ -245,21 +245,42 @@ def _without_branch_matrices(document: object) -> object:
     if not isinstance(document, dict) or not isinstance(document.get("jobs"), dict):
         return document
     jobs = dict(document["jobs"])
+    triggered = _trigger_branches(document)
     for name, job in jobs.items():
         strategy = job.get("strategy") if isinstance(job, dict) else None
         if not isinstance(strategy, dict):
             continue
         matrix = strategy.get("matrix")
-        if isinstance(matrix, dict) and len(_matrix_branches(job, matrix)) > 1:
+        if isinstance(matrix, dict) and len(_matrix_branches(job, matrix, triggered)) > 1:
             jobs[name] = {**job, "strategy": {k: v for k, v in strategy.items() if k != "matrix"}}
     return {**document, "jobs": jobs}
 
 
-def _matrix_branches(job: dict[object, object], matrix: dict[object, object]) -> set[str]:
-    """The branches of this repository a job's matrix rows name: the literal values of a `branch`,
-    `branches` or `ref` key, or of the key a checkout (or a reusable workflow's `ref`) of this
-    repository reads. A key only another repository's checkout reads (`repository:` given) names
-    that repository's branch: the code here is built on each row's distro."""
+def _trigger_branches(document: dict[object, object]) -> set[str]:
+    """The branches a workflow's push and pull_request triggers name (deploy.yml: main, humble)."""
+    triggers = document.get("on", document.get(True))  # (YAML 1.1 reads the key `on` as true)
+    names: set[str] = set()
+    if isinstance(triggers, dict):
+        for event in ("push", "pull_request", "pull_request_target"):
+            given = triggers.get(event)
+            branches = given.get("branches") if isinstance(given, dict) else None
+            if isinstance(branches, list):
+                names.update(str(b) for b in branches)
+            elif isinstance(branches, str):
+                names.add(branches)
+    return names
+
+
+def _matrix_branches(
+    job: dict[object, object], matrix: dict[object, object], triggered: set[str]
+) -> set[str]:
+    """The branches of this repository a job's matrix rows name: the literal values of the key a
+    checkout (or a reusable workflow's `ref`) of this repository reads, or of a `branch`,
+    `branches` or `ref` key whose values are branches the workflow's own triggers name
+    (moveit2_tutorials' deploy.yml: on push to main and humble, rows {branch: main},
+    {branch: humble}). A key only another repository's checkout reads (`repository:` given), or
+    whose values the triggers do not name (a dependencies' .repos URL), names another
+    repository's branch: the code here is built on each row's distro."""
     own: set[str] = set()
     other: set[str] = set()
     steps = job.get("steps")
@@ -273,15 +294,17 @@ def _matrix_branches(job: dict[object, object], matrix: dict[object, object]) ->
                 (other if "repository" in given else own).update(
                     k.lower() for k in MATRIX_VALUE.findall(value)
                 )
-    keys = own | (BRANCH_MATRIX_KEYS - other)
     include = matrix.get("include")
     rows = [matrix] + ([r for r in include if isinstance(r, dict)] if isinstance(include, list) else [])
     branches: set[str] = set()
     for row in rows:
         for name, value in row.items():
-            if str(name).lower() in keys:
-                for v in value if isinstance(value, list) else [value]:
-                    if isinstance(v, (str, int, float)) and "${{" not in str(v):
+            key = str(name).lower()
+            if key not in own and (key not in BRANCH_MATRIX_KEYS or key in other):
+                continue
+            for v in value if isinstance(value, list) else [value]:
+                if isinstance(v, (str, int, float)) and "${{" not in str(v):
+                    if key in own or str(v) in triggered:
                         branches.add(str(v))
     return branches
 

@@ -76,7 +76,8 @@ if TYPE_CHECKING:
 # 28: a file an includer checked statically names, failing on its own: a PF301 warning
 # 29: a workspace module's own missing import leaves the file unevaluated; package_data and dotted
 #    py_modules in the tree; PF107 counts what evaluation saw used
-CACHE_FORMAT = 29
+# 30: a matrix branch key counts as this repository's only when its checkout reads it or the triggers name it
+CACHE_FORMAT = 30
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
