@@ -702,3 +702,33 @@ def test_a_matrix_branch_of_the_dependencies_keeps_the_distros(tmp_path):
     assert [(d["code"], d["severity"], d["line"]) for d in report["diagnostics"]] == [
         ("PF108", "error", line_of(folder / "package.xml", "gazebo_ros"))
     ]
+
+
+SIM_ONLY_LAUNCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('sim', default_value='false'),
+        Node(package='ros_gz_bridge', executable='parameter_bridge', condition=IfCondition(LaunchConfiguration('sim'))),
+    ])
+"""
+
+
+def test_a_simulator_needed_only_with_a_setting_stays_an_error(tmp_path):
+    # a reader's case: sim:=true is a supported mode; its undeclared ros_gz_bridge fails there
+    # on a fresh machine. Only viewers (rviz2, rqt, jsp_gui) are left out on purpose
+    folder = package(tmp_path, "audit_sim", ["launch_ros"], {"launch/a.launch.py": SIM_ONLY_LAUNCH})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == [
+        (
+            "error",
+            "src/audit_sim/launch/a.launch.py",
+            line_of(folder / "launch" / "a.launch.py", "package='ros_gz_bridge'"),
+            "Node package 'ros_gz_bridge' is used at run time but package.xml does not declare it (only with sim:=true)",
+        )
+    ]

@@ -686,9 +686,11 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "this one already gets a warning with no fix too (declaring it back is a cycle colcon "
     "refuses). A package a declared one brings along (spot_description brings robot_state_"
     "publisher) is installed on a fresh machine all the same: a warning, with the fix. A launch "
-    "file's use only with argument settings other than the defaults (rviz2 under rviz:=true, "
-    "default false) is a warning with no fix: a headless robot leaves RViz out on purpose. So is a "
-    "use in one if/else branch of a launch file pkgforge could not evaluate (which branch runs is "
+    "file's use of a viewer (rviz2, rqt, joint_state_publisher_gui, plotjuggler) only with argument "
+    "settings other than the defaults (rviz:=true, default false) is a warning with no fix: a "
+    "headless robot leaves RViz out on purpose; any other package such a setting needs (the "
+    "simulator under sim:=true) stays an error, with the setting named. A use in one if/else "
+    "branch of a launch file pkgforge could not evaluate is a warning too (which branch runs is "
     "unknown: turtlebot3's lidar driver by $LDS_MODEL).",
     hint="declare it with <exec_depend>",
 )
@@ -754,7 +756,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
             )
             continue
-        if note and resolution is not None and item is not None and resolution.off_default(item):
+        if (
+            note
+            and resolution is not None
+            and item is not None
+            and resolution.off_default(item)
+            and _viewer(name)
+        ):
             # kobuki_description's rviz2 under rviz:=true (default false): a headless robot leaves
             # it out on purpose, as unknown-package and package-not-in-distro already allow
             yield Finding(
@@ -777,6 +785,14 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             ),
             fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
         )
+
+
+# tools a person looks through, which a headless robot's package leaves out on purpose
+VIEWERS = frozenset({"joint_state_publisher_gui", "plotjuggler", "foxglove_bridge", "rviz2", "rqt_gui"})
+
+
+def _viewer(name: str) -> bool:
+    return name in VIEWERS or name.startswith(("rqt_", "rviz_"))
 
 
 def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str) -> bool:

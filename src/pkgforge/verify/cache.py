@@ -77,7 +77,8 @@ if TYPE_CHECKING:
 # 29: a workspace module's own missing import leaves the file unevaluated; package_data and dotted
 #    py_modules in the tree; PF107 counts what evaluation saw used
 # 30: a matrix branch key counts as this repository's only when its checkout reads it or the triggers name it
-CACHE_FORMAT = 30
+# 31: PF305 off-default uses a warning only for viewers (rviz2, rqt, jsp_gui)
+CACHE_FORMAT = 31
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
