@@ -221,7 +221,8 @@ def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
 
 def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp_path):
     """ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose (position controlled): only a
-    warning; a zero velocity stops MoveIt and controllers: an error."""
+    warning; a zero velocity stops simulators and ros2_control (MoveIt reads it as no limit): an
+    error where the workspace uses one."""
     package = physics_package(tmp_path, "joint-limit-invalid")
     model = package / "urdf" / "robot.urdf"
     model.write_text(
@@ -250,11 +251,11 @@ def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp
     assert status == 0 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [
         ("PF605", "warning")
     ]
-    # a workspace that plans (MoveIt) or simulates the robot reads the velocity limit: an error
+    # a workspace that simulates or controls the robot enforces the velocity limit: an error
     package_xml = package / "package.xml"
     package_xml.write_text(
         package_xml.read_text().replace(
-            "<export>", "<exec_depend>moveit_ros_move_group</exec_depend>\n  <export>", 1
+            "<export>", "<exec_depend>ros2_control</exec_depend>\n  <export>", 1
         )
     )
     status, report = verify_report(tmp_path, "--no-cache")
@@ -262,7 +263,7 @@ def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp
         ("PF605", "error")
     ]
     package_xml.write_text(
-        package_xml.read_text().replace("<exec_depend>moveit_ros_move_group</exec_depend>\n  ", "")
+        package_xml.read_text().replace("<exec_depend>ros2_control</exec_depend>\n  ", "")
     )
     # reversed limits leave no allowed position: an error
     model.write_text(

@@ -732,3 +732,43 @@ def test_a_simulator_needed_only_with_a_setting_stays_an_error(tmp_path):
             "Node package 'ros_gz_bridge' is used at run time but package.xml does not declare it (only with sim:=true)",
         )
     ]
+
+
+ZERO_VELOCITY_ARM = """<?xml version="1.0"?>
+<robot name="arm">
+  <link name="base_link"/>
+  <link name="upper">
+    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base_link"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="10" velocity="0"/>
+  </joint>
+</robot>
+"""
+
+
+def test_a_zero_velocity_where_only_moveit_reads_the_model_is_a_warning(tmp_path):
+    # waveshare roarm: MoveIt reads velocity 0 as no limit (robot_model.cpp: velocity_bounded_ =
+    # max_velocity_ > epsilon); only a simulator or ros2_control enforces it
+    folder = package(tmp_path, "audit_arm", ["moveit_ros_move_group"], {"urdf/arm.urdf": ZERO_VELOCITY_ARM})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF605") == [
+        (
+            "warning",
+            "src/audit_arm/urdf/arm.urdf",
+            line_of(folder / "urdf" / "arm.urdf", '<limit'),
+            "revolute joint 'j1': velocity limit is 0.0 (nothing here simulates or controls it: RViz and "
+            "MoveIt read 0 as no limit)",
+        )
+    ]
+
+
+def test_a_point_mass_on_a_moving_link_where_gazebo_classic_is_used_stays_an_error(tmp_path):
+    # a reader's case: ODE (Gazebo Classic) refuses a moving body without inertia
+    package(tmp_path, "audit_steer", ["gazebo_ros2_control"], {"urdf/steer.urdf": STEERING_MODEL})
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "humble")
+    assert [(s, m.split(":")[0]) for s, _, _, m in found(report, "PF602")] == [
+        ("error", "link 'knuckle'"),
+        ("error", "link 'flag'"),
+    ]

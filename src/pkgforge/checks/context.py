@@ -50,7 +50,11 @@ NONE_TEXT = re.compile(r"(^|[/'\"])None([./_'\"-]|$)")
 # packages that read a joint's velocity limit: MoveIt's planning, simulators, ros2_control.
 # (controller_manager alone is left out: mycobot_ros2 declares it in 15 packages and starts it
 # nowhere; a robot really controlled declares ros2_control or its controllers too)
-MOTION_PREFIXES = ("moveit", "gazebo", "gz_", "ros_gz", "ign_", "ros_ign", "ros2_control", "webots")
+# what moves a model's joints within its URDF limits: simulators and ros2_control (MoveIt reads a
+# velocity limit of 0 as no limit: robot_model.cpp's velocity_bounded_ = max_velocity_ > epsilon)
+MOTION_PREFIXES = ("gazebo", "gz_", "ros_gz", "ign_", "ros_ign", "ros2_control", "webots")
+# Gazebo Classic (ODE): every package of it is named gazebo_* (gz-sim's are gz_*, ros_gz_*, ign_*)
+CLASSIC_PREFIXES = ("gazebo",)
 
 # what colcon leaves in its own build/ and install/ folders (beside their COLCON_IGNORE)
 COLCON_OUTPUT_MARKERS = frozenset({".built_by", ".colcon_install_layout"})
@@ -282,11 +286,18 @@ class CheckContext:
                     todo.append(name)
         return False
 
-    def planned_or_simulated(self) -> bool:
-        """Whether a package of the workspace uses MoveIt, a simulator or ros2_control (a
-        dependency of that family declared anywhere): then the models' joint limits are read."""
+    def simulated_or_controlled(self) -> bool:
+        """Whether a package of the workspace uses a simulator or ros2_control (a dependency of
+        that family declared anywhere): then the models' joint limits are enforced."""
+        return self._workspace_declares(MOTION_PREFIXES)
+
+    def uses_gazebo_classic(self) -> bool:
+        """Whether a package of the workspace declares a Gazebo Classic package (gazebo_ros, ...)."""
+        return self._workspace_declares(CLASSIC_PREFIXES)
+
+    def _workspace_declares(self, prefixes: tuple[str, ...]) -> bool:
         edges: dict[str, set[str]] = self._shared(("dependency-edges", self.distros), self._dependency_edges)
-        return any(name.startswith(MOTION_PREFIXES) for names in edges.values() for name in names)
+        return any(name.startswith(prefixes) for names in edges.values() for name in names)
 
     def brought_along(self, name: str, tags: tuple[str, ...]) -> str | None:
         """The dependency package.xml declares with one of `tags` (holding on every target

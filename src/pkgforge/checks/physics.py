@@ -121,7 +121,8 @@ def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
     explanation="No rigid body has such an inertia: simulators reject it or the link spins and "
     "explodes (every principal moment must be > 0 and each at most the sum of the "
     "other two). An inertia all zero is a point mass: none on a fixed frame, a warning on a "
-    "link that moves (gz-sim takes it, Gazebo Classic's ODE does not).",
+    "link that moves with an inertia below it (gz-sim takes it), an error where the workspace uses "
+    "Gazebo Classic (ODE refuses it).",
     hint="compute the inertia from the link's shape and mass (CAD export, or the box/cylinder formulas)",
 )
 def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
@@ -139,7 +140,7 @@ def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
             shown = ", ".join(f"{m:.4g}" for m in moments)
             # all zero: a point mass, fine on a frame fixed to its parent (sensor frames, tool0)
             point = not any(moments)
-            if point and link["name"] in moving and link["name"] in carried:
+            if point and link["name"] in moving and link["name"] in carried and not ctx.uses_gazebo_classic():
                 # gz-sim takes it (MassMatrix3: moments near positive, triangle inequality holds)
                 # and the child below carries the joint (gz_ros2_control's ackermann steering
                 # knuckles); ODE (Gazebo Classic) refuses a moving body without inertia
@@ -222,9 +223,10 @@ def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
     "zero or negative velocity or effort",
     explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
     "leave no allowed position (errors). Controllers, simulators and MoveIt cannot move a joint "
-    "whose velocity or effort limit is 0; RViz and the state publishers never read them, and "
-    "exporters write 0 by default: a zero effort is a warning, a zero velocity too unless a "
-    "package of the workspace uses MoveIt, a simulator or ros2_control.",
+    "whose velocity or effort limit is 0; RViz and the state publishers never read them, MoveIt "
+    "reads a zero velocity as no limit, and exporters write 0 by default: a zero effort is a "
+    "warning, a zero velocity too unless a package of the workspace uses a simulator or "
+    "ros2_control.",
     hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
     "velocity, effort > 0",
 )
@@ -249,20 +251,20 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
             if not (limit.get("velocity") or 0) > 0:
                 # SolidWorks' URDF exporter writes velocity="0": urdfdom, robot_state_publisher,
                 # joint_state_publisher and RViz accept and never read it (mycobot_ros2's 259
-                # joints): a warning. MoveIt's time parameterization, simulators and ros2_control
-                # do: an error where the workspace uses one of them (dobot's MoveIt and Gazebo)
-                planned = ctx.planned_or_simulated()
+                # joints), and MoveIt reads 0 as no limit (roarm): a warning. Simulators and
+                # ros2_control enforce it: an error where the workspace uses one (dobot's Gazebo)
+                planned = ctx.simulated_or_controlled()
                 yield Finding(
                     f"{name}: velocity limit is {limit.get('velocity')}"
                     + (
                         ""
                         if planned
-                        else " (no package here plans or simulates it: only RViz reads the model)"
+                        else " (nothing here simulates or controls it: RViz and MoveIt read 0 as no limit)"
                     ),
                     *where,
                     severity=None if planned else Severity.WARNING,
                     hint="set velocity= to the joint's real maximum (> 0)"
-                    + ("" if planned else " before MoveIt, a simulator or ros2_control moves it"),
+                    + ("" if planned else " before a simulator or ros2_control moves it"),
                 )
             if not (limit.get("effort") or 0) > 0:
                 # ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose: they are position

@@ -78,7 +78,8 @@ if TYPE_CHECKING:
 #    py_modules in the tree; PF107 counts what evaluation saw used
 # 30: a matrix branch key counts as this repository's only when its checkout reads it or the triggers name it
 # 31: PF305 off-default uses a warning only for viewers (rviz2, rqt, jsp_gui)
-CACHE_FORMAT = 31
+# 32: MoveIt no longer makes a zero velocity an error; a point mass an error where Gazebo Classic is used
+CACHE_FORMAT = 32
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
