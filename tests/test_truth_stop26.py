@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from conftest import line_of, verify_report
 from test_truth_audit import found, package
 from test_truth_edges import write_package
@@ -129,3 +130,60 @@ def test_a_file_stopped_by_an_unset_variable_is_still_checked_statically(tmp_pat
             "depends on it is not checked; the rest checked statically",
         )
     ]
+
+
+# --- the docs.ros.org tutorials' launch files on a machine without ROS sourced ------------------
+# (each for both engines: the built-in one and the real launch libraries, jazzy's)
+
+
+def engine_reports(tmp_path: Path) -> dict[str, dict]:
+    """The report of `pkgforge verify` by each engine (the ros engine where the real launch
+    libraries are laid out: tests/ros_prefix.py)."""
+    from ros_prefix import make_prefix
+
+    prefix, _ = make_prefix("jazzy", tmp_path / "ros")
+    reports = {}
+    for engine in ("builtin", "ros"):
+        if engine == "ros" and prefix is None:
+            continue  # (no real launch library here: said by the engine tests too)
+        extra = ["--ros-prefix", str(prefix)] if engine == "ros" else []
+        _, reports[engine] = verify_report(
+            tmp_path, "--no-cache", "--distro", "jazzy", "--launch-engine", engine, *extra
+        )
+    return reports
+
+
+FIND_EXECUTABLE_LAUNCH = """from launch import LaunchDescription
+from launch.actions import ExecuteProcess
+from launch.substitutions import FindExecutable
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        ExecuteProcess(cmd=[[FindExecutable(name='ros2'), ' topic list']], shell=True),
+        ExecuteProcess(cmd=[FindExecutable(name='python3'), '--version']),
+    ])
+"""
+
+
+def test_a_program_find_executable_does_not_find_here_is_unevaluated_not_an_error(tmp_path):
+    # the "Using event handlers" tutorial: ExecuteProcess(cmd=[[FindExecutable(name='ros2'),
+    # ' service call ...']]). ros2 is on PATH wherever ROS is sourced, not on the machine that
+    # checks: "SubstitutionFailure: executable 'ros2' not found on the PATH" was a PF301 error
+    import shutil
+
+    if shutil.which("ros2"):
+        pytest.skip("ros2 is on PATH here")
+    folder = package(tmp_path, "audit_findexec", ["ros2cli"], {"launch/a.launch.py": FIND_EXECUTABLE_LAUNCH})
+    launch = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert found(report, "PF301") == [], engine
+        assert found(report, "PF311") == [
+            (
+                "info",
+                "src/audit_findexec/launch/a.launch.py",
+                line_of(launch, "FindExecutable(name='ros2')"),
+                "a.launch.py: ExecuteProcess finds ros2 on PATH (FindExecutable), a program not "
+                "installed here; what it starts is not checked",
+            )
+        ], engine

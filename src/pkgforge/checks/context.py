@@ -489,12 +489,9 @@ class CheckContext:
             return "package"
         if error.type == "XacroException":
             return "xacro"
-        if (
-            self.package_not_installed_here(error)
-            or (error.type == "FileNotFoundError" and error.program)
-            or error.read_from
-        ):
-            return "unevaluated"  # (a program it runs at load, by name, that this machine lacks)
+        if self.package_not_installed_here(error) or error.program or error.read_from:
+            # (error.program: a program it runs or finds at load, by name, that this machine lacks)
+            return "unevaluated"
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
         if error.type == "KeyError" and self.unset_environment(resolution):

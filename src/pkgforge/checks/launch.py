@@ -143,6 +143,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
+            if item.program:
+                continue  # FindExecutable(name='ros2') not on PATH here (launch-unevaluated)
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None and item.read_before:
                 # loading read a package not installed here, the action failed on something empty
@@ -908,7 +910,8 @@ def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
     summary="a launch file imports a module of a ROS package, reads its files (or runs a program) "
     "not installed here",
     explanation="Not the launch file's fault: the package (or a program it runs while loading, "
-    "such as ros2) is simply not on this machine. A file that reads a declared package's files "
+    "such as ros2, or one an action finds on PATH with FindExecutable) is simply not on this "
+    "machine. A file that reads a declared package's files "
     "while loading (the MoveIt tutorials' load_yaml) and fails on what it did not find (None "
     "from its own `except EnvironmentError`) is this too: where the package is installed, the "
     "files are there. Its "
@@ -933,6 +936,18 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
         for item in resolution.errors if resolution.status == "ok" else []:
+            if item.program:
+                # FindExecutable(name='ros2') in an ExecuteProcess (the "Using event handlers"
+                # tutorial): where ROS is sourced, ros2 is on PATH
+                where = ctx.source_position(resolution, item.file, item.line)
+                if where is not None and (*where, item.program) not in said:
+                    said.add((*where, item.program))
+                    yield Finding(
+                        f"{where[0].name}: {item.entity or 'an action'} finds {item.program} on PATH "
+                        "(FindExecutable), a program not installed here; what it starts is not "
+                        f"checked{_branch_note(item, resolution)}",
+                        *where,
+                    )
             if item.read_from:
                 # ardupilot_gz's launch_setup (an OpaqueFunction) opens ardupilot_gazebo's model.sdf
                 where = ctx.source_position(resolution, item.file, item.line)

@@ -218,7 +218,12 @@ ROS_PROGRAMS = frozenset({"ros2", "gz", "ign"})
 
 def _program_not_found(error: BaseException) -> str | None:
     """The ROS tool a subprocess call named by its bare name and did not find on PATH
-    (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed)."""
+    (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed), or
+    any program FindExecutable did not find on PATH (`FindExecutable(name='ros2')`, the "Using
+    event handlers" tutorial): on the user's machine, with ROS sourced, PATH has it."""
+    found = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    if found is not None:
+        return found
     name = getattr(error, "filename", None)
     if not isinstance(error, FileNotFoundError) or name not in ROS_PROGRAMS:
         return None
@@ -400,6 +405,10 @@ def record_visit_failure(
     }
     if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
         record["module"] = error.name
+    # (a subprocess's program not found stays the action's error here: only FindExecutable's)
+    program = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    if program is not None:  # FindExecutable(name='ros2'): on PATH where ROS is sourced
+        record["program"] = program
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent

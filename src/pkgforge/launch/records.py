@@ -286,7 +286,9 @@ class Error(Record):
     entity: str | None = None
     package: str | None = None  # PackageNotFoundError: which package
     module: str | None = None  # ModuleNotFoundError: which module
-    program: str | None = None  # FileNotFoundError of a program the file runs (by name, from PATH)
+    # a program the file runs by name (subprocess's FileNotFoundError) or finds on PATH
+    # (FindExecutable's SubstitutionFailure) that this machine lacks
+    program: str | None = None
     # a declared package not installed here whose (empty) share folder the loading file read:
     # what failed after is that read's consequence (on the user's machine the files are there)
     read_from: str | None = None

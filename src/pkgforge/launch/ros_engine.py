@@ -546,6 +546,7 @@ def _hook_substitutions() -> None:
             RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
 
     wrap(subs.FindExecutable, before=find_executable)
+    _mark_failure(subs.FindExecutable, rt.FAILURE_PROGRAM)
 
     real_perform = ros_subs.FindPackage.perform
 
@@ -578,6 +579,24 @@ def _hook_substitutions() -> None:
     for name in RUN_TIME_VALUES:
         if hasattr(subs, name):
             getattr(subs, name).perform = _run_time_value(name)
+
+
+def _mark_failure(cls: Any, mark: str) -> None:
+    """cls's SubstitutionFailure carries the name it looked up, as the built-in engine's does
+    (runtime.marked): FindExecutable's program not on PATH (launch says it as the list of
+    substitutions, not the name)."""
+    real = cls.perform
+
+    def perform(self: Any, context: Any) -> Any:
+        name = L.perform(context, self.name)  # (a failure of the name's own substitutions is theirs)
+        try:
+            return real(self, context)
+        except L.launch.substitutions.SubstitutionFailure as error:
+            if getattr(self, "default_value", None) is None:  # (a default's failure is the default's)
+                rt.marked(error, mark, name)
+            raise
+
+    cls.perform = perform
 
 
 def _run_time_value(name: str) -> Callable[[Any, Any], str]:

@@ -72,6 +72,29 @@ class SubstitutionFailure(RuntimeError):
     pass
 
 
+# what a substitution's failure carries of its cause, for the record (evaluate._error_record,
+# evaluate.record_visit_failure); both engines set it, on their own SubstitutionFailure
+FAILURE_PROGRAM = "_pkgforge_program"  # FindExecutable: the program not found on PATH
+FAILURE_MARKS = (FAILURE_PROGRAM,)
+_Failure = TypeVar("_Failure", bound=BaseException)
+
+
+def marked(error: _Failure, mark: str, value: str) -> _Failure:
+    """`error`, carrying `value` under `mark` (one of FAILURE_MARKS) unless it carries one
+    already (the innermost substitution's failure is the cause)."""
+    if all(failure_mark(error, known) is None for known in FAILURE_MARKS):
+        try:
+            setattr(error, mark, value)
+        except AttributeError:  # an exception type without a __dict__: no mark
+            pass
+    return error
+
+
+def failure_mark(error: BaseException, mark: str) -> str | None:
+    value = getattr(error, mark, None)
+    return value if isinstance(value, str) else None
+
+
 class InvalidLaunchFileError(Exception):
     pass
 
@@ -300,7 +323,8 @@ class FindExecutable(Substitution):
         if name == "xacro":
             RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
         if found is None:
-            raise SubstitutionFailure(f"executable '{name}' not found on the PATH")
+            failure = SubstitutionFailure(f"executable '{name}' not found on the PATH")
+            raise marked(failure, FAILURE_PROGRAM, name)
         return found
 
 
