@@ -187,3 +187,59 @@ def test_a_program_find_executable_does_not_find_here_is_unevaluated_not_an_erro
                 "installed here; what it starts is not checked",
             )
         ], engine
+
+
+ENVIRONMENT_SUBSTITUTION_LAUNCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, LogInfo, UnsetEnvironmentVariable
+from launch.substitutions import EnvironmentVariable, FileContent, LaunchConfiguration
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('node_prefix', default_value=[EnvironmentVariable('AUDIT_OPERATOR'), '_']),
+        LogInfo(msg=[LaunchConfiguration('node_prefix'), 'ok']),
+        LogInfo(msg=EnvironmentVariable('AUDIT_SITE')),
+        UnsetEnvironmentVariable('AUDIT_SITE'),
+        LogInfo(msg=EnvironmentVariable('AUDIT_SITE')),
+        LogInfo(msg=FileContent('/nonexistent-pkgforge-test/notes.txt')),
+    ])
+"""
+
+
+def test_an_environment_variable_substitution_not_set_here_is_the_unset_variable_info(tmp_path, monkeypatch):
+    # the tf2 tutorial's DeclareLaunchArgument('node_prefix', default_value=[EnvironmentVariable(
+    # 'USER'), '_']) where USER is not set (a container, CI): "SubstitutionFailure: environment
+    # variable 'USER' does not exist" was a PF301 error; os.environ['USER'] was PF317 already.
+    # A variable set here that the file unsets itself, and any other SubstitutionFailure, stay errors
+    monkeypatch.delenv("AUDIT_OPERATOR", raising=False)
+    monkeypatch.setenv("AUDIT_SITE", "lab")
+    folder = package(
+        tmp_path, "audit_envsub", ["launch"], {"launch/a.launch.py": ENVIRONMENT_SUBSTITUTION_LAUNCH}
+    )
+    launch = folder / "launch" / "a.launch.py"
+    path = "src/audit_envsub/launch/a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert found(report, "PF317") == [
+            (
+                "info",
+                path,
+                line_of(launch, "EnvironmentVariable('AUDIT_OPERATOR')"),
+                "a.launch.py: DeclareLaunchArgument fails: environment variable AUDIT_OPERATOR is not "
+                "set here (EnvironmentVariable without a default); what depends on it is not checked",
+            )
+        ], engine
+        reads = [n for n, text in enumerate(launch.read_text().splitlines(), 1) if "'AUDIT_SITE'" in text]
+        assert found(report, "PF301") == [
+            (
+                "error",
+                path,
+                reads[2],  # after the file's own UnsetEnvironmentVariable
+                "LogInfo failed: SubstitutionFailure: environment variable 'AUDIT_SITE' does not exist",
+            ),
+            (
+                "error",
+                path,
+                line_of(launch, "FileContent("),
+                "LogInfo failed: SubstitutionFailure: File not found: /nonexistent-pkgforge-test/notes.txt",
+            ),
+        ], engine

@@ -145,6 +145,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 # that file is evaluated, and reported (launch-environment-unset), on its own
             if item.program:
                 continue  # FindExecutable(name='ros2') not on PATH here (launch-unevaluated)
+            if ctx.unset_variable(item):
+                continue  # EnvironmentVariable('USER') not set here (launch-environment-unset)
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None and item.read_before:
                 # loading read a package not installed here, the action failed on something empty
@@ -968,15 +970,30 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     bad=("# launch/robot.launch.py\nmodel = os.environ['TURTLEBOT3_MODEL']"),
     good="$ TURTLEBOT3_MODEL=burger pkgforge verify .",
     summary="a launch file reads an environment variable that is not set here",
-    explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
-    "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
-    "builds paths with the text None; what depends on it is not checked. When it stops the file, "
+    explanation="os.environ['X'], os.getenv('X') or EnvironmentVariable('X') with no default: the "
+    "robot's own setup (or the user's shell) sets it (TURTLEBOT3_MODEL, a robot base name, USER). "
+    "Without it the file stops (KeyError), builds paths with the text None, or the action using "
+    "the substitution fails (SubstitutionFailure); what depends on it is not checked. When it "
+    "stops the file, "
     "what the file names literally (packages, paths, nodes) is still checked, as for a file that "
     "cannot be evaluated here.",
     hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default",
 )
 def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
+    said: set[tuple[Path, int | None, str]] = set()  # (an included file's action: said once, at its line)
     for resolution in ctx.resolutions:
+        for item in resolution.errors if resolution.status == "ok" else []:
+            variable = ctx.unset_variable(item)
+            at = ctx.source_position(resolution, item.file, item.line) if variable else None
+            if variable is None or at is None or (*at, variable) in said:
+                continue
+            said.add((*at, variable))
+            yield Finding(
+                f"{at[0].name}: {item.entity or 'an action'} fails: environment variable {variable} "
+                "is not set here (EnvironmentVariable without a default); what depends on it is not "
+                f"checked{_branch_note(item, resolution)}",
+                *at,
+            )
         names = ctx.unset_environment(resolution)
         if not names:
             continue

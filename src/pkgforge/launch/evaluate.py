@@ -283,6 +283,9 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     program = _program_not_found(error)
     if program is not None:
         record["program"] = program
+    variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
+    if variable is not None:
+        record["variable"] = variable
     line = getattr(error, "line", None)  # the built-in front end's FrontendError
     if line and type(error).__name__ == "FrontendError":
         record["line"] = line
@@ -409,6 +412,9 @@ def record_visit_failure(
     program = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
     if program is not None:  # FindExecutable(name='ros2'): on PATH where ROS is sourced
         record["program"] = program
+    variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
+    if variable is not None:  # EnvironmentVariable('USER') without a default, not set here
+        record["variable"] = variable
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent

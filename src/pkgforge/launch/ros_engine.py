@@ -547,6 +547,7 @@ def _hook_substitutions() -> None:
 
     wrap(subs.FindExecutable, before=find_executable)
     _mark_failure(subs.FindExecutable, rt.FAILURE_PROGRAM)
+    _mark_failure(subs.EnvironmentVariable, rt.FAILURE_VARIABLE)
 
     real_perform = ros_subs.FindPackage.perform
 
@@ -583,8 +584,8 @@ def _hook_substitutions() -> None:
 
 def _mark_failure(cls: Any, mark: str) -> None:
     """cls's SubstitutionFailure carries the name it looked up, as the built-in engine's does
-    (runtime.marked): FindExecutable's program not on PATH (launch says it as the list of
-    substitutions, not the name)."""
+    (runtime.marked): FindExecutable's program not on PATH, EnvironmentVariable's variable not set
+    (launch says the former as the list of substitutions, not the name)."""
     real = cls.perform
 
     def perform(self: Any, context: Any) -> Any:

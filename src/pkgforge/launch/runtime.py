@@ -75,7 +75,8 @@ class SubstitutionFailure(RuntimeError):
 # what a substitution's failure carries of its cause, for the record (evaluate._error_record,
 # evaluate.record_visit_failure); both engines set it, on their own SubstitutionFailure
 FAILURE_PROGRAM = "_pkgforge_program"  # FindExecutable: the program not found on PATH
-FAILURE_MARKS = (FAILURE_PROGRAM,)
+FAILURE_VARIABLE = "_pkgforge_variable"  # EnvironmentVariable without a default: the variable not set
+FAILURE_MARKS = (FAILURE_PROGRAM, FAILURE_VARIABLE)
 _Failure = TypeVar("_Failure", bound=BaseException)
 
 
@@ -305,7 +306,8 @@ class EnvironmentVariable(Substitution):
         value = context.environment.get(name)
         if value is None:
             if self.default_value is None:
-                raise SubstitutionFailure(f"environment variable '{name}' does not exist")
+                failure = SubstitutionFailure(f"environment variable '{name}' does not exist")
+                raise marked(failure, FAILURE_VARIABLE, name)
             return perform(context, self.default_value)
         return value
 
