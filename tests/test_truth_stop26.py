@@ -243,3 +243,43 @@ def test_an_environment_variable_substitution_not_set_here_is_the_unset_variable
                 "LogInfo failed: SubstitutionFailure: File not found: /nonexistent-pkgforge-test/notes.txt",
             ),
         ], engine
+
+
+SHUTDOWN_EVENT_LAUNCH = """from launch import LaunchDescription
+from launch.actions import ExecuteProcess, LogInfo, RegisterEventHandler
+from launch.event_handlers import OnProcessExit, OnShutdown
+from launch.substitutions import LocalSubstitution
+
+
+def generate_launch_description():
+    sleeper = ExecuteProcess(cmd=['sleep', '1'])
+    return LaunchDescription([
+        sleeper,
+        RegisterEventHandler(OnProcessExit(target_action=sleeper, on_exit=[LogInfo(
+            msg=['exited: ', LocalSubstitution('event.process_name')])])),
+        RegisterEventHandler(OnShutdown(on_shutdown=[LogInfo(
+            msg=['Launch was asked to shutdown: ', LocalSubstitution('event.reason')])])),
+    ])
+"""
+
+
+def test_an_event_handlers_entities_see_the_event(tmp_path):
+    # the "Using event handlers" tutorial: OnShutdown's LogInfo of LocalSubstitution('event.reason').
+    # launch puts the event in the locals before it visits a handler's entities; the built-in
+    # engine did not ("NameError: name 'event' is not defined", a PF301 error), the ros engine
+    # did not for OnProcessExit, and did not visit OnShutdown's entities at all
+    folder = package(tmp_path, "audit_events", ["launch"], {"launch/a.launch.py": SHUTDOWN_EVENT_LAUNCH})
+    launch = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert [d for d in report["diagnostics"] if d["path"].endswith(".py")] == [], engine
+    # a misspelt attribute of the event is the file's own error, as launch says it when it happens
+    launch.write_text(SHUTDOWN_EVENT_LAUNCH.replace("event.reason", "event.reasons"))
+    for engine, report in engine_reports(tmp_path).items():
+        assert found(report, "PF301") == [
+            (
+                "error",
+                "src/audit_events/launch/a.launch.py",
+                line_of(launch, "RegisterEventHandler(OnShutdown("),
+                "LogInfo failed: AttributeError: 'Shutdown' object has no attribute 'reasons'",
+            )
+        ], engine

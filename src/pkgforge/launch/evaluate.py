@@ -6,13 +6,14 @@ value (so both sides of `gui` are checked); `--launch-arg` values are fixed.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import itertools
 import os
 import re
 import sys
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from types import ModuleType
 from typing import Any
 
@@ -345,10 +346,26 @@ def visit(
                 record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
             continue
         if children:
-            handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
-            visit(
-                list(children), context, depth + 1, handler, *child_spans(entity, start, ancestors, loading)
-            )
+            registered = type(entity).__name__ == "RegisterEventHandler"
+            spans = child_spans(entity, start, ancestors, loading)
+            if not registered:
+                visit(list(children), context, depth + 1, in_handler, *spans)
+                continue
+            handler = getattr(entity, "event_handler", None)
+            with handling(context, runtime.handler_event(handler, getattr(handler, "target_action", None))):
+                visit(list(children), context, depth + 1, True, *spans)
+
+
+@contextlib.contextmanager
+def handling(context: Any, event: object) -> Iterator[None]:
+    """What launch does around an event handler's entities (LaunchService.__process_event, both
+    engines): the locals pushed, `event` added (BaseEventHandler.handle), the locals popped after."""
+    context._push_locals()
+    context.extend_locals({"event": event})
+    try:
+        yield
+    finally:
+        context._pop_locals()
 
 
 # the actions that load another launch file when visited
