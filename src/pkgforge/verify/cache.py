@@ -66,7 +66,9 @@ if TYPE_CHECKING:
 #    unset variable checked statically
 # 20: the exports table (model/data/exports.json, not in the key) covers navigation2, rviz, moveit2,
 #    ros2_controllers, ros_gz, xacro, ...; packages colcon ignores left out of it
-CACHE_FORMAT = 20
+# 21: FindExecutable's program not on PATH is PF311, EnvironmentVariable's variable not set PF317
+#    (both engines; errors record `variable`); an event handler's entities see `event` in the locals
+CACHE_FORMAT = 21
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
