@@ -254,17 +254,13 @@ def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp
     # a workspace that simulates or controls the robot enforces the velocity limit: an error
     package_xml = package / "package.xml"
     package_xml.write_text(
-        package_xml.read_text().replace(
-            "<export>", "<exec_depend>ros2_control</exec_depend>\n  <export>", 1
-        )
+        package_xml.read_text().replace("<export>", "<exec_depend>ros2_control</exec_depend>\n  <export>", 1)
     )
     status, report = verify_report(tmp_path, "--no-cache")
     assert [(d["code"], d["severity"]) for d in report["diagnostics"] if d["code"] == "PF605"] == [
         ("PF605", "error")
     ]
-    package_xml.write_text(
-        package_xml.read_text().replace("<exec_depend>ros2_control</exec_depend>\n  ", "")
-    )
+    package_xml.write_text(package_xml.read_text().replace("<exec_depend>ros2_control</exec_depend>\n  ", ""))
     # reversed limits leave no allowed position: an error
     model.write_text(
         model.read_text().replace(

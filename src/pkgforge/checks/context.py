@@ -518,15 +518,12 @@ class CheckContext:
             return "package"
         if error.type == "XacroException":
             return "xacro"
-        if (
-            self.package_not_installed_here(error)
-            or (error.type == "FileNotFoundError" and error.program)
-            or error.read_from
-        ):
-            return "unevaluated"  # (a program it runs at load, by name, that this machine lacks)
+        if self.package_not_installed_here(error) or error.program or error.read_from:
+            # (error.program: a program it runs or finds at load, by name, that this machine lacks)
+            return "unevaluated"
         if self.newer_launch_name(resolution) is not None:
             return "newer-api"
-        if error.type == "KeyError" and self.unset_environment(resolution):
+        if (error.type == "KeyError" or self.unset_variable(error)) and self.unset_environment(resolution):
             return "environment"
         return "load"
 
@@ -600,10 +597,23 @@ class CheckContext:
         reads: list[str] = self._shared(("environment-reads", source), lambda: _environment_reads(source))
         unset = [n for n in reads if n not in os.environ]
         error = resolution.error
-        if resolution.status == "load-error" and error is not None and error.type == "KeyError":
-            key = re.search(r"'([^']+)'", str(error.message or ""))
-            return [key.group(1)] if key and key.group(1) in unset else []
+        if resolution.status == "load-error" and error is not None:
+            variable = self.unset_variable(error)  # EnvironmentVariable('X') performed while loading
+            if variable is not None:
+                return [variable]
+            if error.type == "KeyError":
+                key = re.search(r"'([^']+)'", str(error.message or ""))
+                return [key.group(1)] if key and key.group(1) in unset else []
         return unset
+
+    @staticmethod
+    def unset_variable(error: LaunchError) -> str | None:
+        """The environment variable an EnvironmentVariable substitution without a default failed
+        on, when it is not set here either (`EnvironmentVariable('USER')`: the user's shell sets
+        it); None for any other failure, and for a variable set here that the file unset itself."""
+        if error.variable and error.variable not in os.environ:
+            return error.variable
+        return None
 
     def variable_unset_here(self, message: str | None) -> bool:
         """Whether a KeyError's message names an environment variable one of this package's launch

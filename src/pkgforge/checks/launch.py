@@ -147,6 +147,10 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
+            if item.program:
+                continue  # FindExecutable(name='ros2') not on PATH here (launch-unevaluated)
+            if ctx.unset_variable(item):
+                continue  # EnvironmentVariable('USER') not set here (launch-environment-unset)
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None and item.read_before:
                 # loading read a package not installed here, the action failed on something empty
@@ -977,7 +981,8 @@ def unsupported_launch_api(ctx: CheckContext) -> Iterator[Finding]:
     summary="a launch file imports a module of a ROS package, reads its files (or runs a program) "
     "not installed here",
     explanation="Not the launch file's fault: the package (or a program it runs while loading, "
-    "such as ros2) is simply not on this machine. A file that reads a declared package's files "
+    "such as ros2, or one an action finds on PATH with FindExecutable) is simply not on this "
+    "machine. A file that reads a declared package's files "
     "while loading (the MoveIt tutorials' load_yaml) and fails on what it did not find (None "
     "from its own `except EnvironmentError`) is this too: where the package is installed, the "
     "files are there. Its "
@@ -1004,6 +1009,18 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
         for item in resolution.errors if resolution.status == "ok" else []:
+            if item.program:
+                # FindExecutable(name='ros2') in an ExecuteProcess (the "Using event handlers"
+                # tutorial): where ROS is sourced, ros2 is on PATH
+                where = ctx.source_position(resolution, item.file, item.line)
+                if where is not None and (*where, item.program) not in said:
+                    said.add((*where, item.program))
+                    yield Finding(
+                        f"{where[0].name}: {item.entity or 'an action'} finds {item.program} on PATH "
+                        "(FindExecutable), a program not installed here; what it starts is not "
+                        f"checked{_branch_note(item, resolution)}",
+                        *where,
+                    )
             if item.read_from:
                 # ardupilot_gz's launch_setup (an OpaqueFunction) opens ardupilot_gazebo's model.sdf
                 where = ctx.source_position(resolution, item.file, item.line)
@@ -1024,15 +1041,30 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     bad=("# launch/robot.launch.py\nmodel = os.environ['TURTLEBOT3_MODEL']"),
     good="$ TURTLEBOT3_MODEL=burger pkgforge verify .",
     summary="a launch file reads an environment variable that is not set here",
-    explanation="os.environ['X'] or os.getenv('X') with no default: the robot's own setup sets it "
-    "(TURTLEBOT3_MODEL, a robot base name). Without it the file stops (KeyError) or "
-    "builds paths with the text None; what depends on it is not checked. When it stops the file, "
+    explanation="os.environ['X'], os.getenv('X') or EnvironmentVariable('X') with no default: the "
+    "robot's own setup (or the user's shell) sets it (TURTLEBOT3_MODEL, a robot base name, USER). "
+    "Without it the file stops (KeyError), builds paths with the text None, or the action using "
+    "the substitution fails (SubstitutionFailure); what depends on it is not checked. When it "
+    "stops the file, "
     "what the file names literally (packages, paths, nodes) is still checked, as for a file that "
     "cannot be evaluated here.",
     hint="set it when you run verify (e.g. NAME=value pkgforge verify), or give it a default",
 )
 def launch_environment_unset(ctx: CheckContext) -> Iterator[Finding]:
+    said: set[tuple[Path, int | None, str]] = set()  # (an included file's action: said once, at its line)
     for resolution in ctx.resolutions:
+        for item in resolution.errors if resolution.status == "ok" else []:
+            variable = ctx.unset_variable(item)
+            at = ctx.source_position(resolution, item.file, item.line) if variable else None
+            if variable is None or at is None or (*at, variable) in said:
+                continue
+            said.add((*at, variable))
+            yield Finding(
+                f"{at[0].name}: {item.entity or 'an action'} fails: environment variable {variable} "
+                "is not set here (EnvironmentVariable without a default); what depends on it is not "
+                f"checked{_branch_note(item, resolution)}",
+                *at,
+            )
         names = ctx.unset_environment(resolution)
         if not names:
             continue

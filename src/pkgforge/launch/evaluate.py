@@ -6,13 +6,14 @@ value (so both sides of `gui` are checked); `--launch-arg` values are fixed.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import itertools
 import os
 import re
 import sys
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from types import ModuleType
 from typing import Any
 
@@ -218,7 +219,12 @@ ROS_PROGRAMS = frozenset({"ros2", "gz", "ign"})
 
 def _program_not_found(error: BaseException) -> str | None:
     """The ROS tool a subprocess call named by its bare name and did not find on PATH
-    (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed)."""
+    (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed), or
+    any program FindExecutable did not find on PATH (`FindExecutable(name='ros2')`, the "Using
+    event handlers" tutorial): on the user's machine, with ROS sourced, PATH has it."""
+    found = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    if found is not None:
+        return found
     name = getattr(error, "filename", None)
     if not isinstance(error, FileNotFoundError) or name not in ROS_PROGRAMS:
         return None
@@ -278,6 +284,9 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     program = _program_not_found(error)
     if program is not None:
         record["program"] = program
+    variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
+    if variable is not None:
+        record["variable"] = variable
     line = getattr(error, "line", None)  # the built-in front end's FrontendError
     if line and type(error).__name__ == "FrontendError":
         record["line"] = line
@@ -337,10 +346,26 @@ def visit(
                 record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
             continue
         if children:
-            handler = in_handler or type(entity).__name__ == "RegisterEventHandler"
-            visit(
-                list(children), context, depth + 1, handler, *child_spans(entity, start, ancestors, loading)
-            )
+            registered = type(entity).__name__ == "RegisterEventHandler"
+            spans = child_spans(entity, start, ancestors, loading)
+            if not registered:
+                visit(list(children), context, depth + 1, in_handler, *spans)
+                continue
+            handler = getattr(entity, "event_handler", None)
+            with handling(context, runtime.handler_event(handler, getattr(handler, "target_action", None))):
+                visit(list(children), context, depth + 1, True, *spans)
+
+
+@contextlib.contextmanager
+def handling(context: Any, event: object) -> Iterator[None]:
+    """What launch does around an event handler's entities (LaunchService.__process_event, both
+    engines): the locals pushed, `event` added (BaseEventHandler.handle), the locals popped after."""
+    context._push_locals()
+    context.extend_locals({"event": event})
+    try:
+        yield
+    finally:
+        context._pop_locals()
 
 
 # the actions that load another launch file when visited
@@ -400,6 +425,13 @@ def record_visit_failure(
     }
     if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
         record["module"] = error.name
+    # (a subprocess's program not found stays the action's error here: only FindExecutable's)
+    program = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    if program is not None:  # FindExecutable(name='ros2'): on PATH where ROS is sourced
+        record["program"] = program
+    variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
+    if variable is not None:  # EnvironmentVariable('USER') without a default, not set here
+        record["variable"] = variable
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent

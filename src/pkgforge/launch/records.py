@@ -130,6 +130,7 @@ class ErrorRecordDict(RecordDict, total=False):
     package: str | None
     module: str | None
     program: str | None
+    variable: str | None
     read_from: str | None
     read_before: str | None
     limit: LimitKind | None
@@ -286,7 +287,10 @@ class Error(Record):
     entity: str | None = None
     package: str | None = None  # PackageNotFoundError: which package
     module: str | None = None  # ModuleNotFoundError: which module
-    program: str | None = None  # FileNotFoundError of a program the file runs (by name, from PATH)
+    # a program the file runs by name (subprocess's FileNotFoundError) or finds on PATH
+    # (FindExecutable's SubstitutionFailure) that this machine lacks
+    program: str | None = None
+    variable: str | None = None  # EnvironmentVariable's SubstitutionFailure: the variable not set
     # a declared package not installed here whose (empty) share folder the loading file read:
     # what failed after is that read's consequence (on the user's machine the files are there)
     read_from: str | None = None

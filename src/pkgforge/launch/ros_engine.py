@@ -546,6 +546,8 @@ def _hook_substitutions() -> None:
             RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
 
     wrap(subs.FindExecutable, before=find_executable)
+    _mark_failure(subs.FindExecutable, rt.FAILURE_PROGRAM)
+    _mark_failure(subs.EnvironmentVariable, rt.FAILURE_VARIABLE)
 
     real_perform = ros_subs.FindPackage.perform
 
@@ -578,6 +580,24 @@ def _hook_substitutions() -> None:
     for name in RUN_TIME_VALUES:
         if hasattr(subs, name):
             getattr(subs, name).perform = _run_time_value(name)
+
+
+def _mark_failure(cls: Any, mark: str) -> None:
+    """cls's SubstitutionFailure carries the name it looked up, as the built-in engine's does
+    (runtime.marked): FindExecutable's program not on PATH, EnvironmentVariable's variable not set
+    (launch says the former as the list of substitutions, not the name)."""
+    real = cls.perform
+
+    def perform(self: Any, context: Any) -> Any:
+        name = L.perform(context, self.name)  # (a failure of the name's own substitutions is theirs)
+        try:
+            return real(self, context)
+        except L.launch.substitutions.SubstitutionFailure as error:
+            if getattr(self, "default_value", None) is None:  # (a default's failure is the default's)
+                rt.marked(error, mark, name)
+            raise
+
+    cls.perform = perform
 
 
 def _run_time_value(name: str) -> Callable[[Any, Any], str]:
@@ -809,13 +829,35 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
         out: list[Any] = []
         for _, entities in action.describe_conditional_sub_entities():
             out.extend(e for e in entities if isinstance(e, launch.LaunchDescriptionEntity))
-        return out
+        return out + _shutdown_entities(action.event_handler)
     if name == "SetParametersFromFile":
         _record_path(
             _text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile"
         )
     children: Iterable[Any] | None = action.execute(context)
     return children
+
+
+def _shutdown_entities(handler: Any) -> list[Any]:
+    """OnShutdown(on_shutdown=[...])'s entities, which its describe() leaves out: launch keeps them
+    in a function of its own that returns them whatever the event (humble's lambda, gen_handler
+    from Iron on); called as launch calls it on shutdown. A function of the file's own is only
+    known when the event happens (as in the built-in engine)."""
+    function = getattr(handler, "_OnShutdown__on_shutdown", None)
+    if function is None or getattr(function, "__module__", None) != "launch.event_handlers.on_shutdown":
+        return []
+    entities = function(None, None)  # (it reads neither the event nor the context)
+    entities = entities if isinstance(entities, Iterable) else [entities]
+    return [e for e in entities if isinstance(e, L.launch.LaunchDescriptionEntity)]
+
+
+def _handled_event(action: Any) -> rt.HandledEvent:
+    """The event a RegisterEventHandler's handler handles (runtime.handler_event), with the action
+    it watches: launch keeps that in the handler's private attributes."""
+    handler = action.event_handler
+    target = getattr(handler, "_OnActionEventBase__action_matcher", None)
+    target = getattr(handler, "_OnStateTransition__target_lifecycle_node", target)
+    return rt.handler_event(handler, target if isinstance(target, L.launch.Action) else None)
 
 
 def _declare(action: Any, context: Any) -> Iterable[Any] | None:
@@ -918,12 +960,16 @@ def visit(
         if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
             record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
         return
-    from pkgforge.launch.evaluate import child_spans
+    from pkgforge.launch.evaluate import child_spans, handling
 
-    handler = in_handler or isinstance(entity, launch.actions.RegisterEventHandler)
     spans = child_spans(entity, start, ancestors, loading)
-    for child in children or []:
-        visit(child, context, depth + 1, handler, *spans)
+    if not isinstance(entity, launch.actions.RegisterEventHandler):
+        for child in children or []:
+            visit(child, context, depth + 1, in_handler, *spans)
+        return
+    with handling(context, _handled_event(entity)):  # as launch visits them when the event comes
+        for child in children or []:
+            visit(child, context, depth + 1, True, *spans)
 
 
 # --- one file -----------------------------------------------------------------------------

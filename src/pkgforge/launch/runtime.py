@@ -72,6 +72,30 @@ class SubstitutionFailure(RuntimeError):
     pass
 
 
+# what a substitution's failure carries of its cause, for the record (evaluate._error_record,
+# evaluate.record_visit_failure); both engines set it, on their own SubstitutionFailure
+FAILURE_PROGRAM = "_pkgforge_program"  # FindExecutable: the program not found on PATH
+FAILURE_VARIABLE = "_pkgforge_variable"  # EnvironmentVariable without a default: the variable not set
+FAILURE_MARKS = (FAILURE_PROGRAM, FAILURE_VARIABLE)
+_Failure = TypeVar("_Failure", bound=BaseException)
+
+
+def marked(error: _Failure, mark: str, value: str) -> _Failure:
+    """`error`, carrying `value` under `mark` (one of FAILURE_MARKS) unless it carries one
+    already (the innermost substitution's failure is the cause)."""
+    if all(failure_mark(error, known) is None for known in FAILURE_MARKS):
+        try:
+            setattr(error, mark, value)
+        except AttributeError:  # an exception type without a __dict__: no mark
+            pass
+    return error
+
+
+def failure_mark(error: BaseException, mark: str) -> str | None:
+    value = getattr(error, mark, None)
+    return value if isinstance(value, str) else None
+
+
 class InvalidLaunchFileError(Exception):
     pass
 
@@ -134,6 +158,7 @@ class LaunchContext:
         self._initial_environment = dict(os.environ)
         self._environment_stack: list[dict[str, str]] = []
         self.locals = _Locals()
+        self._locals_stack: list[dict[str, Any]] = []
         self.argv = argv or []
         self.noninteractive = noninteractive
         self._stack: list[dict[str, Any]] = []
@@ -147,6 +172,13 @@ class LaunchContext:
 
     def get_locals_as_dict(self) -> dict[str, Any]:
         return dict(self.locals.__dict__)
+
+    def _push_locals(self) -> None:  # launch's own, around an event handler's entities
+        self._locals_stack.append(dict(self.locals.__dict__))
+
+    def _pop_locals(self) -> None:
+        self.locals.__dict__.clear()
+        self.locals.__dict__.update(self._locals_stack.pop())
 
     def _push(self) -> None:
         self._stack.append(dict(self.launch_configurations))
@@ -282,7 +314,8 @@ class EnvironmentVariable(Substitution):
         value = context.environment.get(name)
         if value is None:
             if self.default_value is None:
-                raise SubstitutionFailure(f"environment variable '{name}' does not exist")
+                failure = SubstitutionFailure(f"environment variable '{name}' does not exist")
+                raise marked(failure, FAILURE_VARIABLE, name)
             return perform(context, self.default_value)
         return value
 
@@ -300,7 +333,8 @@ class FindExecutable(Substitution):
         if name == "xacro":
             RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
         if found is None:
-            raise SubstitutionFailure(f"executable '{name}' not found on the PATH")
+            failure = SubstitutionFailure(f"executable '{name}' not found on the PATH")
+            raise marked(failure, FAILURE_PROGRAM, name)
         return found
 
 
@@ -476,7 +510,10 @@ class LocalSubstitution(Substitution):
         self.expression = expression
 
     def perform(self, context: LaunchContext) -> str:
-        return str(eval(self.expression, {}, context.get_locals_as_dict()))
+        # the value as it is, as launch returns it (an int such as event.returncode fails where
+        # the substitutions are joined, as in ROS)
+        value: str = eval(self.expression, {}, context.get_locals_as_dict())
+        return value
 
 
 def _truth(text: str) -> bool:
@@ -1180,13 +1217,16 @@ class _OnEvent(EventHandler):
         "entities",
     )
 
-    # the real handler's keyword arguments (on_exit=…, target_action=…): only HANDLERS are read
+    # the real handler's keyword arguments (on_exit=…, target_action=…): HANDLERS and the target
+    # are read
     def __init__(self, **kwargs: Any) -> None:
         entities: list[LaunchDescriptionEntity] = []
         for key in self.HANDLERS:
             entities.extend(_as_entities(kwargs.get(key)))
         super().__init__()
         self.entities = entities
+        target = kwargs.get("target_action", kwargs.get("target_lifecycle_node"))
+        self.target_action = target if isinstance(target, Action) else None  # (not a matcher function)
 
 
 class OnProcessExit(_OnEvent):
@@ -1224,6 +1264,63 @@ class OnStateTransition(_OnEvent):
 def matcher(*args: Any, **kwargs: Any) -> Callable[[object], bool]:  # the real matcher's arguments
     """event_named, matches_action…: a predicate on events, which never come at verify time."""
     return lambda event: False
+
+
+class HandledEvent:
+    """The event launch puts in the context's locals (`event`) before it visits an event
+    handler's entities (launch.event_handler.BaseEventHandler.handle), so that
+    LocalSubstitution('event.reason') performs: no event happens at verify time, so this stands
+    in for launch's event of the handler's kind (launch/events/, launch_ros's StateTransition),
+    with its attributes; what only a run tells (a pid, an exit code, output) has a neutral value.
+    Its class is named as launch's (an attribute it lacks: "'Shutdown' object has no attribute")."""
+
+    def __init__(self, **attributes: object) -> None:
+        self.__dict__.update(attributes)
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} event (no event at verify time)>"
+
+
+_EVENT_CLASSES: dict[str, type[HandledEvent]] = {}
+
+
+def _event(kind: str, **attributes: object) -> HandledEvent:
+    cls = _EVENT_CLASSES.get(kind)
+    if cls is None:
+        cls = _EVENT_CLASSES[kind] = type(kind, (HandledEvent,), {})
+    return cls(**attributes)
+
+
+def handler_event(handler: object, target: object = None) -> HandledEvent:
+    """The event `handler` (launch's or pkgforge's, by its class's name) handles, standing in
+    (both engines); `target`: the action it watches (target_action), None for any."""
+    kinds = {cls.__name__ for cls in type(handler).__mro__}
+    process: dict[str, object] = {
+        "action": target,
+        "execute_process_action": target,
+        "process_name": "",
+        "cmd": [],
+        "cwd": None,
+        "env": None,
+        "pid": 0,
+    }
+    if "OnShutdown" in kinds:  # launch.events.Shutdown's defaults (a Shutdown action without reason)
+        return _event("Shutdown", reason="reason not given", due_to_sigint=False)
+    if "OnProcessStart" in kinds:
+        return _event("ProcessStarted", **process)
+    if "OnProcessExit" in kinds:
+        return _event("ProcessExited", **process, returncode=0)
+    if "OnProcessIO" in kinds:  # (a line of the process's standard output)
+        fd = {"from_stdin": False, "from_stdout": True, "from_stderr": False}
+        return _event("ProcessIO", **process, text=b"", **fd)
+    if "OnExecutionComplete" in kinds:
+        return _event("ExecutionComplete", action=target)
+    if "OnIncludeLaunchDescription" in kinds:
+        return _event("IncludeLaunchDescription", launch_description=None)
+    if "OnStateTransition" in kinds:
+        states = {"transition": "", "start_state": "", "goal_state": ""}
+        return _event("StateTransition", action=target, msg=None, timestamp=0, **states)
+    return _event("Event")  # a handler of its own matcher: which event, only the run tells
 
 
 class InertEvent(Located):

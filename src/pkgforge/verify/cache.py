@@ -79,7 +79,9 @@ if TYPE_CHECKING:
 # 30: a matrix branch key counts as this repository's only when its checkout reads it or the triggers name it
 # 31: PF305 off-default uses a warning only for viewers (rviz2, rqt, jsp_gui)
 # 32: MoveIt no longer makes a zero velocity an error; a point mass an error where Gazebo Classic is used
-CACHE_FORMAT = 32
+# 33: FindExecutable's program not on PATH is PF311, EnvironmentVariable's variable not set PF317
+#    (both engines; errors record `variable`); an event handler's entities see `event` in the locals
+CACHE_FORMAT = 33
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
