@@ -926,3 +926,37 @@ def test_an_event_handlers_entities_see_the_event(tmp_path):
                 "LogInfo failed: AttributeError: 'Shutdown' object has no attribute 'reasons'",
             )
         ], engine
+
+
+PATHLIB_XACRO_LAUNCH = """import os
+from pathlib import Path
+
+import xacro
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    path = Path(os.path.join(get_package_share_directory('audit_path'), 'urdf', 'robot.urdf.xacro'))
+    document = xacro.process_file(path)
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'robot_description': document.toxml()}]),
+    ])
+"""
+
+
+def test_the_xacro_library_given_a_pathlib_path_is_the_same_model(tmp_path):
+    # jocacace/ROSConES: xacro.process_file(Path(...)) on a model including a declared package
+    # not installed here was xacro-error's PF308 error; with a str path, model-unevaluated's info
+    package(
+        tmp_path,
+        "audit_path",
+        ["launch_ros", "robot_state_publisher", "xacro", "orbbec_description"],
+        {"launch/a.launch.py": PATHLIB_XACRO_LAUNCH, "urdf/robot.urdf.xacro": CAMERA_MODEL},
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert [(d["code"], d["severity"], d["path"]) for d in report["diagnostics"]] == [
+        ("PF407", "info", "src/audit_path/urdf/robot.urdf.xacro")
+    ]

@@ -455,6 +455,8 @@ def _watch_xacro() -> None:
         caller = sys._getframe(2).f_code.co_filename
         if caller not in runtime._LAUNCH_FILES:
             return
+        if isinstance(path, os.PathLike):  # xacro opens a pathlib.Path as it opens a str
+            path = os.fspath(path)
         if not runtime._RUNNING_XACRO and isinstance(path, str) and os.path.isabs(path):
             file, line = runtime.here()
             # the xacro arguments it gives (andino's spawn_robot: use_gazebo_ros_control), so the

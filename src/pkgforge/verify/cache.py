@@ -81,7 +81,8 @@ if TYPE_CHECKING:
 # 32: MoveIt no longer makes a zero velocity an error; a point mass an error where Gazebo Classic is used
 # 33: FindExecutable's program not on PATH is PF311, EnvironmentVariable's variable not set PF317
 #    (both engines; errors record `variable`); an event handler's entities see `event` in the locals
-CACHE_FORMAT = 33
+# 34: a launch file's xacro.process_file(pathlib.Path) recorded as with a str
+CACHE_FORMAT = 34
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
