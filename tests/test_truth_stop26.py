@@ -960,3 +960,34 @@ def test_the_xacro_library_given_a_pathlib_path_is_the_same_model(tmp_path):
     assert [(d["code"], d["severity"], d["path"]) for d in report["diagnostics"]] == [
         ("PF407", "info", "src/audit_path/urdf/robot.urdf.xacro")
     ]
+
+
+BOTH_READ_THE_FILE_LAUNCH = """import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    urdf = os.path.join(get_package_share_directory('audit_arm'), 'urdf', 'arm.urdf')
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher', arguments=[urdf]),
+        Node(package='joint_state_publisher_gui', executable='joint_state_publisher_gui', arguments=[urdf]),
+    ])
+"""
+
+
+def test_jsp_given_the_plain_file_robot_state_publisher_reads_on_its_command_line(tmp_path):
+    # waveshare roarm's display.launch.py: both read arm.urdf from argv (robot_state_publisher.cpp
+    # reads argv[1]; joint_state_publisher's urdf_file argument): no jsp-model-argument error,
+    # only rsp-model-argument's advice
+    model = ZERO_VELOCITY_ARM.replace('velocity="0"', 'velocity="1"')
+    package(
+        tmp_path,
+        "audit_arm",
+        ["launch_ros", "robot_state_publisher", "joint_state_publisher_gui"],
+        {"launch/a.launch.py": BOTH_READ_THE_FILE_LAUNCH, "urdf/arm.urdf": model},
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(d["code"], d["severity"]) for d in report["diagnostics"]] == [("PF314", "warning")]

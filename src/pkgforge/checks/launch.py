@@ -809,6 +809,12 @@ def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str)
     head = ctx.text_head(argument)
     if not head or "xmlns:xacro" in head or "<xacro:" in head:
         return False
+    if any(
+        node.package == "robot_state_publisher" and argument in node.arguments for node in resolution.nodes
+    ):
+        # robot_state_publisher given the same file on its command line reads it as it is (argv[1]:
+        # robot_state_publisher.cpp; rsp-model-argument says to pass it as a parameter instead)
+        return True
     return any(
         parameter.name == "robot_description"
         and parameter.form in ("plain", "typed-str")
@@ -840,8 +846,8 @@ def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str)
     explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
     "itself, unexpanded (links go missing, the TF tree breaks; user story 4). It reads "
     "/robot_description from robot_state_publisher. A plain .urdf or .sdf file whose text the "
-    "launch file also gives robot_state_publisher as it is (not through xacro) is read the "
-    "same way by both: no finding.",
+    "launch file also gives robot_state_publisher as it is (not through xacro), as its "
+    "robot_description or on its command line, is read the same way by both: no finding.",
     hint="remove the model from the node's arguments",
 )
 def jsp_model_argument(ctx: CheckContext) -> Iterator[Finding]:

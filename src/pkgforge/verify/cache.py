@@ -82,7 +82,8 @@ if TYPE_CHECKING:
 # 33: FindExecutable's program not on PATH is PF311, EnvironmentVariable's variable not set PF317
 #    (both engines; errors record `variable`); an event handler's entities see `event` in the locals
 # 34: a launch file's xacro.process_file(pathlib.Path) recorded as with a str
-CACHE_FORMAT = 34
+# 35: PF306 silent when robot_state_publisher gets the same plain file on its command line
+CACHE_FORMAT = 35
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
