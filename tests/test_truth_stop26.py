@@ -991,3 +991,32 @@ def test_jsp_given_the_plain_file_robot_state_publisher_reads_on_its_command_lin
     )
     _, report = verify_report(tmp_path, "--no-cache")
     assert [(d["code"], d["severity"]) for d in report["diagnostics"]] == [("PF314", "warning")]
+
+
+NODE_ONLY_LAUNCH = """from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package='robot_state_publisher', executable='robot_state_publisher')])
+"""
+
+
+def test_a_launch_use_declared_only_as_test_depend_is_a_warning(tmp_path):
+    # doosan-robot2's dsr_tests: launch files its pytest starts, their packages <test_depend>
+    folder = package(
+        tmp_path,
+        "audit_tests",
+        [],
+        {"launch/a.launch.py": NODE_ONLY_LAUNCH},
+        test_depend=["robot_state_publisher"],
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == [
+        (
+            "warning",
+            "src/audit_tests/launch/a.launch.py",
+            line_of(folder / "launch" / "a.launch.py", "Node(package="),
+            "Node package 'robot_state_publisher' is used at run time but package.xml declares it only as <test_depend>",
+        )
+    ]

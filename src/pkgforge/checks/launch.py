@@ -545,7 +545,8 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
     "`robot_description` looked up in package `rob_description`). Used only with argument "
     "settings other than the defaults, it is a warning: more likely an optional driver the "
     "robot's users build from source.",
-    hint="fix the package name",
+    hint="fix the package name; if it is a package built from source (not released), add it to "
+    "the workspace (or its .repos file) and declare it",
 )
 def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
     if not ctx.model.manifest.valid:
@@ -695,7 +696,8 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "headless robot leaves RViz out on purpose; any other package such a setting needs (the "
     "simulator under sim:=true) stays an error, with the setting named. A use in one if/else "
     "branch of a launch file pkgforge could not evaluate is a warning too (which branch runs is "
-    "unknown: turtlebot3's lidar driver by $LDS_MODEL).",
+    "unknown: turtlebot3's lidar driver by $LDS_MODEL), and a package declared only as "
+    "<test_depend> (launch files a test package's own tests start).",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -705,6 +707,7 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     # a <build_export_depend> is installed with the package too (rosdep installs every kind,
     # bloom puts it in the binary's Depends): stretch_calibration declares stretch_core so
     declared = {d.name for d in model.manifest.active_dependencies() if d.tag in EXPORT_TAGS}
+    tested = {d.name for d in model.manifest.active_dependencies() if d.tag == "test_depend"} - declared
     own = {model.name, model.share_name}
     known = ctx.real_packages()
     # a model's reference as written (not as xacro made it), for the uses a package may leave out
@@ -758,6 +761,17 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 severity=Severity.WARNING,
                 hint=f"add <exec_depend>{name}</exec_depend> to package.xml",
                 fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
+            )
+            continue
+        if name in tested:
+            # Doosan's dsr_tests: launch files its own tests start, their packages declared as
+            # <test_depend> (rosdep installs those too): right if only the tests launch them
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml declares it only as <test_depend>{note}",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"if the launch file runs outside the package's tests, make it <exec_depend>{name}</exec_depend>",
             )
             continue
         if (
