@@ -1020,3 +1020,24 @@ def test_a_launch_use_declared_only_as_test_depend_is_a_warning(tmp_path):
             "Node package 'robot_state_publisher' is used at run time but package.xml declares it only as <test_depend>",
         )
     ]
+
+
+def test_a_finding_in_another_packages_file_a_model_includes_has_the_include_line(tmp_path):
+    # waveshare roarm_moveit's config model includes roarm_description's URDF: its findings on
+    # that model had no line at all
+    arm = ZERO_VELOCITY_ARM.replace('effort="10"', 'effort="0"').replace('velocity="0"', 'velocity="1"')
+    package(tmp_path, "audit_arm_description", [], {"urdf/arm.urdf": arm})
+    wrapper = (
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm">\n'
+        '  <xacro:include filename="$(find audit_arm_description)/urdf/arm.urdf"/>\n'
+        '  <link name="world"/>\n'
+        '  <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/></joint>\n</robot>\n'
+    )
+    folder = package(
+        tmp_path, "audit_arm_config", ["audit_arm_description"], {"urdf/arm_config.urdf.xacro": wrapper}
+    )
+    model = folder / "urdf" / "arm_config.urdf.xacro"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF605") if "audit_arm_config" in p] == [
+        ("warning", "src/audit_arm_config/urdf/arm_config.urdf.xacro", line_of(model, "xacro:include"))
+    ]

@@ -39,7 +39,28 @@ def model_source_position(
             )
             if position is not None:
                 return position
+    if result.source is not None and file:
+        # a link or joint written in another package's file this model includes (roarm_moveit's
+        # model includes roarm_description's URDF): the include's line, not none
+        return result.source, _include_line(ctx, result.source, file)
     return (result.source or result.installed), None
+
+
+def _include_line(ctx: CheckContext, model: Path, included: str) -> int | None:
+    """The line of `model` whose <xacro:include> names a file called like `included`, else None."""
+    name = os.path.basename(included)
+    key = ("model-lines", model)
+    if key not in ctx.shared:
+        ctx.shared[key] = _lines_of(model)
+    lines: list[str] = ctx.shared[key]
+    return next((n for n, text in enumerate(lines, start=1) if "include" in text and name in text), None)
+
+
+def _lines_of(path: Path) -> list[str]:
+    try:
+        return path.read_text(encoding="utf-8", errors="replace").splitlines()
+    except OSError:
+        return []
 
 
 def _fed_from(

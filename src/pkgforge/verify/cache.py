@@ -84,7 +84,8 @@ if TYPE_CHECKING:
 # 34: a launch file's xacro.process_file(pathlib.Path) recorded as with a str
 # 35: PF306 silent when robot_state_publisher gets the same plain file on its command line
 # 36: PF305 for a package declared only as test_depend a warning; PF304's hint names building from source
-CACHE_FORMAT = 36
+# 37: a model finding in another package's included file at the include's line
+CACHE_FORMAT = 37
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
