@@ -1041,3 +1041,138 @@ def test_a_finding_in_another_packages_file_a_model_includes_has_the_include_lin
     assert [(s, p, line) for s, p, line, _ in found(report, "PF605") if "audit_arm_config" in p] == [
         ("warning", "src/audit_arm_config/urdf/arm_config.urdf.xacro", line_of(model, "xacro:include"))
     ]
+
+
+# --- a path that is only part of the name a substitution list builds ---------------------------
+
+SUFFIX_LAUNCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import Command, FindExecutable, LaunchConfiguration, PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.parameter_descriptions import ParameterValue
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    description = Command([
+        PathJoinSubstitution([FindExecutable(name='xacro')]), ' ',
+        PathJoinSubstitution([FindPackageShare('audit_suffix'), 'xacro', LaunchConfiguration('model')]),
+        '.urdf.xacro',
+        ' tool:=', LaunchConfiguration('tool'),
+    ])
+    return LaunchDescription([
+        DeclareLaunchArgument('model', default_value='arm'),
+        DeclareLaunchArgument('tool', default_value='true'),
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'robot_description': ParameterValue(description, value_type=str)}]),
+    ])
+"""
+
+# the flag (a point mass on a moving joint: PF602) is there only with the launch file's tool:=true
+TOOL_MODEL = """<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="tool" default="false"/>
+  <link name="base_link">
+    <inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+  </link>
+  <xacro:if value="$(arg tool)">
+    <link name="flag">
+      <inertial><mass value="0.1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+    </link>
+    <joint name="flag_joint" type="continuous">
+      <parent link="base_link"/><child link="flag"/><axis xyz="0 0 1"/>
+    </joint>
+  </xacro:if>
+</robot>
+"""
+
+
+def suffix_reports(tmp_path: Path, launch: str) -> tuple[Path, dict[str, dict]]:
+    """The package with this launch file and xacro/arm.urdf.xacro, and its reports."""
+    files = {"launch/a.launch.py": launch, "xacro/arm.urdf.xacro": TOOL_MODEL}
+    folder = package(tmp_path, "audit_suffix", ["launch_ros", "robot_state_publisher", "xacro"], files)
+    return folder, engine_reports(tmp_path)
+
+
+def test_a_path_joined_to_its_suffix_in_a_command_is_that_file(tmp_path):
+    # doosan-robot2: Command([xacro, ' ', PathJoinSubstitution([share, 'xacro', model]),
+    # '.urdf.xacro', ...]) joins its parts into one line before splitting it: xacro gets
+    # .../xacro/arm.urdf.xacro. share/.../xacro/arm alone was a PF303 error in 11 launch files
+    _, reports = suffix_reports(tmp_path, SUFFIX_LAUNCH)
+    for engine, report in reports.items():
+        assert found(report, "PF303") == [], engine
+        assert found(report, "PF302") == [], engine
+        # the model xacro processed is the joined name, with the launch file's tool:=true (the
+        # flag's line: PF602's own test says where in the link)
+        assert [(s, p, m.split(":")[0]) for s, p, _, m in found(report, "PF602")] == [
+            ("error", "src/audit_suffix/xacro/arm.urdf.xacro", "link 'flag'")
+        ], engine
+
+
+def test_a_typo_in_the_suffix_joined_to_a_path_is_the_missing_file(tmp_path):
+    launch = SUFFIX_LAUNCH.replace("'.urdf.xacro'", "'.urdf.xacroo'")
+    folder, reports = suffix_reports(tmp_path, launch)
+    file = folder / "launch" / "a.launch.py"
+    for engine, report in reports.items():
+        assert [(s, line, m.split(" does not exist")[0]) for s, _, line, m in found(report, "PF303")] == [
+            ("error", line_of(file, "description = Command(["), "share/audit_suffix/xacro/arm.urdf.xacroo")
+        ], engine
+
+
+LIST_LAUNCH = """from launch import LaunchDescription
+from launch.actions import ExecuteProcess, SetEnvironmentVariable
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    share = FindPackageShare('audit_lists')
+    return LaunchDescription([
+        Node(package='rviz2', executable='rviz2',
+             arguments=['-d', [PathJoinSubstitution([share, 'config', 'view']), '.rviz']]),
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[[PathJoinSubstitution([share, 'config', 'state']), '_params.yaml'],
+                         {'limits': [PathJoinSubstitution([share, 'config', 'limits']), '.yaml']}]),
+        ExecuteProcess(cmd=['cat', [PathJoinSubstitution([share, 'config', 'notes']), '.txtt']]),
+        SetEnvironmentVariable('GZ_SIM_RESOURCE_PATH', [PathJoinSubstitution([share, 'models']), ':', '/opt']),
+    ])
+"""
+
+
+def test_a_path_joined_to_its_suffix_in_a_list_of_substitutions_is_that_file(tmp_path):
+    # launch concatenates a list of substitutions into one string: a Node argument, a parameter
+    # file and a parameter value name the joined files, which are there; a command's word with
+    # a typo is still missing; a path before ':' (a search path) is a whole name of its own
+    files = {
+        "launch/a.launch.py": LIST_LAUNCH,
+        "config/view.rviz": "Visualization Manager:\n  Displays: []\n",
+        "config/state_params.yaml": "robot_state_publisher:\n  ros__parameters:\n    publish_frequency: 20.0\n",
+        "config/limits.yaml": "a: 1\n",
+        "config/notes.txt": "notes\n",
+    }
+    folder = package(tmp_path, "audit_lists", ["launch_ros", "robot_state_publisher", "rviz2"], files)
+    file = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert [(s, line, m.split(" does not exist")[0]) for s, _, line, m in found(report, "PF303")] == [
+            ("error", line_of(file, "'notes'"), "share/audit_lists/config/notes.txtt"),
+            ("error", line_of(file, "'models'"), "share/audit_lists/models"),
+        ], engine
+        assert found(report, "PF302") == [], engine
+
+
+def test_a_path_before_a_substitution_with_no_value_names_no_file_of_its_own(tmp_path):
+    # the suffix an argument with no default: the launch stops there, and where the name ends is
+    # not known, so share/.../xacro/arm alone is no missing file (the argument is said: PF309)
+    launch = SUFFIX_LAUNCH.replace("'.urdf.xacro',", "LaunchConfiguration('suffix'),").replace(
+        "DeclareLaunchArgument('model', default_value='arm'),",
+        "DeclareLaunchArgument('model', default_value='arm'), DeclareLaunchArgument('suffix'),",
+    )
+    assert "DeclareLaunchArgument('suffix')" in launch
+    folder, reports = suffix_reports(tmp_path, launch)
+    file = folder / "launch" / "a.launch.py"
+    for engine, report in reports.items():
+        assert found(report, "PF303") == [], engine
+        assert [(s, line) for s, _, line, _ in found(report, "PF309")] == [
+            ("info", line_of(file, "DeclareLaunchArgument('suffix')"))
+        ], engine

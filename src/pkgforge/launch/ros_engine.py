@@ -313,7 +313,7 @@ def setup(prefix: str | None) -> None:
     launch_xml.parser.ET = _xml_with_lines(ET)
     launch_yaml.parser.yaml = _yaml_with_lines(yaml)
     L.launch, L.launch_ros = launch, launch_ros
-    L.perform = launch.utilities.perform_substitutions
+    L.perform = _hook_perform_substitutions(launch.utilities.perform_substitutions)
     L.normalize = launch.utilities.normalize_to_list_of_substitutions
     _hook_locations()
     _hook_loaders()
@@ -515,6 +515,23 @@ def _hook_loaders() -> None:
 
 
 _record_path = rt._record_path
+
+
+def _hook_perform_substitutions(real: Callable[[Any, Any], str]) -> Callable[[Any, Any], str]:
+    """launch's perform_substitutions, every module's name for it: in the visit, the built-in
+    engine's concatenation (runtime.joined), so a path that is only part of a name the list
+    builds is recorded as that whole name in both engines."""
+
+    def perform_substitutions(context: Any, subs: Any) -> str:
+        if not _evaluating(context):
+            return real(context, subs)
+        return rt.joined(subs, context.perform_substitution)
+
+    for name, module in list(sys.modules.items()):
+        if name.split(".")[0] in ("launch", "launch_xml", "launch_yaml", "launch_ros") and module is not None:
+            if getattr(module, "perform_substitutions", None) is real:
+                module.__dict__["perform_substitutions"] = perform_substitutions
+    return perform_substitutions
 
 
 def _hook_substitutions() -> None:

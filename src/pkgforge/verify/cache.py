@@ -85,7 +85,8 @@ if TYPE_CHECKING:
 # 35: PF306 silent when robot_state_publisher gets the same plain file on its command line
 # 36: PF305 for a package declared only as test_depend a warning; PF304's hint names building from source
 # 37: a model finding in another package's included file at the include's line
-CACHE_FORMAT = 37
+# 38: a PathJoinSubstitution's path that is only part of a name a substitution list builds: that name
+CACHE_FORMAT = 38
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
