@@ -614,3 +614,120 @@ def test_a_file_failing_through_its_includer_at_the_include_stays_an_error(tmp_p
             line_of(folder / "launch" / "sim.launch.py", "IncludeLaunchDescription("),
         ),
     ]
+
+
+# --- find_package() behind an optional find_package (tmr_ros2's tm_driver) --------------------------
+
+GATED_CMAKE = """cmake_minimum_required(VERSION 3.10)
+project(audit_driver NONE)
+find_package(ament_cmake REQUIRED)
+find_package(moveit_ros_planning_interface QUIET)
+if(moveit_ros_planning_interface_FOUND)
+  find_package(trajectory_msgs REQUIRED)
+  find_package(control_msgs REQUIRED)
+endif()
+if(NOT moveit_ros_planning_interface_FOUND)
+  find_package(urdf REQUIRED)
+else()
+  find_package(rclcpp_action REQUIRED)
+endif()
+if(WITH_TF)
+  find_package(tf2_ros REQUIRED)
+endif()
+find_package(control_msgs REQUIRED)
+ament_package()
+"""
+
+
+def test_a_find_package_only_an_optional_find_lets_run_is_a_warning(tmp_path):
+    # tm_driver: find_package(moveit_ros_planning_interface QUIET), then inside
+    # if(moveit_ros_planning_interface_FOUND) trajectory_msgs, control_msgs, rclcpp_action REQUIRED:
+    # a clean machine (rosdep installs what package.xml declares) never runs that branch
+    folder = package(tmp_path, "audit_driver", [], {"CMakeLists.txt": GATED_CMAKE})
+    cmakelists = folder / "CMakeLists.txt"
+    _, report = verify_report(tmp_path, "--no-cache")
+    gate = "(an if() on the optional find_package() at line 4), so a clean machine builds without it"
+    assert found(report, "PF109") == [
+        (
+            "warning",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(moveit_ros_planning_interface QUIET)"),
+            "find_package(moveit_ros_planning_interface) but package.xml does not declare "
+            "moveit_ros_planning_interface for the build; it is optional (QUIET), so a clean machine "
+            "builds without what needs it",
+        ),
+        (
+            "warning",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(trajectory_msgs"),
+            "find_package(trajectory_msgs) but package.xml does not declare trajectory_msgs for the "
+            f"build; it is needed only where moveit_ros_planning_interface is found {gate}",
+        ),
+        # the branch a clean machine takes
+        (
+            "error",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(urdf"),
+            "find_package(urdf) but package.xml does not declare urdf for the build",
+        ),
+        (
+            "warning",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(rclcpp_action"),
+            "find_package(rclcpp_action) but package.xml does not declare rclcpp_action for the "
+            f"build; it is needed only where moveit_ros_planning_interface is found {gate}",
+        ),
+        # an if() on anything else may well hold there
+        (
+            "error",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(tf2_ros"),
+            "find_package(tf2_ros) but package.xml does not declare tf2_ros for the build",
+        ),
+        # found inside the gate and again outside it: the clean machine fails at the second
+        (
+            "error",
+            "src/audit_driver/CMakeLists.txt",
+            GATED_CMAKE.splitlines().index("find_package(control_msgs REQUIRED)") + 1,
+            "find_package(control_msgs) but package.xml does not declare control_msgs for the build",
+        ),
+    ]
+    # rosdep installs what package.xml declares: where it declares the optional package (one that
+    # brings no control_msgs along, as MoveIt would), the branch runs on a clean machine
+    cmake = GATED_CMAKE.replace("moveit_ros_planning_interface", "point_cloud_transport")
+    package(tmp_path, "audit_driver", [], {"CMakeLists.txt": cmake}, depend=["point_cloud_transport"])
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF109")] == [
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(trajectory_msgs")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(control_msgs")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(urdf")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(rclcpp_action")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(tf2_ros")),
+    ]
+
+
+def test_what_follows_a_return_without_an_optional_package_is_a_warning(tmp_path):
+    # ros2/demos' demo_nodes_cpp_native: if(NOT rmw_fastrtps_cpp_FOUND) return() endif(); a clean
+    # machine without it configures nothing after; a FATAL_ERROR instead of return() stops it there
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_native NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(rmw_fastrtps_cpp QUIET)\nif(NOT rmw_fastrtps_cpp_FOUND)\n"
+        '  message(STATUS "skipping")\n  return()\nendif()\nfind_package(tf2_ros REQUIRED)\nament_package()\n'
+    )
+    folder = package(tmp_path, "audit_native", [], {"CMakeLists.txt": cmake})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF109")][0] == (
+        "warning",
+        "src/audit_native/CMakeLists.txt",
+        line_of(folder / "CMakeLists.txt", "find_package(rmw_fastrtps_cpp QUIET)"),
+    )
+    assert found(report, "PF109")[1:] == [
+        (
+            "warning",
+            "src/audit_native/CMakeLists.txt",
+            line_of(folder / "CMakeLists.txt", "find_package(tf2_ros"),
+            "find_package(tf2_ros) but package.xml does not declare tf2_ros for the build; it is needed "
+            "only where rmw_fastrtps_cpp is found (an if() on the optional find_package() at line 4), "
+            "so a clean machine builds without it",
+        )
+    ]

@@ -74,7 +74,8 @@ if TYPE_CHECKING:
 # 26: PF602 a warning for a point mass on a moving link with inertia below it
 # 27: a use in a Python if/else branch of a file checked statically: PF305/PF108 warnings
 # 28: a file an includer checked statically names, failing on its own: a PF301 warning
-CACHE_FORMAT = 28
+# 29: a find_package() only an optional find_package() not installed lets run: a PF109 warning
+CACHE_FORMAT = 29
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
