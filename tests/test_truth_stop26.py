@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 from conftest import line_of, verify_report
-from test_truth_audit import found, package
+from test_truth_audit import finding_cmake, found, package
 from test_truth_edges import write_package
 
 HELPER_SETUP = """from setuptools import find_packages, setup
@@ -1176,3 +1176,242 @@ def test_a_path_before_a_substitution_with_no_value_names_no_file_of_its_own(tmp
         assert [(s, line) for s, _, line, _ in found(report, "PF309")] == [
             ("info", line_of(file, "DeclareLaunchArgument('suffix')"))
         ], engine
+
+
+# --- find_package() behind an optional find_package (tmr_ros2's tm_driver) --------------------------
+
+GATED_CMAKE = """cmake_minimum_required(VERSION 3.10)
+project(audit_driver NONE)
+find_package(ament_cmake REQUIRED)
+find_package(moveit_ros_planning_interface QUIET)
+if(moveit_ros_planning_interface_FOUND)
+  find_package(trajectory_msgs REQUIRED)
+  find_package(control_msgs REQUIRED)
+endif()
+if(NOT moveit_ros_planning_interface_FOUND)
+  find_package(urdf REQUIRED)
+else()
+  find_package(rclcpp_action REQUIRED)
+endif()
+if(WITH_TF)
+  find_package(tf2_ros REQUIRED)
+endif()
+find_package(control_msgs REQUIRED)
+ament_package()
+"""
+
+
+def test_a_find_package_only_an_optional_find_lets_run_is_a_warning(tmp_path):
+    # tm_driver: find_package(moveit_ros_planning_interface QUIET), then inside
+    # if(moveit_ros_planning_interface_FOUND) trajectory_msgs, control_msgs, rclcpp_action REQUIRED:
+    # a clean machine (rosdep installs what package.xml declares) never runs that branch
+    folder = package(tmp_path, "audit_driver", [], {"CMakeLists.txt": GATED_CMAKE})
+    cmakelists = folder / "CMakeLists.txt"
+    _, report = verify_report(tmp_path, "--no-cache")
+    gate = "(an if() on the optional find_package() at line 4), so a clean machine builds without it"
+    assert found(report, "PF109") == [
+        (
+            "warning",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(moveit_ros_planning_interface QUIET)"),
+            "find_package(moveit_ros_planning_interface) but package.xml does not declare "
+            "moveit_ros_planning_interface for the build; it is optional (QUIET), so a clean machine "
+            "builds without what needs it",
+        ),
+        (
+            "warning",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(trajectory_msgs"),
+            "find_package(trajectory_msgs) but package.xml does not declare trajectory_msgs for the "
+            f"build; it is needed only where moveit_ros_planning_interface is found {gate}",
+        ),
+        # the branch a clean machine takes
+        (
+            "error",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(urdf"),
+            "find_package(urdf) but package.xml does not declare urdf for the build",
+        ),
+        (
+            "warning",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(rclcpp_action"),
+            "find_package(rclcpp_action) but package.xml does not declare rclcpp_action for the "
+            f"build; it is needed only where moveit_ros_planning_interface is found {gate}",
+        ),
+        # an if() on anything else may well hold there
+        (
+            "error",
+            "src/audit_driver/CMakeLists.txt",
+            line_of(cmakelists, "find_package(tf2_ros"),
+            "find_package(tf2_ros) but package.xml does not declare tf2_ros for the build",
+        ),
+        # found inside the gate and again outside it: the clean machine fails at the second
+        (
+            "error",
+            "src/audit_driver/CMakeLists.txt",
+            GATED_CMAKE.splitlines().index("find_package(control_msgs REQUIRED)") + 1,
+            "find_package(control_msgs) but package.xml does not declare control_msgs for the build",
+        ),
+    ]
+    # rosdep installs what package.xml declares: where it declares the optional package (one that
+    # brings no control_msgs along, as MoveIt would), the branch runs on a clean machine
+    cmake = GATED_CMAKE.replace("moveit_ros_planning_interface", "point_cloud_transport")
+    package(tmp_path, "audit_driver", [], {"CMakeLists.txt": cmake}, depend=["point_cloud_transport"])
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF109")] == [
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(trajectory_msgs")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(control_msgs")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(urdf")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(rclcpp_action")),
+        ("error", "src/audit_driver/CMakeLists.txt", line_of(cmakelists, "find_package(tf2_ros")),
+    ]
+
+
+def test_what_follows_a_return_without_an_optional_package_is_a_warning(tmp_path):
+    # ros2/demos' demo_nodes_cpp_native: if(NOT rmw_fastrtps_cpp_FOUND) return() endif(); a clean
+    # machine without it configures nothing after; a FATAL_ERROR instead of return() stops it there
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_native NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(rmw_fastrtps_cpp QUIET)\nif(NOT rmw_fastrtps_cpp_FOUND)\n"
+        '  message(STATUS "skipping")\n  return()\nendif()\nfind_package(tf2_ros REQUIRED)\nament_package()\n'
+    )
+    folder = package(tmp_path, "audit_native", [], {"CMakeLists.txt": cmake})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF109")][0] == (
+        "warning",
+        "src/audit_native/CMakeLists.txt",
+        line_of(folder / "CMakeLists.txt", "find_package(rmw_fastrtps_cpp QUIET)"),
+    )
+    assert found(report, "PF109")[1:] == [
+        (
+            "warning",
+            "src/audit_native/CMakeLists.txt",
+            line_of(folder / "CMakeLists.txt", "find_package(tf2_ros"),
+            "find_package(tf2_ros) but package.xml does not declare tf2_ros for the build; it is needed "
+            "only where rmw_fastrtps_cpp is found (an if() on the optional find_package() at line 4), "
+            "so a clean machine builds without it",
+        )
+    ]
+
+
+# --- `pkgforge fix` and a dependency cycle (ROBOTIS ai_worker, doosan-robot2) ------------------------
+
+SIM_LAUNCH = """from launch import LaunchDescription
+from launch.substitutions import Command, PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.parameter_descriptions import ParameterValue
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    model = PathJoinSubstitution([FindPackageShare('audit_description'), 'urdf', 'robot.urdf.xacro'])
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'robot_description': ParameterValue(Command(['xacro ', model]), value_type=str)}]),
+    ])
+"""
+
+CONTROLLED_MODEL = """<?xml version="1.0"?>
+<robot name="audit" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <link name="base_link"/>
+  <gazebo>
+    <plugin filename="gz_ros2_control-system" name="gz_ros2_control::GazeboSimROS2ControlPlugin">
+      <parameters>$(find audit_bringup)/config/gz.yaml</parameters>
+    </plugin>
+  </gazebo>
+</robot>
+"""
+
+
+def test_fix_declares_neither_side_of_a_mutual_use(tmp_path):
+    # ffw_description's xacro finds ffw_bringup, whose launch file finds ffw_description: each
+    # PF305 is true, but declaring both is a cycle colcon refuses; another fix still applies
+    from conftest import run_pkgforge
+
+    description = package(
+        tmp_path, "audit_description", ["xacro"], {"urdf/robot.urdf.xacro": CONTROLLED_MODEL}
+    )
+    bringup = package(
+        tmp_path,
+        "audit_bringup",
+        ["xacro", "robot_state_publisher"],
+        {"launch/sim.launch.py": SIM_LAUNCH, "config/gz.yaml": "controller_manager: {}\n"},
+    )
+    viewer = package(
+        tmp_path,
+        "audit_viewer",
+        [],
+        {
+            "launch/view.launch.py": USING_LAUNCH.replace(
+                "from audit_helpers.names import VIEWER\n", "VIEWER = 'rviz2'\n"
+            )
+        },
+    )
+    manifests = {p: (p / "package.xml").read_text() for p in (description, bringup)}
+    launch_line = line_of(bringup / "launch" / "sim.launch.py", "FindPackageShare('audit")
+    model_line = line_of(description / "urdf" / "robot.urdf.xacro", "$(find")
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF305")] == [
+        ("error", "src/audit_bringup/launch/sim.launch.py", launch_line),
+        ("error", "src/audit_description/urdf/robot.urdf.xacro", model_line),
+        (
+            "error",
+            "src/audit_viewer/launch/view.launch.py",
+            line_of(viewer / "launch" / "view.launch.py", "Node("),
+        ),
+    ]
+    result = run_pkgforge("fix", ".", cwd=tmp_path)
+    assert "Traceback" not in result.stdout + result.stderr
+    assert result.returncode == 1  # the two errors remain
+    assert {p: (p / "package.xml").read_text() for p in manifests} == manifests
+    assert "<exec_depend>rviz2</exec_depend>" in (viewer / "package.xml").read_text()
+    not_fixed = [line for line in result.stdout.splitlines() if line.startswith("not fixed")]
+    assert not_fixed == [
+        f"not fixed src/audit_bringup/launch/sim.launch.py:{launch_line}: PF305 missing-exec-depend: declaring "
+        "audit_description here and, as another fix of this run would, audit_bringup in audit_description "
+        "makes a cycle colcon refuses (audit_bringup → audit_description → audit_bringup): neither is "
+        "applied; declare the dependency that is meant, and move the other use",
+        f"not fixed src/audit_description/urdf/robot.urdf.xacro:{model_line}: PF305 missing-exec-depend: "
+        "declaring audit_bringup here and, as another fix of this run would, audit_description in "
+        "audit_bringup makes a cycle colcon refuses (audit_description → audit_bringup → "
+        "audit_description): neither is applied; declare the dependency that is meant, and move the other use",
+    ]
+    # a second run changes nothing
+    again = run_pkgforge("fix", ".", cwd=tmp_path)
+    assert again.returncode == 1 and not [
+        line for line in again.stdout.splitlines() if line.startswith("fixed")
+    ]
+    assert {p: (p / "package.xml").read_text() for p in manifests} == manifests
+
+
+def test_fix_declares_no_build_dependency_back_on_a_package_that_depends_on_this_one(tmp_path):
+    # PF109's fix on a workspace package: audit_tools find_package()s audit_core, which exec_depends
+    # audit_tools already; the build_depend would be a cycle colcon refuses
+    from conftest import run_pkgforge
+
+    core = package(tmp_path, "audit_core", ["audit_tools"], {})
+    tools = package(
+        tmp_path, "audit_tools", [], {"CMakeLists.txt": finding_cmake("audit_tools", "audit_core")}
+    )
+    before = (tools / "package.xml").read_text()
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF109") == [
+        (
+            "error",
+            "src/audit_tools/CMakeLists.txt",
+            line_of(tools / "CMakeLists.txt", "find_package(audit_core"),
+            "find_package(audit_core) but package.xml does not declare audit_core for the build",
+        )
+    ]
+    result = run_pkgforge("fix", ".", cwd=tmp_path)
+    assert "Traceback" not in result.stdout + result.stderr
+    assert result.returncode == 1
+    assert (tools / "package.xml").read_text() == before
+    assert (core / "package.xml").read_text().count("audit_tools") == 1
+    find_line = line_of(tools / "CMakeLists.txt", "find_package(audit_core")
+    assert [line for line in result.stdout.splitlines() if line.startswith("not fixed")] == [
+        f"not fixed src/audit_tools/CMakeLists.txt:{find_line}:1: PF109 find-package-undeclared: audit_core "
+        "depends on audit_tools (audit_tools → audit_core → audit_tools), so declaring it makes a cycle "
+        "colcon refuses"
+    ]

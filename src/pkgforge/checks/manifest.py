@@ -11,8 +11,9 @@ from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
+from pkgforge.model.cmake_syntax import Command
 from pkgforge.model.exports import brought_by
-from pkgforge.model.manifest import GENERIC_OVERLAPS, RUN_TAGS, Dependency
+from pkgforge.model.manifest import DEPENDENCY_TAGS, GENERIC_OVERLAPS, RUN_TAGS, Dependency
 from pkgforge.model.names import REP144_RULE, rep144_advice, rep144_problem
 from pkgforge.model.references import launch_kind
 
@@ -473,7 +474,9 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     "build farm, a Docker image after `rosdep install`) the find_package() fails. "
     "It builds here because the package is installed anyway, or because "
     "pkgforge build stubs declared packages. A warning when it builds all the same: "
-    "optional (QUIET), declared as another kind (rosdep installs every kind), or brought "
+    "optional (QUIET), inside an if() that holds only where an optional find_package() found a "
+    "package nothing declared installs (`if(X_FOUND)`, `if(TARGET X::x)`, after `if(NOT X_FOUND) "
+    "return()`: a clean machine skips it), declared as another kind (rosdep installs every kind), or brought "
     "along by a declared core package (ament_cmake brings ament_cmake_python, rclcpp brings "
     "rmw: the package.xml files of the core repositories, model/exports.py).",
     hint="declare it with <build_depend> (or <depend>)",
@@ -491,7 +494,26 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
     released = released_set(())  # with the workspace's: the ROS packages (no set built per package)
     reported = set()
     after = manifest.last_dependency_line()
-    for name, command in model.cmake.find_packages:
+    # what `rosdep install` puts on a clean machine: every kind declared but doc, what they bring
+    installed = {d.name for d in manifest.active_dependencies() if d.tag != "doc_depend"}
+    installing = tuple(tag for tag in DEPENDENCY_TAGS if tag != "doc_depend")
+    gated = model.cmake.gated
+
+    def gates(command: Command) -> tuple[tuple[str, Command], ...]:
+        """The optional finds the command runs only with, of packages a clean machine lacks."""
+        return tuple(
+            (name, found)
+            for name, found in gated.get((command.path, command.line), ())
+            if name not in installed and ctx.brought_along(name, installing) is None
+        )
+
+    def optional(command: Command) -> bool:
+        words = {argument.text for argument in command.args[1:]}
+        return "QUIET" in words and "REQUIRED" not in words
+
+    # a name found more than once: where a clean machine fails first, else where it is found first
+    finds = sorted(model.cmake.find_packages, key=lambda found: optional(found[1]) or bool(gates(found[1])))
+    for name, command in finds:
         if (
             name in build
             or name in reported
@@ -506,12 +528,20 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             tag = "test_depend"  # inside if(BUILD_TESTING): colcon builds with it on by default
         else:
             tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
-        words = {argument.text for argument in command.args[1:]}
+        needed = gates(command)
         # find_package(X QUIET) without REQUIRED (zed_components' point_cloud_transport, then
         # if(X_FOUND)): the build goes on without it, it only leaves out what needs it
-        optional = "QUIET" in words and "REQUIRED" not in words
-        if optional:
+        providers = BUILD_TAGS + (("test_depend",) if tag == "test_depend" else ())
+        provider = None
+        if optional(command):
             because = "; it is optional (QUIET), so a clean machine builds without what needs it"
+        elif needed and (provider := ctx.brought_along(name, providers)) is None:
+            # inside if(X_FOUND) after find_package(X QUIET) (tmr_ros2's tm_driver: MoveIt's
+            # trajectory_msgs, control_msgs): a clean machine, without X, never runs it
+            because = (
+                f"; it is needed only where {_names(needed)} found (an if() on the optional "
+                f"find_package() at {_where(needed, command)}), so a clean machine builds without it"
+            )
         elif other is not None and other.tag != "doc_depend":
             # declared as another kind: `rosdep install` (every kind but doc by default) installs
             # it, the release build (bloom's Build-Depends, the build farm) does not
@@ -519,9 +549,7 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
                 "; `rosdep install` installs it, so it builds from source, but the release build "
                 "(bloom, the build farm) installs build dependencies only and fails"
             )
-        elif provider := ctx.brought_along(
-            name, BUILD_TAGS + (("test_depend",) if tag == "test_depend" else ())
-        ):
+        elif provider is not None or (provider := ctx.brought_along(name, providers)):
             # ament_cmake brings ament_cmake_python, rclcpp brings rmw (model/exports.py)
             because = f"; {provider}, which it declares, brings it along, so it builds"
         else:
@@ -540,6 +568,20 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
             # `fix` adds the test_depend the hint names (otherwise it works the tag out itself)
             fix={"dependency": name, "tag": tag} if tag == "test_depend" else None,
         )
+
+
+def _names(gates: tuple[tuple[str, Command], ...]) -> str:
+    names = [name for name, _ in gates]
+    return (names[0] + " is") if len(names) == 1 else (", ".join(names[:-1]) + f" and {names[-1]} are")
+
+
+def _where(gates: tuple[tuple[str, Command], ...], command: Command) -> str:
+    """The optional finds' lines, with the file's name when it is another file."""
+    places = [
+        f"line {found.line}" if found.path == command.path else f"{found.path.name}:{found.line}"
+        for _, found in gates
+    ]
+    return places[0] if len(places) == 1 else ", ".join(places[:-1]) + f" and {places[-1]}"
 
 
 @register(

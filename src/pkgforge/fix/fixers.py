@@ -52,6 +52,8 @@ class Fix:
 
     description: str
     edits: dict[Path, list[Edit]] = field(default_factory=dict)
+    # a dependency it declares: (the package.xml, the name), so a run adds no cycle (run.py)
+    declares: tuple[Path, str] | None = None
 
     def add(self, path: Path, edit: Edit) -> None:
         self.edits.setdefault(Path(path), []).append(edit)
@@ -236,7 +238,7 @@ def fix_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     if name is not None and diagnostic.name == "find-package-undeclared":
         _refuse_other_declaration(source, name)
     edit, written = insert_dependency(source, tag, name)
-    fix = Fix(f"declared <{written}>{name}</{written}> in package.xml")
+    fix = Fix(f"declared <{written}>{name}</{written}> in package.xml", declares=(manifest, name))
     fix.add(manifest, edit)
     return fix
 

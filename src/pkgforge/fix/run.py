@@ -5,7 +5,9 @@ every file (a fix whose edits overlap another's waits for the next pass),
 parses each edited file again, and writes it atomically. A fix can uncover a
 finding that had been hidden (rviz/ installed, its config is read): passes
 repeat until one has nothing left to apply, so a second `pkgforge fix` changes
-nothing. With --diff there is one pass and nothing is written.
+nothing. With --diff there is one pass and nothing is written. A dependency fix
+that would close a cycle among the workspace's packages (with the pass's other
+fixes or the dependencies declared already) is not applied: colcon refuses it.
 """
 
 from __future__ import annotations
@@ -82,6 +84,7 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
     context = FixContext(files)
     out = _Plan()
     roots = [report.path.resolve() for report in result.reports]
+    candidates: list[tuple[Diagnostic, Fix]] = []
     for diagnostic in result.diagnostics:
         kind = fix_kind(diagnostic)
         function = FIXERS.get(diagnostic.name)
@@ -112,6 +115,12 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
                 (diagnostic, f"the fix edits {outside[0]}, outside the package(s) being fixed")
             )
             continue
+        candidates.append((diagnostic, fix))
+    cycles = _cycles([fix for _, fix in candidates], result.root)
+    for index, (diagnostic, fix) in enumerate(candidates):
+        if index in cycles:
+            run.not_fixed.append((diagnostic, cycles[index]))
+            continue
         if _clashes(fix, out.edits):
             out.deferred.append(diagnostic)
             continue
@@ -120,6 +129,85 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             merged.extend(e for e in edits if e not in merged)
         out.fixes.append((diagnostic, fix))
     return out
+
+
+def _cycles(fixes: list[Fix], root: Path) -> dict[int, str]:
+    """The fixes (by index) whose dependency would close a cycle among the workspace's packages,
+    with the other fixes of the run and the dependencies declared already (any kind but
+    doc_depend, on any distro: colcon orders by them all and refuses a cycle), and why.
+
+    Two packages each using the other undeclared (ROBOTIS ai_worker's ffw_description and
+    ffw_bringup) each get a true finding, but declaring both is a cycle colcon refuses to build.
+    Neither is declared: which package is meant to need the other (and which use should move)
+    is the user's choice, and a second run finds the same two and again changes nothing."""
+    from pkgforge.model.files import quick_name
+    from pkgforge.model.manifest import load_manifest
+    from pkgforge.model.source import read_source
+    from pkgforge.verify.pipeline import package_folders
+    from pkgforge.workspace import locate
+
+    declaring = [(index, fix.declares) for index, fix in enumerate(fixes) if fix.declares is not None]
+    if not declaring:
+        return {}
+    names: dict[Path, str] = {}  # each workspace package's folder → its name
+    edges: dict[str, set[str]] = {}
+    for folder in package_folders(locate(root).base_path):
+        manifest = load_manifest(read_source(folder / "package.xml"))
+        name = manifest.name or quick_name(folder)
+        names[folder] = name
+        edges.setdefault(name, set()).update(
+            d.name for d in manifest.dependencies if d.tag != "doc_depend" and d.active()
+        )
+    proposed: dict[int, tuple[str, str]] = {}
+    for index, (manifest_path, dependency) in declaring:
+        owner = names.get(Path(os.path.realpath(manifest_path)).parent)
+        if owner is not None and dependency in edges and dependency != owner:
+            proposed[index] = (owner, dependency)
+    for owner, dependency in proposed.values():
+        edges[owner].add(dependency)
+    out: dict[int, str] = {}
+    for index, (owner, dependency) in sorted(proposed.items()):
+        path = _path(edges, dependency, owner)
+        if path is None:
+            continue
+        cycle = [owner, *path]
+        steps = list(zip(cycle, cycle[1:], strict=False))
+        others = [f"{b} in {a}" for a, b in steps[1:] if (a, b) in proposed.values()]
+        shown = " → ".join(cycle)
+        if others:
+            out[index] = (
+                f"declaring {dependency} here and, as {'another fix' if len(others) == 1 else 'other fixes'} "
+                f"of this run would, {' and '.join(others)} makes a cycle colcon refuses ({shown}): "
+                f"{'neither is' if len(others) == 1 else 'none of them is'} applied; declare the "
+                "dependency that is meant, and move the other use"
+            )
+        else:
+            out[index] = (
+                f"{dependency} depends on {owner} ({shown}), so declaring it makes a cycle colcon refuses"
+            )
+    return out
+
+
+def _path(edges: dict[str, set[str]], start: str, goal: str) -> list[str] | None:
+    """The shortest path of dependencies from start to goal (start and goal in it), or None."""
+    previous: dict[str, str] = {}
+    todo, seen = [start], {start}
+    while todo:
+        following: list[str] = []
+        for name in todo:
+            for next_name in sorted(edges.get(name, ())):
+                if next_name in seen or next_name not in edges:
+                    continue
+                previous[next_name] = name
+                if next_name == goal:
+                    path = [goal]
+                    while path[-1] != start:
+                        path.append(previous[path[-1]])
+                    return path[::-1]
+                seen.add(next_name)
+                following.append(next_name)
+        todo = following
+    return None
 
 
 def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:

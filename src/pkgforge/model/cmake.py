@@ -5,6 +5,10 @@ list(APPEND), include() of the package's own files and GNUInstallDirs,
 add_subdirectory(), foreach(). Both branches of an if() are taken (a rule in
 either may run); function and macro bodies are not (they run only if called).
 A value built from something unknown stays unknown: it is never guessed.
+An if() whose condition holds only where an optional find_package() found its
+package (`if(X_FOUND)`, `if(TARGET X::x)`, the else() of `if(NOT X_FOUND)`, the
+rest of a file after `if(NOT X_FOUND) return() endif()`) gates what it holds:
+the find_package() commands there are recorded with the packages they need.
 """
 
 from __future__ import annotations
@@ -123,11 +127,28 @@ class CMakeModel:
     find_packages: list[tuple[str, Command]] = field(default_factory=list)
     # the find_package() commands inside if(BUILD_TESTING): what they find is a test dependency
     test_only: set[tuple[Path, int]] = field(default_factory=set)
+    # the find_package() commands that run only where an optional find_package() (not REQUIRED)
+    # found its package (tmr_ros2's tm_driver: if(moveit_ros_planning_interface_FOUND)): their
+    # location → those optional finds, (name, command) by name
+    gated: dict[tuple[Path, int], tuple[tuple[str, Command], ...]] = field(default_factory=dict)
     # ament_auto_find_build_dependencies(): every build dependency of package.xml is found
     auto_find_command: Command | None = None
     files: list[SourceFile] = field(default_factory=list)  # every CMake file read
     syntax_errors: list[CMakeSyntaxError] = field(default_factory=list)
     unreadable: list[SourceFile] = field(default_factory=list)
+
+
+@dataclass
+class _IfBlock:
+    """An open if() while its commands run: what its branch taken now needs found."""
+
+    testing: bool  # an if(BUILD_TESTING) still counted
+    gate: frozenset[str]  # the optional finds the current branch runs only with
+    earlier_false: frozenset[str]  # what every earlier condition being false needs found
+    first_false: frozenset[str]  # what the first condition being false needs found
+    first_branch: bool = True
+    returns: bool = False  # a return() in the first branch: what follows needs first_false
+    after: frozenset[str] = frozenset()  # gates of inner blocks' return() in the current branch
 
 
 class _Interpreter:
@@ -136,6 +157,10 @@ class _Interpreter:
         self.model = model
         self.depth = 0
         self.testing = 0  # how many enclosing if(BUILD_TESTING) blocks are open
+        self.gate: frozenset[str] = frozenset()  # the optional finds what runs now needs
+        # name → its find_package(); only those without REQUIRED (X_FOUND may be false)
+        self.optional_finds: dict[str, Command] = {}
+        self.required_finds: set[str] = set()
 
     def run_file(self, path: Path, variables: Variables) -> None:
         if self.depth > MAX_INCLUDE_DEPTH:
@@ -157,35 +182,70 @@ class _Interpreter:
             self.depth -= 1
 
     def run(self, commands: list[Command], variables: Variables, *, conditional: bool) -> None:
-        index, if_depth = 0, 0
-        testing_blocks: list[bool] = []  # per open if(): whether it is an if(BUILD_TESTING) still counted
-        while index < len(commands):
-            command = commands[index]
-            name = command.name
-            if name in ("function", "macro"):
-                index = _block_end(commands, index, name, "end" + name) + 1
-                continue
-            if name == "foreach":
-                end = _block_end(commands, index, "foreach", "endforeach")
-                self.foreach(command, commands[index + 1 : end], variables, conditional or if_depth > 0)
-                index = end + 1
-                continue
-            if name == "if":
-                if_depth += 1
-                words = [a.text for a in command.args]
-                testing_blocks.append(bool(words) and words[0] == "BUILD_TESTING")
-                self.testing += testing_blocks[-1]
-            elif name in ("else", "elseif"):
-                if testing_blocks and testing_blocks[-1]:  # the other branch of if(BUILD_TESTING)
-                    testing_blocks[-1] = False
-                    self.testing -= 1
-            elif name == "endif":
-                if_depth = max(0, if_depth - 1)
-                if testing_blocks and testing_blocks.pop():
-                    self.testing -= 1
-            else:
-                self.command(command, variables, conditional or if_depth > 0)
-            index += 1
+        index = 0
+        blocks: list[_IfBlock] = []  # the if() blocks open in these commands
+        outer = self.gate  # what the caller's context needs (an include or a loop inside an if())
+        rest: frozenset[str] = frozenset()  # what the rest needs after a top-level if(NOT X_FOUND) return()
+        try:
+            while index < len(commands):
+                command = commands[index]
+                name = command.name
+                self.gate = outer | rest | frozenset().union(*(b.gate | b.after for b in blocks))
+                if name in ("function", "macro"):
+                    index = _block_end(commands, index, name, "end" + name) + 1
+                    continue
+                if name == "foreach":
+                    end = _block_end(commands, index, "foreach", "endforeach")
+                    self.foreach(command, commands[index + 1 : end], variables, conditional or bool(blocks))
+                    index = end + 1
+                    continue
+                if name == "if":
+                    words = [a.text for a in command.args]
+                    when_true, when_false = self.condition(command.args)
+                    blocks.append(
+                        _IfBlock(
+                            bool(words) and words[0] == "BUILD_TESTING", when_true, when_false, when_false
+                        )
+                    )
+                    self.testing += blocks[-1].testing
+                elif name in ("else", "elseif") and blocks:
+                    block = blocks[-1]
+                    if block.testing:  # the other branch of if(BUILD_TESTING)
+                        block.testing = False
+                        self.testing -= 1
+                    when_true, when_false = (
+                        self.condition(command.args) if name == "elseif" else (frozenset(),) * 2
+                    )
+                    block.gate = block.earlier_false | when_true
+                    block.earlier_false |= when_false
+                    block.first_branch, block.after = False, frozenset()
+                elif name == "endif":
+                    if blocks:
+                        block = blocks.pop()
+                        self.testing -= block.testing
+                        if block.returns:  # if(NOT X_FOUND) return() endif(): what follows needs X
+                            if blocks:
+                                blocks[-1].after |= block.first_false
+                            else:
+                                rest |= block.first_false
+                elif name == "return":
+                    if blocks and blocks[-1].first_branch:
+                        blocks[-1].returns = True
+                else:
+                    self.command(command, variables, conditional or bool(blocks))
+                index += 1
+        finally:
+            self.testing -= sum(b.testing for b in blocks)  # an if() never closed in this file
+            self.gate = outer
+
+    def condition(self, args: tuple[Argument, ...]) -> tuple[frozenset[str], frozenset[str]]:
+        """The optional finds an if() condition needs found when it holds, and when it does not."""
+        optional = {
+            name: command for name, command in self.optional_finds.items() if name not in self.required_finds
+        }
+        if not optional:
+            return frozenset(), frozenset()
+        return _needs_found(list(args), optional)
 
     def foreach(self, command: Command, body: list[Command], variables: Variables, conditional: bool) -> None:
         values = self.expand_args(command.args, variables)
@@ -273,6 +333,14 @@ class _Interpreter:
                 self.model.find_packages.append((values[0], command))
                 if self.testing:
                     self.model.test_only.add((command.path, command.line))
+                if self.gate:
+                    self.model.gated[(command.path, command.line)] = tuple(
+                        (gate, self.optional_finds[gate]) for gate in sorted(self.gate)
+                    )
+                if "REQUIRED" in values[1:]:
+                    self.required_finds.add(values[0])
+                else:
+                    self.optional_finds.setdefault(values[0], command)
 
     def auto_package(self, command: Command, variables: Variables) -> InstallRule | None:
         rule = InstallRule("DIRECTORY", command, Path(str(variables["CMAKE_CURRENT_SOURCE_DIR"])))
@@ -426,6 +494,107 @@ def _split_list(value: str | Unknown) -> list[str | Unknown]:
         index += 1
     parts.append("".join(current))
     return parts
+
+
+# if() operators: unary ones take the next argument, binary ones the arguments either side
+UNARY_TESTS = frozenset(
+    {"EXISTS", "COMMAND", "DEFINED", "TARGET", "POLICY", "TEST", "IS_DIRECTORY", "IS_SYMLINK"}
+    | {"IS_ABSOLUTE", "IS_READABLE", "IS_WRITABLE", "IS_EXECUTABLE"}
+)
+BINARY_TESTS = frozenset(
+    {"EQUAL", "LESS", "GREATER", "LESS_EQUAL", "GREATER_EQUAL", "STREQUAL", "STRLESS", "STRGREATER"}
+    | {"STRLESS_EQUAL", "STRGREATER_EQUAL", "VERSION_EQUAL", "VERSION_LESS", "VERSION_GREATER"}
+    | {"VERSION_LESS_EQUAL", "VERSION_GREATER_EQUAL", "PATH_EQUAL", "MATCHES", "IN_LIST", "IS_NEWER_THAN"}
+)
+NO_NEED: tuple[frozenset[str], frozenset[str]] = (frozenset(), frozenset())
+
+
+class _NotACondition(Exception):
+    pass
+
+
+def _needs_found(args: list[Argument], optional: dict[str, Command]) -> tuple[frozenset[str], frozenset[str]]:
+    """(needed when it holds, needed when it does not): the names of `optional` whose find must
+    have found the package for the if() condition `args` to hold (`X_FOUND`, `${X_FOUND}`,
+    `TARGET X::x`) or to fail (`NOT X_FOUND`), through NOT, AND, OR and parentheses as
+    cmake-commands(7) gives their precedence. A condition read otherwise needs nothing."""
+    by_lower = {name.lower(): name for name in optional}
+    position = 0
+
+    def word(offset: int = 0) -> str | None:
+        index = position + offset
+        if index >= len(args):
+            return None
+        return args[index].text if args[index].kind == "unquoted" else None
+
+    def either() -> tuple[frozenset[str], frozenset[str]]:
+        nonlocal position
+        when_true, when_false = both()
+        while word() == "OR":
+            position += 1
+            other_true, other_false = both()
+            when_true, when_false = when_true & other_true, when_false | other_false
+        return when_true, when_false
+
+    def both() -> tuple[frozenset[str], frozenset[str]]:
+        nonlocal position
+        when_true, when_false = negation()
+        while word() == "AND":
+            position += 1
+            other_true, other_false = negation()
+            when_true, when_false = when_true | other_true, when_false & other_false
+        return when_true, when_false
+
+    def negation() -> tuple[frozenset[str], frozenset[str]]:
+        nonlocal position
+        if word() == "NOT":
+            position += 1
+            when_true, when_false = negation()
+            return when_false, when_true
+        return test()
+
+    def test() -> tuple[frozenset[str], frozenset[str]]:
+        nonlocal position
+        if position >= len(args):
+            raise _NotACondition
+        if word() == "(":
+            position += 1
+            found = either()
+            if word() != ")":
+                raise _NotACondition
+            position += 1
+            return found
+        if word() in UNARY_TESTS:
+            operator = word()
+            position += 2
+            if position > len(args):
+                raise _NotACondition
+            target = args[position - 1].text
+            if operator == "TARGET" and "::" in target:  # an imported target: X's find made it
+                name = by_lower.get(target.split("::")[0].lower())
+                return (frozenset({name}), frozenset()) if name else NO_NEED
+            return NO_NEED
+        operand = args[position].text
+        position += 1
+        if word() in BINARY_TESTS:
+            position += 2
+            if position > len(args):
+                raise _NotACondition
+            return NO_NEED
+        if word() not in (None, ")", "AND", "OR"):
+            raise _NotACondition
+        variable = operand[2:-1] if operand.startswith("${") and operand.endswith("}") else operand
+        if variable.endswith("_FOUND"):
+            name = by_lower.get(variable[: -len("_FOUND")].lower())
+            if name is not None:
+                return frozenset({name}), frozenset()
+        return NO_NEED
+
+    try:
+        found = either()
+    except _NotACondition:
+        return NO_NEED
+    return found if position == len(args) else NO_NEED
 
 
 def _block_end(commands: list[Command], start: int, opener: str, closer: str) -> int:

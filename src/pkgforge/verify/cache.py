@@ -86,7 +86,8 @@ if TYPE_CHECKING:
 # 36: PF305 for a package declared only as test_depend a warning; PF304's hint names building from source
 # 37: a model finding in another package's included file at the include's line
 # 38: a PathJoinSubstitution's path that is only part of a name a substitution list builds: that name
-CACHE_FORMAT = 38
+# 39: a find_package() only an optional find_package() not installed lets run: a PF109 warning
+CACHE_FORMAT = 39
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
