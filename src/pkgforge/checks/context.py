@@ -98,6 +98,19 @@ class FileFacts:
         target: str | None = self._once("readlink", path, read)
         return target
 
+    def lines(self, path: str | os.PathLike[str]) -> list[str]:
+        """A text file's lines ([] when it cannot be read)."""
+
+        def read(text: str) -> list[str]:
+            try:
+                with open(text, encoding="utf-8", errors="replace") as handle:
+                    return handle.read().splitlines()
+            except OSError:
+                return []
+
+        found: list[str] = self._once("lines", path, read)
+        return found
+
     def real(self, path: str | os.PathLike[str]) -> Path | None:
         """The path with its links resolved (Path.resolve), None when that fails."""
 

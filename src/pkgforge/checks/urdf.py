@@ -49,18 +49,8 @@ def model_source_position(
 def _include_line(ctx: CheckContext, model: Path, included: str) -> int | None:
     """The line of `model` whose <xacro:include> names a file called like `included`, else None."""
     name = os.path.basename(included)
-    key = ("model-lines", model)
-    if key not in ctx.shared:
-        ctx.shared[key] = _lines_of(model)
-    lines: list[str] = ctx.shared[key]
+    lines = ctx.files.lines(model)
     return next((n for n, text in enumerate(lines, start=1) if "include" in text and name in text), None)
-
-
-def _lines_of(path: Path) -> list[str]:
-    try:
-        return path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError:
-        return []
 
 
 def _fed_from(
