@@ -1415,3 +1415,20 @@ def test_fix_declares_no_build_dependency_back_on_a_package_that_depends_on_this
         "depends on audit_tools (audit_tools → audit_core → audit_tools), so declaring it makes a cycle "
         "colcon refuses"
     ]
+
+
+def test_a_program_find_executable_cannot_find_anywhere_stays_an_error(tmp_path):
+    # a reader's case: a misspelt program fails everywhere, and a node's executable lives in
+    # lib/<package>/, never on PATH: only the tools a sourced ROS puts on PATH (ros2, gz) are
+    # "not installed here"
+    launch = FIND_EXECUTABLE_LAUNCH.replace("'ros2'", "'pyhton3'").replace(
+        "FindExecutable(name='python3')", "FindExecutable(name='robot_state_publisher')"
+    )
+    folder = package(tmp_path, "audit_typo", ["launch"], {"launch/a.launch.py": launch})
+    written = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert [(s, line) for s, _, line, _ in found(report, "PF301")] == [
+            ("error", line_of(written, "'pyhton3'")),
+            ("error", line_of(written, "'robot_state_publisher'")),
+        ], engine
+        assert found(report, "PF311") == [], engine

@@ -217,12 +217,20 @@ def _declared_folder_on_path(error: BaseException) -> str | None:
 ROS_PROGRAMS = frozenset({"ros2", "gz", "ign"})
 
 
+def _ros_program_not_found(error: BaseException) -> str | None:
+    """The program FindExecutable did not find on PATH, when it is one a sourced ROS puts there
+    (ros2, gz): a node's executable lives in lib/<package>/, never on PATH, and a misspelt name
+    (pyhton3, xacroo) fails everywhere, so those stay the file's error."""
+    found = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    return found if found in ROS_PROGRAMS else None
+
+
 def _program_not_found(error: BaseException) -> str | None:
     """The ROS tool a subprocess call named by its bare name and did not find on PATH
     (realsense's `subprocess.run(['ros2', 'component', 'types'])` where ROS is not installed), or
-    any program FindExecutable did not find on PATH (`FindExecutable(name='ros2')`, the "Using
-    event handlers" tutorial): on the user's machine, with ROS sourced, PATH has it."""
-    found = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    that FindExecutable did not find (`FindExecutable(name='ros2')`, the "Using event handlers"
+    tutorial): on the user's machine, with ROS sourced, PATH has it."""
+    found = _ros_program_not_found(error)
     if found is not None:
         return found
     name = getattr(error, "filename", None)
@@ -426,7 +434,7 @@ def record_visit_failure(
     if isinstance(error, ModuleNotFoundError):  # an included file's import (its package's, maybe)
         record["module"] = error.name
     # (a subprocess's program not found stays the action's error here: only FindExecutable's)
-    program = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    program = _ros_program_not_found(error)
     if program is not None:  # FindExecutable(name='ros2'): on PATH where ROS is sourced
         record["program"] = program
     variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)

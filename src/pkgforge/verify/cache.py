@@ -87,7 +87,8 @@ if TYPE_CHECKING:
 # 37: a model finding in another package's included file at the include's line
 # 38: a PathJoinSubstitution's path that is only part of a name a substitution list builds: that name
 # 39: a find_package() only an optional find_package() not installed lets run: a PF109 warning
-CACHE_FORMAT = 39
+# 40: FindExecutable of a program a sourced ROS does not put on PATH stays PF301
+CACHE_FORMAT = 40
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
