@@ -1432,3 +1432,40 @@ def test_a_program_find_executable_cannot_find_anywhere_stays_an_error(tmp_path)
             ("error", line_of(written, "'robot_state_publisher'")),
         ], engine
         assert found(report, "PF311") == [], engine
+
+
+def test_a_system_library_gate_gates_nothing(tmp_path):
+    # a reader's case: find_package(Eigen3 QUIET) then if(Eigen3_FOUND) find_package(tf2_eigen
+    # REQUIRED), eigen declared by its rosdep key: rosdep installs Eigen3, the branch runs, the
+    # build fails without tf2_eigen. A CMake name is no ROS package name: no gate
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_gate NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(Eigen3 QUIET)\nif(Eigen3_FOUND)\n  find_package(tf2_eigen REQUIRED)\nendif()\nament_package()\n"
+    )
+    folder = package(tmp_path, "audit_gate", [], {"CMakeLists.txt": cmake}, depend=["eigen"])
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert [(s, line) for s, _, line, _ in found(report, "PF109")] == [
+        ("error", line_of(folder / "CMakeLists.txt", "find_package(tf2_eigen"))
+    ]
+
+
+def test_a_launch_use_declared_only_as_test_depend_outside_tests_stays_an_error(tmp_path):
+    # a reader's case: a released binary brings no test dependencies; an ordinary package's
+    # installed launch file fails after `apt install` (ros2/demos' lifecycle_py too)
+    folder = package(
+        tmp_path,
+        "audit_bringup",
+        [],
+        {"launch/a.launch.py": NODE_ONLY_LAUNCH},
+        test_depend=["robot_state_publisher"],
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == [
+        (
+            "error",
+            "src/audit_bringup/launch/a.launch.py",
+            line_of(folder / "launch" / "a.launch.py", "Node(package="),
+            "Node package 'robot_state_publisher' is used at run time but package.xml does not declare it; it "
+            "declares it only as <test_depend>, which a released binary does not bring",
+        )
+    ]

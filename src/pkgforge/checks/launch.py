@@ -696,8 +696,8 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "headless robot leaves RViz out on purpose; any other package such a setting needs (the "
     "simulator under sim:=true) stays an error, with the setting named. A use in one if/else "
     "branch of a launch file pkgforge could not evaluate is a warning too (which branch runs is "
-    "unknown: turtlebot3's lidar driver by $LDS_MODEL), and a package declared only as "
-    "<test_depend> (launch files a test package's own tests start).",
+    "unknown: turtlebot3's lidar driver by $LDS_MODEL), and, in a test package (dsr_tests) or "
+    "under test/, a package declared only as <test_depend>.",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -763,9 +763,10 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
             )
             continue
-        if name in tested:
+        if name in tested and _for_tests(model, path):
             # Doosan's dsr_tests: launch files its own tests start, their packages declared as
-            # <test_depend> (rosdep installs those too): right if only the tests launch them
+            # <test_depend> (rosdep installs those for a source build): right if only the tests
+            # launch them. A released binary does not bring test dependencies: elsewhere, an error
             yield Finding(
                 f"{via} '{name}' is used at run time but package.xml declares it only as <test_depend>{note}",
                 path,
@@ -791,8 +792,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 hint=f"add <exec_depend>{name}</exec_depend> if the package's users launch it with that setting",
             )  # no fix: only the user knows whether that setting is meant for this package's users
             continue
+        only_tests = (
+            "; it declares it only as <test_depend>, which a released binary does not bring"
+            if name in tested
+            else ""
+        )
         yield Finding(
-            f"{via} '{name}' is used at run time but package.xml does not declare it{note}",
+            f"{via} '{name}' is used at run time but package.xml does not declare it{note}{only_tests}",
             path,
             line,
             hint=f"add <exec_depend>{name}</exec_depend> to package.xml"
@@ -803,6 +809,18 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             ),
             fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
         )
+
+
+def _for_tests(model: PackageModel, path: Path) -> bool:
+    """Whether a launch file is its package's tests' own: under a test/ folder, or in a package
+    named for tests (dsr_tests, *_test, *_testing)."""
+    try:
+        parts = path.relative_to(model.path).parts
+    except ValueError:
+        parts = ()
+    return any(part in ("test", "tests") for part in parts[:-1]) or model.name.endswith(
+        ("_test", "_tests", "_testing")
+    )
 
 
 # tools a person looks through, which a headless robot's package leaves out on purpose

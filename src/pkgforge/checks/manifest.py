@@ -500,11 +500,15 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
     gated = model.cmake.gated
 
     def gates(command: Command) -> tuple[tuple[str, Command], ...]:
-        """The optional finds the command runs only with, of packages a clean machine lacks."""
+        """The optional finds the command runs only with, of ROS packages a clean machine lacks.
+        A system library's CMake name (Eigen3, OpenCV, Python3) is no ROS package name: which
+        rosdep key installs it (eigen, libopencv-dev) is not known here, so it gates nothing."""
         return tuple(
             (name, found)
             for name, found in gated.get((command.path, command.line), ())
-            if name not in installed and ctx.brought_along(name, installing) is None
+            if (name in ctx.workspace or name in released)
+            and name not in installed
+            and ctx.brought_along(name, installing) is None
         )
 
     def optional(command: Command) -> bool:

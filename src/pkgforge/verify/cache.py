@@ -88,7 +88,8 @@ if TYPE_CHECKING:
 # 38: a PathJoinSubstitution's path that is only part of a name a substitution list builds: that name
 # 39: a find_package() only an optional find_package() not installed lets run: a PF109 warning
 # 40: FindExecutable of a program a sourced ROS does not put on PATH stays PF301
-CACHE_FORMAT = 40
+# 41: a system library's CMake name gates nothing (PF109); test_depend-only uses a warning only in test packages
+CACHE_FORMAT = 41
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
