@@ -1469,3 +1469,31 @@ def test_a_launch_use_declared_only_as_test_depend_outside_tests_stays_an_error(
             "declares it only as <test_depend>, which a released binary does not bring",
         )
     ]
+
+
+def test_the_include_line_is_the_one_naming_that_package_and_path(tmp_path):
+    # a reader's case: two includes of files with the same name, from two packages: the finding
+    # in the arm's file points at the arm's include, not at the first one with that name
+    arm = ZERO_VELOCITY_ARM.replace('effort="10"', 'effort="0"').replace('velocity="0"', 'velocity="1"')
+    package(tmp_path, "audit_arm_description", [], {"urdf/arm.urdf": arm})
+    gripper = '<?xml version="1.0"?>\n<robot name="g">\n  <!-- nothing yet -->\n</robot>\n'
+    package(tmp_path, "audit_gripper_description", [], {"urdf/arm.urdf": gripper})
+    wrapper = (
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm">\n'
+        '  <!-- <xacro:include filename="$(find audit_arm_description)/urdf/arm.urdf"/> (old) -->\n'
+        '  <xacro:include filename="$(find audit_gripper_description)/urdf/arm.urdf"/>\n'
+        '  <xacro:include filename="$(find audit_arm_description)/urdf/arm.urdf"/>\n'
+        '  <link name="world"/>\n'
+        '  <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/></joint>\n</robot>\n'
+    )
+    deps = ["audit_arm_description", "audit_gripper_description"]
+    folder = package(tmp_path, "audit_arm_config", deps, {"urdf/arm_config.urdf.xacro": wrapper})
+    model = folder / "urdf" / "arm_config.urdf.xacro"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(s, p, line) for s, p, line, _ in found(report, "PF605") if "audit_arm_config" in p] == [
+        (
+            "warning",
+            "src/audit_arm_config/urdf/arm_config.urdf.xacro",
+            line_of(model, '  <xacro:include filename="$(find audit_arm_description)'),
+        )
+    ]

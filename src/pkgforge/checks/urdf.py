@@ -47,10 +47,18 @@ def model_source_position(
 
 
 def _include_line(ctx: CheckContext, model: Path, included: str) -> int | None:
-    """The line of `model` whose <xacro:include> names a file called like `included`, else None."""
-    name = os.path.basename(included)
-    lines = ctx.files.lines(model)
-    return next((n for n, text in enumerate(lines, start=1) if "include" in text and name in text), None)
+    """The line of `model` whose <xacro:include> names `included` by its package and its path
+    there ($(find pkg)/urdf/parts.xacro), else None (named otherwise, or on two lines)."""
+    located = ctx.tree.locate(included) if ctx.tree is not None else None
+    if located is None:
+        return None
+    package, relative = located[0], located[1]
+    lines = [
+        number
+        for number, text in enumerate(ctx.files.lines(model), start=1)
+        if "include" in text and "<!--" not in text and package in text and relative in text
+    ]
+    return lines[0] if len(lines) == 1 else None
 
 
 def _fed_from(
