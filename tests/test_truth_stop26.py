@@ -1497,3 +1497,32 @@ def test_the_include_line_is_the_one_naming_that_package_and_path(tmp_path):
             line_of(model, '  <xacro:include filename="$(find audit_arm_description)'),
         )
     ]
+
+
+LOG_SENTENCE_LAUNCH = """from launch import LaunchDescription
+from launch.actions import LogInfo
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    share = FindPackageShare('audit_log')
+    return LaunchDescription([
+        LogInfo(msg=['Loading the model ', PathJoinSubstitution([share, 'urdf', 'robot.urdf']), '.']),
+        LogInfo(msg=['Loading ', PathJoinSubstitution([share, 'urdf', 'robot.urdf']), '...']),
+    ])
+"""
+
+
+def test_a_full_stop_after_a_joined_path_is_no_part_of_its_name(tmp_path):
+    # a reader's case: 'robot.urdf.' and 'robot.urdf...' were missing files (the built-in engine
+    # only); a sentence's punctuation ends the name
+    robot = '<?xml version="1.0"?>\n<robot name="r">\n  <link name="base_link"/>\n</robot>\n'
+    package(
+        tmp_path,
+        "audit_log",
+        ["launch"],
+        {"launch/a.launch.py": LOG_SENTENCE_LAUNCH, "urdf/robot.urdf": robot},
+    )
+    for engine, report in engine_reports(tmp_path).items():
+        assert found(report, "PF303") == [] and found(report, "PF302") == [], engine

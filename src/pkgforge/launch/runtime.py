@@ -287,8 +287,13 @@ def _whole_names(texts: list[str], own: list[tuple[int, int]], complete: bool) -
             continue  # the whole name
         while goes_on and start and result[start - 1] in _NAME_CHARACTERS:
             start -= 1
+        own_end = end
         while end < len(result) and result[end] in _NAME_CHARACTERS:
             end += 1
+        while end > own_end and result[end - 1] == ".":
+            end -= 1  # a sentence's full stop or ellipsis ('Loading ', path, '.'): no part of a name
+        if end == own_end and not goes_on and (end < len(result) or complete):
+            continue  # only punctuation after it: the whole name
         name = result[start:end]
         if end == len(result) and not complete:
             gone.append(k)  # the part after it failed: where the name ends is not known

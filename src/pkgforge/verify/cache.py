@@ -89,7 +89,8 @@ if TYPE_CHECKING:
 # 39: a find_package() only an optional find_package() not installed lets run: a PF109 warning
 # 40: FindExecutable of a program a sourced ROS does not put on PATH stays PF301
 # 41: a system library's CMake name gates nothing (PF109); test_depend-only uses a warning only in test packages
-CACHE_FORMAT = 41
+# 42: a full stop after a joined path ends its name; the include line named by package and path
+CACHE_FORMAT = 42
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
