@@ -1526,3 +1526,35 @@ def test_a_full_stop_after_a_joined_path_is_no_part_of_its_name(tmp_path):
     )
     for engine, report in engine_reports(tmp_path).items():
         assert found(report, "PF303") == [] and found(report, "PF302") == [], engine
+
+
+RUN_TIME_EVENT_LAUNCH = """from launch import LaunchDescription
+from launch.actions import ExecuteProcess, LogInfo, RegisterEventHandler
+from launch.event_handlers import OnProcessExit, OnProcessStart
+from launch.substitutions import LocalSubstitution
+
+
+def generate_launch_description():
+    sleeper = ExecuteProcess(cmd=['sleep', '1'], name='sleeper')
+    return LaunchDescription([
+        sleeper,
+        RegisterEventHandler(OnProcessStart(target_action=sleeper, on_start=[LogInfo(
+            msg=['cmd: ', LocalSubstitution('event.cmd[0]')])])),
+        RegisterEventHandler(OnProcessExit(on_exit=[LogInfo(
+            msg=['exited: ', LocalSubstitution("event.action.process_details['name']")])])),
+    ])
+"""
+
+
+def test_an_event_handler_using_the_events_run_time_values_is_unchecked_not_an_error(tmp_path):
+    # a reader's case: event.cmd[0] and event.action.process_details are real values at run
+    # time; the stand-in event's empty ones made the file's valid code an IndexError and a
+    # NoneType error (both engines)
+    folder = package(tmp_path, "audit_events", ["launch"], {"launch/a.launch.py": RUN_TIME_EVENT_LAUNCH})
+    launch = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert found(report, "PF301") == [], engine
+        assert [(s, line) for s, _, line, _ in found(report, "PF311")] == [
+            ("info", line_of(launch, "OnProcessStart(")),
+            ("info", line_of(launch, "OnProcessExit(")),
+        ], engine

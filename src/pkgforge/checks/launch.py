@@ -141,6 +141,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # an included file's import: that file is evaluated, and reported, on its own
             if item.read_from:
                 continue  # an OpaqueFunction read a file of a package not installed here (launch-unevaluated)
+            if item.event_values:
+                continue  # an event handler's action on the event's run-time values (launch-unevaluated)
             if item.type == "XacroException" and (absent := ctx.absent_include(item.message)):
                 if absent[0] in ctx.model.manifest.declared():
                     continue  # its own xacro.process_file(): model-unevaluated says it (ROS has the file)
@@ -1047,6 +1049,17 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
         for item in resolution.errors if resolution.status == "ok" else []:
+            if item.event_values:
+                where = ctx.source_position(resolution, item.file, item.line)
+                if where is not None and (*where, "event") not in said:
+                    said.add((*where, "event"))
+                    yield Finding(
+                        f"{resolution.launch.installed.name}: {item.entity or 'an action'} of an event "
+                        f"handler uses what only the run gives the event ({item.type}: "
+                        f"{_one_line(item.message)}); it is not checked",
+                        *where,
+                    )
+                continue
             if item.program:
                 # FindExecutable(name='ros2') in an ExecuteProcess (the "Using event handlers"
                 # tutorial): where ROS is sourced, ros2 is on PATH

@@ -370,9 +370,11 @@ def handling(context: Any, event: object) -> Iterator[None]:
     engines): the locals pushed, `event` added (BaseEventHandler.handle), the locals popped after."""
     context._push_locals()
     context.extend_locals({"event": event})
+    runtime.HANDLING.append(event)
     try:
         yield
     finally:
+        runtime.HANDLING.pop()
         context._pop_locals()
 
 
@@ -440,6 +442,8 @@ def record_visit_failure(
     variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
     if variable is not None:  # EnvironmentVariable('USER') without a default, not set here
         record["variable"] = variable
+    if runtime.HANDLING and _empty_read_consequence(error):
+        record["event_values"] = True  # event.cmd[0], event.action.process_details['name']
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
         record["read_from"] = absent

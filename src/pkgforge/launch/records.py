@@ -133,6 +133,7 @@ class ErrorRecordDict(RecordDict, total=False):
     variable: str | None
     read_from: str | None
     read_before: str | None
+    event_values: bool
     limit: LimitKind | None
 
 
@@ -297,6 +298,9 @@ class Error(Record):
     # an action's failure after loading read such a package's files (not the action itself):
     # maybe a consequence of that read, maybe the action's own defect
     read_before: str | None = None
+    # an event handler's action failed on what only the run gives the event (event.cmd,
+    # event.action.process_details): the stand-in event's empty values, not the file's defect
+    event_values: bool = False
     limit: LimitKind | None = None  # a worker limit hit (never cached)
 
 

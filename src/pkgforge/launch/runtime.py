@@ -1361,6 +1361,10 @@ def _event(kind: str, **attributes: object) -> HandledEvent:
     return cls(**attributes)
 
 
+# the stand-in events whose handlers' entities are being visited (evaluate.handling)
+HANDLING: list[object] = []
+
+
 def handler_event(handler: object, target: object = None) -> HandledEvent:
     """The event `handler` (launch's or pkgforge's, by its class's name) handles, standing in
     (both engines); `target`: the action it watches (target_action), None for any."""
