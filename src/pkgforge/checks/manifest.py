@@ -273,31 +273,33 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     # moveit_ros_move_group): that declaration is what installs it (missing-exec-depend names it)
     from pkgforge.checks.launch import LAUNCH_INFRASTRUCTURE
 
+    unused = [
+        dependency
+        for dependency in model.manifest.active_dependencies()
+        if dependency.tag in RUN_TAGS
+        and dependency.tag != "depend"
+        and dependency.name not in used
+        and _not_in_distro(ctx, dependency.name, declared=True) is None  # that one says it
+    ]
     undeclared = (used & ctx.real_packages()) - model.manifest.declared() - LAUNCH_INFRASTRUCTURE
     undeclared -= {model.name, model.share_name}
-    # (brought by a dependency the package uses itself: that one installs it; rviz2 brings the
-    # RViz displays, urdf_tutorial does too, and is still unused)
-    directly = sorted(used & model.manifest.declared())
-    workspace = ctx.workspace_exports()
-    undeclared = {u for u in undeclared if brought_by(u, directly, ctx.distros, workspace) is None}
-    for dependency in model.manifest.active_dependencies():
-        if (
-            dependency.tag in RUN_TAGS
-            and dependency.tag != "depend"
-            and dependency.name not in used
-            and _not_in_distro(ctx, dependency.name, declared=True) is None  # that one says it
-            and not _brings_a_use(ctx, dependency.name, undeclared)
-        ):
-            yield Finding(
-                f"nothing in {model.name} uses exec_depend '{dependency.name}'",
-                model.manifest.path,
-                dependency.line,
-            )
-
-
-def _brings_a_use(ctx: CheckContext, name: str, uses: set[str]) -> bool:
-    workspace = ctx.workspace_exports()
-    return any(brought_by(use, [name], ctx.distros, workspace) == name for use in sorted(uses))
+    if unused and undeclared:  # (the workspace's exports read only then: every manifest parsed)
+        # (brought by a dependency the package uses itself: that one installs it; rviz2 brings the
+        # RViz displays, urdf_tutorial does too, and is still unused)
+        workspace = ctx.workspace_exports()
+        directly = sorted(used & model.manifest.declared())
+        undeclared = {u for u in undeclared if brought_by(u, directly, ctx.distros, workspace) is None}
+        unused = [
+            d
+            for d in unused
+            if not any(brought_by(u, [d.name], ctx.distros, workspace) == d.name for u in sorted(undeclared))
+        ]
+    for dependency in unused:
+        yield Finding(
+            f"nothing in {model.name} uses exec_depend '{dependency.name}'",
+            model.manifest.path,
+            dependency.line,
+        )
 
 
 # names the ROS 1 → ROS 2 table renames that are also rosdep keys of a system package on some
