@@ -1558,3 +1558,37 @@ def test_an_event_handler_using_the_events_run_time_values_is_unchecked_not_an_e
             ("info", line_of(launch, "OnProcessStart(")),
             ("info", line_of(launch, "OnProcessExit(")),
         ], engine
+
+
+STATIC_CONDITION_LAUNCH = """import os
+
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    model = os.environ['AUDIT_ROBOT_MODEL']
+    return LaunchDescription([
+        DeclareLaunchArgument('db', default_value='false'),
+        Node(package='warehouse_ros_mongo', executable='mongo_wrapper_ros.py', condition=IfCondition(LaunchConfiguration('db')), arguments=[model]),
+    ])
+"""
+
+
+def test_a_statically_checked_use_under_a_condition_names_it(tmp_path):
+    # moveit2_tutorials' chomp_demo.launch.py (checked statically): warehouse_ros_mongo only with
+    # db:=true; a database a supported setting needs stays an error, saying when it is needed
+    folder = package(tmp_path, "audit_db", ["launch_ros"], {"launch/a.launch.py": STATIC_CONDITION_LAUNCH})
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert found(report, "PF305") == [
+        (
+            "error",
+            "src/audit_db/launch/a.launch.py",
+            line_of(folder / "launch" / "a.launch.py", "Node(package='warehouse_ros_mongo'"),
+            "Node 'warehouse_ros_mongo' is used at run time but package.xml does not declare it "
+            "(only with condition=IfCondition(LaunchConfiguration('db')))",
+        )
+    ]

@@ -740,6 +740,10 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )  # no fix: only the user knows whether that use is meant for this package's users
             continue
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
+        written_use = written.get((name, path, line)) if item is None else None
+        if written_use is not None and written_use.launch_condition and path in ctx.static_fallback():
+            # a file checked statically: its action given a condition= off at the defaults
+            note = f" (only with condition={written_use.launch_condition})"
         if name in ctx.workspace and ctx.depends_on(name, model.name):
             # (husky_description's xacro finds husky_control, which depends on husky_description)
             yield Finding(

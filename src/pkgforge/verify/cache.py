@@ -91,7 +91,8 @@ if TYPE_CHECKING:
 # 41: a system library's CMake name gates nothing (PF109); test_depend-only uses a warning only in test packages
 # 42: a full stop after a joined path ends its name; the include line named by package and path
 # 43: an event handler's action failing on the stand-in event's empty values: PF311 (error records event_values)
-CACHE_FORMAT = 43
+# 44: a statically checked use under condition= says so in PF305's message
+CACHE_FORMAT = 44
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
