@@ -1592,3 +1592,32 @@ def test_a_statically_checked_use_under_a_condition_names_it(tmp_path):
             "(only with condition=IfCondition(LaunchConfiguration('db')))",
         )
     ]
+
+
+DISTRO_BRANCH_LAUNCH = """import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+
+
+def generate_launch_description():
+    model = os.environ['AUDIT_ROBOT_MODEL']
+    if os.environ.get('ROS_DISTRO') == 'humble':
+        simulator = get_package_share_directory('gazebo_ros')
+    else:
+        simulator = get_package_share_directory('ros_gz_sim')
+    return LaunchDescription([])
+"""
+
+
+def test_a_branch_on_ros_distro_in_a_file_checked_statically_is_taken_by_the_target(tmp_path):
+    # a reader's case: which branch runs on $ROS_DISTRO is known for the target distro: the other
+    # branch's package is no use there (gazebo_ros "not released for jazzy" was a PF108 error)
+    folder = package(tmp_path, "audit_distro", ["launch"], {"launch/a.launch.py": DISTRO_BRANCH_LAUNCH})
+    launch = folder / "launch" / "a.launch.py"
+    for distro, used in (("jazzy", "ros_gz_sim"), ("humble", "gazebo_ros")):
+        _, report = verify_report(tmp_path, "--no-cache", "--distro", distro)
+        assert found(report, "PF108") == [], distro
+        assert [(s, line) for s, _, line, _ in found(report, "PF305")] == [
+            ("error", line_of(launch, f"'{used}'"))
+        ], distro

@@ -650,15 +650,63 @@ class CheckContext:
         return found.group(1)
 
     def static_fallback(self) -> dict[Path, list[Reference]]:
-        """Static references of the launch files that could not be evaluated here."""
+        """Static references of the launch files that could not be evaluated here (a use in a
+        branch on $ROS_DISTRO that no target distro takes left out)."""
         out: dict[Path, list[Reference]] = {}
         for resolution in self.resolutions:
             # (a file stopped by an unset environment variable: what it names literally is still its own)
             if self.load_error_kind(resolution) in STATIC_KINDS and resolution.launch.source:
                 out[resolution.launch.source] = [
-                    r for r in self.model.references if r.path == resolution.launch.source
+                    r
+                    for r in self.model.references
+                    if r.path == resolution.launch.source
+                    and self.branch_on_distros(r.python_branch) is not False
                 ]
         return out
+
+    def branch_on_distros(self, branch: str | None) -> bool | None:
+        """Whether a Python branch on $ROS_DISTRO ("if os.environ.get('ROS_DISTRO') == 'humble'",
+        "else of if …") is taken on every target distro (True), on none (False); None when it
+        tests something else, or holds on some only (every active distro when none is targeted)."""
+        import ast
+
+        from pkgforge.model.distros import DISTROS
+
+        if not branch or "ROS_DISTRO" not in branch:
+            return None
+        negated = branch.startswith("else of if ")
+        test = branch.removeprefix("else of if ").removeprefix("if ")
+        try:
+            node = ast.parse(test, mode="eval").body
+        except SyntaxError:
+            return None
+        if not isinstance(node, ast.Compare) or len(node.ops) != 1:
+            return None
+        left, right = node.left, node.comparators[0]
+        if isinstance(left, ast.Constant) and "ROS_DISTRO" in ast.unparse(right):
+            left, right = right, left  # 'humble' == os.environ['ROS_DISTRO']
+        if "ROS_DISTRO" not in ast.unparse(left):
+            return None
+        try:
+            value = ast.literal_eval(right)
+        except ValueError:
+            return None
+        kind = type(node.ops[0])
+        if kind not in (ast.Eq, ast.NotEq, ast.In, ast.NotIn) or not isinstance(
+            value, (str, tuple, list, set)
+        ):
+            return None
+
+        def holds(distro: str) -> bool:
+            if kind is ast.Eq:
+                return bool(distro == value)
+            if kind is ast.NotEq:
+                return bool(distro != value)
+            inside = distro in value
+            return inside if kind is ast.In else not inside
+
+        taken = {holds(distro) != negated for distro in (self.distros or tuple(DISTROS))}
+        return taken.pop() if len(taken) == 1 else None
 
     def folders_reported_uninstalled(self) -> set[str]:
         """Own top-level folders a launch file or a model's mesh resolves into but the tree lacks."""

@@ -615,8 +615,9 @@ def _optional_use(ctx: CheckContext, reference: Reference, read: set[Path] | Non
     franka_description), or in a model file no robot model of the package reads (husky's
     urdf/accessories/sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)). `read`: the package's
     files its models read, None when not known."""
-    if reference.python_branch is not None:
-        # a file checked statically (not evaluated here): which branch runs is unknown
+    if reference.python_branch is not None and ctx.branch_on_distros(reference.python_branch) is None:
+        # a file checked statically (not evaluated here): which branch runs is unknown (a branch
+        # on $ROS_DISTRO every target distro takes is no option)
         return _OptionalUse(
             f"in the branch `{reference.python_branch}` of a launch file not evaluated here,",
             "if the package's users run that branch",

@@ -431,7 +431,7 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
         else r.python_branch
         for references in ctx.static_fallback().values()
         for r in references
-        if r.launch_condition or r.python_branch
+        if r.launch_condition or (r.python_branch and ctx.branch_on_distros(r.python_branch) is None)
     }
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name not in local and name not in reported and name not in manifest.declared():

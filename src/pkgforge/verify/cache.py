@@ -92,7 +92,8 @@ if TYPE_CHECKING:
 # 42: a full stop after a joined path ends its name; the include line named by package and path
 # 43: an event handler's action failing on the stand-in event's empty values: PF311 (error records event_values)
 # 44: a statically checked use under condition= says so in PF305's message
-CACHE_FORMAT = 44
+# 45: a statically checked branch on $ROS_DISTRO evaluated for the target distros
+CACHE_FORMAT = 45
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
