@@ -1621,3 +1621,111 @@ def test_a_branch_on_ros_distro_in_a_file_checked_statically_is_taken_by_the_tar
         assert [(s, line) for s, _, line, _ in found(report, "PF305")] == [
             ("error", line_of(launch, f"'{used}'"))
         ], distro
+
+
+HANDLER_OWN_BUG_LAUNCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, ExecuteProcess, RegisterEventHandler
+from launch.event_handlers import OnProcessExit
+from launch.substitutions import LaunchConfiguration, PythonExpression
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    second = PythonExpression(["'", LaunchConfiguration('names'), "'.split(',')[1]"])
+    sleeper = ExecuteProcess(cmd=['sleep', '1'], name='sleeper')
+    return LaunchDescription([
+        DeclareLaunchArgument('names', default_value='robot1'),
+        sleeper,
+        RegisterEventHandler(OnProcessExit(target_action=sleeper, on_exit=[
+            Node(package='demo_nodes_cpp', executable='talker', namespace=second)])),
+    ])
+"""
+
+
+def test_a_handlers_own_bug_that_never_reads_the_event_stays_an_error(tmp_path):
+    # a reader's case: 'robot1'.split(',')[1] fails whenever the event comes; the event is not read
+    folder = package(
+        tmp_path,
+        "audit_handler",
+        ["launch_ros", "demo_nodes_cpp"],
+        {"launch/a.launch.py": HANDLER_OWN_BUG_LAUNCH},
+    )
+    launch = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert [(s, line) for s, _, line, _ in found(report, "PF301")] == [
+            ("error", line_of(launch, "Node(package="))
+        ], engine
+        assert found(report, "PF311") == [], engine
+
+
+def test_rviz2_rqt_and_gazebo_are_on_path_where_ros_is_sourced(tmp_path):
+    # a reader's case: rviz2 installs to bin/ (install(TARGETS rviz2 DESTINATION bin)), as rqt and
+    # Gazebo Classic's gazebo do: FindExecutable of them is PF311, as of ros2
+    launch = FIND_EXECUTABLE_LAUNCH.replace("'ros2'", "'rviz2'").replace(
+        "FindExecutable(name='python3')", "FindExecutable(name='gazebo')"
+    )
+    folder = package(tmp_path, "audit_viewer", ["launch"], {"launch/a.launch.py": launch})
+    written = folder / "launch" / "a.launch.py"
+    for engine, report in engine_reports(tmp_path).items():
+        assert found(report, "PF301") == [], engine
+        assert [(s, line) for s, _, line, _ in found(report, "PF311")] == [
+            ("info", line_of(written, "'rviz2'")),
+            ("info", line_of(written, "'gazebo'")),
+        ], engine
+
+
+def test_a_gate_on_a_system_library_no_declared_key_installs_is_a_warning(tmp_path):
+    # a reader's case: find_package(CUDA QUIET) then if(CUDA_FOUND) ...: nothing declared installs
+    # CUDA, so a clean machine skips the branch (Eigen3 with eigen declared is found: an error)
+    cmake = (
+        "cmake_minimum_required(VERSION 3.10)\nproject(audit_cuda NONE)\nfind_package(ament_cmake REQUIRED)\n"
+        "find_package(CUDA QUIET)\nif(CUDA_FOUND)\n  find_package(tf2_eigen REQUIRED)\nendif()\nament_package()\n"
+    )
+    folder = package(tmp_path, "audit_cuda", [], {"CMakeLists.txt": cmake})
+    _, report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy")
+    assert [(s, line) for s, _, line, _ in found(report, "PF109")] == [
+        ("warning", line_of(folder / "CMakeLists.txt", "find_package(tf2_eigen"))
+    ]
+
+
+def test_a_dot_inside_a_joined_suffix_is_part_of_the_name(tmp_path):
+    # a reader's case: ['cat', [PathJoin([share, 'urdf', 'robot']), '.urdf.']] names robot.urdf.,
+    # which does not exist: only dots standing alone after the path are a sentence's punctuation
+    launch = """from launch import LaunchDescription
+from launch.actions import ExecuteProcess
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    share = FindPackageShare('audit_dot')
+    return LaunchDescription([
+        ExecuteProcess(cmd=['cat', [PathJoinSubstitution([share, 'urdf', 'robot']), '.urdf.']]),
+    ])
+"""
+    robot = '<?xml version="1.0"?>\n<robot name="r">\n  <link name="base_link"/>\n</robot>\n'
+    package(tmp_path, "audit_dot", ["launch"], {"launch/a.launch.py": launch, "urdf/robot.urdf": robot})
+    for engine, report in engine_reports(tmp_path).items():
+        assert [(s, m.split(" does")[0]) for s, _, _, m in found(report, "PF303")] == [
+            ("error", "share/audit_dot/urdf/robot.urdf.")
+        ], engine
+
+
+def test_an_include_with_a_comment_after_it_keeps_its_line(tmp_path):
+    # a reader's case: '<xacro:include filename="$(find pkg)/urdf/arm.urdf"/> <!-- the arm -->'
+    arm = ZERO_VELOCITY_ARM.replace('effort="10"', 'effort="0"').replace('velocity="0"', 'velocity="1"')
+    package(tmp_path, "audit_arm_description", [], {"urdf/arm.urdf": arm})
+    wrapper = (
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm">\n'
+        '  <xacro:include filename="$(find audit_arm_description)/urdf/arm.urdf"/> <!-- the arm -->\n'
+        '  <link name="world"/>\n'
+        '  <joint name="world_joint" type="fixed"><parent link="world"/><child link="base_link"/></joint>\n</robot>\n'
+    )
+    folder = package(
+        tmp_path, "audit_arm_config", ["audit_arm_description"], {"urdf/arm_config.urdf.xacro": wrapper}
+    )
+    model = folder / "urdf" / "arm_config.urdf.xacro"
+    _, report = verify_report(tmp_path, "--no-cache")
+    assert [(p, line) for _, p, line, _ in found(report, "PF605") if "audit_arm_config" in p] == [
+        ("src/audit_arm_config/urdf/arm_config.urdf.xacro", line_of(model, "xacro:include"))
+    ]

@@ -302,6 +302,14 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         )
 
 
+def _library(name: str) -> str:
+    """A system library's name as a rosdep key or a CMake package names it, for comparing the
+    two: lower case, no lib prefix, no -dev suffix, no python3- prefix, no digits or separators."""
+    text = name.lower().removeprefix("python3-").removesuffix("-dev")
+    text = text.removeprefix("lib") if len(text) > 4 else text
+    return re.sub(r"[^a-z]", "", text)
+
+
 # names the ROS 1 → ROS 2 table renames that are also rosdep keys of a system package on some
 # distros' platforms: the distros where they resolve, and what they are
 SYSTEM_KEYS = {"gazebo": (("humble",), "Gazebo Classic, packaged for Ubuntu jammy")}
@@ -501,16 +509,20 @@ def find_package_undeclared(ctx: CheckContext) -> Iterator[Finding]:
     installing = tuple(tag for tag in DEPENDENCY_TAGS if tag != "doc_depend")
     gated = model.cmake.gated
 
+    # the system libraries the declared rosdep keys name, as CMake names them (libopencv-dev and
+    # opencv: opencv; eigen: eigen; python3-numpy: numpy), for the gates below
+    system = {_library(key) for key in installed if key not in ctx.workspace and key not in released}
+
     def gates(command: Command) -> tuple[tuple[str, Command], ...]:
-        """The optional finds the command runs only with, of ROS packages a clean machine lacks.
-        A system library's CMake name (Eigen3, OpenCV, Python3) is no ROS package name: which
-        rosdep key installs it (eigen, libopencv-dev) is not known here, so it gates nothing."""
+        """The optional finds the command runs only with, of packages a clean machine lacks: a
+        ROS package neither declared nor brought along, or a system library (CUDA, the ZED SDK)
+        no declared rosdep key names; find_package(Eigen3) where eigen is declared is found."""
         return tuple(
             (name, found)
             for name, found in gated.get((command.path, command.line), ())
-            if (name in ctx.workspace or name in released)
-            and name not in installed
+            if name not in installed
             and ctx.brought_along(name, installing) is None
+            and (name in ctx.workspace or name in released or _library(name) not in system)
         )
 
     def optional(command: Command) -> bool:

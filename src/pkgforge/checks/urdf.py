@@ -53,12 +53,20 @@ def _include_line(ctx: CheckContext, model: Path, included: str) -> int | None:
     if located is None:
         return None
     package, relative = located[0], located[1]
-    lines = [
-        number
-        for number, text in enumerate(ctx.files.lines(model), start=1)
-        if "include" in text and "<!--" not in text and package in text and relative in text
+    texts = [re.sub(r"<!--.*?(-->|$)", "", text) for text in ctx.files.lines(model)]  # (comments out)
+    exact = [
+        n
+        for n, text in enumerate(texts, start=1)
+        if "include" in text and f"$(find {package})/{relative}" in text
     ]
-    return lines[0] if len(lines) == 1 else None
+    if exact:
+        return exact[0] if len(exact) == 1 else None
+    loose = [
+        n
+        for n, text in enumerate(texts, start=1)
+        if "include" in text and package in text and relative in text
+    ]
+    return loose[0] if len(loose) == 1 else None
 
 
 def _fed_from(

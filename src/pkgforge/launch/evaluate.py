@@ -214,7 +214,9 @@ def _declared_folder_on_path(error: BaseException) -> str | None:
 
 # the command-line tools of a ROS 2 (and Gazebo) installation: a launch file may run one while
 # loading, and this machine may have none. Any other program not found is the file's own error
-ROS_PROGRAMS = frozenset({"ros2", "gz", "ign"})
+# programs a sourced ROS (or the simulator it brings) puts on PATH: install(TARGETS ... DESTINATION
+# bin), not lib/<package>/ as a node's executable (rviz2's CMakeLists, rqt_gui's setup.py)
+ROS_PROGRAMS = frozenset({"ros2", "gz", "ign", "rviz2", "rqt", "gazebo", "gzserver", "gzclient"})
 
 
 def _ros_program_not_found(error: BaseException) -> str | None:
@@ -371,9 +373,11 @@ def handling(context: Any, event: object) -> Iterator[None]:
     context._push_locals()
     context.extend_locals({"event": event})
     runtime.HANDLING.append(event)
+    read, runtime.EVENT_READ[0] = runtime.EVENT_READ[0], False
     try:
         yield
     finally:
+        runtime.EVENT_READ[0] = read
         runtime.HANDLING.pop()
         context._pop_locals()
 
@@ -425,10 +429,12 @@ def record_visit_failure(
             entity,
         )
         return
+    named = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
     record: ErrorRecordDict = {
         "stage": "visit",
         "type": type(error).__name__,
-        "message": str(error),
+        # (the real library formats FindExecutable's name, a list of substitutions: its program)
+        "message": f"executable '{named}' not found on the PATH" if named else str(error),
         "file": getattr(entity, "_file", None),
         "line": getattr(entity, "_line", None),
         "entity": type(entity).__name__,
@@ -442,7 +448,7 @@ def record_visit_failure(
     variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
     if variable is not None:  # EnvironmentVariable('USER') without a default, not set here
         record["variable"] = variable
-    if runtime.HANDLING and _empty_read_consequence(error):
+    if runtime.HANDLING and runtime.EVENT_READ[0] and _empty_read_consequence(error):
         record["event_values"] = True  # event.cmd[0], event.action.process_details['name']
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here

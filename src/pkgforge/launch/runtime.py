@@ -290,8 +290,8 @@ def _whole_names(texts: list[str], own: list[tuple[int, int]], complete: bool) -
         own_end = end
         while end < len(result) and result[end] in _NAME_CHARACTERS:
             end += 1
-        while end > own_end and result[end - 1] == ".":
-            end -= 1  # a sentence's full stop or ellipsis ('Loading ', path, '.'): no part of a name
+        if set(result[own_end:end]) == {"."}:
+            end = own_end  # a sentence's full stop or ellipsis ('Loading ', path, '.'): no part of a name
         if end == own_end and not goes_on and (end < len(result) or complete):
             continue  # only punctuation after it: the whole name
         name = result[start:end]
@@ -1347,8 +1347,17 @@ class HandledEvent:
     def __init__(self, **attributes: object) -> None:
         self.__dict__.update(attributes)
 
+    def __getattribute__(self, name: str) -> object:
+        if not name.startswith("__"):
+            EVENT_READ[0] = True  # an action failing after this may fail on the stand-in's values
+        return object.__getattribute__(self, name)
+
     def __repr__(self) -> str:
         return f"<{type(self).__name__} event (no event at verify time)>"
+
+
+# whether the stand-in event was read since the current handler's entities began (evaluate.handling)
+EVENT_READ = [False]
 
 
 _EVENT_CLASSES: dict[str, type[HandledEvent]] = {}

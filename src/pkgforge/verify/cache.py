@@ -93,7 +93,9 @@ if TYPE_CHECKING:
 # 43: an event handler's action failing on the stand-in event's empty values: PF311 (error records event_values)
 # 44: a statically checked use under condition= says so in PF305's message
 # 45: a statically checked branch on $ROS_DISTRO evaluated for the target distros
-CACHE_FORMAT = 45
+# 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
+#    declared key names gates; a dot inside a joined suffix; include lines with comments
+CACHE_FORMAT = 46
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
