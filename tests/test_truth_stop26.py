@@ -1729,3 +1729,39 @@ def test_an_include_with_a_comment_after_it_keeps_its_line(tmp_path):
     assert [(p, line) for _, p, line, _ in found(report, "PF605") if "audit_arm_config" in p] == [
         ("src/audit_arm_config/urdf/arm_config.urdf.xacro", line_of(model, "xacro:include"))
     ]
+
+
+STR_CHOICES_LAUNCH = """from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import Command, FindExecutable, LaunchConfiguration, PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.parameter_descriptions import ParameterValue
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('robot_model', default_value='wxai', choices=('wxai')),
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'robot_description': ParameterValue(Command([
+                 FindExecutable(name='xacro'), ' ',
+                 PathJoinSubstitution([FindPackageShare('audit_choices'), 'urdf',
+                                       LaunchConfiguration('robot_model')]), '.urdf.xacro']),
+                 value_type=str)}]),
+    ])
+"""
+
+
+def test_choices_given_as_one_string_are_that_word(tmp_path):
+    # trossen_arm_description: choices=('wxai') is the str 'wxai'; launch's `value not in choices`
+    # is then a substring test, which 'wxai' passes. Split into characters, the default "failed"
+    # and w.urdf.xacro, x.urdf.xacro ... were missing files (both engines)
+    robot = '<?xml version="1.0"?>\n<robot name="r">\n  <link name="base_link"/>\n</robot>\n'
+    package(
+        tmp_path,
+        "audit_choices",
+        ["launch_ros", "robot_state_publisher", "xacro"],
+        {"launch/a.launch.py": STR_CHOICES_LAUNCH, "urdf/wxai.urdf.xacro": robot},
+    )
+    for engine, report in engine_reports(tmp_path).items():
+        assert [d["code"] for d in report["diagnostics"] if d["severity"] == "error"] == [], engine

@@ -889,7 +889,10 @@ def _declare(action: Any, context: Any) -> Iterable[Any] | None:
         {
             "name": action.name,
             "default": default,
-            "choices": list(action.choices) if action.choices else None,
+            # (choices=('wxai') is a str: one word, as the built-in engine takes it)
+            "choices": ([action.choices] if isinstance(action.choices, str) else list(action.choices))
+            if action.choices
+            else None,
             "file": action._file,
             "line": action._line,
             "boolean": default is not None and default.lower() in ("true", "false"),

@@ -995,7 +995,11 @@ class DeclareLaunchArgument(Action):
                     f'Provided default_value "{default_value}" is not in provided choices "{choices}".'
                 )
         self.description = description
-        self.choices = list(choices) if choices is not None else None
+        # as launch keeps it: choices=('wxai') is the str 'wxai', and launch's `value not in choices`
+        # is then a substring test ('wxai' passes); the branches evaluated are that one word
+        self.choices: Sequence[str] | None = (
+            choices if isinstance(choices, str) else (list(choices) if choices is not None else None)
+        )
 
     def visit(self, context: LaunchContext) -> None:
         default = None
@@ -1009,7 +1013,7 @@ class DeclareLaunchArgument(Action):
             {
                 "name": self.name,
                 "default": default,
-                "choices": self.choices,
+                "choices": [self.choices] if isinstance(self.choices, str) else _as_list(self.choices),
                 "file": self._file,
                 "line": self._line,
                 "boolean": default is not None and default.lower() in ("true", "false"),
@@ -1028,6 +1032,10 @@ class DeclareLaunchArgument(Action):
                 f"are: {self.choices}"
             )
         return None
+
+
+def _as_list(choices: Sequence[str] | None) -> list[str] | None:
+    return None if choices is None else list(choices)
 
 
 class SetLaunchConfiguration(Action):

@@ -95,7 +95,8 @@ if TYPE_CHECKING:
 # 45: a statically checked branch on $ROS_DISTRO evaluated for the target distros
 # 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
-CACHE_FORMAT = 46
+# 47: choices given as one str are that word (launch tests membership by substring)
+CACHE_FORMAT = 47
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
