@@ -17,6 +17,7 @@ from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
 from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PREVIEW_LENGTH, PackageLookup, Record, Resolution, ResolvedPath
+from pkgforge.launch.records import Error as LaunchError
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import Reference
@@ -1054,39 +1055,37 @@ def launch_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 what = f"imports {error.module}, from a package not installed here"
             yield Finding(f"{resolution.launch.installed.name} {what}; checked statically instead", *position)
         for item in resolution.errors if resolution.status == "ok" else []:
-            if item.event_values:
-                where = ctx.source_position(resolution, item.file, item.line)
-                if where is not None and (*where, "event") not in said:
-                    said.add((*where, "event"))
-                    yield Finding(
-                        f"{resolution.launch.installed.name}: {item.entity or 'an action'} of an event "
-                        f"handler uses what only the run gives the event ({item.type}: "
-                        f"{_one_line(item.message)}); it is not checked",
-                        *where,
-                    )
+            unchecked = _action_unchecked(resolution, item)
+            where = ctx.source_position(resolution, item.file, item.line) if unchecked else None
+            if unchecked is None or where is None or (*where, unchecked[0]) in said:
                 continue
-            if item.program:
-                # FindExecutable(name='ros2') in an ExecuteProcess (the "Using event handlers"
-                # tutorial): where ROS is sourced, ros2 is on PATH
-                where = ctx.source_position(resolution, item.file, item.line)
-                if where is not None and (*where, item.program) not in said:
-                    said.add((*where, item.program))
-                    yield Finding(
-                        f"{where[0].name}: {item.entity or 'an action'} finds {item.program} on PATH "
-                        "(FindExecutable), a program not installed here; what it starts is not "
-                        f"checked{_branch_note(item, resolution)}",
-                        *where,
-                    )
-            if item.read_from:
-                # ardupilot_gz's launch_setup (an OpaqueFunction) opens ardupilot_gazebo's model.sdf
-                where = ctx.source_position(resolution, item.file, item.line)
-                if where is not None and (*where, item.read_from) not in said:
-                    said.add((*where, item.read_from))
-                    yield Finding(
-                        f"{resolution.launch.installed.name}: {item.entity or 'an action'} reads files of "
-                        f"{item.read_from}, a package not installed here; what it starts is not checked",
-                        *where,
-                    )
+            said.add((*where, unchecked[0]))
+            # (a FindExecutable's program: named by the file the action stands in)
+            named = where[0].name if unchecked[0] == item.program else resolution.launch.installed.name
+            yield Finding(f"{named}: {item.entity or 'an action'} {unchecked[1]}", *where)
+
+
+def _action_unchecked(resolution: Resolution, item: LaunchError) -> tuple[str, str] | None:
+    """(what it is said once per line for, what the action does) for an action of a loaded file
+    that could not be evaluated here, else None."""
+    if item.event_values:
+        return "event", (
+            f"of an event handler uses what only the run gives the event ({item.type}: "
+            f"{_one_line(item.message)}); it is not checked"
+        )
+    if item.program:
+        # FindExecutable(name='ros2') in an ExecuteProcess (the "Using event handlers"
+        # tutorial): where ROS is sourced, ros2 is on PATH
+        return item.program, (
+            f"finds {item.program} on PATH (FindExecutable), a program not installed here; what it "
+            f"starts is not checked{_branch_note(item, resolution)}"
+        )
+    if item.read_from:
+        # ardupilot_gz's launch_setup (an OpaqueFunction) opens ardupilot_gazebo's model.sdf
+        return item.read_from, (
+            f"reads files of {item.read_from}, a package not installed here; what it starts is not checked"
+        )
+    return None
 
 
 @register(
