@@ -132,8 +132,9 @@ class Manifest:
         return max(lines) if lines else self.export_line
 
 
-def load_manifest(source: SourceFile, parsed_package: object = None) -> Manifest:
-    """Build the Manifest; `parsed_package` is catkin_pkg's result when colcon already parsed it."""
+def load_manifest(source: SourceFile, parsed_package: object = None, *, validate: bool = True) -> Manifest:
+    """Build the Manifest; `parsed_package` is catkin_pkg's result when colcon already parsed it;
+    `validate=False`: its elements only, no catkin_pkg validation (another package's dependencies)."""
     manifest = Manifest(source.path)
     if source.text is None:
         manifest.problems.append((f"package.xml: {source.problem}", source.problem_line))
@@ -180,7 +181,7 @@ def load_manifest(source: SourceFile, parsed_package: object = None) -> Manifest
             manifest.build_type = (build_type.text or "").strip()
             manifest.build_type_line = build_type.sourceline
 
-    if parsed_package is None:
+    if parsed_package is None and validate:
         _validate_with_catkin_pkg(manifest, source.text)
     return manifest
 
