@@ -178,15 +178,20 @@ def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
 
 
 def worker(requests: list[dict], env: dict | None = None) -> list[dict]:
+    """The replies of `python -m pkgforge.sandbox.worker` to the requests (each line followed by
+    its token line, as the parent sends them); its first line, the hello, is left out."""
     done = subprocess.run(
         [sys.executable, "-m", "pkgforge.sandbox.worker"],
         capture_output=True,
         text=True,
-        input="".join(json.dumps(r) + "\n" for r in requests),
+        input="".join(json.dumps(r) + f"\nt{i}\n" for i, r in enumerate(requests)),
         timeout=120,
         env=dict(os.environ, **(env or {})),
     )
-    return [json.loads(line) for line in done.stdout.splitlines()]
+    hello, *replies = [json.loads(line) for line in done.stdout.splitlines()]
+    assert "hello" in hello, done.stdout
+    assert [r.pop("token") for r in replies] == [f"t{i}" for i in range(len(requests))]
+    return replies
 
 
 def test_namespace_and_remaps_reach_the_nodes(pattern_bot, tmp_path):

@@ -21,7 +21,7 @@ NULLABLE_INT = {"type": ["integer", "null"]}
 JSON_REPORT_SCHEMA = {
     "type": "object",
     "additionalProperties": False,
-    "required": ["version", "packages", "diagnostics", "summary", "launch"],
+    "required": ["version", "packages", "diagnostics", "summary", "launch", "sandbox"],
     "properties": {
         "version": {"const": 1},
         "packages": {
@@ -77,6 +77,16 @@ JSON_REPORT_SCHEMA = {
             "additionalProperties": False,
             "required": ["engine", "distro"],
             "properties": {"engine": {"enum": ["builtin", "ros"]}, "distro": {"type": ["string", "null"]}},
+        },
+        "sandbox": {  # what confined the launch files and models (null: none was evaluated)
+            "type": ["object", "null"],
+            "additionalProperties": False,
+            "required": ["landlock", "signals", "view", "pid", "guard", "why"],
+            "properties": {
+                "landlock": {"type": "integer", "minimum": 0},
+                **{k: {"type": "boolean"} for k in ("signals", "view", "pid", "guard")},
+                "why": {"type": "array", "items": {"type": "string"}},
+            },
         },
     },
 }

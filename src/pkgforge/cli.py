@@ -475,6 +475,20 @@ def _into_meta(ctx: click.Context, param: click.Parameter, value: bool) -> None:
         ctx.meta[param.name] = value
 
 
+def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro: str | None) -> None:
+    """verify --explain-sandbox: a worker started as verify starts one says what confines it."""
+    from pkgforge.launch.resolve import confinement_here
+    from pkgforge.sandbox.confinement import describe
+    from pkgforge.verify.pipeline import VerifyOptions
+
+    engine = VerifyOptions(launch_engine=launch_engine, ros_prefix=ros_prefix, distro=target_distro).engine()
+    try:
+        confinement = confinement_here(engine)
+    except OSError as error:
+        fail(PkgforgeError(f"no launch worker could be started here: {error}"))
+    click.echo("\n".join(describe(confinement)))
+
+
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
 @click.option(
@@ -595,6 +609,12 @@ def _into_meta(ctx: click.Context, param: click.Parameter, value: bool) -> None:
     help="Print the model's link/joint tree with its meshes, then exit (xacro arguments from --launch-arg).",
 )
 @click.option(
+    "--explain-sandbox",
+    "explain_sandbox",
+    is_flag=True,
+    help="Print what confines the launch files and xacro verify runs on this machine, then exit.",
+)
+@click.option(
     "--artifacts",
     "artifacts_dir",
     type=click.Path(file_okay=False, path_type=Path),
@@ -638,6 +658,7 @@ def verify(
     target_distro: str | None,
     explain_launch: Path | None,
     explain_model: Path | None,
+    explain_sandbox: bool,
     artifacts_dir: Path | None,
 ) -> None:
     """Check the package(s) at PATH against their install tree.
@@ -646,6 +667,9 @@ def verify(
     1 errors found (or warnings with --strict), 2 verify could not run.
     """
     context = click.get_current_context()
+    if explain_sandbox:
+        _explain_sandbox(launch_engine, ros_prefix, target_distro)
+        return
     fork_server = None
     if no_cache and not (build_tree or select or explain_launch or explain_model or context.meta.get("fix")):
         fork_server = _fork_server_first(launch_engine, ros_prefix, target_distro)

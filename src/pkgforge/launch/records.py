@@ -181,6 +181,7 @@ class LaunchResultDict(RecordsDict, _StatusDict, total=False):
     distro: str | None
     branching: BranchingDict
     request: LaunchRequest  # the worker's echo of the request it answered
+    token: str  # the request's token (sandbox/protocol.Envelope): the parent checks and drops it
 
 
 @dataclass

@@ -10,8 +10,8 @@ from __future__ import annotations
 import json
 import os
 import queue
+import secrets
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -30,16 +30,17 @@ from pkgforge.launch.records import LaunchResultDict, Resolution, resolution_fro
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
-from pkgforge.sandbox.protocol import LaunchRequest, WorkerRequest
-from pkgforge.sandbox.zygote import ForkedProcess, Zygote, worker_environment
+from pkgforge.sandbox.coordinator import KILL_GRACE, WORK_VARIABLE, death_message, timeout_reply
+from pkgforge.sandbox.protocol import Confinement, Hello, LaunchRequest, WorkerRequest
+from pkgforge.sandbox.zygote import START_TIMEOUT, ForkedProcess, Zygote, worker_environment
 from pkgforge.tree import InstallTree
 from pkgforge.walk import walk
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
 AHEAD_LIMIT = 16384  # bytes of a request sent ahead to a busy worker: a quarter of a Linux pipe
-KILL_GRACE = 2.0  # seconds past the time limit before the parent kills a worker that did not stop
 STOP_GRACE = 2.0  # seconds an idle worker has to end after its stdin closed, before it is killed
+TOKEN_BYTES = 16  # a request's token: random, so that nothing can write a reply that carries it
 # a result that depends on the machine's load or limits, never cached
 MACHINE_DEPENDENT = ("timeout", "crashed")
 
@@ -123,8 +124,9 @@ class WorkerLimits:
 
 
 class _Worker:
-    """One worker subprocess, in its own session and process group; stopping it kills
-    everything below it too (processes.kill_tree), including detached children."""
+    """One worker subprocess (its coordinator, sandbox/coordinator.py, forks a fresh confined
+    process per request), in its own session; stopping it kills everything below it too
+    (processes.kill_tree), including detached children."""
 
     def __init__(self, env: dict[str, str], limits: WorkerLimits | None = None, zygote: Zygote | None = None):
         self.env = env
@@ -132,7 +134,12 @@ class _Worker:
         self.zygote = zygote
         self.process: subprocess.Popen[str] | ForkedProcess | None = None
         self.replies: queue.Queue[str | None] = queue.Queue()
-        self.in_flight = 0  # requests the worker has and has not answered
+        self.tokens: deque[str] = deque()  # the token of each request it has and has not answered
+        self.confinement: Confinement | None = None  # what its coordinator said confines each request
+
+    @property
+    def in_flight(self) -> int:
+        return len(self.tokens)
 
     def start(self) -> subprocess.Popen[str] | ForkedProcess:
         if processes.cancelled.is_set():
@@ -154,8 +161,26 @@ class _Worker:
             )
         self.process = process
         self.replies = queue.Queue()
+        self.tokens.clear()
         threading.Thread(target=self._read, args=(_pipe(process.stdout), self.replies), daemon=True).start()
+        self.confinement = self._hello()
+        if self.zygote is not None:
+            self.zygote.confined(self.confinement)
         return process
+
+    def _hello(self) -> Confinement:
+        """The coordinator's first line: what confines the processes it forks."""
+        try:
+            line = self.replies.get(timeout=START_TIMEOUT)
+            if line is None:
+                raise ValueError("no line")
+            hello: Hello = json.loads(line)
+            return hello["hello"]
+        except (queue.Empty, ValueError, TypeError, KeyError) as error:
+            self.stop()
+            raise OSError(
+                f"the launch worker ({sys.executable}) did not start ({type(error).__name__})"
+            ) from None
 
     @staticmethod
     def _read(stdout: IO[str], replies: queue.Queue[str | None]) -> None:
@@ -182,7 +207,7 @@ class _Worker:
                         "line": None,
                     },
                 }
-        if not self._write(process, json.dumps(request) + "\n"):
+        if not self._write(process, request):
             self.stop()
             return _died()
         return None
@@ -192,62 +217,40 @@ class _Worker:
         answered (not when the parent's thread gets round to sending it); False when the worker
         cannot take it now (the caller sends it again later)."""
         process = self.process
-        line = json.dumps(request) + "\n"
         # the worker is busy: a write that fills the pipe would block this thread before it starts
         # watching the worker's time (a hung worker would then hang pkgforge). One request at most
         # waits in the pipe, so a small one never blocks; a larger one waits for an idle worker
-        if len(line.encode()) > AHEAD_LIMIT:
+        if len(json.dumps(request).encode()) + TOKEN_BYTES * 2 + 2 > AHEAD_LIMIT:
             return False
-        return process is not None and process.poll() is None and self._write(process, line)
+        return process is not None and process.poll() is None and self._write(process, request)
 
-    def _write(self, process: subprocess.Popen[str] | ForkedProcess, line: str) -> bool:
-        """One request line to the worker; counted as in flight once written."""
+    def _write(self, process: subprocess.Popen[str] | ForkedProcess, request: WorkerRequest) -> bool:
+        """The request line, then its token line (protocol.Envelope); in flight once written."""
+        token = secrets.token_hex(TOKEN_BYTES)
         try:
             stdin = _pipe(process.stdin)
-            stdin.write(line)
+            stdin.write(json.dumps(request) + "\n" + token + "\n")
             stdin.flush()
         except (BrokenPipeError, OSError):
             return False
-        self.in_flight += 1
+        self.tokens.append(token)
         return True
 
     def receive(self, timeout: float) -> Reply:
         """The answer to the oldest request the worker has: its reply, or the parent's own when
-        the worker hung or died (it is stopped then, with any request queued behind)."""
+        the worker died or its reply does not carry the request's token (it is stopped then, with
+        any request queued behind). The coordinator stops a request's process at its time limit;
+        past BACKSTOP times that (what a busy CPU may add, and a grace) the worker itself is stuck."""
         process = self.process
         if process is None:
             return _died()
-        allowance = processes.LoadAllowance(timeout, process.pid)
-        # the worker stops the launch file itself at the limit, at the line it was running;
-        # past this grace the parent kills it (stuck in an extension module, signals blocked).
-        # Both grow the limit by the time the worker waited for a busy CPU (processes.LoadAllowance)
-        deadline = time.monotonic() + timeout + KILL_GRACE
-        while True:
-            try:
-                line = self.replies.get(timeout=max(0.1, deadline - time.monotonic()))
-                break
-            except queue.Empty:
-                more = allowance.more()
-                if more:
-                    deadline = time.monotonic() + more
-                    continue
-                self.stop()
-                busy = (
-                    f" and {allowance.granted:.1f} s more it waited for a busy CPU"
-                    if allowance.granted
-                    else ""
-                )
-                return {
-                    "status": "timeout",
-                    "error": {
-                        "message": f"still running after the {timeout:g} s limit{busy} (an endless loop, or "
-                        "waiting for something); raise it with --launch-timeout",
-                        "line": None,
-                        "limit": "time",
-                    },
-                }
-        if line is not None:
-            self.in_flight -= 1
+        deadline = time.monotonic() + (timeout + KILL_GRACE) * processes.MAX_LOAD_FACTOR + KILL_GRACE
+        expected = self.tokens.popleft() if self.tokens else None
+        try:
+            line = self.replies.get(timeout=max(0.1, deadline - time.monotonic()))
+        except queue.Empty:
+            self.stop()
+            return timeout_reply(timeout)
         if line is None:
             try:  # its replies closed: it is ending (or closed them and goes on: killed below)
                 code = process.wait(timeout=1.0)
@@ -258,30 +261,18 @@ class _Worker:
         try:
             reply: object = json.loads(line)
         except ValueError:
+            reply = None
+        if not isinstance(reply, dict) or expected is None or reply.pop("token", None) != expected:
             self.stop()
             return {
                 "status": "crashed",
                 "error": {
-                    "message": "the process evaluating it wrote something that is not a result "
-                    "(it wrote to a file descriptor it does not own)",
+                    "message": "the launch worker's answer does not carry its request's token: something "
+                    "else wrote on its channel, and no result of it can be trusted",
                     "line": None,
+                    "type": "ForgedResult",
                 },
             }
-        if not isinstance(reply, dict):
-            self.stop()
-            return {
-                "status": "crashed",
-                "error": {"message": "the launch worker gave no result", "line": None},
-            }
-        if (
-            reply.get("status") in MACHINE_DEPENDENT
-            or (reply.get("branching") or {}).get("stopped")
-            or any(
-                isinstance(e, dict) and e.get("limit") for e in [reply.get("error"), *reply.get("errors", [])]
-            )
-        ):
-            # a fresh worker for the next file: nothing it (or a stopped branch) left stays
-            self.stop(polite=True)
         return reply
 
     def stop(self, *, polite: bool = False) -> None:
@@ -293,13 +284,12 @@ class _Worker:
         request still to answer (it would start on that first), it is killed at once.
         """
         process, self.process = self.process, None
-        in_flight, self.in_flight = self.in_flight, 0
+        in_flight = self.in_flight
+        self.tokens.clear()
         if process is None:
             return
         killed: set[int] = set()
         if polite and not in_flight and process.poll() is None and not processes.cancelled.is_set():
-            # reaped once the worker ended: until then they are its children
-            killed = processes.kill_tree(processes.descendants(process.pid))
             try:
                 if process.stdin is not None:
                     process.stdin.close()
@@ -331,20 +321,9 @@ class _Cancelled(Exception):
 
 
 def _death(code: int | None, limits: WorkerLimits) -> str:
-    if code is not None and code < 0:
-        try:
-            name = signal.Signals(-code).name
-        except ValueError:
-            name = f"signal {-code}"
-        cause = {
-            "SIGKILL": "killed (SIGKILL: by the system's out-of-memory killer, or by the launch file)",
-            "SIGXCPU": f"stopped at the {limits.timeout:g} s CPU time limit (raise it with --launch-timeout)",
-            "SIGSEGV": "crashed (SIGSEGV in an extension module)",
-        }.get(name, f"killed by {name}")
-        return f"the process evaluating it was {cause}, without a result"
-    return (
-        f"the process evaluating it exited (status {code}) without a result "
-        "(os._exit or a crash in an extension module)"
+    """Why the worker (its coordinator) ended without answering."""
+    return death_message(code, {"timeout": limits.timeout}).replace(
+        "the process evaluating it", "the launch worker"
     )
 
 
@@ -386,6 +365,11 @@ def run_requests(
     )
     if scratch is not None:
         env["PKGFORGE_SCRATCH"] = scratch
+    # each request's own folder is made in here (beside the tree, not in it: the kernel lets a
+    # request's process write the tree and its own folder, never another request's)
+    sandbox = env.get("PKGFORGE_SANDBOX")
+    own_folders = tempfile.mkdtemp(prefix="pkgforge-work-", dir=os.path.dirname(sandbox) if sandbox else None)
+    env[WORK_VARIABLE] = own_folders
     work: queue.Queue[tuple[int, WorkerRequest]] = queue.Queue()
     for index, request in enumerate(requests):
         work.put((index, request))
@@ -465,6 +449,7 @@ def run_requests(
             processes.reap(processes.kill_tree(leftover, skip=before), timeout=0.5)
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
+        shutil.rmtree(own_folders, ignore_errors=True)
     for index, reply in enumerate(replies):
         if reply is None:
             replies[index] = reply = {
@@ -515,3 +500,29 @@ def resolve(
 
 def _resolution(launch: LaunchFile, reply: LaunchResultDict) -> Resolution:
     return resolution_from_reply(launch, reply)
+
+
+def confinement_here(engine: LaunchEngine = BUILTIN) -> Confinement:
+    """What confines a request's process on this machine: a worker started as verify starts one
+    (over an empty temporary tree), asked for its hello, and stopped (verify --explain-sandbox)."""
+    with tempfile.TemporaryDirectory(prefix="pkgforge-probe-") as folder:
+        tree = os.path.join(folder, "tree")
+        own_folders = os.path.join(folder, "work")
+        os.mkdir(tree)
+        os.mkdir(own_folders)
+        env = worker_environment(dict(os.environ, PKGFORGE_SANDBOX=tree), engine)
+        env[WORK_VARIABLE] = own_folders
+        zygote = Zygote()
+        try:
+            zygote.ensure(env)
+            worker = _Worker(env, WorkerLimits(), zygote)
+            try:
+                worker.start()
+            finally:
+                worker.stop()
+        finally:
+            zygote.close()
+    confinement = zygote.confinement
+    if confinement is None:
+        raise OSError("no launch worker started")
+    return confinement

@@ -42,6 +42,8 @@ def as_dict(result: VerifyResult) -> dict[str, Any]:
             "packages": len(result.reports),
         },
         "launch": {"engine": result.engine, "distro": result.distro},
+        # what confined the processes that ran launch files and xacro (null: none ran)
+        "sandbox": result.sandbox,
     }
 
 

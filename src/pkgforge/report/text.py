@@ -28,8 +28,18 @@ def location(diagnostic: Diagnostic, root: Path) -> str:
 def summary(result: VerifyResult) -> str:
     return (
         f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
-        f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages" + engine_note(result)
+        f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages"
+        + engine_note(result)
+        + sandbox_note(result)
     )
+
+
+def sandbox_note(result: VerifyResult) -> str:
+    """Said only when the kernel did not enforce what verify promises (sandbox/confinement.py)."""
+    from pkgforge.sandbox.confinement import weaker
+
+    note = weaker(result.sandbox) if result.sandbox is not None else None
+    return f"; {note}" if note else ""
 
 
 def engine_note(result: VerifyResult) -> str:

@@ -20,12 +20,14 @@ installed before any user code runs:
 Child Python processes (a launch file's `subprocess.run(['xacro', ..., '-o', p])`)
 get the same guard: guard_site/ is first on their PYTHONPATH and its
 sitecustomize loads this file. Standard library only, so any Python 3 can load it.
-Refusals are appended as JSON lines to PKGFORGE_SANDBOX/.refused-<worker pid>,
-which the worker reads after each request and reports.
+Refusals are appended as JSON lines to the log of the process that evaluates the
+request (PKGFORGE_SANDBOX_LOG, in its own folder), which it reads after the request and
+reports.
 
-An audit hook is not a security boundary against a determined attacker (ctypes
-can call libc directly); with the copied tree it closes the accidental and
-ordinary ways a launch file writes to the user's files.
+An audit hook is not a security boundary (ctypes calls libc directly, a shell or
+`python -I` has no hook, and the launch file can change the guard's own state): the
+kernel is (landlock.py, namespaces.py). The guard's part is to say, at the launch
+file's line, what it tried, and to give a Python write through a link a private copy.
 """
 
 from __future__ import annotations
@@ -47,7 +49,9 @@ if TYPE_CHECKING:  # the guard runs in any Python 3 (guard_site/): typing only f
     Handler = Callable[..., None]  # an audit event's arguments, as the event gives them
 
     class _State(TypedDict, total=False):
-        root: str | None  # the real path of PKGFORGE_SANDBOX
+        root: str | None  # the real path of PKGFORGE_SANDBOX (else of the process's own folder)
+        roots: list[str]  # the real paths of every folder it may write: that, and its own folder
+        log: str | None  # the log of refusals (PKGFORGE_SANDBOX_LOG)
         root_pid: int | None  # the worker's pid
         locator: Locator | None
         spawned_at: tuple[str | None, int | None]  # where the running child was started
@@ -57,28 +61,47 @@ if TYPE_CHECKING:  # the guard runs in any Python 3 (guard_site/): typing only f
 
 
 SANDBOX_VARIABLE = "PKGFORGE_SANDBOX"
+OWN_VARIABLE = "PKGFORGE_SANDBOX_OWN"  # the folder of the process evaluating one request
+LOG_VARIABLE = "PKGFORGE_SANDBOX_LOG"
 ROOT_PID_VARIABLE = "PKGFORGE_SANDBOX_PID"
 # entries of SANDBOX/install not changed since this time (ns) are the install tree pkgforge made
 SEALED_VARIABLE = "PKGFORGE_SANDBOX_SEALED"
-LOG_NAME = ".refused-{pid}"  # one per worker (workers share the folder): its pid
+LOG_NAME = ".refused"  # in the evaluating process's own folder (without one: -<pid> in the tree)
 MARKER = "pkgforge refused"
 # devices a launch file may open for writing (its prints, /dev/null redirections)
 ALLOWED_DEVICES = ("/dev/null", "/dev/zero", "/dev/stdout", "/dev/stderr", "/dev/tty", "/dev/full")
 WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND
 SPAWN_EVENTS = {"subprocess.Popen", "os.system", "os.posix_spawn", "os.exec", "os.spawn", "os.startfile"}
 
-_state: _State = {"root": None, "root_pid": None, "locator": None, "spawned_at": (None, None), "pending": []}
+_state: _State = {
+    "root": None,
+    "roots": [],
+    "log": None,
+    "root_pid": None,
+    "locator": None,
+    "spawned_at": (None, None),
+    "pending": [],
+}
 _busy = threading.local()
 
 
+def writable_roots(root: str | None = None) -> list[str]:
+    """The folders a sandboxed process may write: pkgforge's temporary tree ($PKGFORGE_SANDBOX,
+    or `root`) and its own folder ($PKGFORGE_SANDBOX_OWN), those that are set."""
+    found = [root or os.environ.get(SANDBOX_VARIABLE), os.environ.get(OWN_VARIABLE)]
+    return [os.path.realpath(folder) for folder in found if folder]
+
+
 def install(root: str | None = None) -> bool:
-    """Install the guard for the temporary folder `root` (default: $PKGFORGE_SANDBOX); idempotent."""
+    """Install the guard for the temporary folder `root` (default: $PKGFORGE_SANDBOX) and the
+    process's own folder ($PKGFORGE_SANDBOX_OWN); idempotent."""
     if _state["root"] is not None:
         return True
-    root = root or os.environ.get(SANDBOX_VARIABLE)
-    if not root:
+    roots = writable_roots(root)
+    if not roots:
         return False
-    _state["root"] = os.path.realpath(root)
+    _state["root"], _state["roots"] = roots[0], roots
+    _state["log"] = os.environ.get(LOG_VARIABLE)
     sealed = os.environ.get(SEALED_VARIABLE, "")
     _state["sealed"] = int(sealed) if sealed.isdigit() else None
     pid = os.environ.get(ROOT_PID_VARIABLE)
@@ -103,8 +126,8 @@ def _coverage_data() -> str | None:
 
 
 def log_path() -> str:
-    """The log of the worker this process belongs to (it, or a process below it)."""
-    return os.path.join(_state["root"] or "", LOG_NAME.format(pid=_state["root_pid"]))
+    """The log of the evaluating process this process belongs to (it, or a process below it)."""
+    return _state.get("log") or os.path.join(_state["root"] or "", f"{LOG_NAME}-{_state['root_pid']}")
 
 
 def set_locator(locator: Locator) -> None:
@@ -179,6 +202,21 @@ def _path(value: object, dir_fd: object = None) -> str | None:
     """An absolute path for an audited path argument; None for a file descriptor."""
     if isinstance(value, int):
         return None
+    return _absolute(value, dir_fd)
+
+
+def _fd_or_path(value: object, dir_fd: object = None) -> str | None:
+    """As _path, and a file descriptor (os.fchmod, os.utime(fd)) as the file it is open on."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        try:
+            target = os.readlink(f"/proc/self/fd/{value}")
+        except OSError:
+            return None
+        return target if os.path.isabs(target) else None  # (pipe:[...], socket:[...]: no file)
+    return _absolute(value, dir_fd)
+
+
+def _absolute(value: object, dir_fd: object) -> str | None:
     if not isinstance(value, (str, bytes, os.PathLike)):
         return None
     try:
@@ -200,8 +238,7 @@ def _path(value: object, dir_fd: object = None) -> str | None:
 
 
 def _inside(real: str) -> bool:
-    root = _state["root"]
-    return real == root or real.startswith(f"{root}{os.sep}")
+    return any(real == root or real.startswith(f"{root}{os.sep}") for root in _state["roots"])
 
 
 def _location(path: str) -> str:
@@ -215,11 +252,11 @@ def _check(
 ) -> None:
     """Allow the operation on `path`, copy a linked file first, or refuse. An operation the
     system itself fails (creating what exists, removing what does not) changes nothing: allowed."""
+    if path is not None and path.startswith(("/dev/fd/", "/proc/self/fd/")):
+        path = _reopened(path)  # a descriptor opened again: the file it is open on
     if (
         path is None
         or path in ALLOWED_DEVICES
-        or path.startswith("/dev/fd/")
-        or path.startswith("/proc/self/fd/")
         or path.startswith(_state.get("coverage") or "\0")  # never a path prefix when unset
     ):
         return
@@ -241,6 +278,16 @@ def _check(
         real = os.path.realpath(location)
         if not _inside(real):
             _copy_on_write(location, real)
+
+
+def _reopened(path: str) -> str | None:
+    """The file a /proc/self/fd/N or /dev/fd/N path reopens; None for a pipe or socket (or a
+    descriptor that is not open), which is no file of the user's."""
+    try:
+        target = os.readlink(f"/proc/self/fd/{path.rsplit('/', 1)[1]}")
+    except (OSError, IndexError):
+        return None
+    return target if os.path.isabs(target) else None
 
 
 def _installed(location: str) -> bool:
@@ -301,7 +348,7 @@ def _open(path: object, mode: object, flags: object) -> None:
 
 
 def _truncate(path: object, *rest: object) -> None:
-    _check(_path(path), "truncate", follow=True)
+    _check(_fd_or_path(path), "truncate", follow=True)
 
 
 def _two(operation: str, *, follow_source: bool = False) -> Handler:
@@ -322,7 +369,7 @@ def _two(operation: str, *, follow_source: bool = False) -> Handler:
 def _one(operation: str, *, follow: bool, dir_fd: int | None = None, **when: bool) -> Handler:
     def handler(path: object, *rest: object) -> None:
         fd = rest[dir_fd - 1] if dir_fd is not None and len(rest) >= dir_fd else None
-        _check(_path(path, fd), operation, follow=follow, **when)
+        _check(_fd_or_path(path, fd), operation, follow=follow, **when)
 
     return handler
 

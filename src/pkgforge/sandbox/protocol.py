@@ -28,6 +28,18 @@ class WorkerLimits(TypedDict, total=False):
     parent: int  # the parent's pid: the worker dies with it
 
 
+class Confinement(TypedDict):
+    """What confines each process that evaluates a request (sandbox/confinement.py): the
+    coordinator's first line to the parent, {"hello": Confinement}, and verify's JSON summary."""
+
+    landlock: int  # the Landlock ABI each process restricts itself with; 0: none (writes not kernel-enforced)
+    signals: bool  # Landlock scopes signals and abstract sockets to the process's own tree (ABI 6)
+    view: bool  # a user and mount namespace where all but pkgforge's temporary folders is read-only
+    pid: bool  # a PID namespace of its own: nothing outside can be seen or signalled; one kill ends all
+    guard: bool  # the Python guard (an audit hook) reports refused writes and signals at their line
+    why: list[str]  # what the kernel did not allow, and why
+
+
 @final  # no other keys: `"model" in request` tells the kinds apart
 class GuardRecord(TypedDict, total=False):
     """A write or signal the guard (sandbox/guard.py) refused, or an installed file it saw changed:
@@ -59,6 +71,21 @@ class ModelRequest(TypedDict):
 
 
 WorkerRequest = LaunchRequest | ModelRequest
+
+
+class Envelope(TypedDict):
+    """A request line to the coordinator: the request, and a token the reply must carry back.
+    The token never reaches the process that evaluates the request (the coordinator reads it after
+    forking that process), so a line that process forges on any channel cannot carry it."""
+
+    request: WorkerRequest
+    token: str
+
+
+class Hello(TypedDict):
+    """The coordinator's first line: what confines the processes it will fork."""
+
+    hello: Confinement
 
 
 class Declared(TypedDict):
@@ -98,7 +125,8 @@ class ModelReply(TypedDict, total=False):
     errors: list[ErrorRecord]  # what the guard refused while answering (none for models)
     includes: list[str]  # the files the model included (absolute paths)
     robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
-    request: WorkerRequest  # the request it answers (the worker adds it)
+    request: WorkerRequest  # the request it answers (the coordinator adds it)
+    token: str  # the request's token (the coordinator adds it; the parent checks and drops it)
 
 
 # --- the fork server (sandbox/zygote.py): JSON over its Unix socket ---------------------------------

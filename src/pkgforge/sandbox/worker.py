@@ -1,20 +1,18 @@
-"""The launch worker: `python -m pkgforge.sandbox.worker`, one JSON request per line on stdin.
+"""What runs in the fresh process forked for one launch file or robot model (sandbox/coordinator.py).
 
-Launch files are user code: they run only here, in a subprocess the parent
-kills when one runs past its time limit. Replies go to a private copy of the
-original stdout; the launch files' own prints (and their children's) go to
-/dev/null, so nothing they write can corrupt the replies.
-
-Before any user code runs the worker limits itself (PKGFORGE_WORKER_LIMITS, set
-by the parent): address space (--worker-memory), open files, and per request
-CPU time and wall time (--launch-timeout). A breach raises inside the launch
-file, so it is reported at the line that was running, naming the limit and the
-option that raises it. The worker is a child subreaper, so what a launch file
-starts (even double-forked and setsid) stays below it until the parent kills
-the whole tree.
-
-Before any user code runs, the write and signal guard (guard.py) is installed
-here and, through PYTHONPATH, in every Python process a launch file starts.
+Launch files and xacro are user code. Each request gets a process of its own, forked by the
+worker's coordinator, that never evaluates anything else. Before any user code runs it:
+- holds no descriptor of pkgforge's: stdin is a pipe nobody writes, stdout and stderr are
+  /dev/null, and the only other descriptor is the pipe its one reply goes out on;
+- works in a folder of its own (its current folder and TMPDIR), removed after it;
+- limits itself (PKGFORGE_WORKER_LIMITS): address space (--worker-memory), open files, and
+  CPU time and wall time (--launch-timeout); a breach raises inside the launch file, so it is
+  reported at the line that was running, naming the limit and the option that raises it;
+- installs the Python guard (guard.py, also in every Python process it starts), which reports
+  each refused write or signal at its line;
+- drops every capability (in the namespaces of namespaces.py), then restricts itself with
+  Landlock (landlock.py): the kernel refuses writes outside pkgforge's temporary folders and
+  signals outside the process's own tree, for it and for everything it starts.
 """
 
 from __future__ import annotations
@@ -26,11 +24,19 @@ import signal
 import sys
 import traceback
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any, NoReturn, cast
 
-from pkgforge.sandbox.protocol import ErrorRecord, LimitKind, ModelReply, WorkerLimits, WorkerRequest
+from pkgforge.sandbox.protocol import (
+    Confinement,
+    ErrorRecord,
+    LimitKind,
+    ModelReply,
+    WorkerLimits,
+    WorkerRequest,
+)
 
 if TYPE_CHECKING:
     from pkgforge.launch.records import BranchBudget, LaunchResultDict
@@ -68,7 +74,7 @@ def _install_api() -> None:
 # --- limits ---------------------------------------------------------------------------------
 
 
-def _read_limits() -> WorkerLimits:
+def read_limits() -> WorkerLimits:
     try:
         limits: WorkerLimits = json.loads(os.environ.pop("PKGFORGE_WORKER_LIMITS", "{}"))
         return limits
@@ -80,11 +86,10 @@ def _apply_limits(limits: WorkerLimits) -> None:
     """Process-wide limits and the parent-death signal, before any user code runs."""
     import resource
 
-    from pkgforge.sandbox.processes import become_subreaper, die_with_parent
+    from pkgforge.sandbox.processes import die_with_parent
 
     if limits.get("parent"):
         die_with_parent(int(limits["parent"]))
-    become_subreaper()
     _set(resource.RLIMIT_CORE, 0)
     memory = limits.get("memory")
     if memory:
@@ -255,16 +260,19 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
     return record
 
 
-def _install_guard() -> bool:
-    """The guard, for the temporary folder the parent named; its children get it through PYTHONPATH."""
+def _install_guard(own: str) -> bool:
+    """The guard, for pkgforge's temporary install tree and this process's own folder `own`; the
+    processes it starts get it through PYTHONPATH."""
     from pkgforge.sandbox import guard
 
+    os.environ[guard.OWN_VARIABLE] = own
+    os.environ[guard.LOG_VARIABLE] = os.path.join(own, guard.LOG_NAME)
+    os.environ[guard.ROOT_PID_VARIABLE] = str(os.getpid())
     if not guard.install():
         return False
-    root = os.environ[guard.SANDBOX_VARIABLE]
-    temporary = os.path.join(root, "tmp")
+    temporary = os.path.join(own, "tmp")
     os.makedirs(temporary, exist_ok=True)
-    # tempfile in a launch file (and in its children) writes inside the folder
+    # tempfile in a launch file (and in its children) writes inside its own folder
     os.environ["TMPDIR"] = temporary
     import tempfile
 
@@ -359,27 +367,22 @@ def _tree_python_first() -> None:
         sys.path.insert(0, folder)
 
 
-def main() -> None:
-    guarded = _install_guard()
-    limits = _read_limits()
-    replies = os.fdopen(os.dup(1), "w", buffering=1)
-    requests = os.fdopen(os.dup(0), encoding="utf-8", errors="replace")
-    # the launch file's own stdin is a pipe nobody writes (the write end stays open here): input()
-    # waits until the wall limit as before, and never reads the request the parent queued behind
-    # this one (resolve.py sends one ahead)
-    unwritten, _keep_open = os.pipe()
-    os.dup2(unwritten, 0)
-    os.close(unwritten)
-    sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 1)
-    os.dup2(devnull, 2)
-    sys.stdout = sys.stderr = open(os.devnull, "w")
-    _apply_limits(limits)
-    engine = os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin")
-    distro = os.environ.get("PKGFORGE_ROS_DISTRO") or None
-    setup_error = None
-    if engine == "ros":
+@dataclass
+class Engine:
+    """The launch engine a coordinator prepared once (before forking), for its requests."""
+
+    name: str  # builtin | ros
+    distro: str | None
+    setup_error: str | None = None  # the ros engine's libraries could not be imported: said per file
+
+
+def prepare() -> Engine:
+    """In the coordinator, once, before any request: the engine's imports and the tree's Python
+    folders, so that each request's fresh process starts with them (no user code runs here)."""
+    engine = Engine(
+        os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin"), os.environ.get("PKGFORGE_ROS_DISTRO") or None
+    )
+    if engine.name == "ros":
         try:
             import ament_index_python.packages  # noqa: F401
         except ImportError:
@@ -389,47 +392,129 @@ def main() -> None:
         try:
             ros_engine.setup(os.environ.get("PKGFORGE_ROS_PREFIX") or None)
         except BaseException as error:  # noqa: BLE001 - said for every file, never a traceback
-            setup_error = f"the ROS 2 launch libraries could not be imported: {type(error).__name__}: {error}"
+            engine.setup_error = (
+                f"the ROS 2 launch libraries could not be imported: {type(error).__name__}: {error}"
+            )
     else:
         _install_api()
     _tree_python_first()
+    from pkgforge.launch import evaluate  # noqa: F401
+    from pkgforge.urdf import robot  # noqa: F401
+
+    return engine
+
+
+def answer(
+    request: WorkerRequest,
+    engine: Engine,
+    limits: WorkerLimits,
+    reply_fd: int,
+    own: str,
+    confinement: Confinement,
+) -> NoReturn:
+    """The fresh process of one request: confine it, evaluate, write the one reply line on
+    `reply_fd`, exit. Never returns; never runs anything else."""
+    code = 0
+    try:
+        _isolate(reply_fd)
+        os.chdir(own)
+        guarded = _install_guard(own)
+        _apply_limits(limits)
+        _confine(confinement)
+        result = _evaluate(request, engine, limits, guarded)
+        _write_all(reply_fd, (json.dumps(result, default=str) + "\n").encode())
+    except BaseException:  # noqa: BLE001 - no reply: the coordinator says the process died
+        code = 1
+    finally:
+        os._exit(code)
+
+
+def _isolate(reply_fd: int) -> None:
+    """No descriptor of pkgforge's: stdin a pipe nobody writes (input() waits until the wall
+    limit, as before), stdout and stderr /dev/null, every other descriptor closed."""
+    unwritten, keep_open = os.pipe()  # the write end stays open here, unwritten
+    devnull = os.open(os.devnull, os.O_RDWR)
+    os.dup2(unwritten, 0)
+    os.dup2(devnull, 1)
+    os.dup2(devnull, 2)
+    keep = {0, 1, 2, reply_fd, keep_open}
+    for fd in _open_descriptors():
+        if fd not in keep:
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+    sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
+    sys.stdout = sys.stderr = open(os.devnull, "w")
+
+
+def _open_descriptors() -> list[int]:
+    try:
+        return [int(name) for name in os.listdir("/proc/self/fd")]
+    except OSError:
+        return list(range(3, OPEN_FILES))
+
+
+def _confine(confinement: Confinement) -> None:
+    """What the kernel enforces from here on, for this process and everything it starts."""
+    from pkgforge.sandbox import landlock, namespaces
+
+    if confinement["view"]:
+        namespaces.drop_privileges()
+    if confinement["landlock"]:
+        from pkgforge.sandbox import guard
+
+        landlock.restrict(guard.writable_roots(), confinement["landlock"])
+
+
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def _evaluate(request: WorkerRequest, engine: Engine, limits: WorkerLimits, guarded: bool) -> WorkerReply:
+    """The request's reply, as plain data (a launch file's records, or a model's structure)."""
     from pkgforge.launch.evaluate import evaluate
     from pkgforge.urdf.robot import process_model
 
-    for line in requests:
-        request: WorkerRequest = json.loads(line)
-        result: WorkerReply
+    result: WorkerReply
+    try:
         try:
-            try:
-                _arm(limits)
-                budget = _budget(limits)
-                if "model" in request:
-                    result = process_model(request["model"], request.get("mappings", {}))
-                elif engine == "ros" and setup_error is not None:
-                    result = _launch_reply(ros_engine.error_reply(request["file"], setup_error, distro))
-                elif engine == "ros":
+            _arm(limits)
+            budget = _budget(limits)
+            if "model" in request:
+                result = process_model(request["model"], request.get("mappings", {}))
+            elif engine.name == "ros":
+                from pkgforge.launch import ros_engine
+
+                if engine.setup_error is not None:
                     result = _launch_reply(
-                        ros_engine.evaluate(request["file"], request.get("arguments", {}), distro, budget)
+                        ros_engine.error_reply(request["file"], engine.setup_error, engine.distro)
                     )
                 else:
-                    result = _launch_reply(evaluate(request["file"], request.get("arguments", {}), budget))
-            finally:
-                _disarm()
-        except BaseException as error:  # noqa: BLE001 - the reply must always come
-            result = {"status": "load-error", "error": _located(request, error)}
-            if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
-                from pkgforge.launch.records import as_dict
-                from pkgforge.launch.runtime import RECORDER
+                    result = _launch_reply(
+                        ros_engine.evaluate(
+                            request["file"], request.get("arguments", {}), engine.distro, budget
+                        )
+                    )
+            else:
+                result = _launch_reply(evaluate(request["file"], request.get("arguments", {}), budget))
+        finally:
+            _disarm()
+    except BaseException as error:  # noqa: BLE001 - the reply must always come
+        result = {"status": "load-error", "error": _located(request, error)}
+        if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
+            from pkgforge.launch.records import as_dict
+            from pkgforge.launch.runtime import RECORDER
 
-                result["errors"] = [cast(ErrorRecord, as_dict(e)) for e in RECORDER.errors]
-        _mark_limits(result, limits)
-        if "branching" in result and isinstance(result["branching"], dict):
-            result["branching"]["limit"] = limits.get("timeout")
-        if guarded:
-            _refusals(result, request)
-        # the request it answers: a launch reply answers a launch request, a model reply a model one
-        cast("dict[str, Any]", result)["request"] = request
-        replies.write(json.dumps(result, default=str) + "\n")
+            result["errors"] = [cast(ErrorRecord, as_dict(e)) for e in RECORDER.errors]
+    _mark_limits(result, limits)
+    if "branching" in result and isinstance(result["branching"], dict):
+        result["branching"]["limit"] = limits.get("timeout")
+    if guarded:
+        _refusals(result, request)
+    return result
 
 
 if __name__ == "__main__":
@@ -440,5 +525,7 @@ if __name__ == "__main__":
         # nothing to flush or remove, and the interpreter's own exit with lxml, xacro and the
         # evaluator loaded takes ~60 ms that pkgforge would wait for (Zygote.close)
         os._exit(0)
-    else:
+    else:  # one worker on stdin and stdout, without a fork server
+        from pkgforge.sandbox.coordinator import main
+
         main()

@@ -31,12 +31,14 @@ import threading
 import time
 from typing import TYPE_CHECKING
 
-from pkgforge.sandbox.protocol import Exited, Forked, ForkReply, ForkRequest, WorkerLimits
+from pkgforge.sandbox.protocol import Confinement, Exited, Forked, ForkReply, ForkRequest, WorkerLimits
 
 if TYPE_CHECKING:
     from pkgforge.launch.engines import LaunchEngine  # not imported at run time: the server starts first
 
 LIMITS_VARIABLE = "PKGFORGE_WORKER_LIMITS"
+# what the server's probe found the kernel allows (confinement.probe), for every worker it forks
+_CONFINEMENT: Confinement | None = None
 START_TIMEOUT = 60.0  # seconds for the server to fork a child (it imports first)
 
 
@@ -55,8 +57,14 @@ def serve(channel: int) -> None:
     # ament_index_python may come from the user's PYTHONPATH: a sourced overlay's folders)
     sys.dont_write_bytecode = True
     from pkgforge.sandbox import worker
+    from pkgforge.sandbox.confinement import probe
 
     worker.preload()
+    global _CONFINEMENT
+    _CONFINEMENT = probe()  # once per run; each worker applies it (sandbox/coordinator.py)
+    import gc
+
+    gc.freeze()  # what the preload made stays on shared pages in every forked worker
     sock = socket.socket(fileno=channel)
     wake_read, wake_write = os.pipe()
     os.set_blocking(wake_write, False)
@@ -99,7 +107,8 @@ def _report_exits(sock: socket.socket) -> None:
 
 
 def _child(request: ForkRequest, fds: list[int], sock: socket.socket, wake: tuple[int, int]) -> None:
-    """In the forked child: become a worker as `python -m pkgforge.sandbox.worker` would. Never returns."""
+    """In the forked child: become a worker (its coordinator) as `python -m pkgforge.sandbox.worker`
+    would. Never returns."""
     code = 1
     try:
         signal.set_wakeup_fd(-1)
@@ -120,9 +129,9 @@ def _child(request: ForkRequest, fds: list[int], sock: socket.socket, wake: tupl
         os.environ.clear()
         os.environ.update(env)
         sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
-        from pkgforge.sandbox import worker
+        from pkgforge.sandbox import coordinator
 
-        worker.main()
+        coordinator.main(_CONFINEMENT)
         code = 0
     except SystemExit as stop:
         code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
@@ -247,6 +256,25 @@ class Zygote:
     def __init__(self) -> None:
         self._server: _Server | None = None
         self._lock = threading.Lock()
+        self._confinements: list[Confinement] = []
+
+    def confined(self, confinement: Confinement) -> None:
+        """What a worker's coordinator said confines the processes it forks (its hello)."""
+        with self._lock:
+            if confinement not in self._confinements:
+                self._confinements.append(confinement)
+
+    @property
+    def confinement(self) -> Confinement | None:
+        """The weakest confinement any worker of this run had; None when no worker ran."""
+        with self._lock:
+            found = list(self._confinements)
+        if not found:
+            return None
+        return min(
+            found,
+            key=lambda c: (c["landlock"] > 0 or c["view"], c["signals"] or c["pid"], c["view"], c["pid"]),
+        )
 
     @property
     def pid(self) -> int | None:

@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     from pkgforge.launch.records import LaunchFile, Resolution
     from pkgforge.model.package import PackageModel
     from pkgforge.model.rviz import RvizConfig
+    from pkgforge.sandbox.protocol import Confinement
     from pkgforge.sandbox.zygote import Zygote
     from pkgforge.tree import InstallTree
     from pkgforge.urdf.select import ModelResult
@@ -120,6 +121,8 @@ class VerifyResult:
     unstable: set[Path] = field(default_factory=set)
     engine: str = "builtin"  # the launch engine: builtin | ros
     distro: str | None = None  # the ROS 2 distro whose launch libraries ran (ros engine)
+    # what confined the processes that evaluated launch files and models; None: none ran
+    sandbox: Confinement | None = None
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -684,6 +687,7 @@ def run(
     checked = [models[t.path] for t in targets]
 
     tree = None
+    sandbox: Confinement | None = None
     build_failure: BuildFailed | None = None
     resolutions: dict[str, list[Resolution]] = {}
     ros1: dict[str, list[LaunchFile]] = {}
@@ -752,6 +756,7 @@ def run(
             ):
                 model_results.setdefault(result.package, []).append(result)
             zygote.close()
+            sandbox = zygote.confinement
             if options.on_models is not None:
                 options.on_models(tree, [r for results in model_results.values() for r in results])
             rviz = rviz_configs(tree, in_tree, resolutions)
@@ -826,7 +831,14 @@ def run(
     }
     engine = options.engine()
     return VerifyResult(
-        root, reports, checks_run, externals=read, unstable=unstable, engine=engine.name, distro=engine.distro
+        root,
+        reports,
+        checks_run,
+        externals=read,
+        unstable=unstable,
+        engine=engine.name,
+        distro=engine.distro,
+        sandbox=sandbox,
     )
 
 
