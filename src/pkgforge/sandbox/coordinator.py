@@ -35,7 +35,7 @@ import tempfile
 import time
 from typing import Any, NoReturn
 
-from pkgforge.sandbox import namespaces, processes, worker
+from pkgforge.sandbox import landlock, namespaces, processes, warmup, worker
 from pkgforge.sandbox.confinement import probe
 from pkgforge.sandbox.protocol import Confinement, Hello, WorkerLimits, WorkerRequest
 
@@ -59,7 +59,12 @@ def main(confinement: Confinement | None = None) -> None:
 
     applied = _enter(confinement, [*guard.writable_roots(), work])
     limits["parent"] = os.getpid()  # each request's process dies with this one
+    landlock.abi_version()  # (loads the C library once, here, for every request's process)
     engine = worker.prepare()
+    warmup.run(engine, work)  # what every request's process would import and cache: made once here
+    import gc
+
+    gc.freeze()  # (and left alone by the collector of each forked process)
     hello: Hello = {"hello": applied}
     _send(hello)
     while True:
@@ -132,12 +137,7 @@ def _wait_for_coordinator(first: int) -> NoReturn:
 
 
 def _prctl_death_signal() -> None:
-    import ctypes
-
-    try:
-        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-    except (OSError, AttributeError):
-        pass
+    processes._prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
 
 
 def _read_line(fd: int) -> bytes | None:

@@ -22,6 +22,7 @@ pre-release without the ABI 6 scopes; these are three calls and two structures.
 from __future__ import annotations
 
 import ctypes
+import functools
 import os
 import sys
 from collections.abc import Iterable
@@ -86,7 +87,9 @@ class LandlockError(OSError):
     """A Landlock call failed (the process is then not restricted)."""
 
 
+@functools.cache
 def _libc() -> ctypes.CDLL | None:
+    """The C library (once: a CDLL costs a dlopen), None off Linux."""
     if not sys.platform.startswith("linux"):
         return None
     try:

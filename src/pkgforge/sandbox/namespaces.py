@@ -18,6 +18,7 @@ The namespace calls go through ctypes (os.unshare is Python 3.12+).
 from __future__ import annotations
 
 import ctypes
+import functools
 import os
 import signal
 import sys
@@ -76,7 +77,12 @@ class NamespaceSupport(TypedDict):
 def _libc() -> ctypes.CDLL:
     if not sys.platform.startswith("linux"):
         raise OSError(0, "not Linux")
-    return ctypes.CDLL(None, use_errno=True)
+    return _cdll()
+
+
+@functools.cache
+def _cdll() -> ctypes.CDLL:
+    return ctypes.CDLL(None, use_errno=True)  # once: a CDLL costs a dlopen
 
 
 def _check(status: int, call: str) -> None:
@@ -175,15 +181,20 @@ def probe() -> NamespaceSupport:
     need; nothing of this process changes."""
     if not sys.platform.startswith("linux") or not hasattr(os, "fork"):
         return {"view": False, "pid": False, "why": "not Linux"}
+    import tempfile
+
     read_end, write_end = os.pipe()
-    child = os.fork()
-    if child == 0:  # pragma: no cover - in the throwaway child
-        os.close(read_end)
-        _probe_child(write_end)
-    os.close(write_end)
-    with os.fdopen(read_end, "rb") as answer:
-        text = answer.read(4096).decode(errors="replace")
-    os.waitpid(child, 0)
+    with tempfile.TemporaryDirectory(prefix="pkgforge-probe-") as folder:
+        child = os.fork()
+        if child == 0:  # pragma: no cover - in the throwaway child
+            os.close(read_end)
+            _probe_child(write_end, folder)
+        os.close(write_end)
+        with os.fdopen(read_end, "rb") as answer:
+            text = answer.read(4096).decode(errors="replace")
+        os.waitpid(child, 0)
+        if os.path.exists(f"{folder}-not"):  # a view that did not hold left this
+            os.unlink(f"{folder}-not")
     step, _, why = text.partition(":")
     if step == "ok":
         return {"view": True, "pid": True, "why": ""}
@@ -192,11 +203,21 @@ def probe() -> NamespaceSupport:
     return {"view": False, "pid": False, "why": f"no user namespace: {why or 'unknown'}"}
 
 
-def _probe_child(answer: int) -> None:  # pragma: no cover - in the throwaway child
-    """Report 'ok', or the first step that failed ('view:why', 'pid:why'); never returns."""
+def _probe_child(answer: int, folder: str) -> None:  # pragma: no cover - in the throwaway child
+    """Report 'ok', or the first step that failed ('view:why', 'pid:why'); never returns. The view
+    is made as a worker makes it, with `folder` writable: a file is written there, and nothing
+    can be written beside it."""
     try:
         try:
-            enter_view([])
+            enter_view([folder])
+            with open(os.path.join(folder, "written"), "w") as handle:
+                handle.write("ok")
+            try:
+                open(os.path.join(os.path.dirname(folder), f"{os.path.basename(folder)}-not"), "w").close()
+            except OSError:
+                pass
+            else:
+                raise OSError(0, "a file outside the writable folder could be written")
         except OSError as error:
             os.write(answer, f"view:{error.strerror or error}".encode())
             return

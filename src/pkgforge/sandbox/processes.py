@@ -13,6 +13,8 @@ SIGINT, SIGTERM and SIGHUP kill every descendant at once and unwind the run
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import os
 import re
 import signal
@@ -43,13 +45,15 @@ def _prctl(option: int, value: int) -> bool:
     if not sys.platform.startswith("linux"):
         return False
     try:
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        status: int = libc.prctl(option, value, 0, 0, 0)  # ctypes: C int
+        status: int = _libc().prctl(option, value, 0, 0, 0)  # ctypes: C int
         return status == 0
     except (OSError, AttributeError):
         return False
+
+
+@functools.cache
+def _libc() -> ctypes.CDLL:
+    return ctypes.CDLL(None, use_errno=True)  # once: a CDLL costs a dlopen
 
 
 def become_subreaper() -> bool:

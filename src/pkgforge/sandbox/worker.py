@@ -351,7 +351,10 @@ def preload() -> None:
     import yaml  # noqa: F401
 
     from pkgforge.launch import evaluate  # noqa: F401
+    from pkgforge.sandbox import warmup
     from pkgforge.urdf import robot  # noqa: F401
+
+    warmup.render()  # the scaffold each worker evaluates once before its first request
 
 
 def _tree_python_first() -> None:
