@@ -400,3 +400,60 @@ def test_urdf_tutorial_style_launch(tmp_path, launch_format):
     assert "rviz2/rviz2 args ['-d', 'share/robot_arm/rviz/urdf.rviz']" in out, out
     assert "✓ share/robot_arm/config/joint_names_robot_arm.yaml" in out and "✗" not in out
     assert "joint_state_publisher_gui/joint_state_publisher_gui" in out and "[gui:=false]" in out
+
+
+KEY = b"-----BEGIN OPENSSH PRIVATE KEY-----\nnot a real key, a stand-in\n-----END OPENSSH PRIVATE KEY-----\n"
+
+
+def test_migrate_copies_no_link_out_of_the_package_and_no_fifo(tmp_path):
+    """migrate copies the package's own regular files: a mesh that is a link to a key in a (fake)
+    HOME, or a FIFO, is refused by name before anything is written."""
+    key = tmp_path / "home/.ssh/id_rsa"
+    key.parent.mkdir(parents=True)
+    key.write_bytes(KEY)
+    key.chmod(0o600)
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / "meshes/link2.STL").unlink()
+    (package / "meshes/link2.STL").symlink_to(key)
+    os.mkfifo(package / "config/pipe.yaml")
+    result = run_pkgforge(
+        "migrate", package, "--destination", tmp_path / "out", cwd=tmp_path, timeout=120
+    )  # a FIFO read would block for ever
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert result.stderr.splitlines() == [
+        f"pkgforge: error: {package / 'config/pipe.yaml'}: {package / 'config/pipe.yaml'} is not a regular "
+        "file (a FIFO): not copied",
+        f"{package / 'meshes/link2.STL'}: it leads to {key} (a symbolic link), outside {package}: not copied",
+        "2 file(s) of the package cannot be copied: nothing written; replace each link that leads out of "
+        "the package by the file it names, or move the file out of the package",
+    ]
+    assert KEY.decode() not in result.stdout + result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_migrate_copies_never_get_a_wider_mode(tmp_path):
+    """A 600 mesh stays 600 (never 644), a script keeps its execute bits, a converted model keeps
+    its source's bits; each narrowed by the umask. A link to a file inside the package is copied."""
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / "meshes/link1.STL").chmod(0o600)
+    (package / "urdf/robot_arm.urdf").chmod(0o640)
+    (package / "scripts").mkdir()
+    (package / "scripts/tool.py").write_text("#!/usr/bin/env python3\n")
+    (package / "scripts/tool.py").chmod(0o755)
+    (package / "meshes/alias.STL").symlink_to("link2.STL")
+    result = run_pkgforge("migrate", package, "--destination", tmp_path / "out", cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    migrated = tmp_path / "out/robot_arm"
+    mask = os.umask(0o022)
+    os.umask(mask)
+
+    def mode(relative: str) -> int:
+        return (migrated / relative).stat().st_mode & 0o777
+
+    assert mode("meshes/link1.STL") == 0o600
+    assert mode("scripts/tool.py") == 0o755 & ~mask
+    assert mode("urdf/robot_arm.urdf") == 0o640 & ~mask
+    assert mode("meshes/link2.STL") == 0o644 & ~mask
+    assert mode("package.xml") == 0o666 & ~mask
+    assert (migrated / "meshes/alias.STL").read_bytes() == (package / "meshes/link2.STL").read_bytes()
+    assert not (migrated / "meshes/alias.STL").is_symlink()

@@ -138,15 +138,15 @@ def test_too_long_a_name_is_one_line_exit_2(tmp_path):
 def test_failure_half_way_leaves_nothing_behind(tmp_path, monkeypatch):
     spec = scaffold.make_spec("rob_description", maintainer_name="A", maintainer_email="a@example.com")
     calls = []
-    real_write = Path.write_bytes
+    real_write = scaffold._write_new  # every file of the package is written through it
 
-    def failing_write(self, data):
-        calls.append(self)
+    def failing_write(path, content, mode):
+        calls.append(path)
         if len(calls) == 3:
             raise OSError(28, "No space left on device")
-        return real_write(self, data)
+        return real_write(path, content, mode)
 
-    monkeypatch.setattr(Path, "write_bytes", failing_write)
+    monkeypatch.setattr(scaffold, "_write_new", failing_write)
     with pytest.raises(PkgforgeError, match="No space left"):
         scaffold.create_package(spec, tmp_path)
     assert listing(tmp_path) == []

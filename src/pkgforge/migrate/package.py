@@ -85,6 +85,21 @@ def _files(source: Path) -> list[str]:
     return found
 
 
+def _copy_problems(source: Path, files: list[str]) -> list[str]:
+    """Each of the package's files migrate would copy but does not, with why: migrate copies the
+    package's own regular files, so a symbolic link must lead to one inside the package (never to
+    a key or another package's file), and a FIFO or device is no file to copy."""
+    from pkgforge.scaffold.from_urdf import copy_problem
+
+    inside = [Path(os.path.realpath(source))]
+    problems = []
+    for relative in files:
+        _, problem = copy_problem(source / relative, inside, None)
+        if problem is not None:
+            problems.append(f"{source / relative}: {problem}: not copied")
+    return problems
+
+
 def _is_ros1_launch(relative: str) -> bool:
     return relative.endswith(".launch")
 
@@ -115,6 +130,8 @@ def _models(
                 and "${" not in reference.uri
             ):
                 found, problem = resolve(reference.uri, path)
+                if found is not None and not found.is_file():
+                    found, problem = None, f"no file {found}"  # a folder, a FIFO: no mesh
                 if found is None:
                     reference.problem = problem
                     missing.append(reference)
@@ -151,6 +168,13 @@ def migrate(
     name = package.name
     notes = notes_factory(name)
     files = _files(source)
+    refused = _copy_problems(source, files)
+    if refused:
+        raise PkgforgeError(
+            "\n".join(refused) + f"\n{len(refused)} file(s) of the package cannot be copied: nothing "
+            "written; replace each link that leads out of the package by the file it names, or move "
+            "the file out of the package"
+        )
     models, links, root, missing = _models(source, files, notes)
     if missing:
         raise PkgforgeError(missing_message(missing, force=False))
@@ -174,10 +198,14 @@ def migrate(
         return _rewrite(parts, name, moved, foreign_launch=".launch.py")  # other packages' ROS 2 launch files
 
     output: dict[str, bytes] = {}
+    # each file's permission bits: its source's, never wider; a file copied as it is keeps its
+    # execute bits (a script), a converted one has none
+    modes: dict[str, int] = {}
     used: set[str] = set()
     generated_rviz: dict[str, int | None] = {}
     for relative in files:
         path = source / relative
+        modes[moved.get(relative, relative)] = path.stat().st_mode & 0o666
         if relative in moved and _is_ros1_launch(relative):
             reader = Reader(path, name, notes, gazebo=gazebo, rename_launch=rename_launch)
             converted = reader.read()
@@ -205,6 +233,7 @@ def migrate(
             ).encode("utf-8")
         else:
             output[relative] = path.read_bytes()
+            modes[relative] = path.stat().st_mode & 0o777
 
     # exec_depends: what the launch files use, and the old ones that still mean something
     data = load()
@@ -255,6 +284,7 @@ def migrate(
     for rviz in generated_rviz:
         spec_for_rviz = make_spec(name, distro=target, fixed_frame=root or "base_link")
         output[rviz] = render_files(spec_for_rviz)["rviz/display.rviz"]
+        modes.pop(rviz, None)
     folders = tuple(sorted({r.split("/", 1)[0] for r in output if "/" in r}))
     launch_files = tuple(sorted(r for r in output if r.startswith("launch/") and ".launch." in r))
     spec = make_spec(
@@ -303,7 +333,7 @@ def migrate(
             f"{parent / folder} already exists: migrate never overwrites; give another "
             "--destination (nothing written)"
         )
-    created = create_package(spec, parent, files=output, folder=folder)
+    created = create_package(spec, parent, files=output, folder=folder, modes=modes)
     return created, notes, source
 
 

@@ -8,6 +8,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -269,6 +270,14 @@ def _umask() -> int:
     return mask
 
 
+def _write_new(path: Path, content: bytes, mode: int) -> None:
+    """Create `path` with `mode` narrowed by the umask from its first byte on: a private file's
+    copy is never readable by others, not even for a moment."""
+    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, mode & 0o777)
+    with os.fdopen(descriptor, "wb") as out:
+        out.write(content)
+
+
 def _symlink_out(target: Path, relative: str) -> Path | None:
     """The first existing symlink on target/relative (target included) whose real path leaves
     target's folder: writing there would land outside the destination."""
@@ -292,6 +301,7 @@ def create_package(
     force: int = 0,
     files: dict[str, bytes] | None = None,
     folder: str | None = None,
+    modes: Mapping[str, int] | None = None,
 ) -> CreatedPackage:
     """Render into a temporary folder beside the target, then move into place.
 
@@ -301,7 +311,9 @@ def create_package(
     listed before anything is written; with `force` twice edited files are
     replaced too. The user's other files in the folder always stay. Nothing is
     ever written through a symbolic link that leads out of the target folder.
-    Folders and files get the modes the umask gives (like mkdir and touch).
+    Folders and files get the modes the umask gives (like mkdir and touch); a file in `modes`
+    (one copied from the user's) gets at most the permission bits given there: a copy of a
+    file only its owner may read stays so (like cp).
     """
     if len(spec.name) > MAX_NAME_LENGTH:
         raise PkgforgeError(
@@ -363,7 +375,7 @@ def create_package(
         for relative, content in files.items():
             path = staging / relative
             path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_bytes(content)
+            _write_new(path, content, (modes or {}).get(relative, 0o666))
         if not target.exists():
             os.rename(staging, target)
             return CreatedPackage(target, sorted(files), [])
