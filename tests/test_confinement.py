@@ -307,9 +307,9 @@ for _ in range(4):
 """,
             name=f"sleepers{index}.launch.py",
         )
-    for _ in range(2):
+    for disabled in ("", "namespaces"):  # a PID namespace's kill(-1), or the subreaper's kill_tree
         started = time.monotonic()
-        status, report, _ = verify(setting)
+        status, report, _ = verify(setting, env={"PKGFORGE_SANDBOX_DISABLE": disabled})
         assert time.monotonic() - started < 120
         assert status == 0, report
         assert left_behind(marker) == []

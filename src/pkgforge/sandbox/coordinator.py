@@ -270,11 +270,13 @@ def _end_the_rest(confinement: Confinement) -> None:
     if confinement["pid"] or os.getpid() == 1:
         namespaces.kill_all()
         return
-    try:  # a child subreaper: whatever is left below it hangs on one of its children
-        if os.waitpid(-1, os.WNOHANG) == (0, 0):
+    for _ in range(1000):  # a child subreaper: whatever is left below it hangs on one of its children
+        try:
+            pid, _ = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return  # nothing left
+        if pid == 0:  # one still runs: stop and kill them all
             processes.reap(processes.kill_tree(processes.descendants(os.getpid())), timeout=2.0)
-    except ChildProcessError:
-        return  # nothing left
 
 
 def _reply(received: bytes, status: int | None, limits: WorkerLimits, *, too_big: bool) -> Reply:
