@@ -14,7 +14,7 @@ from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
-from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
+from pkgforge.checks.sandbox import SANDBOX_TYPES, sandbox_records, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PREVIEW_LENGTH, PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.launch.records import Error as LaunchError
@@ -128,6 +128,18 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
             if alone is not None:
                 yield _failing_alone(f"{message}{alone[0]}", position, alone[1])
                 continue
+            refused = _refused_before(resolution)
+            if refused is not None:
+                # the file wrote somewhere only this sandbox refuses (/tmp where the kernel gives no
+                # private one), then failed reading it back: ros2 launch would have let it write
+                yield Finding(
+                    f"{message} (after pkgforge refused its write at line {refused}: maybe its consequence)",
+                    *position,
+                    severity=Severity.WARNING,
+                    hint="write generated files with tempfile (verify gives each launch file a private "
+                    "TMPDIR), or pass the content directly",
+                )
+                continue
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
             if item.type in SANDBOX_TYPES:
@@ -233,6 +245,23 @@ def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str
                     f"verify where {source.name} can be evaluated (its dependencies installed, or "
                     "--install-base), or give this file's launch arguments defaults it runs with",
                 )
+    return None
+
+
+def _refused_before(resolution: Resolution) -> int | None:
+    """The line of a write the sandbox refused, in the failing file, at or before the line it failed at
+    (or by a process it started): the failure may be that write's consequence, not the file's."""
+    error = resolution.error
+    if error is None or error.line is None:
+        return None
+    for kind, _, _, _, item in sandbox_records(resolution):
+        if (
+            kind == "RefusedWrite"
+            and item.file == error.file
+            and item.line is not None
+            and item.line <= error.line
+        ):
+            return item.line
     return None
 
 

@@ -132,6 +132,21 @@ def _set_readonly(libc: ctypes.CDLL, path: bytes, readonly: bool) -> None:
     _check(status, "mount_setattr")
 
 
+def private_tmp(own: str) -> str:
+    """/tmp as this process (and what it starts) sees it: the real one to read, its writes kept in
+    `own` (an overlay in a mount namespace of its own). A launch file that writes /tmp/robot.urdf
+    and reads it back works as on the user's machine, and the user's /tmp is never written.
+    → the overlay's upper folder (what was written). Needs enter_view's user namespace."""
+    libc = _libc()
+    _check(libc.unshare(CLONE_NEWNS), "unshare(mount)")
+    upper, work = os.path.join(own, ".tmp-upper"), os.path.join(own, ".tmp-work")
+    os.mkdir(upper)
+    os.mkdir(work)
+    options = f"lowerdir=/tmp,upperdir={upper},workdir={work}".encode()
+    _check(libc.mount(b"overlay", b"/tmp", b"overlay", 0, options), "mount(overlay /tmp)")
+    return upper
+
+
 def new_pid_namespace() -> None:
     """The next process this one forks is the first (pid 1) of a new PID namespace (needs the
     user namespace of enter_view). Irreversible: every later child goes there too."""

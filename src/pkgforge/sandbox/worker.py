@@ -421,6 +421,7 @@ def answer(
     try:
         _isolate(reply_fd)
         os.chdir(own)
+        _private_tmp(own, confinement)
         guarded = _install_guard(own)
         _apply_limits(limits)
         _confine(confinement)
@@ -458,6 +459,20 @@ def _open_descriptors() -> list[int]:
         return list(range(3, OPEN_FILES))
 
 
+def _private_tmp(own: str, confinement: Confinement) -> None:
+    """In the read-only view: a /tmp of this process's own (writes kept in `own`), so that a launch
+    file writing a file there and reading it back works as under ros2 launch."""
+    if not confinement["view"]:
+        return
+    from pkgforge.sandbox import guard, namespaces
+
+    try:
+        upper = namespaces.private_tmp(own)
+    except OSError:
+        return  # /tmp stays read-only: such a write fails (the guard says where)
+    os.environ[guard.TMP_VARIABLE] = upper
+
+
 def _confine(confinement: Confinement) -> None:
     """What the kernel enforces from here on, for this process and everything it starts."""
     from pkgforge.sandbox import landlock, namespaces
@@ -467,7 +482,7 @@ def _confine(confinement: Confinement) -> None:
     if confinement["landlock"]:
         from pkgforge.sandbox import guard
 
-        landlock.restrict(guard.writable_roots(), confinement["landlock"])
+        landlock.restrict(guard.kernel_writable(), confinement["landlock"])
 
 
 def _write_all(fd: int, data: bytes) -> None:
