@@ -153,7 +153,7 @@ def migrate(
     files = _files(source)
     models, links, root, missing = _models(source, files, notes)
     if missing:
-        raise PkgforgeError(missing_message(missing, force=False))
+        raise PkgforgeError(*missing_message(missing, force=False))
     base = make_spec(
         name,
         distro=distro,

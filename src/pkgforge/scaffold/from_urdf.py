@@ -310,13 +310,15 @@ def import_model(
     )
 
 
-def missing_message(missing: list[Reference], *, force: bool = True) -> str:
+def missing_message(missing: list[Reference], *, force: bool = True) -> list[str]:
+    """The lines of the error: one per file not found, then what to do (PkgforgeError(*lines))."""
     lines = [f"{r.file}:{r.line}: {r.kind} '{r.uri}' not found: {r.problem}" for r in missing]
-    return (
-        "\n".join(lines) + f"\n{len(missing)} file(s) the model names cannot be found: nothing written; "
+    return [
+        *lines,
+        f"{len(missing)} file(s) the model names cannot be found: nothing written; "
         "copy them where the model says"
-        + (", or pass --force to write the package without them" if force else "")
-    )
+        + (", or pass --force to write the package without them" if force else ""),
+    ]
 
 
 def new_from_urdf(
@@ -336,7 +338,7 @@ def new_from_urdf(
     notes = Notes(name)
     imported = import_model(name, model, uri_style=uri_style, notes=notes)
     if imported.missing and not force:
-        raise PkgforgeError(missing_message(imported.missing))
+        raise PkgforgeError(*missing_message(imported.missing))
     for reference in imported.missing:
         notes.add(
             "migrate-dropped",

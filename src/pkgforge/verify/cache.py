@@ -149,7 +149,7 @@ class ResultCache:
         digest = hashlib.sha256()
         try:
             if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
-                digest.update("\0".join(sorted(os.listdir(path))).encode())
+                digest.update(os.fsencode("\0".join(sorted(os.listdir(path)))))
             else:
                 with open(path, "rb") as handle:
                     for block in iter(lambda: handle.read(1 << 20), b""):
@@ -166,13 +166,16 @@ class ResultCache:
             key.update(part.encode() + b"\0")
         prefix = str(folder).rstrip(os.sep) + os.sep  # (str(folder / relative), without a Path per file)
         for relative in files:
-            key.update(relative.encode() + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0")
+            # fsencode: a file name's bytes as they are, UTF-8 or not (a str's encode() refuses those)
+            key.update(
+                os.fsencode(relative) + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0"
+            )
         return key.hexdigest()
 
     # --- entries ------------------------------------------------------------------------------
 
     def _entry_path(self, folder: Path) -> Path:
-        return self.folder / f"{hashlib.sha1(str(folder).encode()).hexdigest()}.json"
+        return self.folder / f"{hashlib.sha1(os.fsencode(folder)).hexdigest()}.json"
 
     def load(self, folder: Path, key: str) -> tuple[PackageReport, set[str]] | None:
         """(report, codes of the checks that ran) when the entry is still valid."""
