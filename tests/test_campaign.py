@@ -6,7 +6,10 @@ empty files, links (dangling, cycles, out of the tree), permissions, deep nestin
 hostile launch files and xacro. Many broken packages share one workspace, so a few
 verify runs cover them all. For every run: no traceback, exit status 0 or 1, no hang
 (each case under 15 s: a run gets 15 s per case it holds), nothing of the workspace
-changed (hashed before and after), and every diagnostic names a file.
+changed (hashed before and after), every diagnostic names a file, and the JUnit report written
+beside it (--junit-xml) is well-formed XML with no control character in it (issue 35: a file's name
+may hold any). A launch file whose bytes are not UTF-8 gets what the real decoders say of it
+(`launch_verdict`): an error where ros2 launch refuses it, at the line of its first such byte.
 
 Byte-level mutations are drawn from a Random that Hypothesis draws (derandomized, so CI sees the same
 inputs; no shrinking: a failing batch is split case by case instead).
@@ -16,10 +19,11 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
@@ -61,6 +65,8 @@ class Case:
     base: str
     what: str  # what is broken, for a failure's message
     installable: bool = True  # its build files intact: `colcon build` still builds it
+    # a diagnostic the report must hold: (code, severity, path as reported, line)
+    expect: list[tuple[str, str, str, int | None]] = field(default_factory=list)
 
 
 # --- the bases ----------------------------------------------------------------------------------
@@ -121,6 +127,42 @@ def reencode(path: Path, encoding: str) -> str:
     return f"encoded as {encoding}"
 
 
+def latin1_text(path: Path) -> str:
+    """A Latin-1 é in the first quoted value (a Python string, an XML attribute, a YAML value), where
+    Python, unlike in a comment, does not skip it."""
+    text = path.read_bytes().decode("utf-8", errors="replace")
+    for quote in ("='", '="', ": "):
+        if quote in text:
+            text = text.replace(quote, quote + "é", 1)
+            break
+    path.write_bytes(text.encode("latin-1", errors="replace"))
+    return "a Latin-1 é in a value"
+
+
+def launch_verdict(path: Path) -> tuple[str, str, int | None] | None:
+    """What ros2 launch makes of a launch file's bytes, by the real decoders (test_launch_encodings.py
+    says why): (code, severity, line) verify must report, None when the bytes are UTF-8. Python
+    compiles a .py file (comments decoded leniently, a coding line honoured); launch reads an XML or
+    YAML file as UTF-8 text, strictly."""
+    data = path.read_bytes()
+    try:
+        data.decode("utf-8")
+        return None
+    except UnicodeDecodeError as error:
+        first = data.count(b"\n", 0, error.start) + 1
+    if not path.name.endswith(".py"):
+        return ("PF301", "error", first)
+    try:
+        compile(data, str(path), "exec", dont_inherit=True)
+    except SyntaxError as error:
+        if error.lineno is None:  # a NUL byte (UTF-16): located at the first one
+            return ("PF301", "error", data.count(b"\n", 0, data.find(b"\0")) + 1)
+        return ("PF301", "error", error.lineno)
+    except ValueError:  # a NUL byte, as Python 3.10 says it
+        return ("PF301", "error", data.count(b"\n", 0, data.find(b"\0")) + 1)
+    return ("PF901", "info", first)  # Python loads it (a comment's bytes): pkgforge does not read it
+
+
 def bom(path: Path) -> str:
     path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
     return "UTF-8 BOM"
@@ -148,6 +190,9 @@ def huge(path: Path) -> str:
 
 
 BYTE_MUTATIONS = ("truncate", "truncate", "flip", "flip", "latin-1", "utf-16", "bom", "crlf", "empty")
+LAUNCH_KINDS = ("launch.py", "launch.xml", "launch.yaml")
+# re-encodings whose launch files get what the real decoders say (launch_verdict)
+ENCODINGS = ("latin-1", "utf-16", "latin-1 text")
 
 # hostile launch files: (file name, content); each lives in one package of its own
 HOSTILE_LAUNCH = {
@@ -281,8 +326,30 @@ def structural(package: Path, what: str, outside: Path) -> None:
         (package / "launch").write_text("not a folder")
     elif what == "space and unicode in names":
         (meshes / "with space ☃.stl").write_bytes(b"solid x\nendsolid x\n")
+    elif what in HOSTILE_NAMES:
+        # a launch file that fails to load (so reports name it) and a mesh, named so
+        launch_name, content, mesh = HOSTILE_NAMES[what]
+        (package / "launch").mkdir(exist_ok=True)
+        (package / "launch" / launch_name).write_text(content)
+        (meshes / mesh).write_bytes(b"solid x\nendsolid x\n")
     else:
         raise AssertionError(what)
+
+
+# file names a report prints (issue 35): what → (launch file, its content, mesh); each file fails to load
+HOSTILE_NAMES = {
+    "escape sequence in a name": (
+        "title\x1b]0;pwned\x07.launch.py",
+        "def generate_launch_description(:\n",
+        "clear\x1b[2J.stl",
+    ),
+    "newline in a name": (
+        "x\n::error file=README.md,line=1::forged.launch.py",
+        "def generate_launch_description(:\n",
+        "line\nbreak.stl",
+    ),
+    "control character in a name": ("ctl\x01.launch.xml", "<launch><oops/></launch>\n", "del\x7f\x85.stl"),
+}
 
 
 STRUCTURAL = (
@@ -302,6 +369,7 @@ STRUCTURAL = (
     "fifo",
     "launch folder is a file",
     "space and unicode in names",
+    *HOSTILE_NAMES,
 )
 
 
@@ -314,6 +382,8 @@ def byte_plan(rng) -> list[tuple[str, str, str, dict]]:
     for base in BASES:
         for kind in KINDS:
             mutations = ("truncate", "flip", "empty") if kind == "stl" else BYTE_MUTATIONS
+            if kind in LAUNCH_KINDS:
+                mutations += ("latin-1 text",)
             for mutation in mutations:
                 parameters = {}
                 if mutation == "truncate":
@@ -331,6 +401,8 @@ def apply_bytes(package: Path, kind: str, mutation: str, parameters: dict) -> st
     if not files:
         return None
     path = files[0]
+    if mutation == "latin-1 text":
+        return f"{path.relative_to(package)}: {latin1_text(path)}"
     if mutation == "truncate":
         done = truncate(path, parameters["fraction"])
     elif mutation == "flip":
@@ -367,9 +439,19 @@ class Campaign:
             if what is None:
                 shutil.rmtree(package)
                 continue
-            cases.append(
-                Case(name, base, what, installable=kind not in ("package.xml", "CMakeLists.txt", "setup.py"))
+            case = Case(
+                name, base, what, installable=kind not in ("package.xml", "CMakeLists.txt", "setup.py")
             )
+            # (where the package's name is its own: rob_description's clones all name robot_description,
+            # and of packages that share a name only one is in the tree whose launch files are evaluated)
+            own_name = f"<name>{name}</name>".encode() in (package / "package.xml").read_bytes()
+            if kind in LAUNCH_KINDS and mutation in ENCODINGS and own_name:
+                path = files_of(package, kind)[0]
+                verdict = launch_verdict(path)
+                if verdict is not None:
+                    code, severity, line = verdict
+                    case.expect.append((code, severity, f"src/{name}/{path.relative_to(package)}", line))
+            cases.append(case)
         return cases
 
     def huge_cases(self, src: Path) -> list[Case]:
@@ -411,6 +493,9 @@ class Campaign:
             base = list(BASES)[index % 4]
             name, package = self.package(src, base)
             structural(package, what, self.outside)
+            expect = []
+            if what in HOSTILE_NAMES:  # the report names the file that fails to load, as it is named
+                expect.append(("PF301", "error", f"src/{name}/launch/{HOSTILE_NAMES[what][0]}", 1))
             cases.append(
                 Case(
                     name,
@@ -427,6 +512,7 @@ class Campaign:
                         "dangling link",
                         "deep nesting",
                     ),
+                    expect=expect,
                 )
             )
         return cases
@@ -471,14 +557,20 @@ def readable(folder: Path) -> None:
                     pass
 
 
+# what no report may hold as it is: C0 controls but the newline, DEL, C1 controls
+RAW_CONTROL = re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f]")
+
+
 def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
     """Problems of one verify run over many cases (empty: all held)."""
     before = fingerprint(workspace, skip=("build",))
     limit = PER_CASE_SECONDS * max(1, len(cases))
+    junit = workspace.parent / f"{workspace.name}.junit.xml"  # beside the workspace: not of it
+    junit.unlink(missing_ok=True)
     try:
         result = run_command(
             [sys.executable, "-m", "pkgforge", "verify", ".", "--format", "json", "--no-cache"]
-            + ["--launch-timeout", LAUNCH_TIMEOUT, *mode],
+            + ["--launch-timeout", LAUNCH_TIMEOUT, "--junit-xml", str(junit), *mode],
             cwd=workspace,
             timeout=limit,
         )
@@ -503,7 +595,40 @@ def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
             unlocated = [d for d in report["diagnostics"] if not d.get("path")]
             if unlocated:
                 problems.append(f"unlocated: {unlocated[:5]}")
+            problems += missing_expected(report, cases)
+        problems += junit_problems(junit)
     return problems
+
+
+def missing_expected(report: dict, cases: list[Case]) -> list[str]:
+    """Each case's expected diagnostic, if the report lacks it (with what it says of that file)."""
+    found = {(d["code"], d["severity"], d["path"], d["line"]) for d in report["diagnostics"]}
+    problems = []
+    for case in cases:
+        for expected in case.expect:
+            if expected not in found:
+                said = [
+                    (d["code"], d["severity"], d["line"], d["message"][:200])
+                    for d in report["diagnostics"]
+                    if d["path"] == expected[2]
+                ]
+                problems.append(f"{case.name} ({case.what}): no {expected}; said: {said}")
+    return problems
+
+
+def junit_problems(junit: Path) -> list[str]:
+    """The JUnit report beside the JSON one: written, well-formed, no control character."""
+    from lxml import etree
+
+    try:
+        text = junit.read_text(encoding="utf-8")
+        etree.fromstring(text.encode())
+    except (OSError, ValueError, etree.XMLSyntaxError) as error:
+        return [f"JUnit report: {error}"]
+    finally:
+        junit.unlink(missing_ok=True)
+    raw = sorted({repr(c) for c in RAW_CONTROL.findall(text)})
+    return [f"JUnit report holds control characters: {raw}"] if raw else []
 
 
 def each_alone(workspace: Path, cases: list[Case], *mode: str) -> dict[str, list[str]]:
@@ -513,7 +638,12 @@ def each_alone(workspace: Path, cases: list[Case], *mode: str) -> dict[str, list
     for case in cases:
         by_package.setdefault(case.name, []).append(case)
     for package_cases in by_package.values():
-        case = Case(package_cases[0].name, package_cases[0].base, "; ".join(c.what for c in package_cases))
+        case = Case(
+            package_cases[0].name,
+            package_cases[0].base,
+            "; ".join(c.what for c in package_cases),
+            expect=[e for c in package_cases for e in c.expect],
+        )
         alone = workspace.parent / f"alone-{case.name}"
         (alone / "src").mkdir(parents=True)
         shutil.move(str(workspace / "src" / case.name), alone / "src" / case.name)

@@ -27,22 +27,38 @@ def file_not_read(ctx: CheckContext) -> Iterator[Finding]:
 
     for source in ctx.model.skipped:
         if source.problem_line is not None:
-            if launch_kind(source.path) is not None:
-                # pkgforge evaluates it leniently; ros2 launch may not (no check parses it strictly)
+            kind = launch_kind(source.path)
+            if kind is not None and not _refused_there(ctx, source.path, source.problem_line):
+                # not UTF-8, and launch did not refuse it at that byte (it was not evaluated, or
+                # Python skips a comment's bytes or follows a coding line): pkgforge does not read it
                 yield Finding(
                     f"{ctx.relative(source.path)} not read: {source.problem}",
                     source.path,
                     source.problem_line,
-                    hint="save the file as UTF-8: unless a Python file declares its coding, "
-                    "ros2 launch refuses it",
+                    hint="save the file as UTF-8: Python accepts other bytes only in comments or "
+                    "under a coding line, and pkgforge reads only UTF-8"
+                    if kind == "py"
+                    else "save the file as UTF-8: ros2 launch reads XML and YAML launch files as UTF-8",
                 )
-            continue  # not UTF-8: the check that parses the file (model, RViz) reports it
+            continue  # not UTF-8: the check that parses the file (model, RViz, launch) reports it
         yield Finding(
             f"{ctx.relative(source.path)} not read: {source.problem}",
             source.path,
             source.problem_line,
             hint=read_problem_hint(source.problem),
         )
+
+
+def _refused_there(ctx: CheckContext, path: Path, line: int) -> bool:
+    """Whether loading the launch file failed at that line (launch-load-error reports the bytes
+    that are not UTF-8 there: ros2 launch refuses the file)."""
+    for resolution in ctx.resolutions:
+        error = resolution.error
+        if resolution.status != "load-error" or error is None:
+            continue
+        if ctx.source_position(resolution, error.file, error.line) == (path, line):
+            return True
+    return False
 
 
 def read_problem_hint(problem: str | None) -> str | None:

@@ -109,7 +109,9 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 )
             else:
                 message = f"loading {resolution.launch.installed.name} failed: {text}"
-                hint = read_problem_hint(text)
+                hint = read_problem_hint(text) or _decoding_hint(
+                    resolution.launch.installed.name, error.type, text
+                )
                 if hint is None and position[1] is None:
                     hint = (
                         "the error names no line of this file: run `pkgforge verify --explain-launch "
@@ -262,6 +264,27 @@ def _refused_before(resolution: Resolution) -> int | None:
             and item.line <= error.line
         ):
             return item.line
+    return None
+
+
+def _decoding_hint(file_name: str, error_type: str | None, text: str) -> str | None:
+    """The fix for a launch file ros2 launch cannot decode (None: another error). Python reads a
+    launch file's bytes as UTF-8 (PEP 263) but in comments, unless it declares its coding; launch
+    reads an XML or YAML file as UTF-8 text, whatever a BOM or an XML declaration says."""
+    if file_name.endswith(".py"):
+        if "cannot contain null bytes" in text:
+            return "save the file as UTF-8: Python refuses a NUL byte (a UTF-16 file has one in each ASCII character)"
+        if error_type == "SyntaxError" and "(unicode error) 'utf-8' codec can't decode" in text:
+            return (
+                "save the file as UTF-8, or declare its encoding on its first or second line "
+                "(# -*- coding: latin-1 -*-): Python reads a launch file as UTF-8 but in comments"
+            )
+        return None
+    if error_type == "UnicodeDecodeError":
+        return (
+            "save the file as UTF-8: ros2 launch reads XML and YAML launch files as UTF-8, whatever "
+            "a BOM or an encoding declaration says"
+        )
     return None
 
 

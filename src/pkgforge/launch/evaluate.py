@@ -300,11 +300,27 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     line = getattr(error, "line", None)  # the built-in front end's FrontendError
     if line and type(error).__name__ == "FrontendError":
         record["line"] = line
+    if record["line"] is None and stage == "load":
+        record["line"] = _null_byte_line(path, message)
     frames = traceback.extract_tb(error.__traceback__)
     origin = next((f for f in reversed(frames) if f.filename in runtime._LAUNCH_FILES), None)
     if origin is not None:
         record["file"], record["line"] = origin.filename, origin.lineno
     return as_dict(from_dict(Error, record))
+
+
+def _null_byte_line(path: str, message: str) -> int | None:
+    """Python's refusal of a launch file with a NUL byte (a UTF-16 file) names no line: the line
+    of the file's first NUL, when the file itself has one (not a module it imports)."""
+    if "source code string cannot contain null bytes" not in message or not path.endswith(".py"):
+        return None
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError:
+        return None
+    index = data.find(b"\0")
+    return data.count(b"\n", 0, index) + 1 if index >= 0 else None
 
 
 # what an event handler runs with the event's effects (nav2_minimal_tb4_sim's OnShutdown

@@ -36,6 +36,19 @@ class FrontendError(Exception):
         self.line = line
 
 
+def decoded(data: bytes) -> str:
+    """A front-end launch file's text as launch reads it: `open(file, 'r')` (launch.frontend's
+    Parser.load), so the locale's encoding, UTF-8 where ROS 2 runs (it requires a UTF-8 locale),
+    strict. A byte that is not UTF-8 refuses the file whatever its BOM or XML declaration says
+    (a UTF-16 file, a Latin-1 one declaring encoding="ISO-8859-1"): FrontendError at the line of
+    the first such byte, caused by the UnicodeDecodeError launch raises. Both engines say it
+    through this function: the position is in the whole file (launch decodes it in chunks)."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise FrontendError(str(error), data.count(b"\n", 0, error.start) + 1) from error
+
+
 # --- substitution syntax --------------------------------------------------------------------
 
 
@@ -277,8 +290,11 @@ def parse_file(path: str, kind: str) -> rt.LaunchDescription:
     rt._LAUNCH_FILES.add(path)
     with open(path, "rb") as handle:
         data = handle.read()
+    text = decoded(data)
     if kind == "xml":
         try:
+            # the bytes, not the text: expat, under launch's ElementTree, still reads the XML
+            # declaration of the text it is given (ISO-8859-1 declared: each UTF-8 byte a character)
             root = etree.fromstring(data, etree.XMLParser(remove_comments=True, resolve_entities=False))
         except etree.XMLSyntaxError as error:
             raise FrontendError(f"not well-formed XML: {error.msg}", error.lineno) from None
@@ -287,7 +303,7 @@ def parse_file(path: str, kind: str) -> rt.LaunchDescription:
         try:
             from pkgforge.model.yamlnodes import compose  # libyaml; the same nodes and errors
 
-            document = compose(data.decode("utf-8"))
+            document = compose(text)
         except yaml.YAMLError as error:
             mark = getattr(error, "problem_mark", None)
             raise FrontendError(f"not valid YAML: {error}", mark.line + 1 if mark else None) from None

@@ -1081,11 +1081,33 @@ def _load_error(path: str, error: BaseException) -> ErrorRecordDict:
     from pkgforge.launch import evaluate as builtin
 
     cause = getattr(error, "orig_exc", None) if type(error).__name__ == "VisitError" else None
+    refusal = _undecodable(path, error)
+    if refusal is not None:
+        error = refusal
     record = builtin._error_record(path, cause if isinstance(cause, Exception) else error, "load")
     located = getattr(error, "_pkgforge_location", None)
     if located is not None and record.get("line") is None:
         record["file"], record["line"] = located[0] or path, located[1]
     return record
+
+
+def _undecodable(path: str, error: BaseException) -> BaseException | None:
+    """launch's refusal of a front-end file that is not UTF-8 (an InvalidFrontendLaunchFileError
+    of each parser's UnicodeDecodeError) as the built-in engine says it: the decoding error, at
+    the line of the first byte that is not UTF-8 (frontend.decoded). None: another error."""
+    from pkgforge.launch.frontend import FrontendError, decoded
+
+    errors = [error, *(getattr(error, "_likely_errors", None) or [])]  # (InvalidLaunchFileError's)
+    if path.endswith(".py") or not any(isinstance(e, UnicodeDecodeError) for e in errors):
+        return None
+    try:
+        with open(path, "rb") as handle:
+            decoded(handle.read())
+    except FrontendError as refusal:
+        return refusal
+    except OSError:
+        return None
+    return None  # the file is UTF-8: a decoding error of something it read
 
 
 def _load(path: str) -> Any:  # a launch.LaunchDescription

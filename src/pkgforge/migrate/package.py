@@ -171,13 +171,13 @@ def migrate(
     refused = _copy_problems(source, files)
     if refused:
         raise PkgforgeError(
-            "\n".join(refused) + f"\n{len(refused)} file(s) of the package cannot be copied: nothing "
-            "written; replace each link that leads out of the package by the file it names, or move "
-            "the file out of the package"
+            *refused,
+            f"{len(refused)} file(s) of the package cannot be copied: nothing written; replace each "
+            "link that leads out of the package by the file it names, or move the file out of the package",
         )
     models, links, root, missing = _models(source, files, notes)
     if missing:
-        raise PkgforgeError(missing_message(missing, force=False))
+        raise PkgforgeError(*missing_message(missing, force=False))
     base = make_spec(
         name,
         distro=distro,

@@ -355,11 +355,11 @@ def create_package(
                     raise PkgforgeError(f"cannot read {final}: {exc.strerror}") from exc
                 (unchanged if same else overwritten).append(relative)
         if overwritten and force < 2:
-            listed = "\n".join(f"  {relative}" for relative in overwritten)
-            raise PkgforgeError(
+            raise PkgforgeError(  # one line each (a name's own newline is escaped)
                 f"--force would replace {len(overwritten)} file(s) in {target} that differ from what "
-                f"pkgforge writes now (edited, or generated with other options):\n{listed}\n"
-                "nothing was written; pass --force twice to replace them, or move them away first"
+                "pkgforge writes now (edited, or generated with other options):",
+                *(f"  {relative}" for relative in overwritten),
+                "nothing was written; pass --force twice to replace them, or move them away first",
             )
     mask = _umask()
     try:

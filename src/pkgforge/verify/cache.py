@@ -96,7 +96,9 @@ if TYPE_CHECKING:
 # 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
-CACHE_FORMAT = 47
+# 48: an XML or YAML launch file that is not UTF-8 is refused (launch reads it as UTF-8 text), at its
+#    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says
+CACHE_FORMAT = 48
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -149,7 +151,7 @@ class ResultCache:
         digest = hashlib.sha256()
         try:
             if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
-                digest.update("\0".join(sorted(os.listdir(path))).encode())
+                digest.update(os.fsencode("\0".join(sorted(os.listdir(path)))))
             else:
                 with open(path, "rb") as handle:
                     for block in iter(lambda: handle.read(1 << 20), b""):
@@ -166,13 +168,16 @@ class ResultCache:
             key.update(part.encode() + b"\0")
         prefix = str(folder).rstrip(os.sep) + os.sep  # (str(folder / relative), without a Path per file)
         for relative in files:
-            key.update(relative.encode() + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0")
+            # fsencode: a file name's bytes as they are, UTF-8 or not (a str's encode() refuses those)
+            key.update(
+                os.fsencode(relative) + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0"
+            )
         return key.hexdigest()
 
     # --- entries ------------------------------------------------------------------------------
 
     def _entry_path(self, folder: Path) -> Path:
-        return self.folder / f"{hashlib.sha1(str(folder).encode()).hexdigest()}.json"
+        return self.folder / f"{hashlib.sha1(os.fsencode(folder)).hexdigest()}.json"
 
     def load(self, folder: Path, key: str) -> tuple[PackageReport, set[str]] | None:
         """(report, codes of the checks that ran) when the entry is still valid."""

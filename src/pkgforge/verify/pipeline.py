@@ -543,7 +543,7 @@ def cache_folder(workspace: Workspace) -> Path:
             (build / "COLCON_IGNORE").touch()  # as colcon marks it, so no crawl enters it
         return build / "pkgforge-cache"
     home = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-    return home / "pkgforge" / hashlib.sha1(str(workspace.base_path).encode()).hexdigest()[:16]
+    return home / "pkgforge" / hashlib.sha1(os.fsencode(workspace.base_path)).hexdigest()[:16]
 
 
 def _cache_lookup(
@@ -563,7 +563,7 @@ def _cache_lookup(
     repos = "".join(
         f"{path}\0{cache.digest(str(path)) or '-'}\0" for path in vcs_repos_files(every, workspace.base_path)
     )
-    signature = workspace_key(every, texts) + hashlib.sha256(repos.encode()).hexdigest()
+    signature = workspace_key(every, texts) + hashlib.sha256(os.fsencode(repos)).hexdigest()
     keys: dict[Path, str] = {}
     hits: dict[Path, tuple[PackageReport, set[str]]] = {}
     for folder in folders:
@@ -661,7 +661,7 @@ def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list[R
                 if problem not in problems:
                     problems.append(problem)
     if problems:
-        raise PkgforgeError("\n".join(problems))
+        raise PkgforgeError(*problems)  # one line each
 
 
 def run(
