@@ -243,6 +243,46 @@ HOSTILE_LAUNCH = {
         "launch:\n- arg: &a {name: x, default: y}\n- arg: *a\n- let: {name: z, value: [*a, *a, *a, *a]}\n"
     ),
     "notalist.launch.yaml": "launch: 7\n",
+    # what steps around a Python guard (issue 35): only the kernel stops these
+    "shellwrite.launch.py": (
+        "import os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    os.system('echo x >> SRC/package.xml; chmod 600 SRC/CMakeLists.txt; touch SRC/made.txt')\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "unguarded.launch.py": (
+        "import subprocess, sys\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    subprocess.run([sys.executable, '-I', '-c', \"open('SRC/package.xml', 'a').write('x')\"])\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "libc.launch.py": (
+        "import ctypes, os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    libc = ctypes.CDLL(None)\n"
+        "    fd = libc.open(b'SRC/package.xml', os.O_WRONLY | os.O_TRUNC)\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "forged.launch.py": (
+        "import os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    for fd in range(3, 64):\n"
+        "        try:\n"
+        '            os.write(fd, b\'{"status": "ok"}\\n\')\n'
+        "        except OSError:\n"
+        "            pass\n"
+        "    raise RuntimeError('fails after forging')\n"
+    ),
+    "sleepers.launch.py": (
+        "import os, time\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    for _ in range(4):\n"
+        "        if os.fork() == 0:\n"
+        "            os.setsid()\n"
+        "            time.sleep(60)\n"
+        "            os._exit(0)\n"
+        "    return LaunchDescription([])\n"
+    ),
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
 }
 # hostile models: (file name, content)
@@ -271,6 +311,11 @@ HOSTILE_XACRO = {
         '<robot name="r"><link name="&e;"/></robot>\n'
     ),
     "notxml.urdf": "\x00\x01\x02 not xml at all",
+    "escape.urdf.xacro": (  # xacro's eval escaped to Popen: a shell, no Python guard
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        "<link name=\"${[c for c in python.vars(python.type)['__subclasses__'](python.type(0).mro()[-1]) "
+        "if 'Popen' in python.repr(c)][0]('echo x >> SRC/package.xml', shell=True).wait() and 'l'}\"/></robot>\n"
+    ),
 }
 
 
