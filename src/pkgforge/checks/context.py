@@ -20,6 +20,7 @@ from pkgforge.model.cmake import PYTHON_SITE
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
+from pkgforge.model.source import read_head, read_regular
 from pkgforge.tree import InstallTree
 
 if TYPE_CHECKING:
@@ -103,9 +104,8 @@ class FileFacts:
 
         def read(text: str) -> list[str]:
             try:
-                with open(text, encoding="utf-8", errors="replace") as handle:
-                    return handle.read().splitlines()
-            except OSError:
+                return read_regular(text).decode("utf-8", errors="replace").splitlines()
+            except OSError:  # (a FIFO or a device too: never read)
                 return []
 
         found: list[str] = self._once("lines", path, read)
@@ -276,9 +276,8 @@ class CheckContext:
 
         def compute() -> str:
             try:
-                with open(path, encoding="utf-8", errors="replace") as handle:
-                    return handle.read(1 << 20)
-            except OSError:
+                return read_head(path, 1 << 20)[0].decode("utf-8", errors="replace")
+            except OSError:  # (a FIFO or a device too: never read)
                 return ""
 
         head: str = self._shared(("head", path), compute)
@@ -748,7 +747,7 @@ def _environment_reads(source: Path) -> list[str]:
     import ast
 
     try:
-        text = source.read_text(encoding="utf-8", errors="replace")
+        text = read_regular(source).decode("utf-8", errors="replace")
         if "environ" not in text and "getenv" not in text:
             return []  # every form below names one of them: no parse needed
         tree = ast.parse(text)

@@ -57,6 +57,11 @@ def read_problem_hint(problem: str | None) -> str | None:
         return "give read permission (chmod a+r FILE, and a+x on its folders): colcon and ROS read it too"
     if "not valid UTF-8" in problem:
         return "save the file as UTF-8"
+    if "reads only regular files" in problem:
+        return (
+            "put the file itself there (or a link to one): a FIFO or a device has no end (or no start) "
+            "to read, and colcon installs and ROS loads files"
+        )
     return None
 
 

@@ -22,6 +22,7 @@ import yaml
 from lxml import etree
 
 from pkgforge.launch import runtime as rt
+from pkgforge.model.source import NotRegularFile, open_regular
 
 Subs = list[rt.Substitution]  # one attribute's text as substitutions (parse_substitution)
 Attribute = str | list[str]  # an XML attribute, or a YAML scalar or list of scalars
@@ -275,8 +276,12 @@ def _from_yaml(tag: str, node: yaml.Node, line: int | None) -> Element:
 
 def parse_file(path: str, kind: str) -> rt.LaunchDescription:
     rt._LAUNCH_FILES.add(path)
-    with open(path, "rb") as handle:
-        data = handle.read()
+    try:
+        handle = open_regular(path)[0]  # an included FIFO or /dev/zero: no read that never ends
+    except NotRegularFile as error:
+        raise FrontendError(str(error.strerror), None) from None
+    with open(handle, "rb", closefd=True) as stream:
+        data = stream.read()
     if kind == "xml":
         try:
             root = etree.fromstring(data, etree.XMLParser(remove_comments=True, resolve_entities=False))

@@ -20,6 +20,7 @@ from typing import Any
 
 from lxml import etree
 
+from pkgforge.model.source import FileTooLarge, NotRegularFile, read_regular
 from pkgforge.sandbox.protocol import ErrorRecord, ModelReply
 from pkgforge.urdf.structure import (
     Geometry,
@@ -48,22 +49,22 @@ XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
 def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
     """xacro (or plain URDF) → {status, error, robot: {links, joints, meshes, ...}}."""
     try:
-        size = os.path.getsize(path)
-    except OSError as error:
-        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
-    if size > MAX_MODEL_BYTES:
+        data = read_regular(path, MAX_MODEL_BYTES)  # a FIFO, /dev/zero: refused, never read
+    except FileTooLarge as error:
         return {
             "status": "too-large",
             "error": {
-                "message": f"{size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
+                "message": f"{error.size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
                 "file": path,
                 "line": None,
             },
         }
+    except NotRegularFile as error:
+        return {"status": "error", "error": {"message": str(error.strerror), "file": path, "line": None}}
+    except OSError as error:
+        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(4096)
-        head.decode("utf-8")
+        data[:4096].decode("utf-8")
     except UnicodeDecodeError:
         return {
             "status": "error",
@@ -74,7 +75,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
                 "stage": "xml",
             },
         }
-    output = _expand(path, mappings)
+    output = _expand(path, data.decode("utf-8", errors="replace"), mappings)
     if not isinstance(output, tuple):
         return output
     text, includes = output
@@ -162,11 +163,10 @@ def run_xacro(path: str, mappings: dict[str, str]) -> XacroRun:
         sys.stderr = real_stderr
 
 
-def _expand(path: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
-    """The xacro output (or the file itself when it uses no xacro), with the files it included
-    (None: the file itself); or the reply saying why there is none."""
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        raw = handle.read()
+def _expand(path: str, raw: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
+    """The xacro output of the model at `path`, whose text is `raw` (or the text itself when it
+    uses no xacro), with the files it included (None: the file itself); or the reply saying why
+    there is none."""
     if "xacro" not in raw:
         return raw, None  # no includes: the output is the file itself
     import xacro

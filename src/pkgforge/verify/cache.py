@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
 from pkgforge.model.files import manifest_text, quick_name
+from pkgforge.model.source import NotRegularFile, open_regular
 from pkgforge.workspace import IGNORE_MARKERS
 
 if TYPE_CHECKING:
@@ -150,10 +151,12 @@ class ResultCache:
         try:
             if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
                 digest.update("\0".join(sorted(os.listdir(path))).encode())
-            else:
-                with open(path, "rb") as handle:
+            else:  # a FIFO or a device is never read (it blocks, or never ends): its type is its content
+                with open(open_regular(path)[0], "rb", closefd=True) as handle:
                     for block in iter(lambda: handle.read(1 << 20), b""):
                         digest.update(block)
+        except NotRegularFile:
+            return f"special:{stat.st_mode:o}:{stat.st_rdev}"
         except OSError:
             return f"unreadable:{mode}"
         self.index[path] = [*stamp, digest.hexdigest()]

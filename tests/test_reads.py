@@ -1,0 +1,115 @@
+"""What pkgforge's own process reads of the user's files is bounded (issue 35): only regular files
+are opened (a FIFO blocks a read for ever, a link to /dev/zero or /dev/urandom never ends), YAML
+is read within bounds on nesting and on what aliases expand to, and a deep xacro says what was
+too deep. Each case is a located diagnostic, never a hang, a MemoryError or a traceback."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+from conftest import line_of, new_package, run_pkgforge
+
+# a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
+HANG_GUARD = 240
+DEVICES = ["/dev/zero", "/dev/urandom"]
+
+
+def verify(workspace: Path, *args: str) -> dict:
+    """`pkgforge verify --format json` of the workspace (conftest.verify_report, with a hang guard)."""
+    result = run_pkgforge("verify", ".", "--format", "json", *args, cwd=workspace, timeout=HANG_GUARD)
+    assert "Traceback" not in result.stderr and result.returncode in (0, 1), result.stdout + result.stderr
+    return json.loads(result.stdout)
+
+
+def found(report: dict, code: str) -> list[tuple[str, int | None, str]]:
+    return [(d["path"], d["line"], d["message"]) for d in report["diagnostics"] if d["code"] == code]
+
+
+@pytest.fixture
+def yaml_package(tmp_path) -> Path:
+    (tmp_path / "src").mkdir()
+    return new_package(tmp_path, "rob_description", "--launch-format", "yaml", "--distro", "humble")
+
+
+# --- FIFOs and devices: refused by what they are, never read --------------------------------------
+
+
+@pytest.mark.triggers("PF101")
+@pytest.mark.parametrize("device", DEVICES)
+def test_a_package_xml_linked_to_a_device_is_a_located_error_not_a_read(package, device):
+    workspace = package.parent.parent
+    (package / "package.xml").unlink()
+    os.symlink(device, package / "package.xml")
+    for mode in ([], ["--no-cache"]):  # the cache's fingerprint of the files reads them too
+        report = verify(workspace, *mode)
+        assert found(report, "PF101") == [
+            (
+                "src/rob_description/package.xml",
+                None,
+                f"package.xml: a link to {device}, a character device: pkgforge reads only regular files",
+            )
+        ]
+
+
+@pytest.mark.parametrize(
+    ("name", "code"),
+    [
+        pytest.param("package.xml", "PF101", marks=pytest.mark.triggers("PF101")),
+        pytest.param("CMakeLists.txt", "PF204", marks=pytest.mark.triggers("PF204")),
+    ],
+)
+def test_a_build_file_that_is_a_fifo_is_a_located_error_not_a_read_that_blocks(package, name, code):
+    workspace = package.parent.parent
+    (package / name).unlink()
+    os.mkfifo(package / name)
+    diagnostics = verify(workspace)["diagnostics"]
+    assert [(d["code"], d["path"], d["message"]) for d in diagnostics if d["code"] == code] == [
+        (
+            code,
+            f"src/rob_description/{name}",
+            f"{name}: a FIFO (named pipe): pkgforge reads only regular files",
+        )
+    ]
+    hint = next(d["hint"] for d in diagnostics if d["code"] == code)
+    assert "a FIFO or a device has no end" in hint, hint
+
+
+@pytest.mark.triggers("PF901")
+@pytest.mark.parametrize("device", DEVICES)
+def test_a_launch_file_linked_to_a_device_is_not_read_nor_run(yaml_package, device):
+    workspace = yaml_package.parent.parent
+    launch = yaml_package / "launch" / "display.launch.yaml"
+    launch.unlink()
+    os.symlink(device, launch)
+    report = verify(workspace, "--no-cache")
+    assert found(report, "PF901") == [
+        (
+            "src/rob_description/launch/display.launch.yaml",
+            None,
+            f"launch/display.launch.yaml not read: a link to {device}, a character device: "
+            "pkgforge reads only regular files",
+        )
+    ]
+    assert found(report, "PF301") == []  # no worker read it either (it ran out of memory there)
+
+
+@pytest.mark.triggers("PF405")
+@pytest.mark.parametrize("device", DEVICES)
+def test_a_mesh_linked_to_a_device_is_named_for_what_it_is(package, device):
+    workspace = package.parent.parent
+    (package / "meshes" / "arm.stl").unlink()
+    os.symlink(device, package / "meshes" / "arm.stl")
+    report = verify(workspace)
+    model = package / "urdf" / "rob_description.urdf.xacro"
+    assert found(report, "PF405") == [
+        (
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "meshes/arm.stl"),
+            f"package://rob_description/meshes/arm.stl: a link to {device}, a character device: "
+            "pkgforge reads only regular files",
+        )
+    ]
+    assert found(report, "PF403") == []  # not "no such file, but 'arm.stl' exists (case differs)"
