@@ -15,6 +15,10 @@ from conftest import line_of, new_package, run_pkgforge
 # a subprocess timeout is a hang guard here, not a timing assert: before the fix these never ended
 HANG_GUARD = 240
 DEVICES = ["/dev/zero", "/dev/urandom"]
+# a YAML "billion laughs": 12 lines of anchors, each alias ten of the one before (10**12 nodes)
+ALIAS_BOMB = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"] + [
+    f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 12)
+]
 
 
 def verify(workspace: Path, *args: str) -> dict:
@@ -113,3 +117,97 @@ def test_a_mesh_linked_to_a_device_is_named_for_what_it_is(package, device):
         )
     ]
     assert found(report, "PF403") == []  # not "no such file, but 'arm.stl' exists (case differs)"
+
+
+# --- YAML: bounded in nesting and in what its aliases expand to -----------------------------------
+
+
+@pytest.mark.triggers("PF301")
+def test_a_yaml_alias_bomb_in_a_launch_file_is_located_where_it_passes_the_bound(yaml_package):
+    launch = yaml_package / "launch" / "bomb.launch.yaml"
+    launch.write_text(
+        "launch:\n- let:\n    name: laughs\n    value:\n" + "".join(f"      {line}\n" for line in ALIAS_BOMB)
+    )
+    report = verify(yaml_package.parent.parent, "--no-cache")
+    assert found(report, "PF301") == [
+        (
+            "src/rob_description/launch/bomb.launch.yaml",
+            line_of(launch, "&a5"),  # where what the aliases add passes a million nodes
+            "loading bomb.launch.yaml failed: FrontendError: its aliases expand to more than 1,000,000 nodes: "
+            "pkgforge reads YAML up to that size",
+        )
+    ]
+
+
+@pytest.mark.triggers("PF501")
+def test_a_yaml_alias_bomb_in_an_rviz_config_is_located_where_it_passes_the_bound(package):
+    config = package / "rviz" / "display.rviz"
+    config.write_text(config.read_text() + "Laughs:\n" + "".join(f"  {line}\n" for line in ALIAS_BOMB))
+    report = verify(package.parent.parent, "--no-cache")
+    assert found(report, "PF501") == [
+        (
+            "src/rob_description/rviz/display.rviz",
+            line_of(config, "&a5"),
+            "display.rviz: its aliases expand to more than 1,000,000 nodes: pkgforge reads YAML up to that size",
+        )
+    ]
+
+
+@pytest.mark.triggers("PF501")
+def test_an_alias_inside_the_collection_it_names_is_located_not_an_endless_walk(package):
+    config = package / "rviz" / "display.rviz"
+    config.write_text(config.read_text() + "Loop: &loop\n  - *loop\n")
+    report = verify(package.parent.parent, "--no-cache")
+    assert found(report, "PF501") == [
+        (
+            "src/rob_description/rviz/display.rviz",
+            line_of(config, "*loop"),
+            "display.rviz: alias *loop is inside the collection it names: expanding it never ends",
+        )
+    ]
+
+
+@pytest.mark.triggers("PF301")
+def test_a_launch_yaml_nested_50000_deep_is_located_not_a_recursion_error(yaml_package):
+    launch = yaml_package / "launch" / "deep.launch.yaml"
+    launch.write_text("launch:\n- let:\n    name: deep\n    value: " + "[" * 50_000 + "]" * 50_000 + "\n")
+    report = verify(yaml_package.parent.parent, "--no-cache")
+    assert found(report, "PF301") == [
+        (
+            "src/rob_description/launch/deep.launch.yaml",
+            4,
+            "loading deep.launch.yaml failed: FrontendError: nested deeper than 500 levels: "
+            "pkgforge reads YAML up to that depth",
+        )
+    ]
+
+
+@pytest.mark.parametrize("libyaml", [True, False])
+def test_the_yaml_reader_bounds_nesting_with_and_without_libyaml(monkeypatch, libyaml):
+    """libyaml's composer recurses in C (a stack overflow where its parser sets no bound), PyYAML's
+    in Python (RecursionError): neither runs on a deep text, with or without libyaml."""
+    import yaml
+
+    from pkgforge.model import yamlnodes
+
+    if not libyaml:
+        monkeypatch.setattr(yamlnodes, "_FAST", None)
+    yamlnodes._compose.cache_clear()
+    for text, line in [
+        ("[" * 50_000 + "]" * 50_000, 1),
+        ("".join(" " * i + "k:\n" for i in range(2_000)), 501),  # block mappings, one per line
+        ("a: &a " + "[" * 300 + "]" * 300 + "\nb: " + "[" * 201 + "*a" + "]" * 201 + "\n", 2),
+    ]:
+        with pytest.raises(yamlnodes.YAMLLimit) as raised:
+            yamlnodes.compose_all(text)
+        assert raised.value.problem_mark.line + 1 == line
+        assert str(raised.value.problem).startswith("nested deeper than 500 levels")
+    # at the bound itself: read, as PyYAML reads it (where PyYAML's recursion allows)
+    nested = yamlnodes.load("[" * 500 + "1" + "]" * 500)
+    for _ in range(499):
+        nested = nested[0]
+    assert nested == [1]
+    assert yamlnodes.compose("a: &x [1, 2]\nb: *x\n").value[1][1].value[0].value == "1"
+    with pytest.raises(yaml.composer.ComposerError, match="found undefined alias"):
+        yamlnodes.compose("a: *nowhere\n")
+    yamlnodes._compose.cache_clear()

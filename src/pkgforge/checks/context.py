@@ -234,12 +234,13 @@ class CheckContext:
             import yaml
 
             from pkgforge.model.files import vcs_repos_files
+            from pkgforge.model.yamlnodes import load as load_yaml
 
             names: set[str] = set()
             for path in vcs_repos_files([self.model.path, *self.workspace.values()], self.workspace_base):
                 try:
-                    data = yaml.safe_load(path.read_text(encoding="utf-8", errors="replace"))
-                except (OSError, yaml.YAMLError, RecursionError):  # (a file nested past the parser's depth)
+                    data = load_yaml(read_regular(path).decode("utf-8", errors="replace"))
+                except (OSError, yaml.YAMLError):  # (past the loader's bounds: a YAMLError too)
                     continue
                 repositories = data.get("repositories") if isinstance(data, dict) else None
                 if isinstance(repositories, dict):

@@ -62,6 +62,8 @@ def read_problem_hint(problem: str | None) -> str | None:
             "put the file itself there (or a link to one): a FIFO or a device has no end (or no start) "
             "to read, and colcon installs and ROS loads files"
         )
+    if "pkgforge reads YAML up to" in problem or "expanding it never ends" in problem:
+        return "nest it less deeply, or write out what the aliases repeat: no real config comes near this"
     return None
 
 

@@ -124,9 +124,9 @@ def parse_problem(path: Path, text: str) -> str | None:
 
             parse(text, path)
         elif name.endswith((".rviz", ".yaml", ".yml")):
-            import yaml
+            from pkgforge.model.yamlnodes import compose
 
-            yaml.compose(text)
+            compose(text)
     except Exception as exc:  # any parser's failure means: do not write
         return f"{type(exc).__name__}: {exc}".splitlines()[0]
     return None

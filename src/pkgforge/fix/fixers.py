@@ -595,9 +595,11 @@ def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: st
 def _yaml(source: SourceText) -> yaml.Node | None:  # None: an empty file
     import yaml
 
+    from pkgforge.model.yamlnodes import compose
+
     try:
-        return yaml.compose(source.text)
-    except yaml.YAMLError as exc:
+        return compose(source.text)
+    except yaml.YAMLError as exc:  # (past the reader's bounds too)
         raise Unfixable(f"{source.path.name} is not valid YAML") from exc
 
 
@@ -624,22 +626,20 @@ def _replace_scalar(node: yaml.Node, value: str) -> Edit:
 
 
 def _find_display(node: yaml.Node | None, line: int) -> yaml.MappingNode | None:
-    """The mapping whose Class value stands at `line` (a display, possibly in a group)."""
+    """The mapping whose Class value stands at `line` (a display, possibly in a group), the first
+    in the file's order."""
     import yaml
 
-    if isinstance(node, yaml.MappingNode):
-        entries = _mapping(node)
-        if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
-            return node
-        children = [value for _, value in node.value]
-    elif isinstance(node, yaml.SequenceNode):
-        children = node.value
-    else:
-        return None
-    for child in children:
-        found = _find_display(child, line)
-        if found is not None:
-            return found
+    todo = [node]
+    while todo:  # (no recursion: the config nests as deep as the reader lets it)
+        current = todo.pop()
+        if isinstance(current, yaml.MappingNode):
+            entries = _mapping(current)
+            if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
+                return current
+            todo += reversed([value for _, value in current.value])
+        elif isinstance(current, yaml.SequenceNode):
+            todo += reversed(current.value)
     return None
 
 

@@ -23,6 +23,7 @@ from lxml import etree
 
 from pkgforge.launch import runtime as rt
 from pkgforge.model.source import NotRegularFile, open_regular
+from pkgforge.model.yamlnodes import YAMLLimit, compose, load
 
 Subs = list[rt.Substitution]  # one attribute's text as substitutions (parse_substitution)
 Attribute = str | list[str]  # an XML attribute, or a YAML scalar or list of scalars
@@ -289,13 +290,12 @@ def parse_file(path: str, kind: str) -> rt.LaunchDescription:
             raise FrontendError(f"not well-formed XML: {error.msg}", error.lineno) from None
         element = _from_xml(root)
     else:
-        try:
-            from pkgforge.model.yamlnodes import compose  # libyaml; the same nodes and errors
-
+        try:  # (libyaml's nodes and PyYAML's errors: model.yamlnodes)
             document = compose(data.decode("utf-8"))
-        except yaml.YAMLError as error:
+        except yaml.YAMLError as error:  # (past the reader's bounds too: nesting, aliases)
             mark = getattr(error, "problem_mark", None)
-            raise FrontendError(f"not valid YAML: {error}", mark.line + 1 if mark else None) from None
+            words = error.problem if isinstance(error, YAMLLimit) else f"not valid YAML: {error}"
+            raise FrontendError(str(words), mark.line + 1 if mark else None) from None
         if not isinstance(document, yaml.MappingNode) or not document.value:
             raise FrontendError("a YAML launch file is a mapping with a 'launch' list", 1)
         key, value = document.value[0]
@@ -345,7 +345,7 @@ def _flag(element: Element, name: str) -> bool | None:
     if value is None:
         return None
     text = {"1": "true", "0": "false"}.get(str(value), str(value))
-    loaded = yaml.safe_load(text) if text else text
+    loaded = load(text) if text else text
     if not isinstance(loaded, bool):
         raise FrontendError(f"Cannot convert value '{value}' to '{bool}'", element.line)
     return loaded
