@@ -211,3 +211,29 @@ def test_the_yaml_reader_bounds_nesting_with_and_without_libyaml(monkeypatch, li
     with pytest.raises(yaml.composer.ComposerError, match="found undefined alias"):
         yamlnodes.compose("a: *nowhere\n")
     yamlnodes._compose.cache_clear()
+
+
+# --- xacro: a deep model says what was too deep -------------------------------------------------
+
+
+@pytest.mark.triggers("PF308")
+def test_a_xacro_nested_100000_deep_says_so_not_an_include_cycle(package):
+    model = package / "urdf" / "deep.urdf.xacro"
+    depth = 100_000
+    model.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="deep">\n'
+        + "<group>\n" * depth
+        + "</group>\n" * depth
+        + "</robot>\n"
+    )
+    report = verify(package.parent.parent, "--no-cache")
+    # <robot> (line 2) is level 1, the <group> on line n is level n - 1: level 257 (one past
+    # libxml2's 256) stands on line 258
+    assert found(report, "PF308") == [
+        (
+            "src/rob_description/urdf/deep.urdf.xacro",
+            258,
+            "xacro deep.urdf.xacro: elements nest deeper than 256 levels here: xacro recurses once per "
+            "level, and ran out of stack",
+        )
+    ]
