@@ -237,3 +237,105 @@ def test_a_xacro_nested_100000_deep_says_so_not_an_include_cycle(package):
             "level, and ran out of stack",
         )
     ]
+
+
+# --- every other walk of the user's data: bounded, or without recursion ----------------------------
+
+
+def test_a_cmake_condition_of_5000_nots_is_read_and_3000_parentheses_are_no_recursion_error(package):
+    cmake = package / "CMakeLists.txt"
+    text = cmake.read_text()
+    assert "find_package(ament_cmake REQUIRED)\n" in text
+    cmake.write_text(
+        text.replace(
+            "find_package(ament_cmake REQUIRED)\n",
+            "find_package(ament_cmake REQUIRED)\nfind_package(gazebo_ros QUIET)\n"
+            f"if({'NOT ' * 5000}gazebo_ros_FOUND)\n  install(DIRECTORY worlds DESTINATION share/${{PROJECT_NAME}})\n"
+            f"endif()\nif({'(' * 3000}gazebo_ros_FOUND{')' * 3000})\nendif()\n",
+        )
+    )
+    report = verify(package.parent.parent, "--no-cache")
+    # an even number of NOTs: the rule runs when gazebo_ros is found, and names a missing folder
+    assert [(d["path"], d["line"]) for d in report["diagnostics"] if d["code"] == "PF201"] == [
+        ("src/rob_description/CMakeLists.txt", line_of(cmake, "install(DIRECTORY worlds"))
+    ]
+
+
+@pytest.fixture
+def python_package(tmp_path) -> Path:
+    (tmp_path / "src").mkdir()
+    return new_package(tmp_path, "rob_description", "--build-type", "ament_python")
+
+
+@pytest.mark.triggers("PF206")
+def test_a_setup_py_function_that_calls_itself_is_located_not_a_recursion_error(python_package):
+    setup = python_package / "setup.py"
+    text = setup.read_text()
+    setup.write_text(
+        text.replace("package_name = ", "def again(x):\n    return again(x)\n\n\npackage_name = ", 1).replace(
+            "        *share_files('urdf'),\n",
+            "        *share_files('urdf'),\n        (again('share'), []),\n",
+        )
+    )
+    report = verify(python_package.parent.parent, "--no-cache")
+    assert found(report, "PF206") == [
+        (
+            "src/rob_description/setup.py",
+            line_of(setup, "return again(x)"),  # where evaluating it passed the bound
+            "cannot predict this install rule: evaluating it goes more than 100 levels deep (an expression "
+            "nested that deep, or a function that calls itself): pkgforge evaluates no deeper",
+        )
+    ]
+
+
+@pytest.mark.triggers("PF208")
+def test_a_setup_py_too_deep_for_pythons_parser_is_located_at_its_statement(python_package):
+    setup = python_package / "setup.py"
+    text = setup.read_text()
+    deep = " + ".join(["'a'"] * 5000)  # CPython's parser runs out of stack building the tree
+    setup.write_text(
+        text.replace(
+            "        *share_files('urdf'),\n",
+            f"        *share_files('urdf'),\n        ('share', [{deep}]),\n",
+        )
+    )
+    report = verify(python_package.parent.parent, "--no-cache")
+    assert found(report, "PF208") == [
+        (
+            "src/rob_description/setup.py",
+            line_of(setup, "setup("),
+            "setup.py: nested too deep for Python's parser (it ran out of stack): Python cannot run it either",
+        )
+    ]
+
+
+def test_a_launch_file_too_deep_for_pythons_parser_is_no_internal_error(package):
+    launch = package / "launch" / "deep.launch.py"
+    launch.write_text(
+        "from launch import LaunchDescription\nx = " + "1 + " * 5000 + "1\n"
+        "def generate_launch_description():\n    return LaunchDescription([])\n"
+    )
+    report = verify(package.parent.parent, "--no-cache")
+    assert [d["path"] for d in report["diagnostics"] if d["code"] == "PF301"] == [
+        "src/rob_description/launch/deep.launch.py"  # (the worker's own compile fails on it too)
+    ]
+
+
+def test_a_chain_of_3000_links_is_drawn_and_explained_without_recursion(package, tmp_path):
+    links = 3000
+    model = package / "urdf" / "chain.urdf"
+    model.write_text(
+        '<?xml version="1.0"?>\n<robot name="chain">\n'
+        + "".join(f'<link name="l{i}"/>\n' for i in range(links))
+        + "".join(
+            f'<joint name="j{i}" type="fixed"><parent link="l{i}"/><child link="l{i + 1}"/></joint>\n'
+            for i in range(links - 1)
+        )
+        + "</robot>\n"
+    )
+    workspace = package.parent.parent
+    verify(workspace, "--no-cache", "--artifacts", str(tmp_path / "artifacts"))
+    assert f"l{links - 1}" in (tmp_path / "artifacts" / "rob_description-chain-tree.svg").read_text()
+    result = run_pkgforge("verify", ".", "--explain-model", model, cwd=workspace, timeout=HANG_GUARD)
+    assert result.returncode == 0 and "Traceback" not in result.stderr, result.stderr[-2000:]
+    assert f"(fixed) → l{links - 1}" in result.stdout

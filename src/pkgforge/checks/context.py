@@ -20,7 +20,7 @@ from pkgforge.model.cmake import PYTHON_SITE
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
-from pkgforge.model.source import read_head, read_regular
+from pkgforge.model.source import parse_python, read_head, read_regular
 from pkgforge.tree import InstallTree
 
 if TYPE_CHECKING:
@@ -751,7 +751,7 @@ def _environment_reads(source: Path) -> list[str]:
         text = read_regular(source).decode("utf-8", errors="replace")
         if "environ" not in text and "getenv" not in text:
             return []  # every form below names one of them: no parse needed
-        tree = ast.parse(text)
+        tree = parse_python(text)
     except (OSError, SyntaxError, ValueError):
         return []
     names: list[str] = []

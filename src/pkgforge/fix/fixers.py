@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic
 from pkgforge.fix.edits import Edit, FileSet, SourceText, Unfixable
+from pkgforge.model.source import parse_python
 
 if TYPE_CHECKING:  # imported where used: `pkgforge fix` loads only what its fixers need
     import yaml
@@ -507,7 +508,7 @@ def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: st
     (destination, glob('folder/*')) tuples, or *helper('folder') calls."""
     source = ctx.files.get(setup_py.source.path)
     try:
-        tree = ast.parse(source.text)
+        tree = parse_python(source.text)
     except SyntaxError as exc:
         raise Unfixable(f"setup.py does not parse: {exc.msg}") from exc
     call = next(
@@ -769,7 +770,7 @@ def fix_mesh_case(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
 
 def _python(source: SourceText) -> ast.Module:
     try:
-        return ast.parse(source.text)
+        return parse_python(source.text)
     except SyntaxError as exc:
         raise Unfixable(f"{source.path.name} does not parse: {exc.msg}") from exc
 

@@ -7,6 +7,7 @@ to /dev/zero or /dev/urandom would never end), and never more than a limit.
 
 from __future__ import annotations
 
+import ast
 import errno
 import os
 import re
@@ -105,6 +106,44 @@ def _read_up_to(stream: BinaryIO, size: int, most: int) -> bytes:
     if size < len(data) < most:
         data += stream.read(most - len(data))
     return data
+
+
+def parse_python(text: str, filename: str = "<unknown>") -> ast.Module:
+    """ast.parse(text). A text nested too deep for CPython's parser (`1+1+…` 3000 times: a
+    RecursionError or MemoryError building the tree; compiling it fails the same way, so Python
+    cannot run it either) is a SyntaxError saying so."""
+    try:
+        return ast.parse(text, filename=filename)
+    except (RecursionError, MemoryError):
+        raise SyntaxError(
+            "nested too deep for Python's parser (it ran out of stack): Python cannot run it either",
+            (filename, _longest_statement(text), None, None),
+        ) from None
+
+
+def _longest_statement(text: str) -> int | None:
+    """The first line of the statement of the most tokens: where the parser's stack runs out (it
+    gives no line), found without building a tree."""
+    import io
+    import tokenize
+
+    best, best_count, start, count = None, 0, None, 0
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(text).readline):
+            if token.type in (tokenize.NL, tokenize.COMMENT, tokenize.INDENT, tokenize.DEDENT):
+                continue  # (blank lines and comments between statements are none of theirs)
+            if start is None:
+                start = token.start[0]
+            count += 1
+            if token.type in (tokenize.NEWLINE, tokenize.ENDMARKER):
+                if count > best_count:
+                    best, best_count = start, count
+                start, count = None, 0
+    except (tokenize.TokenError, SyntaxError):
+        pass
+    if start is not None and count > best_count:  # a statement the tokenizer stopped in
+        best = start
+    return best
 
 
 @dataclass
