@@ -294,6 +294,26 @@ def test_migrate_bad_input_writes_nothing(tmp_path, kind, message):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("file", ["package.xml", "launch/display.launch", "meshes/link1.STL"])
+@pytest.mark.parametrize("what", ["fifo", "/dev/zero"])
+def test_migrate_refuses_a_fifo_or_a_device_and_writes_nothing(tmp_path, file, what):
+    """issue 35: a read of a FIFO blocks for ever, of /dev/zero never ends"""
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / file).unlink()
+    os.mkfifo(package / file) if what == "fifo" else os.symlink(what, package / file)
+    result = run_pkgforge(
+        "migrate", package, "--destination", tmp_path / "out" / "src", cwd=tmp_path, timeout=120
+    )
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stdout + result.stderr
+    kind = "a FIFO (named pipe)" if what == "fifo" else "a link to /dev/zero, a character device"
+    assert result.stderr.splitlines()[0] == (
+        f"pkgforge: error: {package / file}: {kind}: pkgforge reads only regular files"
+        + ("" if file == "package.xml" else "; move it out of the package")
+        + " (nothing written)"
+    )
+    assert not (tmp_path / "out").exists()
+
+
 def test_migrate_not_a_package_and_existing_destination(tmp_path):
     (tmp_path / "empty").mkdir()
     result = run_pkgforge("migrate", tmp_path / "empty", "--destination", tmp_path / "out", cwd=tmp_path)
