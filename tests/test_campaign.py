@@ -189,6 +189,18 @@ def huge(path: Path) -> str:
     return "huge"
 
 
+def replace(path: Path, make) -> None:
+    """path (a file, or nothing yet) replaced by what make(path) creates there."""
+    if path.exists() or path.is_symlink():
+        path.unlink()
+    make(path)
+
+
+# a YAML "billion laughs": 12 lines of anchors, each alias ten of the one before (10**12 nodes)
+ALIAS_BOMB = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"] + [
+    f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 12)
+]
+
 BYTE_MUTATIONS = ("truncate", "truncate", "flip", "flip", "latin-1", "utf-16", "bom", "crlf", "empty")
 LAUNCH_KINDS = ("launch.py", "launch.xml", "launch.yaml")
 # re-encodings whose launch files get what the real decoders say (launch_verdict)
@@ -284,6 +296,17 @@ HOSTILE_LAUNCH = {
         "    return LaunchDescription([])\n"
     ),
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
+    # YAML the reader bounds (issue 35): aliases expanding to 10**12 nodes, 50,000 levels, an alias
+    # inside the collection it names
+    "bomb.launch.yaml": "launch:\n- let:\n    name: laughs\n    value:\n"
+    + "".join(f"      {line}\n" for line in ALIAS_BOMB),
+    "deep.launch.yaml": "launch:\n- let:\n    name: deep\n    value: " + "[" * 50_000 + "]" * 50_000 + "\n",
+    "selfalias.launch.yaml": "launch:\n- let: &l\n    name: x\n    value: [*l]\n",
+}
+# hostile RViz configs: (file name, content), in the package's rviz/ folder
+HOSTILE_RVIZ = {
+    "bomb.rviz": "Visualization Manager:\n  Class: ''\n  Laughs:\n"
+    + "".join(f"    {line}\n" for line in ALIAS_BOMB),
 }
 # hostile models: (file name, content)
 HOSTILE_XACRO = {
@@ -315,6 +338,12 @@ HOSTILE_XACRO = {
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
         "<link name=\"${[c for c in python.vars(python.type)['__subclasses__'](python.type(0).mro()[-1]) "
         "if 'Popen' in python.repr(c)][0]('echo x >> SRC/package.xml', shell=True).wait() and 'l'}\"/></robot>\n"
+    ),
+    "deep.urdf.xacro": (  # 100,000 nested elements: xacro recurses once per level (issue 35)
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        + "<g>" * 100_000
+        + "</g>" * 100_000
+        + "</robot>\n"
     ),
 }
 
@@ -377,6 +406,17 @@ def structural(package: Path, what: str, outside: Path) -> None:
         (package / "launch").mkdir(exist_ok=True)
         (package / "launch" / launch_name).write_text(content)
         (meshes / mesh).write_bytes(b"solid x\nendsolid x\n")
+    elif what.endswith(" is a FIFO"):  # package.xml, CMakeLists.txt (issue 35: a read blocks for ever)
+        replace(package / what.split()[0], os.mkfifo)
+    elif " linked to /dev/" in what:  # a read never ends (issue 35)
+        kind, device = what.split(" linked to ")
+        folder = {"package.xml": package, "launch file": package / "launch", "mesh": meshes}[kind]
+        pattern = {"package.xml": "package.xml", "launch file": "*.launch.*", "mesh": "*.[sS][tT][lL]"}[kind]
+        target = next(
+            iter(sorted(folder.glob(pattern))),
+            folder / "x.launch.py" if kind == "launch file" else meshes / "m.stl",
+        )
+        replace(target, lambda path: os.symlink(device, path))
     else:
         raise AssertionError(what)
 
@@ -415,6 +455,15 @@ STRUCTURAL = (
     "launch folder is a file",
     "space and unicode in names",
     *HOSTILE_NAMES,
+    # FIFOs and devices where files stand (issue 35), after the others: each keeps its base
+    "package.xml is a FIFO",
+    "CMakeLists.txt is a FIFO",
+    "package.xml linked to /dev/zero",
+    "package.xml linked to /dev/urandom",
+    "launch file linked to /dev/zero",
+    "launch file linked to /dev/urandom",
+    "mesh linked to /dev/zero",
+    "mesh linked to /dev/urandom",
 )
 
 
@@ -511,12 +560,12 @@ class Campaign:
 
     def hostile_cases(self, src: Path) -> list[Case]:
         cases = []
-        for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO}.items():
+        for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO, **HOSTILE_RVIZ}.items():
             base = (
                 "cbasexml" if file.endswith(".xml") else "cbaseyaml" if file.endswith(".yaml") else "cbasepy"
             )
             name, package = self.package(src, base)
-            folder = "launch" if ".launch." in file else "urdf"
+            folder = "launch" if ".launch." in file else "rviz" if file.endswith(".rviz") else "urdf"
             (package / folder / file).write_text(content.replace("NAME", name).replace("SRC", str(package)))
             if folder == "urdf":  # a launch file that runs xacro on it
                 (package / "launch" / f"run_{file}.launch.py").write_text(
@@ -553,6 +602,10 @@ class Campaign:
                         "unreadable urdf folder",
                         "unreadable launch file",
                         "fifo",
+                        "package.xml is a FIFO",
+                        "CMakeLists.txt is a FIFO",
+                        "package.xml linked to /dev/zero",
+                        "package.xml linked to /dev/urandom",
                         "link loop",
                         "dangling link",
                         "deep nesting",

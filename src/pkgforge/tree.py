@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, TextIO
 from pkgforge.build.toolchain import TREE_PYTHONPATH, prepend_path, python_paths
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.package import PackageModel
+from pkgforge.model.source import read_regular
 from pkgforge.walk import MAX_DEPTH
 
 if TYPE_CHECKING:
@@ -551,8 +552,12 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
     install_base = install_base.resolve()
     if not install_base.is_dir():
         raise PkgforgeError(f"--install-base {install_base} is not a folder (run colcon build first)")
-    marker = install_base / ".colcon_install_layout"
-    layout = marker.read_text().strip() if marker.is_file() else None
+    try:  # (colcon writes it; a FIFO or a device in its place is refused, never read)
+        layout: str | None = (
+            read_regular(install_base / ".colcon_install_layout").decode(errors="replace").strip()
+        )
+    except OSError:
+        layout = None
     if layout == "isolated" or (layout is None and not (install_base / INDEX).is_dir()):
         prefixes = sorted(p for p in install_base.iterdir() if (p / INDEX).is_dir())
     else:

@@ -20,6 +20,7 @@ from pkgforge.model.cmake import PYTHON_SITE
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
+from pkgforge.model.source import parse_python, read_head, read_regular
 from pkgforge.tree import InstallTree
 
 if TYPE_CHECKING:
@@ -103,9 +104,8 @@ class FileFacts:
 
         def read(text: str) -> list[str]:
             try:
-                with open(text, encoding="utf-8", errors="replace") as handle:
-                    return handle.read().splitlines()
-            except OSError:
+                return read_regular(text).decode("utf-8", errors="replace").splitlines()
+            except OSError:  # (a FIFO or a device too: never read)
                 return []
 
         found: list[str] = self._once("lines", path, read)
@@ -234,12 +234,13 @@ class CheckContext:
             import yaml
 
             from pkgforge.model.files import vcs_repos_files
+            from pkgforge.model.yamlnodes import load as load_yaml
 
             names: set[str] = set()
             for path in vcs_repos_files([self.model.path, *self.workspace.values()], self.workspace_base):
                 try:
-                    data = yaml.safe_load(path.read_text(encoding="utf-8", errors="replace"))
-                except (OSError, yaml.YAMLError, RecursionError):  # (a file nested past the parser's depth)
+                    data = load_yaml(read_regular(path).decode("utf-8", errors="replace"))
+                except (OSError, yaml.YAMLError):  # (past the loader's bounds: a YAMLError too)
                     continue
                 repositories = data.get("repositories") if isinstance(data, dict) else None
                 if isinstance(repositories, dict):
@@ -276,9 +277,8 @@ class CheckContext:
 
         def compute() -> str:
             try:
-                with open(path, encoding="utf-8", errors="replace") as handle:
-                    return handle.read(1 << 20)
-            except OSError:
+                return read_head(path, 1 << 20)[0].decode("utf-8", errors="replace")
+            except OSError:  # (a FIFO or a device too: never read)
                 return ""
 
         head: str = self._shared(("head", path), compute)
@@ -748,10 +748,10 @@ def _environment_reads(source: Path) -> list[str]:
     import ast
 
     try:
-        text = source.read_text(encoding="utf-8", errors="replace")
+        text = read_regular(source).decode("utf-8", errors="replace")
         if "environ" not in text and "getenv" not in text:
             return []  # every form below names one of them: no parse needed
-        tree = ast.parse(text)
+        tree = parse_python(text)
     except (OSError, SyntaxError, ValueError):
         return []
     names: list[str] = []

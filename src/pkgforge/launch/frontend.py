@@ -22,6 +22,8 @@ import yaml
 from lxml import etree
 
 from pkgforge.launch import runtime as rt
+from pkgforge.model.source import NotRegularFile, open_regular
+from pkgforge.model.yamlnodes import YAMLLimit, compose, load
 
 Subs = list[rt.Substitution]  # one attribute's text as substitutions (parse_substitution)
 Attribute = str | list[str]  # an XML attribute, or a YAML scalar or list of scalars
@@ -288,8 +290,12 @@ def _from_yaml(tag: str, node: yaml.Node, line: int | None) -> Element:
 
 def parse_file(path: str, kind: str) -> rt.LaunchDescription:
     rt._LAUNCH_FILES.add(path)
-    with open(path, "rb") as handle:
-        data = handle.read()
+    try:
+        handle = open_regular(path)[0]  # an included FIFO or /dev/zero: no read that never ends
+    except NotRegularFile as error:
+        raise FrontendError(str(error.strerror), None) from None
+    with open(handle, "rb", closefd=True) as stream:
+        data = stream.read()
     text = decoded(data)
     if kind == "xml":
         try:
@@ -300,13 +306,12 @@ def parse_file(path: str, kind: str) -> rt.LaunchDescription:
             raise FrontendError(f"not well-formed XML: {error.msg}", error.lineno) from None
         element = _from_xml(root)
     else:
-        try:
-            from pkgforge.model.yamlnodes import compose  # libyaml; the same nodes and errors
-
+        try:  # (libyaml's nodes and PyYAML's errors: model.yamlnodes)
             document = compose(text)
-        except yaml.YAMLError as error:
+        except yaml.YAMLError as error:  # (past the reader's bounds too: nesting, aliases)
             mark = getattr(error, "problem_mark", None)
-            raise FrontendError(f"not valid YAML: {error}", mark.line + 1 if mark else None) from None
+            words = error.problem if isinstance(error, YAMLLimit) else f"not valid YAML: {error}"
+            raise FrontendError(str(words), mark.line + 1 if mark else None) from None
         if not isinstance(document, yaml.MappingNode) or not document.value:
             raise FrontendError("a YAML launch file is a mapping with a 'launch' list", 1)
         key, value = document.value[0]
@@ -356,7 +361,7 @@ def _flag(element: Element, name: str) -> bool | None:
     if value is None:
         return None
     text = {"1": "true", "0": "false"}.get(str(value), str(value))
-    loaded = yaml.safe_load(text) if text else text
+    loaded = load(text) if text else text
     if not isinstance(loaded, bool):
         raise FrontendError(f"Cannot convert value '{value}' to '{bool}'", element.line)
     return loaded

@@ -89,8 +89,10 @@ def _is_launch_file(path: Path) -> bool:
         return False
     if path.name.endswith((f".launch.{kind}", f"_launch.{kind}")):
         return True
-    try:
-        head = path.read_text(errors="replace")[:65536]
+    from pkgforge.model.source import read_head
+
+    try:  # (NotRegularFile is an OSError: a FIFO or /dev/zero is never read)
+        head = read_head(path, 65536)[0].decode(errors="replace")
     except OSError:
         return False
     if kind == "py":

@@ -242,8 +242,17 @@ def _yaml_with_lines(yaml_module: Any) -> types.SimpleNamespace:
     shim = types.SimpleNamespace(
         **{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")}
     )
-    shim.safe_load = lambda stream: yaml_module.load(stream, Loader=Loader)
+    shim.safe_load = lambda stream: _bounded_load(stream, Loader)
     return shim
+
+
+def _bounded_load(stream: Any, loader: Any) -> Any:
+    """yaml.load(stream, Loader=loader) through pkgforge's YAML reader: an alias bomb or 50,000
+    nested brackets end as a located YAMLError, not a walk of 10**11 nodes or a RecursionError."""
+    from pkgforge.model.yamlnodes import load
+
+    text = stream if isinstance(stream, (str, bytes)) else stream.read()
+    return load(text.decode("utf-8") if isinstance(text, bytes) else text, loader)
 
 
 def _xml_with_lines(et_module: Any) -> types.SimpleNamespace:

@@ -171,6 +171,8 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     import yaml
 
     from pkgforge.model.distros import DISTROS
+    from pkgforge.model.source import read_regular
+    from pkgforge.model.yamlnodes import load_all
 
     names = set(DISTROS)  # the same names as the data's (a test keeps them equal), without reading it
     found: set[str] = set()
@@ -178,27 +180,28 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     def distro_words(text: str) -> set[str]:
         return {w for w in text.replace(",", " ").split() if w in names}
 
-    def walk(node: object, key: str | None = None) -> None:  # parsed YAML: any JSON-like value
-        if isinstance(node, dict):
-            for k, v in node.items():
-                walk(v, str(k).lower())
-        elif isinstance(node, list):
-            for v in node:
-                walk(v, key)
-        elif isinstance(node, str):
-            if key in CI_DISTRO_KEYS:
-                found.update(distro_words(node))
-            for word in node.split():
-                image = word.split("/")[-1]  # ros:jazzy, osrf/ros:jazzy-desktop
-                if image.startswith("ros:"):
-                    distro = image[4:].split("-")[0]
-                    if distro in names:
-                        found.add(distro)
+    def walk(document: object) -> None:  # parsed YAML: any JSON-like value
+        todo: list[tuple[object, str | None]] = [(document, None)]
+        while todo:  # (no recursion: a file nests as deep as the YAML reader lets it)
+            node, key = todo.pop()
+            if isinstance(node, dict):
+                todo += [(v, str(k).lower()) for k, v in node.items()]
+            elif isinstance(node, list):
+                todo += [(v, key) for v in node]
+            elif isinstance(node, str):
+                if key in CI_DISTRO_KEYS:
+                    found.update(distro_words(node))
+                for word in node.split():
+                    image = word.split("/")[-1]  # ros:jazzy, osrf/ros:jazzy-desktop
+                    if image.startswith("ros:"):
+                        distro = image[4:].split("-")[0]
+                        if distro in names:
+                            found.add(distro)
 
     for path in files:
         try:
-            documents = list(yaml.safe_load_all(path.read_text(encoding="utf-8")))
-        except (OSError, UnicodeDecodeError, yaml.YAMLError):
+            documents = load_all(read_regular(path).decode("utf-8"))
+        except (OSError, UnicodeDecodeError, yaml.YAMLError):  # (past the YAML reader's bounds too)
             continue  # not ours to report; the CI system does
         for document in documents:
             if not _builds_another_branch(document):

@@ -20,11 +20,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pkgforge.model.source import SourceFile
+from pkgforge.model.source import SourceFile, parse_python
 from pkgforge.walk import walk
 
 # a value setup.py computes (str, int, bool, None, list, tuple): the user's data, checked where used
 Value = Any
+
+
+# evaluations one inside another (an operand, an element, a call of the file's own function): no
+# setup.py nests 100 deep, and one that calls itself without end would raise RecursionError
+MAX_EVAL_DEPTH = 100
 
 
 class Unevaluable(Exception):
@@ -66,7 +71,7 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
         model.syntax_error = (source.problem_line or 1, source.problem or "unreadable")
         return model
     try:
-        tree = ast.parse(source.text, filename=str(source.path))
+        tree = parse_python(source.text, filename=str(source.path))
     except SyntaxError as exc:
         model.syntax_error = (exc.lineno or 1, exc.msg)
         return model
@@ -219,6 +224,7 @@ class _Evaluator:
         self.names: dict[str, Value] = {}
         self.functions: dict[str, ast.FunctionDef] = {}
         self.failed: dict[str, _Failed] = {}  # name → why its value is unknown
+        self.depth = 0  # evaluations under way, one inside the other
 
     # --- statements (module level) -----------------------------------------------------------
 
@@ -303,7 +309,19 @@ class _Evaluator:
                 self.fail(name, statement.lineno, f"changed inside a {kind} statement pkgforge does not run")
 
     def eval(self, node: ast.AST, scope: dict[str, Value] | None = None) -> Value:
-        scope = scope or {}
+        self.depth += 1
+        try:
+            if self.depth > MAX_EVAL_DEPTH:  # (each level is a few Python calls here)
+                raise Unevaluable(
+                    node,
+                    f"evaluating it goes more than {MAX_EVAL_DEPTH} levels deep (an expression nested "
+                    "that deep, or a function that calls itself): pkgforge evaluates no deeper",
+                )
+            return self._value(node, scope or {})
+        finally:
+            self.depth -= 1
+
+    def _value(self, node: ast.AST, scope: dict[str, Value]) -> Value:
         if isinstance(node, ast.Constant) and isinstance(
             node.value, (str, int, bool, type(None), tuple, list)
         ):

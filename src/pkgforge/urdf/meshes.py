@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import os
 import posixpath
+import stat
 import struct
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from pkgforge.model.source import NotRegularFile, read_head
 from pkgforge.tree import InstallTree
 
 READ_LIMIT = 1 << 20
@@ -58,13 +60,17 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
 
 
 def _check(path: Path, package: str | None, relative: str | None) -> MeshLookup:
-    if os.path.isfile(path):
+    try:
+        is_folder = stat.S_ISDIR(os.stat(path).st_mode)
+    except OSError:
+        is_folder = True  # nothing there (or a dangling link): look for another case of the name
+    if not is_folder:  # a file, or a FIFO or device standing in one's place (unreadable says which)
         return MeshLookup("found", path, package, relative)
     parent = path.parent
     if parent.is_dir():
         wanted = path.name.lower()
         for entry in os.listdir(parent):
-            if entry.lower() == wanted:
+            if entry.lower() == wanted and entry != path.name:
                 return MeshLookup("case", path, package, relative, entry)
     return MeshLookup("missing", path, package, relative)
 
@@ -73,9 +79,9 @@ def unreadable(path: Path) -> str | None:
     """Why the mesh file is not a readable mesh of its kind, or None when it is."""
     suffix = path.suffix.lower()
     try:
-        size = path.stat().st_size
-        with open(path, "rb") as handle:
-            head = handle.read(READ_LIMIT)
+        head, size = read_head(path, READ_LIMIT)
+    except NotRegularFile as error:
+        return str(error.strerror)
     except OSError as error:
         return f"cannot read it: {error.strerror}"
     if size == 0:

@@ -20,6 +20,7 @@ from typing import Any
 
 from lxml import etree
 
+from pkgforge.model.source import FileTooLarge, NotRegularFile, read_regular
 from pkgforge.sandbox.protocol import ErrorRecord, ModelReply
 from pkgforge.urdf.structure import (
     Geometry,
@@ -40,6 +41,9 @@ Sources = dict[tuple[str, str], tuple[str, int]]
 GEOMETRY_URI_TAGS = ("mesh",)
 NEEDS_ARGUMENT = re.compile(r"[Uu]ndefined substitution argument (\S+)")
 MAX_MODEL_BYTES = 8 * 1024 * 1024
+# libxml2 refuses elements nested deeper than this (unless told XML_PARSE_HUGE), in these words
+MAX_XML_DEPTH = 256
+LIBXML_TOO_DEEP = f"Excessive depth in document: {MAX_XML_DEPTH}"
 # xacro:args with an empty default tried one by one when a model fails on its own (each is a run)
 MAX_BLAME_RUNS = 8
 XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
@@ -48,22 +52,22 @@ XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
 def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
     """xacro (or plain URDF) → {status, error, robot: {links, joints, meshes, ...}}."""
     try:
-        size = os.path.getsize(path)
-    except OSError as error:
-        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
-    if size > MAX_MODEL_BYTES:
+        data = read_regular(path, MAX_MODEL_BYTES)  # a FIFO, /dev/zero: refused, never read
+    except FileTooLarge as error:
         return {
             "status": "too-large",
             "error": {
-                "message": f"{size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
+                "message": f"{error.size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
                 "file": path,
                 "line": None,
             },
         }
+    except NotRegularFile as error:
+        return {"status": "error", "error": {"message": str(error.strerror), "file": path, "line": None}}
+    except OSError as error:
+        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(4096)
-        head.decode("utf-8")
+        data[:4096].decode("utf-8")
     except UnicodeDecodeError:
         return {
             "status": "error",
@@ -74,7 +78,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
                 "stage": "xml",
             },
         }
-    output = _expand(path, mappings)
+    output = _expand(path, data.decode("utf-8", errors="replace"), mappings)
     if not isinstance(output, tuple):
         return output
     text, includes = output
@@ -84,7 +88,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
         return {
             "status": "error",
             "error": {
-                "message": f"not well-formed XML: {exc.msg}",
+                "message": xml_problem(exc),
                 "file": path,
                 "line": exc.lineno,
                 "stage": "xml",
@@ -98,6 +102,13 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
         "includes": includes or [],
         "robot": _structure(root, path, sources, expanded),
     }
+
+
+def xml_problem(exc: etree.XMLSyntaxError) -> str:
+    """lxml's error in words about the file (its line is the error's)."""
+    if exc.msg and exc.msg.startswith(LIBXML_TOO_DEEP):  # libxml2's bound, named by its option
+        return f"elements nest deeper than {MAX_XML_DEPTH} levels: pkgforge reads XML up to that depth"
+    return f"not well-formed XML: {exc.msg}"
 
 
 def parse_model_xml(text: str) -> etree._Element:
@@ -162,11 +173,10 @@ def run_xacro(path: str, mappings: dict[str, str]) -> XacroRun:
         sys.stderr = real_stderr
 
 
-def _expand(path: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
-    """The xacro output (or the file itself when it uses no xacro), with the files it included
-    (None: the file itself); or the reply saying why there is none."""
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        raw = handle.read()
+def _expand(path: str, raw: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
+    """The xacro output of the model at `path`, whose text is `raw` (or the text itself when it
+    uses no xacro), with the files it included (None: the file itself); or the reply saying why
+    there is none."""
     if "xacro" not in raw:
         return raw, None  # no includes: the output is the file itself
     import xacro
@@ -238,7 +248,8 @@ def _recursion_error(xacro: Any, path: str) -> ModelReply:
                 "false (a counter parameter), or call another macro",
             },
         }
-    repeated = repeated or stack[-1]
+    if repeated is None:  # no file includes itself, no macro calls itself: nesting xacro recursed into
+        return _too_deep(list(dict.fromkeys([*(f for f in reversed(stack) if f), path])), len(macros))
     return {
         "status": "error",
         "error": {
@@ -246,6 +257,40 @@ def _recursion_error(xacro: Any, path: str) -> ModelReply:
             "xacro recursed without end",
             "file": repeated,
             "line": _line_mentioning(repeated, "xacro:include"),
+            "stage": "xacro",
+        },
+    }
+
+
+def _too_deep(files: list[str], macros: int) -> ModelReply:
+    """xacro ran out of stack with nothing repeating: the file (the innermost of the include chain
+    first) whose elements nest deeper than libxml2 reads them, at the line where they pass it;
+    else macros calling other macros too deep."""
+    for file in files:
+        try:
+            etree.fromstring(read_regular(file, MAX_MODEL_BYTES), etree.XMLParser(huge_tree=False))
+        except etree.XMLSyntaxError as exc:
+            if exc.msg and exc.msg.startswith(LIBXML_TOO_DEEP):
+                return {
+                    "status": "error",
+                    "error": {
+                        "message": f"elements nest deeper than {MAX_XML_DEPTH} levels here: xacro recurses "
+                        "once per level, and ran out of stack",
+                        "file": file,
+                        "line": exc.lineno,
+                        "stage": "xacro",
+                        "hint": "nest the elements less deeply (a robot's elements nest a few levels)",
+                    },
+                }
+        except (OSError, ValueError):
+            continue
+    return {
+        "status": "error",
+        "error": {
+            "message": f"xacro recursed too deep ({macros} macros were calling one another, none itself): "
+            "it ran out of stack",
+            "file": files[0],
+            "line": None,
             "stage": "xacro",
         },
     }

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
 from pkgforge.model.files import manifest_text, quick_name
+from pkgforge.model.source import NotRegularFile, open_regular
 from pkgforge.workspace import IGNORE_MARKERS
 
 if TYPE_CHECKING:
@@ -97,7 +98,9 @@ if TYPE_CHECKING:
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
 # 48: an XML or YAML launch file that is not UTF-8 is refused (launch reads it as UTF-8 text), at its
-#    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says
+#    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says;
+#    FIFOs and devices are never read (PF101/PF204/PF901/PF405 say what they are; a mesh link
+#    to one is no "case differs"), YAML read within bounds (nesting, aliases), a deep xacro says so
 CACHE_FORMAT = 48
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
@@ -152,10 +155,12 @@ class ResultCache:
         try:
             if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
                 digest.update(os.fsencode("\0".join(sorted(os.listdir(path)))))
-            else:
-                with open(path, "rb") as handle:
+            else:  # a FIFO or a device is never read (it blocks, or never ends): its type is its content
+                with open(open_regular(path)[0], "rb", closefd=True) as handle:
                     for block in iter(lambda: handle.read(1 << 20), b""):
                         digest.update(block)
+        except NotRegularFile:
+            return f"special:{stat.st_mode:o}:{stat.st_rdev}"
         except OSError:
             return f"unreadable:{mode}"
         self.index[path] = [*stamp, digest.hexdigest()]

@@ -728,6 +728,8 @@ def run(
         try:  # a signal or an error: the temporary tree goes too
             launch_files, ros1_files = find_launch_files(tree, in_tree)
             launch_files += source_only(in_tree, launch_files)  # evaluated from the source
+            # a FIFO or a device where a launch file stands is no file to run (PF901 says what it is)
+            launch_files = [f for f in launch_files if os.path.isfile(f.installed)]
             for resolution in resolve(
                 launch_files,
                 tree,
