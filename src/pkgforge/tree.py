@@ -35,13 +35,14 @@ from pkgforge.build.toolchain import TREE_PYTHONPATH, prepend_path, python_paths
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.package import PackageModel
 from pkgforge.model.source import read_regular
-from pkgforge.walk import MAX_DEPTH
+from pkgforge.walk import MAX_DEPTH, remove_tree
 
 if TYPE_CHECKING:
     from pkgforge.workspace import Workspace
 
-# what an entry of the tree is (inode, mode, size, mtime), to see whether a launch file changed it
-Stamp = tuple[int, int, int, int]
+# what an entry of the tree is (inode, mode, size, mtime, ctime), to see whether a launch file changed
+# it (ctime: no process can set it back, as `touch -d` sets mtime back)
+Stamp = tuple[int, int, int, int, int]
 INDEX = Path("share/ament_index/resource_index/packages")
 
 
@@ -154,7 +155,10 @@ class InstallTree:
 
     def close(self) -> None:
         if self._temporary is not None:
-            self._temporary.cleanup()
+            try:
+                self._temporary.cleanup()
+            except (OSError, RecursionError):  # what a launch file left: nested, or made unreadable
+                remove_tree(self._temporary.name)
             self._temporary = None
 
 
@@ -268,7 +272,6 @@ def _fast_folder(needed: int) -> str | None:
 
 def _sweep(folder: str) -> None:
     """Remove trees of pkgforge runs that were killed before they could (tmpfs holds them in memory)."""
-    import shutil
 
     try:
         names = [n for n in os.listdir(folder) if n.startswith(PREFIX)]
@@ -281,7 +284,7 @@ def _sweep(folder: str) -> None:
         path = os.path.join(folder, name)
         try:
             if os.stat(path).st_uid == os.getuid():
-                shutil.rmtree(path, ignore_errors=True)
+                remove_tree(path)
         except OSError:
             pass
 
@@ -412,12 +415,11 @@ class _Plan:
                 info = os.lstat(os.path.join(base, relative))
             except OSError:
                 continue
-            out[relative] = (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns)
+            out[relative] = (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns, info.st_ctime_ns)
         return out
 
     def restore(self, root: Path, stamps: dict[str, Stamp]) -> int:
         """Put back every entry a launch file changed or removed; → how many."""
-        import shutil
 
         base = str(root)
         changed = 0
@@ -425,10 +427,10 @@ class _Plan:
             target = os.path.join(base, relative)
             try:
                 info = os.lstat(target)
-                if (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns) == stamp:
+                if (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns, info.st_ctime_ns) == stamp:
                     continue
                 if stat.S_ISDIR(info.st_mode):
-                    shutil.rmtree(target)
+                    remove_tree(target)
                 else:
                     os.unlink(target)
             except FileNotFoundError:

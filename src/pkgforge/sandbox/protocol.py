@@ -36,6 +36,8 @@ class Confinement(TypedDict):
     signals: bool  # Landlock scopes signals and abstract sockets to the process's own tree (ABI 6)
     view: bool  # a user and mount namespace where all but pkgforge's temporary folders is read-only
     pid: bool  # a PID namespace of its own: nothing outside can be seen or signalled; one kill ends all
+    network: bool  # no network (a namespace of its own in the view; else Landlock's TCP rights, ABI 4)
+    sockets: bool  # no new Unix socket (seccomp): no agent reachable by its socket's path
     guard: bool  # the Python guard (an audit hook) reports refused writes and signals at their line
     why: list[str]  # what the kernel did not allow, and why
 

@@ -46,6 +46,9 @@ if TYPE_CHECKING:
 
 API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
+# bytes a request's process may write in all (its folder, its views of the tree and /tmp) when
+# --worker-memory is unlimited; else that (the tmpfs holding them is memory too)
+PRIVATE_FOLDER_SIZE = 2 * 2**30
 # the extra argument combinations start and run only until this share of --launch-timeout
 BRANCH_SHARE = 0.7
 
@@ -420,8 +423,8 @@ def answer(
     code = 0
     try:
         _isolate(reply_fd)
-        os.chdir(own)
-        _private_tmp(own, confinement)
+        _private_mounts(own, confinement, limits)
+        os.chdir(own)  # (after: `own` may now be a tmpfs of its own)
         guarded = _install_guard(own)
         _apply_limits(limits)
         _confine(confinement)
@@ -459,17 +462,18 @@ def _open_descriptors() -> list[int]:
         return list(range(3, OPEN_FILES))
 
 
-def _private_tmp(own: str, confinement: Confinement) -> None:
-    """In the read-only view: a /tmp of this process's own (writes kept in `own`), so that a launch
-    file writing a file there and reading it back works as under ros2 launch."""
+def _private_mounts(own: str, confinement: Confinement, limits: WorkerLimits) -> None:
+    """In the read-only view: its own folder a bounded tmpfs, the tree and /tmp overlays whose
+    writes stay there, /run empty (namespaces.private_mounts)."""
     if not confinement["view"]:
         return
     from pkgforge.sandbox import guard, namespaces
 
+    size = int(limits.get("memory") or PRIVATE_FOLDER_SIZE)
     try:
-        upper = namespaces.private_tmp(own)
+        upper = namespaces.private_mounts(own, os.environ.get(guard.SANDBOX_VARIABLE), size)
     except OSError:
-        return  # /tmp stays read-only: such a write fails (the guard says where)
+        return  # the shared tree, and /tmp read-only: such a write fails (the guard says where)
     os.environ[guard.TMP_VARIABLE] = upper
 
 
@@ -477,12 +481,18 @@ def _confine(confinement: Confinement) -> None:
     """What the kernel enforces from here on, for this process and everything it starts."""
     from pkgforge.sandbox import landlock, namespaces
 
-    if confinement["view"]:
+    try:  # (also for root without a user namespace: mknod, raw disks, modules, the clock)
         namespaces.drop_privileges()
+    except OSError:
+        pass  # nothing to drop where the kernel has no capabilities to give
     if confinement["landlock"]:
         from pkgforge.sandbox import guard
 
         landlock.restrict(guard.kernel_writable(), confinement["landlock"])
+    if confinement["sockets"]:
+        from pkgforge.sandbox import seccomp
+
+        seccomp.install()
 
 
 def _write_all(fd: int, data: bytes) -> None:

@@ -1,8 +1,10 @@
-"""REVIEW 35 REPRODUCTIONS: defects found attacking issue 35's sandbox (a second reader's report).
+"""Attacks a second reader made on issue 35's sandbox, each a defect of its first version, now held.
 
-Every test here is marked xfail(strict=True): it FAILS on the code as reviewed (so it is reported
-as xfail and the suite passes), and turns into an XPASS error once the defect is fixed, so that
-whoever fixes it removes the marker. Numbers are those of the review report.
+Numbers are those of the review: 1 a launch file rewriting another package's installed files in the
+shared tree; 2 chmod/utime where only Landlock stands (refused, or announced as weaker); 3 root
+keeping its capabilities without namespaces; 4 a Unix socket or a TCP port of an agent outside;
+5 a malformed result stopping the whole run; 6 folders nested past Python's recursion breaking the
+clean-up; 7 the next request's token read through /proc and a request swapped.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import socket
 import subprocess
 import tempfile
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -71,9 +74,6 @@ def generate_launch_description():
 '''
 
 
-@pytest.mark.xfail(
-    strict=True, reason="review35 #1: a launch file rewrites another package's installed files"
-)
 def test_1_a_launch_file_cannot_change_another_packages_installed_files(tmp_path):
     """alpha's launch file rewrites beta's installed model in the shared tree (same inode, size and
     mtime, so tree.restore() does not see it): beta, untouched, gets a false PF402 (cached too)."""
@@ -93,7 +93,6 @@ FORGED = (
 )
 
 
-@pytest.mark.xfail(strict=True, reason="review35 #5: a malformed single reply is an internal error")
 def test_5_a_malformed_result_is_a_load_error_of_that_file(tmp_path):
     """One reply line of an unknown shape (written by the launch file, then os._exit): verify
     stops with `internal error` (exit 2) and no report for any package."""
@@ -108,7 +107,7 @@ DEEP = """
 import subprocess, sys
 from launch import LaunchDescription
 NEST = (
-    "import os\\nfd = os.open('.', os.O_RDONLY)\\nfor _ in range(3000):\\n"
+    "import os\\nopen('MARK', 'w').close()\\nfd = os.open('.', os.O_RDONLY)\\nfor _ in range(3000):\\n"
     "    os.mkdir('d', dir_fd=fd)\\n    inner = os.open('d', os.O_RDONLY, dir_fd=fd)\\n"
     "    os.close(fd)\\n    fd = inner\\n"
 )
@@ -118,24 +117,28 @@ def generate_launch_description():
 """
 
 
+MARK = f"deep-{os.getpid()}-{time.time_ns()}"  # (other runs on this machine nest folders too)
+
+
 def _deep_leftovers(before: set[str]) -> list[str]:
     return [
         os.path.join("/dev/shm", name)
         for name in set(os.listdir("/dev/shm")) - before
-        if name.startswith("pkgforge-") and any(Path("/dev/shm", name).glob("**/d/d/d"))
+        if name.startswith("pkgforge-")
+        and any(next(Path("/dev/shm", name).glob(f"{'*/' * depth}{MARK}"), None) for depth in range(4))
     ]
 
 
-@pytest.mark.xfail(strict=True, reason="review35 #6: deep folders crash the cleanup (RecursionError)")
-def test_6_deep_folders_in_the_requests_own_folder(tmp_path):
+@pytest.mark.parametrize("disabled", ["", "namespaces"], ids=["view", "no-view"])
+def test_6_deep_folders_in_the_requests_own_folder(tmp_path, disabled):
     """3000 nested folders in the request's own folder: shutil.rmtree (Python 3.11) raises
     RecursionError in the coordinator, then in pkgforge: internal error, and the folder stays in
     /dev/shm (a tree left so makes every later run's _sweep crash the same way)."""
     workspace = _workspace(tmp_path, "alpha")
-    _launch(workspace, "alpha", DEEP)
+    _launch(workspace, "alpha", DEEP.replace("MARK", MARK))
     before = set(os.listdir("/dev/shm")) if os.path.isdir("/dev/shm") else set()
     try:
-        result = _verify(workspace)
+        result = _verify(workspace, env=dict(os.environ, PKGFORGE_SANDBOX_DISABLE=disabled))
         left = _deep_leftovers(before) if os.path.isdir("/dev/shm") else []
         assert result.returncode in (0, 1), result.stderr
         assert not left
@@ -152,7 +155,6 @@ def generate_launch_description():
 
 
 @pytest.mark.skipif(os.geteuid() != 0, reason="root only: a user's process has no capability to keep")
-@pytest.mark.xfail(strict=True, reason="review35 #3: without namespaces, root keeps every capability")
 def test_3_no_capability_is_kept_without_namespaces(tmp_path):
     """Run as root where user namespaces are not available (PKGFORGE_SANDBOX_DISABLE=namespaces: a
     container's seccomp, Ubuntu's AppArmor): capabilities are dropped only in the view, so the
@@ -180,7 +182,6 @@ def generate_launch_description():
 """
 
 
-@pytest.mark.xfail(strict=True, reason="review35 #4: a request reaches the user's agents over sockets")
 def test_4_no_connection_to_an_agent_outside(tmp_path):
     """A pathname Unix socket outside /tmp (/run/user/$UID/bus, /var/run/docker.sock ...) and a
     localhost TCP port: the agent behind either (systemd --user, dockerd) writes what it is told."""
@@ -237,7 +238,6 @@ CLEAN = "from launch import LaunchDescription\ndef generate_launch_description()
 BROKEN = "def generate_launch_description():\n    raise RuntimeError('beta is broken')\n"
 
 
-@pytest.mark.xfail(strict=True, reason="review35 #7: the next request's token is readable in /proc")
 def test_7_a_request_cannot_swap_the_next_request(tmp_path):
     """Without the kernel's protections (announced as `writes and signals refused only by the
     Python guard`), alpha's launch file reads the request sent ahead and its token from
@@ -259,7 +259,6 @@ def generate_launch_description():
 """
 
 
-@pytest.mark.xfail(strict=True, reason="review35 #2: Landlock alone lets chmod through, unannounced")
 def test_2_metadata_changes_are_refused_or_announced_without_the_view(tmp_path):
     """Landlock without the read-only view (Ubuntu 24.04's AppArmor, containers): a shell's chmod of
     the user's file succeeds, and the summary does not say the sandbox is weaker."""
