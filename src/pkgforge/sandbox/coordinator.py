@@ -67,11 +67,15 @@ def main(confinement: Confinement | None = None) -> None:
     gc.freeze()  # (and left alone by the collector of each forked process)
     hello: Hello = {"hello": applied}
     _send(hello)
+    setup_prepared = False
     while True:
         line = _read_line(0)
         if line is None:
             return
         request: WorkerRequest = json.loads(line)
+        if "setup" in request and not setup_prepared:
+            worker.prepare_setup()  # (once: every later setup.py's process forks with it)
+            setup_prepared = True
         own = tempfile.mkdtemp(prefix="request-", dir=work)
         reply_read, reply_write = os.pipe()
         child = os.fork()

@@ -96,7 +96,10 @@ if TYPE_CHECKING:
 # 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
-CACHE_FORMAT = 47
+# 48: setup.py run as colcon reads it when its text does not give its install; a package whose install
+#    is still unknown is its source in the tree (PF319 for lookups it lacks); command lines split as
+#    their consumer splits them (process records carry `shell`)
+CACHE_FORMAT = 48
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
