@@ -303,7 +303,8 @@ def sim_workspace(template: Path, tmp_path: Path, gz_world: str, shell_world: st
     manifest = workspace / "src" / "arm_bringup" / "package.xml"
     manifest.write_text(
         manifest.read_text().replace(
-            "<exec_depend>rviz2</exec_depend>", "<exec_depend>rviz2</exec_depend>\n  <exec_depend>ros_gz_sim</exec_depend>"
+            "<exec_depend>rviz2</exec_depend>",
+            "<exec_depend>rviz2</exec_depend>\n  <exec_depend>ros_gz_sim</exec_depend>",
         )
     )
     return workspace, launch
@@ -344,3 +345,59 @@ def test_a_process_without_a_shell_gets_the_path_as_one_word(template, tmp_path,
             ("PF303", line_of(launch, "cmd=['gz', 'sim'"))
         ], engine
         assert "world.sdf -v 4 does not exist" in report["diagnostics"][0]["message"]
+
+
+# --- found by the truth campaign ----------------------------------------------------------------
+
+XACRO_IN_A_SUBPROCESS = """\
+import subprocess
+
+from launch import LaunchDescription
+from launch.actions import OpaqueFunction
+from launch_ros.actions import Node
+from launch_ros.substitutions import FindPackageShare
+
+
+def launch_setup(context):
+    model = FindPackageShare('arm_bringup').perform(context) + '/urdf/arm_on_base.urdf.xacro'
+    run = subprocess.run(['xacro', model], capture_output=True, text=True)
+    if run.returncode != 0:
+        raise RuntimeError(f'xacro failed for {model}: {run.stderr}')
+    return [Node(package='robot_state_publisher', executable='robot_state_publisher',
+                 parameters=[{'robot_description': run.stdout}])]
+
+
+def generate_launch_description():
+    return LaunchDescription([OpaqueFunction(function=launch_setup)])
+"""
+
+
+@pytest.mark.triggers("PF407")
+def test_xacro_run_by_an_action_on_a_declared_package_not_installed_here_is_no_error(template, tmp_path):
+    """amiga_ros2_gazebo: an OpaqueFunction runs xacro in a subprocess and raises its stderr; the
+    model includes a file of kortex_description, declared and not installed here. On the user's
+    machine the file is there: model-unevaluated (info), not launch-load-error."""
+    workspace = workspace_of(template, tmp_path)
+    bringup = workspace / "src" / "arm_bringup"
+    manifest = bringup / "package.xml"
+    manifest.write_text(
+        manifest.read_text().replace(
+            "<exec_depend>rviz2</exec_depend>",
+            "<exec_depend>rviz2</exec_depend>\n  <exec_depend>kortex_description</exec_depend>",
+        )
+    )
+    (bringup / "urdf" / "arm_on_base.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm">\n'
+        '  <xacro:include filename="$(find kortex_description)/robots/kortex_robot.xacro"/>\n'
+        '  <link name="base_link"/>\n</robot>\n'
+    )
+    (bringup / "launch" / "arm.launch.py").write_text(XACRO_IN_A_SUBPROCESS)
+    status, report = verify_report(workspace, "--no-cache")
+    assert status == 0, report["diagnostics"]
+    assert not by_code(report, "PF301")
+    # one defect, one diagnostic: at the model's include (the model is installed, and processed)
+    unevaluated = by_code(report, "PF407")
+    model = bringup / "urdf" / "arm_on_base.urdf.xacro"
+    assert [(d["severity"], d["path"], d["line"]) for d in unevaluated] == [
+        ("info", "src/arm_bringup/urdf/arm_on_base.urdf.xacro", line_of(model, "kortex_robot.xacro"))
+    ]

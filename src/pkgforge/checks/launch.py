@@ -146,9 +146,11 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # an OpaqueFunction read a file of a package not installed here (launch-unevaluated)
             if item.event_values:
                 continue  # an event handler's action on the event's run-time values (launch-unevaluated)
-            if item.type == "XacroException" and (absent := ctx.absent_include(item.message)):
+            if absent := ctx.absent_include(item.message):
+                # its own xacro.process_file(), or xacro run in a subprocess whose stderr an action
+                # raised (amiga_ros2_gazebo's OpaqueFunction): model-unevaluated says it (ROS has the file)
                 if absent[0] in ctx.model.manifest.declared():
-                    continue  # its own xacro.process_file(): model-unevaluated says it (ROS has the file)
+                    continue
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own

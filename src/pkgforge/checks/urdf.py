@@ -323,7 +323,7 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 )
         # xacro.process_file() in the launch file's own code (an OpaqueFunction) failing so
         for item in resolution.errors:
-            absent = ctx.absent_include(item.message) if item.type == "XacroException" else None
+            absent = ctx.absent_include(item.message)  # (xacro's own, or its stderr in an action's error)
             position = ctx.source_position(resolution, item.file, item.line)
             if absent is None or absent[0] not in ctx.model.manifest.declared() or position is None:
                 continue
