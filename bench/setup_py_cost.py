@@ -23,7 +23,7 @@ from scale import SCRIPTS, compiled, run  # noqa: E402  (the same timing as the 
 
 from pkgforge.scaffold.package import create_package, make_spec  # noqa: E402
 
-COMPUTED = '''import os
+COMPUTED = """import os
 
 from setuptools import setup
 
@@ -48,7 +48,7 @@ setup(
         ('share/' + package_name, ['package.xml']),
     ] + share_files(['launch', 'meshes', 'rviz', 'urdf']),
 )
-'''
+"""
 
 
 def workspace(root: Path, count: int, computed: bool) -> Path:
