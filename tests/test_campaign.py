@@ -347,6 +347,44 @@ HOSTILE_XACRO = {
     ),
 }
 
+# hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot
+# evaluate), so verify runs it, sandboxed, as colcon reads it; the line below goes before setup()
+HOSTILE_SETUP = {
+    "loop": "while True:\n    pass",
+    "exit": "import sys\nsys.exit(3)",
+    "osexit": "os._exit(0)",
+    "recursion": "def f():\n    return f()\nf()",
+    "baseexc": "raise KeyboardInterrupt",
+    "kill": "import signal\nos.kill(os.getppid(), signal.SIGTERM)",
+    "writes": "open(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'package.xml'), 'w').write('')",
+    "removes": "os.remove(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'package.xml'))",
+    "prints": "print('{\"status\": \"ok\"}')\nos.write(1, b'garbage\\n')",
+    "memory": "hog = bytearray(1 << 40)",
+    "sleeper": "import subprocess\nsubprocess.Popen(['sleep', '600'])",
+    "forks": "if os.fork() == 0:\n    while True:\n        pass",
+    "baddata": "share_files = lambda: [(1, 2), 'x', None]",
+    "nosetup": "raise SystemExit(0)",
+}
+SETUP_TEMPLATE = """import os
+from setuptools import setup
+
+package_name = 'NAME'
+
+
+def share_files():
+    out = [('share/ament_index/resource_index/packages', ['resource/' + package_name])]
+    for folder in ('launch', 'urdf', 'meshes', 'rviz'):
+        for root, _, files in os.walk(folder):
+            out.append((os.path.join('share', package_name, root), [os.path.join(root, f) for f in files]))
+    return out
+
+
+HOSTILE
+
+setup(name=package_name, version='0.0.0', packages=[],
+      data_files=[('share/' + package_name, ['package.xml'])] + share_files())
+"""
+
 
 def structural(package: Path, what: str, outside: Path) -> None:
     """Links, permissions, nesting: one kind of damage to the package."""
@@ -579,6 +617,10 @@ class Campaign:
                     "Command(['xacro ', model]), value_type=str)}])])\n"
                 )
             cases.append(Case(name, base, f"hostile {file}"))
+        for what, code in HOSTILE_SETUP.items():
+            name, package = self.package(src, "cbasepython")
+            (package / "setup.py").write_text(SETUP_TEMPLATE.replace("NAME", name).replace("HOSTILE", code))
+            cases.append(Case(name, "cbasepython", f"hostile setup.py: {what}"))
         return cases
 
     def structural_cases(self, src: Path) -> list[Case]:

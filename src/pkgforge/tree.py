@@ -53,6 +53,9 @@ class InstallTree:
     phantom: Path | None = None
     packages: dict[str, Path] = field(default_factory=dict)  # package → prefix holding it
     phantom_packages: set[str] = field(default_factory=set)
+    # workspace packages (share names) whose install pkgforge cannot predict → where (file, line):
+    # their share folder stands in for what they install with their source mirrored (predicted tree)
+    unpredicted: dict[str, tuple[Path, int | None]] = field(default_factory=dict)
     # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS) → their prefix
     system_packages: dict[str, Path] = field(default_factory=dict)
     _temporary: tempfile.TemporaryDirectory[str] | None = None
@@ -445,13 +448,39 @@ def predicted_tree(models: list[PackageModel], user_install: Path | None = None)
     """The tree colcon would install; `user_install`: where (colcon's default <workspace>/install)."""
     plan = _Plan()
     plan.folder("install")
+    unpredicted = {}
     for model in models:
         for destination, installed in model.layout.files.items():
             plan.file(
                 os.path.normpath(os.path.join("install", destination)),
                 None if installed.source is None else str(installed.source),
             )
-    return _materialised("predicted", plan, models, user_install, lambda root: {str(root / "install"): None})
+        where = model.unpredicted()
+        if where is not None:
+            unpredicted[model.share_name] = where
+            _plan_source_mirror(plan, model)
+    tree = _materialised("predicted", plan, models, user_install, lambda root: {str(root / "install"): None})
+    tree.unpredicted = unpredicted
+    return tree
+
+
+# a package's own build files and what is no run-time resource: never mirrored into its share folder
+NOT_MIRRORED = frozenset({"setup.py", "setup.cfg", "CMakeLists.txt", "package.xml"})
+
+
+def _plan_source_mirror(plan: _Plan, model: PackageModel) -> None:
+    """A package whose install cannot be predicted is unknown, not empty: its share folder holds
+    its source files where they are in the source (share/<pkg>/urdf/a.xacro for urdf/a.xacro),
+    beside what is predicted, and its ament index marker. Its own launch files and models are then
+    evaluated against its source, and other packages' lookups into it find what it has; what they
+    do not find is not known to be missing (the checks say so: unpredicted-lookup)."""
+    share = os.path.join("install", "share", model.share_name)
+    plan.file(os.path.join("install", str(INDEX), model.share_name), None)
+    for relative in model.files:
+        parts = relative.parts
+        if (len(parts) == 1 and relative.name in NOT_MIRRORED) or any(p.startswith(".") for p in parts):
+            continue
+        plan.file(os.path.join(share, *parts), str(model.path / relative))
 
 
 def _materialised(

@@ -152,15 +152,19 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
+            if ctx.unpredicted_file(item.message) is not None:
+                continue  # a file of a package whose install is not known (unpredicted-lookup)
             if ctx.package_not_installed_here(item):
                 continue  # an included file's import: that file is evaluated, and reported, on its own
             if item.read_from:
                 continue  # an OpaqueFunction read a file of a package not installed here (launch-unevaluated)
             if item.event_values:
                 continue  # an event handler's action on the event's run-time values (launch-unevaluated)
-            if item.type == "XacroException" and (absent := ctx.absent_include(item.message)):
+            if absent := ctx.absent_include(item.message):
+                # its own xacro.process_file(), or xacro run in a subprocess whose stderr an action
+                # raised (amiga_ros2_gazebo's OpaqueFunction): model-unevaluated says it (ROS has the file)
                 if absent[0] in ctx.model.manifest.declared():
-                    continue  # its own xacro.process_file(): model-unevaluated says it (ROS has the file)
+                    continue
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
@@ -394,10 +398,15 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
             if item.via == "PathJoinSubstitution" and item.path.endswith(FRAGMENT_ENDINGS):
                 continue  # the start of a name the file goes on to build (interbotix's
                 # [PathJoinSubstitution([share, 'config', 'motor_specs_']), robot_model, '.yaml'])
-            located = _share_reference(ctx, item.path)
+            checked = ctx.file_part(resolution, item.path)  # (gz_args 'world.sdf -r': world.sdf)
+            if checked != item.path and ctx.files.exists(checked):
+                continue
+            located = _share_reference(ctx, checked)
             if located is None:
                 continue
             package, relative, _ = located
+            if ctx.tree is not None and package in ctx.tree.unpredicted:
+                continue  # its install is not known: not known to be missing (unpredicted-lookup)
             if NONE_TEXT.search(relative) and ctx.unset_environment(resolution):
                 continue  # launch-environment-unset: os.getenv() gave None here
             owner = ctx.model_for_share(package)
@@ -1237,6 +1246,84 @@ def launch_combinations_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
             f"(the defaults first); {missing} not checked{how}",
             *position,
         )
+
+
+@register(
+    "PF319",
+    "unpredicted-lookup",
+    "info",
+    area="launch",
+    bad=(
+        "# robot_bringup/launch/robot.launch.py (robot_description's setup.py imports a module that is\n"
+        "# not installed here, so what it installs cannot be predicted)\n"
+        "xacro.process_file(os.path.join(get_package_share_directory('robot_description'), 'urdf', 'x.xacro'))"
+    ),
+    good="$ pkgforge verify . --build   # a real install of robot_description to look into",
+    summary="a launch file or model looks up a file of a workspace package whose install "
+    "pkgforge cannot predict",
+    explanation="The package's install rules could not be evaluated (install-rule-unevaluated "
+    "says where): what it installs is unknown, not empty. Its share folder in the predicted tree "
+    "holds its source files where they are in its source, so lookups of those work and are "
+    "checked; a file that is not there may still be installed (a computed data_files can put a "
+    "file in another folder than its source's), so the lookup is not checked, and nothing that "
+    "depends on it is.",
+    hint="make the package's install rules evaluable (install-rule-unevaluated says why they are "
+    "not), or verify against a real build (--build, --install-base)",
+)
+def unpredicted_lookup(ctx: CheckContext) -> Iterator[Finding]:
+    from pkgforge.checks.urdf import model_item_position
+
+    said: set[tuple[Path, int | None, str, str]] = set()
+
+    def finding(
+        found: tuple[str, str], what: str, position: tuple[Path, int | None] | None
+    ) -> Iterator[Finding]:
+        package, relative = found
+        if position is None or (*position, package, relative) in said:
+            return
+        said.add((*position, package, relative))
+        yield Finding(
+            f"{what} share/{package}/{relative}, which the predicted install tree does not have; "
+            f"{package}'s install cannot be predicted ({ctx.unpredicted_where(package)}), so the "
+            "lookup is not checked",
+            *position,
+        )
+
+    for resolution in ctx.resolutions:
+        error = resolution.error
+        if error is not None and ctx.load_error_kind(resolution) == "unpredicted":
+            found = ctx.unpredicted_file(error.message)
+            position = ctx.source_position(resolution, error.file, error.line) or (
+                resolution.launch.source or resolution.launch.installed,
+                None,
+            )
+            if found is not None:
+                name = resolution.launch.installed.name
+                yield from finding(found, f"{name} stopped loading on", position)
+        for item in resolution.errors:
+            found = ctx.unpredicted_file(item.message)
+            if found is not None:
+                where = ctx.source_position(resolution, item.file, item.line)
+                yield from finding(found, f"{item.entity or 'an action'} failed on", where)
+        for path in resolution.paths:
+            found = ctx.unpredicted_file(path.path) if not path.exists else None
+            if found is not None:
+                where = ctx.source_position(resolution, path.file, path.line)
+                yield from finding(found, "it looks up", where)
+        for command in resolution.commands:
+            found = None if command.ok else ctx.unpredicted_file(command.message)
+            if found is not None:
+                where = ctx.source_position(resolution, command.file, command.line)
+                yield from finding(found, "xacro failed on", where)
+    for result in ctx.model_results:
+        message = (result.error or {}).get("message")
+        found = ctx.unpredicted_file(message) if result.status != "ok" else None
+        if found is not None:
+            yield from finding(
+                found,
+                f"xacro {result.installed.name} failed on",
+                model_item_position(ctx, result, result.error or {}),
+            )
 
 
 @register(

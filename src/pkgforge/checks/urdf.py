@@ -165,6 +165,8 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
             covered.add(str(result.installed))
             if ctx.absent_include(error.get("message")) is not None:
                 continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
+            if ctx.unpredicted_file(error.get("message")) is not None:
+                continue  # a file of a package whose install is not known (unpredicted-lookup)
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
             if _missing_file_given(ctx, result, error.get("message")):
@@ -216,6 +218,8 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
             if ctx.absent_include(command.message) is not None:
                 continue  # model-unevaluated
+            if ctx.unpredicted_file(command.message) is not None:
+                continue  # unpredicted-lookup
             position = ctx.source_position(resolution, command.file, command.line)
             if position is None or position in seen:
                 continue
@@ -319,7 +323,7 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 )
         # xacro.process_file() in the launch file's own code (an OpaqueFunction) failing so
         for item in resolution.errors:
-            absent = ctx.absent_include(item.message) if item.type == "XacroException" else None
+            absent = ctx.absent_include(item.message)  # (xacro's own, or its stderr in an action's error)
             position = ctx.source_position(resolution, item.file, item.line)
             if absent is None or absent[0] not in ctx.model.manifest.declared() or position is None:
                 continue

@@ -447,7 +447,9 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             condition=condition,
         )
     if tag == "executable":
-        return rt.ExecuteProcess(cmd=_arguments(element.get("cmd")), condition=condition)
+        return rt.ExecuteProcess(
+            cmd=_arguments(element.get("cmd")), shell=bool(_flag(element, "shell")), condition=condition
+        )
     if tag == "set_env":
         return rt.SetEnvironmentVariable(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "append_env":

@@ -73,6 +73,7 @@ class NodeRecordDict(RecordDict, total=False):
     remappings: list[list[str]]
     arguments: list[str]
     cmd: list[str] | None
+    shell: bool
 
 
 class PackageLookupRecordDict(RecordDict, total=False):
@@ -225,6 +226,7 @@ class Node(Record):
     remappings: list[list[str]] = field(default_factory=list)
     arguments: list[str] = field(default_factory=list)
     cmd: list[str] | None = None  # a plain process (ExecuteProcess)
+    shell: bool = False  # ExecuteProcess(shell=True): a shell splits its joined cmd into words
 
 
 @dataclass

@@ -847,7 +847,8 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
         return None
     if isinstance(action, launch.actions.ExecuteProcess):
         cmd = [L.perform(context, part) for part in action.process_description.cmd]
-        RECORDER.add("nodes", {"kind": "process", "cmd": cmd}, action)
+        shell = bool(getattr(action, "shell", False))  # (ExecuteLocal's, since humble)
+        RECORDER.add("nodes", {"kind": "process", "cmd": cmd, "shell": shell}, action)
         return None
     if isinstance(action, launch.actions.TimerAction):
         return list(action.actions)

@@ -1430,13 +1430,16 @@ class ExecuteProcess(Action):
         cwd: SomeSubstitutionsType | None = None,
         env: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
         additional_env: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
+        shell: bool = False,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
         self.cmd = cmd
+        self.shell = shell
 
     def visit(self, context: LaunchContext) -> None:
-        RECORDER.add("nodes", {"kind": "process", "cmd": [perform(context, part) for part in self.cmd]}, self)
+        cmd = [perform(context, part) for part in self.cmd]
+        RECORDER.add("nodes", {"kind": "process", "cmd": cmd, "shell": bool(self.shell)}, self)
 
 
 class ExecuteLocal(ExecuteProcess):

@@ -67,17 +67,15 @@ def main(confinement: Confinement | None = None) -> None:
     limits["parent"] = os.getpid()  # each request's process dies with this one
     landlock.abi_version()  # (loads the C library once, here, for every request's process)
     engine = worker.prepare()
-    warmup.run(engine, work)  # what every request's process would import and cache: made once here
-    import gc
-
-    gc.freeze()  # (and left alone by the collector of each forked process)
     hello: Hello = {"hello": applied}
     _send(hello)
+    prepared: set[str] = set()
     while True:
         line = _read_line(0)
         if line is None:
             return
         request: WorkerRequest = json.loads(line)
+        _prepare_for(request, engine, work, prepared)
         own = tempfile.mkdtemp(prefix="request-", dir=work)
         reply_read, reply_write = os.pipe()
         child = os.fork()
@@ -91,6 +89,23 @@ def main(confinement: Confinement | None = None) -> None:
         reply["request"] = request
         reply["token"] = (token or b"").decode(errors="replace")
         _send(reply)
+
+
+def _prepare_for(request: WorkerRequest, engine: worker.Engine, work: str, prepared: set[str]) -> None:
+    """What every process of the request's kind would import and cache, made once here before the
+    first one is forked: the scaffold evaluated for launch files and models (warmup.py), setuptools
+    for setup.py files. (A coordinator that answers only setup.py files warms no launch engine.)"""
+    kind = "setup" if "setup" in request else "launch"
+    if kind in prepared:
+        return
+    if kind == "setup":
+        worker.prepare_setup()
+    else:
+        warmup.run(engine, work)
+    import gc
+
+    gc.freeze()  # (and left alone by the collector of each forked process)
+    prepared.add(kind)
 
 
 def _enter(confinement: Confinement, writable: list[str]) -> Confinement:

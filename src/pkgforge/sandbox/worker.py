@@ -34,6 +34,7 @@ from pkgforge.sandbox.protocol import (
     ErrorRecord,
     LimitKind,
     ModelReply,
+    SetupReply,
     WorkerLimits,
     WorkerRequest,
 )
@@ -41,7 +42,7 @@ from pkgforge.sandbox.protocol import (
 if TYPE_CHECKING:
     from pkgforge.launch.records import BranchBudget, LaunchResultDict
 
-    WorkerReply = LaunchResultDict | ModelReply
+    WorkerReply = LaunchResultDict | ModelReply | SetupReply
     from pkgforge.sandbox.processes import LoadAllowance
 
 API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
@@ -251,7 +252,7 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
         "stage": "worker",
         "type": type(error).__name__,
         "message": str(error),
-        "file": request["file"] if "file" in request else request["model"],
+        "file": _subject(request),
         "line": None,
     }
     if "file" in request:
@@ -261,6 +262,13 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
         if frames:
             record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
     return record
+
+
+def _subject(request: WorkerRequest) -> str:
+    """The file a request evaluates."""
+    if "file" in request:
+        return request["file"]
+    return request["model"] if "model" in request else request["setup"]
 
 
 def _install_guard(own: str) -> bool:
@@ -307,8 +315,10 @@ def _refusals(result: WorkerReply, request: WorkerRequest) -> None:
     from pkgforge.sandbox import guard
 
     for record in guard.take():
-        if "model" in request:
-            continue  # pkgforge's own xacro run on a model: no launch file to blame
+        if "file" not in request:
+            # pkgforge's own xacro run on a model: no launch file to blame; a setup.py that
+            # writes fails on the refusal, and that failure is its evaluation's answer
+            continue
         if record["kind"] == "installed":
             kind = "TreeWrite"
         else:
@@ -380,6 +390,17 @@ class Engine:
     name: str  # builtin | ros
     distro: str | None
     setup_error: str | None = None  # the ros engine's libraries could not be imported: said per file
+
+
+def prepare_setup() -> None:
+    """In the coordinator, before the first setup.py request: setuptools imported once (~0.2 CPU s,
+    pkgforge's own dependency, no user code), so that each setup.py's process forks with it."""
+    import importlib
+
+    try:
+        importlib.import_module("setuptools")
+    except Exception:  # noqa: BLE001 - each request's process then says why, at setup.py
+        pass
 
 
 def prepare() -> Engine:
@@ -513,6 +534,10 @@ def _evaluate(request: WorkerRequest, engine: Engine, limits: WorkerLimits, guar
             budget = _budget(limits)
             if "model" in request:
                 result = process_model(request["model"], request.get("mappings", {}))
+            elif "setup" in request:
+                from pkgforge.model.setup_eval import run_setup_py
+
+                result = run_setup_py(request["setup"])
             elif engine.name == "ros":
                 from pkgforge.launch import ros_engine
 

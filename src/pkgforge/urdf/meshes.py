@@ -43,7 +43,7 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
         share = tree.installed_share(package)
         if share is None:
             return MeshLookup("unknown-package", None, package, normal)
-        return _check(share / normal, package, normal)
+        return _unless_unpredicted(_check(share / normal, package, normal), tree, package)
     if uri.startswith("file://"):
         path = Path(unquote(urlparse(uri).path))
         located = tree.locate(str(path)) if tree.is_phantom(str(path)) else None
@@ -51,12 +51,21 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
             # file://$(find zed_msgs)/meshes/zed.stl: a declared package not installed here, as
             # its package:// URI would be (zed-ros2-wrapper's zed_descr.urdf.xacro)
             return MeshLookup("unchecked", None, located[0], located[1])
-        return _check(path, None, None)
+        located = tree.locate(str(path))
+        return _unless_unpredicted(_check(path, None, None), tree, located[0] if located else None)
     if "://" in uri:
         return MeshLookup("unsupported")
     if base is not None:  # a relative path: relative to the model file, as urdfdom does
         return _check(base.parent / uri, None, None)
     return MeshLookup("unsupported")
+
+
+def _unless_unpredicted(lookup: MeshLookup, tree: InstallTree, package: str | None) -> MeshLookup:
+    """A mesh missing from the share folder of a package whose install pkgforge cannot predict is
+    not known to be missing (its real install may have it): unchecked."""
+    if lookup.status == "missing" and package is not None and package in tree.unpredicted:
+        return MeshLookup("unchecked", lookup.path, package, lookup.relative)
+    return lookup
 
 
 def _check(path: Path, package: str | None, relative: str | None) -> MeshLookup:

@@ -101,7 +101,10 @@ if TYPE_CHECKING:
 #    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says;
 #    FIFOs and devices are never read (PF101/PF204/PF901/PF405 say what they are; a mesh link
 #    to one is no "case differs"), YAML read within bounds (nesting, aliases), a deep xacro says so
-CACHE_FORMAT = 48
+# 49: with 48, setup.py run as colcon reads it when its text does not give its install; a package whose
+#    install is still unknown is its source in the tree (PF319 for lookups it lacks); command lines split
+#    as their consumer splits them (process records carry `shell`)
+CACHE_FORMAT = 49
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
