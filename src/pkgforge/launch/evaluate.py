@@ -7,6 +7,7 @@ value (so both sides of `gui` are checked); `--launch-arg` values are fixed.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib.util
 import itertools
 import os
@@ -26,6 +27,7 @@ from pkgforge.launch.records import (
     LaunchResultDict,
     Recorder,
     Status,
+    UnsetUse,
     as_dict,
     evaluate_branches,
     from_dict,
@@ -248,7 +250,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         # the built-in front end's refusal of an element wraps what building it raised: that
         # error (launch's own, as the real engine reports it) at the element's line
         shown = error.__cause__
-    message = f"{type(shown).__name__}: {shown}"
+    message = runtime.failure_text(shown)
     if isinstance(error, SystemExit):
         message = f"SystemExit: the launch file called sys.exit({error.code!r})"
     if isinstance(error, ImportError) and not isinstance(error, ModuleNotFoundError):
@@ -258,7 +260,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         message = IMPORTED_FROM.sub("", message)
     record: ErrorRecordDict = {
         "stage": stage,
-        "type": type(shown).__name__,
+        "type": runtime.failure_type(shown),
         "message": message,
         "file": path,
         "line": _location_in(path, error),
@@ -356,14 +358,135 @@ def visit(
                 record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
             continue
         if children:
-            registered = type(entity).__name__ == "RegisterEventHandler"
             spans = child_spans(entity, start, ancestors, loading)
-            if not registered:
+            kind = type(entity).__name__
+            if isinstance(entity, runtime.TimerAction):  # (ROSTimer too)
+                defer(
+                    context,
+                    list(children),
+                    "TimerAction",
+                    None,
+                    depth + 1,
+                    in_handler,
+                    spans,
+                    context.current_file,
+                )
+            elif kind == "RegisterEventHandler":
+                handler = getattr(entity, "event_handler", None)
+                event = runtime.handler_event(handler, getattr(handler, "target_action", None))
+                kind = type(handler).__name__
+                defer(context, list(children), kind, event, depth + 1, True, spans, context.current_file)
+            else:
                 visit(list(children), context, depth + 1, in_handler, *spans)
-                continue
-            handler = getattr(entity, "event_handler", None)
-            with handling(context, runtime.handler_event(handler, getattr(handler, "target_action", None))):
-                visit(list(children), context, depth + 1, True, *spans)
+
+
+@dataclasses.dataclass
+class Deferred:
+    """Entities launch runs after the launch description is done (both engines): a TimerAction's
+    actions when its period has passed, an event handler's when its event comes. Launch visits
+    the whole description at once, then handles events: these run with the launch
+    configurations, environment and namespace as the description left them (a scoped
+    GroupAction they stood in has ended: ros2/launch#825), and with the locals they had where
+    they stood (a TimerAction keeps them; for a handler, so that ThisLaunchFileDir still names
+    its file)."""
+
+    entities: list[object]
+    kind: str  # TimerAction, or the handler's class (OnProcessExit, OnShutdown...)
+    event: object | None  # the stand-in event a handler's entities see; None for a timer
+    locals: dict[str, Any]
+    configurations: frozenset[str]  # the launch configurations set where it stood
+    current_file: str | None  # the built-in engine's file being visited there
+    depth: int
+    in_handler: bool
+    spans: tuple[ReadSpans, ReadSpans]
+
+
+DEFERRED: list[Deferred] = []  # in the order they were met (launch's order when all come at once)
+RUNNING: list[Deferred] = []  # the deferred entities being visited
+
+
+def defer(
+    context: Any,
+    entities: list[object],
+    kind: str,
+    event: object | None,
+    depth: int,
+    in_handler: bool,
+    spans: tuple[ReadSpans, ReadSpans],
+    current_file: str | None = None,
+) -> None:
+    """Keep a timer's or a handler's entities for when the description is done (both engines)."""
+    configurations = frozenset(k for k in context.launch_configurations if isinstance(k, str))
+    DEFERRED.append(
+        Deferred(
+            entities,
+            kind,
+            event,
+            dict(context.get_locals_as_dict()),
+            configurations,
+            current_file,
+            depth,
+            in_handler,
+            spans,
+        )
+    )
+
+
+def run_deferred(context: Any, run: Callable[[Deferred], None]) -> None:
+    """Visit what timers and handlers would run, once the description is done, in the order they
+    were met (and what those register, after them): `run(item)` visits one's entities."""
+    while DEFERRED:
+        item = DEFERRED.pop(0)
+        context._push_locals()
+        context.extend_locals(item.locals)
+        RUNNING.append(item)
+        try:
+            if item.event is None:
+                run(item)
+            else:
+                with handling(context, item.event):
+                    run(item)
+        finally:
+            RUNNING.pop()
+            context._pop_locals()
+
+
+def begin_visit() -> int:
+    """Before one visit (both engines): nothing deferred or unsettled from another; the mark
+    settle_unset_uses needs."""
+    DEFERRED.clear()
+    RUNNING.clear()
+    RECORDER.unset_uses.clear()
+    return len(RECORDER.required)
+
+
+def settle_unset_uses(declared_from: int) -> None:
+    """After one visit (both engines): each use of a launch configuration not set is verify's
+    want of a value when the visit declared that argument without a default (`ros2 launch`
+    refuses to start without it: the user gives it, PF309 says so), and what needed it is
+    skipped; any other is launch's SubstitutionFailure, an error at the substitution."""
+    declared = {r.name for r in RECORDER.required[declared_from:] if r.skipped is None}
+    uses, RECORDER.unset_uses = RECORDER.unset_uses, []
+    for use in uses:
+        if use.name in declared:
+            file, line = use.entity_at
+            RECORDER.add("required", {"name": use.name, "skipped": use.entity, "file": file, "line": line})
+            continue
+        file, line = use.at if use.at[1] is not None else use.entity_at
+        RECORDER.add(
+            "errors",
+            {
+                "stage": "visit",
+                "type": "SubstitutionFailure",
+                "message": f"launch configuration '{use.name}' does not exist",
+                "file": file,
+                "line": line,
+                "entity": use.entity,
+                "configuration": use.name,
+                "deferred": use.deferred,
+                "scoped_away": use.scoped_away,
+            },
+        )
 
 
 @contextlib.contextmanager
@@ -408,6 +531,21 @@ def record_visit_failure(
     """What an entity's failure during the visit records; the visit goes on (both engines).
     `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors';
     `loading`: those the included files it came from made while loading."""
+    unset = runtime.missing_configuration(error)
+    if unset is not None:  # settled when the visit is done (settle_unset_uses)
+        name, at = unset
+        running = RUNNING[-1] if RUNNING else None
+        RECORDER.unset_uses.append(
+            UnsetUse(
+                name,
+                type(entity).__name__,
+                (getattr(entity, "_file", None), getattr(entity, "_line", None)),
+                at,
+                running.kind if running else None,
+                running is not None and name in running.configurations,
+            )
+        )
+        return
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
         return
@@ -596,7 +734,18 @@ def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None)
         context.current_file = path
         context.launch_configurations.update(overrides)
         context.launch_configurations.update(values)
+        declared_from = begin_visit()
         visit([description], context)
+
+        def run_one(item: Deferred) -> None:
+            previous, context.current_file = context.current_file, item.current_file
+            try:
+                visit(item.entities, context, item.depth, item.in_handler, *item.spans)
+            finally:
+                context.current_file = previous
+
+        run_deferred(context, run_one)
+        settle_unset_uses(declared_from)
 
     branching = evaluate_branches(RECORDER, path, overrides, run, budget)
     result = _result("ok", None, RECORDER)
