@@ -28,7 +28,9 @@ from pkgforge.launch.records import ITEM_KINDS, as_dict
 
 CONFORMANCE = FIXTURES / "launch_conformance"
 PATTERNS = FIXTURES / "launch_patterns" / "pattern_bot"  # issue 10's patterns of real packages
-CONFIGS = FIXTURES / "launch_configurations" / "config_bot"  # issue 28: configurations with and without a value
+CONFIGS = (
+    FIXTURES / "launch_configurations" / "config_bot"
+)  # issue 28: configurations with and without a value
 SUFFIXES = (".launch.py", ".launch.xml", ".launch.yaml")
 
 
@@ -314,8 +316,10 @@ def test_executing_each_action_performs_what_the_real_library_performs(evaluatio
     equals the built-in engine's. Every node or process the visit reached was executed."""
     real, builtin = evaluations[distro, file], evaluations[f"builtin-{distro}", file]
     assert real["executions"] == builtin["executions"], json.dumps(
-        {"ros": _differing(real["executions"], builtin["executions"]),
-         "built-in": _differing(builtin["executions"], real["executions"])},
+        {
+            "ros": _differing(real["executions"], builtin["executions"]),
+            "built-in": _differing(builtin["executions"], real["executions"]),
+        },
         indent=1,
     )
     executed = {(e["file"], e["line"]) for e in _executions(evaluations, distro, file)}
@@ -354,6 +358,12 @@ def test_the_execute_level_covers_failures_and_values(evaluations, distro):
         ), label
         assert node["cmd"][:2] == ["xterm", "-e"] and node["cmd"][2].endswith("/robot_state_publisher"), label
         assert node["cmd"][3:] == [
-            "--verbose", "--ros-args", "--log-level", "debug", "--ros-args", "-r", "__node:=publisher"
+            "--verbose",
+            "--ros-args",
+            "--log-level",
+            "debug",
+            "--ros-args",
+            "-r",
+            "__node:=publisher",
         ], label
         assert (node["name"], node["output"], node["failure"]) == ("rsp", "log", None), label
