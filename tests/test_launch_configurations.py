@@ -113,6 +113,10 @@ def test_each_configuration_not_set_is_an_error_at_its_substitution(reports, eng
     expected.append(
         (SOURCE + "robot.launch.py", line_of(LAUNCH / "robot.launch.py", "'robot_name'"), "warning")
     )
+    uncertain = LAUNCH / "after_unevaluated_include.launch.py"
+    expected.append(
+        (SOURCE + uncertain.name, line_of(uncertain, "LaunchConfiguration('use_sim_time')"), "info")
+    )
     assert _found(report, "PF319") == sorted(expected)
     by_place = {(d["path"], d["line"]): d for d in report["diagnostics"] if d["code"] == "PF319"}
     for file, text, name in UNSET:
@@ -190,3 +194,19 @@ def test_the_hint_speaks_the_file_s_format(reports):
     assert hints["xml"].startswith('declare it with <arg name="')
     assert hints["yaml"].startswith("declare it with `- arg: {name: ")
     assert hints["py"].startswith("declare it with DeclareLaunchArgument('")
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_after_an_include_not_evaluated_here_it_is_not_known(reports, engine):
+    """nav2_bringup is declared, not installed here: its bringup_launch.py may declare use_sim_time
+    (launch lets an included file's declarations stand after the include), so no error."""
+    (finding,) = [
+        d
+        for d in reports[engine, ""]["diagnostics"]
+        if d["path"] == SOURCE + "after_unevaluated_include.launch.py" and d["code"] == "PF319"
+    ]
+    assert finding["severity"] == "info"
+    assert (
+        "unless nav2_bringup/launch/bringup_launch.py, included before it and not evaluated here"
+        in (finding["message"])
+    )

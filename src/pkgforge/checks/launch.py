@@ -1000,7 +1000,9 @@ def launch_argument_required(ctx: CheckContext) -> Iterator[Finding]:
     "required's. A TimerAction's actions and an event handler's run after the whole launch "
     "description: a configuration a scoped GroupAction (or an include in one) set is gone by then "
     "(ros2/launch#825). A warning when the file fails only launched on its own, and another launch "
-    "file of its package includes it where the configuration is set (a file made to be included).",
+    "file of its package includes it where the configuration is set (a file made to be included); "
+    "info when a launch file included before the use could not be evaluated here (its package not "
+    "installed): it may declare the configuration.",
     hint="declare it with DeclareLaunchArgument('x', default_value=...) or give "
     "LaunchConfiguration('x', default=...)",
 )
@@ -1015,7 +1017,21 @@ def launch_configuration_undefined(ctx: CheckContext) -> Iterator[Finding]:
             if position is not None:
                 found.setdefault((*position, item.configuration), []).append((resolution, item))
     for (path, line, name), uses in found.items():
-        resolution, item = uses[0]
+        certain = [(r, i) for r, i in uses if i.unevaluated_include is None]
+        resolution, item = (certain or uses)[0]
+        if not certain:  # an include before it could not be evaluated: it may declare the name
+            yield Finding(
+                f"launch configuration '{name}' is not set when {_a(item.entity or 'action')} uses it, "
+                f"unless {_included_name(item.unevaluated_include)}, included before it and not "
+                f"evaluated here, declares it (if not, `ros2 launch` stops here){_branch_note(item, resolution)}",
+                path,
+                line,
+                severity=Severity.INFO,
+                hint="verify where the included file's package is installed (--install-base) to tell, or "
+                + _declare_hint(path, name, item),
+            )
+            continue
+        uses = certain
         alone = [(r, i) for r, i in uses if i.file in (None, str(r.launch.installed))]
         message = _unset_message(name, item, resolution)
         if len(alone) == len(uses) and (includer := _set_by_includer(ctx, resolution, item)) is not None:
@@ -1052,6 +1068,13 @@ def _unset_message(name: str, item: LaunchError, resolution: Resolution) -> str:
     return message
 
 
+def _included_name(path: str | None) -> str:
+    """An included launch file as its package names it (`pkg/launch/x.launch.py`)."""
+    if not path:
+        return "a launch file"
+    return path.rsplit("/share/", 1)[-1] if "/share/" in path else os.path.basename(path)
+
+
 def _a(word: str) -> str:
     return f"{'an' if word[:1].lower() in 'aeiou' else 'a'} {word}"
 
@@ -1066,6 +1089,7 @@ def _declare_hint(path: Path, name: str, item: LaunchError) -> str:
             f"declare it with DeclareLaunchArgument('{name}', default_value=...) or give "
             f"LaunchConfiguration('{name}', default=...)"
         )
+    hint += f" (without either, only `ros2 launch ... {name}:=VALUE` runs it)"
     if item.scoped_away:
         hint += f"; or set {name} outside the scoped GroupAction (or make it scoped=False)"
     return hint

@@ -457,6 +457,7 @@ def begin_visit() -> int:
     DEFERRED.clear()
     RUNNING.clear()
     RECORDER.unset_uses.clear()
+    RECORDER.unfollowed.clear()
     return len(RECORDER.required)
 
 
@@ -485,6 +486,7 @@ def settle_unset_uses(declared_from: int) -> None:
                 "configuration": use.name,
                 "deferred": use.deferred,
                 "scoped_away": use.scoped_away,
+                "unevaluated_include": use.unevaluated_include,
             },
         )
 
@@ -543,9 +545,14 @@ def record_visit_failure(
                 at,
                 running.kind if running else None,
                 running is not None and name in running.configurations,
+                RECORDER.unfollowed[-1] if RECORDER.unfollowed else None,
             )
         )
         return
+    if type(entity).__name__ in INCLUDES:  # what the included file declares is not known now
+        located = (getattr(entity, "_file", None), getattr(entity, "_line", None))
+        last = RECORDER.includes[-1] if RECORDER.includes else None
+        RECORDER.unfollowed.append(last.path if last and (last.file, last.line) == located else "")
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
         return

@@ -146,6 +146,7 @@ class ErrorRecordDict(RecordDict, total=False):
     configuration: str | None
     deferred: str | None
     scoped_away: bool
+    unevaluated_include: str | None
     limit: LimitKind | None
 
 
@@ -337,6 +338,10 @@ class Error(Record):
     # the configuration existed where that timer or handler stands, and a scoped GroupAction
     # (or an include in one) took it away before it ran (ros2/launch#825)
     scoped_away: bool = False
+    # a launch file included before the failing action that could not be evaluated here (its
+    # package not installed, or it failed): it may declare the configuration, as launch lets an
+    # included file's declarations stand after the include; None: none
+    unevaluated_include: str | None = None
     limit: LimitKind | None = None  # a worker limit hit (never cached)
 
 
@@ -494,6 +499,9 @@ class Recorder:
     # the current visit's uses of launch configurations not set (not sent: settled into required
     # or errors records when the visit is done)
     unset_uses: list[UnsetUse] = field(default_factory=list)
+    # the current visit's includes not followed (not installed here, or failed): what they
+    # would have declared is not known (not sent)
+    unfollowed: list[str] = field(default_factory=list)
 
     # one signature per kind: the item's keys are checked against that record's TypedDict
     @overload
@@ -578,6 +586,7 @@ class UnsetUse:
     at: tuple[str | None, int | None]  # the substitution's place (the entity's when not known)
     deferred: str | None = None  # Error.deferred
     scoped_away: bool = False  # Error.scoped_away
+    unevaluated_include: str | None = None  # Error.unevaluated_include
 
 
 @dataclass(frozen=True)

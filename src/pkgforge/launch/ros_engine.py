@@ -1024,6 +1024,7 @@ def _include(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
     RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
     _record_path(path, action, "IncludeLaunchDescription")
     if not exists or _phantom(path):
+        RECORDER.unfollowed.append(path)
         return None
     rt._LAUNCH_FILES.add(path)
     children: Iterable[Any] | None = action.execute(context)

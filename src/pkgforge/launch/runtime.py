@@ -1651,6 +1651,7 @@ class IncludeLaunchDescription(Action):
         RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, self)
         _record_path(path, self, "IncludeLaunchDescription")
         if not exists or _phantom(path):
+            RECORDER.unfollowed.append(path)
             return None
         from pkgforge.launch.evaluate import load_description  # noqa: PLC0415  (evaluate imports this module)
 
