@@ -352,6 +352,7 @@ def visit(
                 )
                 if not taken:
                     continue
+            executed(entity)
             children = entity.visit(context)
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
             if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
@@ -399,10 +400,19 @@ class Deferred:
     depth: int
     in_handler: bool
     spans: tuple[ReadSpans, ReadSpans]
+    # the action whose process the handler watches (target_action): its event never comes when the
+    # action never executes (its condition false), and then neither do the handler's entities
+    target: object | None = None
 
 
 DEFERRED: list[Deferred] = []  # in the order they were met (launch's order when all come at once)
 RUNNING: list[Deferred] = []  # the deferred entities being visited
+EXECUTED: set[int] = set()  # the actions the visit executed (their condition held), by id()
+
+
+def executed(entity: object) -> None:
+    """`entity` is executed in this visit (both engines: its condition held)."""
+    EXECUTED.add(id(entity))
 
 
 def defer(
@@ -417,6 +427,8 @@ def defer(
 ) -> None:
     """Keep a timer's or a handler's entities for when the description is done (both engines)."""
     configurations = frozenset(k for k in context.launch_configurations if isinstance(k, str))
+    # (read without marking the stand-in event as read: runtime.HandledEvent)
+    target = vars(event).get("action") if isinstance(event, runtime.HandledEvent) else None
     DEFERRED.append(
         Deferred(
             entities,
@@ -428,27 +440,44 @@ def defer(
             depth,
             in_handler,
             spans,
+            target,
         )
     )
 
 
 def run_deferred(context: Any, run: Callable[[Deferred], None]) -> None:
     """Visit what timers and handlers would run, once the description is done, in the order they
-    were met (and what those register, after them): `run(item)` visits one's entities."""
-    while DEFERRED:
-        item = DEFERRED.pop(0)
-        context._push_locals()
-        context.extend_locals(item.locals)
-        RUNNING.append(item)
-        try:
-            if item.event is None:
+    were met (and what those register, after them): `run(item)` visits one's entities. A handler
+    of a process whose action has not executed waits for it (a TimerAction may start it); one
+    whose action never executes never runs, as its event never comes."""
+    waiting: list[Deferred] = []
+    while True:
+        while DEFERRED:
+            item = DEFERRED.pop(0)
+            if item.target is not None and id(item.target) not in EXECUTED:
+                waiting.append(item)
+                continue
+            _run_deferred(context, item, run)
+        ready = [w for w in waiting if id(w.target) in EXECUTED]
+        if not ready:
+            return
+        waiting = [w for w in waiting if id(w.target) not in EXECUTED]
+        DEFERRED.extend(ready)
+
+
+def _run_deferred(context: Any, item: Deferred, run: Callable[[Deferred], None]) -> None:
+    context._push_locals()
+    context.extend_locals(item.locals)
+    RUNNING.append(item)
+    try:
+        if item.event is None:
+            run(item)
+        else:
+            with handling(context, item.event):
                 run(item)
-            else:
-                with handling(context, item.event):
-                    run(item)
-        finally:
-            RUNNING.pop()
-            context._pop_locals()
+    finally:
+        RUNNING.pop()
+        context._pop_locals()
 
 
 def begin_visit() -> int:
@@ -456,6 +485,7 @@ def begin_visit() -> int:
     settle_unset_uses needs."""
     DEFERRED.clear()
     RUNNING.clear()
+    EXECUTED.clear()
     RECORDER.unset_uses.clear()
     RECORDER.unfollowed.clear()
     return len(RECORDER.required)

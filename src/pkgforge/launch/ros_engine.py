@@ -1067,6 +1067,9 @@ def visit(
                 )
                 if not taken:
                     return
+            from pkgforge.launch.evaluate import executed
+
+            executed(entity)
             children = _handle(entity, context, depth)
         else:
             children = entity.visit(context)
