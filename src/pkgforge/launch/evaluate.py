@@ -488,6 +488,7 @@ def begin_visit() -> int:
     EXECUTED.clear()
     RECORDER.unset_uses.clear()
     RECORDER.unfollowed.clear()
+    RECORDER.failed_sets.clear()
     return len(RECORDER.required)
 
 
@@ -499,7 +500,7 @@ def settle_unset_uses(declared_from: int) -> None:
     declared = {r.name for r in RECORDER.required[declared_from:] if r.skipped is None}
     uses, RECORDER.unset_uses = RECORDER.unset_uses, []
     for use in uses:
-        if use.name in declared:
+        if use.name in declared or use.after_failed_set:
             file, line = use.entity_at
             RECORDER.add("required", {"name": use.name, "skipped": use.entity, "file": file, "line": line})
             continue
@@ -557,6 +558,35 @@ def child_spans(
     )
 
 
+def _configurations_set_by(entity: object) -> set[str]:
+    """The launch configurations `entity` sets when it executes, as far as its names are plain
+    text (both engines' DeclareLaunchArgument, SetLaunchConfiguration (<let>) and include
+    arguments): when it fails, a use of them after it fails as a consequence, not on its own."""
+    kind = type(entity).__name__
+    if kind == "DeclareLaunchArgument":
+        name = getattr(entity, "name", None)
+        return {name} if isinstance(name, str) else set()
+    names: list[object] = []
+    if kind == "SetLaunchConfiguration":
+        names = [getattr(entity, "name", None)]
+    elif kind in INCLUDES:
+        names = [pair[0] for pair in getattr(entity, "launch_arguments", None) or [] if len(pair) == 2]
+    return {text for text in map(_plain_name, names) if text}
+
+
+def _plain_name(name: object) -> str | None:
+    """A configuration's name given as text (a str, or TextSubstitutions only), else None."""
+    if isinstance(name, str):
+        return name
+    parts = name if isinstance(name, (list, tuple)) else [name]
+    texts = [getattr(part, "text", None) for part in parts]
+    return (
+        "".join(t for t in texts if isinstance(t, str))
+        if texts and all(isinstance(t, str) for t in texts)
+        else None
+    )
+
+
 def record_visit_failure(
     entity: object, error: Exception, spans: Spans | None = None, loading: Spans | None = None
 ) -> None:
@@ -564,6 +594,7 @@ def record_visit_failure(
     `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors';
     `loading`: those the included files it came from made while loading."""
     unset = runtime.missing_configuration(error)
+    would_set = _configurations_set_by(entity)
     if unset is not None:  # settled when the visit is done (settle_unset_uses)
         name, at = unset
         running = RUNNING[-1] if RUNNING else None
@@ -576,9 +607,12 @@ def record_visit_failure(
                 running.kind if running else None,
                 running is not None and name in running.configurations,
                 RECORDER.unfollowed[-1] if RECORDER.unfollowed else None,
+                name in RECORDER.failed_sets,
             )
         )
+        RECORDER.failed_sets.update(would_set)
         return
+    RECORDER.failed_sets.update(would_set)
     if type(entity).__name__ in INCLUDES:  # what the included file declares is not known now
         located = (getattr(entity, "_file", None), getattr(entity, "_line", None))
         last = RECORDER.includes[-1] if RECORDER.includes else None

@@ -238,8 +238,18 @@ class Element:
         return self.attrs.get(name, default)
 
     def sub(self, name: str) -> Subs | None:
+        """An attribute's substitutions, standing on this element's line (an <include>'s <arg>,
+        a <remap>: their own line, as the real front end locates what each element reads)."""
         value = self.get(name)
-        return None if value is None else parse_substitution(str(value))
+        if value is None:
+            return None
+        rt._FRONTEND_LOCATION.append(
+            (rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None, self.line)
+        )
+        try:
+            return parse_substitution(str(value))
+        finally:
+            rt._FRONTEND_LOCATION.pop()
 
     def named(self, tag: str) -> list[Element]:
         return [c for c in self.children if c.tag == tag]

@@ -502,6 +502,8 @@ class Recorder:
     # the current visit's includes not followed (not installed here, or failed): what they
     # would have declared is not known (not sent)
     unfollowed: list[str] = field(default_factory=list)
+    # the configurations actions that failed in the current visit would have set (not sent)
+    failed_sets: set[str] = field(default_factory=set)
 
     # one signature per kind: the item's keys are checked against that record's TypedDict
     @overload
@@ -587,6 +589,8 @@ class UnsetUse:
     deferred: str | None = None  # Error.deferred
     scoped_away: bool = False  # Error.scoped_away
     unevaluated_include: str | None = None  # Error.unevaluated_include
+    # an action before it that would have set it failed: a consequence of that failure
+    after_failed_set: bool = False
 
 
 @dataclass(frozen=True)
