@@ -112,7 +112,7 @@ def _found(report: dict, code: str) -> list[tuple[str, int, str]]:
     return sorted((d["path"], d["line"], d["severity"]) for d in report["diagnostics"] if d["code"] == code)
 
 
-@pytest.mark.triggers("PF319")
+@pytest.mark.triggers("PF320")
 @pytest.mark.parametrize("engine", ENGINES)
 def test_each_configuration_not_set_is_an_error_at_its_substitution(reports, engine):
     report = reports[engine, ""]
@@ -124,8 +124,8 @@ def test_each_configuration_not_set_is_an_error_at_its_substitution(reports, eng
     expected.append(
         (SOURCE + uncertain.name, line_of(uncertain, "LaunchConfiguration('use_sim_time')"), "info")
     )
-    assert _found(report, "PF319") == sorted(expected)
-    by_place = {(d["path"], d["line"]): d for d in report["diagnostics"] if d["code"] == "PF319"}
+    assert _found(report, "PF320") == sorted(expected)
+    by_place = {(d["path"], d["line"]): d for d in report["diagnostics"] if d["code"] == "PF320"}
     for file, text, name in UNSET:
         finding = by_place[SOURCE + file, line_of(LAUNCH / file, text)]
         assert f"launch configuration '{name}' does not exist" in finding["message"], finding
@@ -161,8 +161,8 @@ def test_a_required_argument_declared_after_its_use_is_only_required(reports, en
 def test_a_launch_arg_gives_the_configuration_its_value(reports, engine):
     report = reports[engine, "robot_model:=r2"]
     assert [d for d in report["diagnostics"] if d["path"] == SOURCE + "launch_arg.launch.py"] == []
-    assert _found(report, "PF319") == [
-        f for f in _found(reports[engine, ""], "PF319") if f[0] != SOURCE + "launch_arg.launch.py"
+    assert _found(report, "PF320") == [
+        f for f in _found(reports[engine, ""], "PF320") if f[0] != SOURCE + "launch_arg.launch.py"
     ]
 
 
@@ -171,7 +171,7 @@ def test_what_runs_after_the_description_says_so(reports, engine):
     """A timer's or a handler's action runs once the description is done: said, and for a scoped
     group's configuration (ros2/launch#825), that the group has ended by then."""
     by_file = {
-        d["path"].rsplit("/", 1)[1]: d for d in reports[engine, ""]["diagnostics"] if d["code"] == "PF319"
+        d["path"].rsplit("/", 1)[1]: d for d in reports[engine, ""]["diagnostics"] if d["code"] == "PF320"
     }
     assert (
         "(in a TimerAction: its actions run when its period has passed"
@@ -196,7 +196,7 @@ def test_the_hint_speaks_the_file_s_format(reports):
     hints = {
         d["path"].rsplit(".", 1)[1]: d["hint"]
         for d in reports["builtin", ""]["diagnostics"]
-        if d["code"] == "PF319"
+        if d["code"] == "PF320"
     }
     assert hints["xml"].startswith('declare it with <arg name="')
     assert hints["yaml"].startswith("declare it with `- arg: {name: ")
@@ -210,7 +210,7 @@ def test_after_an_include_not_evaluated_here_it_is_not_known(reports, engine):
     (finding,) = [
         d
         for d in reports[engine, ""]["diagnostics"]
-        if d["path"] == SOURCE + "after_unevaluated_include.launch.py" and d["code"] == "PF319"
+        if d["path"] == SOURCE + "after_unevaluated_include.launch.py" and d["code"] == "PF320"
     ]
     assert finding["severity"] == "info"
     assert (

@@ -975,7 +975,7 @@ def launch_argument_required(ctx: CheckContext) -> Iterator[Finding]:
 
 
 @register(
-    "PF319",
+    "PF320",
     "launch-configuration-undefined",
     "error",
     area="launch",
