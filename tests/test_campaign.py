@@ -307,6 +307,35 @@ HOSTILE_LAUNCH = {
 HOSTILE_RVIZ = {
     "bomb.rviz": "Visualization Manager:\n  Class: ''\n  Laughs:\n"
     + "".join(f"    {line}\n" for line in ALIAS_BOMB),
+    # issue 28, class 1: configurations not set where it is hard to say where (a name made of one,
+    # a timer or a handler that holds itself: what runs after the description never ends)
+    "confignested.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import LogInfo\n"
+        "from launch.substitutions import LaunchConfiguration as C\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([LogInfo(msg=C(C(C('x')), default=C('y')))])\n"
+    ),
+    "configtimerloop.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import TimerAction, LogInfo\n"
+        "from launch.substitutions import LaunchConfiguration\n"
+        "def generate_launch_description():\n"
+        "    t = TimerAction(period=0.0, actions=[LogInfo(msg=LaunchConfiguration('x'))])\n"
+        "    t.actions.append(t)\n"
+        "    return LaunchDescription([t])\n"
+    ),
+    "confighandlerloop.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import RegisterEventHandler, LogInfo\n"
+        "from launch.event_handlers import OnShutdown\nfrom launch.substitutions import LaunchConfiguration\n"
+        "def generate_launch_description():\n"
+        "    entities = [LogInfo(msg=LaunchConfiguration('x'))]\n"
+        "    handler = RegisterEventHandler(OnShutdown(on_shutdown=entities))\n"
+        "    entities.append(handler)\n"
+        "    return LaunchDescription([handler])\n"
+    ),
+    "confignames.launch.xml": (
+        '<launch><let name="$(var a)" value="1"/><node pkg="$(var pkg)" exec="x"/>'
+        '<timer period="$(var period)"><log message="$(var m)"/></timer></launch>\n'
+    ),
 }
 # hostile models: (file name, content)
 HOSTILE_XACRO = {

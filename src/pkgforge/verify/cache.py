@@ -104,7 +104,9 @@ if TYPE_CHECKING:
 # 49: with 48, setup.py run as colcon reads it when its text does not give its install; a package whose
 #    install is still unknown is its source in the tree (PF319 for lookups it lacks); command lines split
 #    as their consumer splits them (process records carry `shell`)
-CACHE_FORMAT = 49
+# 50: launch configurations not set are errors (PF320, Error.configuration); executions recorded; timers'
+#    and handlers' entities visited after the description, with its final configurations
+CACHE_FORMAT = 50
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
