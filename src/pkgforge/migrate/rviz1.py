@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -66,8 +66,8 @@ def convert(text: str, path: Path, notes: Notes, links: set[str], root_link: str
             cls = node.get("Class")
             if isinstance(cls, str) and cls:
                 line = lines.of("Class", cls)
-                if cls in table.RVIZ_CLASSES:
-                    node["Class"] = table.RVIZ_CLASSES[cls]
+                if cls in ros1_names.RVIZ_CLASSES:
+                    node["Class"] = ros1_names.RVIZ_CLASSES[cls]
                     notes.add("migrate-renamed", f"RViz class {cls} → {node['Class']}", path, line)
                 elif not cls.startswith(("rviz_common/", "rviz_default_plugins/")):
                     notes.add(

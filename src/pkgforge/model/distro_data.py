@@ -20,11 +20,9 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
-DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
+from pkgforge.model.ros1_names import PACKAGES as REPLACEMENTS
 
-# ROS 1 names, renamed packages and Gazebo Classic → their ROS 2 successors: one table, kept
-# with every other ROS 1 → ROS 2 name in migrate/table.py.
-from pkgforge.migrate.table import PACKAGES as REPLACEMENTS  # noqa: E402
+DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
 
 
 @dataclass(frozen=True)

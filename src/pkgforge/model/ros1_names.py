@@ -1,8 +1,9 @@
 """Every ROS 1 → ROS 2 name pkgforge knows, in one place.
 
 Packages (package.xml, launch files), node executables, and RViz 1 display classes. The
-checks (package-not-in-distro, unknown-package) read PACKAGES through distro_data.replacement;
-`pkgforge migrate` reads all of it.
+checks read it (package-not-in-distro and unknown-package PACKAGES through
+distro_data.replacement, rviz-ros1-config RVIZ_CLASSES); `pkgforge migrate` reads all of it. It
+lives in model, below both, so that no check imports a command.
 """
 
 from __future__ import annotations
