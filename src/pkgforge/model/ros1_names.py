@@ -94,12 +94,14 @@ SPAWN_OPTIONS: dict[str, str | None] = {
     "-J": None,
 }
 
-# RViz 1 class → RViz 2 class (displays, panels, tools, views)
+# RViz 1 class → RViz 2 class (displays, panels, tools, views): rviz2's own (rviz_common's panel and
+# display factories, rviz_default_plugins' plugins_description.xml)
 RVIZ_CLASSES: dict[str, str] = {
     **{
         f"rviz/{name}": f"rviz_common/{name}"
-        for name in ("Displays", "Selection", "Tool Properties", "Views", "Time", "Help")
+        for name in ("Displays", "Selection", "Tool Properties", "Views", "Time", "Help", "Group")
     },
+    "rviz/WrenchStamped": "rviz_default_plugins/Wrench",
     **{
         f"rviz/{name}": f"rviz_default_plugins/{name}"
         for name in (
@@ -131,9 +133,9 @@ RVIZ_CLASSES: dict[str, str] = {
             "RobotModel",
             "TF",
             "Temperature",
-            "WrenchStamped",
             "AccelStamped",
             "TwistStamped",
+            "Wrench",
             # tools
             "Interact",
             "MoveCamera",

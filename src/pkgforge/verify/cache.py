@@ -96,7 +96,10 @@ if TYPE_CHECKING:
 # 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
-CACHE_FORMAT = 47
+# 48: issue 28's ROS 1 leftovers and run-time rejects: PF504 RViz 1 configs, PF408 bare xacro tags,
+#    PF111 nested packages, urdfdom's refusals (PF401, PF409-PF411, structure "urdfdom"/"ros1_tags"),
+#    PF108 for names released nowhere and no rosdep key, texture lines
+CACHE_FORMAT = 48
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
