@@ -324,3 +324,23 @@ def test_a_rosdep_key_a_repos_entry_and_a_doc_depend_are_not_released_nowhere(pa
     )
     _, report = verify_report(package, "--no-cache", "--distro", "jazzy")
     assert found(report, "PF108") == []
+
+
+def test_a_dependency_in_an_ignored_folder_says_which_marker_hides_it(package):
+    declare(package, "<exec_depend>rob_perception</exec_depend>")
+    inner = package.parent / "rob_perception"
+    inner.mkdir()
+    (inner / "package.xml").write_text(
+        (package / "package.xml")
+        .read_text()
+        .replace("<name>rob_description</name>", "<name>rob_perception</name>")
+    )
+    (inner / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.8)\nproject(rob_perception NONE)\n"
+    )
+    (inner / "COLCON_IGNORE").touch()
+    _, report = verify_report(package, "--no-cache", "--distro", "jazzy")
+    manifest = package / "package.xml"
+    assert found(report, "PF108") == [("package.xml", line_of(manifest, "rob_perception"), "error")]
+    (hint,) = [d["hint"] for d in report["diagnostics"] if d["code"] == "PF108"]
+    assert hint.startswith("rob_perception is in the workspace, but rob_perception/COLCON_IGNORE hides it")

@@ -402,11 +402,24 @@ def _not_in_distro(
     # (by its name) in a repository a .repos file imports: `rosdep install` stops on it wherever it
     # runs ("Cannot locate rosdep definition"); a warning while no target distro is known (a
     # private rosdep source may define it), an error with one
+    hint = (
+        f"build {name} from source: put its repository in the workspace or in a .repos file beside the "
+        "packages (vcs import); or declare the released package or rosdep key it stands for"
+    )
+    ignored = ctx.ignored_packages().get(name)
+    if ignored is not None:
+        # (rosdep's --from-paths skips the folders colcon skips: catkin_pkg's ignore markers)
+        folder, marker = ignored
+        base = ctx.workspace_base or folder.parent
+        shown = marker.relative_to(base) if marker.is_relative_to(base) else marker
+        hint = (
+            f"{name} is in the workspace, but {shown} hides it from colcon and from rosdep's "
+            f"--ignore-src: delete {marker.name} to build it, or drop the dependency"
+        )
     return DistroProblem(
         f"'{name}' is released in no active ROS 2 distro and is no rosdep key: `rosdep install` fails "
         "on it on every machine, whatever the distro",
-        f"build {name} from source: put its repository in the workspace or in a .repos file beside the "
-        "packages (vcs import); or declare the released package or rosdep key it stands for",
+        hint,
         None if ctx.distros else Severity.WARNING,
     )
 

@@ -750,8 +750,9 @@ def xacro_ros1_tag(ctx: CheckContext) -> Iterator[Finding]:
     "link there: a failing <inertial> drops every visual and collision, a failing visual the "
     "visuals after it and every collision, a failing collision the collisions after it. The "
     "link is not drawn, or does not collide.",
-    hint="write the element as the URDF specification says (3 numbers separated by spaces; a "
-    "shape urdfdom knows: box, cylinder, sphere, mesh)",
+    hint="write the element as the URDF specification says: 3 numbers separated by spaces for xyz, "
+    "rpy, size and scale; a box, cylinder, sphere or mesh as the shape; <mass value> and all six "
+    "<inertia> attributes; a name on a visual's <material>",
 )
 def urdf_part_dropped(ctx: CheckContext) -> Iterator[Finding]:
     for _, problem, position in _urdfdom(ctx, ("part",)):

@@ -252,8 +252,15 @@ def _visual_material(
         return
     owner = ("link", link.get("name"))
     color, malformed, readable = _color(material)
-    known = materials.get(name)
+    # an empty name: assignMaterial returns at once, the visual keeps what it wrote (SolidWorks'
+    # exporter writes <material name=""> with each link's own colour)
+    known = materials.get(name) if name else None
     where = f"link '{link.get('name')}'"
+    if not name:
+        if malformed is not None:
+            effect = "urdfdom reads it as black" if readable else "RViz draws the link in its default colour"
+            found.add("color", f"{where}: {malformed}: {effect}", material, "rgba", owner)
+        return
     if known is None and readable:
         materials[name] = (color, material)
     if malformed is not None:
@@ -371,6 +378,8 @@ def _inertial(inertial: Element) -> tuple[Element, str | None, str] | None:
 def _link(link: Element, materials: dict[str, Material], uses: MaterialUses, found: Problems) -> None:
     """parseLink's order: the inertial, each visual, each collision; the first failure ends it."""
     name = link.get("name")
+    if name is None:
+        return  # parseLink stops at once (urdf-invalid names the link without a name)
     owner = ("link", name)
     inertial = _first(link, "inertial")
     failure = _inertial(inertial) if inertial is not None else None
@@ -492,7 +501,8 @@ def _joints(root: Element, found: Problems) -> None:
         failure = _joint(joint)
         if failure is not None:
             element, attribute, why = failure
-            found.add("model", f"joint '{name}': {why}: {REFUSED}", element, attribute, ("joint", name))
+            label = f"joint '{name}'" if name is not None else "a <joint>"
+            found.add("model", f"{label}: {why}: {REFUSED}", element, attribute, ("joint", name))
             continue
         mimic = _first(joint, "mimic")
         target = mimic.get("joint") if mimic is not None else None
