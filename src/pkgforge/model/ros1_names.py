@@ -40,11 +40,6 @@ PACKAGES: dict[str, tuple[str, str]] = {
     "ros_ign_bridge": ("ros_gz_bridge", "ros_ign_* was renamed ros_gz_*"),
     "ros_ign": ("ros_gz", "ros_ign_* was renamed ros_gz_*"),
     "ign_ros2_control": ("gz_ros2_control", "ign_ros2_control was renamed gz_ros2_control"),
-    # ROS 2 packages of end-of-life distros renamed since
-    "nav2_recoveries": (
-        "nav2_behaviors",
-        "nav2_recoveries (Foxy, Galactic) was renamed nav2_behaviors in Humble",
-    ),
 }
 
 # ROS 1 dependencies a migrated description package drops: the build tool and the launcher
