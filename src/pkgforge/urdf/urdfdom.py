@@ -14,7 +14,8 @@ attribute's value is written when it is written once, else the link's or joint's
   model.cpp ignores its result).
 - `color`: a material drawn in another colour than written (a malformed rgba, a name defined twice
   with two colours: the first wins, a name used before any <material> defines it).
-- `mimic`: a <mimic> naming no joint of the model (urdfdom does not look).
+- `mimic`: a moving joint's <mimic> naming no moving joint of the model (urdfdom does not look;
+  joint_state_publisher and robot_state_publisher do).
 """
 
 from __future__ import annotations
