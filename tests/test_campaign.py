@@ -374,6 +374,29 @@ HOSTILE_XACRO = {
         + "</g>" * 100_000
         + "</robot>\n"
     ),
+    # ROS 1's bare xacro tags, nested and in odd places (issue 28 class 3)
+    "ros1tags.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"><property name="x" value="1"/>'
+        '<macro name="m" params="p"><link name="${p}"/><macro name="n"/></macro>'
+        '<if value="${x}"><include filename="nowhere.xacro"/><arg name="a"/><link name="l"/></if>'
+        '<unless value="1"><link name="u"/></unless><xacro:m p="a"/><link name="r0"/></robot>\n'
+    ),
+    # what urdfdom refuses or drops, all at once (issue 28 class 7)
+    "urdfdom.urdf": (
+        '<robot><material name="m"/><material name="m"><color rgba="nan 1 1 1 1 1"/></material>'
+        "<material><texture/></material>"
+        '<link name="a"><inertial><origin xyz="inf 0 0"/></inertial><visual><geometry/></visual></link>'
+        '<link name="b"><visual><origin xyz="1e 0x10 1,5" rpy=""/><geometry><capsule/></geometry>'
+        '<material name="m"><color rgba="-1 2 3"/><texture filename=""/></material></visual>'
+        '<visual><geometry><mesh scale="1 1"/></geometry><material/></visual>'
+        '<collision><geometry><box size="     "/></geometry></collision></link>'
+        '<link name="c"><visual><geometry><sphere radius="r"/></geometry></visual></link>'
+        '<joint name="j" type="weird"><parent link="a"/><child link="b"/></joint>'
+        '<joint type="revolute"><parent link="a"/><child link="c"/><mimic joint="j"/><limit effort=""/></joint>'
+        '<joint name="k" type="continuous"><parent link="b"/><child link="c"/><mimic joint="k"/>'
+        '<mimic/><dynamics/><safety_controller/><calibration rising="x"/><axis xyz="0 0 0 0"/></joint>'
+        "</robot>\n"
+    ),
 }
 
 # hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot
@@ -484,6 +507,18 @@ def structural(package: Path, what: str, outside: Path) -> None:
             folder / "x.launch.py" if kind == "launch file" else meshes / "m.stl",
         )
         replace(target, lambda path: os.symlink(device, path))
+    elif what == "nested package":  # a package.xml inside the package (issue 28 class 6)
+        inner = package / "inner" / "nested_pkg"
+        inner.mkdir(parents=True)
+        (inner / "package.xml").write_text('<package format="3"><name>nested_pkg</name><name>twice</name>')
+    elif what == "rviz 1 config":  # ROS 1's classes, a group in a group, a class that is no string
+        (package / "rviz").mkdir(exist_ok=True)
+        (package / "rviz" / "ros1.rviz").write_text(
+            "Panels:\n  - Class: rviz/Displays\nVisualization Manager:\n  Displays:\n"
+            "    - Class: rviz/Group\n      Displays:\n        - Class: rviz/Group\n          Displays:\n"
+            "            - Class: rviz/RobotModel\n              Robot Description: robot_description\n"
+            "        - Class: [rviz/TF]\n        - Class: rviz/\n  Views: {Current: {Class: rviz/Orbit}}\n"
+        )
     else:
         raise AssertionError(what)
 
@@ -531,6 +566,8 @@ STRUCTURAL = (
     "launch file linked to /dev/urandom",
     "mesh linked to /dev/zero",
     "mesh linked to /dev/urandom",
+    "nested package",
+    "rviz 1 config",
 )
 
 

@@ -292,6 +292,11 @@ class CheckContext:
                 repositories = data.get("repositories") if isinstance(data, dict) else None
                 if isinstance(repositories, dict):
                     names.update(str(name).rsplit("/", 1)[-1] for name in repositories)
+                    # and the repository's own name (src/ur_driver: url .../Universal_Robots_ROS2_Driver.git)
+                    for spec in repositories.values():
+                        url = str(spec.get("url") or "") if isinstance(spec, dict) else ""
+                        if url.strip().rstrip("/"):
+                            names.add(url.strip().rstrip("/").removesuffix(".git").rsplit("/", 1)[-1])
                 for entry in data if isinstance(data, list) else []:
                     # .rosinstall: - git: {local-name: robotis_controller_msgs, uri: ...ROBOTIS-Framework-msgs.git}
                     for spec in entry.values() if isinstance(entry, dict) else []:

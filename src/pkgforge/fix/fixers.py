@@ -731,6 +731,30 @@ def fix_fixed_frame(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     return fix
 
 
+@fixer("rviz-ros1-config")
+def fix_rviz1_config(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
+    """The whole config converted as `pkgforge migrate` converts one (unsafe: the file is written
+    anew, its comments and RViz 1's window layout are not kept, classes RViz 2 lacks are left out)."""
+    from pkgforge.errors import PkgforgeError
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.migrate.rviz1 import convert
+
+    source = ctx.files.get(diagnostic.path)
+    notes = Notes(diagnostic.package)
+    try:
+        converted = convert(source.text, source.path, notes, set(), None, by="pkgforge fix")
+    except PkgforgeError as exc:
+        raise Unfixable(str(exc).split(": ", 1)[-1]) from exc
+    renamed = sum(1 for d in notes.diagnostics if d.name == "migrate-renamed")
+    dropped = sum(1 for d in notes.diagnostics if d.name == "migrate-dropped")
+    fix = Fix(
+        f"converted to RViz 2: {renamed} class(es) renamed"
+        + (f", {dropped} without an RViz 2 class left out" if dropped else "")
+    )
+    fix.add(source.path, Edit(0, len(source.text), converted.replace("\n", source.eol)))
+    return fix
+
+
 # --- models ------------------------------------------------------------------------------------------
 
 

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
 from pkgforge.model.source import not_regular, read_regular
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import WalkLimit, walk
@@ -155,7 +155,7 @@ def _models(
                     reference.problem = problem
                     missing.append(reference)
         for element in root.iter("plugin"):
-            if table.is_gazebo_classic_plugin(element.get("filename", "")):
+            if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
                 notes.add(
                     "migrate-gazebo-classic",
                     f"Gazebo Classic plugin {element.get('filename')} is kept as "
@@ -267,14 +267,14 @@ def migrate(
         dependency = (element.text or "").strip()
         if not dependency or dependency == name:
             continue
-        if dependency in table.DROPPED_DEPENDENCIES:
+        if dependency in ros1_names.DROPPED_DEPENDENCIES:
             notes.add(
                 "migrate-dependency-dropped",
                 f"<{element.tag!s}>{dependency}</{element.tag!s}> is ROS 1 only: not carried over",
                 source / "package.xml",
                 element.sourceline,
             )
-        elif dependency in table.GAZEBO_DEPENDENCIES:
+        elif dependency in ros1_names.GAZEBO_DEPENDENCIES:
             if gazebo:
                 depends.add("ros_gz_sim")
                 notes.add(
@@ -291,7 +291,7 @@ def migrate(
                     source / "package.xml",
                     element.sourceline,
                 )
-        elif (replacement := table.package(dependency)) and not data.released(dependency, target):
+        elif (replacement := ros1_names.package(dependency)) and not data.released(dependency, target):
             better = replacement[0]
             depends.add(better)
             notes.add(

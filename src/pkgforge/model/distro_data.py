@@ -20,11 +20,12 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
-DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
+from pkgforge.model.ros1_names import PACKAGES as REPLACEMENTS
 
-# ROS 1 names, renamed packages and Gazebo Classic → their ROS 2 successors: one table, kept
-# with every other ROS 1 → ROS 2 name in migrate/table.py.
-from pkgforge.migrate.table import PACKAGES as REPLACEMENTS  # noqa: E402
+DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
+# rosdep's keys (system packages: eigen, python3-numpy, ...), written by scripts/update-distro-data
+# from ros/rosdistro's rosdep/*.yaml: a name neither released nor a key fails `rosdep install`
+ROSDEP_FILE = Path(__file__).parent / "data" / "rosdep_keys.txt"
 
 
 @dataclass(frozen=True)
@@ -103,6 +104,25 @@ def load() -> DistroData:
 
 def active_distros() -> list[str]:
     return load().names
+
+
+@functools.lru_cache(maxsize=1)
+def rosdep_keys() -> frozenset[str]:
+    """Every key of rosdep's default sources, for some platform (a key rosdep resolves on none of
+    the target's platforms is not told apart)."""
+    text = ROSDEP_FILE.read_text(encoding="utf-8")
+    return frozenset(word for line in text.splitlines() if not line.startswith("#") for word in line.split())
+
+
+def render_rosdep(keys: Iterable[str], source: str) -> str:
+    """The rosdep key file's text: a header, then the keys sorted, a few to a line."""
+    names = sorted(set(keys))
+    lines = [
+        "# rosdep's keys: the rules of rosdep's default sources for system packages (REP 111).",
+        f"# Source: {source}. Written by scripts/update-distro-data; do not edit.",
+    ]
+    lines += [" ".join(names[start : start + 12]) for start in range(0, len(names), 12)]
+    return "\n".join(lines) + "\n"
 
 
 def replacement(name: str) -> tuple[str, str] | None:

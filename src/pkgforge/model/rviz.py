@@ -12,6 +12,9 @@ from pkgforge.model.source import read_source
 from pkgforge.model.yamlnodes import compose, problem
 
 ROBOT_MODEL = "rviz_default_plugins/RobotModel"
+# the plugin namespace of RViz 1's own classes (rviz/RobotModel, rviz/Orbit, rviz/Displays): rviz2
+# knows none of them (its own are rviz_common/ and rviz_default_plugins/)
+RVIZ1_PREFIX = "rviz/"
 
 
 # one display of an RViz config (a group's displays too), as the checks read it ("class" is a
@@ -40,6 +43,8 @@ class RvizConfig:
     fixed_frame: str | None = None
     fixed_frame_line: int | None = None
     displays: list[Display] = field(default_factory=list)
+    # every RViz 1 class (display, panel, tool, view) the config names, with its line, in file order
+    ros1_classes: list[tuple[str, int]] = field(default_factory=list)
 
 
 def _line(node: yaml.Node) -> int:
@@ -84,11 +89,30 @@ def read_rviz(path: Path) -> RvizConfig:
         node = todo.pop()
         if _display(node, config.displays):
             todo += reversed(_sequence(_mapping(node).get("Displays")))
+    config.ros1_classes = _ros1_classes(document)
     return config
 
 
 def _sequence(node: yaml.Node | None) -> list[yaml.Node]:
     return node.value if isinstance(node, yaml.SequenceNode) else []
+
+
+def _ros1_classes(document: yaml.Node | None) -> list[tuple[str, int]]:
+    """(class, line) of every `Class: rviz/...` anywhere in the config (panels, displays in
+    groups, tools, views), in file order."""
+    found: list[tuple[str, int]] = []
+    stack = [document]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, yaml.MappingNode):
+            klass = _mapping(node).get("Class")
+            value = _scalar(klass)
+            if klass is not None and value and value.startswith(RVIZ1_PREFIX):
+                found.append((value, _line(klass)))
+            stack.extend(value for _, value in node.value)
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(node.value)
+    return sorted(found, key=lambda item: item[1])
 
 
 def _key_lines(node: yaml.Node | None) -> dict[str, int]:

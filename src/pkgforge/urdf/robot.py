@@ -22,6 +22,7 @@ from lxml import etree
 
 from pkgforge.model.source import FileTooLarge, NotRegularFile, read_regular
 from pkgforge.sandbox.protocol import ErrorRecord, ModelReply
+from pkgforge.urdf.ros1_xacro import describe, ros1_tags
 from pkgforge.urdf.structure import (
     Geometry,
     Inertial,
@@ -32,7 +33,9 @@ from pkgforge.urdf.structure import (
     Origin,
     Part,
     RobotStructure,
+    Ros1Tag,
 )
+from pkgforge.urdf.urdfdom import problems
 
 Element = etree._Element
 # (tag, literal name) → (file, line) across a model's files
@@ -95,13 +98,12 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
             },
         }
     expanded = includes is not None
-    sources = _name_index([path, *includes]) if includes is not None else {}
-    return {
-        "status": "ok",
-        "error": None,
-        "includes": includes or [],
-        "robot": _structure(root, path, sources, expanded),
-    }
+    files = [path, *(includes or [])]
+    sources = _name_index(files) if expanded else {}
+    robot = _structure(root, path, sources, expanded, files)
+    # xacro ran (or the file uses none of it) with ROS 1's bare tags left in as plain elements
+    robot["ros1_tags"] = ros1_tags(files)
+    return {"status": "ok", "error": None, "includes": includes or [], "robot": robot}
 
 
 def xml_problem(exc: etree.XMLSyntaxError) -> str:
@@ -135,7 +137,8 @@ def structure_of_output(path: str, urdf: str, includes: list[str]) -> RobotStruc
         root = parse_model_xml(urdf)
     except etree.XMLSyntaxError:
         return None
-    return _structure(root, path, _name_index([path, *includes]), expanded=True)
+    files = [path, *includes]
+    return _structure(root, path, _name_index(files), True, files)
 
 
 @dataclasses.dataclass
@@ -190,11 +193,34 @@ def _expand(path: str, raw: str, mappings: dict[str, str]) -> tuple[str, list[st
     if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
         return _recursion_error(xacro, path)
     status, record = _xacro_error(xacro, exc, path, mappings)
+    # ROS 1's bare <macro>, <property> ... in the files xacro read: the failure is theirs (a
+    # macro's parameter undefined where ROS 2's xacro evaluates the bare <macro>'s body)
+    read = [path, *(f for f in (getattr(xacro, "all_includes", None) or []) if f != path)]
+    tags = ros1_tags(read) if status == "error" and record["stage"] == "xacro" else []
+    if tags:
+        return {"status": "error", "error": _ros1_error(path, tags, record)}
     if (
         not mappings and status == "error" and record["stage"] == "xacro" and "type" not in record
     ):  # a worker limit hit: no second run
         status = _blame_empty_arguments(xacro, path, record, arguments) or status
     return {"status": status, "error": record}
+
+
+def _ros1_error(path: str, tags: list[Ros1Tag], failure: ErrorRecord) -> ErrorRecord:
+    """The error of a model whose xacro run failed with ROS 1's bare xacro tags in its files: at
+    the first tag, naming them all and what xacro then said."""
+    first = tags[0]
+    said = [line.strip() for line in str(failure.get("message") or "").strip().splitlines()]
+    return {
+        "message": f"{describe(tags, path)}: ROS 1's xacro tags without the xacro: prefix, which ROS 2's "
+        "xacro does not process (it keeps them as plain elements)"
+        + (f"; xacro then fails: {said[0]}" if said else ""),
+        "file": first["file"],
+        "line": first["line"],
+        "stage": "ros1-xacro",
+        "hint": f"write <xacro:{first['tag']}> (each of them with the xacro: prefix), with "
+        'xmlns:xacro="http://www.ros.org/wiki/xacro" on <robot>',
+    }
 
 
 def _blame_empty_arguments(
@@ -408,13 +434,61 @@ def _name_index(files: list[str]) -> Sources:
     return index
 
 
-def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> RobotStructure:
+class _Texts:
+    """The model's files as text, read once, to find where an attribute's value is written."""
+
+    def __init__(self, files: list[str]):
+        self.files = list(dict.fromkeys(files))
+        self.texts: dict[str, str] = {}
+
+    def text(self, file: str) -> str:
+        if file not in self.texts:
+            try:
+                with open(file, encoding="utf-8", errors="replace") as handle:
+                    self.texts[file] = handle.read(MAX_MODEL_BYTES)
+            except OSError:
+                self.texts[file] = ""
+        return self.texts[file]
+
+    def written_once(self, tag: str, attribute: str, value: str) -> tuple[str, int] | None:
+        """(file, line) of the one `<tag ... attribute="value"` across the files, or None when it
+        is written nowhere literally (an expression) or more than once."""
+        pattern = re.compile(rf"\b{re.escape(attribute)}\s*=\s*([\"']){re.escape(value)}\1")
+        found: list[tuple[str, int]] = []
+        for file in self.files:
+            text = self.text(file)
+            for match in pattern.finditer(text):
+                start = text.rfind("<", 0, match.start())
+                if re.match(rf"<\s*{re.escape(tag)}[\s/>]", text[start:]):
+                    found.append((file, text.count("\n", 0, match.start()) + 1))
+                    if len(found) > 1:
+                        return None
+        return found[0] if found else None
+
+
+def _structure(
+    root: Element, path: str, sources: Sources, expanded: bool, files: list[str] | None = None
+) -> RobotStructure:
     plain = not expanded  # element lines are the file's own lines
+    texts = _Texts(files or [path])
 
     def where(element: Element, tag: str | None = None, name: str | None = None) -> tuple[str, int | None]:
         if tag and name and (tag, name) in sources:
             return sources[(tag, name)]
         return (path, element.sourceline if plain else None)
+
+    def place(
+        element: Element, attribute: str | None, owner: tuple[str, str | None]
+    ) -> tuple[str, int | None]:
+        """Where a person edits what urdfdom refuses: the element's line in a plain file; in xacro
+        output, where the attribute's value is written (once), else its link's or joint's line."""
+        if plain:
+            return path, element.sourceline
+        value = element.get(attribute) if attribute else None
+        written = texts.written_once(str(element.tag), attribute, value) if attribute and value else None
+        if written is not None:
+            return written
+        return where(element, *owner)
 
     robot: RobotStructure = {
         "root_tag": root.tag if isinstance(root.tag, str) else None,
@@ -422,9 +496,12 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
         "links": [],
         "joints": [],
         "meshes": [],
+        "urdfdom": [],
+        "ros1_tags": [],
     }
     if root.tag != "robot":
         return robot
+    robot["urdfdom"] = problems(root, place)
     materials = _materials(root)
     for link in root.findall("link"):
         name = link.get("name")
@@ -453,14 +530,11 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
                         )
     for material in root.iter("texture"):
         if texture := material.get("filename"):
+            texture_file, texture_line = (
+                (path, material.sourceline) if plain else sources.get(("texture", texture), (path, None))
+            )
             robot["meshes"].append(
-                {
-                    "uri": texture,
-                    "link": None,
-                    "kind": "texture",
-                    "file": path,
-                    "line": material.sourceline if plain else None,
-                }
+                {"uri": texture, "link": None, "kind": "texture", "file": texture_file, "line": texture_line}
             )
     for joint in root.findall("joint"):
         name = joint.get("name")

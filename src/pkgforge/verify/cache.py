@@ -106,7 +106,9 @@ if TYPE_CHECKING:
 #    as their consumer splits them (process records carry `shell`)
 # 50: launch configurations not set are errors (PF320, Error.configuration); executions recorded; timers'
 #    and handlers' entities visited after the description, with its final configurations
-CACHE_FORMAT = 50
+# 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
+#    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
+CACHE_FORMAT = 51
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
