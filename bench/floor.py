@@ -99,9 +99,9 @@ def launch_engine(engine: str, ros_prefix: Path | None, distro: str) -> Callable
     os.environ["PKGFORGE_ROS_DISTRO"] = distro
     if ros_prefix is not None:
         os.environ["PKGFORGE_ROS_PREFIX"] = str(ros_prefix)
-    from pkgforge.sandbox import worker
+    from pkgforge.evaluation.requests import prepare
 
-    worker.prepare()
+    prepare()
     if engine == "ros":
         from pkgforge.launch import ros_engine
 

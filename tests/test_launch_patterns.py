@@ -178,10 +178,10 @@ def test_launch_files_not_installed_are_evaluated_from_the_source(tmp_path):
 
 
 def worker(requests: list[dict], env: dict | None = None) -> list[dict]:
-    """The replies of `python -m pkgforge.sandbox.worker` to the requests (each line followed by
+    """The replies of `python -m pkgforge.evaluation` to the requests (each line followed by
     its token line, as the parent sends them); its first line, the hello, is left out."""
     done = subprocess.run(
-        [sys.executable, "-m", "pkgforge.sandbox.worker"],
+        [sys.executable, "-m", "pkgforge.evaluation"],
         capture_output=True,
         text=True,
         input="".join(json.dumps(r) + f"\nt{i}\n" for i, r in enumerate(requests)),

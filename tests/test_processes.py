@@ -143,7 +143,7 @@ def test_signal_kills_every_process_and_exits_128_plus_signal(tmp_path, name, pa
     marker = uuid.uuid4().hex
     process = start_verify(tmp_path, marker)
     wait_for(marker, "sleep 7772", process)
-    assert any("pkgforge.sandbox.worker" in cmdline for _, cmdline in marked(marker))
+    assert any("pkgforge.evaluation" in cmdline for _, cmdline in marked(marker))
     started = time.monotonic()
     process.send_signal(getattr(signal, name))
     out, err = process.communicate(timeout=60)

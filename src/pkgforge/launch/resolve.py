@@ -154,7 +154,7 @@ class _Worker:
             process = self.zygote.spawn(env)
         else:
             process = subprocess.Popen(
-                [sys.executable, "-m", "pkgforge.sandbox.worker"],
+                [sys.executable, "-m", "pkgforge.evaluation"],
                 stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE,
                 stderr=subprocess.DEVNULL,

@@ -4,7 +4,7 @@ colcon-python-setup-py reads an ament_python package's metadata by running, in t
 folder, `distutils.core.run_setup('setup.py', script_args=('--dry-run',), stop_after='config')`
 with setuptools imported first: setup.py runs whole, its setup() call builds setuptools'
 Distribution from the keyword arguments and setup.cfg, and stops there, before any command.
-`run_setup_py` does the same in a request's fresh, confined process (sandbox/worker.py), so what
+`run_setup_py` does the same in a request's fresh, confined process (evaluation/requests.py, in the sandbox), so what
 a helper function with glob, os.walk or a list comprehension computes is what pkgforge predicts.
 Two differences, both so that evaluating never changes anything: setup_requires is not fetched
 (setuptools would install eggs before calling setup()), and the process may write nowhere but

@@ -29,12 +29,11 @@ import json
 import os
 import select
 import signal
-import sys
 import tempfile
 import time
 from typing import Any, NoReturn
 
-from pkgforge.sandbox import landlock, namespaces, processes, warmup, worker
+from pkgforge.sandbox import landlock, namespaces, processes, worker
 from pkgforge.sandbox.confinement import probe
 from pkgforge.sandbox.protocol import Confinement, Hello, WorkerLimits, WorkerRequest
 from pkgforge.walk import remove_tree
@@ -49,9 +48,10 @@ PR_SET_PDEATHSIG = 1
 Reply = dict[str, Any]
 
 
-def main(confinement: Confinement | None = None) -> None:
+def main(evaluator: worker.Evaluator, confinement: Confinement | None = None) -> None:
     """The coordinator on stdin (requests) and stdout (replies); returns when stdin closes.
-    `confinement`: what the fork server's probe found (else probed here)."""
+    `evaluator`: what the requests mean (pkgforge.evaluation); `confinement`: what the fork
+    server's probe found (else probed here)."""
     confinement = probe() if confinement is None else confinement
     # Ctrl-C is pkgforge's to handle (it kills every worker); and no process of the same user
     # reads this one's descriptors or memory through /proc (the request sent ahead, its token)
@@ -66,7 +66,7 @@ def main(confinement: Confinement | None = None) -> None:
     applied = _enter(confinement, [*guard.writable_roots(), work])
     limits["parent"] = os.getpid()  # each request's process dies with this one
     landlock.abi_version()  # (loads the C library once, here, for every request's process)
-    engine = worker.prepare()
+    evaluator.prepare()
     hello: Hello = {"hello": applied}
     _send(hello)
     prepared: set[str] = set()
@@ -75,13 +75,13 @@ def main(confinement: Confinement | None = None) -> None:
         if line is None:
             return
         request: WorkerRequest = json.loads(line)
-        _prepare_for(request, engine, work, prepared)
+        _prepare_for(request, evaluator, work, prepared)
         own = tempfile.mkdtemp(prefix="request-", dir=work)
         reply_read, reply_write = os.pipe()
         child = os.fork()
         if child == 0:
             os.close(reply_read)
-            worker.answer(request, engine, limits, reply_write, own, applied)
+            worker.answer(request, evaluator, limits, reply_write, own, applied)
         os.close(reply_write)
         token = _read_line(0)  # read only now: the process that evaluates never holds it
         reply = _collect(child, reply_read, limits, applied)
@@ -91,17 +91,14 @@ def main(confinement: Confinement | None = None) -> None:
         _send(reply)
 
 
-def _prepare_for(request: WorkerRequest, engine: worker.Engine, work: str, prepared: set[str]) -> None:
+def _prepare_for(request: WorkerRequest, evaluator: worker.Evaluator, work: str, prepared: set[str]) -> None:
     """What every process of the request's kind would import and cache, made once here before the
-    first one is forked: the scaffold evaluated for launch files and models (warmup.py), setuptools
+    first one is forked: the scaffold evaluated for launch files and models (evaluation/warmup.py), setuptools
     for setup.py files. (A coordinator that answers only setup.py files warms no launch engine.)"""
     kind = "setup" if "setup" in request else "launch"
     if kind in prepared:
         return
-    if kind == "setup":
-        worker.prepare_setup()
-    else:
-        warmup.run(engine, work)
+    evaluator.warm(kind, work)
     import gc
 
     gc.freeze()  # (and left alone by the collector of each forked process)
@@ -384,8 +381,3 @@ def death_message(code: int | None, limits: WorkerLimits) -> str:
         f"the process evaluating it exited (status {code}) without a result "
         "(os._exit or a crash in an extension module)"
     )
-
-
-if __name__ == "__main__":  # pragma: no cover - `python -m pkgforge.sandbox.worker` is the entry
-    main()
-    sys.exit(0)

@@ -1,4 +1,4 @@
-"""The messages between pkgforge and its launch worker (sandbox/worker.py): one JSON object per line.
+"""The messages between pkgforge and its launch worker (sandbox/worker.py, evaluation/requests.py): one JSON object per line.
 
 The parent (launch/resolve.py) writes a request per launch file, robot model or setup.py on the worker's
 stdin and reads one reply per request from its stdout; the worker's limits come once, as JSON in
@@ -10,11 +10,10 @@ from __future__ import annotations
 
 from typing import Literal, TypedDict, final
 
-from pkgforge.urdf.structure import ModelStatus, RobotStructure
-
 # A launch file's reply is launch/records.LaunchResultDict (the records' own JSON shape, defined
-# beside the records); a model's is ModelReply below. Both statuses are defined once, where their
-# replies are made: launch/records.Status, urdf/structure.ModelStatus.
+# beside the records); a model's is urdf/structure.ModelReply; a setup.py's is SetupReply below.
+# Each is defined where it is made, above this module: the sandbox carries replies, it does not
+# read them.
 
 # the worker limit a breach hit (worker._limit_message): never cached by the parent
 LimitKind = Literal["time", "cpu", "memory", "files"]
@@ -124,19 +123,6 @@ class ErrorRecord(TypedDict, total=False):
     module: str | None
     branch: dict[str, str]
     branches: list[str]
-
-
-@final
-class ModelReply(TypedDict, total=False):
-    """urdf/robot.process_model's answer: the robot's structure, or why there is none."""
-
-    status: ModelStatus
-    error: ErrorRecord | None
-    errors: list[ErrorRecord]  # what the guard refused while answering (none for models)
-    includes: list[str]  # the files the model included (absolute paths)
-    robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
-    request: WorkerRequest  # the request it answers (the coordinator adds it)
-    token: str  # the request's token (the coordinator adds it; the parent checks and drops it)
 
 
 # one data_files entry as setup() got it: [destination, [file, ...]], or a lone file (installed

@@ -1,5 +1,9 @@
 """What runs in the fresh process forked for one launch file or robot model (sandbox/coordinator.py).
 
+What a request means (a launch file evaluated by an engine, a xacro model, a setup.py) is the
+`Evaluator`'s, given by the process's entry (pkgforge/evaluation): this module only confines the
+process, runs the evaluator under the limits and writes its one reply.
+
 Launch files and xacro are user code. Each request gets a process of its own, forked by the
 worker's coordinator, that never evaluates anything else. Before any user code runs it:
 - holds no descriptor of pkgforge's: stdin is a pipe nobody writes, stdout and stderr are
@@ -22,36 +26,27 @@ import math
 import os
 import signal
 import sys
-import traceback
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType
-from typing import TYPE_CHECKING, Any, NoReturn, cast
+from typing import TYPE_CHECKING, Any, NoReturn, Protocol
 
 from pkgforge.sandbox.protocol import (
     Confinement,
-    ErrorRecord,
     LimitKind,
-    ModelReply,
-    SetupReply,
     WorkerLimits,
     WorkerRequest,
 )
 
 if TYPE_CHECKING:
-    from pkgforge.launch.records import BranchBudget, LaunchResultDict
-
-    WorkerReply = LaunchResultDict | ModelReply | SetupReply
     from pkgforge.sandbox.processes import LoadAllowance
 
-API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
+# a reply as plain data: a launch file's records (launch/records.as_dict), a ModelReply or a SetupReply
+WorkerReply = dict[str, Any]
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
 # bytes a request's process may write in all (its folder, its views of the tree and /tmp) when
 # --worker-memory is unlimited; else that (the tmpfs holding them is memory too)
 PRIVATE_FOLDER_SIZE = 2 * 2**30
-# the extra argument combinations start and run only until this share of --launch-timeout
-BRANCH_SHARE = 0.7
 
 
 class TimeLimit(BaseException):
@@ -63,16 +58,28 @@ class CPULimit(BaseException):
     """Raised in the launch file's code when its CPU time runs out (SIGXCPU)."""
 
 
-def _install_api() -> None:
-    """Serve pkgforge's launch, launch_ros, launch_xml and launch_yaml (the real names of the
-    target distro, PKGFORGE_LAUNCH_DISTRO) before anything on the path."""
-    from pkgforge.launch import api
+class Evaluator(Protocol):
+    """What the requests mean, given by the process's entry (pkgforge.evaluation.requests): the
+    sandbox forks, confines and limits; the evaluator imports, warms and evaluates."""
 
-    api.install()
-    try:
-        import ament_index_python.packages  # noqa: F401  (the real one, from the ament extra or ROS)
-    except ImportError:
-        sys.path.insert(0, str(API_AMENT))
+    def preload(self) -> None:
+        """In the fork server, once: imports every worker forked from it starts with."""
+
+    def prepare(self) -> None:
+        """In a coordinator, once, before any request (no user code runs here)."""
+
+    def warm(self, kind: str, work: str) -> None:
+        """In a coordinator, before its first request of `kind` ("launch" or "setup"): what each
+        such request's process would make lazily, made once (in `work`, the coordinator's folder)."""
+
+    def evaluate(self, request: WorkerRequest, limits: WorkerLimits) -> WorkerReply:
+        """The request's reply, in the confined process, with the limits armed."""
+
+    def failed(self, request: WorkerRequest, error: BaseException) -> WorkerReply:
+        """The reply when evaluate() raised (a limit hit while visiting): located where it can be."""
+
+    def locate(self) -> tuple[str | None, int | None]:
+        """Where the user's code being evaluated is now (the guard's refusals name it)."""
 
 
 # --- limits ---------------------------------------------------------------------------------
@@ -155,38 +162,15 @@ def _arm(limits: WorkerLimits) -> None:
         pass
 
 
-def _budget(limits: WorkerLimits) -> BranchBudget | None:
-    """How long this request's argument combinations past the defaults may run (records.BranchBudget):
-    until BRANCH_SHARE of the time limit, leaving the rest for the reply. The defaults have the
-    whole limit: a file that finishes them is never an error for want of time for the others."""
-    import time
-
-    from pkgforge.launch.records import BranchBudget
-
-    timeout = limits.get("timeout")
-    if not timeout:
-        return None
-
-    def limit(seconds: float) -> None:
-        _stop_allowance()  # the branches' budget is wall time as it comes: what does not fit is said
-        remaining, _ = signal.getitimer(signal.ITIMER_REAL)
-        if remaining <= 0 or seconds < remaining:
-            signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
-
-    return BranchBudget(
-        time.monotonic() + BRANCH_SHARE * float(timeout), (TimeLimit, CPULimit), limit, _disarm
-    )
-
-
-def _stop_allowance() -> None:
+def stop_allowance() -> None:
     if _allowance is not None:
         _allowance.stop()
 
 
-def _disarm() -> None:
+def disarm() -> None:
     import resource
 
-    _stop_allowance()
+    stop_allowance()
     signal.setitimer(signal.ITIMER_REAL, 0)
     try:
         _, hard = resource.getrlimit(resource.RLIMIT_CPU)
@@ -236,7 +220,7 @@ def _mark_limits(result: WorkerReply, limits: WorkerLimits) -> None:
             continue
         original = str(record.get("message", ""))
         record["limit"], record["message"] = breach
-        if record is not result.get("error"):
+        if id(record) != id(result.get("error")):
             continue  # an entity's error is shown with its type already
         if breach[0] == "time":
             result["status"] = "timeout"
@@ -246,32 +230,14 @@ def _mark_limits(result: WorkerReply, limits: WorkerLimits) -> None:
             record["message"] = f"{prefix}MemoryError: {breach[1]}"
 
 
-def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
-    """An error that escaped evaluate() (a limit hit while visiting), at the launch file's line."""
-    record: ErrorRecord = {
-        "stage": "worker",
-        "type": type(error).__name__,
-        "message": str(error),
-        "file": _subject(request),
-        "line": None,
-    }
-    if "file" in request:
-        from pkgforge.launch import runtime
-
-        frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in runtime._LAUNCH_FILES]
-        if frames:
-            record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
-    return record
-
-
-def _subject(request: WorkerRequest) -> str:
+def subject(request: WorkerRequest) -> str:
     """The file a request evaluates."""
     if "file" in request:
         return request["file"]
     return request["model"] if "model" in request else request["setup"]
 
 
-def _install_guard(own: str) -> bool:
+def _install_guard(own: str, evaluator: Evaluator) -> bool:
     """The guard, for pkgforge's temporary install tree and this process's own folder `own`; the
     processes it starts get it through PYTHONPATH."""
     from pkgforge.sandbox import guard
@@ -294,19 +260,7 @@ def _install_guard(own: str) -> bool:
         os.pathsep + os.environ["PYTHONPATH"] if os.environ.get("PYTHONPATH") else ""
     )
 
-    def where() -> tuple[str | None, int | None]:
-        from pkgforge.launch import runtime
-
-        file, line = runtime.here()
-        if file is None:  # a construct being visited (a Command running): where it was written
-            frame: FrameType | None = sys._getframe(1)
-            while frame is not None and file is None:
-                owner = frame.f_locals.get("self")
-                file, line = getattr(owner, "_file", None), getattr(owner, "_line", None)
-                frame = frame.f_back
-        return file, line
-
-    guard.set_locator(where)
+    guard.set_locator(evaluator.locate)
     return True
 
 
@@ -335,105 +289,9 @@ def _refusals(result: WorkerReply, request: WorkerRequest) -> None:
         )
 
 
-def _launch_reply(reply: Mapping[str, Any]) -> LaunchResultDict:
-    """An engine's reply (plain data, launch/records.as_dict) as the protocol's type."""
-    return cast("LaunchResultDict", reply)
-
-
-def preload() -> None:
-    """Import ahead what main() imports, with no other effect: the fork server (zygote.py) runs
-    this once, and every worker forked from it starts with these modules loaded."""
-    import resource  # noqa: F401
-    import tempfile  # noqa: F401
-
-    from pkgforge.launch import records  # noqa: F401
-    from pkgforge.sandbox import (
-        guard,  # noqa: F401
-        processes,  # noqa: F401
-    )
-
-    if os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin") != "ros":
-        from pkgforge.launch import api
-
-        api._distro_data()  # the list of launch names: read once, not by every worker
-    try:
-        import ament_index_python.packages  # noqa: F401
-    except ImportError:
-        pass  # main() puts pkgforge's stand-in on the path
-    import xacro  # noqa: F401
-    import yaml  # noqa: F401
-
-    from pkgforge.launch import evaluate  # noqa: F401
-    from pkgforge.sandbox import warmup
-    from pkgforge.urdf import robot  # noqa: F401
-
-    warmup.render()  # the scaffold each worker evaluates once before its first request
-
-
-def _tree_python_first() -> None:
-    """The install tree's Python folders first on sys.path, as PYTHONPATH puts them in a sourced
-    shell (after the engine's distro: an overlay before its underlay); a forked worker's sys.path
-    was made before the tree existed."""
-    from pkgforge.build.toolchain import TREE_PYTHONPATH
-
-    folders = [f for f in os.environ.get(TREE_PYTHONPATH, "").split(os.pathsep) if f]
-    for folder in reversed(folders):
-        if folder in sys.path:
-            sys.path.remove(folder)
-        sys.path.insert(0, folder)
-
-
-@dataclass
-class Engine:
-    """The launch engine a coordinator prepared once (before forking), for its requests."""
-
-    name: str  # builtin | ros
-    distro: str | None
-    setup_error: str | None = None  # the ros engine's libraries could not be imported: said per file
-
-
-def prepare_setup() -> None:
-    """In the coordinator, before the first setup.py request: setuptools imported once (~0.2 CPU s,
-    pkgforge's own dependency, no user code), so that each setup.py's process forks with it."""
-    import importlib
-
-    try:
-        importlib.import_module("setuptools")
-    except Exception:  # noqa: BLE001 - each request's process then says why, at setup.py
-        pass
-
-
-def prepare() -> Engine:
-    """In the coordinator, once, before any request: the engine's imports and the tree's Python
-    folders, so that each request's fresh process starts with them (no user code runs here)."""
-    engine = Engine(
-        os.environ.get("PKGFORGE_LAUNCH_ENGINE", "builtin"), os.environ.get("PKGFORGE_ROS_DISTRO") or None
-    )
-    if engine.name == "ros":
-        try:
-            import ament_index_python.packages  # noqa: F401
-        except ImportError:
-            sys.path.append(str(API_AMENT))
-        from pkgforge.launch import ros_engine
-
-        try:
-            ros_engine.setup(os.environ.get("PKGFORGE_ROS_PREFIX") or None)
-        except BaseException as error:  # noqa: BLE001 - said for every file, never a traceback
-            engine.setup_error = (
-                f"the ROS 2 launch libraries could not be imported: {type(error).__name__}: {error}"
-            )
-    else:
-        _install_api()
-    _tree_python_first()
-    from pkgforge.launch import evaluate  # noqa: F401
-    from pkgforge.urdf import robot  # noqa: F401
-
-    return engine
-
-
 def answer(
     request: WorkerRequest,
-    engine: Engine,
+    evaluator: Evaluator,
     limits: WorkerLimits,
     reply_fd: int,
     own: str,
@@ -446,10 +304,10 @@ def answer(
         _isolate(reply_fd)
         _private_mounts(own, confinement, limits)
         os.chdir(own)  # (after: `own` may now be a tmpfs of its own)
-        guarded = _install_guard(own)
+        guarded = _install_guard(own, evaluator)
         _apply_limits(limits)
         _confine(confinement)
-        result = _evaluate(request, engine, limits, guarded)
+        result = _evaluate(request, evaluator, limits, guarded)
         _write_all(reply_fd, (json.dumps(result, default=str) + "\n").encode())
     except BaseException:  # noqa: BLE001 - no reply: the coordinator says the process died
         code = 1
@@ -522,63 +380,22 @@ def _write_all(fd: int, data: bytes) -> None:
         view = view[os.write(fd, view) :]
 
 
-def _evaluate(request: WorkerRequest, engine: Engine, limits: WorkerLimits, guarded: bool) -> WorkerReply:
-    """The request's reply, as plain data (a launch file's records, or a model's structure)."""
-    from pkgforge.launch.evaluate import evaluate
-    from pkgforge.urdf.robot import process_model
-
+def _evaluate(
+    request: WorkerRequest, evaluator: Evaluator, limits: WorkerLimits, guarded: bool
+) -> WorkerReply:
+    """The request's reply, as plain data, with the limit a breach hit named in it."""
     result: WorkerReply
     try:
         try:
             _arm(limits)
-            budget = _budget(limits)
-            if "model" in request:
-                result = process_model(request["model"], request.get("mappings", {}))
-            elif "setup" in request:
-                from pkgforge.model.setup_eval import run_setup_py
-
-                result = run_setup_py(request["setup"])
-            elif engine.name == "ros":
-                from pkgforge.launch import ros_engine
-
-                if engine.setup_error is not None:
-                    result = _launch_reply(
-                        ros_engine.error_reply(request["file"], engine.setup_error, engine.distro)
-                    )
-                else:
-                    result = _launch_reply(
-                        ros_engine.evaluate(
-                            request["file"], request.get("arguments", {}), engine.distro, budget
-                        )
-                    )
-            else:
-                result = _launch_reply(evaluate(request["file"], request.get("arguments", {}), budget))
+            result = evaluator.evaluate(request, limits)
         finally:
-            _disarm()
+            disarm()
     except BaseException as error:  # noqa: BLE001 - the reply must always come
-        result = {"status": "load-error", "error": _located(request, error)}
-        if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
-            from pkgforge.launch.records import as_dict
-            from pkgforge.launch.runtime import RECORDER
-
-            result["errors"] = [cast(ErrorRecord, as_dict(e)) for e in RECORDER.errors]
+        result = evaluator.failed(request, error)
     _mark_limits(result, limits)
     if "branching" in result and isinstance(result["branching"], dict):
         result["branching"]["limit"] = limits.get("timeout")
     if guarded:
         _refusals(result, request)
     return result
-
-
-if __name__ == "__main__":
-    if sys.argv[1:2] == ["--fork-server"]:  # workers forked after these imports (zygote.py)
-        from pkgforge.sandbox.zygote import serve
-
-        serve(int(sys.argv[2]))
-        # nothing to flush or remove, and the interpreter's own exit with lxml, xacro and the
-        # evaluator loaded takes ~60 ms that pkgforge would wait for (Zygote.close)
-        os._exit(0)
-    else:  # one worker on stdin and stdout, without a fork server
-        from pkgforge.sandbox.coordinator import main
-
-        main()

@@ -3,9 +3,9 @@
 A fresh worker interpreter imports about 120 modules (the launch stand-ins,
 lxml, xacro, yaml, the evaluator) before its first file: a quarter of the
 workers' time on a workspace of scaffolded packages. The fork server
-(`python -m pkgforge.sandbox.worker --fork-server`) imports them once, then
+(`python -m pkgforge.evaluation --fork-server`) imports them once, then
 forks one child per worker the parent asks for. A child is what
-`python -m pkgforge.sandbox.worker` would be, started the same way: its own
+`python -m pkgforge.evaluation` would be, started the same way: its own
 session, the parent's pipes on stdin and stdout, stderr on /dev/null, the
 environment the parent gives it; then worker.main() runs in it as in a fresh
 interpreter (the guard, the limits, the subreaper, the parent-death signal:
@@ -29,24 +29,33 @@ import subprocess
 import sys
 import threading
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from pkgforge.sandbox.protocol import Confinement, Exited, Forked, ForkReply, ForkRequest, WorkerLimits
 
 if TYPE_CHECKING:
-    from pkgforge.launch.engines import LaunchEngine  # not imported at run time: the server starts first
+    from pkgforge.sandbox.worker import Evaluator
+
+
+class EngineVariables(Protocol):
+    """What the run's launch engine (launch.engines.LaunchEngine) sets in a worker's environment."""
+
+    def environment(self, env: dict[str, str]) -> dict[str, str]: ...
+
 
 LIMITS_VARIABLE = "PKGFORGE_WORKER_LIMITS"
 # what the server's probe found the kernel allows (confinement.probe), for every worker it forks
 _CONFINEMENT: Confinement | None = None
+_EVALUATOR: Evaluator | None = None  # the server's, for every worker it forks
 START_TIMEOUT = 60.0  # seconds for the server to fork a child (it imports first)
 
 
 # --- the server -----------------------------------------------------------------------------
 
 
-def serve(channel: int) -> None:
-    """The fork server's loop on the socket `channel`; returns when the parent closes it."""
+def serve(channel: int, evaluator: Evaluator) -> None:
+    """The fork server's loop on the socket `channel`; returns when the parent closes it.
+    `evaluator`: what the requests of every worker it forks mean (pkgforge.evaluation)."""
     import selectors
 
     from pkgforge.sandbox.processes import die_with_parent
@@ -59,11 +68,11 @@ def serve(channel: int) -> None:
     # as in a worker: no byte code written, also for what the preload imports (xacro and
     # ament_index_python may come from the user's PYTHONPATH: a sourced overlay's folders)
     sys.dont_write_bytecode = True
-    from pkgforge.sandbox import worker
     from pkgforge.sandbox.confinement import probe
 
-    worker.preload()
-    global _CONFINEMENT
+    evaluator.preload()
+    global _CONFINEMENT, _EVALUATOR
+    _EVALUATOR = evaluator
     _CONFINEMENT = probe()  # once per run; each worker applies it (sandbox/coordinator.py)
     import gc
 
@@ -110,7 +119,7 @@ def _report_exits(sock: socket.socket) -> None:
 
 
 def _child(request: ForkRequest, fds: list[int], sock: socket.socket, wake: tuple[int, int]) -> None:
-    """In the forked child: become a worker (its coordinator) as `python -m pkgforge.sandbox.worker`
+    """In the forked child: become a worker (its coordinator) as `python -m pkgforge.evaluation`
     would. Never returns."""
     code = 1
     try:
@@ -134,7 +143,8 @@ def _child(request: ForkRequest, fds: list[int], sock: socket.socket, wake: tupl
         sys.stdin = open(0, encoding="utf-8", errors="replace", closefd=False)
         from pkgforge.sandbox import coordinator
 
-        coordinator.main(_CONFINEMENT)
+        assert _EVALUATOR is not None, "serve() set it"
+        coordinator.main(_EVALUATOR, _CONFINEMENT)
         code = 0
     except SystemExit as stop:
         code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
@@ -159,7 +169,7 @@ class _Server:
         ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         try:
             self.process = subprocess.Popen(
-                [sys.executable, "-m", "pkgforge.sandbox.worker", "--fork-server", str(theirs.fileno())],
+                [sys.executable, "-m", "pkgforge.evaluation", "--fork-server", str(theirs.fileno())],
                 pass_fds=[theirs.fileno()],
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.DEVNULL,
@@ -309,7 +319,7 @@ class Zygote:
             server.stop()
 
 
-def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, str]:
+def worker_environment(env: dict[str, str], engine: EngineVariables) -> dict[str, str]:
     """A launch worker's environment: `env` (the tree's) with the real xacro and python3 first on
     PATH, and the engine's (launch.engines.LaunchEngine) variables."""
     env = dict(env)
@@ -317,7 +327,7 @@ def worker_environment(env: dict[str, str], engine: LaunchEngine) -> dict[str, s
     return engine.environment(env)
 
 
-def start_zygote(engine: LaunchEngine) -> Zygote:
+def start_zygote(engine: EngineVariables) -> Zygote:
     """The run's fork server, started now (from the main thread), so that its imports overlap
     discovery and model loading; the tree's variables come with each worker. (Here, not in
     resolve.py: importing the resolver and the model layer first would delay the start ~0.15 s.)"""

@@ -21,7 +21,7 @@ from typing import Any
 from lxml import etree
 
 from pkgforge.model.source import FileTooLarge, NotRegularFile, read_regular
-from pkgforge.sandbox.protocol import ErrorRecord, ModelReply
+from pkgforge.sandbox.protocol import ErrorRecord
 from pkgforge.urdf.ros1_xacro import describe, ros1_tags
 from pkgforge.urdf.structure import (
     Geometry,
@@ -29,6 +29,7 @@ from pkgforge.urdf.structure import (
     Limit,
     LinkDict,
     MeshKind,
+    ModelReply,
     ModelStatus,
     Origin,
     Part,

@@ -8,7 +8,9 @@ that silently finds nothing.
 
 from __future__ import annotations
 
-from typing import Literal, TypedDict
+from typing import Literal, TypedDict, final
+
+from pkgforge.sandbox.protocol import ErrorRecord, WorkerRequest
 
 # the worker's: ok | error | needs-arguments | too-large | load-error (a limit hit while parsing);
 # the parent's: timeout | crashed (no reply), library (only macros: checked through the models
@@ -138,3 +140,16 @@ class ModelError(TypedDict, total=False):
     declared: Place  # needs-arguments: where the first of them is declared
     type: str  # a worker limit hit inside xacro (MemoryError)
     limit: str  # a worker limit hit: time | cpu | memory | files
+
+
+@final
+class ModelReply(TypedDict, total=False):
+    """urdf/robot.process_model's answer: the robot's structure, or why there is none."""
+
+    status: ModelStatus
+    error: ErrorRecord | None
+    errors: list[ErrorRecord]  # what the guard refused while answering (none for models)
+    includes: list[str]  # the files the model included (absolute paths)
+    robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
+    request: WorkerRequest  # the request it answers (the coordinator adds it)
+    token: str  # the request's token (the coordinator adds it; the parent checks and drops it)

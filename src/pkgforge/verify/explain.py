@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.report import printable
+from pkgforge.printable import printable
 from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
 from pkgforge.workspace import locate
 

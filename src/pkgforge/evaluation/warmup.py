@@ -1,6 +1,6 @@
 """A worker's coordinator evaluates pkgforge's own scaffold once before it forks any request's process.
 
-Each request runs in a fresh process forked from the coordinator (coordinator.py); whatever the
+Each request runs in a fresh process forked from the coordinator (sandbox/coordinator.py); whatever the
 first evaluation in a process imports or caches lazily (the launch API's modules, xacro's and
 lxml's machinery, the evaluator's tables) would otherwise be made again in every one of them.
 Evaluating a launch file of each format and its model here first makes it once, in the process
@@ -15,9 +15,8 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
-
-from pkgforge.sandbox.worker import Engine
 
 PACKAGE = "pkgforge_warm_up"
 FORMATS = ("py", "xml", "yaml")
@@ -42,9 +41,9 @@ def render() -> None:
         _FILES.update(render_files(spec))
 
 
-def run(engine: Engine, folder: str) -> None:
-    """Evaluate each launch format and the model once, in a prefix made in `folder`; any failure
-    is ignored (it only means less was warmed)."""
+def run(folder: str, evaluate_launch: Callable[[str], object]) -> None:
+    """Evaluate each launch format (with `evaluate_launch`, the run's engine) and the model once, in
+    a prefix made in `folder`; any failure is ignored (it only means less was warmed)."""
     if not _FILES:
         return
     prefix = tempfile.mkdtemp(prefix="warm-up-", dir=folder)
@@ -59,7 +58,7 @@ def run(engine: Engine, folder: str) -> None:
         index.mkdir(parents=True)
         (index / PACKAGE).write_bytes(b"")
         os.environ["AMENT_PREFIX_PATH"] = os.pathsep.join(filter(None, [prefix, before]))
-        _evaluate_all(engine, share)
+        _evaluate_all(share, evaluate_launch)
     except Exception:  # noqa: BLE001 - warming is an optimisation: never a reason not to work
         pass
     finally:
@@ -70,18 +69,10 @@ def run(engine: Engine, folder: str) -> None:
         shutil.rmtree(prefix, ignore_errors=True)
 
 
-def _evaluate_all(engine: Engine, share: Path) -> None:
+def _evaluate_all(share: Path, evaluate_launch: Callable[[str], object]) -> None:
     from pkgforge.urdf.robot import process_model
 
     for launch in sorted((share / "launch").iterdir()):
-        if engine.name == "ros":
-            if engine.setup_error is None:
-                from pkgforge.launch import ros_engine
-
-                ros_engine.evaluate(str(launch), {}, engine.distro, None)
-        else:
-            from pkgforge.launch.evaluate import evaluate
-
-            evaluate(str(launch), {}, None)
+        evaluate_launch(str(launch))
     for model in sorted((share / "urdf").glob("*.urdf.xacro")):
         process_model(str(model), {})
