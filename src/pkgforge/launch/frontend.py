@@ -405,6 +405,7 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             name=element.sub("name"),
             namespace=element.sub("namespace"),
             arguments=_arguments(element.get("args")),
+            ros_arguments=_arguments(element.get("ros_args")),
             parameters=_parameters(element),
             remappings=[(r.sub("from"), r.sub("to")) for r in element.named("remap")],
             condition=condition,
