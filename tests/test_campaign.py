@@ -199,6 +199,16 @@ HOSTILE_LAUNCH = {
     ),
     "notalist.launch.yaml": "launch: 7\n",
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
+    # issue 28: files that do not load, read statically (a wrong import; syntax errors everywhere)
+    "wrong_import.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.substitutions import FindPackageShare\n"
+        "from launch_ros.actions import Node\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([Node(package='NAME_typo', executable=os.path.join("
+        "FindPackageShare('NAME'), 'urdf', '..', '..', '..', 'etc', 'passwd'))])\n"
+    ),
+    "syntax_deep.launch.py": "x = " + "(" * 5000 + "\n",
+    "syntax_everywhere.launch.py": "def (:\n" * 40 + "FindPackageShare('nowhere_pkg')\n",
 }
 # hostile models: (file name, content)
 HOSTILE_XACRO = {
