@@ -25,6 +25,7 @@ from pkgforge.tree import InstallTree
 if TYPE_CHECKING:
     from pkgforge.model.manifest import Dependency
     from pkgforge.model.references import Reference
+    from pkgforge.model.ros_params import ParametersFile, Problem
     from pkgforge.urdf.meshes import MeshLookup
     from pkgforge.urdf.select import ModelResult
 
@@ -283,6 +284,43 @@ class CheckContext:
 
         head: str = self._shared(("head", path), compute)
         return head
+
+    def yaml_file(self, path: str) -> str | None:
+        """A YAML file a launch file hands a node (a parameters file, a bridge config), read once
+        per run: its text, None when it cannot be read (missing, unreadable, past the reading
+        limit, not UTF-8). A file outside this package is stamped for the cache."""
+        from pkgforge.model.source import read_source
+
+        if not path or not os.path.isabs(path):
+            return None  # (a relative path is the started node's, from its own folder)
+        text: str | None = self._shared(("yaml-file", path), lambda: read_source(Path(path)).text)
+        if self.own_source(path) is None:
+            self.read_elsewhere.add(path)
+        return text
+
+    def parameters_file(self, path: str) -> ParametersFile | None:
+        """A parameters file (--params-file) as rcl reads it; None when it cannot be read."""
+        from pkgforge.model.ros_params import ParametersFile, read_parameters
+
+        text = self.yaml_file(path)
+        if text is None:
+            return None
+        if "$(" in text:
+            # ParameterFile(..., allow_substs=True): what rcl reads is the text with the
+            # substitutions made (launch_ros writes it to a file of its own); not judged here
+            return ParametersFile(judged=False)
+        found: ParametersFile = self._shared(("parameters-file", text), lambda: read_parameters(text))
+        return found
+
+    def bridge_config(self, path: str) -> list[Problem] | None:
+        """What ros_gz_bridge refuses in a config_file; None when it cannot be read."""
+        from pkgforge.model.ros_params import read_bridge_config
+
+        text = self.yaml_file(path)
+        if text is None:
+            return None
+        found: list[Problem] = self._shared(("bridge-config", text), lambda: read_bridge_config(text))
+        return found
 
     def depends_on(self, start: str, goal: str) -> bool:
         """Whether workspace package `start` depends on `goal` through the declared dependencies

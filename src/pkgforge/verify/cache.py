@@ -96,7 +96,11 @@ if TYPE_CHECKING:
 # 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
-CACHE_FORMAT = 47
+# 48: a launch file that does not load is read statically (its packages and its literal paths, for
+#    every file read statically); robot_state_publisher with no description (PF319); parameter
+#    files (PF320) and ros_gz_bridge configs (PF321) read; node records keep ros_arguments and
+#    SetParametersFromFile's files
+CACHE_FORMAT = 48
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
