@@ -15,7 +15,7 @@ from test_truth_audit import package
 NAME = "load_bot"
 DEPENDS = ["launch", "launch_ros", "robot_state_publisher", "joint_state_publisher"]
 URDF = '<?xml version="1.0"?>\n<robot name="r">\n  <link name="base"/>\n</robot>\n'
-CODES = {"PF301", "PF302", "PF303", "PF304", "PF305", "PF319", "PF320", "PF321"}
+CODES = {"PF301", "PF302", "PF303", "PF304", "PF305", "PF321", "PF322", "PF323"}
 ENGINES = ("builtin", *DISTROS)
 
 WRONG_IMPORT = """from launch import LaunchDescription

@@ -127,16 +127,16 @@ def test_the_engines_agree(runs):
 
 
 @pytest.mark.parametrize("engine", ENGINES)
-@pytest.mark.triggers("PF319")
+@pytest.mark.triggers("PF321")
 def test_robot_state_publisher_with_no_description(runs, engine):
     # bare: nothing; no_model: its parameters file holds no robot_description. The nearest clean
     # cases: a parameters file that holds it, the parameter itself, a -p rule
     launch = runs["folder"] / "launch" / "rsp.launch.py"
     assert found(runs[engine], "launch/rsp.launch.py") == [
-        ("PF319", "error", line_of(launch, "name='bare'")),
-        ("PF319", "error", line_of(launch, "name='no_model'")),
+        ("PF321", "error", line_of(launch, "name='bare'")),
+        ("PF321", "error", line_of(launch, "name='no_model'")),
     ]
-    messages = sorted(d["message"] for d in runs[engine]["diagnostics"] if d["code"] == "PF319")
+    messages = sorted(d["message"] for d in runs[engine]["diagnostics"] if d["code"] == "PF321")
     assert messages == [
         "robot_state_publisher gets no robot_description parameter and no model file (its "
         "parameters file holds none): it stops at start",
@@ -145,7 +145,7 @@ def test_robot_state_publisher_with_no_description(runs, engine):
 
 
 @pytest.mark.parametrize("engine", ENGINES)
-@pytest.mark.triggers("PF320")
+@pytest.mark.triggers("PF322")
 def test_parameters_files_rcl_refuses(runs, engine):
     folder = runs["folder"]
     launch = folder / "launch" / "params.launch.py"
@@ -165,16 +165,16 @@ def test_parameters_files_rcl_refuses(runs, engine):
     }
     node_line = line_of(launch, "return Node(")
     for relative, (text, said) in expected.items():
-        assert found(runs[engine], relative) == [("PF320", "error", line_of(folder / relative, text))], (
+        assert found(runs[engine], relative) == [("PF322", "error", line_of(folder / relative, text))], (
             relative
         )
-        assert message(runs[engine], relative, "PF320") == (
+        assert message(runs[engine], relative, "PF322") == (
             "rcl refuses this parameters file: " + said.format(line=node_line)
         )
     # <param from=...> in a launch XML file: a top-level key that is no node name
     xml = folder / "launch" / "params.launch.xml"
-    assert found(runs[engine], "config/top_value.yaml") == [("PF320", "error", 1)]
-    assert message(runs[engine], "config/top_value.yaml", "PF320").endswith(
+    assert found(runs[engine], "config/top_value.yaml") == [("PF322", "error", 1)]
+    assert message(runs[engine], "config/top_value.yaml", "PF322").endswith(
         f"joint_state_publisher (launch/params.launch.xml:{line_of(xml, '<node')}) does not start"
     )
     assert found(runs[engine], "config/sound.yaml") == []  # the nearest clean case
@@ -182,10 +182,10 @@ def test_parameters_files_rcl_refuses(runs, engine):
 
 
 @pytest.mark.parametrize("engine", ENGINES)
-@pytest.mark.triggers("PF321")
+@pytest.mark.triggers("PF323")
 def test_a_bridge_config_that_is_no_list(runs, engine):
-    assert found(runs[engine], "config/bridge_map.yaml") == [("PF321", "error", 1)]
-    assert message(runs[engine], "config/bridge_map.yaml", "PF321").startswith(
+    assert found(runs[engine], "config/bridge_map.yaml") == [("PF323", "error", 1)]
+    assert message(runs[engine], "config/bridge_map.yaml", "PF323").startswith(
         "ros_gz_bridge cannot use this config: the top level is not a list: ros_gz_bridge bridges nothing"
     )
     assert found(runs[engine], "config/bridge_list.yaml") == []

@@ -161,7 +161,7 @@ def _description_given(ctx: CheckContext, node: Node) -> bool:
 
 
 @register(
-    "PF319",
+    "PF321",
     "rsp-no-description",
     "error",
     area="launch",
@@ -225,7 +225,7 @@ def _yaml_place(
 
 
 @register(
-    "PF320",
+    "PF322",
     "parameters-file-invalid",
     "error",
     area="launch",
@@ -314,7 +314,7 @@ def _bridge_configs(
 
 
 @register(
-    "PF321",
+    "PF323",
     "bridge-config-invalid",
     "error",
     area="launch",

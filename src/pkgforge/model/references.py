@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pkgforge.model.source import SourceFile
+from pkgforge.model.source import SourceFile, parse_python
 
 if TYPE_CHECKING:  # both imported where they are used: most files need neither
     import yaml
@@ -381,9 +381,8 @@ def _parse_python(source: SourceFile, text: str, *, recover: bool) -> tuple[ast.
     blanked: set[int] = set()
     while True:
         try:
-            return ast.parse("".join(lines), filename=str(source.path)), blanked
-        except (RecursionError, MemoryError):
-            return None  # nested past what Python's compiler takes
+            # (a statement nested past Python's parser is a SyntaxError at its line: blanked too)
+            return parse_python("".join(lines), filename=str(source.path)), blanked
         except (SyntaxError, ValueError) as error:  # (ValueError: a NUL byte in the source)
             line = getattr(error, "lineno", None)
             if (

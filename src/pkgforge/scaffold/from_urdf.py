@@ -455,7 +455,7 @@ def import_model(
         files[f"urdf/{file_name}"] = text.encode("utf-8")
         modes[f"urdf/{file_name}"] = current.stat().st_mode & 0o666
         if notes is not None:
-            from pkgforge.migrate.table import is_gazebo_classic_plugin
+            from pkgforge.model.ros1_names import is_gazebo_classic_plugin
 
             for element in roots[current].iter("plugin"):
                 if is_gazebo_classic_plugin(element.get("filename", "")):
@@ -481,7 +481,9 @@ def what_became(reference: Reference) -> str:
     return f"{'not copied' if reference.refused else 'not found'}: {reference.problem}"
 
 
-def missing_message(missing: list[Reference], *, force: bool = True) -> str:
+def missing_message(missing: list[Reference], *, force: bool = True) -> list[str]:
+    """The lines of the error: one per file not found or refused, then what to do
+    (PkgforgeError(*lines))."""
     lines = [f"{r.file}:{r.line}: {r.kind} '{r.uri}' {what_became(r)}" for r in missing]
     if any(r.refused for r in missing):
         advice = (
@@ -494,12 +496,7 @@ def missing_message(missing: list[Reference], *, force: bool = True) -> str:
             f"{len(missing)} file(s) the model names cannot be found: nothing written; "
             "copy them where the model says"
         )
-    return (
-        "\n".join(lines)
-        + "\n"
-        + advice
-        + (", or pass --force to write the package without them" if force else "")
-    )
+    return [*lines, advice + (", or pass --force to write the package without them" if force else "")]
 
 
 def new_from_urdf(
@@ -519,7 +516,7 @@ def new_from_urdf(
     notes = Notes(name)
     imported = import_model(name, model, uri_style=uri_style, notes=notes)
     if imported.missing and not force:
-        raise PkgforgeError(missing_message(imported.missing))
+        raise PkgforgeError(*missing_message(imported.missing))
     for reference in imported.missing:
         notes.add(
             "migrate-dropped",
