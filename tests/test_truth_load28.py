@@ -13,7 +13,7 @@ from ros_prefix import DISTROS, make_prefix
 from test_truth_audit import package
 
 NAME = "load_bot"
-DEPENDS = ["launch", "launch_ros", "robot_state_publisher", "joint_state_publisher"]
+DEPENDS = ["launch", "launch_ros", "robot_state_publisher", "joint_state_publisher", "xacro"]
 URDF = '<?xml version="1.0"?>\n<robot name="r">\n  <link name="base"/>\n</robot>\n'
 CODES = {"PF301", "PF302", "PF303", "PF304", "PF305", "PF321", "PF322", "PF323"}
 ENGINES = ("builtin", *DISTROS)
@@ -79,8 +79,27 @@ def generate_launch_description():
         nodes.append(Node(package='load_bot_hector_mapping', executable='hector_mapping'))
     return LaunchDescription(nodes + [undefined_name])
 """
+# an exception before generate_launch_description returns: the model its xacro command names is
+# still the file's (and missing)
+RAISES_FIRST = """import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch.substitutions import Command
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    model = os.path.join(get_package_share_directory('load_bot'), 'urdf', 'gone.urdf.xacro')
+    configure_the_robot()
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'robot_description': Command(['xacro ', model])}]),
+    ])
+"""
 FILES = {
     "urdf/robot.urdf": URDF,
+    "launch/raises_first.launch.py": RAISES_FIRST,
     "launch/wrong_import.launch.py": WRONG_IMPORT,
     "launch/wrong_import_clean.launch.py": WRONG_IMPORT_CLEAN,
     "launch/syntax.launch.py": SYNTAX_ERROR,
@@ -213,4 +232,20 @@ def test_an_unknown_package_in_one_branch_of_a_file_that_does_not_load_is_a_warn
     assert message(runs[engine], "launch/branch.launch.py", "PF304").endswith(
         "(read statically: branch.launch.py does not load) (only in the branch "
         "`if os.environ.get('RUNTIME_BOT_SLAM') == 'hector'`)"
+    )
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.triggers("PF303")
+def test_a_file_that_raises_before_returning_still_names_its_xacro_model(runs, engine):
+    launch = runs["folder"] / "launch" / "raises_first.launch.py"
+    assert found(runs[engine], "launch/raises_first.launch.py") == sorted(
+        [
+            ("PF301", "error", line_of(launch, "configure_the_robot()")),
+            ("PF303", "error", line_of(launch, "'gone.urdf.xacro'")),
+        ]
+    )
+    assert message(runs[engine], "launch/raises_first.launch.py", "PF303") == (
+        "share/load_bot/urdf/gone.urdf.xacro does not exist, in the install tree or in load_bot's "
+        "source (read statically: raises_first.launch.py does not load)"
     )

@@ -38,7 +38,17 @@ def generate_launch_description():
              parameters=[{'robot_description': '<robot name="r"/>'}]),
         Node(package='robot_state_publisher', executable='robot_state_publisher', name='rule',
              ros_arguments=['-p', 'robot_description:=<robot/>']),
+        Node(package='robot_state_publisher', executable='robot_state_publisher', name='argument',
+             arguments=[PathJoinSubstitution([share, 'urdf', 'robot.urdf'])]),
     ])
+"""
+# the XML front end: a node with nothing, and one given the model in a <param>
+RSP_XML = """<launch>
+  <node pkg="robot_state_publisher" exec="robot_state_publisher" name="xml_bare"/>
+  <node pkg="robot_state_publisher" exec="robot_state_publisher" name="xml_given">
+    <param name="robot_description" value="&lt;robot name='r'/&gt;"/>
+  </node>
+</launch>
 """
 PARAMS = """from launch import LaunchDescription
 from launch.substitutions import PathJoinSubstitution
@@ -101,6 +111,7 @@ CONFIGS = {
 FILES = {
     "urdf/robot.urdf": URDF,
     "launch/rsp.launch.py": RSP,
+    "launch/rsp.launch.xml": RSP_XML,
     "launch/params.launch.py": PARAMS,
     "launch/params.launch.xml": PARAMS_XML,
     "launch/bridge.launch.py": BRIDGE,
@@ -141,7 +152,10 @@ def test_robot_state_publisher_with_no_description(runs, engine):
         "robot_state_publisher gets no robot_description parameter and no model file (its "
         "parameters file holds none): it stops at start",
         "robot_state_publisher gets no robot_description parameter and no model file: it stops at start",
+        "robot_state_publisher gets no robot_description parameter and no model file: it stops at start",
     ]
+    xml = runs["folder"] / "launch" / "rsp.launch.xml"
+    assert found(runs[engine], "launch/rsp.launch.xml") == [("PF321", "error", line_of(xml, "xml_bare"))]
 
 
 @pytest.mark.parametrize("engine", ENGINES)
