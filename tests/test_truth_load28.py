@@ -97,8 +97,26 @@ def generate_launch_description():
              parameters=[{'robot_description': Command(['xacro ', model])}]),
     ])
 """
+# the same undeclared package in a file that does not load and in one that loads: one PF305, at
+# the file that loads (the first file by name is the one that fails)
+FAILS_FIRST = """from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package='teleop_twist_keyboard', executable='teleop'), undefined_name])
+"""
+LOADS_SECOND = """from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package='teleop_twist_keyboard', executable='teleop')])
+"""
 FILES = {
     "urdf/robot.urdf": URDF,
+    "launch/a_fails.launch.py": FAILS_FIRST,
+    "launch/teleop.launch.py": LOADS_SECOND,
     "launch/raises_first.launch.py": RAISES_FIRST,
     "launch/wrong_import.launch.py": WRONG_IMPORT,
     "launch/wrong_import_clean.launch.py": WRONG_IMPORT_CLEAN,
@@ -248,4 +266,20 @@ def test_a_file_that_raises_before_returning_still_names_its_xacro_model(runs, e
     assert message(runs[engine], "launch/raises_first.launch.py", "PF303") == (
         "share/load_bot/urdf/gone.urdf.xacro does not exist, in the install tree or in load_bot's "
         "source (read statically: raises_first.launch.py does not load)"
+    )
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.triggers("PF305")
+def test_a_package_named_where_a_file_loads_is_reported_there(runs, engine):
+    failing = runs["folder"] / "launch" / "a_fails.launch.py"
+    loading = runs["folder"] / "launch" / "teleop.launch.py"
+    assert found(runs[engine], "launch/a_fails.launch.py") == [
+        ("PF301", "error", line_of(failing, "undefined_name"))
+    ]
+    assert found(runs[engine], "launch/teleop.launch.py") == [
+        ("PF305", "error", line_of(loading, "teleop_twist_keyboard"))
+    ]
+    assert message(runs[engine], "launch/teleop.launch.py", "PF305") == (
+        "Node package 'teleop_twist_keyboard' is used at run time but package.xml does not declare it"
     )

@@ -63,6 +63,12 @@ def static_note(ctx: CheckContext, path: Path, item: Record | None) -> str:
     return f" (read statically: {path.name} does not load)"
 
 
+def read_as_failed(ctx: CheckContext, path: Path, item: Record | None) -> bool:
+    """Whether a use is read statically from a launch file that does not load (static_note says
+    so): where another file names the same package, that use is the one to point at."""
+    return item is None and ctx.failed_to_load(path) is not None
+
+
 def _branch_note(item: Record, resolution: Resolution) -> str:
     branches = [b for b in item.branches if b]
     if branches and len(branches) < resolution.branches and "" not in item.branches:  # "": while loading
@@ -881,8 +887,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     }
     read = ctx.model_files_read()
     chosen: dict[str, tuple[Use, _OptionalUse | None]] = {}
-    # a use needed whatever the settings first, then one with a line: where the diagnostic points
-    for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
+    # a use needed whatever the settings first, then one with a line, then one of a file that
+    # loads (one read statically because it does not load is the same defect, said less surely):
+    # where the diagnostic points
+    for use in sorted(
+        _looked_up(ctx),
+        key=lambda x: (x[0], x[2] is None, read_as_failed(ctx, x[1], x[4]), str(x[1]), x[2] or 0),
+    ):
         name, path, line, via, item, _ = use
         if name in own or name in declared or name not in known or name in LAUNCH_INFRASTRUCTURE:
             continue
