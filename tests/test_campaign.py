@@ -296,12 +296,37 @@ HOSTILE_LAUNCH = {
         "    return LaunchDescription([])\n"
     ),
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
+    # issue 28: files that do not load, read statically (a wrong import; syntax errors everywhere)
+    "wrong_import.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.substitutions import FindPackageShare\n"
+        "from launch_ros.actions import Node\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([Node(package='NAME_typo', executable=os.path.join("
+        "FindPackageShare('NAME'), 'urdf', '..', '..', '..', 'etc', 'passwd'))])\n"
+    ),
+    "syntax_deep.launch.py": "x = " + "(" * 5000 + "\n",
+    "syntax_everywhere.launch.py": "def (:\n" * 40 + "FindPackageShare('nowhere_pkg')\n",
     # YAML the reader bounds (issue 35): aliases expanding to 10**12 nodes, 50,000 levels, an alias
     # inside the collection it names
     "bomb.launch.yaml": "launch:\n- let:\n    name: laughs\n    value:\n"
     + "".join(f"      {line}\n" for line in ALIAS_BOMB),
     "deep.launch.yaml": "launch:\n- let:\n    name: deep\n    value: " + "[" * 50_000 + "]" * 50_000 + "\n",
     "selfalias.launch.yaml": "launch:\n- let: &l\n    name: x\n    value: [*l]\n",
+}
+# hostile parameter files (issue 28): each given to a node and to ros_gz_bridge as its config
+HOSTILE_PARAMS = {
+    "deep.yaml": "n:\n  ros__parameters:\n    a: " + "[" * 3000 + "]" * 3000 + "\n",
+    "deepmap.yaml": "n:\n  ros__parameters:\n    a: " + "{a: " * 3000 + "1" + "}" * 3000 + "\n",
+    "laughs.yaml": "n:\n  ros__parameters:\n    a0: &a0 {x: 1}\n"
+    + "".join(
+        f"    a{i}: &a{i} {{" + ", ".join(f"k{j}: *a{i - 1}" for j in range(10)) + "}\n" for i in range(1, 9)
+    ),
+    "binary.yaml": "n:\n  ros__parameters:\n    a: \x00\x01\n",
+    "complexkey.yaml": "? [a, b]\n: {ros__parameters: {x: 1}}\n",
+    "multidoc.yaml": "a:\n  ros__parameters: {x: 1}\n---\nb: 2\n---\n- c\n",
+    "pytag.yaml": "!!python/object/apply:os.system ['touch /tmp/pwned']\n",
+    "bignumbers.yaml": "n:\n  ros__parameters:\n    a: [1, 99999999999999999999999, 1e999, 0x1p3, nan]\n",
+    "tabs.yaml": "n:\n\tros__parameters:\n\t\ta: 1\n",
 }
 # hostile RViz configs: (file name, content), in the package's rviz/ folder
 HOSTILE_RVIZ = {
@@ -683,6 +708,22 @@ class Campaign:
                     "Command(['xacro ', model]), value_type=str)}])])\n"
                 )
             cases.append(Case(name, base, f"hostile {file}"))
+        for file, content in HOSTILE_PARAMS.items():
+            name, package = self.package(src, "cbasepy")
+            (package / "rviz" / file).write_text(content)
+            (package / "launch" / "params.launch.py").write_text(
+                "from launch import LaunchDescription\nfrom launch_ros.actions import Node\n"
+                "from ament_index_python.packages import get_package_share_directory\n"
+                "def generate_launch_description():\n"
+                f"    path = get_package_share_directory({name!r}) + '/rviz/{file}'\n"
+                "    return LaunchDescription([\n"
+                "        Node(package='robot_state_publisher', executable='robot_state_publisher', "
+                "parameters=[path]),\n"
+                "        Node(package='ros_gz_bridge', executable='parameter_bridge', "
+                "parameters=[{'config_file': path}]),\n"
+                "    ])\n"
+            )
+            cases.append(Case(name, "cbasepy", f"hostile parameters {file}"))
         for what, code in HOSTILE_SETUP.items():
             name, package = self.package(src, "cbasepython")
             (package / "setup.py").write_text(SETUP_TEMPLATE.replace("NAME", name).replace("HOSTILE", code))

@@ -41,6 +41,8 @@ def humble_package(workspace: Path) -> Path:
     for path in package.rglob("*"):
         if path.is_file() and path.suffix.lower() != ".stl":
             path.write_text(path.read_text().replace("robot_description", "rob_description"))
+    # (the parameter keeps its name: robot_state_publisher given none stops at start, PF321)
+    edit(package / "launch" / "display.launch.py", "{'rob_description': doc", "{'robot_description': doc")
     edit(package / "CMakeLists.txt", "DIRECTORY launch meshes urdf", "DIRECTORY launch meshes rviz urdf")
     return package
 

@@ -140,7 +140,10 @@ def test_the_nearest_cases_stay_clean(reports, engine):
     declaration, an unscoped group, an include argument using the one given before it."""
     report = reports[engine, ""]
     for file in CLEAN:
-        assert [d for d in report["diagnostics"] if d["path"] == SOURCE + file] == [], file
+        # (their robot_state_publisher nodes are given no description: PF321, true, and issue 28's
+        # class 4, tested in test_truth_runtime28; not what these files are about)
+        found = [d for d in report["diagnostics"] if d["path"] == SOURCE + file and d["code"] != "PF321"]
+        assert found == [], file
 
 
 @pytest.mark.parametrize("engine", ENGINES)
@@ -160,7 +163,9 @@ def test_a_required_argument_declared_after_its_use_is_only_required(reports, en
 @pytest.mark.parametrize("engine", ENGINES)
 def test_a_launch_arg_gives_the_configuration_its_value(reports, engine):
     report = reports[engine, "robot_model:=r2"]
-    assert [d for d in report["diagnostics"] if d["path"] == SOURCE + "launch_arg.launch.py"] == []
+    # (its robot_state_publisher, given no description, is PF321's once it runs: not this test's)
+    found = [d for d in report["diagnostics"] if d["path"] == SOURCE + "launch_arg.launch.py"]
+    assert [d for d in found if d["code"] != "PF321"] == []
     assert _found(report, "PF320") == [
         f for f in _found(reports[engine, ""], "PF320") if f[0] != SOURCE + "launch_arg.launch.py"
     ]

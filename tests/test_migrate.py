@@ -405,6 +405,9 @@ def test_urdf_tutorial_style_launch(tmp_path, launch_format):
     )
     assert result.returncode == 0, result.stdout + result.stderr
     assert "0 errors, 0 warnings" in result.stdout, result.stdout
+    # the node's rosparam file, as a ROS 2 parameters file (rcl refuses ROS 1's layout: PF322)
+    config = tmp_path / "ws/src/robot_arm/config/joint_names_robot_arm.yaml"
+    assert config.read_text().startswith("/**:\n  ros__parameters:\n    controller_joint_names: ['',")
     launch = package / "launch/display.launch"
     assert (
         f"../ros1/robot_arm/launch/display.launch:{line_of(launch, '<machine')}: PF801 [warning] <machine> has "

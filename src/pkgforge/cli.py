@@ -949,9 +949,15 @@ def rule(check: str) -> None:
     found = find_check(check)
     if found is None:
         keys = [c.code for c in all_checks()] + [c.name for c in all_checks()]
-        close = difflib.get_close_matches(check.strip(), keys, n=3) or difflib.get_close_matches(
-            check.strip().upper(), keys, n=3
-        )
+        # a code typed with the letter O for the digit 0 (PF3O2): that code first
+        digits = check.strip().upper().replace("O", "0") if check.strip().upper().startswith("PF") else ""
+        close = [k for k in keys if k == digits] + [
+            k
+            for k in difflib.get_close_matches(check.strip(), keys, n=3)
+            or difflib.get_close_matches(check.strip().upper(), keys, n=3)
+            if k != digits
+        ]
+        close = close[:3]
         also = f" (did you mean {', '.join(close)}?)" if close else ""
         fail(PkgforgeError(f"no check is coded or named '{check}'{also}; `pkgforge checks` lists them"))
     click.echo(rule_text(found), nl=False)

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 from pkgforge.launch.records import Error as LaunchError
-from pkgforge.launch.records import LaunchFile, Resolution
+from pkgforge.launch.records import Include, LaunchFile, Resolution
 from pkgforge.model.cmake import PYTHON_SITE
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
@@ -27,6 +27,7 @@ from pkgforge.tree import InstallTree
 if TYPE_CHECKING:
     from pkgforge.model.manifest import Dependency
     from pkgforge.model.references import Reference
+    from pkgforge.model.ros_params import ParametersFile, Problem
     from pkgforge.urdf.meshes import MeshLookup
     from pkgforge.urdf.select import ModelResult
 
@@ -335,6 +336,43 @@ class CheckContext:
 
         head: str = self._shared(("head", path), compute)
         return head
+
+    def yaml_file(self, path: str) -> str | None:
+        """A YAML file a launch file hands a node (a parameters file, a bridge config), read once
+        per run: its text, None when it cannot be read (missing, unreadable, past the reading
+        limit, not UTF-8). A file outside this package is stamped for the cache."""
+        from pkgforge.model.source import read_source
+
+        if not path or not os.path.isabs(path):
+            return None  # (a relative path is the started node's, from its own folder)
+        text: str | None = self._shared(("yaml-file", path), lambda: read_source(Path(path)).text)
+        if self.own_source(path) is None:
+            self.read_elsewhere.add(path)
+        return text
+
+    def parameters_file(self, path: str) -> ParametersFile | None:
+        """A parameters file (--params-file) as rcl reads it; None when it cannot be read."""
+        from pkgforge.model.ros_params import ParametersFile, read_parameters
+
+        text = self.yaml_file(path)
+        if text is None:
+            return None
+        if "$(" in text:
+            # ParameterFile(..., allow_substs=True): what rcl reads is the text with the
+            # substitutions made (launch_ros writes it to a file of its own); not judged here
+            return ParametersFile(judged=False)
+        found: ParametersFile = self._shared(("parameters-file", text), lambda: read_parameters(text))
+        return found
+
+    def bridge_config(self, path: str) -> list[Problem] | None:
+        """What ros_gz_bridge refuses in a config_file; None when it cannot be read."""
+        from pkgforge.model.ros_params import read_bridge_config
+
+        text = self.yaml_file(path)
+        if text is None:
+            return None
+        found: list[Problem] = self._shared(("bridge-config", text), lambda: read_bridge_config(text))
+        return found
 
     def depends_on(self, start: str, goal: str) -> bool:
         """Whether workspace package `start` depends on `goal` through the declared dependencies
@@ -744,12 +782,12 @@ class CheckContext:
         return found.group(1)
 
     def static_fallback(self) -> dict[Path, list[Reference]]:
-        """Static references of the launch files that could not be evaluated here (a use in a
-        branch on $ROS_DISTRO that no target distro takes left out)."""
+        """Static references of the launch files that could not be evaluated here, or did not
+        load (a use in a branch on $ROS_DISTRO that no target distro takes left out)."""
         out: dict[Path, list[Reference]] = {}
         for resolution in self.resolutions:
             # (a file stopped by an unset environment variable: what it names literally is still its own)
-            if self.load_error_kind(resolution) in STATIC_KINDS and resolution.launch.source:
+            if resolution.launch.source and self.read_statically(resolution):
                 out[resolution.launch.source] = [
                     r
                     for r in self.model.references
@@ -757,6 +795,59 @@ class CheckContext:
                     and self.branch_on_distros(r.python_branch) is not False
                 ]
         return out
+
+    def read_statically(self, resolution: Resolution) -> bool:
+        """Whether what a launch file names literally is checked statically: it could not be
+        evaluated here (STATIC_KINDS), or it did not load (an ImportError, a NameError, a
+        SyntaxError, an exception before generate_launch_description returned: `ros2 launch`
+        fails the same way, and its packages and files are still its own). Not a file that only
+        fails launched alone, which another launch file of the package includes and evaluates."""
+        kind = self.load_error_kind(resolution)
+        if kind in STATIC_KINDS:
+            return True
+        return kind is not None and self.included_and_loaded(resolution) is None
+
+    def failed_to_load(self, source: Path) -> Resolution | None:
+        """The resolution of the launch file `source` when it did not load (read statically for
+        that reason, not because this machine lacks what it needs): its static findings say so."""
+        return next(
+            (
+                r
+                for r in self.resolutions
+                if r.launch.source == source
+                and self.load_error_kind(r) not in (None, *STATIC_KINDS)
+                and self.included_and_loaded(r) is None
+            ),
+            None,
+        )
+
+    def included_and_loaded(self, resolution: Resolution) -> tuple[Resolution, Include] | None:
+        """(includer, include) when another launch file of the package includes this one with a
+        launch argument it does not declare and evaluates it without an error there: a file made
+        to be included (xarm's _robot_on_mbot_gazebo.launch.py, given moveit_config_dump by its
+        includer) that fails only when launched on its own."""
+        installed = str(resolution.launch.installed)
+        # what the file declares: an includer's value for one of those is one more setting, which its
+        # own branches cover (robot.launch.py's use_sim_time:=true through sim.launch.py is no reason
+        # to excuse its failure with the default false); only a value it does not declare is the
+        # includer's to give (xarm's moveit_config_dump, read with LaunchConfiguration(..., default=''))
+        declared = {argument.name for argument in resolution.arguments}
+        for other in self.resolutions:
+            if other is resolution or other.status != "ok" or installed not in other.files:
+                continue
+            include = next(
+                (i for i in other.includes if i.path == installed and set(i.arguments) - declared), None
+            )
+            if include is None:
+                continue
+            includer_file = str(other.launch.installed)
+            if any(
+                item.file == installed or (item.file in (None, includer_file) and item.line == include.line)
+                for item in other.errors
+            ):
+                continue  # it fails there too (in the file, or at the include): an error, said there
+            return other, include
+        return None
 
     def branch_on_distros(self, branch: str | None) -> bool | None:
         """Whether a Python branch on $ROS_DISTRO ("if os.environ.get('ROS_DISTRO') == 'humble'",
@@ -867,6 +958,26 @@ def _environment_reads(source: Path) -> list[str]:
 
 
 _names: set[str] | None = None
+_homes: dict[str, str] | None = None
+
+
+def launch_name_home(name: str) -> str | None:
+    """The public launch module that exports `name` (FindPackageShare → launch_ros.substitutions),
+    in the distros the built-in engine has lists of; None for a name none exports."""
+    global _homes
+    if _homes is None:
+        import json
+
+        data_file = Path(__file__).resolve().parent.parent / "launch" / "api_names.json"
+        with open(data_file, encoding="utf-8") as handle:
+            data = json.load(handle)["distros"]
+        _homes = {}
+        # the shortest module name first: launch_ros.substitutions, not .substitutions.find_package
+        for lists in data.values():
+            for module in sorted(lists["modules"], key=lambda m: (m.count("."), m)):
+                for exported in lists["modules"][module].get("all") or []:
+                    _homes.setdefault(exported, module)
+    return _homes.get(name)
 
 
 def _launch_names() -> set[str]:

@@ -50,6 +50,25 @@ EMPTY_PART = re.compile(r"^_|__|_$")
 Use = tuple[str, Path, "int | None", str, "Record | None", "Resolution | None"]
 
 
+def static_note(ctx: CheckContext, path: Path, item: Record | None) -> str:
+    """What a finding read from a launch file that did not load says of it: that file's literal
+    references are checked statically, as if it had loaded ('' for any other use)."""
+    failed = ctx.failed_to_load(path) if item is None else None
+    if failed is None:
+        return ""
+    if failed.status == "timeout":
+        return f" (read statically: {path.name} did not finish within the time limit here)"
+    if failed.status == "crashed":
+        return f" (read statically: {path.name} ended its process while loading)"
+    return f" (read statically: {path.name} does not load)"
+
+
+def read_as_failed(ctx: CheckContext, path: Path, item: Record | None) -> bool:
+    """Whether a use is read statically from a launch file that does not load (static_note says
+    so): where another file names the same package, that use is the one to point at."""
+    return item is None and ctx.failed_to_load(path) is not None
+
+
 def _branch_note(item: Record, resolution: Resolution) -> str:
     branches = [b for b in item.branches if b]
     if branches and len(branches) < resolution.branches and "" not in item.branches:  # "": while loading
@@ -74,7 +93,9 @@ def _branch_note(item: Record, resolution: Resolution) -> str:
         "    return LaunchDescription([Node(package='rviz2', executable='rviz2')])"
     ),
     summary="a launch file raises, fails to import, or runs past the time limit",
-    explanation="`ros2 launch` would stop at the same place; nothing after it starts. A warning "
+    explanation="`ros2 launch` would stop at the same place; nothing after it starts. What the file "
+    "names literally (Node packages, package lookups, xacro, paths into a package's share folder) is "
+    "still checked, statically, as it would be if the file loaded (each such finding says so). A warning "
     "when the file fails only launched on its own, and another launch file of its package includes "
     "it with launch arguments and it loads there (a file made to be included), or names it in a "
     "launch file pkgforge could not evaluate here (whether it loads there is not known).",
@@ -109,8 +130,10 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 )
             else:
                 message = f"loading {resolution.launch.installed.name} failed: {text}"
-                hint = read_problem_hint(text) or _decoding_hint(
-                    resolution.launch.installed.name, error.type, text
+                hint = (
+                    read_problem_hint(text)
+                    or _decoding_hint(resolution.launch.installed.name, error.type, text)
+                    or _import_hint(text)
                 )
                 if hint is None and position[1] is None:
                     hint = (
@@ -204,33 +227,30 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 )
 
 
+def _import_hint(text: str) -> str | None:
+    """Where a launch name imported from the wrong module lives (FindPackageShare from
+    launch.substitutions: it is launch_ros's)."""
+    from pkgforge.checks.context import BUILTIN_IMPORT_ERROR, launch_name_home
+
+    found = BUILTIN_IMPORT_ERROR.search(text)
+    home = launch_name_home(found.group(1)) if found else None
+    if found is None or home is None or found.group(0).endswith(f"'{home}'"):
+        return None
+    return f"import it from {home}: from {home} import {found.group(1)}"
+
+
 def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str, str] | None:
     """(message note, hint) when another launch file of the package includes this one with launch
     arguments and evaluates it without an error there: a file made to be included (xarm's
     _robot_on_mbot_gazebo.launch.py, given moveit_config_dump by its includer) that fails only
     when launched on its own. `ros2 launch` of it alone fails too, but nobody launches it so."""
     installed = str(resolution.launch.installed)
-    # what the file declares: an includer's value for one of those is one more setting, which its
-    # own branches cover (robot.launch.py's use_sim_time:=true through sim.launch.py is no reason
-    # to excuse its failure with the default false); only a value it does not declare is the
-    # includer's to give (xarm's moveit_config_dump, read with LaunchConfiguration(..., default=''))
-    declared = {argument.name for argument in resolution.arguments}
-    for other in ctx.resolutions:
-        if other is resolution or other.status != "ok" or installed not in other.files:
-            continue
-        include = next(
-            (i for i in other.includes if i.path == installed and set(i.arguments) - declared), None
-        )
-        if include is None:
-            continue
-        includer_file = str(other.launch.installed)
-        if any(
-            item.file == installed or (item.file in (None, includer_file) and item.line == include.line)
-            for item in other.errors
-        ):
-            continue  # it fails there too (in the file, or at the include): an error, said there
+    found = ctx.included_and_loaded(resolution)
+    if found is not None:
+        other, include = found
         includer = other.launch.source or other.launch.installed
         where = f"{includer.name}:{include.line}" if include.line else includer.name
+        declared = {argument.name for argument in resolution.arguments}
         given = ", ".join(sorted(set(include.arguments) - declared))
         return (
             f" (launched on its own; {where} includes it with {given} and it loads there)",
@@ -240,6 +260,8 @@ def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str
     # file literally; whether the file loads there is unknown, so its failure alone is no error
     own = (ctx.model.share_name, ctx.model.name)
     for source, references in sorted(ctx.static_fallback().items()):
+        if ctx.failed_to_load(source) is not None:
+            continue  # an includer that does not load itself is no place this file loads in
         for reference in references:
             if (
                 source != resolution.launch.source
@@ -388,11 +410,21 @@ def _may_install(owner: PackageModel, destination: str) -> tuple[Path, int] | No
     return None
 
 
-def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]:
-    # one defect, one diagnostic: the first line of a file that names the path, "and N more"
-    found: dict[
-        tuple[str, str, str], tuple[Path, PackageModel | None, ResolvedPath, Resolution, list[int | None]]
-    ] = {}
+class _Unresolved(NamedTuple):
+    """A path a launch file resolves (or, read statically, names) that the tree does not have."""
+
+    path: str  # in the tree
+    source: Path  # the launch file that names it
+    line: int | None
+    item: ResolvedPath | None  # the record; None: read statically
+    resolution: Resolution | None
+    reference: Reference | None  # the static reference, when read statically
+
+
+def _unresolved_paths(ctx: CheckContext) -> Iterator[_Unresolved]:
+    """The paths launch files resolve that do not exist, then the literal paths into a workspace
+    package's share folder that the files read statically (not evaluated, or not loading) name
+    and that do not exist either."""
     for resolution in ctx.resolutions:
         for item in resolution.paths:
             if item.exists:
@@ -403,30 +435,54 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
             checked = ctx.file_part(resolution, item.path)  # (gz_args 'world.sdf -r': world.sdf)
             if checked != item.path and ctx.files.exists(checked):
                 continue
-            located = _share_reference(ctx, checked)
-            if located is None:
-                continue
-            package, relative, _ = located
-            if ctx.tree is not None and package in ctx.tree.unpredicted:
-                continue  # its install is not known: not known to be missing (unpredicted-lookup)
-            if NONE_TEXT.search(relative) and ctx.unset_environment(resolution):
-                continue  # launch-environment-unset: os.getenv() gave None here
-            owner = ctx.model_for_share(package)
-            source = owner.path / relative if owner is not None else None
-            in_source = source is not None and ctx.files.exists(source)
-            if in_source != want_source:
-                continue
             position = ctx.source_position(resolution, item.file, item.line)
-            if position is None:
+            if position is not None:
+                yield _Unresolved(checked, position[0], position[1], item, resolution, None)
+    for source, references in ctx.static_fallback().items():
+        for reference in references:
+            relative = (reference.relative or "").strip("/")
+            share = ctx.tree.share(reference.package) if ctx.tree is not None and relative else None
+            # (only a whole path: not the start of a name built on, nor one from a rebound name;
+            # not one a `try:` handles the absence of)
+            if (
+                share is None
+                or not reference.exact
+                or reference.guarded
+                or relative.endswith(FRAGMENT_ENDINGS)
+            ):
                 continue
-            path, line = position
+            ctx.read_elsewhere.add(str(share / relative))  # (as a resolved path is: verify/cache.py)
+            if not ctx.files.exists(share / relative):
+                yield _Unresolved(str(share / relative), source, reference.line, None, None, reference)
+
+
+def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]:
+    # one defect, one diagnostic: the first line of a file that names the path, "and N more"
+    found: dict[tuple[str, str, str], tuple[PackageModel | None, _Unresolved, list[int | None]]] = {}
+    for unresolved in _unresolved_paths(ctx):
+        located = _share_reference(ctx, unresolved.path)
+        if located is None:
+            continue
+        package, relative, _ = located
+        if ctx.tree is not None and package in ctx.tree.unpredicted:
+            continue  # its install is not known: not known to be missing (unpredicted-lookup)
+        resolution = unresolved.resolution
+        if NONE_TEXT.search(relative) and (resolution is None or ctx.unset_environment(resolution)):
+            continue  # launch-environment-unset: os.getenv() gave None here
+        owner = ctx.model_for_share(package)
+        source = owner.path / relative if owner is not None else None
+        in_source = source is not None and ctx.files.exists(source)
+        if in_source != want_source:
+            continue
+        path, line = unresolved.source, unresolved.line
+        if unresolved.item is not None:
             line = ctx.static_line(path, package, relative, line) or line
-            lines = found.setdefault((str(path), package, relative), (path, owner, item, resolution, []))[4]
-            if line not in lines:
-                lines.append(line)
-    for (_, package, relative), (path, owner, item, resolution, lines) in found.items():
+        lines = found.setdefault((str(path), package, relative), (owner, unresolved, []))[2]
+        if line not in lines:
+            lines.append(line)
+    for (_, package, relative), (owner, unresolved, lines) in found.items():
         lines.sort(key=lambda n: (n is None, n or 0))
-        line = lines[0]
+        path, line = unresolved.source, lines[0]
         others = [str(n) for n in lines[1:] if n is not None]
         more = (
             f" (and {len(lines) - 1} more in this file" + (f": line {', '.join(others)})" if others else ")")
@@ -435,14 +491,30 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
         )
         shown = f"share/{package}/{relative}"
         source = owner.path / relative if owner is not None else None
+        item, resolution, reference = unresolved.item, unresolved.resolution, unresolved.reference
+        note = _branch_note(item, resolution) if item is not None and resolution is not None else ""
+        note += static_note(ctx, path, item)
+        # a file read statically: a path named in one if/else branch of it is needed only if that
+        # branch runs, which is not known (an error when the file would reach it whatever happens)
+        branch = (
+            reference.python_branch
+            if reference is not None
+            and reference.python_branch is not None
+            and ctx.branch_on_distros(reference.python_branch) is None
+            else None
+        )
+        severity = Severity.WARNING if branch else None
+        if branch:
+            note += f" (only in the branch `{branch}`)"
         linked = link_hint(ctx.files, owner, relative) if owner is not None else None
         if linked is not None and source is not None:
             if want_source == ctx.files.exists(source):  # report it once, under either code
                 yield Finding(
-                    f"{shown} is not in the install tree: {linked[0]}{_branch_note(item, resolution)}{more}",
+                    f"{shown} is not in the install tree: {linked[0]}{note}{more}",
                     path,
                     line,
                     hint=linked[1],
+                    severity=severity,
                 )
         elif (
             want_source
@@ -455,7 +527,7 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
             yield Finding(
                 f"{shown} is not in the predicted install tree: {relative} is in the source of "
                 f"{package}, and an install rule pkgforge cannot evaluate{rule} may install it"
-                f"{_branch_note(item, resolution)}{more}",
+                f"{note}{more}",
                 path,
                 line,
                 severity=Severity.WARNING,
@@ -465,12 +537,12 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
             elsewhere = next((d for d, f in owner.layout.files.items() if f.source == source), None)
             why = f"an install rule installs it as {elsewhere}" if elsewhere else "no install rule covers it"
             yield Finding(
-                f"{shown} is not installed: {relative} is in the source of {package} but "
-                f"{why}{_branch_note(item, resolution)}{more}",
+                f"{shown} is not installed: {relative} is in the source of {package} but {why}{note}{more}",
                 path,
                 line,
                 hint=install_fix(owner, relative.split("/")[0], relative),
                 fix=install_fix_data(owner, relative.split("/")[0]),
+                severity=severity,
             )
         elif (
             owner is not None
@@ -479,12 +551,16 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
         ):
             yield Finding(
                 f"{shown} cannot be checked: {package}'s folder {folder.relative_to(owner.path)}/ "
-                f"cannot be read{_branch_note(item, resolution)}{more}",
+                f"cannot be read{note}{more}",
                 path,
                 line,
                 hint=UNREADABLE_HINT,
             )
-        elif (default := argument_default_in_branch(item, resolution)) is not None:
+        elif (
+            item is not None
+            and resolution is not None
+            and (default := argument_default_in_branch(item, resolution)) is not None
+        ):
             argument, setting = default
             yield Finding(
                 f"{shown} does not exist: it is the default of argument '{argument}' with "
@@ -501,11 +577,11 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
                 near = difflib.get_close_matches(relative, [str(f) for f in owner.files], n=1)
                 hint = f"did you mean {near[0]}?" if near else f"no file {relative} in {package}"
             yield Finding(
-                f"{shown} does not exist, in the install tree or in {package}'s source"
-                f"{_branch_note(item, resolution)}{more}",
+                f"{shown} does not exist, in the install tree or in {package}'s source{note}{more}",
                 path,
                 line,
                 hint=hint,
+                severity=severity,
             )
 
 
@@ -619,10 +695,19 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
         return  # with no readable manifest, nothing is known to be declared
     known = ctx.known_packages()
     nested = ctx.nested_packages()
+    # a file checked statically: a lookup in a `try:` that handles its failure is optional, as in
+    # ROS; a package evaluation already found missing in the file is that finding (one per cause)
+    static = {(r.package, r.path, r.line): r for refs in ctx.static_fallback().values() for r in refs}
+    guarded = {key for key, r in static.items() if r.guarded}
+    evaluated: set[tuple[str, str]] = set()
     seen = set()
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name in known or (name, str(path), line) in seen or via in STATIC_ONLY_FOR_DEPENDENCIES:
             continue
+        if resolution is None and ((name, path, line) in guarded or (name, str(path)) in evaluated):
+            continue
+        if resolution is not None:
+            evaluated.add((name, str(path)))
         unset = ctx.none_from_unset(resolution, name) if resolution is not None else []
         if name in nested and path.is_relative_to(nested[name]):
             continue  # a template package's own files name it
@@ -635,7 +720,7 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
         seen.add((name, str(path), line))
         message = (
             f"package '{name}' ({via}) is not in the workspace, not declared in package.xml "
-            "and released in no ROS 2 distro"
+            f"and released in no ROS 2 distro{static_note(ctx, path, item)}"
         )
         only = resolution.off_default(item) if resolution is not None and item is not None else []
         if unset:
@@ -647,6 +732,19 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
                 severity=Severity.WARNING,
                 hint=f"set {unset[0]} when you run verify (e.g. {unset[0]}=value pkgforge verify), "
                 "or give it a default",
+            )
+            continue
+        reference = static.get((name, path, line or 0)) if resolution is None else None
+        branch = reference.python_branch if reference is not None else None
+        if branch is not None and ctx.branch_on_distros(branch) is None:
+            # a file read statically: used in one if/else branch of it, which runs is not known
+            # (select_slam_launch.py's hector_mapping, started only when the user picks 3)
+            yield Finding(
+                f"{message} (only in the branch `{branch}`)",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"{_unknown_hint(ctx, name)}; if it is built from source, list it in a .repos file",
             )
             continue
         if not only:
@@ -679,6 +777,12 @@ def _optional_use(ctx: CheckContext, reference: Reference, read: set[Path] | Non
     franka_description), or in a model file no robot model of the package reads (husky's
     urdf/accessories/sick_lms1xx_mount.urdf.xacro and its $(find lms1xx)). `read`: the package's
     files its models read, None when not known."""
+    if reference.guarded:
+        # a file checked statically: its `try:` handles the package's absence (an optional driver)
+        return _OptionalUse(
+            "inside a `try:` of a launch file checked statically that handles its absence,",
+            "if the package's users need what it adds",
+        )
     if reference.python_branch is not None and ctx.branch_on_distros(reference.python_branch) is None:
         # a file checked statically (not evaluated here): which branch runs is unknown (a branch
         # on $ROS_DISTRO every target distro takes is no option)
@@ -783,8 +887,13 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
     }
     read = ctx.model_files_read()
     chosen: dict[str, tuple[Use, _OptionalUse | None]] = {}
-    # a use needed whatever the settings first, then one with a line: where the diagnostic points
-    for use in sorted(_looked_up(ctx), key=lambda x: (x[0], x[2] is None, str(x[1]), x[2] or 0)):
+    # a use needed whatever the settings first, then one with a line, then one of a file that
+    # loads (one read statically because it does not load is the same defect, said less surely):
+    # where the diagnostic points
+    for use in sorted(
+        _looked_up(ctx),
+        key=lambda x: (x[0], x[2] is None, read_as_failed(ctx, x[1], x[4]), str(x[1]), x[2] or 0),
+    ):
         name, path, line, via, item, _ = use
         if name in own or name in declared or name not in known or name in LAUNCH_INFRASTRUCTURE:
             continue
@@ -805,6 +914,7 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             )  # no fix: only the user knows whether that use is meant for this package's users
             continue
         note = _branch_note(item, resolution) if resolution is not None and item is not None else ""
+        note += static_note(ctx, path, item)
         written_use = written.get((name, path, line)) if item is None else None
         if written_use is not None and written_use.launch_condition and path in ctx.static_fallback():
             # a file checked statically: its action given a condition= off at the defaults

@@ -469,9 +469,9 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
             )
     if not ctx.distros:
         return
-    from pkgforge.checks.launch import _looked_up
+    from pkgforge.checks.launch import _looked_up, read_as_failed, static_note
 
-    uses: dict[str, list[tuple[bool, str, int, Path, int | None, str]]] = {}
+    uses: dict[str, list[tuple[bool, bool, str, int, Path, int | None, str, bool]]] = {}
     # the argument settings other than the defaults each use is seen only with ([]: the defaults)
     settings: dict[str, list[list[str]]] = {}
     # a file checked statically: its actions given a condition= (the file could not be evaluated)
@@ -485,7 +485,18 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
     }
     for name, path, line, via, item, resolution in _looked_up(ctx):
         if name not in local and name not in reported and name not in manifest.declared():
-            uses.setdefault(name, []).append((line is None, str(path), line or 0, path, line, via))
+            uses.setdefault(name, []).append(
+                (
+                    line is None,
+                    read_as_failed(ctx, path, item),
+                    str(path),
+                    line or 0,
+                    path,
+                    line,
+                    via,
+                    item is None,
+                )
+            )
             only = resolution.off_default(item) if resolution is not None and item is not None else []
             if resolution is None and (condition := conditional.get((name, path, line or 0))):
                 only = [condition]
@@ -495,9 +506,10 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
         if problem is None:
             continue
         found.sort()
-        _, _, _, path, line, via = found[0]
-        more = len({(f[1], f[2]) for f in found}) - 1
-        message = f"{via} '{name}': {problem.message}" + (f" (and {more} more)" if more else "")
+        _, _, _, _, path, line, via, static = found[0]
+        more = len({(f[2], f[3]) for f in found}) - 1
+        note = static_note(ctx, path, None) if static else ""
+        message = f"{via} '{name}': {problem.message}{note}" + (f" (and {more} more)" if more else "")
         if all(settings[name]):
             # only with settings other than the defaults (moveit_resources' demo.launch.py runs
             # warehouse_ros_mongo only with db:=True): the default launch runs, that option fails

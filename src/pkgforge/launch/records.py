@@ -81,6 +81,7 @@ class NodeRecordDict(RecordDict, total=False):
     parameters: list[ParameterRecordDict]
     remappings: list[list[str]]
     arguments: list[str]
+    ros_arguments: list[str]
     cmd: list[str] | None
     shell: bool
 
@@ -251,6 +252,8 @@ class Node(Record):
     parameters: list[Parameter] = field(default_factory=list)
     remappings: list[list[str]] = field(default_factory=list)
     arguments: list[str] = field(default_factory=list)
+    # ros_arguments=, launch_ros's own `--ros-args` part of the command line (ros_args= in XML)
+    ros_arguments: list[str] = field(default_factory=list)
     cmd: list[str] | None = None  # a plain process (ExecuteProcess)
     shell: bool = False  # ExecuteProcess(shell=True): a shell splits its joined cmd into words
 

@@ -429,6 +429,7 @@ def _hook_locations() -> None:
     def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
         self._pkgforge_parameters = list(kwargs.get("parameters") or [])
         self._pkgforge_arguments = list(kwargs.get("arguments") or [])
+        self._pkgforge_ros_arguments = list(kwargs.get("ros_arguments") or [])
         node_init(self, *args, **kwargs)
         # the command as the node gives it to ExecuteProcess, before _perform_substitutions adds to it
         self._pkgforge_own_cmd = len(self.cmd)
@@ -803,7 +804,8 @@ def _record_node(node: Any, context: Any) -> None:
         text = _perform(context, argument)
         arguments.append(text)
         _record_path(text, node, "Node arguments")
-    # SetParameter's global parameters, which launch_ros gives every node in scope
+    # SetParameter's global parameters and SetParametersFromFile's files, which launch_ros gives
+    # every node in scope (a `-p` or a `--params-file` each)
     parameters: list[ParameterRecordDict] = [
         {
             "name": group[0],
@@ -812,8 +814,15 @@ def _record_node(node: Any, context: Any) -> None:
             "file": node._file,
             "line": node._line,
         }
-        for group in context.launch_configurations.get("global_params") or []
         if isinstance(group, tuple)
+        else {
+            "name": None,
+            "form": "file",
+            "value_preview": str(group),
+            "file": node._file,
+            "line": node._line,
+        }
+        for group in context.launch_configurations.get("global_params") or []
     ]
     parameters += _parameters(context, node._pkgforge_parameters, node)
     record: NodeRecordDict = {
@@ -821,6 +830,7 @@ def _record_node(node: Any, context: Any) -> None:
         "package": package,
         "executable": _text(context, node._Node__node_executable),
         "arguments": arguments,
+        "ros_arguments": [_perform(context, a) for a in getattr(node, "_pkgforge_ros_arguments", [])],
         "parameters": parameters,
     }
     try:
@@ -905,9 +915,8 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
             out.extend(e for e in entities if isinstance(e, launch.LaunchDescriptionEntity))
         return out + _shutdown_entities(action.event_handler)
     if name == "SetParametersFromFile":
-        _record_path(
-            _text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile"
-        )
+        # (launch_ros keeps the file as _input_file, humble and jazzy alike)
+        _record_path(_text(context, action._input_file), action, "SetParametersFromFile")
     children: Iterable[Any] | None = action.execute(context)
     return children
 

@@ -1803,16 +1803,14 @@ class Node(ExecuteProcess):
         )
         parameters: list[ParameterRecordDict] = []
         for group in context.launch_configurations.get("global_params") or []:
-            if isinstance(group, tuple):
-                parameters.append(
-                    {
-                        "name": group[0],
-                        "form": "plain",
-                        "value_preview": str(group[1])[:PREVIEW_LENGTH],
-                        "file": self._file,
-                        "line": self._line,
-                    }
-                )
+            # SetParameter's (name, value), SetParametersFromFile's file: launch_ros gives each node
+            # in scope every one (a `-p` or a `--params-file`)
+            given: ParameterRecordDict = (
+                {"name": group[0], "form": "plain", "value_preview": str(group[1])[:PREVIEW_LENGTH]}
+                if isinstance(group, tuple)
+                else {"name": None, "form": "file", "value_preview": str(group)}
+            )
+            parameters.append({**given, "file": self._file, "line": self._line})
         for group in self.parameters:
             parameters.extend(_evaluate_parameters(context, group, self))
         remappings = [list(r) for r in context.launch_configurations.get("ros_remaps") or []]
@@ -1824,6 +1822,7 @@ class Node(ExecuteProcess):
             "name": perform(context, self.node_name) if self.node_name is not None else None,
             "namespace": namespace,
             "arguments": arguments,
+            "ros_arguments": [perform(context, argument) for argument in self.ros_arguments],
             "parameters": parameters,
             "remappings": remappings,
         }

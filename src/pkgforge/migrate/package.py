@@ -221,6 +221,7 @@ def migrate(
     # execute bits (a script), a converted one has none
     modes: dict[str, int] = {}
     used: set[str] = set()
+    parameter_files: set[str] = set()  # own YAML files a node's <rosparam file> loads
     generated_rviz: dict[str, int | None] = {}
     for relative in files:
         path = source / relative
@@ -230,6 +231,7 @@ def migrate(
             converted = reader.read()
             _rewrite_all(converted.actions, name, moved, source, generated_rviz, notes, path)
             used |= used_packages(converted.actions)
+            parameter_files |= _parameter_files(converted.actions, name)
             if launch_format == "py":
                 text = to_python(converted.actions, relative)
             elif launch_format == "xml":
@@ -253,6 +255,10 @@ def migrate(
         else:
             output[relative] = path.read_bytes()
             modes[relative] = path.stat().st_mode & 0o777
+
+    for relative in sorted(parameter_files):
+        if relative in output:
+            output[relative] = _as_ros2_parameters(output[relative], source / relative, notes)
 
     # exec_depends: what the launch files use, and the old ones that still mean something
     data = load()
@@ -354,6 +360,46 @@ def migrate(
         )
     created = create_package(spec, parent, files=output, folder=folder, modes=modes)
     return created, notes, source
+
+
+def _parameter_files(actions: list[Action], name: str) -> set[str]:
+    """The package's own files (relative paths) a node's <rosparam command="load" file=...> loads."""
+    from pkgforge.migrate.roslaunch import Group, Node, Token
+
+    found: set[str] = set()
+    for action in actions:
+        if isinstance(action, Group):
+            found |= _parameter_files(action.actions, name)
+        elif isinstance(action, Node):
+            for param in action.params:
+                value = param.value
+                if (
+                    param.kind == "file"
+                    and len(value) == 2
+                    and value[0] == Token("find", name)
+                    and value[1][0] == "text"
+                ):
+                    found.add(value[1][1].lstrip("/"))
+    return found
+
+
+def _as_ros2_parameters(content: bytes, path: Path, notes: Notes) -> bytes:
+    """A ROS 1 rosparam file a node loads, as a ROS 2 parameters file: rcl reads only
+    `<node name or /**>: ros__parameters: ...` (the file's own parameters as they were, under
+    /**: the one node the launch file gives it to). A file already laid out so, or one with
+    document markers (several documents, directives), stays as it is."""
+    text = content.decode("utf-8", errors="replace")
+    lines = text.splitlines(keepends=True)
+    if "ros__parameters" in text or any(line.startswith(("---", "...", "%")) for line in lines):
+        return content
+    indented = "".join(f"    {line}" if line.strip() else line for line in lines)
+    notes.add(
+        "migrate-changed",
+        f"{path.name}: its parameters now under /**: ros__parameters:, as a ROS 2 node reads a parameters file",
+        path,
+        1,
+    )
+    return f"/**:\n  ros__parameters:\n{indented}".encode()
 
 
 def _rewrite(parts: list[Token], name: str, moved: dict[str, str], foreign_launch: str) -> list[Token]:

@@ -71,6 +71,13 @@ class Reference:
     # written ("if LDS_MODEL == 'LDS-02'"); in a file that could not be evaluated, which branch
     # runs is unknown (turtlebot3's robot.launch.py picks a lidar driver by $LDS_MODEL)
     python_branch: str | None = None
+    # whether `relative` is the whole path the file names: False when it is only the start of a
+    # longer name (`$(find-pkg-share p)/urdf/$(var model)`, `[PathJoinSubstitution([...]), '.urdf']`)
+    # or was built from a name the file binds more than once (which value is meant is not known)
+    exact: bool = True
+    # a Python file's use inside a `try:` whose handler catches its failure (PackageNotFoundError,
+    # OSError, Exception, a bare except): the file goes on without it, as ROS would
+    guarded: bool = False
 
 
 def launch_kind(path: Path) -> str | None:
@@ -274,7 +281,7 @@ def _scan_config_yaml(source: SourceFile, text: str, locate: _Locator) -> list[R
     found: list[Reference] = []
     try:
         documents = compose_all(text)
-    except yaml.YAMLError:
+    except (yaml.YAMLError, RecursionError):  # (nested past the parser's depth)
         return found
     for document in documents:
         if isinstance(document, yaml.MappingNode):
@@ -314,13 +321,20 @@ def _yaml_scalars(text: str) -> Iterator[tuple[str | None, str, int]]:
 
     try:
         documents = compose_all(text)
-    except yaml.YAMLError:
+    except (yaml.YAMLError, RecursionError):
         return
     todo: list[tuple[str | None, yaml.Node]] = [
         (None, document) for document in documents if document is not None
     ]
+    # a collection an alias names again is the same node: walked once (nested aliases would
+    # otherwise cost their expansion, a billion laughs)
+    walked: set[int] = set()
     while todo:
         key, node = todo.pop()
+        if not isinstance(node, yaml.ScalarNode):
+            if id(node) in walked:
+                continue
+            walked.add(id(node))
         if isinstance(node, yaml.ScalarNode):
             yield key, node.value, node.start_mark.line + 1
         elif isinstance(node, yaml.SequenceNode):
@@ -352,14 +366,58 @@ def _scan_rviz(source: SourceFile, text: str, locate: _Locator) -> list[Referenc
     return found
 
 
+# lines a launch file with a syntax error may lose before its literal references are given up,
+# and the largest such file tried again line by line
+MAX_BLANKED_LINES = 25
+MAX_RECOVERED_BYTES = 256 * 1024
+
+
+def _parse_python(source: SourceFile, text: str, *, recover: bool) -> tuple[ast.Module, set[int]] | None:
+    """The file's tree, and the lines blanked to get it: a launch file with a syntax error (that
+    `ros2 launch` refuses, launch-load-error says where) still names its packages and paths
+    literally in the statements that parse; each line Python's parser stops at is blanked (the
+    line numbers kept) until the rest parses. None when it does not."""
+    lines = text.splitlines(keepends=True)
+    blanked: set[int] = set()
+    while True:
+        try:
+            # (a statement nested past Python's parser is a SyntaxError at its line: blanked too)
+            return parse_python("".join(lines), filename=str(source.path)), blanked
+        except (SyntaxError, ValueError) as error:  # (ValueError: a NUL byte in the source)
+            line = getattr(error, "lineno", None)
+            if (
+                not recover
+                or len(text) > MAX_RECOVERED_BYTES
+                or not isinstance(line, int)
+                or not 1 <= line <= len(lines)
+                or line in blanked
+                or len(blanked) >= MAX_BLANKED_LINES
+            ):
+                return None
+            blanked.add(line)
+            lines[line - 1] = "\n"
+
+
+def _near_blanked(node: ast.AST, blanked: set[int]) -> bool:
+    """Whether a node spans (or touches) a blanked line: what it says may be cut short."""
+    start: int | None = getattr(node, "lineno", None)
+    if start is None:
+        return False
+    end: int = getattr(node, "end_lineno", None) or start
+    return any(start - 1 <= line <= end + 1 for line in blanked)
+
+
 def _scan_python(source: SourceFile, text: str) -> list[Reference]:
-    try:
-        tree = parse_python(text, filename=str(source.path))
-    except SyntaxError:
+    parsed = _parse_python(source, text, recover=launch_kind(source.path) == "py")
+    if parsed is None:
         return []
+    tree, blanked = parsed
     found: list[Reference] = []
     nodes = list(ast.walk(tree))  # walked once: the bindings and the calls both look at every node
-    bindings = _literal_bindings(nodes)
+    # an assignment cut by a blanked line may bind less than the file means: no literal binding
+    bindings = _literal_bindings([n for n in nodes if not (blanked and _near_blanked(n, blanked))])
+    once = _bound_once(nodes)
+    parents = {id(child): parent for parent in nodes for child in ast.iter_child_nodes(parent)}
     wrappers = _lookup_wrappers(nodes)
     defaults, configurations = _argument_defaults(nodes)
 
@@ -446,7 +504,8 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
                     found.append(
                         Reference(package, None, source.path, *position, name, launch_condition=condition)
                     )
-        elif name in PATH_JOINS:
+        elif name in PATH_JOINS and not (blanked and _near_blanked(node, blanked)):
+            # (a join cut by a blanked line may name only the start of its path)
             parts = (
                 node.args[0].elts
                 if name == "PathJoinSubstitution"
@@ -460,6 +519,14 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
                 rest = [r for r in literals if r is not None]
                 if package and rest and len(rest) == len(literals):
                     first = parts[1]
+                    exact = (
+                        all(
+                            isinstance(p, ast.Constant) or (isinstance(p, ast.Name) and p.id in once)
+                            for p in parts[1:]
+                        )
+                        and not any(r.startswith("/") or ".." in r.split("/") for r in rest)
+                        and not _part_of_longer_name(node, parents)
+                    )
                     found.append(
                         Reference(
                             package,
@@ -468,6 +535,7 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
                             first.lineno,
                             first.col_offset + 1,
                             name,
+                            exact=exact,
                         )
                     )
         elif name == "Command" and node.args:
@@ -484,10 +552,49 @@ def _scan_python(source: SourceFile, text: str) -> list[Reference]:
                 if keyword.arg == "name" and literal(keyword.value) == "xacro":
                     found.append(Reference("xacro", None, source.path, *position, "FindExecutable"))
     branches = _python_branches(nodes)
+    guarded = _guarded_positions(nodes)
     return [
-        dataclasses.replace(r, python_branch=branches.get((r.line, r.column))) if r.via != "import" else r
+        dataclasses.replace(
+            r, python_branch=branches.get((r.line, r.column)), guarded=(r.line, r.column) in guarded
+        )
+        if r.via != "import"
+        else r
         for r in found
     ]
+
+
+# what a handler catches when it catches a failed lookup or a missing file
+CATCHING = {
+    "Exception",
+    "BaseException",
+    "PackageNotFoundError",
+    "LookupError",
+    "KeyError",
+    "OSError",
+    "IOError",
+    "EnvironmentError",
+    "FileNotFoundError",
+}
+
+
+def _guarded_positions(nodes: list[ast.AST]) -> set[tuple[int, int | None]]:
+    """(line, column) of every node inside the body of a `try:` one of whose handlers catches a
+    failed package lookup or a missing file (the file handles that failure itself)."""
+    out: set[tuple[int, int | None]] = set()
+    for node in nodes:
+        if not isinstance(node, ast.Try):
+            continue
+        caught = [
+            handler.type is None or any(_name(t).split(".")[-1] in CATCHING for t in ast.walk(handler.type))
+            for handler in node.handlers
+        ]
+        if not any(caught):
+            continue
+        for statement in node.body:
+            for inner in ast.walk(statement):
+                if isinstance(inner, (ast.expr, ast.stmt)):
+                    out.add((inner.lineno, inner.col_offset + 1))
+    return out
 
 
 def _python_branches(nodes: list[ast.AST]) -> dict[tuple[int, int | None], str]:
@@ -560,6 +667,38 @@ def _lookup_wrappers(nodes: list[ast.AST]) -> dict[str, tuple[int, str, str]]:
                 wrappers[node.name] = (parameters.index(inner.args[0].id), inner.args[0].id, lookup)
                 break
     return wrappers
+
+
+def _part_of_longer_name(call: ast.Call, parents: dict[int, ast.AST]) -> bool:
+    """Whether a joined path is only the start of a name the file goes on to build: added to
+    (`join(...) + '.urdf'`), formatted, a method called on it, or followed by text in a list of
+    substitutions (`[PathJoinSubstitution([share, 'urdf', 'robot']), '.urdf.xacro']`)."""
+    parent = parents.get(id(call))
+    if isinstance(parent, (ast.BinOp, ast.JoinedStr, ast.FormattedValue, ast.Attribute)):
+        return True
+    if isinstance(parent, (ast.List, ast.Tuple)):
+        after = parent.elts[parent.elts.index(call) + 1 :]
+        return bool(after) and isinstance(after[0], (ast.Constant, ast.JoinedStr, ast.BinOp))
+    return False
+
+
+def _bound_once(nodes: list[ast.AST]) -> set[str]:
+    """The names the file binds exactly once (an assignment, a loop target, a parameter, an
+    import, ...): a literal one of them stands for one value wherever it is used."""
+    counts: dict[str, int] = {}
+    for node in nodes:
+        if isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del)):
+            counts[node.id] = counts.get(node.id, 0) + 1
+        elif isinstance(node, ast.arg):
+            counts[node.arg] = counts.get(node.arg, 0) + 1
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            for alias in node.names:
+                bound = alias.asname or alias.name.split(".")[0]
+                counts[bound] = counts.get(bound, 0) + 1
+        elif isinstance(node, (ast.Global, ast.Nonlocal)):
+            for bound in node.names:
+                counts[bound] = counts.get(bound, 0) + 2  # bound elsewhere too
+    return {name for name, count in counts.items() if count == 1}
 
 
 def _literal_bindings(nodes: list[ast.AST]) -> dict[str, object]:

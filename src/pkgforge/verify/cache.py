@@ -108,7 +108,11 @@ if TYPE_CHECKING:
 #    and handlers' entities visited after the description, with its final configurations
 # 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
 #    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
-CACHE_FORMAT = 51
+# 52: with 51, a launch file that does not load is read statically (its packages and its literal
+#    paths, for every file read statically); robot_state_publisher with no description (PF321);
+#    parameter files (PF322) and ros_gz_bridge configs (PF323) read; node records keep
+#    SetParametersFromFile's files
+CACHE_FORMAT = 52
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
