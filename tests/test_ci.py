@@ -42,7 +42,7 @@ def test_colcon_verify_names_only_the_broken_package(built_workspace, tmp_path):
     assert located and set(located) == {"src/small_turtle"}
     assert (
         result.stdout.splitlines()[-1]
-        == "1 errors, 0 warnings, 0 infos in 4 packages; launch: built-in engine (lyrical)"
+        == "1 error, 0 warnings, 0 infos in 4 packages; launch: built-in engine (lyrical, the newest LTS)"
     )
     etree.XMLSchema(etree.parse(str(JUNIT_XSD))).assertValid(etree.parse(str(junit)))
     suites = etree.parse(str(junit)).getroot()
@@ -60,7 +60,7 @@ def test_colcon_verify_skip_the_broken_package(built_workspace):
     assert result.returncode == 0, result.stdout + result.stderr
     assert (
         result.stdout.splitlines()[-1]
-        == "0 errors, 0 warnings, 0 infos in 3 packages; launch: built-in engine (lyrical)"
+        == "0 errors, 0 warnings, 0 infos in 3 packages; launch: built-in engine (lyrical, the newest LTS)"
     )
 
 

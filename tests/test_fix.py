@@ -393,7 +393,7 @@ def styled(tmp_path) -> Path:
 def test_styles_clean_before_the_defects(styled):
     result = run_pkgforge("verify", cwd=styled)
     assert result.returncode == 0 and result.stdout.startswith(
-        "0 errors, 0 warnings, 0 infos in 1 packages"
+        "0 errors, 0 warnings, 0 infos in 1 package"
     ), result.stdout
 
 

@@ -229,7 +229,7 @@ def test_a_space_in_pkgforges_own_temporary_folder_is_no_error_of_the_user(tmp_p
     )
     result = run_patched(patch, "verify", str(package), "--no-cache", cwd=package)
     assert (result.returncode, result.stderr) == (0, ""), result.stdout
-    assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine")
+    assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 package; launch: built-in engine")
     assert list(spaced.iterdir()) == []
 
 

@@ -720,7 +720,10 @@ def test_text_format(tmp_path):
         "'worlds', which does not exist in small_turtle (install-missing-directory)"
     )
     assert lines[1].startswith("    hint: remove 'worlds' from the install rule at CMakeLists.txt:6")
-    assert lines[-1] == "2 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine (lyrical)"
+    assert (
+        lines[-1]
+        == "2 errors, 0 warnings, 0 infos in 1 package; launch: built-in engine (lyrical, the newest LTS)"
+    )
     assert "\x1b[" not in result.stdout  # no colour when not on a terminal
     assert package.is_dir()
 

@@ -64,3 +64,6 @@ class PackageReport:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     # bugs in pkgforge met while checking the package ("summary\ntraceback"): verify exits 2
     internal_errors: list[str] = field(default_factory=list)
+    # (the distro whose launch API the built-in engine followed for its launch files, where that
+    # came from: --distro, ROS_DISTRO, pkgforge.toml, CI file, the newest LTS); None: no built-in engine
+    launch_distro: tuple[str, str] | None = None

@@ -393,5 +393,8 @@ def _remap(result: VerifyResult, back: Callable[[Path], Path]) -> VerifyResult:
         moved = PackageReport(
             report.name, back(report.path), report.build_type, [_moved(d, back) for d in report.diagnostics]
         )
+        moved.launch_distro = report.launch_distro
         reports.append(moved)
-    return VerifyResult(back(result.root), reports, result.checks_run)
+    return VerifyResult(
+        back(result.root), reports, result.checks_run, engine=result.engine, distro=result.distro
+    )

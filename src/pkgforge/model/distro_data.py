@@ -333,7 +333,7 @@ def target_distros(
     while True:
         found = ci_distros(folder)
         if found:
-            return found, "CI file"
+            return found, "the CI files"
         if folder == root or root not in folder.parents:
             break
         folder = folder.parent

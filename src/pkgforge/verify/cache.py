@@ -98,7 +98,8 @@ if TYPE_CHECKING:
 # 47: choices given as one str are that word (launch tests membership by substring)
 # 48: an XML or YAML launch file that is not UTF-8 is refused (launch reads it as UTF-8 text), at its
 #    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says
-CACHE_FORMAT = 48
+# 49: a report says under which distro's launch API the built-in engine evaluated its launch files
+CACHE_FORMAT = 49
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -413,6 +414,7 @@ def _report_to(report: PackageReport) -> dict[str, Any]:
         "name": report.name,
         "path": str(report.path),
         "build_type": report.build_type,
+        "launch_distro": list(report.launch_distro) if report.launch_distro else None,
         "diagnostics": [
             {**d.__dict__, "path": str(d.path), "severity": d.severity.label} for d in report.diagnostics
         ],
@@ -421,6 +423,8 @@ def _report_to(report: PackageReport) -> dict[str, Any]:
 
 def _report_from(data: dict[str, Any]) -> PackageReport:
     report = PackageReport(data["name"], Path(data["path"]), data["build_type"])
+    launch_distro = data.get("launch_distro")
+    report.launch_distro = (str(launch_distro[0]), str(launch_distro[1])) if launch_distro else None
     for d in data["diagnostics"]:
         report.diagnostics.append(
             Diagnostic(**{**d, "path": Path(d["path"]), "severity": Severity.parse(d["severity"])})
