@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import NOBODY, copy_fixture, edit, new_package, run_command, run_pkgforge
+from conftest import NOBODY, copy_fixture, edit, line_of, new_package, run_command, run_pkgforge
 
 # --- helpers ---------------------------------------------------------------------------------------
 
@@ -842,3 +842,78 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     assert diagnostic.name == "folder-name-mismatch" and why.startswith(
         "the fix would leave the file unparsable"
     )
+
+
+# --- issue 30: fixes that respect the target distro and the hint ----------------------------------
+
+GAZEBO_CLASSIC_SPAWN = """\
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        Node(package='gazebo_ros', executable='spawn_entity.py', arguments=['-entity', 'rob']),
+    ])
+"""
+
+
+@pytest.mark.parametrize("target", ["new --distro jazzy", "no target"])
+def test_fix_never_declares_what_the_target_distro_has_not(tmp_path, target):
+    """Issue 30: gazebo_ros is released for humble only. A package `new --distro jazzy` made gets
+    package-not-in-distro naming ros_gz_sim, and `fix` declares nothing; with no target distro
+    stated, missing-exec-depend stays, its hint names the successor, and `fix` declares nothing."""
+    package = scaffold(tmp_path, "sim_bot", *(["--distro", "jazzy"] if target != "no target" else []))
+    launch = package / "launch" / "sim.launch.py"
+    launch.write_text(GAZEBO_CLASSIC_SPAWN)
+    before = snapshot(tmp_path)
+    result = fix(tmp_path, "--unsafe-fixes")
+    assert snapshot(tmp_path) == before, result.stdout
+    line = line_of(launch, "Node(package='gazebo_ros'")
+    if target == "no target":
+        assert (
+            f"src/sim_bot/launch/sim.launch.py:{line}: PF305 [error] Node package 'gazebo_ros' is used at "
+            "run time but package.xml does not declare it (missing-exec-depend)"
+        ) in result.stdout.splitlines()
+        assert (
+            "    hint: use ros_gz_sim instead (Gazebo Classic (gazebo_ros) is released for Humble only; use "
+            "Gazebo with ros_gz_sim); or, for a package that targets humble only, add "
+            '<exec_depend>gazebo_ros</exec_depend> to package.xml and say so in pkgforge.toml ([verify] distro = "humble")'
+        ) in result.stdout.splitlines()
+    else:
+        assert (
+            f"src/sim_bot/launch/sim.launch.py:{line}: PF108 [error] Node package 'gazebo_ros': 'gazebo_ros' "
+            "is not released for jazzy (released for humble) (package-not-in-distro)"
+        ) in result.stdout.splitlines()
+        assert (
+            "    hint: use ros_gz_sim instead: Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo with ros_gz_sim"
+            in result.stdout.splitlines()
+        )
+    assert "not fixed" not in result.stdout
+    assert "PF305" not in result.stdout or target == "no target"
+
+
+def test_a_viewer_used_only_with_a_setting_gets_an_unsafe_fix(tmp_path):
+    """Issue 30: joint_state_publisher_gui started only under gui:=true (default false) is a
+    warning whose hint names the dependency: `fix` leaves it (an unsafe fix, counted as such),
+    `fix --unsafe-fixes` declares it, never 'the finding does not say which dependency'."""
+    package = scaffold(tmp_path, "quiet_bot")
+    edit(package / "launch" / "display.launch.py", "default_value='true',", "default_value='false',")
+    edit(package / "package.xml", "  <exec_depend>joint_state_publisher_gui</exec_depend>\n", "")
+    before = snapshot(tmp_path)
+    safe = fix(tmp_path)
+    assert snapshot(tmp_path) == before
+    assert (
+        "1 unsafe fix(es) not applied (--unsafe-fixes applies them): PF305 missing-exec-depend ×1"
+        in safe.stdout
+    )
+    assert "does not say which dependency" not in safe.stdout
+    gui_node = line_of(package / "launch" / "display.launch.py", "package='joint_state_publisher_gui'") - 1
+    unsafe = fix(tmp_path, "--unsafe-fixes")
+    assert unsafe.returncode == 0, unsafe.stdout + unsafe.stderr
+    assert (
+        f"fixed src/quiet_bot/launch/display.launch.py:{gui_node}: PF305 missing-exec-depend: declared "
+        "<exec_depend>joint_state_publisher_gui</exec_depend> in package.xml"
+    ) in unsafe.stdout.splitlines()
+    assert "<exec_depend>joint_state_publisher_gui</exec_depend>" in (package / "package.xml").read_text()
+    assert "PF305" not in run_pkgforge("verify", cwd=tmp_path).stdout

@@ -32,7 +32,8 @@ class Finding:
     column: int | None = None
     hint: str | None = None  # None: the check's own hint
     severity: Severity | None = None  # None: the check's default
-    # what `pkgforge fix` needs to fix it (plain data, e.g. {"dependency": "xacro"}); None: no fix
+    # what `pkgforge fix` needs to fix it (plain data, e.g. {"dependency": "xacro"}); None: no fix.
+    # {"unsafe": True, ...}: this finding's fix is unsafe (--unsafe-fixes) whatever the check's kind
     fix: dict[str, Any] | None = field(default=None, compare=False, hash=False)
 
 

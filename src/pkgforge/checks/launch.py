@@ -748,12 +748,14 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "refuses). A package a declared one brings along (spot_description brings robot_state_"
     "publisher) is installed on a fresh machine all the same: a warning, with the fix. A launch "
     "file's use of a viewer (rviz2, rqt, joint_state_publisher_gui, plotjuggler) only with argument "
-    "settings other than the defaults (rviz:=true, default false) is a warning with no fix: a "
-    "headless robot leaves RViz out on purpose; any other package such a setting needs (the "
+    "settings other than the defaults (rviz:=true, default false) is a warning with an unsafe fix "
+    "(--unsafe-fixes declares it): a headless robot leaves RViz out on purpose; any other package such a setting needs (the "
     "simulator under sim:=true) stays an error, with the setting named. A use in one if/else "
     "branch of a launch file pkgforge could not evaluate is a warning too (which branch runs is "
     "unknown: turtlebot3's lidar driver by $LDS_MODEL), and, in a test package (dsr_tests) or "
-    "under test/, a package declared only as <test_depend>.",
+    "under test/, a package declared only as <test_depend>. With no target distro stated, a "
+    "package that has a successor and is released for older distros only (gazebo_ros: humble) "
+    "gets no fix: the hint names the successor.",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -850,13 +852,31 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 line,
                 severity=Severity.WARNING,
                 hint=f"add <exec_depend>{name}</exec_depend> if the package's users launch it with that setting",
-            )  # no fix: only the user knows whether that setting is meant for this package's users
+                # unsafe: only the user knows whether that setting is meant for this package's users
+                fix={
+                    "dependency": name,
+                    "tag": "exec_depend",
+                    "manifest": str(model.manifest.path),
+                    "unsafe": True,
+                },
+            )
             continue
         only_tests = (
             "; it declares it only as <test_depend>, which a released binary does not bring"
             if name in tested
             else ""
         )
+        superseded = _superseded(ctx, name)
+        if superseded is not None:
+            # gazebo_ros with no target distro stated: declaring it is right on humble only, and
+            # pkgforge cannot tell whether the package targets humble; the fix would pin it there
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml does not declare it{note}{only_tests}",
+                path,
+                line,
+                hint=superseded,
+            )
+            continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}{only_tests}",
             path,
@@ -869,6 +889,30 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             ),
             fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
         )
+
+
+def _superseded(ctx: CheckContext, name: str) -> str | None:
+    """The hint, without a fix, for a package with a successor (distro_data.replacement) that is
+    not released for every active distro its successor is, when no target distro is stated:
+    `fix` would add gazebo_ros, released for humble only, to a package that may target jazzy. With
+    a target, a name not released for it is package-not-in-distro's, never a fix's."""
+    if ctx.distros or name in ctx.workspace:
+        return None
+    from pkgforge.model.distro_data import load, replacement
+
+    better = replacement(name)
+    if better is None:
+        return None
+    data = load()
+    released = data.released_in(name)
+    elsewhere = [d for d in data.released_in(better[0]) if d not in released]
+    if not released or not elsewhere:
+        return None
+    return (
+        f"use {better[0]} instead ({better[1]}); or, for a package that targets "
+        f"{' or '.join(released)} only, add <exec_depend>{name}</exec_depend> to package.xml and "
+        f'say so in pkgforge.toml ([verify] distro = "{released[0]}")'
+    )
 
 
 def _for_tests(model: PackageModel, path: Path) -> bool:

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic
-from pkgforge.fix.edits import Edit, FileSet, SourceText, Unfixable
+from pkgforge.fix.edits import Edit, FileSet, NotOffered, SourceText, Unfixable
 
 if TYPE_CHECKING:  # imported where used: `pkgforge fix` loads only what its fixers need
     import yaml
@@ -232,7 +232,7 @@ def fix_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         name = _find_package_name(diagnostic, ctx)
         tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
     if not name or not tag:
-        raise Unfixable("the finding does not say which dependency")
+        raise NotOffered("the check gives this finding no fix")
     manifest = _manifest_for(diagnostic)
     source = ctx.files.get(manifest)
     if name is not None and diagnostic.name == "find-package-undeclared":

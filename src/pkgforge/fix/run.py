@@ -22,6 +22,7 @@ from pkgforge.diagnostics import Diagnostic
 from pkgforge.fix.edits import (
     Edit,
     FileSet,
+    NotOffered,
     Outcome,
     Unfixable,
     apply,
@@ -73,10 +74,14 @@ class _Plan:
 
 
 def fix_kind(diagnostic: Diagnostic) -> str | None:
+    """safe, unsafe or None: the check's kind, unless the finding says its own fix is unsafe (a
+    viewer started only with a setting: only the user knows whether the package's users use it)."""
     from pkgforge.checks.registry import all_checks
 
     check = next((c for c in all_checks() if c.code == diagnostic.code), None)
-    return check.fix if check is not None else None
+    if check is None or check.fix is None:
+        return None
+    return "unsafe" if (diagnostic.fix or {}).get("unsafe") else check.fix
 
 
 def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Plan:
@@ -95,6 +100,8 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             continue
         try:
             fix = function(diagnostic, context)
+        except NotOffered:
+            continue
         except Unfixable as exc:
             run.not_fixed.append((diagnostic, str(exc)))
             continue
