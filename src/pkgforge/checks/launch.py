@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from pkgforge.checks.context import NONE_TEXT, CheckContext
-from pkgforge.checks.files import read_problem_hint, untree
+from pkgforge.checks.files import read_problem_hint, undeclared_find, untree, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
@@ -161,6 +161,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
             if item.type == "XacroException" and (absent := ctx.absent_include(item.message)):
                 if absent[0] in ctx.model.manifest.declared():
                     continue  # its own xacro.process_file(): model-unevaluated says it (ROS has the file)
+            if item.type == "XacroException" and undeclared_find(ctx, item.message):
+                continue  # $(find X) of an undeclared package: missing-exec-depend names it in the model
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
@@ -173,7 +175,7 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 # loading read a package not installed here, the action failed on something empty
                 # after: maybe that read's consequence, maybe its own defect (an error neither way)
                 yield Finding(
-                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(_shown_error(ctx, item))}"
                     f" (the file read files of {item.read_before}, not installed here, while loading: "
                     f"maybe the cause){_branch_note(item, resolution)}",
                     *position,
@@ -186,16 +188,23 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 and alone is not None
                 and item.file in (None, str(resolution.launch.installed))
             ):
-                message = f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                message = (
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(_shown_error(ctx, item))}"
+                )
                 yield _failing_alone(f"{message}{alone[0]}", position, alone[1])
                 continue
             if position is not None:
                 yield Finding(
                     # (the tree's paths named as the user's before a long value is shortened)
-                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(_shown_error(ctx, item))}"
                     f"{_branch_note(item, resolution)}",
                     *position,
                 )
+
+
+def _shown_error(ctx: CheckContext, item: LaunchError) -> str:
+    """An action's error message in the user's terms (a xacro failure as xacro_error shows it)."""
+    return untree_xacro(ctx, item.message) if item.type == "XacroException" else untree(ctx, item.message)
 
 
 def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str, str] | None:
