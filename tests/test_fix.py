@@ -917,3 +917,71 @@ def test_a_viewer_used_only_with_a_setting_gets_an_unsafe_fix(tmp_path):
     ) in unsafe.stdout.splitlines()
     assert "<exec_depend>joint_state_publisher_gui</exec_depend>" in (package / "package.xml").read_text()
     assert "PF305" not in run_pkgforge("verify", cwd=tmp_path).stdout
+
+
+def test_a_repeated_dependency_is_deleted(tmp_path):
+    """Issue 30: duplicate-dependency has a safe fix: the repeat's line goes (a repeat sharing a
+    line with another tag loses only its element), and <depend> beside <exec_depend> of the same
+    package (catkin_pkg rejects it) loses the <exec_depend>; every other byte stays."""
+    package = scaffold(tmp_path, "twice_bot")
+    manifest = package / "package.xml"
+    edit(
+        manifest,
+        "  <exec_depend>xacro</exec_depend>\n",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n",
+    )
+    edit(
+        manifest,
+        "  <exec_depend>rviz2</exec_depend>\n",
+        "  <depend>rviz2</depend> <exec_depend>rviz2</exec_depend>\n",
+    )
+    expected = (
+        manifest.read_text()
+        .replace(
+            "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n",
+            "  <exec_depend>xacro</exec_depend>\n",
+        )
+        .replace("<depend>rviz2</depend> <exec_depend>rviz2</exec_depend>", "<depend>rviz2</depend>")
+    )
+    result = fix(tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert manifest.read_text() == expected
+    assert result.stdout.count("PF106 duplicate-dependency: deleted the repeated") == 2, result.stdout
+    assert "PF106" not in run_pkgforge("verify", cwd=tmp_path).stdout
+
+
+@pytest.mark.parametrize("configured", ["pyproject.toml", ".pre-commit-config.yaml"])
+def test_a_launch_file_fix_keeps_the_repository_formatter_stable(tmp_path, configured):
+    """Issue 30: the repository formats its Python with ruff format (pyproject.toml's [tool.ruff], or
+    a ruff-format pre-commit hook) and the launch file is stable under it; wrapping its Command in
+    ParameterValue(..., value_type=str) makes a line too long, so the fixed file is formatted as
+    ruff writes it: `ruff format --check` still passes after `pkgforge fix` and after its --diff."""
+    from conftest import SCRIPTS
+
+    package = scaffold(tmp_path, "fmt_bot")
+    if configured == "pyproject.toml":
+        (tmp_path / "pyproject.toml").write_text("[tool.ruff]\nline-length = 88\n")
+    else:
+        (tmp_path / ".pre-commit-config.yaml").write_text(
+            "repos:\n  - repo: https://github.com/astral-sh/ruff-pre-commit\n    rev: v0.6.0\n"
+            "    hooks:\n      - id: ruff\n      - id: ruff-format\n"
+        )
+    launch = package / "launch" / "display.launch.py"
+    edit(
+        launch,
+        "    robot_description = ParameterValue(\n        Command(['xacro ', LaunchConfiguration('model')]), value_type=str\n    )\n",
+        "    robot_description = Command(['xacro ', LaunchConfiguration('model')])\n",
+    )
+    edit(launch, "from launch_ros.parameter_descriptions import ParameterValue\n", "")
+    assert run_command([SCRIPTS / "ruff", "format", launch], cwd=tmp_path).returncode == 0
+
+    def stable() -> bool:
+        return run_command([SCRIPTS / "ruff", "format", "--check", launch], cwd=tmp_path).returncode == 0
+
+    assert stable()
+    diff = fix(tmp_path, "--diff")
+    assert "+    robot_description = ParameterValue(\n" in diff.stdout, diff.stdout + diff.stderr
+    result = fix(tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert 'Command(["xacro ", LaunchConfiguration("model")]), value_type=str\n' in launch.read_text()
+    assert stable(), launch.read_text()

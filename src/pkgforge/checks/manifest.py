@@ -6,6 +6,7 @@ import os
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
@@ -133,20 +134,24 @@ def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     "purpose); it matters only when a file uses the folder name as a package "
     "name in FindPackageShare or package:// URIs, which resolve by the package "
     "name, and unknown-package reports that use (user story 3: folder "
-    "rob_description, package robot_description).",
+    "rob_description, package robot_description). A package at the root of its git repository "
+    "is not reported: its folder is named by whoever cloned it (the repository's name).",
     hint="rename the folder, or rename the package everywhere",
 )
 def folder_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
-    if model.manifest.name and model.path.name != model.manifest.name:
-        yield Finding(
-            f"folder '{model.path.name}' holds package '{model.manifest.name}': references must use "
-            f"'{model.manifest.name}'",
-            model.manifest.path,
-            model.manifest.name_line,
-            hint=f"rename the folder to '{model.manifest.name}', or the package to "
-            f"'{model.path.name}' in package.xml, project() and every reference",
-        )
+    name = model.manifest.name
+    if not name or model.path.name == name or (model.path / ".git").exists():
+        return  # (.git: a repository's clone, its folder named as the clone was)
+    hint = f"rename the folder to '{name}'"
+    if rep144_problem(model.path.name) is None:  # never a name package.xml cannot hold (Owner+Repo)
+        hint += f", or the package to '{model.path.name}' in package.xml, project() and every reference"
+    yield Finding(
+        f"folder '{model.path.name}' holds package '{name}': references must use '{name}'",
+        model.manifest.path,
+        model.manifest.name_line,
+        hint=hint,
+    )
 
 
 @register(
@@ -184,10 +189,12 @@ def build_type_missing(ctx: CheckContext) -> Iterator[Finding]:
     area="manifest",
     bad=("<!-- package.xml -->\n<depend>xacro</depend>\n<exec_depend>xacro</exec_depend>"),
     good=("<!-- package.xml -->\n<exec_depend>xacro</exec_depend>"),
+    fix="safe",
     summary="a dependency is declared twice",
     explanation="An exact repeat is noise; <depend> beside <build_depend>, "
     "<build_export_depend> or <exec_depend> of the same package makes "
-    "catkin_pkg reject the manifest, and colcon then skips the package.",
+    "catkin_pkg reject the manifest, and colcon then skips the package. The fix deletes the repeat "
+    "(or the tag <depend> covers), unless either declaration has a condition.",
     hint="keep one declaration",
 )
 def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
@@ -207,6 +214,7 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                 severity=Severity.ERROR,
                 hint=f"delete <{specific.tag}>{name}</{specific.tag}> "
                 f"(line {specific.line}): <depend> includes it",
+                fix=_repeat_fix(specific, declarations),
             )
             continue
         for index, dependency in enumerate(declarations):
@@ -218,7 +226,16 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                     manifest.path,
                     dependency.line,
                     hint=f"delete the repeat at line {dependency.line}",
+                    fix=_repeat_fix(dependency, declarations),
                 )
+
+
+def _repeat_fix(repeat: Dependency, declarations: list[Dependency]) -> dict[str, Any] | None:
+    """The fix data that deletes a repeated declaration; None when one has a condition (which of
+    them counts on a distro is the condition's, not a repeat)."""
+    if any(d.condition for d in declarations):
+        return None
+    return {"tag": repeat.tag, "dependency": repeat.name, "line": repeat.line}
 
 
 # imports whose rosdep key is not python3-<module>

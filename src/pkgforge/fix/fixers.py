@@ -243,6 +243,25 @@ def fix_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     return fix
 
 
+@fixer("duplicate-dependency")
+def fix_duplicate_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
+    """Delete the repeated declaration at the finding's line: its own line when nothing else
+    stands on it, else the element with the spaces before it."""
+    data = diagnostic.fix or {}
+    tag, name, line = data.get("tag"), data.get("dependency"), data.get("line")
+    if not tag or not name or not isinstance(line, int):
+        raise NotOffered("the check gives this finding no fix")
+    source = ctx.files.get(diagnostic.path)
+    pattern = re.compile(rf"<{re.escape(tag)}\s*>\s*{re.escape(name)}\s*</{re.escape(tag)}\s*>")
+    matches = list(pattern.finditer(source.line_text(line)))
+    if len(matches) != 1:
+        raise Unfixable(f"cannot find one <{tag}>{name}</{tag}> on package.xml:{line}")
+    start = source.line_start(line) + matches[0].start()
+    fix = Fix(f"deleted the repeated <{tag}>{name}</{tag}> from package.xml")
+    fix.add(diagnostic.path, _delete_span(source, start, start + len(matches[0].group(0))))
+    return fix
+
+
 def _find_package_name(diagnostic: Diagnostic, ctx: FixContext) -> str:
     """The package a find_package() at the diagnostic's location names."""
     source = ctx.files.get(diagnostic.path)

@@ -232,7 +232,10 @@ def run_fix(
     *,
     shown_root: Path | None = None,
     _first: list[VerifyResult] | None = None,
+    _original: Callable[[Path], Path] | None = None,
 ) -> FixRun:
+    """`_original`: a file's path in the user's tree, for a run on a copy (--diff): the formatter
+    its repository configures is found from there."""
     shown_root = shown_root or Path.cwd()
     if options.diff:
         mirrored = _diff_on_a_copy(path, options, shown_root)
@@ -264,6 +267,10 @@ def run_fix(
             if problem is not None and parse_problem(file, source.text) is None:
                 broken[file] = problem
                 continue
+            if file.suffix == ".py":  # a launch file: stable under the repository's formatter
+                from pkgforge.fix.formatter import keep_formatted
+
+                text = keep_formatted(_original(file) if _original else file, source.text, text)
             new_texts[file] = text
         applied: list[tuple[Diagnostic, Fix]] = []
         for diagnostic, fix in planned.fixes:
@@ -355,13 +362,14 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
         copy_path = copy_root / path.resolve().relative_to(root)
         writing = dataclasses.replace(options, diff=False)
         first: list[VerifyResult] = []
-        run = run_fix(copy_path, writing, shown_root=shown_root, _first=first)
 
         def back(file: Path) -> Path:
             try:
                 return root / Path(file).relative_to(copy_root)
             except ValueError:
                 return Path(file)
+
+        run = run_fix(copy_path, writing, shown_root=shown_root, _first=first, _original=back)
 
         out = FixRun(_remap(first[0], back), diff_mode=True, passes=run.passes)
         out.result.root = path.resolve()

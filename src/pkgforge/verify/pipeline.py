@@ -583,7 +583,11 @@ def _cache_lookup(
         files = walk_file_names(folder, None, nested) + [f"{n}/package.xml" for n in nested]
         selection = config.for_package(name, folder)
         targets = _targets(folder, workspace, config, options)
-        keys[folder] = cache.package_key(folder, files, f"{selection.key()}|{','.join(targets)}", signature)
+        # a package at the root of its git repository: folder-name-mismatch says nothing of it
+        clone = "|clone" if (folder / ".git").exists() else ""
+        keys[folder] = cache.package_key(
+            folder, files, f"{selection.key()}|{','.join(targets)}{clone}", signature
+        )
         report = cache.load(folder, keys[folder])
         if report is not None:
             hits[folder] = report
