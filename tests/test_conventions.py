@@ -203,7 +203,44 @@ def test_rule_explains_one_check(tmp_path, key):
     assert "Fixed:\n\n    # CMakeLists.txt\n    install(DIRECTORY launch rviz urdf" in text
     assert "\nFix: extend the install rule.\n" in text
     assert "Automatic fix: safe (`pkgforge fix`)." in text
-    assert text.endswith("Documentation: docs/checks.md#pf302-uninstalled-reference\n")
+    documentation = text.splitlines()[-1]
+    assert documentation.startswith("Documentation: file:///"), documentation
+    assert documentation.endswith("/checks.md#pf302-uninstalled-reference")
+
+
+def test_rule_and_sarif_link_to_real_documentation(tmp_path, workspace):
+    """Issue 30: `rule` and SARIF's helpUri give a URL that opens: the catalogue of the pkgforge
+    that runs (a file:// URL of its docs/checks.md, which has the check's section), or the base
+    PKGFORGE_DOCS_URL gives (a fork's docs on its forge)."""
+    from urllib.parse import urlparse
+    from urllib.request import url2pathname
+
+    documentation = run_pkgforge("rule", "PF302", cwd=tmp_path).stdout.splitlines()[-1]
+    url = documentation.removeprefix("Documentation: ")
+    document, _, anchor = url.partition("#")
+    catalogue = Path(url2pathname(urlparse(document).path))
+    assert catalogue.is_file() and catalogue.read_text() == (REPO / "docs" / "checks.md").read_text()
+    assert anchor == "pf302-uninstalled-reference" and anchor in github_anchors(catalogue.read_text())
+    base = "https://forge.example.org/robots/pkgforge/-/blob/main/docs"
+    env = dict(os.environ, PKGFORGE_DOCS_URL=base)
+    told = run_pkgforge("rule", "uninstalled-reference", cwd=tmp_path, env=env).stdout.splitlines()[-1]
+    assert told == f"Documentation: {base}/checks.md#pf302-uninstalled-reference"
+    sarif = run_pkgforge("verify", ".", "--format", "sarif", cwd=workspace, env=env)
+    rules = json.loads(sarif.stdout)["runs"][0]["tool"]["driver"]["rules"]
+    assert {r["helpUri"] for r in rules if r["id"] == "PF104"} == {
+        f"{base}/checks.md#pf104-folder-name-mismatch"
+    }
+
+
+def test_rule_texts_speak_of_the_user_s_package():
+    """Issue 30: what `rule` and docs/checks.md say is about the user's package, never the
+    project's own notes (user stories, issues, seeds)."""
+    from pkgforge.checks.registry import all_checks
+
+    internal = re.compile(r"user stor|\bissue \d|\bstop \d|\bseed \d", re.I)
+    for check in all_checks():
+        for text in (check.summary, check.explanation, check.hint, check.bad or "", check.good or ""):
+            assert not internal.search(text), (check.code, text)
 
 
 def test_rule_of_an_unknown_code_is_one_line_exit_2(tmp_path):
@@ -541,7 +578,8 @@ def test_sarif_rules_point_at_their_docs_anchor(workspace):
     assert len(driver["rules"]) == len(registered())
     for rule in driver["rules"]:
         document, _, anchor = rule["helpUri"].partition("#")
-        assert document == "docs/checks.md" and anchor == f"{rule['id'].lower()}-{rule['name']}"
+        assert document.startswith("file:///") and document.endswith("/checks.md"), rule["helpUri"]
+        assert anchor == f"{rule['id'].lower()}-{rule['name']}"
         assert anchor in anchors, rule["helpUri"]
     assert "informationUri" not in driver  # pypi.org/project/pkgforge is another project
 

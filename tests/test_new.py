@@ -245,6 +245,10 @@ def test_templates_ship_in_the_wheel(tmp_path):
         zipfile.ZipFile(wheel).read("pkgforge/model/data/distros.txt")
         == (REPO / "src" / "pkgforge" / "model" / "data" / "distros.txt").read_bytes()
     )
+    # the check catalogue that `pkgforge rule` and SARIF's helpUri link to where it is installed
+    assert (
+        zipfile.ZipFile(wheel).read("pkgforge/docs/checks.md") == (REPO / "docs" / "checks.md").read_bytes()
+    )
 
 
 # --- what the files say --------------------------------------------------------------------

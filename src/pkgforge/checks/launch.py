@@ -337,7 +337,7 @@ def _share_reference(ctx: CheckContext, path: str) -> tuple[str, str, Path] | No
     good=("# CMakeLists.txt\ninstall(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
     summary="a launch file resolves a path that the install rules leave out",
     explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
-    "looks (user story 1: the RViz config was never installed, RViz started empty).",
+    "looks: your RViz config never installed, RViz starts empty.",
     hint="extend the install rule",
 )
 def uninstalled_reference(ctx: CheckContext) -> Iterator[Finding]:
@@ -605,8 +605,8 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
     summary="a launch file looks up a package that exists nowhere",
     explanation="The package is not in the workspace, not declared in package.xml, not "
     "installed and released in no active ROS 2 distro: almost always a typo or a "
-    "package renamed (user story 3: "
-    "`robot_description` looked up in package `rob_description`). Used only with argument "
+    "package renamed (`robot_description` looked up where your package is named "
+    "`rob_description`). Used only with argument "
     "settings other than the defaults, it is a warning: more likely an optional driver the "
     "robot's users build from source.",
     hint="fix the package name; if it is a package built from source (not released), add it to "
@@ -749,7 +749,7 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     good=("<!-- package.xml -->\n<exec_depend>rviz2</exec_depend>"),
     summary="a package used at run time is not an exec_depend",
     explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
-    "machine the node, file or tool is missing (user story 6). A model's use that xacro reads "
+    "machine, your package's node, file or tool is missing. A model's use that xacro reads "
     "only inside <xacro:if>/<xacro:unless>, or in a model file no robot model of the package "
     "reads (an accessory for others to include), is a warning, with no fix: such a package is often left out on purpose (a "
     "simulation package that itself depends on the description). A package that depends on "
@@ -989,7 +989,7 @@ def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str)
     ),
     summary="joint_state_publisher is given the robot model as an argument",
     explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
-    "itself, unexpanded (links go missing, the TF tree breaks; user story 4). It reads "
+    "itself, unexpanded (links go missing, the TF tree breaks). It reads "
     "/robot_description from robot_state_publisher. A plain .urdf or .sdf file whose text the "
     "launch file also gives robot_state_publisher as it is (not through xacro), as its "
     "robot_description or on its command line, is read the same way by both: no finding.",

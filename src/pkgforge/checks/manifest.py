@@ -102,7 +102,7 @@ def package_name_invalid(ctx: CheckContext) -> Iterator[Finding]:
     summary="CMake project() differs from package.xml <name>",
     explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
     "ament index, while every tool looks the package up by its package.xml "
-    "name: FindPackageShare and `ros2 launch` find nothing (user story 3).",
+    "name: FindPackageShare and `ros2 launch` find nothing of your package.",
     hint="make project() and package.xml <name> the same",
 )
 def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
@@ -133,8 +133,8 @@ def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     explanation="Nothing breaks by itself (many repositories name folders differently on "
     "purpose); it matters only when a file uses the folder name as a package "
     "name in FindPackageShare or package:// URIs, which resolve by the package "
-    "name, and unknown-package reports that use (user story 3: folder "
-    "rob_description, package robot_description). A package at the root of its git repository "
+    "name, and unknown-package reports that use (a folder rob_description holding the "
+    "package robot_description). A package at the root of its git repository "
     "is not reported: its folder is named by whoever cloned it (the repository's name).",
     hint="rename the folder, or rename the package everywhere",
 )

@@ -431,7 +431,7 @@ def _meshes(ctx: CheckContext) -> Iterator[tuple[ModelResult, MeshDict, MeshLook
     summary="a mesh or texture URI does not resolve to a file in the install tree",
     explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
     "folder never installed, a typo, or a path leaving its package shows an empty "
-    "or broken model (user story 7).",
+    "or broken model.",
     hint="install the mesh, or fix the URI",
 )
 def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
@@ -497,7 +497,7 @@ def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
     good=('<!-- urdf/robot.urdf -->\n<mesh filename="package://rob_description/meshes/base.STL"/>'),
     summary="a mesh URI differs from the file's name only in letter case",
     explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
-    "Linux does not, and the link shows nothing (user story 7).",
+    "Linux does not, and the link shows nothing.",
     hint="use the file's real name in the URI",
 )
 def mesh_case_mismatch(ctx: CheckContext) -> Iterator[Finding]:
