@@ -82,7 +82,7 @@ def _project_url(label: str) -> str | None:
     from importlib import metadata
 
     try:
-        urls = metadata.metadata("ros-pkgforge").get_all("Project-URL") or []
+        urls: list[str] = [str(u) for u in metadata.metadata("ros-pkgforge").get_all("Project-URL") or []]
     except metadata.PackageNotFoundError:
         return None
     for entry in urls:
