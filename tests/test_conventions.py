@@ -8,6 +8,7 @@ import ast
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -715,3 +716,21 @@ def test_exit_status_with_a_standard_stream_closed():
             timeout=120,
         )
         assert result.returncode == status, (closed, args, result.returncode)
+
+
+def test_the_readme_main_job_leaves_the_test_command_clean(tmp_path):
+    """Issue 30: the README's main job builds its workspace in the checkout (ws/); the test command
+    after it runs `ruff check .` and `ruff format --check .` there, which must not read ws/'s
+    generated Python (colcon's install/*.py, a package's setup.py)."""
+    readme = (REPO / "README.md").read_text()
+    main_job = re.search(r"Run the main job.*?```sh\n(.+?)\n```", readme, re.S).group(1)
+    assert "--destination ws/src" in main_job and "pkgforge build ws" in main_job, main_job
+    shutil.copy(REPO / "pyproject.toml", tmp_path / "pyproject.toml")
+    generated = tmp_path / "ws" / "install"
+    generated.mkdir(parents=True)
+    (generated / "_local_setup_util_sh.py").write_text("import os, sys\nx  =  [ 1,2 ]\n")
+    for command in (["check", "."], ["format", "--check", "."]):
+        result = subprocess.run(
+            [str(SCRIPTS / "ruff"), *command], cwd=tmp_path, capture_output=True, text=True, timeout=120
+        )
+        assert result.returncode == 0, (command, result.stdout + result.stderr)
