@@ -484,7 +484,7 @@ def test_severity_override_changes_report_and_exit_code(workspace):
 def test_colcon_verify_honours_severity_and_color(workspace):
     """An empty install base: the package is not installed (PF209, an error by default)."""
     (workspace / "install").mkdir()
-    args = ("verify", "--install-base", "install", "--pkgforge-select", "PF209")
+    args = ("verify", "--install-base", "install", "--select", "PF209")
     plain = colcon(*args, cwd=workspace, env=dict(os.environ, NO_COLOR="1", FORCE_COLOR="1"))
     assert plain.returncode == 1, plain.stdout + plain.stderr
     assert (

@@ -141,7 +141,7 @@ def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
 def folder_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
     name = model.manifest.name
-    if not name or model.path.name == name or (model.path / ".git").exists():
+    if not name or model.path.name == name or ctx.files.exists(model.path / ".git"):
         return  # (.git: a repository's clone, its folder named as the clone was)
     hint = f"rename the folder to '{name}'"
     if rep144_problem(model.path.name) is None:  # never a name package.xml cannot hold (Owner+Repo)
