@@ -303,3 +303,62 @@ def test_packages_of_a_workspace_each_follow_their_own_distro(tmp_path):
     assert text.stdout.splitlines()[-1].endswith(
         "launch: built-in engine (jazzy from pkgforge.toml; humble from pkgforge.toml)"
     )
+
+
+DISTRO_BRANCH_WORKFLOW = """\
+on:
+  pull_request:
+    branches: [{branch}]
+  push:
+    branches: [{branch}]
+  schedule:
+    - cron: '03 1 * * MON-FRI'
+jobs:
+  binary:
+    uses: ros-controls/ros2_control_ci/.github/workflows/reusable-industrial-ci-with-cache.yml@master
+    strategy:
+      matrix:
+        ROS_DISTRO: [{distro}]
+    with:
+      ros_distro: ${{{{ matrix.ROS_DISTRO }}}}
+      ref_for_scheduled_build: {branch}
+"""
+
+
+def test_a_workflow_of_another_distro_s_branch_does_not_choose_the_launch_api(tmp_path):
+    """Issue 30 (truth campaign: ros2_control_demos on master keeps humble-binary-build.yml, which
+    runs for the humble branch): with the checkout on master, the workflows for the branch named
+    after humble say nothing of the code here; rolling's does. A workflow for a branch not named
+    after a distro (realsense-ros' ros2-development, from which its ros2-master comes) still does."""
+    import subprocess
+
+    workspace = tmp_path / "ws"
+    (workspace / "src").mkdir(parents=True)
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
+    result = run_pkgforge("new", "demo_bot", *MAINTAINER, cwd=workspace, env=env)
+    assert result.returncode == 0, result.stderr
+    package = workspace / "src" / "demo_bot"
+    (package / "launch" / "equals.launch.py").write_text(IRON_ON)
+    workflows = package / ".github" / "workflows"
+    workflows.mkdir(parents=True)
+    (workflows / "humble-binary-build.yml").write_text(
+        DISTRO_BRANCH_WORKFLOW.format(branch="humble", distro="humble")
+    )
+    (workflows / "rolling-binary-build.yml").write_text(
+        DISTRO_BRANCH_WORKFLOW.format(branch="master", distro="rolling")
+    )
+    subprocess.run(["git", "init", "-q", "-b", "master", str(package)], check=True)
+
+    def verify() -> str:
+        result = run_pkgforge("verify", "--launch-engine", "builtin", "--no-cache", cwd=workspace, env=env)
+        assert result.returncode in (0, 1), result.stderr
+        return result.stdout
+
+    said = verify()
+    assert "PF301" not in said and said.splitlines()[-1].endswith("(rolling from the CI files)"), said
+    (workflows / "rolling-binary-build.yml").unlink()
+    (workflows / "main.yml").write_text(
+        DISTRO_BRANCH_WORKFLOW.format(branch="ros2-development", distro="humble")
+    )
+    said = verify()
+    assert "equals.launch.py" in said and said.splitlines()[-1].endswith("(humble from the CI files)"), said
