@@ -418,7 +418,8 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
     "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
     "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
     "distro or the package's CI files (not a matrix that names several branches, "
-    "nor a scheduled build of another branch); without one, a package released in "
+    "nor a scheduled build of another branch, nor a workflow run only for branches named after "
+    "other distros than the one checked out); without one, a package released in "
     "any active distro counts.",
     hint="use the ROS 2 package released for the distro",
 )
