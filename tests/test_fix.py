@@ -922,13 +922,19 @@ def test_a_viewer_used_only_with_a_setting_gets_an_unsafe_fix(tmp_path):
 def test_a_repeated_dependency_is_deleted(tmp_path):
     """Issue 30: duplicate-dependency has a safe fix: the repeat's line goes (a repeat sharing a
     line with another tag loses only its element), and <depend> beside <exec_depend> of the same
-    package (catkin_pkg rejects it) loses the <exec_depend>; every other byte stays."""
+    package (catkin_pkg rejects it) loses the <exec_depend>; a repeat under the same condition
+    (realsense2_camera's sensor_msgs_py) goes too, one under another condition stays; every other
+    byte stays."""
     package = scaffold(tmp_path, "twice_bot")
     manifest = package / "package.xml"
     edit(
         manifest,
         "  <exec_depend>xacro</exec_depend>\n",
-        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n"
+        '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n'
+        '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n'
+        '  <test_depend condition="$ROS_VERSION == 2">ament_cmake_pytest</test_depend>\n'
+        '  <test_depend condition="$ROS_VERSION == 1">ament_cmake_pytest</test_depend>\n',
     )
     edit(
         manifest,
@@ -941,13 +947,17 @@ def test_a_repeated_dependency_is_deleted(tmp_path):
             "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n",
             "  <exec_depend>xacro</exec_depend>\n",
         )
+        .replace(
+            '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n' * 2,
+            '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n',
+        )
         .replace("<depend>rviz2</depend> <exec_depend>rviz2</exec_depend>", "<depend>rviz2</depend>")
     )
     result = fix(tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     assert manifest.read_text() == expected
-    assert result.stdout.count("PF106 duplicate-dependency: deleted the repeated") == 2, result.stdout
-    assert "PF106" not in run_pkgforge("verify", cwd=tmp_path).stdout
+    assert result.stdout.count("PF106 duplicate-dependency: deleted the repeated") == 3, result.stdout
+    assert "PF106" not in run_pkgforge("verify", cwd=tmp_path).stdout  # (the two conditions: no repeat)
 
 
 @pytest.mark.parametrize("configured", ["pyproject.toml", ".pre-commit-config.yaml"])

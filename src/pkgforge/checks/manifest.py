@@ -193,16 +193,21 @@ def build_type_missing(ctx: CheckContext) -> Iterator[Finding]:
     summary="a dependency is declared twice",
     explanation="An exact repeat is noise; <depend> beside <build_depend>, "
     "<build_export_depend> or <exec_depend> of the same package makes "
-    "catkin_pkg reject the manifest, and colcon then skips the package. The fix deletes the repeat "
-    "(or the tag <depend> covers), unless either declaration has a condition.",
+    "catkin_pkg reject the manifest, and colcon then skips the package. Declarations under different "
+    "conditions are not repeats (only one holds where they exclude each other). The fix deletes the repeat "
+    "(or the tag <depend> covers), unless the two declarations' conditions differ.",
     hint="keep one declaration",
 )
 def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
     manifest = ctx.model.manifest
-    seen: dict[str, list[Dependency]] = {}
+    # by name and condition: catkin_pkg tells declarations apart by their conditions too, so
+    # <test_depend condition="$ROS_VERSION == 2">x</...> beside one for $ROS_VERSION == 1 is no repeat
+    seen: dict[tuple[str, str], list[Dependency]] = {}
     for dependency in manifest.dependencies:
-        seen.setdefault(dependency.name, []).append(dependency)
-    for name, declarations in seen.items():
+        seen.setdefault((dependency.name, " ".join((dependency.condition or "").split())), []).append(
+            dependency
+        )
+    for (name, _), declarations in seen.items():
         tags = [d.tag for d in declarations]
         if "depend" in tags and any(t in GENERIC_OVERLAPS for t in tags):
             specific = next(d for d in declarations if d.tag in GENERIC_OVERLAPS)
@@ -214,7 +219,7 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                 severity=Severity.ERROR,
                 hint=f"delete <{specific.tag}>{name}</{specific.tag}> "
                 f"(line {specific.line}): <depend> includes it",
-                fix=_repeat_fix(specific, declarations),
+                fix=_repeat_fix(specific, next(d for d in declarations if d.tag == "depend")),
             )
             continue
         for index, dependency in enumerate(declarations):
@@ -226,14 +231,14 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                     manifest.path,
                     dependency.line,
                     hint=f"delete the repeat at line {dependency.line}",
-                    fix=_repeat_fix(dependency, declarations),
+                    fix=_repeat_fix(dependency, first),
                 )
 
 
-def _repeat_fix(repeat: Dependency, declarations: list[Dependency]) -> dict[str, Any] | None:
-    """The fix data that deletes a repeated declaration; None when one has a condition (which of
-    them counts on a distro is the condition's, not a repeat)."""
-    if any(d.condition for d in declarations):
+def _repeat_fix(repeat: Dependency, kept: Dependency) -> dict[str, Any] | None:
+    """The fix data that deletes `repeat`, which `kept` declares already (under the same condition:
+    realsense2_camera repeats sensor_msgs_py so); None if their conditions differ after all."""
+    if (repeat.condition or "").split() != (kept.condition or "").split():
         return None
     return {"tag": repeat.tag, "dependency": repeat.name, "line": repeat.line}
 

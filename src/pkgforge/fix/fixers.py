@@ -252,7 +252,7 @@ def fix_duplicate_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     if not tag or not name or not isinstance(line, int):
         raise NotOffered("the check gives this finding no fix")
     source = ctx.files.get(diagnostic.path)
-    pattern = re.compile(rf"<{re.escape(tag)}\s*>\s*{re.escape(name)}\s*</{re.escape(tag)}\s*>")
+    pattern = re.compile(rf"<{re.escape(tag)}(?:\s[^<>]*)?>\s*{re.escape(name)}\s*</{re.escape(tag)}\s*>")
     matches = list(pattern.finditer(source.line_text(line)))
     if len(matches) != 1:
         raise Unfixable(f"cannot find one <{tag}>{name}</{tag}> on package.xml:{line}")
