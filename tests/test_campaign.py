@@ -189,6 +189,18 @@ def huge(path: Path) -> str:
     return "huge"
 
 
+def replace(path: Path, make) -> None:
+    """path (a file, or nothing yet) replaced by what make(path) creates there."""
+    if path.exists() or path.is_symlink():
+        path.unlink()
+    make(path)
+
+
+# a YAML "billion laughs": 12 lines of anchors, each alias ten of the one before (10**12 nodes)
+ALIAS_BOMB = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"] + [
+    f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 12)
+]
+
 BYTE_MUTATIONS = ("truncate", "truncate", "flip", "flip", "latin-1", "utf-16", "bom", "crlf", "empty")
 LAUNCH_KINDS = ("launch.py", "launch.xml", "launch.yaml")
 # re-encodings whose launch files get what the real decoders say (launch_verdict)
@@ -284,6 +296,46 @@ HOSTILE_LAUNCH = {
         "    return LaunchDescription([])\n"
     ),
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
+    # YAML the reader bounds (issue 35): aliases expanding to 10**12 nodes, 50,000 levels, an alias
+    # inside the collection it names
+    "bomb.launch.yaml": "launch:\n- let:\n    name: laughs\n    value:\n"
+    + "".join(f"      {line}\n" for line in ALIAS_BOMB),
+    "deep.launch.yaml": "launch:\n- let:\n    name: deep\n    value: " + "[" * 50_000 + "]" * 50_000 + "\n",
+    "selfalias.launch.yaml": "launch:\n- let: &l\n    name: x\n    value: [*l]\n",
+}
+# hostile RViz configs: (file name, content), in the package's rviz/ folder
+HOSTILE_RVIZ = {
+    "bomb.rviz": "Visualization Manager:\n  Class: ''\n  Laughs:\n"
+    + "".join(f"    {line}\n" for line in ALIAS_BOMB),
+    # issue 28, class 1: configurations not set where it is hard to say where (a name made of one,
+    # a timer or a handler that holds itself: what runs after the description never ends)
+    "confignested.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import LogInfo\n"
+        "from launch.substitutions import LaunchConfiguration as C\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([LogInfo(msg=C(C(C('x')), default=C('y')))])\n"
+    ),
+    "configtimerloop.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import TimerAction, LogInfo\n"
+        "from launch.substitutions import LaunchConfiguration\n"
+        "def generate_launch_description():\n"
+        "    t = TimerAction(period=0.0, actions=[LogInfo(msg=LaunchConfiguration('x'))])\n"
+        "    t.actions.append(t)\n"
+        "    return LaunchDescription([t])\n"
+    ),
+    "confighandlerloop.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import RegisterEventHandler, LogInfo\n"
+        "from launch.event_handlers import OnShutdown\nfrom launch.substitutions import LaunchConfiguration\n"
+        "def generate_launch_description():\n"
+        "    entities = [LogInfo(msg=LaunchConfiguration('x'))]\n"
+        "    handler = RegisterEventHandler(OnShutdown(on_shutdown=entities))\n"
+        "    entities.append(handler)\n"
+        "    return LaunchDescription([handler])\n"
+    ),
+    "confignames.launch.xml": (
+        '<launch><let name="$(var a)" value="1"/><node pkg="$(var pkg)" exec="x"/>'
+        '<timer period="$(var period)"><log message="$(var m)"/></timer></launch>\n'
+    ),
 }
 # hostile models: (file name, content)
 HOSTILE_XACRO = {
@@ -316,7 +368,74 @@ HOSTILE_XACRO = {
         "<link name=\"${[c for c in python.vars(python.type)['__subclasses__'](python.type(0).mro()[-1]) "
         "if 'Popen' in python.repr(c)][0]('echo x >> SRC/package.xml', shell=True).wait() and 'l'}\"/></robot>\n"
     ),
+    "deep.urdf.xacro": (  # 100,000 nested elements: xacro recurses once per level (issue 35)
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        + "<g>" * 100_000
+        + "</g>" * 100_000
+        + "</robot>\n"
+    ),
+    # ROS 1's bare xacro tags, nested and in odd places (issue 28 class 3)
+    "ros1tags.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"><property name="x" value="1"/>'
+        '<macro name="m" params="p"><link name="${p}"/><macro name="n"/></macro>'
+        '<if value="${x}"><include filename="nowhere.xacro"/><arg name="a"/><link name="l"/></if>'
+        '<unless value="1"><link name="u"/></unless><xacro:m p="a"/><link name="r0"/></robot>\n'
+    ),
+    # what urdfdom refuses or drops, all at once (issue 28 class 7)
+    "urdfdom.urdf": (
+        '<robot><material name="m"/><material name="m"><color rgba="nan 1 1 1 1 1"/></material>'
+        "<material><texture/></material>"
+        '<link name="a"><inertial><origin xyz="inf 0 0"/></inertial><visual><geometry/></visual></link>'
+        '<link name="b"><visual><origin xyz="1e 0x10 1,5" rpy=""/><geometry><capsule/></geometry>'
+        '<material name="m"><color rgba="-1 2 3"/><texture filename=""/></material></visual>'
+        '<visual><geometry><mesh scale="1 1"/></geometry><material/></visual>'
+        '<collision><geometry><box size="     "/></geometry></collision></link>'
+        '<link name="c"><visual><geometry><sphere radius="r"/></geometry></visual></link>'
+        '<joint name="j" type="weird"><parent link="a"/><child link="b"/></joint>'
+        '<joint type="revolute"><parent link="a"/><child link="c"/><mimic joint="j"/><limit effort=""/></joint>'
+        '<joint name="k" type="continuous"><parent link="b"/><child link="c"/><mimic joint="k"/>'
+        '<mimic/><dynamics/><safety_controller/><calibration rising="x"/><axis xyz="0 0 0 0"/></joint>'
+        "</robot>\n"
+    ),
 }
+
+# hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot
+# evaluate), so verify runs it, sandboxed, as colcon reads it; the line below goes before setup()
+HOSTILE_SETUP = {
+    "loop": "while True:\n    pass",
+    "exit": "import sys\nsys.exit(3)",
+    "osexit": "os._exit(0)",
+    "recursion": "def f():\n    return f()\nf()",
+    "baseexc": "raise KeyboardInterrupt",
+    "kill": "import signal\nos.kill(os.getppid(), signal.SIGTERM)",
+    "writes": "open(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'package.xml'), 'w').write('')",
+    "removes": "os.remove(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'package.xml'))",
+    "prints": "print('{\"status\": \"ok\"}')\nos.write(1, b'garbage\\n')",
+    "memory": "hog = bytearray(1 << 40)",
+    "sleeper": "import subprocess\nsubprocess.Popen(['sleep', '600'])",
+    "forks": "if os.fork() == 0:\n    while True:\n        pass",
+    "baddata": "share_files = lambda: [(1, 2), 'x', None]",
+    "nosetup": "raise SystemExit(0)",
+}
+SETUP_TEMPLATE = """import os
+from setuptools import setup
+
+package_name = 'NAME'
+
+
+def share_files():
+    out = [('share/ament_index/resource_index/packages', ['resource/' + package_name])]
+    for folder in ('launch', 'urdf', 'meshes', 'rviz'):
+        for root, _, files in os.walk(folder):
+            out.append((os.path.join('share', package_name, root), [os.path.join(root, f) for f in files]))
+    return out
+
+
+HOSTILE
+
+setup(name=package_name, version='0.0.0', packages=[],
+      data_files=[('share/' + package_name, ['package.xml'])] + share_files())
+"""
 
 
 def structural(package: Path, what: str, outside: Path) -> None:
@@ -383,6 +502,29 @@ def structural(package: Path, what: str, outside: Path) -> None:
         (package / "launch").mkdir(exist_ok=True)
         (package / "launch" / launch_name).write_text(content)
         (meshes / mesh).write_bytes(b"solid x\nendsolid x\n")
+    elif what.endswith(" is a FIFO"):  # package.xml, CMakeLists.txt (issue 35: a read blocks for ever)
+        replace(package / what.split()[0], os.mkfifo)
+    elif " linked to /dev/" in what:  # a read never ends (issue 35)
+        kind, device = what.split(" linked to ")
+        folder = {"package.xml": package, "launch file": package / "launch", "mesh": meshes}[kind]
+        pattern = {"package.xml": "package.xml", "launch file": "*.launch.*", "mesh": "*.[sS][tT][lL]"}[kind]
+        target = next(
+            iter(sorted(folder.glob(pattern))),
+            folder / "x.launch.py" if kind == "launch file" else meshes / "m.stl",
+        )
+        replace(target, lambda path: os.symlink(device, path))
+    elif what == "nested package":  # a package.xml inside the package (issue 28 class 6)
+        inner = package / "inner" / "nested_pkg"
+        inner.mkdir(parents=True)
+        (inner / "package.xml").write_text('<package format="3"><name>nested_pkg</name><name>twice</name>')
+    elif what == "rviz 1 config":  # ROS 1's classes, a group in a group, a class that is no string
+        (package / "rviz").mkdir(exist_ok=True)
+        (package / "rviz" / "ros1.rviz").write_text(
+            "Panels:\n  - Class: rviz/Displays\nVisualization Manager:\n  Displays:\n"
+            "    - Class: rviz/Group\n      Displays:\n        - Class: rviz/Group\n          Displays:\n"
+            "            - Class: rviz/RobotModel\n              Robot Description: robot_description\n"
+            "        - Class: [rviz/TF]\n        - Class: rviz/\n  Views: {Current: {Class: rviz/Orbit}}\n"
+        )
     else:
         raise AssertionError(what)
 
@@ -424,6 +566,17 @@ STRUCTURAL = (
     # which fails: the traceback of the Python colcon started is one located line
     "rejected manifest and a setup.py that cannot run",
     *HOSTILE_NAMES,
+    # FIFOs and devices where files stand (issue 35), after the others: each keeps its base
+    "package.xml is a FIFO",
+    "CMakeLists.txt is a FIFO",
+    "package.xml linked to /dev/zero",
+    "package.xml linked to /dev/urandom",
+    "launch file linked to /dev/zero",
+    "launch file linked to /dev/urandom",
+    "mesh linked to /dev/zero",
+    "mesh linked to /dev/urandom",
+    "nested package",
+    "rviz 1 config",
 )
 
 
@@ -520,12 +673,12 @@ class Campaign:
 
     def hostile_cases(self, src: Path) -> list[Case]:
         cases = []
-        for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO}.items():
+        for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO, **HOSTILE_RVIZ}.items():
             base = (
                 "cbasexml" if file.endswith(".xml") else "cbaseyaml" if file.endswith(".yaml") else "cbasepy"
             )
             name, package = self.package(src, base)
-            folder = "launch" if ".launch." in file else "urdf"
+            folder = "launch" if ".launch." in file else "rviz" if file.endswith(".rviz") else "urdf"
             (package / folder / file).write_text(content.replace("NAME", name).replace("SRC", str(package)))
             if folder == "urdf":  # a launch file that runs xacro on it
                 (package / "launch" / f"run_{file}.launch.py").write_text(
@@ -539,6 +692,10 @@ class Campaign:
                     "Command(['xacro ', model]), value_type=str)}])])\n"
                 )
             cases.append(Case(name, base, f"hostile {file}"))
+        for what, code in HOSTILE_SETUP.items():
+            name, package = self.package(src, "cbasepython")
+            (package / "setup.py").write_text(SETUP_TEMPLATE.replace("NAME", name).replace("HOSTILE", code))
+            cases.append(Case(name, "cbasepython", f"hostile setup.py: {what}"))
         return cases
 
     def structural_cases(self, src: Path) -> list[Case]:
@@ -562,6 +719,10 @@ class Campaign:
                         "unreadable urdf folder",
                         "unreadable launch file",
                         "fifo",
+                        "package.xml is a FIFO",
+                        "CMakeLists.txt is a FIFO",
+                        "package.xml linked to /dev/zero",
+                        "package.xml linked to /dev/urandom",
                         "link loop",
                         "dangling link",
                         "deep nesting",

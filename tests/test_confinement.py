@@ -363,7 +363,7 @@ def test_the_kernel_refuses_a_write_python_never_sees(setting, disabled, outside
         expected.update(view=False, pid=False)
     assert {k: report["sandbox"][k] for k in expected} == expected, report["sandbox"]
     kernel = expected["landlock"] > 0 or expected["view"]
-    weaker = not (kernel and (expected["signals"] or expected["pid"]))
+    weaker = not (kernel and expected["view"] and (expected["signals"] or expected["pid"]))
     text = run_pkgforge(
         "verify", "--no-cache", cwd=setting[0], env=dict(os.environ, PKGFORGE_SANDBOX_DISABLE=disabled)
     )
@@ -376,7 +376,7 @@ def test_the_kernel_refuses_a_write_python_never_sees(setting, disabled, outside
         assert target.read_text() == "mine\n"
     else:
         assert target.read_text().startswith("mine\nwritten")
-        assert "sandbox weaker: writes and signals refused only by the Python guard" in text.stdout
+        assert "sandbox weaker: writes, chmod/utime, signals refused only by the Python guard" in text.stdout
 
 
 def test_this_machine_enforces_writes_and_signals_in_the_kernel():
@@ -398,7 +398,7 @@ def test_explain_sandbox_says_what_is_missing():
     assert result.stdout.splitlines()[0].startswith("✗ Landlock"), result.stdout
     assert "not available: Landlock: turned off (PKGFORGE_SANDBOX_DISABLE)" in result.stdout
     assert result.stdout.rstrip().endswith(
-        "sandbox weaker: writes and signals refused only by the Python guard (see --explain-sandbox)"
+        "sandbox weaker: writes, chmod/utime, signals refused only by the Python guard (see --explain-sandbox)"
     )
 
 

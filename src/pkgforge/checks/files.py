@@ -18,9 +18,11 @@ from pkgforge.diagnostics import Finding
     area="run",
     bad="# urdf/robot.urdf: 20 MB (a mesh pasted into the model) or mode 000",
     good="# urdf/robot.urdf: the mesh as a file in meshes/, the model readable and small",
-    summary="a file pkgforge would read is too large or unreadable",
+    summary="a file pkgforge would read is too large, unreadable, or no regular file",
     explanation="pkgforge reads launch files, models and RViz configs to find what they "
-    "refer to; a file it cannot read is left out of those checks.",
+    "refer to; a file it cannot read is left out of those checks. It reads only regular "
+    "files (or links to them), never a FIFO or a device: a read of a FIFO waits for ever, "
+    "one of /dev/zero never ends.",
     hint="make the file readable, or smaller than 8 MB",
 )
 def file_not_read(ctx: CheckContext) -> Iterator[Finding]:
@@ -74,6 +76,13 @@ def read_problem_hint(problem: str | None) -> str | None:
         return "give read permission (chmod a+r FILE, and a+x on its folders): colcon and ROS read it too"
     if "not valid UTF-8" in problem:
         return "save the file as UTF-8"
+    if "reads only regular files" in problem:
+        return (
+            "put the file itself there (or a link to one): a FIFO or a device has no end (or no start) "
+            "to read, and colcon installs and ROS loads files"
+        )
+    if "pkgforge reads YAML up to" in problem or "expanding it never ends" in problem:
+        return "nest it less deeply, or write out what the aliases repeat: no real config comes near this"
     return None
 
 

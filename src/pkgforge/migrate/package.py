@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -10,7 +11,8 @@ from typing import TYPE_CHECKING, Any
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
+from pkgforge.model.source import not_regular, read_regular
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import WalkLimit, walk
 
@@ -40,13 +42,17 @@ def _manifest(path: Path) -> tuple[Any, etree._Element]:
     manifest = path / "package.xml"
     if not path.is_dir():
         raise PkgforgeError(f"{path}: no such folder; give the ROS 1 package folder (with package.xml)")
-    if not manifest.is_file():
+    if not os.path.lexists(manifest):
         raise PkgforgeError(
             f"{path}: no package.xml: not a catkin package; give the folder that holds package.xml"
         )
     try:
-        root = etree.parse(str(manifest)).getroot()
-        package = parse_package_string(manifest.read_text(encoding="utf-8"), filename=str(manifest))
+        data = read_regular(manifest)
+    except OSError as exc:  # (a FIFO or a device: refused, never read)
+        raise PkgforgeError(f"{manifest}: {exc.strerror} (nothing written)") from exc
+    try:
+        root = etree.fromstring(data, base_url=str(manifest))
+        package = parse_package_string(data.decode("utf-8"), filename=str(manifest))
     except etree.XMLSyntaxError as exc:
         raise PkgforgeError(
             f"{manifest}:{exc.lineno}: not well-formed XML: {exc.msg} (nothing written)"
@@ -76,6 +82,7 @@ def _files(source: Path) -> list[str]:
         for name in sorted(names):
             relative = os.path.relpath(os.path.join(folder, name), source)
             if not name.startswith(".") and relative not in ("package.xml", "CMakeLists.txt"):
+                _regular(os.path.join(folder, name))
                 found.append(Path(relative).as_posix())
     if limits:
         limit = limits[0]
@@ -98,6 +105,18 @@ def _copy_problems(source: Path, files: list[str]) -> list[str]:
         if problem is not None:
             problems.append(f"{source / relative}: {problem}: not copied")
     return problems
+
+
+def _regular(path: str) -> None:
+    """A located PkgforgeError for a FIFO or a device (or a link to one) among the files to convert
+    and copy: reading it would block, or never end."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return  # a dangling link: its read says so, as before
+    if not stat.S_ISREG(mode):
+        refusal = not_regular(path, mode)
+        raise PkgforgeError(f"{path}: {refusal.strerror}; move it out of the package (nothing written)")
 
 
 def _is_ros1_launch(relative: str) -> bool:
@@ -136,7 +155,7 @@ def _models(
                     reference.problem = problem
                     missing.append(reference)
         for element in root.iter("plugin"):
-            if table.is_gazebo_classic_plugin(element.get("filename", "")):
+            if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
                 notes.add(
                     "migrate-gazebo-classic",
                     f"Gazebo Classic plugin {element.get('filename')} is kept as "
@@ -248,14 +267,14 @@ def migrate(
         dependency = (element.text or "").strip()
         if not dependency or dependency == name:
             continue
-        if dependency in table.DROPPED_DEPENDENCIES:
+        if dependency in ros1_names.DROPPED_DEPENDENCIES:
             notes.add(
                 "migrate-dependency-dropped",
                 f"<{element.tag!s}>{dependency}</{element.tag!s}> is ROS 1 only: not carried over",
                 source / "package.xml",
                 element.sourceline,
             )
-        elif dependency in table.GAZEBO_DEPENDENCIES:
+        elif dependency in ros1_names.GAZEBO_DEPENDENCIES:
             if gazebo:
                 depends.add("ros_gz_sim")
                 notes.add(
@@ -272,7 +291,7 @@ def migrate(
                     source / "package.xml",
                     element.sourceline,
                 )
-        elif (replacement := table.package(dependency)) and not data.released(dependency, target):
+        elif (replacement := ros1_names.package(dependency)) and not data.released(dependency, target):
             better = replacement[0]
             depends.add(better)
             notes.add(

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Literal, NamedTuple
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -317,7 +317,7 @@ class Reader:
         condition = self.condition(element)
         text = literal([p for p in path if p[0] == "text"]) or ""
         finds = [p[1] for p in path if p[0] == "find"]
-        gz_package, worlds = table.GAZEBO_WORLD_LAUNCH
+        gz_package, worlds = ros1_names.GAZEBO_WORLD_LAUNCH
         if finds == [gz_package] and text.rsplit("/", 1)[-1] in worlds:
             if not self.gazebo:
                 self.notes.add(
@@ -328,7 +328,7 @@ class Reader:
                     element.sourceline,
                 )
                 return None
-            package, launch = table.GZ_WORLD_LAUNCH
+            package, launch = ros1_names.GZ_WORLD_LAUNCH
             world = next((v for k, v in arguments if k == "world_name"), None)
             self.notes.add(
                 "migrate-renamed",
@@ -364,14 +364,14 @@ class Reader:
         self.required(element, "pkg", "type")
         package, executable = element.get("pkg", ""), element.get("type", "")  # required
         line = element.sourceline
-        if (package, executable) == table.GAZEBO_SPAWNER:
+        if (package, executable) == ros1_names.GAZEBO_SPAWNER:
             return self.spawner(element)
-        if package in table.COMMAND_NODES:
+        if package in ros1_names.COMMAND_NODES:
             raise Unconvertible(
-                f"{package} is a ROS 1 command-line tool; ROS 2 has `{table.COMMAND_NODES[package]}`, "
+                f"{package} is a ROS 1 command-line tool; ROS 2 has `{ros1_names.COMMAND_NODES[package]}`, "
                 "a command, not a node"
             )
-        new_package, new_executable = table.executable(package, executable)
+        new_package, new_executable = ros1_names.executable(package, executable)
         if (new_package, new_executable) != (package, executable):
             self.note(
                 "migrate-renamed", f"node {package}/{executable} → {new_package}/{new_executable}", element
@@ -457,7 +457,7 @@ class Reader:
                 element,
             )
             return None
-        package, executable = table.GZ_SPAWNER
+        package, executable = ros1_names.GZ_SPAWNER
         self.note("migrate-renamed", f"gazebo_ros/spawn_model → {package}/{executable}", element)
         converted: list[list[Token]] = []
         index = 0
@@ -465,7 +465,7 @@ class Reader:
         while index < len(words):
             option = literal(words[index]) or ""
             takes_value = option not in flags and index + 1 < len(words)
-            new = table.SPAWN_OPTIONS.get(option)
+            new = ros1_names.SPAWN_OPTIONS.get(option)
             if new:
                 converted.append([Token("text", new)])
                 if takes_value:

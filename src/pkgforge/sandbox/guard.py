@@ -252,12 +252,17 @@ def _inside(real: str) -> bool:
 
 
 def _private_tmp(location: str, exists: bool) -> bool:
-    """A path of /tmp where it is the process's private overlay, and new there (not there before, or
-    written by this process): its own. A file of the user's under /tmp is still refused."""
+    """A path of /tmp where it is the process's private overlay that is the process's own: written
+    by it, or new in /tmp itself or in a folder it made there. Anything else under /tmp (a file of the
+    user's, a new file in the user's workspace kept in /tmp) is still refused."""
     upper = _state.get("tmp_upper")
     if not upper or not location.startswith("/tmp/"):
         return False
-    return not exists or os.path.lexists(os.path.join(upper, location[len("/tmp/") :]))
+    relative = location[len("/tmp/") :]
+    if exists:
+        return os.path.lexists(os.path.join(upper, relative))
+    folder = os.path.dirname(relative)
+    return folder == "" or os.path.isdir(os.path.join(upper, folder))
 
 
 def _location(path: str) -> str:

@@ -455,7 +455,7 @@ def import_model(
         files[f"urdf/{file_name}"] = text.encode("utf-8")
         modes[f"urdf/{file_name}"] = current.stat().st_mode & 0o666
         if notes is not None:
-            from pkgforge.migrate.table import is_gazebo_classic_plugin
+            from pkgforge.model.ros1_names import is_gazebo_classic_plugin
 
             for element in roots[current].iter("plugin"):
                 if is_gazebo_classic_plugin(element.get("filename", "")):

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
 from pkgforge.model.files import manifest_text, quick_name
+from pkgforge.model.source import NotRegularFile, open_regular
 from pkgforge.workspace import IGNORE_MARKERS
 
 if TYPE_CHECKING:
@@ -97,9 +98,19 @@ if TYPE_CHECKING:
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
 # 48: an XML or YAML launch file that is not UTF-8 is refused (launch reads it as UTF-8 text), at its
-#    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says
-# 49: a report says under which distro's launch API the built-in engine evaluated its launch files
-CACHE_FORMAT = 49
+#    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says;
+#    FIFOs and devices are never read (PF101/PF204/PF901/PF405 say what they are; a mesh link
+#    to one is no "case differs"), YAML read within bounds (nesting, aliases), a deep xacro says so
+# 49: with 48, setup.py run as colcon reads it when its text does not give its install; a package whose
+#    install is still unknown is its source in the tree (PF319 for lookups it lacks); command lines split
+#    as their consumer splits them (process records carry `shell`)
+# 50: launch configurations not set are errors (PF320, Error.configuration); executions recorded; timers'
+#    and handlers' entities visited after the description, with its final configurations
+# 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
+#    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
+# 52: with 51, a report says under which distro's launch API the built-in engine evaluated its launch
+#    files, and where that distro came from (issue 30)
+CACHE_FORMAT = 52
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -153,10 +164,12 @@ class ResultCache:
         try:
             if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
                 digest.update(os.fsencode("\0".join(sorted(os.listdir(path)))))
-            else:
-                with open(path, "rb") as handle:
+            else:  # a FIFO or a device is never read (it blocks, or never ends): its type is its content
+                with open(open_regular(path)[0], "rb", closefd=True) as handle:
                     for block in iter(lambda: handle.read(1 << 20), b""):
                         digest.update(block)
+        except NotRegularFile:
+            return f"special:{stat.st_mode:o}:{stat.st_rdev}"
         except OSError:
             return f"unreadable:{mode}"
         self.index[path] = [*stamp, digest.hexdigest()]

@@ -251,22 +251,35 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
                     note = _mesh_note(lookup.path)
                 lines.append(f"{indent}{mesh['kind']} {mark} {mesh['uri']}{note}")
 
-        def walk(link: str | None, indent: str, seen: set[str | None]) -> None:
-            ordered = sorted(children.get(link, []), key=lambda j: j.get("name") or "")
-            for index, joint in enumerate(ordered):
-                last = index == len(ordered) - 1
+        def joints_below(link: str | None) -> list[JointDict]:  # in name order, the first last (popped)
+            return sorted(children.get(link, []), key=lambda j: j.get("name") or "")[::-1]
+
+        def walk(root: str | None) -> None:
+            """Each joint below root, depth first; a link already on the way down is not entered
+            again (a loop). Without recursion: a chain of links is as deep as it is long."""
+            on_path: dict[str | None, int] = {root: 1}
+            stack: list[tuple[str | None, str, list[JointDict]]] = [(root, "", joints_below(root))]
+            while stack:
+                link, indent, left = stack[-1]
+                if not left:
+                    stack.pop()
+                    on_path[link] -= 1
+                    continue
+                joint = left.pop()
+                last = not left
                 lines.append(
                     f"{indent}{'└─' if last else '├─'} {joint['name']} ({joint['type']}) → {joint['child']}"
                 )
                 deeper = indent + ("   " if last else "│  ")
                 mesh_lines(joint["child"], deeper + "  ")
-                if joint["child"] not in seen:
-                    walk(joint["child"], deeper, seen | {joint["child"]})
+                if not on_path.get(joint["child"]):
+                    on_path[joint["child"]] = on_path.get(joint["child"], 0) + 1
+                    stack.append((joint["child"], deeper, joints_below(joint["child"])))
 
         for root in [link["name"] for link in links if link["name"] not in child_names]:
             lines.append(str(root))
             mesh_lines(root, "  ")
-            walk(root, "", {root})
+            walk(root)
         return _printed(lines)
 
 
