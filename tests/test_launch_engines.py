@@ -270,12 +270,29 @@ jobs:
       - uses: actions/checkout@v4
 """
 
+# ros-tooling's actions on a plain Ubuntu image: the distro is only action-ros-ci's input
+WORKFLOW_OF_ACTION_ROS_CI = """\
+on: [push, pull_request]
+jobs:
+  build:
+    runs-on: ubuntu-latest
+    container:
+      image: ubuntu:jammy
+    steps:
+      - uses: ros-tooling/setup-ros@0.3.4
+      - uses: ros-tooling/action-ros-ci@0.2.6
+        with:
+          target-ros2-distro: {distro}
+"""
 
-@pytest.mark.parametrize("how", ["pkgforge.toml", "new --ci", "workflow image", "new --distro"])
+
+@pytest.mark.parametrize(
+    "how", ["pkgforge.toml", "new --ci", "workflow image", "action-ros-ci", "new --distro"]
+)
 def test_the_project_s_own_files_choose_the_built_in_engine_s_distro(tmp_path, how):
     """Issue 30: the target distro written in the project (pkgforge.toml's [verify] distro, the CI
-    file `new --ci` wrote, a workflow's ros:<distro> image, the pkgforge.toml `new --distro`
-    records) holds the built-in engine to that distro's launch API, as --distro does: a humble
+    file `new --ci` wrote, a workflow's ros:<distro> image or action-ros-ci's target-ros2-distro,
+    the pkgforge.toml `new --distro` records) holds the built-in engine to that distro's launch API, as --distro does: a humble
     package's file that imports EqualsSubstitution fails; the summary line says where humble came
     from, and a run told --distro jazzy finds nothing."""
     workspace = tmp_path / "ws"
@@ -289,14 +306,13 @@ def test_the_project_s_own_files_choose_the_built_in_engine_s_distro(tmp_path, h
         (package / "pkgforge.toml").unlink()  # the CI file alone says humble
     elif how == "pkgforge.toml":
         (workspace / "pkgforge.toml").write_text('[verify]\ndistro = "humble"\n')
-    elif how == "workflow image":
+    elif how in ("workflow image", "action-ros-ci"):
+        workflow = WORKFLOW_ON_AN_IMAGE if how == "workflow image" else WORKFLOW_OF_ACTION_ROS_CI
         (package / ".github" / "workflows").mkdir(parents=True)
-        (package / ".github" / "workflows" / "build.yml").write_text(
-            WORKFLOW_ON_AN_IMAGE.format(distro="humble")
-        )
+        (package / ".github" / "workflows" / "build.yml").write_text(workflow.format(distro="humble"))
     launch = package / "launch" / "equals.launch.py"
     launch.write_text(IRON_ON)
-    source = {"new --ci": "the CI files", "workflow image": "the CI files"}.get(how, "pkgforge.toml")
+    source = "the CI files" if how in ("new --ci", "workflow image", "action-ros-ci") else "pkgforge.toml"
     text = run_pkgforge("verify", "--launch-engine", "builtin", "--no-cache", cwd=workspace, env=env)
     assert text.returncode == 1, text.stdout + text.stderr
     assert (

@@ -169,6 +169,9 @@ CI_DISTRO_KEYS = {
     "required-ros-distributions",
     "ros-distribution",
     "ros_distribution",
+    # ros-tooling/action-ros-ci's input: a workflow on a plain ubuntu image that builds with it
+    # (neo_simulation2's main.yml: container ubuntu:jammy, target-ros2-distro: rolling) says so there only
+    "target-ros2-distro",
 }
 
 

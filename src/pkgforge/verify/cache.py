@@ -109,7 +109,7 @@ if TYPE_CHECKING:
 # 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
 #    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
 # 52: with 51, a report says under which distro's launch API the built-in engine evaluated its launch
-#    files, and where that distro came from (issue 30)
+#    files, and where that distro came from; action-ros-ci's target-ros2-distro is a CI distro (issue 30)
 CACHE_FORMAT = 52
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
