@@ -515,6 +515,12 @@ def structural(package: Path, what: str, outside: Path) -> None:
         (package / "launch").write_text("not a folder")
     elif what == "space and unicode in names":
         (meshes / "with space ☃.stl").write_bytes(b"solid x\nendsolid x\n")
+    elif what == "rejected manifest and a setup.py that cannot run":
+        manifest = package / "package.xml"
+        manifest.write_text(re.sub(r"<name>[^<]*</name>", "", manifest.read_text()))
+        setup_py = package / "setup.py"
+        rest = setup_py.read_text() if setup_py.is_file() else "from setuptools import setup\nsetup()\n"
+        setup_py.write_text("import pkgforge_campaign_not_installed\n" + rest)
     elif what in HOSTILE_NAMES:
         # a launch file that fails to load (so reports name it) and a mesh, named so
         launch_name, content, mesh = HOSTILE_NAMES[what]
@@ -581,6 +587,9 @@ STRUCTURAL = (
     "fifo",
     "launch folder is a file",
     "space and unicode in names",
+    # issue 30: colcon's ROS extension rejects the manifest, so its python extension runs setup.py,
+    # which fails: the traceback of the Python colcon started is one located line
+    "rejected manifest and a setup.py that cannot run",
     *HOSTILE_NAMES,
     # FIFOs and devices where files stand (issue 35), after the others: each keeps its base
     "package.xml is a FIFO",

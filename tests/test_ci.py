@@ -42,7 +42,7 @@ def test_colcon_verify_names_only_the_broken_package(built_workspace, tmp_path):
     assert located and set(located) == {"src/small_turtle"}
     assert (
         result.stdout.splitlines()[-1]
-        == "1 errors, 0 warnings, 0 infos in 4 packages; launch: built-in engine (lyrical)"
+        == "1 error, 0 warnings, 0 infos in 4 packages; launch: built-in engine (lyrical, the newest LTS)"
     )
     etree.XMLSchema(etree.parse(str(JUNIT_XSD))).assertValid(etree.parse(str(junit)))
     suites = etree.parse(str(junit)).getroot()
@@ -60,7 +60,7 @@ def test_colcon_verify_skip_the_broken_package(built_workspace):
     assert result.returncode == 0, result.stdout + result.stderr
     assert (
         result.stdout.splitlines()[-1]
-        == "0 errors, 0 warnings, 0 infos in 3 packages; launch: built-in engine (lyrical)"
+        == "0 errors, 0 warnings, 0 infos in 3 packages; launch: built-in engine (lyrical, the newest LTS)"
     )
 
 
@@ -96,7 +96,7 @@ def test_colcon_verify_distro_as_pkgforge_verify(tmp_path):
     def run(*command):
         return run_command(list(command), cwd=tmp_path, env=env)
 
-    result = run(str(SCRIPTS / "colcon"), "verify", "--distro", "jazzy", "--pkgforge-format", "json")
+    result = run(str(SCRIPTS / "colcon"), "verify", "--distro", "jazzy", "--format", "json")
     assert result.returncode == 1, result.stdout + result.stderr
     (diagnostic,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["severity"] == "error"]
     assert (diagnostic["code"], diagnostic["path"], diagnostic["line"]) == (
@@ -382,3 +382,24 @@ def test_two_runs_at_once_agree_and_leave_a_valid_cache(tmp_path):
     assert verify_json(tmp_path)[1] == sorted(
         (d["code"], d["path"], d["line"]) for d in reports[0]["diagnostics"]
     )
+
+
+def test_colcon_verify_names_its_options_as_pkgforge_verify_does():
+    """Issue 30: every option `colcon verify` shares with `pkgforge verify` has the same name
+    (--format, --select, --ignore, not --pkgforge-format ...)."""
+    import re
+
+    def options(*command: str) -> set[str]:
+        result = run_command([*command, "--help"])
+        assert result.returncode == 0, result.stderr
+        return set(re.findall(r"(?<![\w-])--[a-z][a-z-]+", result.stdout))
+
+    colcon_verify = options(str(SCRIPTS / "colcon"), "verify")
+    pkgforge_verify = options(str(SCRIPTS / "pkgforge"), "verify")
+    ours = colcon_verify - {
+        o for o in colcon_verify if o.startswith(("--packages-", "--base-paths", "--paths"))
+    }
+    ours -= {"--help", "--log-base", "--log-level"}
+    assert not {o for o in ours if o.startswith("--pkgforge-")}, ours
+    assert ours - pkgforge_verify == set(), ours - pkgforge_verify
+    assert {"--format", "--select", "--ignore", "--distro", "--junit-xml"} <= ours

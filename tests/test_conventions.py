@@ -8,6 +8,7 @@ import ast
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -203,7 +204,44 @@ def test_rule_explains_one_check(tmp_path, key):
     assert "Fixed:\n\n    # CMakeLists.txt\n    install(DIRECTORY launch rviz urdf" in text
     assert "\nFix: extend the install rule.\n" in text
     assert "Automatic fix: safe (`pkgforge fix`)." in text
-    assert text.endswith("Documentation: docs/checks.md#pf302-uninstalled-reference\n")
+    documentation = text.splitlines()[-1]
+    assert documentation.startswith("Documentation: file:///"), documentation
+    assert documentation.endswith("/checks.md#pf302-uninstalled-reference")
+
+
+def test_rule_and_sarif_link_to_real_documentation(tmp_path, workspace):
+    """Issue 30: `rule` and SARIF's helpUri give a URL that opens: the catalogue of the pkgforge
+    that runs (a file:// URL of its docs/checks.md, which has the check's section), or the base
+    PKGFORGE_DOCS_URL gives (a fork's docs on its forge)."""
+    from urllib.parse import urlparse
+    from urllib.request import url2pathname
+
+    documentation = run_pkgforge("rule", "PF302", cwd=tmp_path).stdout.splitlines()[-1]
+    url = documentation.removeprefix("Documentation: ")
+    document, _, anchor = url.partition("#")
+    catalogue = Path(url2pathname(urlparse(document).path))
+    assert catalogue.is_file() and catalogue.read_text() == (REPO / "docs" / "checks.md").read_text()
+    assert anchor == "pf302-uninstalled-reference" and anchor in github_anchors(catalogue.read_text())
+    base = "https://forge.example.org/robots/pkgforge/-/blob/main/docs"
+    env = dict(os.environ, PKGFORGE_DOCS_URL=base)
+    told = run_pkgforge("rule", "uninstalled-reference", cwd=tmp_path, env=env).stdout.splitlines()[-1]
+    assert told == f"Documentation: {base}/checks.md#pf302-uninstalled-reference"
+    sarif = run_pkgforge("verify", ".", "--format", "sarif", cwd=workspace, env=env)
+    rules = json.loads(sarif.stdout)["runs"][0]["tool"]["driver"]["rules"]
+    assert {r["helpUri"] for r in rules if r["id"] == "PF104"} == {
+        f"{base}/checks.md#pf104-folder-name-mismatch"
+    }
+
+
+def test_rule_texts_speak_of_the_user_s_package():
+    """Issue 30: what `rule` and docs/checks.md say is about the user's package, never the
+    project's own notes (user stories, issues, seeds)."""
+    from pkgforge.checks.registry import all_checks
+
+    internal = re.compile(r"user stor|\bissue \d|\bstop \d|\bseed \d", re.I)
+    for check in all_checks():
+        for text in (check.summary, check.explanation, check.hint, check.bad or "", check.good or ""):
+            assert not internal.search(text), (check.code, text)
 
 
 def test_rule_of_an_unknown_code_is_one_line_exit_2(tmp_path):
@@ -446,7 +484,7 @@ def test_severity_override_changes_report_and_exit_code(workspace):
 def test_colcon_verify_honours_severity_and_color(workspace):
     """An empty install base: the package is not installed (PF209, an error by default)."""
     (workspace / "install").mkdir()
-    args = ("verify", "--install-base", "install", "--pkgforge-select", "PF209")
+    args = ("verify", "--install-base", "install", "--select", "PF209")
     plain = colcon(*args, cwd=workspace, env=dict(os.environ, NO_COLOR="1", FORCE_COLOR="1"))
     assert plain.returncode == 1, plain.stdout + plain.stderr
     assert (
@@ -541,7 +579,8 @@ def test_sarif_rules_point_at_their_docs_anchor(workspace):
     assert len(driver["rules"]) == len(registered())
     for rule in driver["rules"]:
         document, _, anchor = rule["helpUri"].partition("#")
-        assert document == "docs/checks.md" and anchor == f"{rule['id'].lower()}-{rule['name']}"
+        assert document.startswith("file:///") and document.endswith("/checks.md"), rule["helpUri"]
+        assert anchor == f"{rule['id'].lower()}-{rule['name']}"
         assert anchor in anchors, rule["helpUri"]
     assert "informationUri" not in driver  # pypi.org/project/pkgforge is another project
 
@@ -677,3 +716,41 @@ def test_exit_status_with_a_standard_stream_closed():
             timeout=120,
         )
         assert result.returncode == status, (closed, args, result.returncode)
+
+
+def test_the_readme_main_job_leaves_the_test_command_clean(tmp_path):
+    """Issue 30: the README's main job builds its workspace in the checkout (ws/); the test command
+    after it runs `ruff check .` and `ruff format --check .` there, which must not read ws/'s
+    generated Python (colcon's install/*.py, a package's setup.py)."""
+    readme = (REPO / "README.md").read_text()
+    main_job = re.search(r"Run the main job.*?```sh\n(.+?)\n```", readme, re.S).group(1)
+    assert "--destination ws/src" in main_job and "pkgforge build ws" in main_job, main_job
+    shutil.copy(REPO / "pyproject.toml", tmp_path / "pyproject.toml")
+    generated = tmp_path / "ws" / "install"
+    generated.mkdir(parents=True)
+    (generated / "_local_setup_util_sh.py").write_text("import os, sys\nx  =  [ 1,2 ]\n")
+    for command in (["check", "."], ["format", "--check", "."]):
+        result = subprocess.run(
+            [str(SCRIPTS / "ruff"), *command], cwd=tmp_path, capture_output=True, text=True, timeout=120
+        )
+        assert result.returncode == 0, (command, result.stdout + result.stderr)
+
+
+@pytest.mark.parametrize("command", [["verify"], ["fix", "--unsafe-fixes"]])
+def test_the_readme_examples_are_what_pkgforge_prints(tmp_path, command):
+    """Issue 30: the README's `pkgforge verify` and `pkgforge fix` examples are a real run on the
+    workspace of seed000 and seed001 (regenerate them from one when the output changes). A
+    sandbox note (what this machine's kernel lacks) is the machine's, not the example's."""
+    from conftest import copy_fixture
+
+    copy_fixture("seed000/rob_description", tmp_path)
+    copy_fixture("seed001/small_turtle", tmp_path)
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
+    result = run_pkgforge(*command, cwd=tmp_path, env=env)
+    assert result.returncode in (0, 1), result.stderr
+    printed = re.sub(r"; sandbox weaker: [^\n]*", "", result.stdout)
+    readme = (REPO / "README.md").read_text()
+    shown = f"```\n$ pkgforge {' '.join(command)}\n"
+    assert shown in readme, shown
+    start = readme.index(shown) + len(shown)
+    assert readme[start : readme.index("```\n", start)] == printed

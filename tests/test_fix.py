@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import NOBODY, copy_fixture, edit, new_package, run_command, run_pkgforge
+from conftest import NOBODY, copy_fixture, edit, line_of, new_package, run_command, run_pkgforge
 
 # --- helpers ---------------------------------------------------------------------------------------
 
@@ -393,7 +393,7 @@ def styled(tmp_path) -> Path:
 def test_styles_clean_before_the_defects(styled):
     result = run_pkgforge("verify", cwd=styled)
     assert result.returncode == 0 and result.stdout.startswith(
-        "0 errors, 0 warnings, 0 infos in 1 packages"
+        "0 errors, 0 warnings, 0 infos in 1 package"
     ), result.stdout
 
 
@@ -842,3 +842,156 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     assert diagnostic.name == "folder-name-mismatch" and why.startswith(
         "the fix would leave the file unparsable"
     )
+
+
+# --- issue 30: fixes that respect the target distro and the hint ----------------------------------
+
+GAZEBO_CLASSIC_SPAWN = """\
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        Node(package='gazebo_ros', executable='spawn_entity.py', arguments=['-entity', 'rob']),
+    ])
+"""
+
+
+@pytest.mark.parametrize("target", ["new --distro jazzy", "no target"])
+def test_fix_never_declares_what_the_target_distro_has_not(tmp_path, target):
+    """Issue 30: gazebo_ros is released for humble only. A package `new --distro jazzy` made gets
+    package-not-in-distro naming ros_gz_sim, and `fix` declares nothing; with no target distro
+    stated, missing-exec-depend stays, its hint names the successor, and `fix` declares nothing."""
+    package = scaffold(tmp_path, "sim_bot", *(["--distro", "jazzy"] if target != "no target" else []))
+    launch = package / "launch" / "sim.launch.py"
+    launch.write_text(GAZEBO_CLASSIC_SPAWN)
+    before = snapshot(tmp_path)
+    result = fix(tmp_path, "--unsafe-fixes")
+    assert snapshot(tmp_path) == before, result.stdout
+    line = line_of(launch, "Node(package='gazebo_ros'")
+    if target == "no target":
+        assert (
+            f"src/sim_bot/launch/sim.launch.py:{line}: PF305 [error] Node package 'gazebo_ros' is used at "
+            "run time but package.xml does not declare it (missing-exec-depend)"
+        ) in result.stdout.splitlines()
+        assert (
+            "    hint: use ros_gz_sim instead (Gazebo Classic (gazebo_ros) is released for Humble only; use "
+            "Gazebo with ros_gz_sim); or, for a package that targets humble only, add "
+            '<exec_depend>gazebo_ros</exec_depend> to package.xml and say so in pkgforge.toml ([verify] distro = "humble")'
+        ) in result.stdout.splitlines()
+    else:
+        assert (
+            f"src/sim_bot/launch/sim.launch.py:{line}: PF108 [error] Node package 'gazebo_ros': 'gazebo_ros' "
+            "is not released for jazzy (released for humble) (package-not-in-distro)"
+        ) in result.stdout.splitlines()
+        assert (
+            "    hint: use ros_gz_sim instead: Gazebo Classic (gazebo_ros) is released for Humble only; use Gazebo with ros_gz_sim"
+            in result.stdout.splitlines()
+        )
+    assert "not fixed" not in result.stdout
+    assert "PF305" not in result.stdout or target == "no target"
+
+
+def test_a_viewer_used_only_with_a_setting_gets_an_unsafe_fix(tmp_path):
+    """Issue 30: joint_state_publisher_gui started only under gui:=true (default false) is a
+    warning whose hint names the dependency: `fix` leaves it (an unsafe fix, counted as such),
+    `fix --unsafe-fixes` declares it, never 'the finding does not say which dependency'."""
+    package = scaffold(tmp_path, "quiet_bot")
+    edit(package / "launch" / "display.launch.py", "default_value='true',", "default_value='false',")
+    edit(package / "package.xml", "  <exec_depend>joint_state_publisher_gui</exec_depend>\n", "")
+    before = snapshot(tmp_path)
+    safe = fix(tmp_path)
+    assert snapshot(tmp_path) == before
+    assert (
+        "1 unsafe fix(es) not applied (--unsafe-fixes applies them): PF305 missing-exec-depend ×1"
+        in safe.stdout
+    )
+    assert "does not say which dependency" not in safe.stdout
+    gui_node = line_of(package / "launch" / "display.launch.py", "package='joint_state_publisher_gui'") - 1
+    unsafe = fix(tmp_path, "--unsafe-fixes")
+    assert unsafe.returncode == 0, unsafe.stdout + unsafe.stderr
+    assert (
+        f"fixed src/quiet_bot/launch/display.launch.py:{gui_node}: PF305 missing-exec-depend: declared "
+        "<exec_depend>joint_state_publisher_gui</exec_depend> in package.xml"
+    ) in unsafe.stdout.splitlines()
+    assert "<exec_depend>joint_state_publisher_gui</exec_depend>" in (package / "package.xml").read_text()
+    assert "PF305" not in run_pkgforge("verify", cwd=tmp_path).stdout
+
+
+def test_a_repeated_dependency_is_deleted(tmp_path):
+    """Issue 30: duplicate-dependency has a safe fix: the repeat's line goes (a repeat sharing a
+    line with another tag loses only its element), and <depend> beside <exec_depend> of the same
+    package (catkin_pkg rejects it) loses the <exec_depend>; a repeat under the same condition
+    (realsense2_camera's sensor_msgs_py) goes too, one under another condition stays; every other
+    byte stays."""
+    package = scaffold(tmp_path, "twice_bot")
+    manifest = package / "package.xml"
+    edit(
+        manifest,
+        "  <exec_depend>xacro</exec_depend>\n",
+        "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n"
+        '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n'
+        '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n'
+        '  <test_depend condition="$ROS_VERSION == 2">ament_cmake_pytest</test_depend>\n'
+        '  <test_depend condition="$ROS_VERSION == 1">ament_cmake_pytest</test_depend>\n',
+    )
+    edit(
+        manifest,
+        "  <exec_depend>rviz2</exec_depend>\n",
+        "  <depend>rviz2</depend> <exec_depend>rviz2</exec_depend>\n",
+    )
+    expected = (
+        manifest.read_text()
+        .replace(
+            "  <exec_depend>xacro</exec_depend>\n  <exec_depend>xacro</exec_depend>\n",
+            "  <exec_depend>xacro</exec_depend>\n",
+        )
+        .replace(
+            '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n' * 2,
+            '  <test_depend condition="$ROS_DISTRO != foxy">launch_testing</test_depend>\n',
+        )
+        .replace("<depend>rviz2</depend> <exec_depend>rviz2</exec_depend>", "<depend>rviz2</depend>")
+    )
+    result = fix(tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert manifest.read_text() == expected
+    assert result.stdout.count("PF106 duplicate-dependency: deleted the repeated") == 3, result.stdout
+    assert "PF106" not in run_pkgforge("verify", cwd=tmp_path).stdout  # (the two conditions: no repeat)
+
+
+@pytest.mark.parametrize("configured", ["pyproject.toml", ".pre-commit-config.yaml"])
+def test_a_launch_file_fix_keeps_the_repository_formatter_stable(tmp_path, configured):
+    """Issue 30: the repository formats its Python with ruff format (pyproject.toml's [tool.ruff], or
+    a ruff-format pre-commit hook) and the launch file is stable under it; wrapping its Command in
+    ParameterValue(..., value_type=str) makes a line too long, so the fixed file is formatted as
+    ruff writes it: `ruff format --check` still passes after `pkgforge fix` and after its --diff."""
+    from conftest import SCRIPTS
+
+    package = scaffold(tmp_path, "fmt_bot")
+    if configured == "pyproject.toml":
+        (tmp_path / "pyproject.toml").write_text("[tool.ruff]\nline-length = 88\n")
+    else:
+        (tmp_path / ".pre-commit-config.yaml").write_text(
+            "repos:\n  - repo: https://github.com/astral-sh/ruff-pre-commit\n    rev: v0.6.0\n"
+            "    hooks:\n      - id: ruff\n      - id: ruff-format\n"
+        )
+    launch = package / "launch" / "display.launch.py"
+    edit(
+        launch,
+        "    robot_description = ParameterValue(\n        Command(['xacro ', LaunchConfiguration('model')]), value_type=str\n    )\n",
+        "    robot_description = Command(['xacro ', LaunchConfiguration('model')])\n",
+    )
+    edit(launch, "from launch_ros.parameter_descriptions import ParameterValue\n", "")
+    assert run_command([SCRIPTS / "ruff", "format", launch], cwd=tmp_path).returncode == 0
+
+    def stable() -> bool:
+        return run_command([SCRIPTS / "ruff", "format", "--check", launch], cwd=tmp_path).returncode == 0
+
+    assert stable()
+    diff = fix(tmp_path, "--diff")
+    assert "+    robot_description = ParameterValue(\n" in diff.stdout, diff.stdout + diff.stderr
+    result = fix(tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert 'Command(["xacro ", LaunchConfiguration("model")]), value_type=str\n' in launch.read_text()
+    assert stable(), launch.read_text()

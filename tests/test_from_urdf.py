@@ -84,7 +84,7 @@ def test_xacro_export_with_includes_and_textures(tmp_path, style, uri):
         cwd=tmp_path / "ws",
     )
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "0 errors, 0 warnings, 0 infos in 1 packages" in result.stdout
+    assert "0 errors, 0 warnings, 0 infos in 1 package" in result.stdout
     package = tmp_path / "ws/src/my_robot"
     files = sorted(p.relative_to(package).as_posix() for p in package.rglob("*") if p.is_file())
     # sub-folders below the folder they share (the exporter's package) kept, names and case kept

@@ -353,6 +353,30 @@ def test_explain_launch(tmp_path):
     assert "joint_state_publisher_gui/joint_state_publisher_gui  @ display.launch.py:" in out
 
 
+def test_explain_launch_follows_verify_s_rules(tmp_path):
+    """Issue 30: --explain-launch refuses a launch argument value outside the file's declared
+    choices as verify does (exit 2, one line naming them), and a file that does not exist is
+    said to not exist (not 'not installed by any package')."""
+    package = jazzy_package(tmp_path)
+    launch = "src/small_turtle/launch/display.launch.py"
+    line = line_of(package / "launch" / "display.launch.py", 'name="gui"')
+    for command in (["--explain-launch", launch], []):
+        result = run_pkgforge("verify", *command, "--launch-arg", "gui:=maybe", cwd=tmp_path)
+        assert (result.returncode, result.stdout) == (2, ""), (command, result.stdout + result.stderr)
+        assert result.stderr.splitlines()[-1].startswith(
+            "pkgforge: error: --launch-arg gui:=maybe: 'gui' allows only "
+        )
+        assert f"(declared at {launch}:{line})" in result.stderr, result.stderr
+    missing = run_pkgforge(
+        "verify", "--explain-launch", "src/small_turtle/launch/nope.launch.py", cwd=tmp_path
+    )
+    assert missing.returncode == 2
+    assert missing.stderr == (
+        "pkgforge: error: src/small_turtle/launch/nope.launch.py: does not exist; give a file of a package "
+        "of the workspace (or of its install tree)\n"
+    )
+
+
 def test_launch_arg_fixes_a_branch(tmp_path):
     package = jazzy_package(tmp_path)
     edit(package / "package.xml", "  <exec_depend>joint_state_publisher_gui</exec_depend>\n", "")

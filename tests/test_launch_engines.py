@@ -10,7 +10,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from conftest import FIXTURES, copy_fixture, line_of, new_package, run_pkgforge, verify_report
+from conftest import FIXTURES, MAINTAINER, copy_fixture, line_of, new_package, run_pkgforge, verify_report
 from ros_prefix import DISTROS, make_prefix
 
 
@@ -82,7 +82,11 @@ def _diagnostics(report: dict) -> list[tuple]:
 @pytest.mark.parametrize("distro", DISTROS)
 def test_both_engines_report_the_same_diagnostics(reports, name, distro):
     builtin, ros = reports[name, "builtin", distro], reports[name, distro]
-    assert builtin["launch"] == {"engine": "builtin", "distro": distro}
+    assert (builtin["launch"]["engine"], builtin["launch"]["distro"], builtin["launch"]["from"]) == (
+        "builtin",
+        distro,
+        "--distro",
+    )
     assert ros["launch"] == {"engine": "ros", "distro": distro}
     assert _diagnostics(builtin), "the fixtures have findings to compare"
     assert _diagnostics(ros) == _diagnostics(builtin)
@@ -233,7 +237,12 @@ def test_the_built_in_engine_follows_the_target_distro(tmp_path):
         )
         assert "Traceback" not in result.stderr and result.returncode in (0, 1), result.stderr
         report = json.loads(result.stdout)
-        assert report["launch"] == {"engine": "builtin", "distro": distro}
+        assert report["launch"] == {
+            "engine": "builtin",
+            "distro": distro,
+            "from": "--distro",
+            "distros": [{"distro": distro, "from": "--distro", "packages": ["iron_bot"]}],
+        }
         found[distro] = [
             (d["code"], d["path"], d["line"], d["message"])
             for d in report["diagnostics"]
@@ -249,3 +258,164 @@ def test_the_built_in_engine_follows_the_target_distro(tmp_path):
         )
     ]
     assert found["jazzy"] == []
+
+
+WORKFLOW_ON_AN_IMAGE = """\
+on: [push]
+jobs:
+  build:
+    runs-on: ubuntu-latest
+    container: ros:{distro}-ros-base
+    steps:
+      - uses: actions/checkout@v4
+"""
+
+# ros-tooling's actions on a plain Ubuntu image: the distro is only action-ros-ci's input
+WORKFLOW_OF_ACTION_ROS_CI = """\
+on: [push, pull_request]
+jobs:
+  build:
+    runs-on: ubuntu-latest
+    container:
+      image: ubuntu:jammy
+    steps:
+      - uses: ros-tooling/setup-ros@0.3.4
+      - uses: ros-tooling/action-ros-ci@0.2.6
+        with:
+          target-ros2-distro: {distro}
+"""
+
+
+@pytest.mark.parametrize(
+    "how", ["pkgforge.toml", "new --ci", "workflow image", "action-ros-ci", "new --distro"]
+)
+def test_the_project_s_own_files_choose_the_built_in_engine_s_distro(tmp_path, how):
+    """Issue 30: the target distro written in the project (pkgforge.toml's [verify] distro, the CI
+    file `new --ci` wrote, a workflow's ros:<distro> image or action-ros-ci's target-ros2-distro,
+    the pkgforge.toml `new --distro` records) holds the built-in engine to that distro's launch API, as --distro does: a humble
+    package's file that imports EqualsSubstitution fails; the summary line says where humble came
+    from, and a run told --distro jazzy finds nothing."""
+    workspace = tmp_path / "ws"
+    (workspace / "src").mkdir(parents=True)
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
+    options = {"new --ci": ["--distro", "humble", "--ci", "github"], "new --distro": ["--distro", "humble"]}
+    result = run_pkgforge("new", "iron_bot", *MAINTAINER, *options.get(how, []), cwd=workspace, env=env)
+    assert result.returncode == 0, result.stderr
+    package = workspace / "src" / "iron_bot"
+    if how == "new --ci":
+        (package / "pkgforge.toml").unlink()  # the CI file alone says humble
+    elif how == "pkgforge.toml":
+        (workspace / "pkgforge.toml").write_text('[verify]\ndistro = "humble"\n')
+    elif how in ("workflow image", "action-ros-ci"):
+        workflow = WORKFLOW_ON_AN_IMAGE if how == "workflow image" else WORKFLOW_OF_ACTION_ROS_CI
+        (package / ".github" / "workflows").mkdir(parents=True)
+        (package / ".github" / "workflows" / "build.yml").write_text(workflow.format(distro="humble"))
+    launch = package / "launch" / "equals.launch.py"
+    launch.write_text(IRON_ON)
+    source = "the CI files" if how in ("new --ci", "workflow image", "action-ros-ci") else "pkgforge.toml"
+    text = run_pkgforge("verify", "--launch-engine", "builtin", "--no-cache", cwd=workspace, env=env)
+    assert text.returncode == 1, text.stdout + text.stderr
+    assert (
+        f"src/iron_bot/launch/equals.launch.py:{line_of(launch, 'import EqualsSubstitution')}: PF301 [error] "
+        "loading equals.launch.py failed: ImportError: cannot import name 'EqualsSubstitution' from "
+        "'launch.substitutions' (launch-load-error)" in text.stdout.splitlines()
+    )
+    assert text.stdout.splitlines()[-1] == (
+        f"1 error, 0 warnings, 0 infos in 1 package; launch: built-in engine (humble from {source})"
+    )
+    result = run_pkgforge("verify", "--format", "json", "--launch-engine", "builtin", cwd=workspace, env=env)
+    report = json.loads(result.stdout)
+    assert report["launch"] == {
+        "engine": "builtin",
+        "distro": "humble",
+        "from": source,
+        "distros": [{"distro": "humble", "from": source, "packages": ["iron_bot"]}],
+    }
+    told = run_pkgforge("verify", "--launch-engine", "builtin", "--distro", "jazzy", cwd=workspace, env=env)
+    assert told.returncode == 0, told.stdout + told.stderr
+    assert told.stdout.splitlines()[-1].endswith("launch: built-in engine (jazzy from --distro)")
+
+
+def test_packages_of_a_workspace_each_follow_their_own_distro(tmp_path):
+    """Two packages, one recorded for humble and one for jazzy, in one workspace: each launch
+    file is evaluated under its own package's launch API (the jazzy one's import loads)."""
+    workspace = tmp_path / "ws"
+    (workspace / "src").mkdir(parents=True)
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
+    for name, distro in (("old_bot", "humble"), ("new_bot", "jazzy")):
+        result = run_pkgforge("new", name, *MAINTAINER, "--distro", distro, cwd=workspace, env=env)
+        assert result.returncode == 0, result.stderr
+        (workspace / "src" / name / "launch" / "equals.launch.py").write_text(IRON_ON)
+    result = run_pkgforge("verify", "--format", "json", "--launch-engine", "builtin", cwd=workspace, env=env)
+    report = json.loads(result.stdout)
+    assert [(d["code"], d["path"]) for d in report["diagnostics"]] == [
+        ("PF301", "src/old_bot/launch/equals.launch.py")
+    ]
+    assert report["launch"]["distro"] is None
+    assert report["launch"]["distros"] == [
+        {"distro": "jazzy", "from": "pkgforge.toml", "packages": ["new_bot"]},
+        {"distro": "humble", "from": "pkgforge.toml", "packages": ["old_bot"]},
+    ]
+    text = run_pkgforge("verify", "--launch-engine", "builtin", cwd=workspace, env=env)
+    assert text.stdout.splitlines()[-1].endswith(
+        "launch: built-in engine (jazzy from pkgforge.toml; humble from pkgforge.toml)"
+    )
+
+
+DISTRO_BRANCH_WORKFLOW = """\
+on:
+  pull_request:
+    branches: [{branch}]
+  push:
+    branches: [{branch}]
+  schedule:
+    - cron: '03 1 * * MON-FRI'
+jobs:
+  binary:
+    uses: ros-controls/ros2_control_ci/.github/workflows/reusable-industrial-ci-with-cache.yml@master
+    strategy:
+      matrix:
+        ROS_DISTRO: [{distro}]
+    with:
+      ros_distro: ${{{{ matrix.ROS_DISTRO }}}}
+      ref_for_scheduled_build: {branch}
+"""
+
+
+def test_a_workflow_of_another_distro_s_branch_does_not_choose_the_launch_api(tmp_path):
+    """Issue 30 (truth campaign: ros2_control_demos on master keeps humble-binary-build.yml, which
+    runs for the humble branch): with the checkout on master, the workflows for the branch named
+    after humble say nothing of the code here; rolling's does. A workflow for a branch not named
+    after a distro (realsense-ros' ros2-development, from which its ros2-master comes) still does."""
+    import subprocess
+
+    workspace = tmp_path / "ws"
+    (workspace / "src").mkdir(parents=True)
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_DISTRO", "PKGFORGE_LAUNCH_DISTRO")}
+    result = run_pkgforge("new", "demo_bot", *MAINTAINER, cwd=workspace, env=env)
+    assert result.returncode == 0, result.stderr
+    package = workspace / "src" / "demo_bot"
+    (package / "launch" / "equals.launch.py").write_text(IRON_ON)
+    workflows = package / ".github" / "workflows"
+    workflows.mkdir(parents=True)
+    (workflows / "humble-binary-build.yml").write_text(
+        DISTRO_BRANCH_WORKFLOW.format(branch="humble", distro="humble")
+    )
+    (workflows / "rolling-binary-build.yml").write_text(
+        DISTRO_BRANCH_WORKFLOW.format(branch="master", distro="rolling")
+    )
+    subprocess.run(["git", "init", "-q", "-b", "master", str(package)], check=True)
+
+    def verify() -> str:
+        result = run_pkgforge("verify", "--launch-engine", "builtin", "--no-cache", cwd=workspace, env=env)
+        assert result.returncode in (0, 1), result.stderr
+        return result.stdout
+
+    said = verify()
+    assert "PF301" not in said and said.splitlines()[-1].endswith("(rolling from the CI files)"), said
+    (workflows / "rolling-binary-build.yml").unlink()
+    (workflows / "main.yml").write_text(
+        DISTRO_BRANCH_WORKFLOW.format(branch="ros2-development", distro="humble")
+    )
+    said = verify()
+    assert "equals.launch.py" in said and said.splitlines()[-1].endswith("(humble from the CI files)"), said

@@ -229,7 +229,7 @@ def test_a_space_in_pkgforges_own_temporary_folder_is_no_error_of_the_user(tmp_p
     )
     result = run_patched(patch, "verify", str(package), "--no-cache", cwd=package)
     assert (result.returncode, result.stderr) == (0, ""), result.stdout
-    assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine")
+    assert result.stdout.startswith("0 errors, 0 warnings, 0 infos in 1 package; launch: built-in engine")
     assert list(spaced.iterdir()) == []
 
 
@@ -431,3 +431,44 @@ def test_encoding_problems_say_save_as_utf8(package):
     assert by_code["PF501"]["hint"] == "save the file as UTF-8"  # not "save the config again from RViz"
     assert (by_code["PF901"]["path"], by_code["PF901"]["line"]) == ("launch/display.launch.py", comment_line)
     assert "UTF-8" in by_code["PF901"]["hint"] and "ASCII" not in by_code["PF901"]["hint"]
+
+
+# --- issue 30: a setup.py colcon cannot run ----------------------------------------------------
+
+
+def test_a_setup_py_colcon_cannot_run_is_one_located_line(tmp_path):
+    """Issue 30: a folder of the workspace whose setup.py imports a module that is not installed
+    (colcon runs it in discovery to learn the package's name) is one line naming the file, its
+    line and the error, not the traceback of the Python colcon started; and an ament_python
+    package whose setup.py colcon cannot run at build time is one located build-failed line."""
+    workspace = tmp_path / "ws"
+    (workspace / "src").mkdir(parents=True)
+    result = run_pkgforge("new", "py_bot", *MAINTAINER, "--build-type", "ament_python", cwd=workspace)
+    assert result.returncode == 0, result.stderr
+    helper = workspace / "src" / "helper_lib"
+    helper.mkdir()
+    (helper / "setup.py").write_text(
+        "from setuptools import setup\nimport not_installed_helper\nsetup(name='helper_lib')\n"
+    )
+    result = run_pkgforge("verify", cwd=workspace)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stderr.splitlines() == [
+        "pkgforge: warning: src/helper_lib/setup.py:2: colcon could not run it to read the package's name "
+        "(ModuleNotFoundError: No module named 'not_installed_helper'), so it skips the folder: install what "
+        "it imports, or put a COLCON_IGNORE file beside it if it is no package"
+    ]
+    setup_py = workspace / "src" / "py_bot" / "setup.py"
+    setup_py.write_text("import not_installed_helper\n" + setup_py.read_text())
+    # (colcon's own output of the build, on stderr, is colcon's: the report is pkgforge's)
+    built = run_pkgforge("verify", "--build", "--format", "json", cwd=workspace)
+    assert built.returncode == 1, built.stdout + built.stderr
+    (failed,) = [d for d in json.loads(built.stdout)["diagnostics"] if d["code"] == "PF902"]
+    assert (failed["path"], failed["line"]) == ("src/py_bot/setup.py", 1)
+    assert failed["message"].startswith(
+        "colcon could not run setup.py to read the package's metadata (it imports not_installed_helper, which "
+    )
+    assert failed["message"].endswith(" cannot import)") and "\n" not in failed["message"]
+    assert (
+        failed["hint"]
+        == "install what it imports into that Python, or import it only inside the functions that need it"
+    )

@@ -188,6 +188,16 @@ def test_next_steps_build_the_workspace_the_package_landed_in(tmp_path):
     (tmp_path / "w2" / "src").mkdir(parents=True)
     result = run_pkgforge("new", "rob_description", *MAINTAINER, cwd=tmp_path / "w2")
     assert "  pkgforge build  " in result.stdout
+    # issue 30: ros2 launch finds the package once the workspace's setup is sourced, before it
+    steps = result.stdout[result.stdout.index("next:\n") :].splitlines()[1:]
+    assert [step.split("#")[0].strip() for step in steps] == [
+        "pkgforge build",
+        "pkgforge verify src/rob_description",
+        "source install/setup.bash",
+        "ros2 launch rob_description display.launch.py",
+    ]
+    there = run_pkgforge("new", "b_description", *MAINTAINER, "--destination", "ws/src", cwd=tmp_path)
+    assert "  source ws/install/setup.bash " in there.stdout
 
 
 def test_maintainer_defaults_from_git_config(tmp_path):
@@ -258,6 +268,10 @@ def test_templates_ship_in_the_wheel(tmp_path):
     assert (
         zipfile.ZipFile(wheel).read("pkgforge/model/data/distros.txt")
         == (REPO / "src" / "pkgforge" / "model" / "data" / "distros.txt").read_bytes()
+    )
+    # the check catalogue that `pkgforge rule` and SARIF's helpUri link to where it is installed
+    assert (
+        zipfile.ZipFile(wheel).read("pkgforge/docs/checks.md") == (REPO / "docs" / "checks.md").read_bytes()
     )
 
 

@@ -63,7 +63,7 @@ def test_text_report_escapes_control_characters_in_names(hostile):
     forged = "src/names_description/launch/x\\n::error file=README.md,line=1::forged.launch.py:1: PF301"
     assert any(line.startswith(forged) for line in lines)
     assert any(line.startswith("src/names_description/launch/bad\\xff.launch.py:1: PF301") for line in lines)
-    assert lines[-1].startswith("5 errors, 0 warnings, 0 infos in 1 packages")
+    assert lines[-1].startswith("5 errors, 0 warnings, 0 infos in 1 package")
 
 
 def test_github_annotations_cannot_be_forged_by_a_file_name(hostile):

@@ -720,7 +720,10 @@ def test_text_format(tmp_path):
         "'worlds', which does not exist in small_turtle (install-missing-directory)"
     )
     assert lines[1].startswith("    hint: remove 'worlds' from the install rule at CMakeLists.txt:6")
-    assert lines[-1] == "2 errors, 0 warnings, 0 infos in 1 packages; launch: built-in engine (lyrical)"
+    assert (
+        lines[-1]
+        == "2 errors, 0 warnings, 0 infos in 1 package; launch: built-in engine (lyrical, the newest LTS)"
+    )
     assert "\x1b[" not in result.stdout  # no colour when not on a terminal
     assert package.is_dir()
 
@@ -814,3 +817,94 @@ def test_colcon_ignore_is_honoured(tmp_path):
 
 def test_fixture_folders_exist():
     assert (FIXTURES / "seed000" / "rob_description" / "package.xml").is_file()
+
+
+# --- issue 30: xacro's $(find X) of an undeclared package -----------------------------------------
+
+XACRO_IN_AN_OPAQUE_FUNCTION = """\
+import os
+
+import xacro
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch.actions import OpaqueFunction
+from launch_ros.actions import Node
+
+
+def setup(context):
+    path = os.path.join(get_package_share_directory('rob_description'), 'urdf', 'arm.urdf.xacro')
+    description = xacro.process_file(path).toxml()
+    return [Node(package='robot_state_publisher', executable='robot_state_publisher',
+                 parameters=[{'robot_description': description}])]
+
+
+def generate_launch_description():
+    return LaunchDescription([OpaqueFunction(function=setup)])
+"""
+
+ARM_WITH_A_FIND = """\
+<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <link name="base_link">
+    <visual><geometry><mesh filename="file://$(find {package})/meshes/arm.stl"/></geometry></visual>
+  </link>
+</robot>
+"""
+
+
+@pytest.mark.triggers("PF305", "PF308")
+def test_a_find_of_an_undeclared_package_is_missing_exec_depend(package):
+    """Issue 30: a model's $(find ur_description), undeclared, read by xacro.process_file() in an
+    OpaqueFunction, is missing-exec-depend with its fix at the model's line, and nothing else
+    (no launch-load-error quoting Python's <class '...PackageNotFoundError'> and pkgforge's tree);
+    a $(find) of a name that exists nowhere is xacro-error with xacro's words, no repr, no tree."""
+    model = package / "urdf" / "arm.urdf.xacro"
+    model.write_text(ARM_WITH_A_FIND.format(package="ur_description"))
+    (package / "launch" / "opaque.launch.py").write_text(XACRO_IN_AN_OPAQUE_FUNCTION)
+    status, report = verify_json(package.parent.parent)
+    assert status == 1
+    assert [(d["code"], d["path"], d["line"], d["message"], d["hint"]) for d in report["diagnostics"]] == [
+        (
+            "PF305",
+            "src/rob_description/urdf/arm.urdf.xacro",
+            line_of(model, "$(find ur_description)"),
+            "$(find) 'ur_description' is used at run time but package.xml does not declare it",
+            f"add <exec_depend>ur_description</exec_depend> to package.xml (after line "
+            f"{line_of(package / 'package.xml', '<exec_depend>xacro</exec_depend>')})",
+        )
+    ]
+    fixed = run_pkgforge("fix", cwd=package.parent.parent)
+    assert "<exec_depend>ur_description</exec_depend>" in (package / "package.xml").read_text(), fixed.stdout
+    model.write_text(ARM_WITH_A_FIND.format(package="ur_descripton_parts"))
+    status, report = verify_json(package.parent.parent)
+    shown = [(d["code"], d["path"], d["message"]) for d in report["diagnostics"]]
+    assert (
+        "PF308",
+        "src/rob_description/urdf/arm.urdf.xacro",
+        "xacro arm.urdf.xacro: PackageNotFoundError: \"package 'ur_descripton_parts' not found\"",
+    ) in shown
+    assert all(
+        "<class" not in d["message"] and "pkgforge-tree" not in d["message"] for d in report["diagnostics"]
+    )
+
+
+def test_folder_name_mismatch_suggests_only_valid_names(package):
+    """Issue 30: a folder named as a repository snapshot is (Owner+Repo) is no package name:
+    the hint offers only the folder's rename; at the root of a git repository (the folder is the
+    clone's name) the folder's name is no finding at all."""
+    renamed = package.with_name("Owner+Repo")
+    package.rename(renamed)
+    status, report = verify_json(renamed)
+    assert [(d["code"], d["path"], d["line"], d["hint"]) for d in report["diagnostics"]] == [
+        (
+            "PF104",
+            "package.xml",
+            line_of(renamed / "package.xml", "<name>"),
+            "rename the folder to 'rob_description'",
+        )
+    ]
+    (renamed / ".git").mkdir()
+    (renamed / ".git" / "HEAD").write_text("ref: refs/heads/main\n")
+    status, report = verify_json(renamed)  # (the cached answer of the first run does not stand)
+    assert status == 0
+    assert report["diagnostics"] == []

@@ -76,7 +76,25 @@ JSON_REPORT_SCHEMA = {
             "type": "object",
             "additionalProperties": False,
             "required": ["engine", "distro"],
-            "properties": {"engine": {"enum": ["builtin", "ros"]}, "distro": {"type": ["string", "null"]}},
+            "properties": {
+                "engine": {"enum": ["builtin", "ros"]},
+                "distro": {"type": ["string", "null"]},
+                # the built-in engine: where its distro came from, and each distro's packages
+                "from": {"type": ["string", "null"]},
+                "distros": {
+                    "type": "array",
+                    "items": {
+                        "type": "object",
+                        "additionalProperties": False,
+                        "required": ["distro", "from", "packages"],
+                        "properties": {
+                            "distro": {"type": "string"},
+                            "from": {"type": "string"},
+                            "packages": {"type": "array", "items": {"type": "string"}},
+                        },
+                    },
+                },
+            },
         },
         "sandbox": {  # what confined the launch files and models (null: none was evaluated)
             "type": ["object", "null"],
@@ -120,7 +138,7 @@ def test_junit_validates(broken_workspace, tmp_path):
     assert result.returncode == 1
     assert (
         result.stderr.strip()
-        == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
+        == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical, the newest LTS)"
     )
     document = etree.parse(str(output))
     etree.XMLSchema(etree.parse(str(SCHEMAS / "junit.xsd"))).assertValid(document)
@@ -154,7 +172,10 @@ def test_github_annotations(broken_workspace):
         "::error file=src/small_turtle/CMakeLists.txt,line=6,col=26,title=PF201 install-missing-directory::"
         in "\n".join(annotations)
     )
-    assert lines[-1] == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical)"
+    assert (
+        lines[-1]
+        == "3 errors, 0 warnings, 2 infos in 2 packages; launch: built-in engine (lyrical, the newest LTS)"
+    )
 
 
 def test_docs_checks_md_is_generated_from_the_registry():

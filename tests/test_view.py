@@ -181,3 +181,114 @@ def test_without_the_view_extra_verify_still_works_and_says_how_to_install(tmp_p
     view = run_pkgforge("view", ".", "-o", tmp_path / "out", cwd=tmp_path, env=env)
     assert view.returncode == 2 and "pip install 'ros-pkgforge[view]'" in view.stderr
     assert not (tmp_path / "out").exists()
+
+
+# --- issue 30: one set of images per distinct model, short names, numbers for people ------------
+
+ARGUED_MODEL = """\
+<?xml version="1.0"?>
+<robot name="argued" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="sim" default="false"/>
+  <xacro:arg name="arm" default="short"/>
+  <xacro:property name="length" value="${0.6 if '$(arg arm)' == 'long' else 0.3}"/>
+  <material name="black"><color rgba="0 0 0 1"/></material>
+  <link name="base_link">
+    <visual><geometry><box size="0.2 0.2 0.1"/></geometry><material name="black"/></visual>
+  </link>
+  <link name="arm_link">
+    <visual><geometry><box size="0.05 0.05 ${length}"/></geometry><material name="black"/></visual>
+  </link>
+  <joint name="arm_joint" type="revolute">
+    <parent link="base_link"/><child link="arm_link"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>
+    <limit lower="${-pi/4}" upper="${pi}" velocity="${pi/2}" effort="10"/>
+  </joint>
+</robot>
+"""
+
+ARGUED_LAUNCH = """\
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import Command, LaunchConfiguration, PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.parameter_descriptions import ParameterValue
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    model = PathJoinSubstitution([FindPackageShare('{package}'), 'urdf', '{model}'])
+    description = ParameterValue(Command(['xacro ', model, ' sim:=', LaunchConfiguration('sim'),
+                                          ' arm:=', LaunchConfiguration('arm')]), value_type=str)
+    return LaunchDescription([
+        DeclareLaunchArgument('sim', default_value='false', choices=['true', 'false']),
+        DeclareLaunchArgument('arm', default_value='short', choices=['short', 'long']),
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{{'robot_description': description}}]),
+    ])
+"""
+
+
+def _argued_package(tmp_path: Path, package: str, model: str) -> Path:
+    (tmp_path / "src").mkdir()
+    folder = new_package(tmp_path, package)
+    (folder / "launch" / "display.launch.py").unlink()
+    for old in (folder / "urdf").iterdir():
+        old.unlink()
+    (folder / "urdf" / model).write_text(ARGUED_MODEL)
+    (folder / "launch" / "argued.launch.py").write_text(ARGUED_LAUNCH.format(package=package, model=model))
+    return folder
+
+
+def test_argument_combinations_of_one_model_share_its_images(tmp_path):
+    """Issue 30: sim:=true/false changes nothing the pictures show, arm:=long does: two sets of
+    images (`<package>-<model>[-<n>]-<view>.png`), each listing the arguments that gave it in
+    view.json and summary.md; numbers in the tree rounded for people; black parts shaded."""
+    _argued_package(tmp_path, "argued_description", "argued.urdf.xacro")
+    out = tmp_path / "out"
+    result = run_pkgforge("view", ".", "-o", out, "--no-frame", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    stems = ["argued_description-argued", "argued_description-argued-2"]
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [f"{stem}-{view}.png" for stem in stems for view in VIEWS]
+        + [f"{stem}-tree.svg" for stem in stems]
+        + ["summary.md", "view.json"]
+    )
+    entries = json.loads((out / "view.json").read_text())["models"]
+    arguments = {e["tree"]: e["arguments"] for e in entries}
+    assert arguments == {
+        "argued_description-argued-tree.svg": [
+            {"arm": "short", "sim": "false"},
+            {"arm": "short", "sim": "true"},
+        ],
+        "argued_description-argued-2-tree.svg": [
+            {"arm": "long", "sim": "false"},
+            {"arm": "long", "sim": "true"},
+        ],
+    }
+    summary = (out / "summary.md").read_text()
+    assert "xacro arguments: `arm:=long` `sim:=false`; `arm:=long` `sim:=true`" in summary
+    svg = (out / "argued_description-argued-tree.svg").read_text()
+    assert "[-0.785, 3.14] v1.57 e10" in svg and "3.1415" not in svg
+
+    # black boxes: their visible faces in the iso view are shades, not one flat colour
+    iso = np.asarray(Image.open(out / "argued_description-argued-iso.png").convert("RGB"))
+    area = entries[0]["images"][3]["area"]
+    inside = iso[area[1] : area[3], area[0] : area[2]].reshape(-1, 3)
+    drawn = inside[np.any(inside != 255, axis=1)]
+    shades = {tuple(p) for p in drawn}
+    luma = drawn @ np.array([0.299, 0.587, 0.114])
+    assert len(shades) >= 3 and luma.max() - luma.min() >= 30, sorted(shades)[:10]
+
+
+def test_image_names_stay_within_100_characters(tmp_path):
+    """Issue 30: a long package name and a long model file name still give file names of at most
+    100 characters, distinct for the two geometries."""
+    package = "a_very_long_robot_description_package_name_for_a_manipulator_arm_description"
+    model = "a_very_long_model_file_name_with_every_option_spelled_out.urdf.xacro"
+    _argued_package(tmp_path, package, model)
+    out = tmp_path / "out"
+    result = run_pkgforge("view", ".", "-o", out, "--no-frame", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    names = sorted(p.name for p in out.iterdir())
+    assert len(names) == 12 and all(len(n) <= 100 for n in names), names
+    assert len({n for n in names if n.endswith("-front.png")}) == 2

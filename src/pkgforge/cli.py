@@ -261,6 +261,9 @@ def new(
         license=license_,
         description=description,
         ci=tuple(dict.fromkeys(ci)),
+        # the distro given on the command line is recorded in the package (pkgforge.toml)
+        record_distro=click.get_current_context().get_parameter_source("distro")
+        == click.core.ParameterSource.COMMANDLINE,
     )
     notes: Notes | None = None
     try:
@@ -296,12 +299,17 @@ def new(
     # the workspace the package landed in: `pkgforge build` run here would look elsewhere
     root = locate(created.path).root
     build = "pkgforge build" if root == Path.cwd().resolve() else f"pkgforge build {os.path.relpath(root)}"
-    click.echo(
-        "next:\n"
-        f"  {build:<26}# colcon build into install/\n"
-        f"  pkgforge verify {shown}\n"
-        f"  ros2 launch {spec.name} display.launch.{spec.launch_format}"
-    )
+    install = "install" if root == Path.cwd().resolve() else os.path.relpath(root / "install")
+    steps = [
+        (build, "# colcon build into install/"),
+        (f"pkgforge verify {shown}", ""),
+        (f"source {install}/setup.bash", "# the built package on this shell's paths (after ROS 2's own)"),
+        (f"ros2 launch {spec.name} display.launch.{spec.launch_format}", ""),
+    ]
+    width = max(len(command) for command, comment in steps if comment) + 2
+    click.echo("next:")
+    for command, comment in steps:
+        click.echo(f"  {command:<{width}}{comment}".rstrip())
     if notes is not None:
         click.echo(
             f"imported {from_urdf} with {imported.meshes} mesh(es); {len(imported.files)} file(s) "

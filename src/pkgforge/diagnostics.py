@@ -32,7 +32,8 @@ class Finding:
     column: int | None = None
     hint: str | None = None  # None: the check's own hint
     severity: Severity | None = None  # None: the check's default
-    # what `pkgforge fix` needs to fix it (plain data, e.g. {"dependency": "xacro"}); None: no fix
+    # what `pkgforge fix` needs to fix it (plain data, e.g. {"dependency": "xacro"}); None: no fix.
+    # {"unsafe": True, ...}: this finding's fix is unsafe (--unsafe-fixes) whatever the check's kind
     fix: dict[str, Any] | None = field(default=None, compare=False, hash=False)
 
 
@@ -64,3 +65,6 @@ class PackageReport:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     # bugs in pkgforge met while checking the package ("summary\ntraceback"): verify exits 2
     internal_errors: list[str] = field(default_factory=list)
+    # (the distro whose launch API the built-in engine followed for its launch files, where that
+    # came from: --distro, ROS_DISTRO, pkgforge.toml, CI file, the newest LTS); None: no built-in engine
+    launch_distro: tuple[str, str] | None = None

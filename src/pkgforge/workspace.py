@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import logging
+import re
+import sys
 from collections import OrderedDict
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -49,7 +54,9 @@ def locate(path: Path) -> Workspace:
     )
 
 
-def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -> list[Any]:
+def discover(
+    base_path: Path, *, augment: bool = True, ros_only: bool = False, unreadable: list[Path] | None = None
+) -> list[Any]:
     """colcon PackageDescriptors under base_path (COLCON_IGNORE, AMENT_IGNORE honoured).
 
     `augment`: with colcon's augmentation (the dependencies; build.py orders by them; names,
@@ -57,7 +64,8 @@ def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -
     extensions alone (colcon-python-setup-py imports setuptools: ~0.3 CPU s and ~10 MiB) when
     that gives what all of them would: every folder the ROS extension leaves to the lower
     priorities is watched, and when one holds a CMakeLists.txt or setup.py (what colcon's cmake
-    and python extensions look for) discovery runs again with every extension."""
+    and python extensions look for) discovery runs again with every extension. `unreadable`: gets
+    the folders whose setup.py colcon could not run (each said on stderr in one line)."""
     import argparse
     import logging
 
@@ -82,7 +90,15 @@ def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -
         if descriptors is None:
             from colcon_core.package_identification import get_package_identification_extensions
 
-            descriptors = discover_packages(args, get_package_identification_extensions())
+            # colcon's python extension runs each setup.py it meets in a Python of its own whose
+            # traceback, when the file fails (an import not installed), would reach the terminal
+            # raw: pkgforge says it in one located line instead
+            with _setup_py_failures() as failures:
+                descriptors = discover_packages(args, get_package_identification_extensions())
+            for folder, failure in failures:
+                print(f"pkgforge: warning: {failure}", file=sys.stderr)
+                if unreadable is not None:
+                    unreadable.append(Path(folder))
         if augment:  # augmentation is where colcon-ros fills in the manifest's dependencies
             from colcon_core.package_augmentation import augment_packages
 
@@ -90,6 +106,89 @@ def discover(base_path: Path, *, augment: bool = True, ros_only: bool = False) -
     except Exception as exc:  # colcon raises plain exceptions for bad manifests
         raise PkgforgeError(f"package discovery under {base_path} failed: {exc}") from exc
     return sorted(descriptors, key=lambda d: (d.name or "", str(d.path)))
+
+
+# colcon's log line for an identification extension that raised (colcon_core.package_identification)
+EXTENSION_FAILED = re.compile(r"Exception in package identification extension '(\w+)' in '([^']+)'")
+# the setup.py's own frames: run_setup exec()s its text, which Python names "<string>"
+SETUP_FRAME = re.compile(r'File "<string>", line (\d+)')
+
+
+class _Recorder(logging.Handler):
+    """The folders whose setup.py colcon's python extensions failed to run, from colcon's log."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.ERROR)
+        self.folders: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        found = EXTENSION_FAILED.search(record.getMessage())
+        if found and found.group(1).startswith("python") and found.group(2) not in self.folders:
+            self.folders.append(found.group(2))
+
+
+@contextmanager
+def _setup_py_failures() -> Iterator[list[tuple[str, str]]]:
+    """While colcon identifies packages: its log records which setup.py files failed, and what
+    the Pythons running them wrote on the standard error (file descriptor 2, which they inherit)
+    is kept; after, one line per failed setup.py (its file, the line it failed at, the error),
+    and anything else they wrote passed on as it was."""
+    import os
+    import tempfile
+
+    colcon = logging.getLogger("colcon")
+    recorder = _Recorder()
+    level, handlers, propagate = colcon.level, colcon.handlers[:], colcon.propagate
+    colcon.setLevel(logging.ERROR)
+    colcon.handlers, colcon.propagate = [recorder], False
+    failures: list[tuple[str, str]] = []  # (folder, what to say)
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with tempfile.TemporaryFile() as captured:
+            os.dup2(captured.fileno(), 2)
+            try:
+                yield failures
+            finally:
+                sys.stderr.flush()
+                os.dup2(saved, 2)
+                captured.seek(0)
+                written = captured.read().decode("utf-8", errors="replace")
+            failures += _described(recorder.folders, written)
+            if not failures and written:
+                sys.stderr.write(written)  # not a setup.py's failure: what it is, as it came
+    finally:
+        os.close(saved)
+        colcon.setLevel(level)
+        colcon.handlers, colcon.propagate = handlers, propagate
+
+
+def _described(folders: list[str], written: str) -> list[tuple[str, str]]:
+    """One line per folder whose setup.py failed, with the error of its traceback (in the order
+    colcon ran them) where each has one."""
+    import os
+
+    tracebacks = [
+        t for t in re.split(r"^(?=Traceback \(most recent call last\):)", written, flags=re.M) if t.strip()
+    ]
+    tracebacks = [t for t in tracebacks if t.startswith("Traceback")]
+    lines = []
+    for index, folder in enumerate(folders):
+        setup_py = os.path.relpath(os.path.join(folder, "setup.py"))
+        error, line = "it failed", ""
+        if len(tracebacks) == len(folders):
+            text = tracebacks[index].rstrip().splitlines()
+            error = text[-1].strip() if text else error
+            frames = SETUP_FRAME.findall(tracebacks[index])
+            line = f":{frames[-1]}" if len(frames) > 1 else ""  # (the first is colcon's own -c code)
+        lines.append(
+            (
+                folder,
+                f"{setup_py}{line}: colcon could not run it to read the package's name ({error}), so it "
+                "skips the folder: install what it imports, or put a COLCON_IGNORE file beside it if it is no package",
+            )
+        )
+    return lines
 
 
 # the files that keep colcon out of a folder and everything below it (colcon's ignore extension)

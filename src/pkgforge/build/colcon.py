@@ -108,8 +108,16 @@ def write_stub_prefix(prefix: Path, names: list[str]) -> None:
 
 
 def colcon_command(
-    workspace: Workspace, options: BuildOptions, selection: list[str], cmake_args: list[str]
+    workspace: Workspace,
+    options: BuildOptions,
+    selection: list[str],
+    cmake_args: list[str],
+    paths: list[str] | None = None,
 ) -> list[str]:
+    """colcon build's command line; `paths`: the package folders to build from, instead of
+    crawling the workspace (none of them with a shell wildcard, which colcon would expand)."""
+    if paths is not None and any(set(p) & set("*?[") for p in paths):
+        paths = None
     cmd = [
         sys.executable,
         "-m",
@@ -118,8 +126,7 @@ def colcon_command(
         str(options.log_base),
         "build",
         "--merge-install",
-        "--base-paths",
-        str(workspace.base_path),
+        *(["--paths", *paths] if paths else ["--base-paths", str(workspace.base_path)]),
         "--build-base",
         str(options.build_base),
         "--install-base",
@@ -159,6 +166,58 @@ def log_tail(log_base: Path, package: str, lines: int = LOG_TAIL_LINES) -> str:
     return "\n".join(text[-lines:])
 
 
+# a log tail replaced by one located line: colcon could not run the package's setup.py
+SETUP_PY_UNREADABLE = "pkgforge-setup-py: "
+HINT_SEPARATOR = "; hint: "
+# colcon's traceback when running setup.py to read an ament_python package's metadata failed
+SETUP_PY_RUN = ("get_setup_information", "CalledProcessError")
+
+
+def unreadable_setup_py(folder: Path | None, tail: str) -> str | None:
+    """One line for a package whose setup.py colcon could not run to read its metadata (colcon's
+    log then holds only colcon's own traceback; the file's error went to colcon's output): the
+    file, and the first module it imports at its top that colcon's Python cannot find, where one
+    is (read from its syntax tree, nothing of it run); None for any other failure."""
+    if folder is None or not all(part in tail for part in SETUP_PY_RUN):
+        return None
+    import ast
+    import importlib.util
+
+    setup_py = folder / "setup.py"
+    where, why = str(setup_py), "its error is in colcon's output above"
+    try:
+        tree = ast.parse(setup_py.read_text(encoding="utf-8", errors="replace"))
+    except (OSError, SyntaxError, ValueError):
+        tree = None
+    for node in tree.body if tree is not None else []:
+        names = (
+            [a.name for a in node.names]
+            if isinstance(node, ast.Import)
+            else [node.module]
+            if isinstance(node, ast.ImportFrom) and node.module and not node.level
+            else []
+        )
+        missing = [n for n in names if importlib.util.find_spec(n.split(".")[0]) is None]
+        if missing:
+            where = f"{setup_py}:{node.lineno}"
+            why = f"it imports {missing[0]}, which {sys.executable} cannot import"
+            break
+    return (
+        f"{SETUP_PY_UNREADABLE}{where}: colcon could not run setup.py to read the package's metadata "
+        f"({why}){HINT_SEPARATOR}install what it imports into that Python, or import it only inside "
+        "the functions that need it"
+    )
+
+
+def _shown(line: str) -> str:
+    """The line with its absolute path made relative to the current folder."""
+    import os
+
+    path, sep, rest = line.partition(": ")
+    file, colon, number = path.rpartition(":") if path.rpartition(":")[2].isdigit() else (path, "", "")
+    return f"{os.path.relpath(file)}{colon}{number}{sep}{rest}"
+
+
 def _conditional(descriptor: PackageDescriptor) -> set[str]:
     """Build dependencies under a condition on a variable of the user's own build set-up
     ($HUSARION_ROS_BUILD_TYPE): colcon left them out, as the variable is unset here, but the
@@ -188,7 +247,8 @@ def run_build(
     env = toolchain.environment()
     env.update(options.extra_env)
     require_cmake(env)
-    descriptors = discover(workspace.base_path)
+    unreadable: list[Path] = []
+    descriptors = discover(workspace.base_path, unreadable=unreadable)
     if not descriptors:
         raise PkgforgeError(f"no package found under {workspace.base_path}")
     selection = list(options.packages_select)
@@ -214,7 +274,10 @@ def run_build(
         *toolchain.cmake_generator_args(env),
         *options.cmake_args,
     ]
-    cmd = colcon_command(workspace, options, selection, cmake_args)
+    # a setup.py colcon cannot run was said once (discover): colcon's own discovery would print
+    # its traceback again, so colcon is given the packages found instead of the folder to crawl
+    paths = [str(d.path) for d in descriptors] if unreadable else None
+    cmd = colcon_command(workspace, options, selection, cmake_args, paths)
     names = selection or [d.name for d in descriptors]
     built = [d.name for d in build_closure(descriptors, selection)]  # with what they depend on
     # a stale rc from an earlier run must not name a package that now passes
@@ -238,16 +301,22 @@ def run_build(
                 f"colcon exited with {completed.returncode}; see its output above",
                 status=completed.returncode,
             )
+        folders = {d.name: Path(d.path) for d in descriptors}
         failures = [
             (
                 package,
                 options.log_base / "latest_build" / package / "stdout_stderr.log",
-                log_tail(options.log_base, package),
+                unreadable_setup_py(folders.get(package), log_tail(options.log_base, package))
+                or log_tail(options.log_base, package),
             )
             for package in failed
         ]
         if not quiet_failures:
             for package, log, tail in failures:
+                if tail.startswith(SETUP_PY_UNREADABLE):
+                    said = _shown(tail.removeprefix(SETUP_PY_UNREADABLE)).replace(HINT_SEPARATOR, ": ")
+                    print(f"\npkgforge: {said}", file=out)
+                    continue
                 print(f"\npkgforge: package '{package}' failed; last lines of its log ({log}):", file=out)
                 print(tail, file=out)
         raise BuildFailed(

@@ -47,6 +47,13 @@ def build_failed_finding(
     """The failure at the first CMake or Python error in the package's own files, else at its
     build file; the message ends with the last lines of colcon's log. `files`: what exists, read
     by the verify pipeline (a check touches no file itself)."""
+    from pkgforge.build.colcon import HINT_SEPARATOR, SETUP_PY_UNREADABLE
+
+    if tail.startswith(SETUP_PY_UNREADABLE):  # colcon could not run setup.py: one located line
+        place, _, said = tail.removeprefix(SETUP_PY_UNREADABLE).partition(": ")
+        file, _, number = place.rpartition(":") if place.rpartition(":")[2].isdigit() else (place, "", "")
+        message, _, hint = said.partition(HINT_SEPARATOR)
+        return Finding(message, Path(file), int(number) if number else None, hint=hint or None)
     lines = [line for line in tail.splitlines() if line.strip()]
     first_error = next((i for i, line in enumerate(lines) if ERROR_LINE.search(line)), None)
     lines = lines[first_error : first_error + TAIL_LINES] if first_error is not None else lines[-TAIL_LINES:]

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import functools
+
 from pkgforge.checks.registry import Check, all_checks
 
-# where the catalogue lives, relative to the repository root (and in the sdist); SARIF's helpUri
-# points at a check's anchor in it. pkgforge has no public documentation site to point at.
+# where the catalogue lives, relative to the repository root (and in the sdist); the wheel ships
+# a copy as pkgforge/docs/checks.md (pyproject.toml's force-include)
 DOCS_PATH = "docs/checks.md"
+# the catalogue's URL, or the URL of the folder holding it (a fork's or a mirror's docs/)
+DOCS_URL_ENV = "PKGFORGE_DOCS_URL"
 
 HEADER = """# pkgforge checks
 
@@ -48,8 +52,44 @@ def checks_markdown() -> str:
 
 
 def help_uri(check: Check) -> str:
-    """The check's section in the catalogue (a stable relative reference: pkgforge has no site)."""
-    return f"{DOCS_PATH}#{check.anchor}"
+    """The URL of the check's section in the catalogue (`pkgforge rule`, SARIF's helpUri)."""
+    return f"{docs_url()}#{check.anchor}"
+
+
+def docs_url() -> str:
+    """The catalogue's URL: PKGFORGE_DOCS_URL (the file's URL, or its folder's); else the
+    distribution's `Documentation` project URL (pyproject.toml [project.urls]); else the
+    catalogue of this pkgforge's own repository (an editable install's docs/checks.md) or its
+    wheel's copy, as a file:// URL that opens where pkgforge is installed."""
+    import os
+    from pathlib import Path
+
+    given = os.environ.get(DOCS_URL_ENV, "").strip()
+    if given:
+        return given if given.endswith(".md") else given.rstrip("/") + "/checks.md"
+    published = _project_url("Documentation")
+    if published:
+        return published.rstrip("/") + "/checks.md" if not published.endswith(".md") else published
+    package = Path(__file__).resolve().parent.parent
+    for candidate in (package.parent.parent / DOCS_PATH, package / DOCS_PATH):
+        if candidate.is_file():
+            return candidate.as_uri()
+    return DOCS_PATH  # a copy without its docs: the path every checkout and sdist has
+
+
+@functools.lru_cache(maxsize=4)
+def _project_url(label: str) -> str | None:
+    from importlib import metadata
+
+    try:
+        urls: list[str] = [str(u) for u in metadata.metadata("ros-pkgforge").get_all("Project-URL") or []]
+    except metadata.PackageNotFoundError:
+        return None
+    for entry in urls:
+        name, _, url = entry.partition(",")
+        if name.strip().lower() == label.lower() and url.strip():
+            return url.strip()
+    return None
 
 
 def _fence(snippet: str) -> str:

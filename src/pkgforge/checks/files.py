@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -135,3 +136,34 @@ def untree(ctx: CheckContext, text: str) -> str:
         return ctx.relative(found) if found is not None else match.group(0)
 
     return re.sub(re.escape(str(share)) + r"/[^\s'\"\]]+", source, text)
+
+
+NOT_FOUND = re.compile(r"package '([^']+)' not found")
+# Python's repr of an exception class, as xacro quotes one it caught: <class 'a.b.PackageNotFoundError'>
+CLASS_REPR = re.compile(r"<class '(?:[\w.]+\.)?(\w+)'>")
+
+
+def undeclared_find(ctx: CheckContext, message: str | None) -> bool:
+    """xacro failed on $(find X) of a package that package.xml does not declare, and that
+    missing-exec-depend (a real package here) or package-not-in-distro (released, not for the
+    target distro) names: one defect, one diagnostic."""
+    from pkgforge.model.distro_data import released_set
+
+    found = NOT_FOUND.search(str(message or ""))
+    manifest = ctx.model.manifest
+    return (
+        found is not None
+        and manifest.valid
+        and (found.group(1) in ctx.real_packages() or found.group(1) in released_set(()))
+        and found.group(1) not in manifest.run_dependencies()
+        and found.group(1) not in (ctx.model.name, ctx.model.share_name)
+    )  # its own: not a dependency
+
+
+def untree_xacro(ctx: CheckContext, message: str | None) -> str:
+    """xacro's message for people: without the folders pkgforge's tree searched (ament's
+    PackageNotFoundError lists them), with an exception's class by its name (not Python's
+    <class '...'>), said once (xacro quotes the same message twice)."""
+    text = re.sub(r",? searching: \[[^\]]*\]", "", untree(ctx, str(message)))
+    text = CLASS_REPR.sub(r"\1", text)
+    return re.sub(r'("[^"]+") \1', r"\1", text)

@@ -128,8 +128,9 @@ def install_fix_data(model: PackageModel, folder: str) -> dict[str, Any]:
     ),
     good=("# CMakeLists.txt\ninstall(DIRECTORY launch urdf DESTINATION share/${PROJECT_NAME})"),
     summary="an install rule names a source folder that does not exist",
-    explanation="CMake stops at install time with 'file INSTALL cannot find' (user story 2: "
-    "a tutorial's install rule lists worlds/ and models/ the package lacks).",
+    explanation="CMake stops at install time with 'file INSTALL cannot find': your package's "
+    "build fails (an install rule copied from a tutorial often lists worlds/ and models/ your "
+    "package does not have).",
     hint="create the folder or remove it from the install rule",
 )
 def install_missing_directory(ctx: CheckContext) -> Iterator[Finding]:
@@ -192,7 +193,7 @@ def install_missing_file(ctx: CheckContext) -> Iterator[Finding]:
     summary="a folder of run-time resources is covered by no install rule",
     explanation="Launch files resolve paths in install/share/<pkg>/, not in src/: a folder "
     "left out of the install rules is simply absent at run time, with no error "
-    "(user story 1: rviz/ not installed, RViz starts with no config). An error "
+    "(rviz/ not installed: RViz starts with no config). An error "
     "when a file of the package refers to the folder, a warning otherwise.",
     hint="install the folder to share/${PROJECT_NAME}",
 )

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from pkgforge.checks.context import NONE_TEXT, CheckContext
-from pkgforge.checks.files import read_problem_hint, untree
+from pkgforge.checks.files import read_problem_hint, undeclared_find, untree, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
@@ -190,6 +190,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 # raised (amiga_ros2_gazebo's OpaqueFunction): model-unevaluated says it (ROS has the file)
                 if absent[0] in ctx.model.manifest.declared():
                     continue
+            if item.type == "XacroException" and undeclared_find(ctx, item.message):
+                continue  # $(find X) of an undeclared package: missing-exec-depend names it in the model
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
@@ -202,7 +204,7 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 # loading read a package not installed here, the action failed on something empty
                 # after: maybe that read's consequence, maybe its own defect (an error neither way)
                 yield Finding(
-                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(_shown_error(ctx, item))}"
                     f" (the file read files of {item.read_before}, not installed here, while loading: "
                     f"maybe the cause){_branch_note(item, resolution)}",
                     *position,
@@ -215,13 +217,15 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 and alone is not None
                 and item.file in (None, str(resolution.launch.installed))
             ):
-                message = f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                message = (
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(_shown_error(ctx, item))}"
+                )
                 yield _failing_alone(f"{message}{alone[0]}", position, alone[1])
                 continue
             if position is not None:
                 yield Finding(
                     # (the tree's paths named as the user's before a long value is shortened)
-                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(untree(ctx, item.message))}"
+                    f"{item.entity or 'an action'} failed: {item.type}: {_one_line(_shown_error(ctx, item))}"
                     f"{_branch_note(item, resolution)}",
                     *position,
                 )
@@ -237,6 +241,11 @@ def _import_hint(text: str) -> str | None:
     if found is None or home is None or found.group(0).endswith(f"'{home}'"):
         return None
     return f"import it from {home}: from {home} import {found.group(1)}"
+
+
+def _shown_error(ctx: CheckContext, item: LaunchError) -> str:
+    """An action's error message in the user's terms (a xacro failure as xacro_error shows it)."""
+    return untree_xacro(ctx, item.message) if item.type == "XacroException" else untree(ctx, item.message)
 
 
 def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str, str] | None:
@@ -356,7 +365,7 @@ def _share_reference(ctx: CheckContext, path: str) -> tuple[str, str, Path] | No
     good=("# CMakeLists.txt\ninstall(DIRECTORY launch rviz urdf DESTINATION share/${PROJECT_NAME})"),
     summary="a launch file resolves a path that the install rules leave out",
     explanation="The file exists in src/ but not in install/share/<pkg>/, where `ros2 launch` "
-    "looks (user story 1: the RViz config was never installed, RViz started empty).",
+    "looks: your RViz config never installed, RViz starts empty.",
     hint="extend the install rule",
 )
 def uninstalled_reference(ctx: CheckContext) -> Iterator[Finding]:
@@ -683,8 +692,8 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
     summary="a launch file looks up a package that exists nowhere",
     explanation="The package is not in the workspace, not declared in package.xml, not "
     "installed and released in no active ROS 2 distro: almost always a typo or a "
-    "package renamed (user story 3: "
-    "`robot_description` looked up in package `rob_description`). Used only with argument "
+    "package renamed (`robot_description` looked up where your package is named "
+    "`rob_description`). Used only with argument "
     "settings other than the defaults, it is a warning: more likely an optional driver the "
     "robot's users build from source.",
     hint="fix the package name; if it is a package built from source (not released), add it to "
@@ -855,7 +864,7 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     good=("<!-- package.xml -->\n<exec_depend>rviz2</exec_depend>"),
     summary="a package used at run time is not an exec_depend",
     explanation="rosdep and binary packages install only what package.xml declares: on a fresh "
-    "machine the node, file or tool is missing (user story 6). A model's use that xacro reads "
+    "machine, your package's node, file or tool is missing. A model's use that xacro reads "
     "only inside <xacro:if>/<xacro:unless>, or in a model file no robot model of the package "
     "reads (an accessory for others to include), is a warning, with no fix: such a package is often left out on purpose (a "
     "simulation package that itself depends on the description). A package that depends on "
@@ -863,12 +872,14 @@ def _unknown_hint(ctx: CheckContext, name: str) -> str:
     "refuses). A package a declared one brings along (spot_description brings robot_state_"
     "publisher) is installed on a fresh machine all the same: a warning, with the fix. A launch "
     "file's use of a viewer (rviz2, rqt, joint_state_publisher_gui, plotjuggler) only with argument "
-    "settings other than the defaults (rviz:=true, default false) is a warning with no fix: a "
-    "headless robot leaves RViz out on purpose; any other package such a setting needs (the "
+    "settings other than the defaults (rviz:=true, default false) is a warning with an unsafe fix "
+    "(--unsafe-fixes declares it): a headless robot leaves RViz out on purpose; any other package such a setting needs (the "
     "simulator under sim:=true) stays an error, with the setting named. A use in one if/else "
     "branch of a launch file pkgforge could not evaluate is a warning too (which branch runs is "
     "unknown: turtlebot3's lidar driver by $LDS_MODEL), and, in a test package (dsr_tests) or "
-    "under test/, a package declared only as <test_depend>.",
+    "under test/, a package declared only as <test_depend>. With no target distro stated, a "
+    "package that has a successor and is released for older distros only (gazebo_ros: humble) "
+    "gets no fix: the hint names the successor.",
     hint="declare it with <exec_depend>",
 )
 def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
@@ -971,13 +982,31 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
                 line,
                 severity=Severity.WARNING,
                 hint=f"add <exec_depend>{name}</exec_depend> if the package's users launch it with that setting",
-            )  # no fix: only the user knows whether that setting is meant for this package's users
+                # unsafe: only the user knows whether that setting is meant for this package's users
+                fix={
+                    "dependency": name,
+                    "tag": "exec_depend",
+                    "manifest": str(model.manifest.path),
+                    "unsafe": True,
+                },
+            )
             continue
         only_tests = (
             "; it declares it only as <test_depend>, which a released binary does not bring"
             if name in tested
             else ""
         )
+        superseded = _superseded(ctx, name)
+        if superseded is not None:
+            # gazebo_ros with no target distro stated: declaring it is right on humble only, and
+            # pkgforge cannot tell whether the package targets humble; the fix would pin it there
+            yield Finding(
+                f"{via} '{name}' is used at run time but package.xml does not declare it{note}{only_tests}",
+                path,
+                line,
+                hint=superseded,
+            )
+            continue
         yield Finding(
             f"{via} '{name}' is used at run time but package.xml does not declare it{note}{only_tests}",
             path,
@@ -990,6 +1019,30 @@ def missing_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             ),
             fix={"dependency": name, "tag": "exec_depend", "manifest": str(model.manifest.path)},
         )
+
+
+def _superseded(ctx: CheckContext, name: str) -> str | None:
+    """The hint, without a fix, for a package with a successor (distro_data.replacement) that is
+    not released for every active distro its successor is, when no target distro is stated:
+    `fix` would add gazebo_ros, released for humble only, to a package that may target jazzy. With
+    a target, a name not released for it is package-not-in-distro's, never a fix's."""
+    if ctx.distros or name in ctx.workspace:
+        return None
+    from pkgforge.model.distro_data import load, replacement
+
+    better = replacement(name)
+    if better is None:
+        return None
+    data = load()
+    released = data.released_in(name)
+    elsewhere = [d for d in data.released_in(better[0]) if d not in released]
+    if not released or not elsewhere:
+        return None
+    return (
+        f"use {better[0]} instead ({better[1]}); or, for a package that targets "
+        f"{' or '.join(released)} only, add <exec_depend>{name}</exec_depend> to package.xml and "
+        f'say so in pkgforge.toml ([verify] distro = "{released[0]}")'
+    )
 
 
 def _for_tests(model: PackageModel, path: Path) -> bool:
@@ -1057,7 +1110,7 @@ def _read_as_is_by_rsp(ctx: CheckContext, resolution: Resolution, argument: str)
     ),
     summary="joint_state_publisher is given the robot model as an argument",
     explanation="Copied from older tutorials: joint_state_publisher(_gui) then parses the file "
-    "itself, unexpanded (links go missing, the TF tree breaks; user story 4). It reads "
+    "itself, unexpanded (links go missing, the TF tree breaks). It reads "
     "/robot_description from robot_state_publisher. A plain .urdf or .sdf file whose text the "
     "launch file also gives robot_state_publisher as it is (not through xacro), as its "
     "robot_description or on its command line, is read the same way by both: no finding.",

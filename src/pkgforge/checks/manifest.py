@@ -6,7 +6,7 @@ import os
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
@@ -102,7 +102,7 @@ def package_name_invalid(ctx: CheckContext) -> Iterator[Finding]:
     summary="CMake project() differs from package.xml <name>",
     explanation="ament installs to share/${PROJECT_NAME} and registers that name in the "
     "ament index, while every tool looks the package up by its package.xml "
-    "name: FindPackageShare and `ros2 launch` find nothing (user story 3).",
+    "name: FindPackageShare and `ros2 launch` find nothing of your package.",
     hint="make project() and package.xml <name> the same",
 )
 def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
@@ -133,21 +133,25 @@ def project_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     explanation="Nothing breaks by itself (many repositories name folders differently on "
     "purpose); it matters only when a file uses the folder name as a package "
     "name in FindPackageShare or package:// URIs, which resolve by the package "
-    "name, and unknown-package reports that use (user story 3: folder "
-    "rob_description, package robot_description).",
+    "name, and unknown-package reports that use (a folder rob_description holding the "
+    "package robot_description). A package at the root of its git repository "
+    "is not reported: its folder is named by whoever cloned it (the repository's name).",
     hint="rename the folder, or rename the package everywhere",
 )
 def folder_name_mismatch(ctx: CheckContext) -> Iterator[Finding]:
     model = ctx.model
-    if model.manifest.name and model.path.name != model.manifest.name:
-        yield Finding(
-            f"folder '{model.path.name}' holds package '{model.manifest.name}': references must use "
-            f"'{model.manifest.name}'",
-            model.manifest.path,
-            model.manifest.name_line,
-            hint=f"rename the folder to '{model.manifest.name}', or the package to "
-            f"'{model.path.name}' in package.xml, project() and every reference",
-        )
+    name = model.manifest.name
+    if not name or model.path.name == name or ctx.files.exists(model.path / ".git"):
+        return  # (.git: a repository's clone, its folder named as the clone was)
+    hint = f"rename the folder to '{name}'"
+    if rep144_problem(model.path.name) is None:  # never a name package.xml cannot hold (Owner+Repo)
+        hint += f", or the package to '{model.path.name}' in package.xml, project() and every reference"
+    yield Finding(
+        f"folder '{model.path.name}' holds package '{name}': references must use '{name}'",
+        model.manifest.path,
+        model.manifest.name_line,
+        hint=hint,
+    )
 
 
 @register(
@@ -185,18 +189,25 @@ def build_type_missing(ctx: CheckContext) -> Iterator[Finding]:
     area="manifest",
     bad=("<!-- package.xml -->\n<depend>xacro</depend>\n<exec_depend>xacro</exec_depend>"),
     good=("<!-- package.xml -->\n<exec_depend>xacro</exec_depend>"),
+    fix="safe",
     summary="a dependency is declared twice",
     explanation="An exact repeat is noise; <depend> beside <build_depend>, "
     "<build_export_depend> or <exec_depend> of the same package makes "
-    "catkin_pkg reject the manifest, and colcon then skips the package.",
+    "catkin_pkg reject the manifest, and colcon then skips the package. Declarations under different "
+    "conditions are not repeats (only one holds where they exclude each other). The fix deletes the repeat "
+    "(or the tag <depend> covers), unless the two declarations' conditions differ.",
     hint="keep one declaration",
 )
 def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
     manifest = ctx.model.manifest
-    seen: dict[str, list[Dependency]] = {}
+    # by name and condition: catkin_pkg tells declarations apart by their conditions too, so
+    # <test_depend condition="$ROS_VERSION == 2">x</...> beside one for $ROS_VERSION == 1 is no repeat
+    seen: dict[tuple[str, str], list[Dependency]] = {}
     for dependency in manifest.dependencies:
-        seen.setdefault(dependency.name, []).append(dependency)
-    for name, declarations in seen.items():
+        seen.setdefault((dependency.name, " ".join((dependency.condition or "").split())), []).append(
+            dependency
+        )
+    for (name, _), declarations in seen.items():
         tags = [d.tag for d in declarations]
         if "depend" in tags and any(t in GENERIC_OVERLAPS for t in tags):
             specific = next(d for d in declarations if d.tag in GENERIC_OVERLAPS)
@@ -208,6 +219,7 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                 severity=Severity.ERROR,
                 hint=f"delete <{specific.tag}>{name}</{specific.tag}> "
                 f"(line {specific.line}): <depend> includes it",
+                fix=_repeat_fix(specific, next(d for d in declarations if d.tag == "depend")),
             )
             continue
         for index, dependency in enumerate(declarations):
@@ -219,7 +231,16 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                     manifest.path,
                     dependency.line,
                     hint=f"delete the repeat at line {dependency.line}",
+                    fix=_repeat_fix(dependency, first),
                 )
+
+
+def _repeat_fix(repeat: Dependency, kept: Dependency) -> dict[str, Any] | None:
+    """The fix data that deletes `repeat`, which `kept` declares already (under the same condition:
+    realsense2_camera repeats sensor_msgs_py so); None if their conditions differ after all."""
+    if (repeat.condition or "").split() != (kept.condition or "").split():
+        return None
+    return {"tag": repeat.tag, "dependency": repeat.name, "line": repeat.line}
 
 
 # imports whose rosdep key is not python3-<module>
@@ -438,7 +459,8 @@ def _not_in_distro(
     "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
     "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
     "distro or the package's CI files (not a matrix that names several branches, "
-    "nor a scheduled build of another branch); without one, a package released in "
+    "nor a scheduled build of another branch, nor a workflow run only for branches named after "
+    "other distros than the one checked out); without one, a package released in "
     "any active distro counts. A declared name released in no active distro, that is no key "
     "of rosdep's rules (ros/rosdistro rosdep/*.yaml: eigen, python3-numpy), not in the "
     "workspace and not plausibly in a repository a .repos/.rosinstall file imports fails "

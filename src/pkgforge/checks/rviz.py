@@ -60,7 +60,7 @@ def rviz_invalid(ctx: CheckContext) -> Iterator[Finding]:
     ),
     summary="a RobotModel display has no description to show",
     explanation="No error anywhere, TF fine, and RViz shows no robot until someone sets "
-    "Description Topic by hand (user story 5).",
+    "Description Topic by hand.",
     hint="set Description Source: Topic and Description Topic: /robot_description",
 )
 def rviz_no_description(ctx: CheckContext) -> Iterator[Finding]:

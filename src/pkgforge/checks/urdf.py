@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from pkgforge.checks.context import CheckContext, FileFacts
-from pkgforge.checks.files import read_problem_hint, untree
+from pkgforge.checks.files import read_problem_hint, undeclared_find, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
@@ -170,12 +170,12 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
             if ctx.unpredicted_file(error.get("message")) is not None:
                 continue  # a file of a package whose install is not known (unpredicted-lookup)
-            if _undeclared_find(ctx, error.get("message")):
+            if undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
             if _missing_file_given(ctx, result, error.get("message")):
                 continue  # one defect, one diagnostic: missing-file names the path the launch file gave
             given = "".join(f" {name}:={value}" for name, value in sorted(result.mappings.items()))
-            message = f"xacro {result.installed.name}{given}: {_untree_xacro(ctx, error.get('message'))}"
+            message = f"xacro {result.installed.name}{given}: {untree_xacro(ctx, error.get('message'))}"
             hint = error.get("hint") or read_problem_hint(error.get("message"))
             # fed to xacro only by argument settings other than the defaults (kortex's
             # robot_type:=gen3_lite with the default dof:=7, where gen3_lite has 6), and xacro
@@ -239,39 +239,16 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                     "path, '\"']), or use a workspace path without spaces",
                 )
                 continue
-            if _undeclared_find(ctx, command.message):
+            if undeclared_find(ctx, command.message):
                 continue
-            lines = _untree_xacro(ctx, command.message).strip().splitlines()
+            lines = untree_xacro(ctx, command.message).strip().splitlines()
             yield Finding(f"xacro {Path(model or '').name}: {lines[0] if lines else 'failed'}", *position)
         load_error = resolution.error
         models = {c.model for c in resolution.commands}
         if ctx.load_error_kind(resolution) == "xacro" and load_error is not None and not models & covered:
             position = ctx.source_position(resolution, load_error.file, load_error.line)
-            if position is not None and not _undeclared_find(ctx, load_error.message):
-                yield Finding(f"xacro: {_untree_xacro(ctx, load_error.message)}", *position)
-
-
-NOT_FOUND = re.compile(r"package '([^']+)' not found")
-
-
-def _undeclared_find(ctx: CheckContext, message: str | None) -> bool:
-    """xacro failed on $(find X) of a real package that package.xml does not declare."""
-    found = NOT_FOUND.search(str(message or ""))
-    manifest = ctx.model.manifest
-    return (
-        found is not None
-        and manifest.valid
-        and found.group(1) in ctx.real_packages()
-        and found.group(1) not in manifest.run_dependencies()
-        and found.group(1) not in (ctx.model.name, ctx.model.share_name)
-    )  # its own: not a dependency
-
-
-def _untree_xacro(ctx: CheckContext, message: str | None) -> str:
-    """xacro's message without the folders pkgforge's tree searched (ament's PackageNotFoundError
-    lists them)."""
-    text = re.sub(r",? searching: \[[^\]]*\]", "", untree(ctx, str(message)))
-    return re.sub(r'("[^"]+") \1', r"\1", text)  # xacro quotes the same message twice
+            if position is not None and not undeclared_find(ctx, load_error.message):
+                yield Finding(f"xacro: {untree_xacro(ctx, load_error.message)}", *position)
 
 
 @register(
@@ -487,7 +464,7 @@ def _meshes(ctx: CheckContext) -> Iterator[tuple[ModelResult, MeshDict, MeshLook
     summary="a mesh or texture URI does not resolve to a file in the install tree",
     explanation="RViz and simulators load package:// URIs from install/share/<pkg>/: a meshes "
     "folder never installed, a typo, or a path leaving its package shows an empty "
-    "or broken model (user story 7).",
+    "or broken model.",
     hint="install the mesh, or fix the URI",
 )
 def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
@@ -553,7 +530,7 @@ def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
     good=('<!-- urdf/robot.urdf -->\n<mesh filename="package://rob_description/meshes/base.STL"/>'),
     summary="a mesh URI differs from the file's name only in letter case",
     explanation="Exporters write part.STL; models say part.stl. Windows and macOS forgive it; "
-    "Linux does not, and the link shows nothing (user story 7).",
+    "Linux does not, and the link shows nothing.",
     hint="use the file's real name in the URI",
 )
 def mesh_case_mismatch(ctx: CheckContext) -> Iterator[Finding]:
@@ -647,7 +624,7 @@ def model_needs_arguments(ctx: CheckContext) -> Iterator[Finding]:
                 declared: Mapping[str, Any] = error.get("declared") or {}
                 position = model_item_position(ctx, result, declared)
                 names = ", ".join(error["arguments"])
-                first = _untree_xacro(ctx, error.get("message")).strip().splitlines()
+                first = untree_xacro(ctx, error.get("message")).strip().splitlines()
                 yield Finding(
                     f"{result.installed.name} needs values for the xacro argument(s) {names} (empty "
                     "default; on its own xacro fails: "
@@ -705,7 +682,7 @@ def xacro_ros1_tag(ctx: CheckContext) -> Iterator[Finding]:
             if position not in seen:
                 seen.add(position)
                 yield Finding(
-                    f"xacro {result.installed.name}: {_untree_xacro(ctx, error.get('message'))}",
+                    f"xacro {result.installed.name}: {untree_xacro(ctx, error.get('message'))}",
                     *position,
                     hint=error.get("hint"),
                 )

@@ -26,6 +26,11 @@ class Unfixable(Exception):
     """This finding has no automatic fix here; the message says why (shown to the user)."""
 
 
+class NotOffered(Unfixable):
+    """The check left this finding without a fix on purpose (its hint says what to decide): it
+    stays among what remains, with no `not fixed` line."""
+
+
 @dataclass(frozen=True)
 class Edit:
     start: int  # character offsets into the file's text (after any BOM)

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic
-from pkgforge.fix.edits import Edit, FileSet, SourceText, Unfixable
+from pkgforge.fix.edits import Edit, FileSet, NotOffered, SourceText, Unfixable
 from pkgforge.model.source import parse_python
 
 if TYPE_CHECKING:  # imported where used: `pkgforge fix` loads only what its fixers need
@@ -233,7 +233,7 @@ def fix_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         name = _find_package_name(diagnostic, ctx)
         tag = "buildtool_depend" if name.startswith("ament_cmake") else "build_depend"
     if not name or not tag:
-        raise Unfixable("the finding does not say which dependency")
+        raise NotOffered("the check gives this finding no fix")
     manifest = _manifest_for(diagnostic)
     source = ctx.files.get(manifest)
     if name is not None and diagnostic.name == "find-package-undeclared":
@@ -241,6 +241,25 @@ def fix_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     edit, written = insert_dependency(source, tag, name)
     fix = Fix(f"declared <{written}>{name}</{written}> in package.xml", declares=(manifest, name))
     fix.add(manifest, edit)
+    return fix
+
+
+@fixer("duplicate-dependency")
+def fix_duplicate_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
+    """Delete the repeated declaration at the finding's line: its own line when nothing else
+    stands on it, else the element with the spaces before it."""
+    data = diagnostic.fix or {}
+    tag, name, line = data.get("tag"), data.get("dependency"), data.get("line")
+    if not tag or not name or not isinstance(line, int):
+        raise NotOffered("the check gives this finding no fix")
+    source = ctx.files.get(diagnostic.path)
+    pattern = re.compile(rf"<{re.escape(tag)}(?:\s[^<>]*)?>\s*{re.escape(name)}\s*</{re.escape(tag)}\s*>")
+    matches = list(pattern.finditer(source.line_text(line)))
+    if len(matches) != 1:
+        raise Unfixable(f"cannot find one <{tag}>{name}</{tag}> on package.xml:{line}")
+    start = source.line_start(line) + matches[0].start()
+    fix = Fix(f"deleted the repeated <{tag}>{name}</{tag}> from package.xml")
+    fix.add(diagnostic.path, _delete_span(source, start, start + len(matches[0].group(0))))
     return fix
 
 

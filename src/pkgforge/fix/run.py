@@ -22,6 +22,7 @@ from pkgforge.diagnostics import Diagnostic
 from pkgforge.fix.edits import (
     Edit,
     FileSet,
+    NotOffered,
     Outcome,
     Unfixable,
     apply,
@@ -73,10 +74,14 @@ class _Plan:
 
 
 def fix_kind(diagnostic: Diagnostic) -> str | None:
+    """safe, unsafe or None: the check's kind, unless the finding says its own fix is unsafe (a
+    viewer started only with a setting: only the user knows whether the package's users use it)."""
     from pkgforge.checks.registry import all_checks
 
     check = next((c for c in all_checks() if c.code == diagnostic.code), None)
-    return check.fix if check is not None else None
+    if check is None or check.fix is None:
+        return None
+    return "unsafe" if (diagnostic.fix or {}).get("unsafe") else check.fix
 
 
 def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Plan:
@@ -95,6 +100,8 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             continue
         try:
             fix = function(diagnostic, context)
+        except NotOffered:
+            continue
         except Unfixable as exc:
             run.not_fixed.append((diagnostic, str(exc)))
             continue
@@ -225,7 +232,10 @@ def run_fix(
     *,
     shown_root: Path | None = None,
     _first: list[VerifyResult] | None = None,
+    _original: Callable[[Path], Path] | None = None,
 ) -> FixRun:
+    """`_original`: a file's path in the user's tree, for a run on a copy (--diff): the formatter
+    its repository configures is found from there."""
     shown_root = shown_root or Path.cwd()
     if options.diff:
         mirrored = _diff_on_a_copy(path, options, shown_root)
@@ -257,6 +267,10 @@ def run_fix(
             if problem is not None and parse_problem(file, source.text) is None:
                 broken[file] = problem
                 continue
+            if file.suffix == ".py":  # a launch file: stable under the repository's formatter
+                from pkgforge.fix.formatter import keep_formatted
+
+                text = keep_formatted(_original(file) if _original else file, source.text, text)
             new_texts[file] = text
         applied: list[tuple[Diagnostic, Fix]] = []
         for diagnostic, fix in planned.fixes:
@@ -348,13 +362,14 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
         copy_path = copy_root / path.resolve().relative_to(root)
         writing = dataclasses.replace(options, diff=False)
         first: list[VerifyResult] = []
-        run = run_fix(copy_path, writing, shown_root=shown_root, _first=first)
 
         def back(file: Path) -> Path:
             try:
                 return root / Path(file).relative_to(copy_root)
             except ValueError:
                 return Path(file)
+
+        run = run_fix(copy_path, writing, shown_root=shown_root, _first=first, _original=back)
 
         out = FixRun(_remap(first[0], back), diff_mode=True, passes=run.passes)
         out.result.root = path.resolve()
@@ -393,5 +408,8 @@ def _remap(result: VerifyResult, back: Callable[[Path], Path]) -> VerifyResult:
         moved = PackageReport(
             report.name, back(report.path), report.build_type, [_moved(d, back) for d in report.diagnostics]
         )
+        moved.launch_distro = report.launch_distro
         reports.append(moved)
-    return VerifyResult(back(result.root), reports, result.checks_run)
+    return VerifyResult(
+        back(result.root), reports, result.checks_run, engine=result.engine, distro=result.distro
+    )

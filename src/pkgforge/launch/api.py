@@ -244,18 +244,20 @@ class DistroData(TypedDict):
 # a call's (args, kwargs), checked against a real constructor (raises the TypeError ROS raises)
 Validator = Callable[[tuple[Any, ...], dict[str, Any]], None]
 
-_data: DistroData | None = None
+# each distro's list, read once: the fork server reads its own distro's ahead, and a worker it
+# forks for a package of another target distro (PKGFORGE_LAUNCH_DISTRO) reads that one
+_data: dict[str, DistroData] = {}
 # what each canonical name stands for: a runtime class or function, a stand-in, typing.Any
 _objects: dict[str, Any] = {}
 
 
 def _distro_data() -> DistroData:
-    global _data
-    if _data is None:
+    name = distro()
+    if name not in _data:
         with open(DATA, encoding="utf-8") as handle:
-            data: DistroData = json.load(handle)["distros"][distro()]
-        _data = data
-    return _data
+            data: DistroData = json.load(handle)["distros"][name]
+        _data[name] = data
+    return _data[name]
 
 
 def modules() -> dict[str, ModuleInfo]:

@@ -169,6 +169,9 @@ CI_DISTRO_KEYS = {
     "required-ros-distributions",
     "ros-distribution",
     "ros_distribution",
+    # ros-tooling/action-ros-ci's input: a workflow on a plain ubuntu image that builds with it
+    # (neo_simulation2's main.yml: container ubuntu:jammy, target-ros2-distro: rolling) says so there only
+    "target-ros2-distro",
 }
 
 
@@ -218,13 +221,14 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
                         if distro in names:
                             found.add(distro)
 
+    branch = current_branch(folder)
     for path in files:
         try:
             documents = load_all(read_regular(path).decode("utf-8"))
         except (OSError, UnicodeDecodeError, yaml.YAMLError):  # (past the YAML reader's bounds too)
             continue  # not ours to report; the CI system does
         for document in documents:
-            if not _builds_another_branch(document):
+            if not _builds_another_branch(document) and not _runs_for_other_branches(document, branch):
                 walk(_without_branch_matrices(document))
     return tuple(d for d in DISTROS if d in found)
 
@@ -252,6 +256,76 @@ def _builds_another_branch(document: object) -> bool:
         elif isinstance(node, list):
             stack.extend(node)
     return False
+
+
+BRANCH_EVENTS = ("push", "pull_request", "pull_request_target")
+
+
+def current_branch(folder: Path) -> str | None:
+    """The branch checked out in the git repository holding `folder` (its .git/HEAD, or the HEAD
+    of the folder a worktree's or submodule's .git file names); None: no repository, or a
+    detached HEAD."""
+    for place in (folder, *folder.parents):
+        dot_git = place / ".git"
+        try:
+            if dot_git.is_file():
+                named = dot_git.read_text(encoding="utf-8", errors="replace").strip()
+                if not named.startswith("gitdir:"):
+                    return None
+                dot_git = (place / named.removeprefix("gitdir:").strip()).resolve()
+            elif not dot_git.is_dir():
+                continue
+            head = (dot_git / "HEAD").read_text(encoding="utf-8", errors="replace").strip()
+        except OSError:
+            return None
+        return head.removeprefix("ref: refs/heads/") if head.startswith("ref: refs/heads/") else None
+    return None
+
+
+# every ROS 2 distro's name, past ones too: a branch named after one (humble, ros2-jazzy, iron-devel)
+# is that distro's line of the code
+ROS2_DISTRO_NAMES = frozenset(
+    "ardent bouncy crystal dashing eloquent foxy galactic humble iron jazzy kilted lyrical rolling".split()
+)
+
+
+def _names_a_distro(pattern: str) -> bool:
+    return any(word in ROS2_DISTRO_NAMES for word in re.split(r"[-_./*]+", pattern.lower()))
+
+
+def _runs_for_other_branches(document: object, branch: str | None) -> bool:
+    """A workflow whose push and pull-request triggers all name branches named after distros,
+    none of them the one checked out here, and that runs otherwise only by hand or on a schedule
+    that builds a named ref: ros2_control_demos' humble-binary-build.yml on master (on: push and
+    pull_request to humble; ref_for_scheduled_build: humble) builds the humble branch, another
+    line of the code, not the code beside it. (A branch not named after a distro, as
+    realsense-ros' ros2-development, is where the code of the checked-out branch comes from.)"""
+    if branch is None or not isinstance(document, dict):
+        return False
+    import fnmatch
+
+    triggers = document.get("on", document.get(True))  # (YAML 1.1 reads the key `on` as true)
+    if not isinstance(triggers, dict):
+        return False
+    events = [e for e in BRANCH_EVENTS if e in triggers]
+    if not events:
+        return False
+    for event in events:
+        given = triggers[event]
+        branches = given.get("branches") if isinstance(given, dict) else None
+        if isinstance(branches, str):
+            branches = [branches]
+        if not isinstance(branches, list) or any(
+            fnmatch.fnmatchcase(branch, str(pattern).replace("**", "*")) or not _names_a_distro(str(pattern))
+            for pattern in branches
+        ):
+            return False  # runs for every branch, for this one, or for the line this one comes from
+    rest = set(map(str, triggers)) - set(BRANCH_EVENTS) - {"workflow_dispatch"}
+    if not rest:
+        return True
+    return rest == {"schedule"} and _builds_another_branch(
+        {**document, "on": {"schedule": triggers["schedule"]}}
+    )
 
 
 BRANCH_MATRIX_KEYS = {"branch", "branches", "ref"}
@@ -356,7 +430,7 @@ def target_distros(
     while True:
         found = ci_distros(folder)
         if found:
-            return found, "CI file"
+            return found, "the CI files"
         if folder == root or root not in folder.parents:
             break
         folder = folder.parent

@@ -41,9 +41,25 @@ def as_dict(result: VerifyResult) -> dict[str, Any]:
             "infos": result.count(Severity.INFO),
             "packages": len(result.reports),
         },
-        "launch": {"engine": result.engine, "distro": result.distro},
+        "launch": launch_note(result),
         # what confined the processes that ran launch files and xacro (null: none ran)
         "sandbox": result.sandbox,
+    }
+
+
+def launch_note(result: VerifyResult) -> dict[str, Any]:
+    """The engine; for the built-in one, the distro whose launch API it followed and where that
+    came from (`from`), or, when packages target different distros, null and each in `distros`."""
+    if result.engine == "ros":
+        return {"engine": result.engine, "distro": result.distro}
+    chosen = result.launch_distros
+    single = len(chosen) == 1
+    distro, source = next(iter(chosen)) if single else (result.distro if not chosen else None, None)
+    return {
+        "engine": result.engine,
+        "distro": distro,
+        "from": source,
+        "distros": [{"distro": d, "from": s, "packages": names} for (d, s), names in chosen.items()],
     }
 
 

@@ -26,10 +26,15 @@ def location(diagnostic: Diagnostic, root: Path) -> str:
     return ":".join(parts)
 
 
+def counted(number: int, noun: str) -> str:
+    """`1 error`, `2 errors`, `0 packages`."""
+    return f"{number} {noun}" + ("" if number == 1 else "s")
+
+
 def summary(result: VerifyResult) -> str:
     return printable(  # the distro may come from $ROS_DISTRO as it is
-        f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
-        f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages"
+        f"{counted(result.count(Severity.ERROR), 'error')}, {counted(result.count(Severity.WARNING), 'warning')}, "
+        f"{counted(result.count(Severity.INFO), 'info')} in {counted(len(result.reports), 'package')}"
         + engine_note(result)
         + sandbox_note(result)
     )
@@ -44,8 +49,18 @@ def sandbox_note(result: VerifyResult) -> str:
 
 
 def engine_note(result: VerifyResult) -> str:
-    """Which launch engine evaluated the launch files."""
+    """Which launch engine evaluated the launch files; for the built-in one, the distro whose
+    launch API it followed and where that came from (`humble from pkgforge.toml`)."""
+    from pkgforge.verify.pipeline import NEWEST_LTS_SOURCE
+
     if result.engine != "ros":
+        chosen = result.launch_distros
+        if chosen:
+            said = [
+                f"{distro}, {source}" if source == NEWEST_LTS_SOURCE else f"{distro} from {source}"
+                for distro, source in chosen
+            ]
+            return f"; launch: built-in engine ({'; '.join(said)})"
         return "; launch: built-in engine" + (f" ({result.distro})" if result.distro else "")
     return f"; launch: ROS 2 {result.distro or '(distro unknown)'}"
 

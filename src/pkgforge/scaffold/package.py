@@ -63,6 +63,8 @@ class PackageSpec:
     description: str = ""
     version: str = "0.0.0"
     ci: tuple[str, ...] = field(default=())
+    # `new --distro` given: pkgforge.toml records it, so verify and fix target that distro
+    record_distro: bool = False
     # an existing robot brought in (`new --from-urdf`, `migrate`): its model file (in urdf/),
     # the RViz Fixed Frame, the folders it has, more exec_depends and the people of its manifest
     model_name: str | None = None
@@ -240,6 +242,8 @@ def render_files(spec: PackageSpec) -> dict[str, bytes]:
     for system in spec.ci:
         path = {"github": ".github/workflows/pkgforge.yml", "gitlab": ".gitlab-ci.yml"}[system]
         files[path] = render(f"ci/{system}.yml.j2")
+    if spec.record_distro:
+        files["pkgforge.toml"] = render("pkgforge.toml.j2")
     _validate_manifest(files["package.xml"])
     return files
 

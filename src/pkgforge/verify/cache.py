@@ -112,7 +112,9 @@ if TYPE_CHECKING:
 #    paths, for every file read statically); robot_state_publisher with no description (PF321);
 #    parameter files (PF322) and ros_gz_bridge configs (PF323) read; node records keep
 #    SetParametersFromFile's files
-CACHE_FORMAT = 52
+# 53: with 52, a report says under which distro's launch API the built-in engine evaluated its launch
+#    files, and where that distro came from; action-ros-ci's target-ros2-distro is a CI distro (issue 30)
+CACHE_FORMAT = 53
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -429,6 +431,7 @@ def _report_to(report: PackageReport) -> dict[str, Any]:
         "name": report.name,
         "path": str(report.path),
         "build_type": report.build_type,
+        "launch_distro": list(report.launch_distro) if report.launch_distro else None,
         "diagnostics": [
             {**d.__dict__, "path": str(d.path), "severity": d.severity.label} for d in report.diagnostics
         ],
@@ -437,6 +440,8 @@ def _report_to(report: PackageReport) -> dict[str, Any]:
 
 def _report_from(data: dict[str, Any]) -> PackageReport:
     report = PackageReport(data["name"], Path(data["path"]), data["build_type"])
+    launch_distro = data.get("launch_distro")
+    report.launch_distro = (str(launch_distro[0]), str(launch_distro[1])) if launch_distro else None
     for d in data["diagnostics"]:
         report.diagnostics.append(
             Diagnostic(**{**d, "path": Path(d["path"]), "severity": Severity.parse(d["severity"])})

@@ -45,12 +45,14 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
             default=None,
             help="Also write a JUnit XML report (one testsuite per package)",
         )
+        # the options' names are `pkgforge verify`'s; the --pkgforge-* names they had first still work
         parser.add_argument(
-            "--pkgforge-format",
+            "--format",
             choices=FORMATS,
             default="text",
             help="Output format on standard output (default: text)",
         )
+        parser.add_argument("--pkgforge-format", dest="format", choices=FORMATS, help=argparse.SUPPRESS)
         parser.add_argument("--strict", action="store_true", help="Treat warnings as errors")
         parser.add_argument(
             "--color",
@@ -59,20 +61,15 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
             help="Colour the text report: auto (a terminal, unless NO_COLOR is set or FORCE_COLOR "
             "is), always or never (default: auto)",
         )
-        parser.add_argument(
-            "--pkgforge-select",
-            action="append",
-            default=[],
-            metavar="CHECKS",
-            help="Run only these checks (codes, prefixes or names; comma-separated)",
-        )
-        parser.add_argument(
-            "--pkgforge-ignore",
-            action="append",
-            default=[],
-            metavar="CHECKS",
-            help="Skip these checks (codes, prefixes or names; comma-separated)",
-        )
+        for name, what in (("select", "Run only these checks"), ("ignore", "Skip these checks")):
+            parser.add_argument(
+                f"--{name}",
+                action="append",
+                default=[],
+                metavar="CHECKS",
+                help=f"{what} (codes, prefixes or names; comma-separated)",
+            )
+            parser.add_argument(f"--pkgforge-{name}", dest=name, action="append", help=argparse.SUPPRESS)
         parser.add_argument(
             "--launch-timeout",
             type=float,
@@ -125,7 +122,7 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
         ]
         selected = {Path(d.descriptor.path).resolve() for d in ros if d.selected}
         root = Path.cwd()
-        selection = Selection(split_keys(args.pkgforge_select), split_keys(args.pkgforge_ignore))
+        selection = Selection(split_keys(args.select), split_keys(args.ignore))
         options = VerifyOptions(
             selection,
             strict=args.strict,
@@ -160,8 +157,8 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
             return 2
         from pkgforge.report import use_color
 
-        color = args.pkgforge_format == "text" and use_color(args.color, sys.stdout)
-        sys.stdout.write(render(args.pkgforge_format, result, color=color, strict=args.strict))
+        color = args.format == "text" and use_color(args.color, sys.stdout)
+        sys.stdout.write(render(args.format, result, color=color, strict=args.strict))
         if args.junit_xml:
             Path(args.junit_xml).parent.mkdir(parents=True, exist_ok=True)
             Path(args.junit_xml).write_text(render("junit", result, strict=args.strict), encoding="utf-8")

@@ -14,6 +14,7 @@ from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
 from pkgforge.workspace import locate
 
 if TYPE_CHECKING:
+    from pkgforge.launch.engines import LaunchEngine
     from pkgforge.launch.records import CommandRun, Node, PackageLookup, Record, Resolution
     from pkgforge.model.package import PackageModel
     from pkgforge.tree import InstallTree
@@ -23,6 +24,11 @@ OK, MISSING, UNCHECKED = "✓", "✗", "·"
 
 
 def _installed_path(file: Path, tree: InstallTree, models: Iterable[PackageModel]) -> tuple[Path, str]:
+    if not file.is_file():
+        raise PkgforgeError(
+            f"{file}: {'is not a file' if file.exists() else 'does not exist'}; give a file of a package "
+            "of the workspace (or of its install tree)"
+        )
     file = Path(tree.in_tree(str(file.resolve())))  # the user's install base → the worker's shadow of it
     located = tree.locate(str(file))
     if located is not None:
@@ -58,6 +64,7 @@ def _installed(
 def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
     from pkgforge.launch.records import LaunchFile
     from pkgforge.launch.resolve import WorkerLimits, resolve, source_of
+    from pkgforge.verify.pipeline import check_launch_arguments
 
     with _installed(path, file, options) as (tree, installed, package, owner):
         launch = LaunchFile(package, installed, source_of(installed, tree, owner))
@@ -66,10 +73,27 @@ def explain_launch_file(path: Path, file: Path, options: VerifyOptions) -> str:
             tree,
             timeout=options.launch_timeout,
             arguments=options.launch_arguments,
-            engine=options.engine(),
+            engine=_engine_for(path, owner, options),
             limits=WorkerLimits(options.launch_timeout, options.worker_memory),
         )
+        # a --launch-arg value outside the file's choices: exit 2 naming them, as verify does
+        check_launch_arguments(options.launch_arguments, {package: [resolution]})
         return _render(resolution, tree)
+
+
+def _engine_for(path: Path, owner: PackageModel | None, options: VerifyOptions) -> LaunchEngine:
+    """The engine verify evaluates the package's launch files with: the built-in one follows the
+    package's target distro (pkgforge.toml, its CI files), as in verify."""
+    engine = options.engine()
+    if engine.name != "builtin" or owner is None:
+        return engine
+    from pkgforge.launch.engines import builtin
+    from pkgforge.verify.config import load_config
+    from pkgforge.verify.pipeline import launch_distro
+
+    workspace = locate(path)
+    distro, _ = launch_distro(owner.path, workspace, load_config(workspace.root, options.selection), options)
+    return engine if distro == engine.distro else builtin(distro)
 
 
 def _short(path: str, tree: InstallTree) -> str:

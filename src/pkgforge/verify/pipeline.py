@@ -128,6 +128,16 @@ class VerifyResult:
     def diagnostics(self) -> list[Diagnostic]:
         return [d for report in self.reports for d in report.diagnostics]
 
+    @property
+    def launch_distros(self) -> dict[tuple[str, str], list[str]]:
+        """(distro, where it came from) → the packages whose launch files the built-in engine
+        evaluated under that distro's launch API, in the order first met."""
+        out: dict[tuple[str, str], list[str]] = {}
+        for report in self.reports:
+            if report.launch_distro is not None:
+                out.setdefault(report.launch_distro, []).append(report.name)
+        return out
+
     def count(self, severity: Severity) -> int:
         return sum(1 for d in self.diagnostics if d.severity == severity)
 
@@ -574,7 +584,11 @@ def _cache_lookup(
         files = walk_file_names(folder, None, nested) + [f"{n}/package.xml" for n in nested]
         selection = config.for_package(name, folder)
         targets = _targets(folder, workspace, config, options)
-        keys[folder] = cache.package_key(folder, files, f"{selection.key()}|{','.join(targets)}", signature)
+        # a package at the root of its git repository: folder-name-mismatch says nothing of it
+        clone = "|clone" if (folder / ".git").exists() else ""
+        keys[folder] = cache.package_key(
+            folder, files, f"{selection.key()}|{','.join(targets)}{clone}", signature
+        )
         report = cache.load(folder, keys[folder])
         if report is not None:
             hits[folder] = report
@@ -639,6 +653,25 @@ def _targets(folder: Path, workspace: Workspace, config: Config, options: Verify
     return target_distros(folder, workspace.root.resolve(), options.distro, config.distro_for(folder))[0]
 
 
+NEWEST_LTS_SOURCE = "the newest LTS"
+
+
+def launch_distro(
+    folder: Path, workspace: Workspace, config: Config, options: VerifyOptions
+) -> tuple[str, str]:
+    """(the distro whose launch API the built-in engine follows for a package's launch files,
+    where it came from): its target distro as the checks see it (--distro, ROS_DISTRO, pkgforge.toml
+    [verify] distro, the CI files), the oldest of several (a name that one lacks fails there: a
+    humble CI job cannot import EqualsSubstitution), else the newest LTS."""
+    from pkgforge.model.distro_data import target_distros
+    from pkgforge.model.distros import NEWEST_LTS
+
+    distros, source = target_distros(
+        folder, workspace.root.resolve(), options.distro, config.distro_for(folder)
+    )
+    return (distros[0], source) if distros else (NEWEST_LTS, NEWEST_LTS_SOURCE)
+
+
 def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list[Resolution]]) -> None:
     """A --launch-arg value outside the choices its launch file declares is a usage error (exit 2),
     not one launch-load-error per place the value reaches. The choices are the launch file's own
@@ -683,6 +716,7 @@ def run(
 
     jobs = options.jobs or os.cpu_count() or 1
     selections = {t.path: config.for_package(t.name, t.path) for t in targets}
+    launch_distros = {t.path: launch_distro(t.path, workspace, config, options) for t in targets}
     codes = {path: selection.codes() for path, selection in selections.items()}
     tree_codes = _tree_codes() | {BUILD_FAILED}
     checked = [models[t.path] for t in targets]
@@ -740,18 +774,20 @@ def run(
             launch_files += source_only(in_tree, launch_files)  # evaluated from the source
             # a FIFO or a device where a launch file stands is no file to run (PF901 says what it is)
             launch_files = [f for f in launch_files if os.path.isfile(f.installed)]
-            for resolution in resolve(
-                launch_files,
-                tree,
-                jobs=jobs,
-                timeout=options.launch_timeout,
-                arguments=options.launch_arguments,
-                limits=limits,
-                engine=options.engine(),
-                zygote=zygote,
-                on_done=progress.counter("launch files", len(launch_files)),
-            ):
-                resolutions.setdefault(resolution.launch.package, []).append(resolution)
+            on_done = progress.counter("launch files", len(launch_files))
+            for engine, group in _by_launch_engine(launch_files, in_tree, launch_distros, options):
+                for resolution in resolve(
+                    group,
+                    tree,
+                    jobs=jobs,
+                    timeout=options.launch_timeout,
+                    arguments=options.launch_arguments,
+                    limits=limits,
+                    engine=engine,
+                    zygote=zygote,
+                    on_done=on_done,
+                ):
+                    resolutions.setdefault(resolution.launch.package, []).append(resolution)
             for launch in ros1_files:
                 ros1.setdefault(launch.package, []).append(launch)
             tree.restore()  # the checks read the user's files, not what a launch file wrote over them
@@ -810,6 +846,8 @@ def run(
                 shared=shared,
             )
             report = run_checks(context, codes[target.path])
+            if options.engine().name == "builtin":
+                report.launch_distro = launch_distros[target.path]
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
                 _report_build_failure(report, model, build_failure, {t.name for t in targets})
             selections[target.path].apply_severity(report)  # [severity] of pkgforge.toml
@@ -853,6 +891,31 @@ def run(
         distro=engine.distro,
         sandbox=sandbox,
     )
+
+
+def _by_launch_engine(
+    launch_files: list[LaunchFile],
+    packages: list[PackageModel],
+    launch_distros: dict[Path, tuple[str, str]],
+    options: VerifyOptions,
+) -> list[tuple[LaunchEngine, list[LaunchFile]]]:
+    """The launch files in groups, each with the engine that evaluates it: the real engine takes
+    them all; the built-in one follows each package's target distro (launch_distro), so a humble
+    package's file that imports EqualsSubstitution fails as it does on humble."""
+    engine = options.engine()
+    if engine.name != "builtin":
+        return [(engine, launch_files)]
+    from pkgforge.launch.engines import builtin
+
+    folders = {model.name: model.path for model in packages}
+    groups: dict[str, list[LaunchFile]] = {}
+    for launch in launch_files:
+        chosen = launch_distros.get(folders.get(launch.package) or Path())
+        groups.setdefault(chosen[0] if chosen else engine.distro or "", []).append(launch)
+    return [
+        (engine if distro == engine.distro else builtin(distro or None), group)
+        for distro, group in groups.items()
+    ]
 
 
 BUILD_FAILED = "PF902"

@@ -45,6 +45,8 @@ class _ViewEntry(TypedDict):
     joints: dict[str, float]  # the --joint positions it was drawn at
     images: list[dict[str, Any]]  # raster.render's record of each view, and its file name
     tree: str  # the SVG file's name
+    # the xacro arguments of every processing of the file that gave this same model ({}: none)
+    arguments: list[dict[str, str]]
 
 
 class ViewEntry(_ViewEntry, total=False):
@@ -66,10 +68,40 @@ def parse_joints(texts: Iterable[str]) -> dict[str, float]:
     return joints
 
 
+# a file name's length at most (`<package>-<model>[-<n>]-<view>.png`): what every file system,
+# archive format and CI artifact store takes
+NAME_LIMIT = 100
+
+
 def _stem(result: ModelResult) -> str:
+    """`<package>-<model>`: the model's file name without .urdf/.xacro (its arguments are in summary.md)."""
     name = re.sub(r"\.(urdf|xacro)$", "", re.sub(r"\.xacro$", "", result.installed.name))
-    extra = "-" + "-".join(f"{k}_{v}" for k, v in sorted(result.mappings.items())) if result.mappings else ""
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{result.package}-{name}{extra}")
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", f"{result.package}-{name}")
+
+
+def _numbered(stem: str, number: int) -> str:
+    """The stem of the model's `number`th distinct geometry (1: the stem itself), short enough
+    that its longest file name stays within NAME_LIMIT (a long stem keeps its start and a hash)."""
+    import hashlib
+
+    suffix = f"-{number}" if number > 1 else ""
+    room = NAME_LIMIT - len(suffix) - len("-front.png")  # the longest of the views' and -tree.svg
+    if len(stem) > room:
+        stem = stem[: room - 9] + "-" + hashlib.sha1(stem.encode()).hexdigest()[:8]
+    return stem + suffix
+
+
+def _geometry_key(robot: dict[str, Any]) -> str:
+    """What makes two processings the same picture: the model without where each part is written."""
+
+    def bare(value: Any) -> Any:
+        if isinstance(value, dict):
+            return {k: bare(v) for k, v in value.items() if k not in ("file", "line")}
+        if isinstance(value, list):
+            return [bare(v) for v in value]
+        return value
+
+    return json.dumps(bare(robot), sort_keys=True, default=str)
 
 
 class Artifacts:
@@ -92,7 +124,10 @@ class Artifacts:
             self.out.mkdir(parents=True, exist_ok=True)
         except OSError as error:
             raise PkgforgeError(f"cannot write {self.out}: {error.strerror}") from None
-        seen: set[str] = set()
+        # one set of pictures per distinct geometry of each model file: argument combinations
+        # that give the same model share it (their arguments are listed with it)
+        drawn: dict[tuple[str, str], ViewEntry] = {}
+        numbers: dict[str, int] = {}
         for result in results:
             robot = result.robot
             if (
@@ -103,17 +138,26 @@ class Artifacts:
             ):
                 continue
             stem = _stem(result)
-            if stem in seen:
+            key = (stem, _geometry_key(dict(robot)))
+            arguments = dict(sorted(result.mappings.items()))
+            if key in drawn:
+                if arguments not in drawn[key]["arguments"]:
+                    drawn[key]["arguments"].append(arguments)
                 continue
-            seen.add(stem)
+            numbers[stem] = numbers.get(stem, 0) + 1
 
             def resolve(uri: str, result: ModelResult = result) -> Path | None:
                 lookup = resolve_uri(uri, tree, result.installed)
                 return lookup.path if lookup.status == "found" else None
 
-            self.model(dict(robot), resolve, stem, str(result.source or result.installed))
+            drawn[key] = self.model(
+                dict(robot), resolve, _numbered(stem, numbers[stem]), str(result.source or result.installed)
+            )
+            drawn[key]["arguments"].append(arguments)
+        for entry in drawn.values():  # in one order whatever order the workers answered in
+            entry["arguments"].sort(key=lambda given: sorted(given.items()))
 
-    def model(self, robot: Robot, resolve: Resolve, stem: str, source: str) -> None:
+    def model(self, robot: Robot, resolve: Resolve, stem: str, source: str) -> ViewEntry:
         names = {j.get("name") for j in robot.get("joints", [])}
         positions = {k: v for k, v in self.joints.items() if k in names}
         self.used_joints |= set(positions)
@@ -125,6 +169,7 @@ class Artifacts:
             "joints": positions,
             "images": [],
             "tree": svg.name,
+            "arguments": [],
         }
         if self.missing is None:
             from pkgforge.view import raster
@@ -141,6 +186,7 @@ class Artifacts:
                 entry["images"].append({**info, "file": path.name})
             entry["size"] = raster.size_text(scene)
         self.entries.append(entry)
+        return entry
 
     def _write(self, path: Path, data: bytes) -> None:
         """Whole or not at all: a temporary file renamed into place."""
@@ -177,6 +223,12 @@ def summary_markdown(entries: list[ViewEntry], missing: str | None, link_base: s
         lines.append("No robot model was processed.")
     for entry in entries:
         lines += [f"### {entry['robot']} ({entry['model']})", ""]
+        if any(entry.get("arguments", [])):
+            shown = "; ".join(
+                " ".join(f"`{k}:={v}`" for k, v in a.items()) if a else "(defaults)"
+                for a in entry["arguments"]
+            )
+            lines += [f"xacro arguments: {shown}", ""]
         if entry.get("size"):
             lines += [entry["size"], ""]
         if entry["images"]:

@@ -26,6 +26,8 @@ SIZE = 640  # the drawing area, pixels square
 MARGIN = 24
 FOOTER = 44
 AXIS_COLORS = ((220, 30, 30), (30, 170, 30), (30, 60, 230))
+DARK = 0.35  # a colour's luma below which faces are lifted by the light (a black part shows its shape)
+DARK_LIFT = 0.35
 
 # camera: (direction it looks along, the world direction shown up); ROS: x forward, z up
 VIEWS = {
@@ -88,7 +90,12 @@ def render(
         key = 0.75 * forward - 0.5 * up + 0.45 * right
         light = np.abs(normals @ (key / np.linalg.norm(key))) / lengths
         # at most 92 % bright: a white part stays distinct from the white background
-        shaded = np.clip(scene.colors * (0.3 + 0.62 * light)[:, None], 0, 1)
+        shaded = scene.colors * (0.3 + 0.62 * light)[:, None]
+        # a dark material (black anodised links, tyres) scaled by the light stays black on every
+        # face, a flat silhouette: it gets up to DARK_LIFT of grey more where the light falls
+        luma = scene.colors @ np.array([0.299, 0.587, 0.114])
+        lift = DARK_LIFT * np.clip((DARK - luma) / DARK, 0, 1) * light
+        shaded = np.clip(shaded + lift[:, None], 0, 1)
         fills = (shaded * 255).astype(np.uint8)
         canvas = np.asarray(image).copy()
         _rasterise(canvas, pixels, screen[..., 2], fills)

@@ -14,16 +14,32 @@ if TYPE_CHECKING:  # scene needs numpy; the tree does not
 BOX_W, BOX_H, GAP_X, GAP_Y = 150, 30, 24, 78
 
 
+def number(value: object) -> str:
+    """A number as people read it: 3.14 (not 3.141592653589793), 0.785, 1500, 0.000123; two
+    decimals from 1 up, three significant digits below; no trailing zeros."""
+    import math
+
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return str(value)
+    if not math.isfinite(value):
+        return str(value)
+    if value == 0:
+        return "0"
+    decimals = max(2, 2 - math.floor(math.log10(abs(value))))
+    text = f"{round(value, decimals):.{decimals}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
 def _joint_label(joint: dict[str, Any]) -> list[str]:
     lines = [f"{joint.get('name')} ({joint.get('type')})"]
     if joint.get("type") not in ("fixed", "floating", "planar"):
         axis = joint.get("axis") or [1.0, 0.0, 0.0]
-        lines.append("axis " + " ".join(f"{a:g}" for a in axis))
+        lines.append("axis " + " ".join(number(a) for a in axis))
     limit = joint.get("limit")
     if limit and joint.get("type") in ("revolute", "prismatic"):
         lines.append(
-            f"[{limit.get('lower') or 0:g}, {limit.get('upper') or 0:g}]"
-            f" v{limit.get('velocity')} e{limit.get('effort')}"
+            f"[{number(limit.get('lower') or 0)}, {number(limit.get('upper') or 0)}]"
+            f" v{number(limit.get('velocity'))} e{number(limit.get('effort'))}"
         )
     return lines
 
