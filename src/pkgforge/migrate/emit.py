@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import TypeAlias
+from typing import TYPE_CHECKING, TypeAlias
 
 import yaml
 
 from pkgforge.migrate.roslaunch import Action, Arg, Condition, Group, Include, Node, Token
+
+if TYPE_CHECKING:
+    from pkgforge.model.distros import Distro
 
 HEADER = "Converted from ROS 1 {source} by pkgforge migrate."
 
@@ -49,7 +52,8 @@ def _xml_attr(value: str) -> str:
     return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
 
 
-def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
+def to_xml(actions: list[Action], source: str, *, distro: Distro) -> str:
+    param_type = distro.frontend_param_type
     lines = ['<?xml version="1.0"?>', f"<!-- {HEADER.format(source=source)} -->", "<launch>"]
 
     def attrs(pairs: Iterable[tuple[str, str | None]]) -> str:
@@ -79,6 +83,7 @@ def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
                         ("namespace", action.namespace),
                         ("output", action.output),
                         ("respawn", action.respawn),
+                        ("on_exit", "shutdown" if action.required and distro.frontend_on_exit else None),
                         ("args", _words(action.arguments) if action.arguments else None),
                         *cond(action.condition),
                     ]
@@ -127,7 +132,9 @@ def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def to_yaml(actions: list[Action], source: str, *, param_type: bool) -> str:
+def to_yaml(actions: list[Action], source: str, *, distro: Distro) -> str:
+    param_type = distro.frontend_param_type
+
     def cond(condition: Condition | None) -> dict[str, YamlData]:
         return {condition[0]: frontend(condition[1])} if condition else {}
 
@@ -154,6 +161,8 @@ def to_yaml(actions: list[Action], source: str, *, param_type: bool) -> str:
                 ):
                     if value is not None:
                         entry[key] = value
+                if action.required and distro.frontend_on_exit:
+                    entry["on_exit"] = "shutdown"
                 if action.arguments:
                     entry["args"] = _words(action.arguments)
                 entry.update(cond(action.condition))
@@ -252,6 +261,8 @@ def to_python(actions: list[Action], source: str) -> str:
                         fields.append(f"{key}={value!r}")
                 if action.respawn is not None:
                     fields.append(f"respawn={action.respawn.strip().lower() == 'true'!r}")
+                if action.required:
+                    fields.append("on_exit=Shutdown()")
                 if action.arguments:
                     fields.append("arguments=[" + ", ".join(py(w) for w in action.arguments) + "]")
                 params: list[str] = []
@@ -304,6 +315,7 @@ def to_python(actions: list[Action], source: str) -> str:
             "GroupAction",
             "IncludeLaunchDescription",
             "SetLaunchConfiguration",
+            "Shutdown",
         ],
         "launch.conditions": ["IfCondition", "UnlessCondition"],
         "launch.launch_description_sources": ["AnyLaunchDescriptionSource"],

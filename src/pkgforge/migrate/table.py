@@ -26,6 +26,9 @@ PACKAGES: dict[str, tuple[str, str]] = {
     "message_runtime": ("rosidl_default_runtime", "message_runtime is ROS 1"),
     "gazebo_ros_control": ("gz_ros2_control", "gazebo_ros_control is ROS 1 (Gazebo Classic)"),
     "joint_state_controller": ("joint_state_broadcaster", "joint_state_controller is ROS 1"),
+    # ROS 1 navigation's nodes → Navigation2's (lifecycle nodes: a nav2_lifecycle_manager activates them)
+    "map_server": ("nav2_map_server", "map_server is ROS 1; ROS 2 has nav2_map_server"),
+    "amcl": ("nav2_amcl", "amcl is ROS 1; ROS 2 has nav2_amcl"),
     # Gazebo Classic is gone after Humble; Gazebo (gz) replaces it
     "gazebo": ("ros_gz_sim", "Gazebo Classic (gazebo) is not a ROS 2 package; use Gazebo with ros_gz_sim"),
     "gazebo_ros": (
@@ -54,6 +57,8 @@ EXECUTABLES: dict[tuple[str, str], tuple[str, str]] = {
     ("robot_state_publisher", "state_publisher"): ("robot_state_publisher", "robot_state_publisher"),
     ("rviz", "rviz"): ("rviz2", "rviz2"),
     ("tf", "static_transform_publisher"): ("tf2_ros", "static_transform_publisher"),
+    ("map_server", "map_server"): ("nav2_map_server", "map_server"),
+    ("amcl", "amcl"): ("nav2_amcl", "amcl"),
     ("joint_state_publisher", "joint_state_publisher_gui"): (
         "joint_state_publisher_gui",
         "joint_state_publisher_gui",
@@ -92,6 +97,21 @@ SPAWN_OPTIONS: dict[str, str | None] = {
     "-robot_namespace": None,
     "-J": None,
 }
+
+# ros_control's controller names → ros2_control's (ros2_controllers), in a spawner's arguments: ROS 1's
+# joint_state_controller/JointStateController is ROS 2's joint_state_broadcaster/JointStateBroadcaster,
+# and the name ROS 2 configurations give it
+CONTROLLER_NAMES: dict[str, str] = {"joint_state_controller": "joint_state_broadcaster"}
+CONTROLLER_SPAWNER = ("controller_manager", "spawner")
+# ROS 1 spawner option → ROS 2 spawner option (humble and later); None: no equivalent, dropped
+SPAWNER_OPTIONS: dict[str, str | None] = {
+    "--stopped": "--inactive",
+    "--timeout": "--controller-manager-timeout",
+    "--namespace": "-n",
+    "--shutdown-timeout": None,
+    "--wait-for": None,
+}
+SPAWNER_FLAGS = ("--stopped",)  # options that take no value
 
 # RViz 1 class → RViz 2 class (displays, panels, tools, views)
 RVIZ_CLASSES: dict[str, str] = {
