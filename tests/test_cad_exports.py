@@ -227,8 +227,8 @@ def test_uris_naming_the_exporters_folder(exports):
     said = [n for n in notes if "names no package" in n]
     assert said == [
         f"{os.path.relpath(model, workspace)}:{lines_of(model, 'MyArm-URDF')[0]}: PF805 [info] "
-        f"package://MyArm-URDF/ names no package: read as {sources['folder']}/, where the exporter put what it "
-        "names (migrate-generated)"
+        "package://MyArm-URDF/ names no package: read as arm_description/, the package folder around "
+        "arm_description.urdf, where the exporter put what it names (migrate-generated)"
     ]
     text = (workspace / "src/arm_description/urdf/arm_description.urdf").read_text()
     assert "MyArm-URDF" not in text and text.count("package://arm_description/meshes/") == 6
@@ -236,8 +236,8 @@ def test_uris_naming_the_exporters_folder(exports):
     assert [n for n in _notes(onshape) if "names no package" in n] == [
         f"{os.path.relpath(workspace.parent / 'onshape/two_wheels/robot.urdf', workspace.parent / 'imports')}:"
         f"{line_of(workspace.parent / 'onshape/two_wheels/robot.urdf', 'package://assets/')}: PF805 [info] "
-        f"package://assets/ names no package: read as {workspace.parent / 'onshape/two_wheels/assets'}/, where "
-        "the exporter put what it names (migrate-generated)"
+        "package://assets/ names no package: read as assets/, the folder beside robot.urdf, where the exporter "
+        "put what it names (migrate-generated)"
     ]
     assert (
         "package://two_wheels/meshes/body.stl"

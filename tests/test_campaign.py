@@ -226,6 +226,13 @@ HOSTILE_XACRO = {
         '<robot name="r"><link name="&e;"/></robot>\n'
     ),
     "notxml.urdf": "\x00\x01\x02 not xml at all",
+    # what CAD exporters write (issue 29): content after the root, a package:// naming the
+    # exporter's folder, a mesh start tag over two lines
+    "trailing.urdf": '<robot name="r"><link name="l"/></robot>\n<transmission name="t"><type>x</type></transmission>\n',
+    "exporterfolder.urdf": (
+        '<robot name="r"><link name="l"><visual><geometry>'
+        '<mesh filename="package://Some-URDF/meshes/x.STL"\n scale="1 1 1"/></geometry></visual></link></robot>\n'
+    ),
 }
 
 

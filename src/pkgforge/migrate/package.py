@@ -209,7 +209,7 @@ def _read_models(source: Path, files: list[str], notes: Notes) -> Models:
     the root link of the first .urdf, and the meshes that are missing. A model that is not
     well-formed XML stops the migration only when a launch file uses it (ROS 1 never read it
     otherwise): else it is copied as written, and reported."""
-    from pkgforge.scaffold.from_urdf import decode, read_model, root_link, trailing_message
+    from pkgforge.scaffold.from_urdf import ModelUnreadable, decode, read_model, root_link, trailing_message
 
     models = [r for r in files if r.endswith(XACRO_MODEL_SUFFIXES)]
     texts = {r: decode((source / r).read_bytes()) for r in [*models, *filter(_is_ros1_launch, files)]}
@@ -219,14 +219,14 @@ def _read_models(source: Path, files: list[str], notes: Notes) -> Models:
         path = source / relative
         try:
             model = result.read[relative] = read_model(path)
-        except PkgforgeError as error:
+        except ModelUnreadable as error:
             if relative in used:
                 raise
             notes.add(
                 "migrate-source-defect",
-                f"{str(error).split(': ', 1)[1].split('; fix')[0]}; no launch file uses it: copied as written",
+                f"{error.why}; no launch file uses it: copied as written",
                 path,
-                int(str(error).split(":")[1]) if str(error).split(":")[1].isdigit() else None,
+                error.line,
             )
             continue
         if model.trailing_line is not None:
@@ -437,9 +437,10 @@ def migrate(
         if not failing:
             break
         for relative, message in failing.items():
+            shown = message if len(message) <= 160 else message[:159] + "…"
             notes.add(
                 "migrate-dropped",
-                f"{relative} not written: it does not load on {target} ({message})",
+                f"{relative} not written: it does not load on {target} ({shown})",
                 converted.launch_sources[relative],
                 None,
             )
@@ -520,7 +521,7 @@ def _note_folder(notes: Notes, models: Models, name: str, folder: Path) -> None:
             None,
         )
         if first is not None:
-            notes.add("migrate-generated", folder_message(name, folder), model.path, first.line)
+            notes.add("migrate-generated", folder_message(name, folder, model.path), model.path, first.line)
             return
 
 

@@ -100,6 +100,8 @@ def exporter_folder(name: str, rest: str, model: Path, found: dict[str, Path] | 
     package://<model>-URDF/meshes/... in a package of another name), else the folder NAME beside
     the model (onshape-to-robot's package://assets/..., which pybullet and MuJoCo read so). One
     NAME means one folder: the first that holds a file the model names (`found` remembers it)."""
+    if name in ("", ".", ".."):
+        return None  # no name a package or an exporter's folder has
     if found is not None and name in found:
         return found[name] if (found[name] / rest).exists() else None
     tree = model_tree(model)
@@ -287,6 +289,14 @@ def value_line(lines: list[str], end: int, value: str) -> int:
     return end
 
 
+class ModelUnreadable(PkgforgeError):
+    """A model that cannot be read: where and why, for a caller that goes on without it."""
+
+    def __init__(self, path: Path, line: int | None, why: str, advice: str) -> None:
+        super().__init__(f"{path}{f':{line}' if line else ''}: {why}{advice}")
+        self.path, self.line, self.why = path, line, why
+
+
 @dataclass
 class ModelFile:
     """A model file as read: its bytes, text (undecodable bytes kept as they are), root element,
@@ -319,7 +329,7 @@ def read_model(path: Path) -> ModelFile:
     try:
         data = path.read_bytes()
     except OSError as exc:
-        raise PkgforgeError(f"{path}: cannot read it: {exc.strerror}") from exc
+        raise ModelUnreadable(path, None, f"cannot read it: {exc.strerror}", "") from exc
     # external entities are never read: a model's <!ENTITY x SYSTEM "file:///..."> would put
     # another file's text in a path, and so in a message (lxml before 5 resolves them)
     parser = etree.XMLParser(remove_comments=False, resolve_entities=False, no_network=True)
@@ -327,8 +337,8 @@ def read_model(path: Path) -> ModelFile:
         return ModelFile(path, data, etree.fromstring(data, parser, base_url=str(path)))
     except etree.XMLSyntaxError as exc:
         if exc.code != etree.ErrorTypes.ERR_DOCUMENT_END:
-            raise PkgforgeError(
-                f"{path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the model (nothing written)"
+            raise ModelUnreadable(
+                path, exc.lineno, f"not well-formed XML: {exc.msg}", "; fix the model (nothing written)"
             ) from exc
         trailing = exc.lineno
     recovering = etree.XMLParser(remove_comments=False, resolve_entities=False, no_network=True, recover=True)
@@ -733,11 +743,15 @@ def _note_read(
                 )
     for package, folder in found.items():
         first = next(r for r in references if r.uri.startswith(f"package://{package}/"))
-        notes.add("migrate-generated", folder_message(package, folder), first.file, first.line)
+        notes.add("migrate-generated", folder_message(package, folder, first.file), first.file, first.line)
 
 
-def folder_message(package: str, folder: Path) -> str:
-    return f"package://{package}/ names no package: read as {os.path.normpath(folder)}/, where the exporter put what it names"
+def folder_message(package: str, folder: Path, model: Path) -> str:
+    where = "the package folder around" if folder == model_tree(model) else "the folder beside"
+    return (
+        f"package://{package}/ names no package: read as {Path(os.path.normpath(folder)).name}/, {where} "
+        f"{model.name}, where the exporter put what it names"
+    )
 
 
 def default_name(model: Path) -> tuple[str, str]:
