@@ -419,7 +419,12 @@ def test_one_line_per_missing_mesh(tmp_path):
 
 def test_name_options(tmp_path):
     """--name chooses the name; an invalid --name, or a source name no valid name is near, stops
-    with one line and writes nothing."""
+    with one line and writes nothing. `new` leaves NAME out only with --from-urdf."""
+    bare = run_pkgforge("new", *MAINTAINER, cwd=tmp_path)
+    assert (
+        bare.returncode == 2
+        and "Missing argument 'NAME' (it may be left out with --from-urdf only)" in bare.stderr
+    )
     package = sw_export(tmp_path / "ros1", "7260501 TB6-URDF")
     result = run_pkgforge("migrate", package, "--destination", tmp_path / "out", *MAINTAINER, cwd=tmp_path)
     assert result.returncode == 2
@@ -445,3 +450,23 @@ def test_name_options(tmp_path):
     assert good.returncode == 0, good.stdout + good.stderr
     text = (tmp_path / "out/tb6_description/urdf/7260501 TB6-URDF.urdf").read_text()
     assert "package://tb6_description/meshes/" in text and "TB6-URDF/meshes" not in text
+
+
+def test_remaps_keep_their_substitutions_and_navigation_nodes_get_ros2_names(tmp_path):
+    """A remap to $(arg scan_topic) remaps to the argument's value (it was the literal text, no topic
+    name at all); ROS 1 navigation's map_server and amcl are nav2's, declared as such."""
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / "launch/amcl.launch").write_text(
+        '<launch>\n  <arg name="scan_topic" default="scan"/>\n'
+        '  <node pkg="map_server" type="map_server" name="map_server" args="$(find robot_arm)/config/map.yaml"/>\n'
+        '  <node pkg="amcl" type="amcl" name="amcl">\n    <remap from="scan" to="$(arg scan_topic)"/>\n  </node>\n'
+        "</launch>\n"
+    )
+    (package / "config/map.yaml").write_text("image: map.pgm\nresolution: 0.05\n")
+    result = run_pkgforge("migrate", package, "--destination", tmp_path / "out", cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    launch = (tmp_path / "out/robot_arm/launch/amcl.launch.py").read_text()
+    assert "remappings=[('scan', LaunchConfiguration('scan_topic'))]" in launch
+    assert "package='nav2_map_server'" in launch and "package='nav2_amcl'" in launch
+    manifest = (tmp_path / "out/robot_arm/package.xml").read_text()
+    assert "<exec_depend>nav2_amcl</exec_depend>" in manifest and "<exec_depend>map_server</exec_depend>" not in manifest

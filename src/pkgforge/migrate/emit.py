@@ -100,7 +100,9 @@ def to_xml(actions: list[Action], source: str, *, distro: Distro) -> str:
                         children.append(
                             f"<param{attrs([('name', param.name), ('value', frontend(param.value))])}/>"
                         )
-                children += [f"<remap{attrs([('from', a), ('to', b)])}/>" for a, b in action.remaps]
+                children += [
+                    f"<remap{attrs([('from', frontend(a)), ('to', frontend(b))])}/>" for a, b in action.remaps
+                ]
                 if children:
                     lines.append(f"{indent}<node{head}>")
                     lines.extend(f"{indent}  {c}" for c in children)
@@ -183,7 +185,7 @@ def to_yaml(actions: list[Action], source: str, *, distro: Distro) -> str:
                 if params:
                     entry["param"] = params
                 if action.remaps:
-                    entry["remap"] = [{"from": a, "to": b} for a, b in action.remaps]
+                    entry["remap"] = [{"from": frontend(a), "to": frontend(b)} for a, b in action.remaps]
                 out.append({"node": entry})
             elif isinstance(action, Include):
                 entry = {"file": frontend(action.path), **cond(action.condition)}
@@ -283,7 +285,7 @@ def to_python(actions: list[Action], source: str) -> str:
                     fields.append("parameters=[" + ", ".join(params) + "]")
                 if action.remaps:
                     fields.append(
-                        "remappings=[" + ", ".join(f"({a!r}, {b!r})" for a, b in action.remaps) + "]"
+                        "remappings=[" + ", ".join(f"({py(a)}, {py(b)})" for a, b in action.remaps) + "]"
                     )
                 call("Node", fields, action.condition, indent)
             elif isinstance(action, Include):

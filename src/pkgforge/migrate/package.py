@@ -88,6 +88,15 @@ def _is_asset(relative: str) -> bool:
     return relative.lower().endswith(ASSET_SUFFIXES)
 
 
+def _is_text(data: bytes) -> bool:
+    """A file whose references a rename rewrites: text (a model, a config), never a binary one."""
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return False
+    return b"\0" not in data
+
+
 def _lines(items: list[int]) -> str:
     distinct = sorted(set(items))
     shown = ", ".join(map(str, distinct[:SHOWN_LINES]))
@@ -598,7 +607,7 @@ def _convert_files(
                 text, path, notes, models.links, models.root
             ).encode("utf-8")
         else:
-            if not _is_asset(relative):
+            if not _is_asset(relative) and _is_text(data):
                 data, lines = renames.apply(data)
                 renames.note(notes, path, lines)
             converted.output[relative] = data

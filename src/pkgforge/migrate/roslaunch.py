@@ -126,7 +126,8 @@ class Node:
     output: str | None = None
     respawn: str | None = None
     params: list[Param] = field(default_factory=list)
-    remaps: list[tuple[str | None, str | None]] = field(default_factory=list)  # (from=, to=)
+    # (from=, to=), each with its substitutions ($(arg scan_topic)): tokens
+    remaps: list[tuple[list[Token], list[Token]]] = field(default_factory=list)
     condition: Condition | None = None
     required: bool = False  # ROS 1's required="true": the launch ends when it exits (on_exit=Shutdown())
 
@@ -491,7 +492,8 @@ class Reader:
                 elif child.tag == "rosparam" and child.get("file") and child.get("command", "load") == "load":
                     node.params.append(Param("", tokens(child.get("file")), "file"))
                 elif child.tag == "remap":
-                    node.remaps.append((child.get("from"), child.get("to")))
+                    self.need(child, "from", "to")
+                    node.remaps.append((tokens(child.get("from")), tokens(child.get("to"))))
                 else:
                     raise Unconvertible("no ROS 2 equivalent")
             except Unconvertible as exc:
@@ -755,6 +757,7 @@ def token_lists(actions: list[Action]) -> Iterator[list[Token]]:
         elif isinstance(action, Node):
             yield from action.arguments
             yield from (param.value or [] for param in action.params)
+            yield from (part for remap in action.remaps for part in remap)
         elif isinstance(action, Include):
             yield action.path
             yield from (value for _, value in action.arguments)
