@@ -469,4 +469,7 @@ def test_remaps_keep_their_substitutions_and_navigation_nodes_get_ros2_names(tmp
     assert "remappings=[('scan', LaunchConfiguration('scan_topic'))]" in launch
     assert "package='nav2_map_server'" in launch and "package='nav2_amcl'" in launch
     manifest = (tmp_path / "out/robot_arm/package.xml").read_text()
-    assert "<exec_depend>nav2_amcl</exec_depend>" in manifest and "<exec_depend>map_server</exec_depend>" not in manifest
+    assert (
+        "<exec_depend>nav2_amcl</exec_depend>" in manifest
+        and "<exec_depend>map_server</exec_depend>" not in manifest
+    )
