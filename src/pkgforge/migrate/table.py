@@ -26,9 +26,6 @@ PACKAGES: dict[str, tuple[str, str]] = {
     "message_runtime": ("rosidl_default_runtime", "message_runtime is ROS 1"),
     "gazebo_ros_control": ("gz_ros2_control", "gazebo_ros_control is ROS 1 (Gazebo Classic)"),
     "joint_state_controller": ("joint_state_broadcaster", "joint_state_controller is ROS 1"),
-    # ROS 1 navigation's nodes → Navigation2's (lifecycle nodes: a nav2_lifecycle_manager activates them)
-    "map_server": ("nav2_map_server", "map_server is ROS 1; ROS 2 has nav2_map_server"),
-    "amcl": ("nav2_amcl", "amcl is ROS 1; ROS 2 has nav2_amcl"),
     # Gazebo Classic is gone after Humble; Gazebo (gz) replaces it
     "gazebo": ("ros_gz_sim", "Gazebo Classic (gazebo) is not a ROS 2 package; use Gazebo with ros_gz_sim"),
     "gazebo_ros": (
@@ -57,6 +54,8 @@ EXECUTABLES: dict[tuple[str, str], tuple[str, str]] = {
     ("robot_state_publisher", "state_publisher"): ("robot_state_publisher", "robot_state_publisher"),
     ("rviz", "rviz"): ("rviz2", "rviz2"),
     ("tf", "static_transform_publisher"): ("tf2_ros", "static_transform_publisher"),
+    # ROS 1 navigation's nodes → Navigation2's (a node's package, not a replacement verify suggests:
+    # Navigation2 is released for some distros only)
     ("map_server", "map_server"): ("nav2_map_server", "map_server"),
     ("amcl", "amcl"): ("nav2_amcl", "amcl"),
     ("joint_state_publisher", "joint_state_publisher_gui"): (
