@@ -6,7 +6,10 @@ empty files, links (dangling, cycles, out of the tree), permissions, deep nestin
 hostile launch files and xacro. Many broken packages share one workspace, so a few
 verify runs cover them all. For every run: no traceback, exit status 0 or 1, no hang
 (each case under 15 s: a run gets 15 s per case it holds), nothing of the workspace
-changed (hashed before and after), and every diagnostic names a file.
+changed (hashed before and after), every diagnostic names a file, and the JUnit report written
+beside it (--junit-xml) is well-formed XML with no control character in it (issue 35: a file's name
+may hold any). A launch file whose bytes are not UTF-8 gets what the real decoders say of it
+(`launch_verdict`): an error where ros2 launch refuses it, at the line of its first such byte.
 
 Byte-level mutations are drawn from a Random that Hypothesis draws (derandomized, so CI sees the same
 inputs; no shrinking: a failing batch is split case by case instead).
@@ -16,10 +19,11 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
@@ -61,6 +65,8 @@ class Case:
     base: str
     what: str  # what is broken, for a failure's message
     installable: bool = True  # its build files intact: `colcon build` still builds it
+    # a diagnostic the report must hold: (code, severity, path as reported, line)
+    expect: list[tuple[str, str, str, int | None]] = field(default_factory=list)
 
 
 # --- the bases ----------------------------------------------------------------------------------
@@ -121,6 +127,42 @@ def reencode(path: Path, encoding: str) -> str:
     return f"encoded as {encoding}"
 
 
+def latin1_text(path: Path) -> str:
+    """A Latin-1 é in the first quoted value (a Python string, an XML attribute, a YAML value), where
+    Python, unlike in a comment, does not skip it."""
+    text = path.read_bytes().decode("utf-8", errors="replace")
+    for quote in ("='", '="', ": "):
+        if quote in text:
+            text = text.replace(quote, quote + "é", 1)
+            break
+    path.write_bytes(text.encode("latin-1", errors="replace"))
+    return "a Latin-1 é in a value"
+
+
+def launch_verdict(path: Path) -> tuple[str, str, int | None] | None:
+    """What ros2 launch makes of a launch file's bytes, by the real decoders (test_launch_encodings.py
+    says why): (code, severity, line) verify must report, None when the bytes are UTF-8. Python
+    compiles a .py file (comments decoded leniently, a coding line honoured); launch reads an XML or
+    YAML file as UTF-8 text, strictly."""
+    data = path.read_bytes()
+    try:
+        data.decode("utf-8")
+        return None
+    except UnicodeDecodeError as error:
+        first = data.count(b"\n", 0, error.start) + 1
+    if not path.name.endswith(".py"):
+        return ("PF301", "error", first)
+    try:
+        compile(data, str(path), "exec", dont_inherit=True)
+    except SyntaxError as error:
+        if error.lineno is None:  # a NUL byte (UTF-16): located at the first one
+            return ("PF301", "error", data.count(b"\n", 0, data.find(b"\0")) + 1)
+        return ("PF301", "error", error.lineno)
+    except ValueError:  # a NUL byte, as Python 3.10 says it
+        return ("PF301", "error", data.count(b"\n", 0, data.find(b"\0")) + 1)
+    return ("PF901", "info", first)  # Python loads it (a comment's bytes): pkgforge does not read it
+
+
 def bom(path: Path) -> str:
     path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
     return "UTF-8 BOM"
@@ -147,7 +189,22 @@ def huge(path: Path) -> str:
     return "huge"
 
 
+def replace(path: Path, make) -> None:
+    """path (a file, or nothing yet) replaced by what make(path) creates there."""
+    if path.exists() or path.is_symlink():
+        path.unlink()
+    make(path)
+
+
+# a YAML "billion laughs": 12 lines of anchors, each alias ten of the one before (10**12 nodes)
+ALIAS_BOMB = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"] + [
+    f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 12)
+]
+
 BYTE_MUTATIONS = ("truncate", "truncate", "flip", "flip", "latin-1", "utf-16", "bom", "crlf", "empty")
+LAUNCH_KINDS = ("launch.py", "launch.xml", "launch.yaml")
+# re-encodings whose launch files get what the real decoders say (launch_verdict)
+ENCODINGS = ("latin-1", "utf-16", "latin-1 text")
 
 # hostile launch files: (file name, content); each lives in one package of its own
 HOSTILE_LAUNCH = {
@@ -198,7 +255,87 @@ HOSTILE_LAUNCH = {
         "launch:\n- arg: &a {name: x, default: y}\n- arg: *a\n- let: {name: z, value: [*a, *a, *a, *a]}\n"
     ),
     "notalist.launch.yaml": "launch: 7\n",
+    # what steps around a Python guard (issue 35): only the kernel stops these
+    "shellwrite.launch.py": (
+        "import os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    os.system('echo x >> SRC/package.xml; chmod 600 SRC/CMakeLists.txt; touch SRC/made.txt')\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "unguarded.launch.py": (
+        "import subprocess, sys\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    subprocess.run([sys.executable, '-I', '-c', \"open('SRC/package.xml', 'a').write('x')\"])\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "libc.launch.py": (
+        "import ctypes, os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    libc = ctypes.CDLL(None)\n"
+        "    fd = libc.open(b'SRC/package.xml', os.O_WRONLY | os.O_TRUNC)\n"
+        "    return LaunchDescription([])\n"
+    ),
+    "forged.launch.py": (
+        "import os\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    for fd in range(3, 64):\n"
+        "        try:\n"
+        '            os.write(fd, b\'{"status": "ok"}\\n\')\n'
+        "        except OSError:\n"
+        "            pass\n"
+        "    raise RuntimeError('fails after forging')\n"
+    ),
+    "sleepers.launch.py": (
+        "import os, time\nfrom launch import LaunchDescription\n"
+        "def generate_launch_description():\n"
+        "    for _ in range(4):\n"
+        "        if os.fork() == 0:\n"
+        "            os.setsid()\n"
+        "            time.sleep(60)\n"
+        "            os._exit(0)\n"
+        "    return LaunchDescription([])\n"
+    ),
     "tabs.launch.yaml": "launch:\n\t- arg: {name: x}\n",
+    # YAML the reader bounds (issue 35): aliases expanding to 10**12 nodes, 50,000 levels, an alias
+    # inside the collection it names
+    "bomb.launch.yaml": "launch:\n- let:\n    name: laughs\n    value:\n"
+    + "".join(f"      {line}\n" for line in ALIAS_BOMB),
+    "deep.launch.yaml": "launch:\n- let:\n    name: deep\n    value: " + "[" * 50_000 + "]" * 50_000 + "\n",
+    "selfalias.launch.yaml": "launch:\n- let: &l\n    name: x\n    value: [*l]\n",
+}
+# hostile RViz configs: (file name, content), in the package's rviz/ folder
+HOSTILE_RVIZ = {
+    "bomb.rviz": "Visualization Manager:\n  Class: ''\n  Laughs:\n"
+    + "".join(f"    {line}\n" for line in ALIAS_BOMB),
+    # issue 28, class 1: configurations not set where it is hard to say where (a name made of one,
+    # a timer or a handler that holds itself: what runs after the description never ends)
+    "confignested.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import LogInfo\n"
+        "from launch.substitutions import LaunchConfiguration as C\n"
+        "def generate_launch_description():\n"
+        "    return LaunchDescription([LogInfo(msg=C(C(C('x')), default=C('y')))])\n"
+    ),
+    "configtimerloop.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import TimerAction, LogInfo\n"
+        "from launch.substitutions import LaunchConfiguration\n"
+        "def generate_launch_description():\n"
+        "    t = TimerAction(period=0.0, actions=[LogInfo(msg=LaunchConfiguration('x'))])\n"
+        "    t.actions.append(t)\n"
+        "    return LaunchDescription([t])\n"
+    ),
+    "confighandlerloop.launch.py": (
+        "from launch import LaunchDescription\nfrom launch.actions import RegisterEventHandler, LogInfo\n"
+        "from launch.event_handlers import OnShutdown\nfrom launch.substitutions import LaunchConfiguration\n"
+        "def generate_launch_description():\n"
+        "    entities = [LogInfo(msg=LaunchConfiguration('x'))]\n"
+        "    handler = RegisterEventHandler(OnShutdown(on_shutdown=entities))\n"
+        "    entities.append(handler)\n"
+        "    return LaunchDescription([handler])\n"
+    ),
+    "confignames.launch.xml": (
+        '<launch><let name="$(var a)" value="1"/><node pkg="$(var pkg)" exec="x"/>'
+        '<timer period="$(var period)"><log message="$(var m)"/></timer></launch>\n'
+    ),
 }
 # hostile models: (file name, content)
 HOSTILE_XACRO = {
@@ -226,6 +363,40 @@ HOSTILE_XACRO = {
         '<robot name="r"><link name="&e;"/></robot>\n'
     ),
     "notxml.urdf": "\x00\x01\x02 not xml at all",
+    "escape.urdf.xacro": (  # xacro's eval escaped to Popen: a shell, no Python guard
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        "<link name=\"${[c for c in python.vars(python.type)['__subclasses__'](python.type(0).mro()[-1]) "
+        "if 'Popen' in python.repr(c)][0]('echo x >> SRC/package.xml', shell=True).wait() and 'l'}\"/></robot>\n"
+    ),
+    "deep.urdf.xacro": (  # 100,000 nested elements: xacro recurses once per level (issue 35)
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+        + "<g>" * 100_000
+        + "</g>" * 100_000
+        + "</robot>\n"
+    ),
+    # ROS 1's bare xacro tags, nested and in odd places (issue 28 class 3)
+    "ros1tags.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"><property name="x" value="1"/>'
+        '<macro name="m" params="p"><link name="${p}"/><macro name="n"/></macro>'
+        '<if value="${x}"><include filename="nowhere.xacro"/><arg name="a"/><link name="l"/></if>'
+        '<unless value="1"><link name="u"/></unless><xacro:m p="a"/><link name="r0"/></robot>\n'
+    ),
+    # what urdfdom refuses or drops, all at once (issue 28 class 7)
+    "urdfdom.urdf": (
+        '<robot><material name="m"/><material name="m"><color rgba="nan 1 1 1 1 1"/></material>'
+        "<material><texture/></material>"
+        '<link name="a"><inertial><origin xyz="inf 0 0"/></inertial><visual><geometry/></visual></link>'
+        '<link name="b"><visual><origin xyz="1e 0x10 1,5" rpy=""/><geometry><capsule/></geometry>'
+        '<material name="m"><color rgba="-1 2 3"/><texture filename=""/></material></visual>'
+        '<visual><geometry><mesh scale="1 1"/></geometry><material/></visual>'
+        '<collision><geometry><box size="     "/></geometry></collision></link>'
+        '<link name="c"><visual><geometry><sphere radius="r"/></geometry></visual></link>'
+        '<joint name="j" type="weird"><parent link="a"/><child link="b"/></joint>'
+        '<joint type="revolute"><parent link="a"/><child link="c"/><mimic joint="j"/><limit effort=""/></joint>'
+        '<joint name="k" type="continuous"><parent link="b"/><child link="c"/><mimic joint="k"/>'
+        '<mimic/><dynamics/><safety_controller/><calibration rising="x"/><axis xyz="0 0 0 0"/></joint>'
+        "</robot>\n"
+    ),
     # what CAD exporters write (issue 29): content after the root, a package:// naming the
     # exporter's folder, a mesh start tag over two lines
     "trailing.urdf": '<robot name="r"><link name="l"/></robot>\n<transmission name="t"><type>x</type></transmission>\n',
@@ -234,6 +405,44 @@ HOSTILE_XACRO = {
         '<mesh filename="package://Some-URDF/meshes/x.STL"\n scale="1 1 1"/></geometry></visual></link></robot>\n'
     ),
 }
+
+# hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot
+# evaluate), so verify runs it, sandboxed, as colcon reads it; the line below goes before setup()
+HOSTILE_SETUP = {
+    "loop": "while True:\n    pass",
+    "exit": "import sys\nsys.exit(3)",
+    "osexit": "os._exit(0)",
+    "recursion": "def f():\n    return f()\nf()",
+    "baseexc": "raise KeyboardInterrupt",
+    "kill": "import signal\nos.kill(os.getppid(), signal.SIGTERM)",
+    "writes": "open(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'package.xml'), 'w').write('')",
+    "removes": "os.remove(os.path.join(os.path.dirname(os.path.abspath(__file__)), 'package.xml'))",
+    "prints": "print('{\"status\": \"ok\"}')\nos.write(1, b'garbage\\n')",
+    "memory": "hog = bytearray(1 << 40)",
+    "sleeper": "import subprocess\nsubprocess.Popen(['sleep', '600'])",
+    "forks": "if os.fork() == 0:\n    while True:\n        pass",
+    "baddata": "share_files = lambda: [(1, 2), 'x', None]",
+    "nosetup": "raise SystemExit(0)",
+}
+SETUP_TEMPLATE = """import os
+from setuptools import setup
+
+package_name = 'NAME'
+
+
+def share_files():
+    out = [('share/ament_index/resource_index/packages', ['resource/' + package_name])]
+    for folder in ('launch', 'urdf', 'meshes', 'rviz'):
+        for root, _, files in os.walk(folder):
+            out.append((os.path.join('share', package_name, root), [os.path.join(root, f) for f in files]))
+    return out
+
+
+HOSTILE
+
+setup(name=package_name, version='0.0.0', packages=[],
+      data_files=[('share/' + package_name, ['package.xml'])] + share_files())
+"""
 
 
 def structural(package: Path, what: str, outside: Path) -> None:
@@ -288,8 +497,53 @@ def structural(package: Path, what: str, outside: Path) -> None:
         (package / "launch").write_text("not a folder")
     elif what == "space and unicode in names":
         (meshes / "with space ☃.stl").write_bytes(b"solid x\nendsolid x\n")
+    elif what in HOSTILE_NAMES:
+        # a launch file that fails to load (so reports name it) and a mesh, named so
+        launch_name, content, mesh = HOSTILE_NAMES[what]
+        (package / "launch").mkdir(exist_ok=True)
+        (package / "launch" / launch_name).write_text(content)
+        (meshes / mesh).write_bytes(b"solid x\nendsolid x\n")
+    elif what.endswith(" is a FIFO"):  # package.xml, CMakeLists.txt (issue 35: a read blocks for ever)
+        replace(package / what.split()[0], os.mkfifo)
+    elif " linked to /dev/" in what:  # a read never ends (issue 35)
+        kind, device = what.split(" linked to ")
+        folder = {"package.xml": package, "launch file": package / "launch", "mesh": meshes}[kind]
+        pattern = {"package.xml": "package.xml", "launch file": "*.launch.*", "mesh": "*.[sS][tT][lL]"}[kind]
+        target = next(
+            iter(sorted(folder.glob(pattern))),
+            folder / "x.launch.py" if kind == "launch file" else meshes / "m.stl",
+        )
+        replace(target, lambda path: os.symlink(device, path))
+    elif what == "nested package":  # a package.xml inside the package (issue 28 class 6)
+        inner = package / "inner" / "nested_pkg"
+        inner.mkdir(parents=True)
+        (inner / "package.xml").write_text('<package format="3"><name>nested_pkg</name><name>twice</name>')
+    elif what == "rviz 1 config":  # ROS 1's classes, a group in a group, a class that is no string
+        (package / "rviz").mkdir(exist_ok=True)
+        (package / "rviz" / "ros1.rviz").write_text(
+            "Panels:\n  - Class: rviz/Displays\nVisualization Manager:\n  Displays:\n"
+            "    - Class: rviz/Group\n      Displays:\n        - Class: rviz/Group\n          Displays:\n"
+            "            - Class: rviz/RobotModel\n              Robot Description: robot_description\n"
+            "        - Class: [rviz/TF]\n        - Class: rviz/\n  Views: {Current: {Class: rviz/Orbit}}\n"
+        )
     else:
         raise AssertionError(what)
+
+
+# file names a report prints (issue 35): what → (launch file, its content, mesh); each file fails to load
+HOSTILE_NAMES = {
+    "escape sequence in a name": (
+        "title\x1b]0;pwned\x07.launch.py",
+        "def generate_launch_description(:\n",
+        "clear\x1b[2J.stl",
+    ),
+    "newline in a name": (
+        "x\n::error file=README.md,line=1::forged.launch.py",
+        "def generate_launch_description(:\n",
+        "line\nbreak.stl",
+    ),
+    "control character in a name": ("ctl\x01.launch.xml", "<launch><oops/></launch>\n", "del\x7f\x85.stl"),
+}
 
 
 STRUCTURAL = (
@@ -309,6 +563,18 @@ STRUCTURAL = (
     "fifo",
     "launch folder is a file",
     "space and unicode in names",
+    *HOSTILE_NAMES,
+    # FIFOs and devices where files stand (issue 35), after the others: each keeps its base
+    "package.xml is a FIFO",
+    "CMakeLists.txt is a FIFO",
+    "package.xml linked to /dev/zero",
+    "package.xml linked to /dev/urandom",
+    "launch file linked to /dev/zero",
+    "launch file linked to /dev/urandom",
+    "mesh linked to /dev/zero",
+    "mesh linked to /dev/urandom",
+    "nested package",
+    "rviz 1 config",
 )
 
 
@@ -321,6 +587,8 @@ def byte_plan(rng) -> list[tuple[str, str, str, dict]]:
     for base in BASES:
         for kind in KINDS:
             mutations = ("truncate", "flip", "empty") if kind == "stl" else BYTE_MUTATIONS
+            if kind in LAUNCH_KINDS:
+                mutations += ("latin-1 text",)
             for mutation in mutations:
                 parameters = {}
                 if mutation == "truncate":
@@ -338,6 +606,8 @@ def apply_bytes(package: Path, kind: str, mutation: str, parameters: dict) -> st
     if not files:
         return None
     path = files[0]
+    if mutation == "latin-1 text":
+        return f"{path.relative_to(package)}: {latin1_text(path)}"
     if mutation == "truncate":
         done = truncate(path, parameters["fraction"])
     elif mutation == "flip":
@@ -374,9 +644,19 @@ class Campaign:
             if what is None:
                 shutil.rmtree(package)
                 continue
-            cases.append(
-                Case(name, base, what, installable=kind not in ("package.xml", "CMakeLists.txt", "setup.py"))
+            case = Case(
+                name, base, what, installable=kind not in ("package.xml", "CMakeLists.txt", "setup.py")
             )
+            # (where the package's name is its own: rob_description's clones all name robot_description,
+            # and of packages that share a name only one is in the tree whose launch files are evaluated)
+            own_name = f"<name>{name}</name>".encode() in (package / "package.xml").read_bytes()
+            if kind in LAUNCH_KINDS and mutation in ENCODINGS and own_name:
+                path = files_of(package, kind)[0]
+                verdict = launch_verdict(path)
+                if verdict is not None:
+                    code, severity, line = verdict
+                    case.expect.append((code, severity, f"src/{name}/{path.relative_to(package)}", line))
+            cases.append(case)
         return cases
 
     def huge_cases(self, src: Path) -> list[Case]:
@@ -391,12 +671,12 @@ class Campaign:
 
     def hostile_cases(self, src: Path) -> list[Case]:
         cases = []
-        for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO}.items():
+        for file, content in {**HOSTILE_LAUNCH, **HOSTILE_XACRO, **HOSTILE_RVIZ}.items():
             base = (
                 "cbasexml" if file.endswith(".xml") else "cbaseyaml" if file.endswith(".yaml") else "cbasepy"
             )
             name, package = self.package(src, base)
-            folder = "launch" if ".launch." in file else "urdf"
+            folder = "launch" if ".launch." in file else "rviz" if file.endswith(".rviz") else "urdf"
             (package / folder / file).write_text(content.replace("NAME", name).replace("SRC", str(package)))
             if folder == "urdf":  # a launch file that runs xacro on it
                 (package / "launch" / f"run_{file}.launch.py").write_text(
@@ -410,6 +690,10 @@ class Campaign:
                     "Command(['xacro ', model]), value_type=str)}])])\n"
                 )
             cases.append(Case(name, base, f"hostile {file}"))
+        for what, code in HOSTILE_SETUP.items():
+            name, package = self.package(src, "cbasepython")
+            (package / "setup.py").write_text(SETUP_TEMPLATE.replace("NAME", name).replace("HOSTILE", code))
+            cases.append(Case(name, "cbasepython", f"hostile setup.py: {what}"))
         return cases
 
     def structural_cases(self, src: Path) -> list[Case]:
@@ -418,6 +702,9 @@ class Campaign:
             base = list(BASES)[index % 4]
             name, package = self.package(src, base)
             structural(package, what, self.outside)
+            expect = []
+            if what in HOSTILE_NAMES:  # the report names the file that fails to load, as it is named
+                expect.append(("PF301", "error", f"src/{name}/launch/{HOSTILE_NAMES[what][0]}", 1))
             cases.append(
                 Case(
                     name,
@@ -430,10 +717,15 @@ class Campaign:
                         "unreadable urdf folder",
                         "unreadable launch file",
                         "fifo",
+                        "package.xml is a FIFO",
+                        "CMakeLists.txt is a FIFO",
+                        "package.xml linked to /dev/zero",
+                        "package.xml linked to /dev/urandom",
                         "link loop",
                         "dangling link",
                         "deep nesting",
                     ),
+                    expect=expect,
                 )
             )
         return cases
@@ -478,14 +770,20 @@ def readable(folder: Path) -> None:
                     pass
 
 
+# what no report may hold as it is: C0 controls but the newline, DEL, C1 controls
+RAW_CONTROL = re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f]")
+
+
 def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
     """Problems of one verify run over many cases (empty: all held)."""
     before = fingerprint(workspace, skip=("build",))
     limit = PER_CASE_SECONDS * max(1, len(cases))
+    junit = workspace.parent / f"{workspace.name}.junit.xml"  # beside the workspace: not of it
+    junit.unlink(missing_ok=True)
     try:
         result = run_command(
             [sys.executable, "-m", "pkgforge", "verify", ".", "--format", "json", "--no-cache"]
-            + ["--launch-timeout", LAUNCH_TIMEOUT, *mode],
+            + ["--launch-timeout", LAUNCH_TIMEOUT, "--junit-xml", str(junit), *mode],
             cwd=workspace,
             timeout=limit,
         )
@@ -510,7 +808,40 @@ def verify_batch(workspace: Path, cases: list[Case], *mode: str) -> list[str]:
             unlocated = [d for d in report["diagnostics"] if not d.get("path")]
             if unlocated:
                 problems.append(f"unlocated: {unlocated[:5]}")
+            problems += missing_expected(report, cases)
+        problems += junit_problems(junit)
     return problems
+
+
+def missing_expected(report: dict, cases: list[Case]) -> list[str]:
+    """Each case's expected diagnostic, if the report lacks it (with what it says of that file)."""
+    found = {(d["code"], d["severity"], d["path"], d["line"]) for d in report["diagnostics"]}
+    problems = []
+    for case in cases:
+        for expected in case.expect:
+            if expected not in found:
+                said = [
+                    (d["code"], d["severity"], d["line"], d["message"][:200])
+                    for d in report["diagnostics"]
+                    if d["path"] == expected[2]
+                ]
+                problems.append(f"{case.name} ({case.what}): no {expected}; said: {said}")
+    return problems
+
+
+def junit_problems(junit: Path) -> list[str]:
+    """The JUnit report beside the JSON one: written, well-formed, no control character."""
+    from lxml import etree
+
+    try:
+        text = junit.read_text(encoding="utf-8")
+        etree.fromstring(text.encode())
+    except (OSError, ValueError, etree.XMLSyntaxError) as error:
+        return [f"JUnit report: {error}"]
+    finally:
+        junit.unlink(missing_ok=True)
+    raw = sorted({repr(c) for c in RAW_CONTROL.findall(text)})
+    return [f"JUnit report holds control characters: {raw}"] if raw else []
 
 
 def each_alone(workspace: Path, cases: list[Case], *mode: str) -> dict[str, list[str]]:
@@ -520,7 +851,12 @@ def each_alone(workspace: Path, cases: list[Case], *mode: str) -> dict[str, list
     for case in cases:
         by_package.setdefault(case.name, []).append(case)
     for package_cases in by_package.values():
-        case = Case(package_cases[0].name, package_cases[0].base, "; ".join(c.what for c in package_cases))
+        case = Case(
+            package_cases[0].name,
+            package_cases[0].base,
+            "; ".join(c.what for c in package_cases),
+            expect=[e for c in package_cases for e in c.expect],
+        )
         alone = workspace.parent / f"alone-{case.name}"
         (alone / "src").mkdir(parents=True)
         shutil.move(str(workspace / "src" / case.name), alone / "src" / case.name)

@@ -327,6 +327,19 @@ libc.write(fd, b"written", 7)
 """
 
 
+@pytest.fixture
+def outside_tmp():
+    """A folder of the user's outside /tmp (in /dev/shm), with keep.txt in it; removed after."""
+    import tempfile
+
+    if not os.access("/dev/shm", os.W_OK):
+        pytest.skip("no writable /dev/shm")
+    folder = Path(tempfile.mkdtemp(prefix="pkgforge-test-", dir="/dev/shm"))
+    (folder / "keep.txt").write_text("mine\n")
+    yield folder
+    shutil.rmtree(folder, ignore_errors=True)
+
+
 def expected_confinement() -> dict:
     abi = landlock.abi_version()
     support = namespaces.probe()
@@ -336,12 +349,11 @@ def expected_confinement() -> dict:
 @pytest.mark.parametrize(
     "disabled", ["", "landlock", "namespaces", "landlock,namespaces"], ids=["all", "view", "landlock", "none"]
 )
-def test_the_kernel_refuses_a_write_python_never_sees(setting, disabled):
+def test_the_kernel_refuses_a_write_python_never_sees(setting, disabled, outside_tmp):
     """A write through libc in the launch file: refused by Landlock (EACCES) or the read-only view
     (EROFS), whichever is active; with neither, the write happens (so this test can fail) and the
     summary says the sandbox is weaker. The JSON says which protections were active."""
-    _, _, _, elsewhere = setting
-    target = elsewhere / "keep.txt"
+    target = outside_tmp / "keep.txt"  # (under /tmp the read-only view has a private overlay)
     launch = hostile(setting, BYPASS.replace("{TARGET}", str(target)))
     status, report, _ = verify(setting, env={"PKGFORGE_SANDBOX_DISABLE": disabled})
     expected = expected_confinement()
@@ -351,7 +363,7 @@ def test_the_kernel_refuses_a_write_python_never_sees(setting, disabled):
         expected.update(view=False, pid=False)
     assert {k: report["sandbox"][k] for k in expected} == expected, report["sandbox"]
     kernel = expected["landlock"] > 0 or expected["view"]
-    weaker = not (kernel and (expected["signals"] or expected["pid"]))
+    weaker = not (kernel and expected["view"] and (expected["signals"] or expected["pid"]))
     text = run_pkgforge(
         "verify", "--no-cache", cwd=setting[0], env=dict(os.environ, PKGFORGE_SANDBOX_DISABLE=disabled)
     )
@@ -364,7 +376,7 @@ def test_the_kernel_refuses_a_write_python_never_sees(setting, disabled):
         assert target.read_text() == "mine\n"
     else:
         assert target.read_text().startswith("mine\nwritten")
-        assert "sandbox weaker: writes and signals refused only by the Python guard" in text.stdout
+        assert "sandbox weaker: writes, chmod/utime, signals refused only by the Python guard" in text.stdout
 
 
 def test_this_machine_enforces_writes_and_signals_in_the_kernel():
@@ -386,7 +398,7 @@ def test_explain_sandbox_says_what_is_missing():
     assert result.stdout.splitlines()[0].startswith("✗ Landlock"), result.stdout
     assert "not available: Landlock: turned off (PKGFORGE_SANDBOX_DISABLE)" in result.stdout
     assert result.stdout.rstrip().endswith(
-        "sandbox weaker: writes and signals refused only by the Python guard (see --explain-sandbox)"
+        "sandbox weaker: writes, chmod/utime, signals refused only by the Python guard (see --explain-sandbox)"
     )
 
 
@@ -398,3 +410,34 @@ def test_each_file_runs_in_a_fresh_process(setting):
     status, report, _ = verify(setting, "--jobs", "1")
     assert status == 0, [d for d in report["diagnostics"] if d["severity"] == "error"]
     assert sys.platform != "linux" or report["sandbox"] is not None
+
+
+TMP_ROUND_TRIP = """
+share = get_package_share_directory("rob_description")
+urdf = "/tmp/{name}.urdf"
+subprocess.run(["xacro", f"{{share}}/urdf/rob_description.urdf.xacro", "-o", urdf])  # op:write
+with open(urdf) as handle:  # op:read
+    handle.read()
+"""
+
+
+@pytest.mark.parametrize("disabled", ["", "namespaces"], ids=["private-tmp", "no-view"])
+def test_a_launch_file_writing_tmp_and_reading_it_back(setting, disabled):
+    """The tutorial pattern `xacro -o /tmp/x.urdf`, then open() it: ros2 launch lets it write. In the
+    read-only view /tmp is the file's own overlay (the user's /tmp untouched): clean. Without one,
+    the write is refused and the failure that follows is a warning naming that refusal, not an error."""
+    if disabled == "" and not namespaces.probe()["view"]:
+        pytest.skip("no user namespaces here")
+    name = f"pkgforge-test-{uuid.uuid4().hex}"
+    launch = hostile(setting, TMP_ROUND_TRIP.format(name=name))
+    status, report, _ = verify(setting, env={"PKGFORGE_SANDBOX_DISABLE": disabled})
+    assert not Path(f"/tmp/{name}.urdf").exists()
+    found = {(d["code"], d["severity"], d["line"]) for d in report["diagnostics"]}
+    if disabled == "":
+        assert status == 0 and not found, report["diagnostics"]
+    else:
+        assert status == 0, report["diagnostics"]
+        assert found == {
+            ("PF316", "warning", line_of(launch, "# op:write")),
+            ("PF301", "warning", line_of(launch, "# op:read")),
+        }, report["diagnostics"]

@@ -143,6 +143,47 @@ def test_the_real_engine_writes_nothing_of_the_users(tmp_path, prefixes):
     assert _snapshot(home, workspace, tmp) == before
 
 
+def test_the_real_engine_reads_launch_yaml_within_pkgforge_s_bounds(tmp_path, prefixes):
+    """issue 35: launch_yaml's yaml.safe_load is pkgforge's bounded reader in the worker too: an alias
+    bomb, 50,000 nested brackets and an alias inside its own collection each name the bound and line"""
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "rob_description", "--launch-format", "yaml", "--distro", "jazzy")
+    laughs = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"] + [
+        f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 12)
+    ]
+    files = {
+        "bomb.launch.yaml": "launch:\n- let:\n    name: laughs\n    value:\n"
+        + "".join(f"      {line}\n" for line in laughs),
+        "deep.launch.yaml": "launch:\n- let:\n    name: deep\n    value: "
+        + "[" * 50_000
+        + "]" * 50_000
+        + "\n",
+        "self.launch.yaml": "launch:\n- let: &l\n    name: x\n    value: [*l]\n",
+    }
+    for name, text in files.items():
+        (package / "launch" / name).write_text(text)
+    result = run_pkgforge(
+        "verify", "--no-cache", "--format", "json", "--launch-engine", "ros", "--ros-prefix",
+        str(prefixes["jazzy"]), cwd=tmp_path, timeout=240,
+    )  # fmt: skip
+    assert result.returncode == 1 and "Traceback" not in result.stderr, result.stdout + result.stderr
+    messages = {
+        d["path"].rsplit("/", 1)[-1]: d["message"]
+        for d in json.loads(result.stdout)["diagnostics"]
+        if d["code"] == "PF301"
+    }
+    launch = package / "launch"
+    for name, bound in [
+        (
+            "bomb.launch.yaml",
+            f"its aliases expand to more than 1,000,000 nodes: pkgforge reads YAML up to that size (line {line_of(launch / 'bomb.launch.yaml', '&a5')})",
+        ),
+        ("deep.launch.yaml", "nested deeper than 500 levels: pkgforge reads YAML up to that depth (line 4)"),
+        ("self.launch.yaml", "alias *l is inside the collection it names: expanding it never ends (line 4)"),
+    ]:
+        assert f"YAMLLimit: {bound}" in messages[name], messages
+
+
 def test_engine_choice_errors_are_one_line(tmp_path):
     workspace = _workspace(tmp_path, "fixtures")
     env = {k: v for k, v in os.environ.items() if k not in ("AMENT_PREFIX_PATH", "PYTHONPATH")}

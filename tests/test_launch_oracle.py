@@ -28,6 +28,9 @@ from pkgforge.launch.records import ITEM_KINDS, as_dict
 
 CONFORMANCE = FIXTURES / "launch_conformance"
 PATTERNS = FIXTURES / "launch_patterns" / "pattern_bot"  # issue 10's patterns of real packages
+CONFIGS = (
+    FIXTURES / "launch_configurations" / "config_bot"
+)  # issue 28: configurations with and without a value
 SUFFIXES = (".launch.py", ".launch.xml", ".launch.yaml")
 
 
@@ -44,6 +47,7 @@ def _launch_files() -> list[str]:
         if p.name.endswith(SUFFIXES)
     ]
     files += [f"pattern_bot/launch/{p.name}" for p in sorted((PATTERNS / "launch").iterdir())]
+    files += [f"config_bot/launch/{p.name}" for p in sorted((CONFIGS / "launch").iterdir())]
     return files
 
 
@@ -113,6 +117,7 @@ def oracle_workspace(tmp_path_factory) -> Path:
     for launch in sorted((FIXTURES / "launch").iterdir()):
         shutil.copy(launch, turtle / "launch")
     copy_fixture("launch_patterns/pattern_bot", workspace)
+    copy_fixture("launch_configurations/config_bot", workspace)
     for name, options in VARIANTS.items():
         new_package(workspace, name, *options)
     package = workspace / "src" / "launch_conformance"
@@ -294,3 +299,71 @@ def test_a_package_not_found_keeps_what_uses_it(evaluations, distro):
             ["lib", "robot_state_publisher", "robot_state_publisher"],
         ], label
         assert records["errors"] == [], label
+
+
+# --- the execute level: what executing each action performs, before it would start a process ---
+
+
+def _executions(evaluations, label: str, file: str) -> list[dict]:
+    return [json.loads(e) for e in evaluations[label, file]["executions"]]
+
+
+@pytest.mark.parametrize("distro,file", _params())
+def test_executing_each_action_performs_what_the_real_library_performs(evaluations, distro, file):
+    """The real library's execution of every action that would start a process (launch's
+    ExecuteLocal.prepare and output, launch_ros's Node._perform_substitutions: the command with
+    launch-prefix, the name, cwd, environment, respawn; or the failure that stops the launch)
+    equals the built-in engine's. Every node or process the visit reached was executed."""
+    real, builtin = evaluations[distro, file], evaluations[f"builtin-{distro}", file]
+    assert real["executions"] == builtin["executions"], json.dumps(
+        {
+            "ros": _differing(real["executions"], builtin["executions"]),
+            "built-in": _differing(builtin["executions"], real["executions"]),
+        },
+        indent=1,
+    )
+    executed = {(e["file"], e["line"]) for e in _executions(evaluations, distro, file)}
+    started = {(n["file"], n["line"]) for n in map(json.loads, real["nodes"])}
+    assert started <= executed, sorted(started - executed)
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_the_execute_level_covers_failures_and_values(evaluations, distro):
+    """The execute level is no empty comparison: the suite has executions that succeed with
+    performed values (a launch-prefix, a cwd, an environment) and executions that fail on a launch
+    configuration not set, each named the same by both engines."""
+    runs = [e for f in FILES for e in _executions(evaluations, distro, f)]
+    assert len(runs) >= 100, len(runs)
+    failures = {e["failure"] for e in runs if e["failure"]}
+    assert "SubstitutionFailure: launch configuration 'use_sim_time' does not exist" in failures
+    process = _executions(evaluations, distro, "config_bot/launch/process.launch.py")
+    assert sorted(e["failure"] for e in process) == sorted(
+        f"SubstitutionFailure: launch configuration '{name}' does not exist"
+        for name in ("bag_folder", "domain", "output", "respawn")
+    )
+    for label in (distro, f"builtin-{distro}"):
+        recorder, node = sorted(
+            _executions(evaluations, label, "config_bot/launch/process_values.launch.py"),
+            key=lambda e: e["line"],
+        )
+        assert (recorder["cmd"], recorder["name"], recorder["cwd"]) == (
+            ["nice", "-n", "5", "ros2", "bag", "record", "-a"],
+            "recorder",
+            "/tmp",
+        ), label
+        assert (recorder["additional_env"], recorder["output"], recorder["respawn"]) == (
+            [["ROS_DOMAIN_ID", "7"]],
+            "screen",
+            True,
+        ), label
+        assert node["cmd"][:2] == ["xterm", "-e"] and node["cmd"][2].endswith("/robot_state_publisher"), label
+        assert node["cmd"][3:] == [
+            "--verbose",
+            "--ros-args",
+            "--log-level",
+            "debug",
+            "--ros-args",
+            "-r",
+            "__node:=publisher",
+        ], label
+        assert (node["name"], node["output"], node["failure"]) == ("rsp", "log", None), label

@@ -316,6 +316,26 @@ def test_migrate_bad_input_writes_nothing(tmp_path, kind, message):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("file", ["package.xml", "launch/display.launch", "meshes/link1.STL"])
+@pytest.mark.parametrize("what", ["fifo", "/dev/zero"])
+def test_migrate_refuses_a_fifo_or_a_device_and_writes_nothing(tmp_path, file, what):
+    """issue 35: a read of a FIFO blocks for ever, of /dev/zero never ends"""
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / file).unlink()
+    os.mkfifo(package / file) if what == "fifo" else os.symlink(what, package / file)
+    result = run_pkgforge(
+        "migrate", package, "--destination", tmp_path / "out" / "src", cwd=tmp_path, timeout=120
+    )
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stdout + result.stderr
+    kind = "a FIFO (named pipe)" if what == "fifo" else "a link to /dev/zero, a character device"
+    assert result.stderr.splitlines()[0] == (
+        f"pkgforge: error: {package / file}: {kind}: pkgforge reads only regular files"
+        + ("" if file == "package.xml" else "; move it out of the package")
+        + " (nothing written)"
+    )
+    assert not (tmp_path / "out").exists()
+
+
 def test_migrate_not_a_package_and_existing_destination(tmp_path):
     (tmp_path / "empty").mkdir()
     result = run_pkgforge("migrate", tmp_path / "empty", "--destination", tmp_path / "out", cwd=tmp_path)
@@ -430,9 +450,10 @@ def test_urdf_tutorial_style_launch(tmp_path, launch_format):
 KEY = b"-----BEGIN OPENSSH PRIVATE KEY-----\nnot a real key, a stand-in\n-----END OPENSSH PRIVATE KEY-----\n"
 
 
-def test_migrate_copies_no_link_out_of_the_package_and_no_fifo(tmp_path):
-    """migrate copies the package's own regular files: a mesh that is a link to a key in a (fake)
-    HOME, or a FIFO, is refused by name before anything is written."""
+def test_migrate_copies_no_link_out_of_the_package(tmp_path):
+    """migrate copies the package's own regular files: a mesh or a config that is a link to a key in
+    a (fake) HOME is refused by name before anything is written (a FIFO or a device is refused even
+    before: test_migrate_refuses_a_fifo_or_a_device_and_writes_nothing)."""
     key = tmp_path / "home/.ssh/id_rsa"
     key.parent.mkdir(parents=True)
     key.write_bytes(KEY)
@@ -440,14 +461,12 @@ def test_migrate_copies_no_link_out_of_the_package_and_no_fifo(tmp_path):
     package = ros1_package(tmp_path / "ros1", "robot_arm")
     (package / "meshes/link2.STL").unlink()
     (package / "meshes/link2.STL").symlink_to(key)
-    os.mkfifo(package / "config/pipe.yaml")
-    result = run_pkgforge(
-        "migrate", package, "--destination", tmp_path / "out", cwd=tmp_path, timeout=120
-    )  # a FIFO read would block for ever
+    (package / "config/secret.yaml").symlink_to(key)
+    result = run_pkgforge("migrate", package, "--destination", tmp_path / "out", cwd=tmp_path, timeout=120)
     assert result.returncode == 2, result.stdout + result.stderr
     assert result.stderr.splitlines() == [
-        f"pkgforge: error: {package / 'config/pipe.yaml'}: {package / 'config/pipe.yaml'} is not a regular "
-        "file (a FIFO): not copied",
+        f"pkgforge: error: {package / 'config/secret.yaml'}: it leads to {key} (a symbolic link), outside "
+        f"{package}: not copied",
         f"{package / 'meshes/link2.STL'}: it leads to {key} (a symbolic link), outside {package}: not copied",
         "2 file(s) of the package cannot be copied: nothing written; replace each link that leads out of "
         "the package by the file it names, or move the file out of the package",

@@ -77,6 +77,20 @@ def test_force_lists_edited_files_and_replaces_them_only_when_given_twice(tmp_pa
     assert "package.xml (unchanged)" in result.stdout and "(replaced)" not in result.stdout
 
 
+def test_force_refuses_a_fifo_where_it_writes_a_file_without_reading_it(tmp_path):
+    """issue 35: comparing what is there with what would be written read the FIFO: it blocked for ever"""
+    target = tmp_path / "rob_description"
+    target.mkdir()
+    os.mkfifo(target / "package.xml")
+    result = run_pkgforge("new", "rob_description", *MAINTAINER, "--force", cwd=tmp_path, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stdout + result.stderr
+    assert result.stderr == (
+        f"pkgforge: error: cannot read {target / 'package.xml'}: a FIFO (named pipe): "
+        "pkgforge reads only regular files\n"
+    )
+    assert listing(tmp_path) == ["rob_description", "rob_description/package.xml"]
+
+
 def test_force_adds_missing_files_and_keeps_identical_ones(tmp_path):
     run_pkgforge("new", "rob_description", *MAINTAINER, cwd=tmp_path)
     target = tmp_path / "rob_description"

@@ -115,9 +115,15 @@ def test_real_robots_verify_without_errors(tmp_path, robot_prefix):
     ]
     # a real defect in the wheel: TALOS writes package:///example-robot-data/... (three slashes)
     talos = [
-        d for d in report["diagnostics"] if d["package"] == "talos_wrap_description" and d["code"] != "PF604"
+        d
+        for d in report["diagnostics"]
+        if d["package"] == "talos_wrap_description" and d["code"] not in ("PF604", "PF410")
     ]
     assert talos and all(d["code"] == "PF402" and "names no package" in d["message"] for d in talos)
+    # and a true colour: rgbd_link writes DarkGrey as 0.5 grey, urdfdom keeps <robot>'s DarkGrey (0.2)
+    (colour,) = [d for d in report["diagnostics"] if d["code"] == "PF410"]
+    assert colour["package"] == "talos_wrap_description" and colour["severity"] == "warning"
+    assert colour["message"].startswith("link 'rgbd_link': material 'DarkGrey' is given another colour")
     assert len({d["line"] for d in talos}) == len(talos)  # each at its own <mesh> line
     assert [p for p in problems if p[0] != "talos_wrap_description"] == []
     # the meshes were resolved in the installed package, not skipped

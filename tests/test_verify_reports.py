@@ -81,10 +81,10 @@ JSON_REPORT_SCHEMA = {
         "sandbox": {  # what confined the launch files and models (null: none was evaluated)
             "type": ["object", "null"],
             "additionalProperties": False,
-            "required": ["landlock", "signals", "view", "pid", "guard", "why"],
+            "required": ["landlock", "signals", "view", "pid", "network", "sockets", "guard", "why"],
             "properties": {
                 "landlock": {"type": "integer", "minimum": 0},
-                **{k: {"type": "boolean"} for k in ("signals", "view", "pid", "guard")},
+                **{k: {"type": "boolean"} for k in ("signals", "view", "pid", "network", "sockets", "guard")},
                 "why": {"type": "array", "items": {"type": "string"}},
             },
         },

@@ -41,7 +41,7 @@ DEBUG = {"on": bool(os.environ.get("PKGFORGE_DEBUG"))}
 
 
 def fail(error: PkgforgeError) -> NoReturn:
-    click.echo(f"pkgforge: error: {error}", err=True)
+    click.echo("pkgforge: error: " + "\n".join(error.lines()), err=True)
     sys.exit(error.exit_code)
 
 
@@ -52,7 +52,9 @@ def _report_note() -> str:
 
 def internal_error(what: str, trace: str) -> NoReturn:
     """An unexpected exception inside pkgforge: exit 2, the traceback only under --debug."""
-    click.echo(f"pkgforge: internal error: {what}; please report it{_report_note()}", err=True)
+    from pkgforge.report import printable
+
+    click.echo(f"pkgforge: internal error: {printable(what)}; please report it{_report_note()}", err=True)
     if DEBUG["on"]:
         click.echo(trace.rstrip(), err=True)
     sys.exit(2)
@@ -907,8 +909,10 @@ def view(
         artifacts.finish()
     except PkgforgeError as error:
         fail(error)
+    from pkgforge.report import printable
+
     for problem in artifacts.problems:
-        click.echo(f"pkgforge: warning: {problem}", err=True)
+        click.echo(f"pkgforge: warning: {printable(problem)}", err=True)
     if not artifacts.entries:
         fail(
             PkgforgeError(
@@ -917,14 +921,18 @@ def view(
         )
     for entry in artifacts.entries:
         files = [i["file"] for i in entry["images"]] + [entry["tree"]]
-        click.echo(f"{entry['model']}: {', '.join(str(out / f) for f in files)}")
+        click.echo(printable(f"{entry['model']}: {', '.join(str(out / f) for f in files)}"))
 
 
 def report_internal_errors(result: VerifyResult) -> None:
     """A check that crashed: its diagnostic is in the report; say so on stderr (exit 2 follows)."""
+    from pkgforge.report import printable
+
     for error in result.internal_errors:
         summary, _, trace = error.partition("\n")
-        click.echo(f"pkgforge: internal error {summary}; please report it{_report_note()}", err=True)
+        click.echo(
+            f"pkgforge: internal error {printable(summary)}; please report it{_report_note()}", err=True
+        )
         if DEBUG["on"]:
             click.echo(trace.rstrip(), err=True)
 

@@ -7,9 +7,21 @@ from pathlib import Path
 
 
 class PkgforgeError(Exception):
-    """A problem with the user's input or environment; exit status 2."""
+    """A problem with the user's input or environment; exit status 2.
+
+    One line each argument: PkgforgeError(line, line, ...) for several (printed one under the
+    other), so that a newline inside a name in a line is escaped, not taken for the next line."""
 
     exit_code = 2
+
+    def __str__(self) -> str:
+        return "\n".join(map(str, self.args))
+
+    def lines(self) -> list[str]:
+        """What the error says, one printable line each (`pkgforge: error: ` goes before the first)."""
+        from pkgforge.report import printable
+
+        return [printable(str(line)) for line in self.args] or [""]
 
 
 class BuildFailed(PkgforgeError):
@@ -49,8 +61,11 @@ _OS_FIXES = {
 
 
 def describe_os_error(exc: OSError) -> str:
-    """One located line for an OSError: the file, what went wrong, what to do."""
+    """One located line for an OSError: the file, what went wrong, what to do (printable: the
+    file's name may hold a newline or an escape sequence)."""
     import errno
+
+    from pkgforge.report import printable
 
     where = exc.filename if exc.filename is not None else None
     if exc.filename2 is not None:
@@ -58,4 +73,4 @@ def describe_os_error(exc: OSError) -> str:
     what = exc.strerror or str(exc)
     fix = _OS_FIXES.get(errno.errorcode.get(exc.errno or 0, ""), "")
     text = f"{where}: {what}" if where is not None else what
-    return f"{text}; {fix}" if fix else text
+    return printable(f"{text}; {fix}" if fix else text)

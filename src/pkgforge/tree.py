@@ -34,13 +34,15 @@ from typing import TYPE_CHECKING, TextIO
 from pkgforge.build.toolchain import TREE_PYTHONPATH, prepend_path, python_paths
 from pkgforge.errors import PkgforgeError
 from pkgforge.model.package import PackageModel
-from pkgforge.walk import MAX_DEPTH
+from pkgforge.model.source import read_regular
+from pkgforge.walk import MAX_DEPTH, remove_tree
 
 if TYPE_CHECKING:
     from pkgforge.workspace import Workspace
 
-# what an entry of the tree is (inode, mode, size, mtime), to see whether a launch file changed it
-Stamp = tuple[int, int, int, int]
+# what an entry of the tree is (inode, mode, size, mtime, ctime), to see whether a launch file changed
+# it (ctime: no process can set it back, as `touch -d` sets mtime back)
+Stamp = tuple[int, int, int, int, int]
 INDEX = Path("share/ament_index/resource_index/packages")
 
 
@@ -51,6 +53,9 @@ class InstallTree:
     phantom: Path | None = None
     packages: dict[str, Path] = field(default_factory=dict)  # package → prefix holding it
     phantom_packages: set[str] = field(default_factory=set)
+    # workspace packages (share names) whose install pkgforge cannot predict → where (file, line):
+    # their share folder stands in for what they install with their source mirrored (predicted tree)
+    unpredicted: dict[str, tuple[Path, int | None]] = field(default_factory=dict)
     # packages of an AMENT_PREFIX_PATH the user already has (a sourced ROS) → their prefix
     system_packages: dict[str, Path] = field(default_factory=dict)
     _temporary: tempfile.TemporaryDirectory[str] | None = None
@@ -153,7 +158,10 @@ class InstallTree:
 
     def close(self) -> None:
         if self._temporary is not None:
-            self._temporary.cleanup()
+            try:
+                self._temporary.cleanup()
+            except (OSError, RecursionError):  # what a launch file left: nested, or made unreadable
+                remove_tree(self._temporary.name)
             self._temporary = None
 
 
@@ -267,7 +275,6 @@ def _fast_folder(needed: int) -> str | None:
 
 def _sweep(folder: str) -> None:
     """Remove trees of pkgforge runs that were killed before they could (tmpfs holds them in memory)."""
-    import shutil
 
     try:
         names = [n for n in os.listdir(folder) if n.startswith(PREFIX)]
@@ -280,7 +287,7 @@ def _sweep(folder: str) -> None:
         path = os.path.join(folder, name)
         try:
             if os.stat(path).st_uid == os.getuid():
-                shutil.rmtree(path, ignore_errors=True)
+                remove_tree(path)
         except OSError:
             pass
 
@@ -411,12 +418,11 @@ class _Plan:
                 info = os.lstat(os.path.join(base, relative))
             except OSError:
                 continue
-            out[relative] = (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns)
+            out[relative] = (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns, info.st_ctime_ns)
         return out
 
     def restore(self, root: Path, stamps: dict[str, Stamp]) -> int:
         """Put back every entry a launch file changed or removed; → how many."""
-        import shutil
 
         base = str(root)
         changed = 0
@@ -424,10 +430,10 @@ class _Plan:
             target = os.path.join(base, relative)
             try:
                 info = os.lstat(target)
-                if (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns) == stamp:
+                if (info.st_ino, info.st_mode, info.st_size, info.st_mtime_ns, info.st_ctime_ns) == stamp:
                     continue
                 if stat.S_ISDIR(info.st_mode):
-                    shutil.rmtree(target)
+                    remove_tree(target)
                 else:
                     os.unlink(target)
             except FileNotFoundError:
@@ -442,13 +448,39 @@ def predicted_tree(models: list[PackageModel], user_install: Path | None = None)
     """The tree colcon would install; `user_install`: where (colcon's default <workspace>/install)."""
     plan = _Plan()
     plan.folder("install")
+    unpredicted = {}
     for model in models:
         for destination, installed in model.layout.files.items():
             plan.file(
                 os.path.normpath(os.path.join("install", destination)),
                 None if installed.source is None else str(installed.source),
             )
-    return _materialised("predicted", plan, models, user_install, lambda root: {str(root / "install"): None})
+        where = model.unpredicted()
+        if where is not None:
+            unpredicted[model.share_name] = where
+            _plan_source_mirror(plan, model)
+    tree = _materialised("predicted", plan, models, user_install, lambda root: {str(root / "install"): None})
+    tree.unpredicted = unpredicted
+    return tree
+
+
+# a package's own build files and what is no run-time resource: never mirrored into its share folder
+NOT_MIRRORED = frozenset({"setup.py", "setup.cfg", "CMakeLists.txt", "package.xml"})
+
+
+def _plan_source_mirror(plan: _Plan, model: PackageModel) -> None:
+    """A package whose install cannot be predicted is unknown, not empty: its share folder holds
+    its source files where they are in the source (share/<pkg>/urdf/a.xacro for urdf/a.xacro),
+    beside what is predicted, and its ament index marker. Its own launch files and models are then
+    evaluated against its source, and other packages' lookups into it find what it has; what they
+    do not find is not known to be missing (the checks say so: unpredicted-lookup)."""
+    share = os.path.join("install", "share", model.share_name)
+    plan.file(os.path.join("install", str(INDEX), model.share_name), None)
+    for relative in model.files:
+        parts = relative.parts
+        if (len(parts) == 1 and relative.name in NOT_MIRRORED) or any(p.startswith(".") for p in parts):
+            continue
+        plan.file(os.path.join(share, *parts), str(model.path / relative))
 
 
 def _materialised(
@@ -551,8 +583,12 @@ def existing_tree(install_base: Path, models: list[PackageModel]) -> InstallTree
     install_base = install_base.resolve()
     if not install_base.is_dir():
         raise PkgforgeError(f"--install-base {install_base} is not a folder (run colcon build first)")
-    marker = install_base / ".colcon_install_layout"
-    layout = marker.read_text().strip() if marker.is_file() else None
+    try:  # (colcon writes it; a FIFO or a device in its place is refused, never read)
+        layout: str | None = (
+            read_regular(install_base / ".colcon_install_layout").decode(errors="replace").strip()
+        )
+    except OSError:
+        layout = None
     if layout == "isolated" or (layout is None and not (install_base / INDEX).is_dir()):
         prefixes = sorted(p for p in install_base.iterdir() if (p / INDEX).is_dir())
     else:

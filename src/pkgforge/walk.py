@@ -124,3 +124,32 @@ def _note(limits: list[WalkLimit] | None, folder: str, why: str, hint: str | Non
         limit = WalkLimit(folder, why, hint)
         if limit not in limits:
             limits.append(limit)
+
+
+def remove_tree(path: str | os.PathLike[str]) -> None:
+    """Remove a folder pkgforge made (a temporary tree, a launch file's own folder) whatever a launch
+    file left in it: nested past Python's recursion (shutil.rmtree recurses), or folders it made
+    unreadable (chmod 0). GNU rm and chmod walk without recursion. Never raises."""
+    import shutil
+    import subprocess
+
+    try:
+        shutil.rmtree(path)
+        return
+    except FileNotFoundError:
+        return
+    except (OSError, RecursionError):
+        pass
+    text = os.fspath(path)
+    for command in (["chmod", "-R", "u+rwx", "--", text], ["rm", "-rf", "--", text]):
+        try:
+            subprocess.run(
+                command,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                timeout=120,
+                check=False,
+            )
+        except (OSError, subprocess.SubprocessError):
+            pass

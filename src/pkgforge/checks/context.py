@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 from collections.abc import Collection
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +21,7 @@ from pkgforge.model.cmake import PYTHON_SITE
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.package import PackageModel
 from pkgforge.model.rviz import RvizConfig
+from pkgforge.model.source import parse_python, read_head, read_regular
 from pkgforge.tree import InstallTree
 
 if TYPE_CHECKING:
@@ -36,11 +38,57 @@ GENERATED_LISTS = ("humble", "jazzy")
 STAND_IN_MODULES = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python"}
 
 # why a launch file was not loaded (CheckContext.load_error_kind); None: it was
-LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", "environment"]
+LoadErrorKind = Literal["load", "package", "xacro", "unevaluated", "newer-api", "environment", "unpredicted"]
 # xacro's message for a file it could not open (an include of a package not installed here)
 MISSING_FILE = re.compile(r"No such file or directory: \[?'?([^'\]\s]+)")
 # the kinds whose launch file's literal references are checked statically instead
-STATIC_KINDS: tuple[LoadErrorKind, ...] = ("unevaluated", "newer-api", "environment")
+STATIC_KINDS: tuple[LoadErrorKind, ...] = ("unevaluated", "newer-api", "environment", "unpredicted")
+# launch arguments that the included launch file passes to a command through a shell (its
+# ExecuteProcess(shell=True) joins them into one command line): ros_gz_sim's gz_sim.launch.py
+# (gz_args, and the deprecated ign_args) and ros_ign_gazebo's ign_gazebo.launch.py (ign_args).
+# The files are often not installed where pkgforge runs, so their use is known here.
+COMMAND_LINE_ARGUMENTS = {
+    "ros_gz_sim/launch/gz_sim.launch.py": frozenset({"gz_args", "ign_args"}),
+    "ros_ign_gazebo/launch/ign_gazebo.launch.py": frozenset({"ign_args"}),
+}
+
+
+def command_line_words(resolution: Resolution, value: str) -> list[str] | None:
+    """The words of `value` (a path a launch file resolved, with a space in it), file part first,
+    when what uses it splits it as a command line: Command (shlex, as launch's Command does), a
+    process started through a shell (ExecuteProcess(shell=True)), or a launch argument that the
+    included file passes to such a process (ros_gz_sim's gz_args). None when nothing that uses it
+    splits it: a Node's argument, a parameter or a plain process's cmd item is one word, and a
+    file named so does not exist."""
+
+    def split_by_consumer() -> bool:
+        if any(value in command.text for command in resolution.commands):
+            return True
+        if any(
+            node.kind == "process" and node.shell and any(value in part for part in node.cmd or [])
+            for node in resolution.nodes
+        ):
+            return True
+        for include in resolution.includes:
+            named = COMMAND_LINE_ARGUMENTS.get("/".join(include.path.replace(os.sep, "/").split("/")[-3:]))
+            if named and any(value in text for name, text in include.arguments.items() if name in named):
+                return True
+        return False
+
+    if not split_by_consumer():
+        return None
+    try:
+        words = shlex.split(value)
+    except ValueError:  # an unclosed quote: the consumer fails on it too, as one bad word
+        return None
+    paths = [w for w in words if os.path.isabs(w)]
+    if len(words) < 2 or not paths:
+        return None
+    return [paths[0], *(w for w in words if w != paths[0])]
+
+
+# what may be a path in an error message or a command line: a word without quotes or brackets
+PATH_WORD = re.compile(r"[^\s'\"\[\](),]+")
 _T = TypeVar("_T")
 
 
@@ -103,9 +151,8 @@ class FileFacts:
 
         def read(text: str) -> list[str]:
             try:
-                with open(text, encoding="utf-8", errors="replace") as handle:
-                    return handle.read().splitlines()
-            except OSError:
+                return read_regular(text).decode("utf-8", errors="replace").splitlines()
+            except OSError:  # (a FIFO or a device too: never read)
                 return []
 
         found: list[str] = self._once("lines", path, read)
@@ -234,16 +281,22 @@ class CheckContext:
             import yaml
 
             from pkgforge.model.files import vcs_repos_files
+            from pkgforge.model.yamlnodes import load as load_yaml
 
             names: set[str] = set()
             for path in vcs_repos_files([self.model.path, *self.workspace.values()], self.workspace_base):
                 try:
-                    data = yaml.safe_load(path.read_text(encoding="utf-8", errors="replace"))
-                except (OSError, yaml.YAMLError, RecursionError):  # (a file nested past the parser's depth)
+                    data = load_yaml(read_regular(path).decode("utf-8", errors="replace"))
+                except (OSError, yaml.YAMLError):  # (past the loader's bounds: a YAMLError too)
                     continue
                 repositories = data.get("repositories") if isinstance(data, dict) else None
                 if isinstance(repositories, dict):
                     names.update(str(name).rsplit("/", 1)[-1] for name in repositories)
+                    # and the repository's own name (src/ur_driver: url .../Universal_Robots_ROS2_Driver.git)
+                    for spec in repositories.values():
+                        url = str(spec.get("url") or "") if isinstance(spec, dict) else ""
+                        if url.strip().rstrip("/"):
+                            names.add(url.strip().rstrip("/").removesuffix(".git").rsplit("/", 1)[-1])
                 for entry in data if isinstance(data, list) else []:
                     # .rosinstall: - git: {local-name: robotis_controller_msgs, uri: ...ROBOTIS-Framework-msgs.git}
                     for spec in entry.values() if isinstance(entry, dict) else []:
@@ -276,9 +329,8 @@ class CheckContext:
 
         def compute() -> str:
             try:
-                with open(path, encoding="utf-8", errors="replace") as handle:
-                    return handle.read(1 << 20)
-            except OSError:
+                return read_head(path, 1 << 20)[0].decode("utf-8", errors="replace")
+            except OSError:  # (a FIFO or a device too: never read)
                 return ""
 
         head: str = self._shared(("head", path), compute)
@@ -452,6 +504,45 @@ class CheckContext:
                 read.add(result.source)
         return read
 
+    def file_part(self, resolution: Resolution, path: str) -> str:
+        """The path a launch file resolved, or its file part when what uses it splits it as a
+        command line (command_line_words): the file that must exist."""
+        if not any(c.isspace() for c in path):
+            return path
+        words = command_line_words(resolution, path)
+        return words[0] if words else path
+
+    def unpredicted_file(self, text: str | None) -> tuple[str, str] | None:
+        """(package, path in its share folder) when `text` (a path, an error message) names a file
+        the predicted tree does not have, in the share folder of a workspace package whose install
+        pkgforge cannot predict (tree.unpredicted): whether the real install has it is not known."""
+        tree = self.tree
+        if not text or tree is None or not tree.unpredicted:
+            return None
+
+        def compute() -> tuple[str, str] | None:
+            for word in PATH_WORD.findall(text):
+                if not (word.startswith("share/") or "/share/" in word):
+                    continue
+                # xacro names a file relative to the prefix it searched
+                paths = [word] if os.path.isabs(word) else [str(prefix / word) for prefix in tree.prefixes]
+                for path in paths:
+                    located = tree.locate(path)
+                    if located is not None and located[0] in tree.unpredicted and not self.files.exists(path):
+                        return located[0], located[1]
+            return None
+
+        found: tuple[str, str] | None = self._shared(("unpredicted", text), compute)
+        return found
+
+    def unpredicted_where(self, package: str) -> str:
+        """Where a package's install stops being predicted: 'setup.py:4', for messages."""
+        where = self.tree.unpredicted.get(package) if self.tree is not None else None
+        if where is None:
+            return package
+        path, line = where
+        return f"{path.name}:{line}" if line else path.name
+
     def absent_include(self, message: str | None) -> tuple[str, str] | None:
         """(package, file) when xacro failed only because it includes a file of a package that
         is declared but not installed here (its share folder an empty stand-in): ROS has the file."""
@@ -530,6 +621,8 @@ class CheckContext:
             return "load"
         if error.type == "PackageNotFoundError":
             return "package"
+        if self.unpredicted_file(error.message) is not None:
+            return "unpredicted"  # a file of a package whose install is not known: not its fault
         if error.type == "XacroException":
             return "xacro"
         if self.package_not_installed_here(error) or error.program or error.read_from:
@@ -732,7 +825,7 @@ class CheckContext:
             for item in resolution.paths:
                 if item.exists:
                     continue
-                located = self.tree.locate(item.path)
+                located = self.tree.locate(self.file_part(resolution, item.path))
                 if (
                     located
                     and located[0] in (self.model.share_name, self.model.name)
@@ -748,10 +841,10 @@ def _environment_reads(source: Path) -> list[str]:
     import ast
 
     try:
-        text = source.read_text(encoding="utf-8", errors="replace")
+        text = read_regular(source).decode("utf-8", errors="replace")
         if "environ" not in text and "getenv" not in text:
             return []  # every form below names one of them: no parse needed
-        tree = ast.parse(text)
+        tree = parse_python(text)
     except (OSError, SyntaxError, ValueError):
         return []
     names: list[str] = []

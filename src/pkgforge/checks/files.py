@@ -17,9 +17,11 @@ from pkgforge.diagnostics import Finding
     area="run",
     bad="# urdf/robot.urdf: 20 MB (a mesh pasted into the model) or mode 000",
     good="# urdf/robot.urdf: the mesh as a file in meshes/, the model readable and small",
-    summary="a file pkgforge would read is too large or unreadable",
+    summary="a file pkgforge would read is too large, unreadable, or no regular file",
     explanation="pkgforge reads launch files, models and RViz configs to find what they "
-    "refer to; a file it cannot read is left out of those checks.",
+    "refer to; a file it cannot read is left out of those checks. It reads only regular "
+    "files (or links to them), never a FIFO or a device: a read of a FIFO waits for ever, "
+    "one of /dev/zero never ends.",
     hint="make the file readable, or smaller than 8 MB",
 )
 def file_not_read(ctx: CheckContext) -> Iterator[Finding]:
@@ -27,22 +29,38 @@ def file_not_read(ctx: CheckContext) -> Iterator[Finding]:
 
     for source in ctx.model.skipped:
         if source.problem_line is not None:
-            if launch_kind(source.path) is not None:
-                # pkgforge evaluates it leniently; ros2 launch may not (no check parses it strictly)
+            kind = launch_kind(source.path)
+            if kind is not None and not _refused_there(ctx, source.path, source.problem_line):
+                # not UTF-8, and launch did not refuse it at that byte (it was not evaluated, or
+                # Python skips a comment's bytes or follows a coding line): pkgforge does not read it
                 yield Finding(
                     f"{ctx.relative(source.path)} not read: {source.problem}",
                     source.path,
                     source.problem_line,
-                    hint="save the file as UTF-8: unless a Python file declares its coding, "
-                    "ros2 launch refuses it",
+                    hint="save the file as UTF-8: Python accepts other bytes only in comments or "
+                    "under a coding line, and pkgforge reads only UTF-8"
+                    if kind == "py"
+                    else "save the file as UTF-8: ros2 launch reads XML and YAML launch files as UTF-8",
                 )
-            continue  # not UTF-8: the check that parses the file (model, RViz) reports it
+            continue  # not UTF-8: the check that parses the file (model, RViz, launch) reports it
         yield Finding(
             f"{ctx.relative(source.path)} not read: {source.problem}",
             source.path,
             source.problem_line,
             hint=read_problem_hint(source.problem),
         )
+
+
+def _refused_there(ctx: CheckContext, path: Path, line: int) -> bool:
+    """Whether loading the launch file failed at that line (launch-load-error reports the bytes
+    that are not UTF-8 there: ros2 launch refuses the file)."""
+    for resolution in ctx.resolutions:
+        error = resolution.error
+        if resolution.status != "load-error" or error is None:
+            continue
+        if ctx.source_position(resolution, error.file, error.line) == (path, line):
+            return True
+    return False
 
 
 def read_problem_hint(problem: str | None) -> str | None:
@@ -57,6 +75,13 @@ def read_problem_hint(problem: str | None) -> str | None:
         return "give read permission (chmod a+r FILE, and a+x on its folders): colcon and ROS read it too"
     if "not valid UTF-8" in problem:
         return "save the file as UTF-8"
+    if "reads only regular files" in problem:
+        return (
+            "put the file itself there (or a link to one): a FIFO or a device has no end (or no start) "
+            "to read, and colcon installs and ROS loads files"
+        )
+    if "pkgforge reads YAML up to" in problem or "expanding it never ends" in problem:
+        return "nest it less deeply, or write out what the aliases repeat: no real config comes near this"
     return None
 
 

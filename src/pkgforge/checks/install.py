@@ -395,12 +395,25 @@ def ament_package_missing(ctx: CheckContext) -> Iterator[Finding]:
     good=("# CMakeLists.txt\ninstall(DIRECTORY urdf DESTINATION share/${PROJECT_NAME})"),
     summary="pkgforge cannot tell what an install rule installs",
     explanation="The rule depends on something pkgforge does not evaluate (an environment "
-    "variable, a variable set outside the package, a call it does not model); "
-    "its files are left out of the predicted tree. Verify with --build or "
-    "--install-base to check the real tree.",
+    "variable, a variable set outside the package, a call it does not model). A setup.py whose "
+    "data_files are computed is run as colcon runs it (setuptools' setup(), stopped before any "
+    "command, in the sandbox: it may write nothing); this says where that run failed. What the "
+    "package installs is then unknown: its files are not in the predicted tree, other packages' "
+    "lookups into it are not checked (unpredicted-lookup), and its own launch files and models "
+    "are evaluated against its source. Verify with --build or --install-base to check the real tree.",
     hint="use literal paths, or verify against a real build (--build)",
 )
 def install_rule_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
+    setup_py = ctx.model.setup_py
+    if setup_py is not None and setup_py.evaluation_error is not None:
+        line, why = setup_py.evaluation_error
+        yield Finding(
+            f"setup.py could not be evaluated here ({why}); its computed install rules are not predicted",
+            setup_py.source.path,
+            line or setup_py.data_files_line or setup_py.setup_line,
+            hint="make setup.py run without what this machine lacks (or without writing files), or "
+            "verify against a real build (--build)",
+        )
     for path, line, why in ctx.model.layout.unknown:
         yield Finding(f"cannot predict this install rule: {why}", path, line)
 

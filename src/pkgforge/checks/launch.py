@@ -14,7 +14,7 @@ from pkgforge.checks.files import read_problem_hint, untree
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
-from pkgforge.checks.sandbox import SANDBOX_TYPES, stopped_by_guard
+from pkgforge.checks.sandbox import SANDBOX_TYPES, sandbox_records, stopped_by_guard
 from pkgforge.diagnostics import Finding, Severity
 from pkgforge.launch.records import PREVIEW_LENGTH, PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.launch.records import Error as LaunchError
@@ -109,7 +109,9 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 )
             else:
                 message = f"loading {resolution.launch.installed.name} failed: {text}"
-                hint = read_problem_hint(text)
+                hint = read_problem_hint(text) or _decoding_hint(
+                    resolution.launch.installed.name, error.type, text
+                )
                 if hint is None and position[1] is None:
                     hint = (
                         "the error names no line of this file: run `pkgforge verify --explain-launch "
@@ -128,8 +130,22 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
             if alone is not None:
                 yield _failing_alone(f"{message}{alone[0]}", position, alone[1])
                 continue
+            refused = _refused_before(resolution)
+            if refused is not None:
+                # the file wrote somewhere only this sandbox refuses (/tmp where the kernel gives no
+                # private one), then failed reading it back: ros2 launch would have let it write
+                yield Finding(
+                    f"{message} (after pkgforge refused its write at line {refused}: maybe its consequence)",
+                    *position,
+                    severity=Severity.WARNING,
+                    hint="write generated files with tempfile (verify gives each launch file a private "
+                    "TMPDIR), or pass the content directly",
+                )
+                continue
             yield Finding(message, *position, hint=hint)
         for item in resolution.errors:
+            if item.configuration is not None:
+                continue  # launch-configuration-undefined says it, at the substitution
             if item.type in SANDBOX_TYPES:
                 continue  # launch-writes-files reports what the worker's guard refused
             if item.type == "PermissionError" and GUARD_MARKER in (item.message or ""):
@@ -138,15 +154,19 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue
             if item.message.startswith("executed command") and "xacro" in item.message:
                 continue  # xacro-error reports it with xacro's message
+            if ctx.unpredicted_file(item.message) is not None:
+                continue  # a file of a package whose install is not known (unpredicted-lookup)
             if ctx.package_not_installed_here(item):
                 continue  # an included file's import: that file is evaluated, and reported, on its own
             if item.read_from:
                 continue  # an OpaqueFunction read a file of a package not installed here (launch-unevaluated)
             if item.event_values:
                 continue  # an event handler's action on the event's run-time values (launch-unevaluated)
-            if item.type == "XacroException" and (absent := ctx.absent_include(item.message)):
+            if absent := ctx.absent_include(item.message):
+                # its own xacro.process_file(), or xacro run in a subprocess whose stderr an action
+                # raised (amiga_ros2_gazebo's OpaqueFunction): model-unevaluated says it (ROS has the file)
                 if absent[0] in ctx.model.manifest.declared():
-                    continue  # its own xacro.process_file(): model-unevaluated says it (ROS has the file)
+                    continue
             if item.type == "KeyError" and ctx.variable_unset_here(item.message):
                 continue  # an included file's os.environ['X'] (turtlebot3_gazebo's TURTLEBOT3_MODEL):
                 # that file is evaluated, and reported (launch-environment-unset), on its own
@@ -233,6 +253,44 @@ def _loads_when_included(ctx: CheckContext, resolution: Resolution) -> tuple[str
                     f"verify where {source.name} can be evaluated (its dependencies installed, or "
                     "--install-base), or give this file's launch arguments defaults it runs with",
                 )
+    return None
+
+
+def _refused_before(resolution: Resolution) -> int | None:
+    """The line of a write the sandbox refused, in the failing file, at or before the line it failed at
+    (or by a process it started): the failure may be that write's consequence, not the file's."""
+    error = resolution.error
+    if error is None or error.line is None:
+        return None
+    for kind, _, _, _, item in sandbox_records(resolution):
+        if (
+            kind == "RefusedWrite"
+            and item.file == error.file
+            and item.line is not None
+            and item.line <= error.line
+        ):
+            return item.line
+    return None
+
+
+def _decoding_hint(file_name: str, error_type: str | None, text: str) -> str | None:
+    """The fix for a launch file ros2 launch cannot decode (None: another error). Python reads a
+    launch file's bytes as UTF-8 (PEP 263) but in comments, unless it declares its coding; launch
+    reads an XML or YAML file as UTF-8 text, whatever a BOM or an XML declaration says."""
+    if file_name.endswith(".py"):
+        if "cannot contain null bytes" in text:
+            return "save the file as UTF-8: Python refuses a NUL byte (a UTF-16 file has one in each ASCII character)"
+        if error_type == "SyntaxError" and "(unicode error) 'utf-8' codec can't decode" in text:
+            return (
+                "save the file as UTF-8, or declare its encoding on its first or second line "
+                "(# -*- coding: latin-1 -*-): Python reads a launch file as UTF-8 but in comments"
+            )
+        return None
+    if error_type == "UnicodeDecodeError":
+        return (
+            "save the file as UTF-8: ros2 launch reads XML and YAML launch files as UTF-8, whatever "
+            "a BOM or an encoding declaration says"
+        )
     return None
 
 
@@ -342,10 +400,15 @@ def _missing_paths(ctx: CheckContext, *, want_source: bool) -> Iterator[Finding]
             if item.via == "PathJoinSubstitution" and item.path.endswith(FRAGMENT_ENDINGS):
                 continue  # the start of a name the file goes on to build (interbotix's
                 # [PathJoinSubstitution([share, 'config', 'motor_specs_']), robot_model, '.yaml'])
-            located = _share_reference(ctx, item.path)
+            checked = ctx.file_part(resolution, item.path)  # (gz_args 'world.sdf -r': world.sdf)
+            if checked != item.path and ctx.files.exists(checked):
+                continue
+            located = _share_reference(ctx, checked)
             if located is None:
                 continue
             package, relative, _ = located
+            if ctx.tree is not None and package in ctx.tree.unpredicted:
+                continue  # its install is not known: not known to be missing (unpredicted-lookup)
             if NONE_TEXT.search(relative) and ctx.unset_environment(resolution):
                 continue  # launch-environment-unset: os.getenv() gave None here
             owner = ctx.model_for_share(package)
@@ -973,6 +1036,151 @@ def launch_argument_required(ctx: CheckContext) -> Iterator[Finding]:
 
 
 @register(
+    "PF320",
+    "launch-configuration-undefined",
+    "error",
+    area="launch",
+    bad=(
+        "# launch/robot.launch.py (nothing declares use_sim_time)\n"
+        "Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
+        "     parameters=[{'use_sim_time': LaunchConfiguration('use_sim_time')}])"
+    ),
+    good=(
+        "# launch/robot.launch.py\n"
+        "DeclareLaunchArgument('use_sim_time', default_value='false'),\n"
+        "Node(package='robot_state_publisher', executable='robot_state_publisher',\n"
+        "     parameters=[{'use_sim_time': LaunchConfiguration('use_sim_time')}])"
+    ),
+    summary="a launch file uses a launch configuration that nothing declares or sets",
+    explanation="LaunchConfiguration('x') (XML/YAML `$(var x)`) with no default, where no "
+    "DeclareLaunchArgument, SetLaunchConfiguration (`<let>`), include argument or --launch-arg has "
+    'given x a value when the action is executed: `ros2 launch` stops with "launch configuration '
+    "'x' does not exist\" (exit 1). Typical of a file copied from another that declared "
+    "use_sim_time. An argument declared in an included file counts after the include (unless a "
+    "scoped GroupAction holds it), and a declared argument without a default is launch-argument-"
+    "required's. A TimerAction's actions and an event handler's run after the whole launch "
+    "description: a configuration a scoped GroupAction (or an include in one) set is gone by then "
+    "(ros2/launch#825). A warning when the file fails only launched on its own, and another launch "
+    "file of its package includes it where the configuration is set (a file made to be included); "
+    "info when a launch file included before the use could not be evaluated here (its package not "
+    "installed): it may declare the configuration.",
+    hint="declare it with DeclareLaunchArgument('x', default_value=...) or give "
+    "LaunchConfiguration('x', default=...)",
+)
+def launch_configuration_undefined(ctx: CheckContext) -> Iterator[Finding]:
+    # (an included file's use fails in its own resolution and in its includer's: said once)
+    found: dict[tuple[Path, int | None, str], list[tuple[Resolution, LaunchError]]] = {}
+    for resolution in ctx.resolutions:
+        for item in resolution.errors if resolution.status == "ok" else []:
+            if item.configuration is None:
+                continue
+            position = ctx.source_position(resolution, item.file, item.line)
+            if position is not None:
+                found.setdefault((*position, item.configuration), []).append((resolution, item))
+    for (path, line, name), uses in found.items():
+        certain = [(r, i) for r, i in uses if i.unevaluated_include is None]
+        resolution, item = (certain or uses)[0]
+        if not certain:  # an include before it could not be evaluated: it may declare the name
+            yield Finding(
+                f"launch configuration '{name}' is not set when {_a(item.entity or 'action')} uses it, "
+                f"unless {_included_name(item.unevaluated_include)}, included before it and not "
+                f"evaluated here, declares it (if not, `ros2 launch` stops here){_branch_note(item, resolution)}",
+                path,
+                line,
+                severity=Severity.INFO,
+                hint="verify where the included file's package is installed (--install-base) to tell, or "
+                + _declare_hint(path, name, item),
+            )
+            continue
+        uses = certain
+        alone = [(r, i) for r, i in uses if i.file in (None, str(r.launch.installed))]
+        message = _unset_message(name, item, resolution)
+        if len(alone) == len(uses) and (includer := _set_by_includer(ctx, resolution, item)) is not None:
+            yield Finding(
+                f"{message}, when {resolution.launch.installed.name} is launched on its own; {includer}",
+                path,
+                line,
+                severity=Severity.WARNING,
+                hint=f"launch it through its includer, or {_declare_hint(path, name, item)}",
+            )
+            continue
+        if not alone:  # only through another launch file of the package
+            message += f" (launched through {resolution.launch.installed.name})"
+        yield Finding(message, path, line, hint=_declare_hint(path, name, item))
+
+
+def _unset_message(name: str, item: LaunchError, resolution: Resolution) -> str:
+    message = (
+        f"launch configuration '{name}' does not exist when {_a(item.entity or 'action')} uses it: nothing "
+        f"declares or sets it and it has no default, so `ros2 launch` stops here"
+        f"{_branch_note(item, resolution)}"
+    )
+    if item.deferred:
+        runs = "when its period has passed" if item.deferred == "TimerAction" else "when its event comes"
+        message += (
+            f" (in {_a(item.deferred)}: its actions run {runs}, after the rest of the launch description"
+        )
+        if item.scoped_away:
+            message += (
+                f"; {name} is set where the {item.deferred} stands, but the scoped GroupAction around it "
+                "has ended by then"
+            )
+        message += ")"
+    return message
+
+
+def _included_name(path: str | None) -> str:
+    """An included launch file as its package names it (`pkg/launch/x.launch.py`)."""
+    if not path:
+        return "a launch file"
+    return path.rsplit("/share/", 1)[-1] if "/share/" in path else os.path.basename(path)
+
+
+def _a(word: str) -> str:
+    return f"{'an' if word[:1].lower() in 'aeiou' else 'a'} {word}"
+
+
+def _declare_hint(path: Path, name: str, item: LaunchError) -> str:
+    if path.name.endswith(".xml"):
+        hint = f'declare it with <arg name="{name}" default="..."/> or give $(var {name} DEFAULT)'
+    elif path.name.endswith((".yaml", ".yml")):
+        hint = f"declare it with `- arg: {{name: {name}, default: ...}}` or give $(var {name} DEFAULT)"
+    else:
+        hint = (
+            f"declare it with DeclareLaunchArgument('{name}', default_value=...) or give "
+            f"LaunchConfiguration('{name}', default=...)"
+        )
+    hint += f" (without either, only `ros2 launch ... {name}:=VALUE` runs it)"
+    if item.scoped_away:
+        hint += f"; or set {name} outside the scoped GroupAction (or make it scoped=False)"
+    return hint
+
+
+def _set_by_includer(ctx: CheckContext, resolution: Resolution, item: LaunchError) -> str | None:
+    """How another launch file of the package includes this one where `item`'s configuration is
+    set (it evaluated this file without that failure), else None: a file made to be included
+    (nav2-style robot_state_publisher.launch.py, given use_sim_time by its bringup)."""
+    installed = str(resolution.launch.installed)
+    for other in ctx.resolutions:
+        if other is resolution or other.status != "ok" or installed not in other.files:
+            continue
+        if any(
+            e.configuration == item.configuration and e.file == item.file and e.line == item.line
+            for e in other.errors
+        ):
+            continue  # it fails there too
+        include = next((i for i in other.includes if i.path == installed), None)
+        includer = (other.launch.source or other.launch.installed).name
+        if include is not None and include.file:  # (the include may stand in a file it includes)
+            includer = Path(include.file).name
+        where = f"{includer}:{include.line}" if include is not None and include.line else includer
+        given = include is not None and item.configuration in include.arguments
+        how = f"with {item.configuration}:=..." if given else f"where {item.configuration} is set"
+        return f"{where} includes it {how}, and it runs there"
+    return None
+
+
+@register(
     "PF310",
     "unsupported-launch-api",
     "info",
@@ -1185,6 +1393,84 @@ def launch_combinations_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
             f"(the defaults first); {missing} not checked{how}",
             *position,
         )
+
+
+@register(
+    "PF319",
+    "unpredicted-lookup",
+    "info",
+    area="launch",
+    bad=(
+        "# robot_bringup/launch/robot.launch.py (robot_description's setup.py imports a module that is\n"
+        "# not installed here, so what it installs cannot be predicted)\n"
+        "xacro.process_file(os.path.join(get_package_share_directory('robot_description'), 'urdf', 'x.xacro'))"
+    ),
+    good="$ pkgforge verify . --build   # a real install of robot_description to look into",
+    summary="a launch file or model looks up a file of a workspace package whose install "
+    "pkgforge cannot predict",
+    explanation="The package's install rules could not be evaluated (install-rule-unevaluated "
+    "says where): what it installs is unknown, not empty. Its share folder in the predicted tree "
+    "holds its source files where they are in its source, so lookups of those work and are "
+    "checked; a file that is not there may still be installed (a computed data_files can put a "
+    "file in another folder than its source's), so the lookup is not checked, and nothing that "
+    "depends on it is.",
+    hint="make the package's install rules evaluable (install-rule-unevaluated says why they are "
+    "not), or verify against a real build (--build, --install-base)",
+)
+def unpredicted_lookup(ctx: CheckContext) -> Iterator[Finding]:
+    from pkgforge.checks.urdf import model_item_position
+
+    said: set[tuple[Path, int | None, str, str]] = set()
+
+    def finding(
+        found: tuple[str, str], what: str, position: tuple[Path, int | None] | None
+    ) -> Iterator[Finding]:
+        package, relative = found
+        if position is None or (*position, package, relative) in said:
+            return
+        said.add((*position, package, relative))
+        yield Finding(
+            f"{what} share/{package}/{relative}, which the predicted install tree does not have; "
+            f"{package}'s install cannot be predicted ({ctx.unpredicted_where(package)}), so the "
+            "lookup is not checked",
+            *position,
+        )
+
+    for resolution in ctx.resolutions:
+        error = resolution.error
+        if error is not None and ctx.load_error_kind(resolution) == "unpredicted":
+            found = ctx.unpredicted_file(error.message)
+            position = ctx.source_position(resolution, error.file, error.line) or (
+                resolution.launch.source or resolution.launch.installed,
+                None,
+            )
+            if found is not None:
+                name = resolution.launch.installed.name
+                yield from finding(found, f"{name} stopped loading on", position)
+        for item in resolution.errors:
+            found = ctx.unpredicted_file(item.message)
+            if found is not None:
+                where = ctx.source_position(resolution, item.file, item.line)
+                yield from finding(found, f"{item.entity or 'an action'} failed on", where)
+        for path in resolution.paths:
+            found = ctx.unpredicted_file(path.path) if not path.exists else None
+            if found is not None:
+                where = ctx.source_position(resolution, path.file, path.line)
+                yield from finding(found, "it looks up", where)
+        for command in resolution.commands:
+            found = None if command.ok else ctx.unpredicted_file(command.message)
+            if found is not None:
+                where = ctx.source_position(resolution, command.file, command.line)
+                yield from finding(found, "xacro failed on", where)
+    for result in ctx.model_results:
+        message = (result.error or {}).get("message")
+        found = ctx.unpredicted_file(message) if result.status != "ok" else None
+        if found is not None:
+            yield from finding(
+                found,
+                f"xacro {result.installed.name} failed on",
+                model_item_position(ctx, result, result.error or {}),
+            )
 
 
 @register(

@@ -6,6 +6,7 @@ import os
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import NamedTuple
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.files import read_problem_hint
@@ -279,7 +280,8 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         if dependency.tag in RUN_TAGS
         and dependency.tag != "depend"
         and dependency.name not in used
-        and _not_in_distro(ctx, dependency.name, declared=True) is None  # that one says it
+        and _not_in_distro(ctx, dependency.name, declared=True, tag=dependency.tag)
+        is None  # that one says it
     ]
     undeclared = (used & ctx.real_packages()) - model.manifest.declared() - LAUNCH_INFRASTRUCTURE
     undeclared -= {model.name, model.share_name}
@@ -335,9 +337,18 @@ def _from_a_repository(ctx: CheckContext, name: str) -> bool:
     return any(_first_word(repository) == word for repository in ctx.source_repositories())
 
 
-def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str, str] | None:
-    """(message, hint) when `name` is not released for the target distros, else None."""
-    from pkgforge.model.distro_data import load, replacement
+class DistroProblem(NamedTuple):
+    message: str
+    hint: str
+    severity: Severity | None = None  # None: the check's own (error)
+
+
+def _not_in_distro(
+    ctx: CheckContext, name: str, *, declared: bool, tag: str | None = None
+) -> DistroProblem | None:
+    """What is wrong when `name` is not released for the target distros (None: nothing): `tag`,
+    the declaration's (a doc_depend is no key `rosdep install` looks up by default)."""
+    from pkgforge.model.distro_data import load, replacement, rosdep_keys
 
     data = load()
     released = data.released_in(name)
@@ -354,7 +365,7 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
                 f"build {name} from source in the workspace, or target "
                 f"{' or '.join(released)} (--distro, ROS_DISTRO or pkgforge.toml [verify] distro)"
             )
-        return message, hint
+        return DistroProblem(message, hint)
     if not declared or name in ctx.installed_packages():
         return None
     system = SYSTEM_KEYS.get(name)
@@ -363,7 +374,7 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
         missing = [d for d in ctx.distros if d not in system[0]]
         if not missing:
             return None  # (no target distro given: a distro where it resolves counts)
-        return (
+        return DistroProblem(
             f"'{name}' is a rosdep key only for {', '.join(system[0])} ({system[1]}), not for "
             f"{', '.join(missing)} (rosdep install fails on it there)",
             f"use {better[0]} instead: {better[1]}"
@@ -371,20 +382,45 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
             else f"target {', '.join(system[0])}",
         )
     if better is not None:
-        return (
+        return DistroProblem(
             f"'{name}' is released in no ROS 2 distro: {better[1]} (rosdep install fails on it)",
             f"declare {better[0]} instead",
         )
-    if "-" in name or name.startswith(("python", "lib")) or name != name.lower():
-        return None  # a rosdep key for a system package (python3-yaml, libboost-dev, Eigen3)
+    if name in rosdep_keys():
+        return None  # a system package rosdep's own rules install (eigen, python3-numpy, libboost-dev)
     near = data.close_names(name, n=1, cutoff=0.85, same_start=True)
-    if not near:
-        return None  # likely a rosdep key (eigen, boost): rosdep knows, pkgforge does not
-    if _from_a_repository(ctx, name) and _first_word(near[0]) != _first_word(name):
-        return None  # (a released sibling's near-spelling is a typo, whatever the .repos files hold)
-    return (
-        f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
-        f"did you mean {near[0]}?",
+    from_source = _from_a_repository(ctx, name)
+    if near and not (from_source and _first_word(near[0]) != _first_word(name)):
+        # (a released sibling's near-spelling is a typo, whatever the .repos files hold)
+        return DistroProblem(
+            f"'{name}' is released in no ROS 2 distro (rosdep install fails on it)",
+            f"did you mean {near[0]}?",
+        )
+    if from_source or tag == "doc_depend":
+        return None
+    # neither released in an active distro nor a key of rosdep's rules, not in the workspace nor
+    # (by its name) in a repository a .repos file imports: `rosdep install` stops on it wherever it
+    # runs ("Cannot locate rosdep definition"); a warning while no target distro is known (a
+    # private rosdep source may define it), an error with one
+    hint = (
+        f"build {name} from source: put its repository in the workspace or in a .repos file beside the "
+        "packages (vcs import); or declare the released package or rosdep key it stands for"
+    )
+    ignored = ctx.ignored_packages().get(name)
+    if ignored is not None:
+        # (rosdep's --from-paths skips the folders colcon skips: catkin_pkg's ignore markers)
+        folder, marker = ignored
+        base = ctx.workspace_base or folder.parent
+        shown = marker.relative_to(base) if marker.is_relative_to(base) else marker
+        hint = (
+            f"{name} is in the workspace, but {shown} hides it from colcon and from rosdep's "
+            f"--ignore-src: delete {marker.name} to build it, or drop the dependency"
+        )
+    return DistroProblem(
+        f"'{name}' is released in no active ROS 2 distro and is no rosdep key: `rosdep install` fails "
+        "on it on every machine, whatever the distro",
+        hint,
+        None if ctx.distros else Severity.WARNING,
     )
 
 
@@ -395,14 +431,19 @@ def _not_in_distro(ctx: CheckContext, name: str, *, declared: bool) -> tuple[str
     area="manifest",
     bad=("<!-- package.xml, targeting jazzy -->\n<exec_depend>gazebo_ros</exec_depend>"),
     good=("<!-- package.xml -->\n<exec_depend>ros_gz_sim</exec_depend>"),
-    summary="a package used or declared is not released for the target ROS 2 distro",
+    summary="a package used or declared is not released for the target ROS 2 distro, or is "
+    "released nowhere and no rosdep key",
     explanation="rosdep and the binary packages install only what is released for the "
     "distro: on a clean machine the dependency cannot be installed (gazebo_ros "
     "after Humble, ROS 1 names such as rviz or roslaunch, a typo in package.xml). "
     "The target distro comes from --distro, ROS_DISTRO, pkgforge.toml [verify] "
     "distro or the package's CI files (not a matrix that names several branches, "
     "nor a scheduled build of another branch); without one, a package released in "
-    "any active distro counts.",
+    "any active distro counts. A declared name released in no active distro, that is no key "
+    "of rosdep's rules (ros/rosdistro rosdep/*.yaml: eigen, python3-numpy), not in the "
+    "workspace and not plausibly in a repository a .repos/.rosinstall file imports fails "
+    "`rosdep install` on every machine: an error with a target distro, a warning without "
+    "(a private rosdep source may define it).",
     hint="use the ROS 2 package released for the distro",
 )
 def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
@@ -416,14 +457,15 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
         name = dependency.name
         if name in local or name in reported:
             continue
-        problem = _not_in_distro(ctx, name, declared=True)
+        problem = _not_in_distro(ctx, name, declared=True, tag=dependency.tag)
         if problem is not None:
             reported.add(name)
             yield Finding(
-                f"<{dependency.tag}>{name}</{dependency.tag}>: {problem[0]}",
+                f"<{dependency.tag}>{name}</{dependency.tag}>: {problem.message}",
                 manifest.path,
                 dependency.line,
-                hint=problem[1],
+                severity=problem.severity,
+                hint=problem.hint,
             )
     if not ctx.distros:
         return
@@ -455,7 +497,7 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
         found.sort()
         _, _, _, path, line, via = found[0]
         more = len({(f[1], f[2]) for f in found}) - 1
-        message = f"{via} '{name}': {problem[0]}" + (f" (and {more} more)" if more else "")
+        message = f"{via} '{name}': {problem.message}" + (f" (and {more} more)" if more else "")
         if all(settings[name]):
             # only with settings other than the defaults (moveit_resources' demo.launch.py runs
             # warehouse_ros_mongo only with db:=True): the default launch runs, that option fails
@@ -465,10 +507,10 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
                 path,
                 line,
                 severity=Severity.WARNING,
-                hint=f"{problem[1]}; or leave that setting unsupported on this distro",
+                hint=f"{problem.hint}; or leave that setting unsupported on this distro",
             )
             continue
-        yield Finding(message, path, line, hint=problem[1])
+        yield Finding(message, path, line, hint=problem.hint)
 
 
 @register(
@@ -645,3 +687,42 @@ def package_name_duplicate(ctx: CheckContext) -> Iterator[Finding]:
         hint="build one copy: put an empty COLCON_IGNORE file in each other copy's folder, or verify the "
         "folder of the one workspace you build",
     )
+
+
+@register(
+    "PF111",
+    "package-nested",
+    "warning",
+    area="manifest",
+    bad="# src/rob_description/package.xml and src/rob_description/rob_gazebo/package.xml",
+    good="# src/rob_description/package.xml and src/rob_gazebo/package.xml (beside it)",
+    summary="a package.xml inside another package's folder: colcon never finds that package",
+    explanation="colcon's discovery stops at the first folder with a package.xml and looks no "
+    "deeper: a package inside another package's folder is never built, installed or found by "
+    "`ros2 launch` (its launch files and models are not checked either). A folder the outer "
+    "package installs as data (a template its users copy) is not reported, nor one marked "
+    "AMENT_IGNORE or CATKIN_IGNORE, nor test fixtures under test/.",
+    hint="move the inner package's folder beside the outer package (a sibling folder under src/)",
+)
+def package_nested(ctx: CheckContext) -> Iterator[Finding]:
+    model = ctx.model
+    if not model.manifest.valid or not model.manifest.name:
+        return  # colcon may not take the outer folder for a package: it would look inside
+    installed = model.layout.installed_sources()
+    for name, folder in sorted(ctx.nested_packages().items(), key=lambda item: str(item[1])):
+        if any(source.is_relative_to(folder) for source in installed):
+            continue  # shipped as data (clearpath's project_bringup template): meant to be copied
+        if any(ctx.files.exists(folder / marker) for marker in ("AMENT_IGNORE", "CATKIN_IGNORE")):
+            continue  # colcon-ros ignores it on purpose
+        manifest = folder / "package.xml"
+        lines = ctx.files.lines(manifest)
+        line = next((n for n, text in enumerate(lines, start=1) if "<name>" in text), 1 if lines else None)
+        relative = folder.relative_to(model.path).as_posix()
+        yield Finding(
+            f"package '{name}' ({relative}/) is inside package '{model.manifest.name}': colcon stops "
+            f"at {model.path.name}/package.xml and never builds, installs or finds '{name}'",
+            manifest,
+            line,
+            hint=f"move {model.path.name}/{relative} beside {model.path.name} (a sibling folder, e.g. "
+            f"{model.path.parent.name}/{folder.name}), or delete it if it is a leftover copy",
+        )

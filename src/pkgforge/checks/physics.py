@@ -33,6 +33,18 @@ def _robots(ctx: CheckContext) -> Iterator[tuple[ModelResult, RobotStructure]]:
             yield result, robot
 
 
+def _unparsed_inertials(robot: RobotStructure) -> set[str | None]:
+    """The links whose <inertial> urdfdom cannot read (urdf-part-dropped names why): no mass or
+    inertia of theirs is checked here (one cause, one finding)."""
+    return {p.get("link") for p in robot.get("urdfdom", []) if p.get("part") == "inertial"}
+
+
+def _parts_dropped(robot: RobotStructure) -> set[str | None]:
+    """The links urdfdom stops reading partway (urdf-part-dropped): what they collide with is
+    not what the file says."""
+    return {p.get("link") for p in robot.get("urdfdom", []) if p.get("part")}
+
+
 def _links_that_move(robot: RobotStructure) -> set[str]:
     """The links a non-fixed joint moves (a massless frame is fine only on a fixed joint)."""
     return {
@@ -96,9 +108,10 @@ def _root(robot: RobotStructure) -> str | None:
 def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         moving = _links_that_move(robot)
+        unparsed = _unparsed_inertials(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
-            if inertial is None or (inertial.get("mass") or 0) > 0:
+            if inertial is None or (inertial.get("mass") or 0) > 0 or link["name"] in unparsed:
                 continue
             # mass 0 and no inertia on a link fixed to its parent: a frame (tool0, imu) that
             # physics engines merge into the parent; a common and harmless idiom
@@ -129,10 +142,13 @@ def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         moving = _links_that_move(robot)
         carried = _carrying_inertia(robot)
+        unparsed = _unparsed_inertials(robot)
         for link in robot["links"]:
             inertial = link.get("inertial")
             inertia = inertial.get("inertia") if inertial is not None else None
             if inertial is None or inertia is None or not (inertial.get("mass") or 0) > 0:
+                continue
+            if link["name"] in unparsed:
                 continue
             moments = physics.principal_moments(inertia)
             scale = max(abs(m) for m in moments) or 1.0
@@ -179,7 +195,10 @@ def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
 def collision_without_inertial(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
         root = _root(robot)
+        dropped = _parts_dropped(robot)
         for link in robot["links"]:
+            if link["name"] in dropped:
+                continue
             if link.get("collisions") and link.get("inertial") is None and link["name"] != root:
                 yield Finding(
                     f"link '{link['name']}' has {len(link['collisions'])} collision shape(s) and "
@@ -239,7 +258,11 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
             where = model_item_position(ctx, result, joint, limit.get("line") if limit else None)
             name = f"{joint['type']} joint '{joint['name']}'"
             if limit is None:
-                yield Finding(f"{name} has no <limit>", *where)
+                yield Finding(
+                    f"{name} has no <limit>: urdfdom refuses the whole model (robot_state_publisher "
+                    "exits at start and RViz shows no robot)",
+                    *where,
+                )
                 continue
             lower, upper = limit.get("lower") or 0.0, limit.get("upper") or 0.0
             if lower > upper:
@@ -248,6 +271,8 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
                     *where,
                     hint="swap lower and upper",
                 )
+            if limit.get("velocity") is None or limit.get("effort") is None:
+                continue  # absent or not a number: urdfdom refuses the model (urdf-invalid says so)
             if not (limit.get("velocity") or 0) > 0:
                 # SolidWorks' URDF exporter writes velocity="0": urdfdom, robot_state_publisher,
                 # joint_state_publisher and RViz accept and never read it (mycobot_ros2's 259

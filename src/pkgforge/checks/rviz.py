@@ -9,6 +9,7 @@ from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.urdf import link_names, root_link
 from pkgforge.diagnostics import Finding
+from pkgforge.model.ros1_names import RVIZ_CLASSES
 from pkgforge.model.rviz import ROBOT_MODEL
 
 # frames another node (localization, odometry) publishes; fine when no link has the name
@@ -115,4 +116,57 @@ def rviz_fixed_frame_unknown(ctx: CheckContext) -> Iterator[Finding]:
             hint=f"use a link of the model (its root is {example}); frames such as map, odom or world that "
             "another node publishes are accepted when no link has the name",
             fix={"frame": root} if root else None,
+        )
+
+
+# classes an RViz 1 config message names before "and N more", the robot's own displays first
+SHOWN_CLASSES = 4
+ROBOT_DISPLAYS = ("rviz/RobotModel", "rviz/TF")
+
+
+@register(
+    "PF504",
+    "rviz-ros1-config",
+    "error",
+    area="rviz",
+    fix="unsafe",
+    bad=("# rviz/display.rviz\n- Class: rviz/RobotModel\n  Robot Description: robot_description"),
+    good=(
+        "# rviz/display.rviz\n"
+        "- Class: rviz_default_plugins/RobotModel\n"
+        "  Description Source: Topic\n"
+        "  Description Topic:\n"
+        "    Value: /robot_description"
+    ),
+    summary="an RViz config is in RViz 1's format (rviz/RobotModel, rviz/TF, Robot Description:)",
+    explanation="rviz2 knows none of RViz 1's classes: each display, panel, tool and view named "
+    "rviz/... shows 'could not be loaded', so a ROS 1 config that rviz2 is started with shows no "
+    "robot and no TF. RViz 2's RobotModel reads the model from a topic (Description Topic "
+    "/robot_description), not from the robot_description parameter (Robot Description:). "
+    "`pkgforge fix --unsafe-fixes` converts the whole file as `pkgforge migrate` does (it rewrites "
+    "the file: comments and the window layout are not kept).",
+    hint="convert it: `pkgforge fix --unsafe-fixes` (or open it in rviz2, add the displays again "
+    "and save it)",
+)
+def rviz_ros1_config(ctx: CheckContext) -> Iterator[Finding]:
+    for config in ctx.rviz_configs:
+        if config.error or not config.ros1_classes:
+            continue
+        names: list[str] = []
+        # the robot's own displays first: what the user misses
+        classes = sorted(config.ros1_classes, key=lambda item: item[0] not in ROBOT_DISPLAYS)
+        for klass, _ in classes:
+            renamed = RVIZ_CLASSES.get(klass)
+            shown = f"{klass} → {renamed}" if renamed else f"{klass} (no RViz 2 class)"
+            if shown not in names:
+                names.append(shown)
+        more = len(names) - SHOWN_CLASSES
+        listed = ", ".join(names[:SHOWN_CLASSES]) + (f" and {more} more" if more > 0 else "")
+        robot = next((line for klass, line in classes if klass == "rviz/RobotModel"), None)
+        effect = "it shows no robot" if robot else "those fail to load"
+        yield Finding(
+            f"{config.path.name} is an RViz 1 config: rviz2 loads none of its rviz/ classes "
+            f"({listed}); {effect}",
+            config.path,
+            robot or config.ros1_classes[0][1],
         )

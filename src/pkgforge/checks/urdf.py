@@ -19,7 +19,7 @@ from pkgforge.launch.records import CommandRun, LaunchFile, Resolution
 from pkgforge.tree import InstallTree
 from pkgforge.urdf.meshes import MeshLookup
 from pkgforge.urdf.select import ModelResult
-from pkgforge.urdf.structure import JointDict, LinkDict, MeshDict, ModelError, RobotStructure
+from pkgforge.urdf.structure import JointDict, LinkDict, MeshDict, ModelError, RobotStructure, UrdfProblem
 
 
 def model_source_position(
@@ -161,10 +161,15 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
     covered = set()
     for result in ctx.model_results:
         error: ModelError = result.error or {}
+        if error.get("stage") == "ros1-xacro":
+            covered.add(str(result.installed))  # xacro-ros1-tag names the tags
+            continue
         if result.status in ("error", "timeout", "crashed") and error.get("stage", "xacro") == "xacro":
             covered.add(str(result.installed))
             if ctx.absent_include(error.get("message")) is not None:
                 continue  # model-unevaluated (declared) or missing-exec-depend (not) names the package
+            if ctx.unpredicted_file(error.get("message")) is not None:
+                continue  # a file of a package whose install is not known (unpredicted-lookup)
             if _undeclared_find(ctx, error.get("message")):
                 continue  # one defect, one diagnostic: missing-exec-depend names the package
             if _missing_file_given(ctx, result, error.get("message")):
@@ -216,6 +221,8 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 continue  # one defect, one diagnostic: missing-file or uninstalled-reference names it
             if ctx.absent_include(command.message) is not None:
                 continue  # model-unevaluated
+            if ctx.unpredicted_file(command.message) is not None:
+                continue  # unpredicted-lookup
             position = ctx.source_position(resolution, command.file, command.line)
             if position is None or position in seen:
                 continue
@@ -319,7 +326,7 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
                 )
         # xacro.process_file() in the launch file's own code (an OpaqueFunction) failing so
         for item in resolution.errors:
-            absent = ctx.absent_include(item.message) if item.type == "XacroException" else None
+            absent = ctx.absent_include(item.message)  # (xacro's own, or its stderr in an action's error)
             position = ctx.source_position(resolution, item.file, item.line)
             if absent is None or absent[0] not in ctx.model.manifest.declared() or position is None:
                 continue
@@ -355,7 +362,11 @@ def model_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     summary="a processed model is not a usable URDF",
     explanation="robot_state_publisher refuses it (or publishes a broken TF tree): no <robot>, "
     "duplicate names, a joint whose parent or child link does not exist, more than "
-    "one root link, a cycle, or not XML at all.",
+    "one root link, a cycle, or not XML at all. urdfdom (the parser of robot_state_publisher, "
+    "RViz and Gazebo) refuses the whole model for one joint it cannot read (an <origin> or "
+    "<axis> without 3 numbers, a <limit> without effort= or velocity=, an unknown type, a "
+    "<mimic> without joint=, a <dynamics> with neither damping nor friction), a material "
+    "defined twice under <robot>, or a <robot> without a name.",
     hint="fix the element named in the message",
 )
 def urdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
@@ -381,7 +392,29 @@ def urdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
         yield from _structure_problems(ctx, result, robot)
 
 
+def _urdfdom(
+    ctx: CheckContext, effects: tuple[str, ...]
+) -> Iterator[tuple[ModelResult, UrdfProblem, tuple[Path, int | None]]]:
+    """(result, problem, position) of what urdfdom refuses or drops in the processed models, one
+    per place and message (a macro used four times is one defect)."""
+    seen: set[tuple[str, Path, int | None]] = set()
+    for result in ctx.model_results:
+        robot = result.robot
+        if result.status != "ok" or robot is None or robot.get("root_tag") != "robot":
+            continue
+        for problem in robot.get("urdfdom", []):
+            if problem["effect"] not in effects:
+                continue
+            position = model_item_position(ctx, result, problem)
+            if (problem["message"], *position) not in seen:
+                seen.add((problem["message"], *position))
+                yield result, problem, position
+
+
 def _structure_problems(ctx: CheckContext, result: ModelResult, robot: RobotStructure) -> Iterator[Finding]:
+    for problem in robot.get("urdfdom", []):
+        if problem["effect"] == "model":
+            yield Finding(problem["message"], *model_item_position(ctx, result, problem))
     links, joints = robot.get("links", []), robot.get("joints", [])
     items: list[LinkDict] | list[JointDict]
     if not links:
@@ -631,6 +664,159 @@ def model_needs_arguments(ctx: CheckContext) -> Iterator[Finding]:
                 *position,
             )
     # a model too large to process is reported by file-not-read
+
+
+@register(
+    "PF408",
+    "xacro-ros1-tag",
+    "error",
+    area="model",
+    bad=(
+        "<!-- urdf/robot.urdf.xacro -->\n"
+        '<macro name="wheel" params="side">\n'
+        '  <link name="${side}_wheel"/>\n'
+        "</macro>"
+    ),
+    good=(
+        "<!-- urdf/robot.urdf.xacro -->\n"
+        '<xacro:macro name="wheel" params="side">\n'
+        '  <link name="${side}_wheel"/>\n'
+        "</xacro:macro>"
+    ),
+    summary="a model uses ROS 1's xacro tags without the xacro: prefix (<macro>, <property>, "
+    "<include>, <arg>, <if>, <unless>)",
+    explanation="ROS 1's xacro took them (deprecated since ROS Jade); ROS 2's xacro processes only "
+    "xacro:-prefixed tags and keeps the others as plain elements: a bare <macro>'s body is "
+    "evaluated where it stands (xacro fails with a Python NameError about a macro parameter), a "
+    "bare <property> defines nothing, <include> includes nothing, and <if> keeps its content "
+    "whatever the condition, inside an element urdfdom does not read.",
+    hint="add the xacro: prefix to each tag (<xacro:macro>, <xacro:property> ...), with "
+    'xmlns:xacro="http://www.ros.org/wiki/xacro" on <robot>',
+)
+def xacro_ros1_tag(ctx: CheckContext) -> Iterator[Finding]:
+    from pkgforge.urdf.ros1_xacro import describe
+
+    seen: set[tuple[Path, int | None]] = set()
+    for result in ctx.model_results:
+        error: ModelError = result.error or {}
+        robot = result.robot
+        if error.get("stage") == "ros1-xacro":
+            position = model_item_position(ctx, result, error)
+            if position not in seen:
+                seen.add(position)
+                yield Finding(
+                    f"xacro {result.installed.name}: {_untree_xacro(ctx, error.get('message'))}",
+                    *position,
+                    hint=error.get("hint"),
+                )
+        elif result.status == "ok" and robot is not None and robot.get("ros1_tags"):
+            tags = robot["ros1_tags"]
+            position = model_item_position(ctx, result, tags[0])
+            if position in seen:
+                continue
+            seen.add(position)
+            yield Finding(
+                f"{describe(tags, str(result.installed))}: ROS 1's xacro tags without the xacro: prefix, "
+                "which ROS 2's xacro keeps as plain elements: what they define, include or make "
+                f"conditional is not in {result.installed.name}'s robot",
+                *position,
+                hint=f"write <xacro:{tags[0]['tag']}> (each of them with the xacro: prefix), with "
+                'xmlns:xacro="http://www.ros.org/wiki/xacro" on <robot>',
+            )
+
+
+@register(
+    "PF409",
+    "urdf-part-dropped",
+    "error",
+    area="model",
+    bad=(
+        "<!-- urdf/robot.urdf -->\n"
+        "<visual>\n"
+        '  <origin xyz="0 0.1"/>\n'
+        '  <geometry><box size="0.1 0.1 0.1"/></geometry>\n'
+        "</visual>"
+    ),
+    good=(
+        "<!-- urdf/robot.urdf -->\n"
+        "<visual>\n"
+        '  <origin xyz="0 0.1 0"/>\n'
+        '  <geometry><box size="0.1 0.1 0.1"/></geometry>\n'
+        "</visual>"
+    ),
+    summary="urdfdom cannot read a link's <inertial>, <visual> or <collision> and drops it, and "
+    "what follows it in the link",
+    explanation="urdfdom (robot_state_publisher, RViz, Gazebo's URDF import) logs the error and "
+    "keeps the link without it: a part with an <origin> or <box size> or <mesh scale> without "
+    "3 numbers, no <geometry> or a shape it does not know (a capsule), a <sphere> or <cylinder> "
+    "without its numbers, a <mesh> without filename, a visual <material> without name, an "
+    "<inertial> without <mass> or with an <inertia> attribute missing. It stops reading the "
+    "link there: a failing <inertial> drops every visual and collision, a failing visual the "
+    "visuals after it and every collision, a failing collision the collisions after it. The "
+    "link is not drawn, or does not collide.",
+    hint="write the element as the URDF specification says: 3 numbers separated by spaces for xyz, "
+    "rpy, size and scale; a box, cylinder, sphere or mesh as the shape; <mass value> and all six "
+    "<inertia> attributes; a name on a visual's <material>",
+)
+def urdf_part_dropped(ctx: CheckContext) -> Iterator[Finding]:
+    for _, problem, position in _urdfdom(ctx, ("part",)):
+        yield Finding(problem["message"], *position)
+
+
+@register(
+    "PF410",
+    "urdf-material-color",
+    "warning",
+    area="model",
+    bad=(
+        "<!-- urdf/robot.urdf -->\n"
+        '<material name="red"><color rgba="1 0 0 1"/></material>\n'
+        '<link name="arm"><visual>...<material name="red"><color rgba="0 1 0 1"/></material></visual></link>'
+    ),
+    good=(
+        "<!-- urdf/robot.urdf -->\n"
+        '<material name="red"><color rgba="1 0 0 1"/></material>\n'
+        '<link name="arm"><visual>...<material name="green"><color rgba="0 1 0 1"/></material></visual></link>'
+    ),
+    summary="a link is drawn in another colour than its material says",
+    explanation="urdfdom keeps the first material of a name (under <robot> or in an earlier "
+    "visual) and gives it to every visual using the name, whatever colour the visual writes; it "
+    "reads an rgba with other than 4 numbers as black, drops a material whose rgba has a value "
+    "that is not a number from 0 to 1, and a visual naming a material no <material> before it "
+    "defines gets none: RViz draws those links in its default colour.",
+    hint="give each colour its own material name, and write rgba as 4 numbers from 0 to 1",
+)
+def urdf_material_color(ctx: CheckContext) -> Iterator[Finding]:
+    for _, problem, position in _urdfdom(ctx, ("color",)):
+        yield Finding(problem["message"], *position)
+
+
+@register(
+    "PF411",
+    "mimic-joint-unknown",
+    "error",
+    area="model",
+    bad=(
+        "<!-- urdf/robot.urdf (no joint is named finger_joint) -->\n"
+        '<joint name="finger2_joint" type="revolute">\n'
+        '  <mimic joint="finger_joint"/>'
+    ),
+    good=(
+        "<!-- urdf/robot.urdf -->\n"
+        '<joint name="finger2_joint" type="revolute">\n'
+        '  <mimic joint="finger1_joint"/>'
+    ),
+    summary="a joint's <mimic> names no moving joint of the model",
+    explanation="urdfdom does not check the name. joint_state_publisher takes the mimic joint's "
+    "position from the joint it names among those it publishes (a KeyError ends it when there is "
+    "none: a missing or fixed joint), and robot_state_publisher publishes the mimic joint's "
+    "transform only with that joint's position: its child link has no transform and RViz "
+    "shows it at the origin with an error.",
+    hint="name an existing revolute, continuous or prismatic joint in <mimic joint=...>",
+)
+def mimic_joint_unknown(ctx: CheckContext) -> Iterator[Finding]:
+    for _, problem, position in _urdfdom(ctx, ("mimic",)):
+        yield Finding(problem["message"], *position)
 
 
 def root_link(ctx: CheckContext, launch: LaunchFile) -> str | None:

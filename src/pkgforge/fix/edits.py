@@ -17,6 +17,8 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pkgforge.model.source import read_regular
+
 BOM = "\ufeff"
 
 
@@ -37,7 +39,7 @@ class SourceText:
 
     def __init__(self, path: Path):
         self.path = path
-        self.data = path.read_bytes()  # OSError: the caller says it cannot read
+        self.data = read_regular(path)  # OSError (a FIFO, a device too): the caller says it cannot read
         try:
             text = self.data.decode("utf-8")
         except UnicodeDecodeError as exc:
@@ -122,9 +124,9 @@ def parse_problem(path: Path, text: str) -> str | None:
 
             parse(text, path)
         elif name.endswith((".rviz", ".yaml", ".yml")):
-            import yaml
+            from pkgforge.model.yamlnodes import compose
 
-            yaml.compose(text)
+            compose(text)
     except Exception as exc:  # any parser's failure means: do not write
         return f"{type(exc).__name__}: {exc}".splitlines()[0]
     return None
@@ -156,7 +158,7 @@ def write_atomically(source: SourceText, new_text: str) -> Outcome:
     A symbolic link stays one: the file it points to is written."""
     path = Path(os.path.realpath(source.path))
     try:
-        current = path.read_bytes()
+        current = read_regular(path)
     except OSError as exc:
         return Outcome(source.path, False, f"cannot read it again: {exc.strerror or exc}")
     if current != source.data:
@@ -176,7 +178,7 @@ def write_atomically(source: SourceText, new_text: str) -> Outcome:
             stream.flush()
             os.fsync(stream.fileno())
         os.chmod(temporary, stat.S_IMODE(info.st_mode))
-        if path.read_bytes() != source.data:  # changed while the new text was being written
+        if read_regular(path) != source.data:  # changed while the new text was being written
             raise _Changed()
         os.replace(temporary, path)
         temporary = None

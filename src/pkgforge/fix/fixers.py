@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic
 from pkgforge.fix.edits import Edit, FileSet, SourceText, Unfixable
+from pkgforge.model.source import parse_python
 
 if TYPE_CHECKING:  # imported where used: `pkgforge fix` loads only what its fixers need
     import yaml
@@ -507,7 +508,7 @@ def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: st
     (destination, glob('folder/*')) tuples, or *helper('folder') calls."""
     source = ctx.files.get(setup_py.source.path)
     try:
-        tree = ast.parse(source.text)
+        tree = parse_python(source.text)
     except SyntaxError as exc:
         raise Unfixable(f"setup.py does not parse: {exc.msg}") from exc
     call = next(
@@ -595,9 +596,11 @@ def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: st
 def _yaml(source: SourceText) -> yaml.Node | None:  # None: an empty file
     import yaml
 
+    from pkgforge.model.yamlnodes import compose
+
     try:
-        return yaml.compose(source.text)
-    except yaml.YAMLError as exc:
+        return compose(source.text)
+    except yaml.YAMLError as exc:  # (past the reader's bounds too)
         raise Unfixable(f"{source.path.name} is not valid YAML") from exc
 
 
@@ -624,22 +627,20 @@ def _replace_scalar(node: yaml.Node, value: str) -> Edit:
 
 
 def _find_display(node: yaml.Node | None, line: int) -> yaml.MappingNode | None:
-    """The mapping whose Class value stands at `line` (a display, possibly in a group)."""
+    """The mapping whose Class value stands at `line` (a display, possibly in a group), the first
+    in the file's order."""
     import yaml
 
-    if isinstance(node, yaml.MappingNode):
-        entries = _mapping(node)
-        if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
-            return node
-        children = [value for _, value in node.value]
-    elif isinstance(node, yaml.SequenceNode):
-        children = node.value
-    else:
-        return None
-    for child in children:
-        found = _find_display(child, line)
-        if found is not None:
-            return found
+    todo = [node]
+    while todo:  # (no recursion: the config nests as deep as the reader lets it)
+        current = todo.pop()
+        if isinstance(current, yaml.MappingNode):
+            entries = _mapping(current)
+            if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
+                return current
+            todo += reversed([value for _, value in current.value])
+        elif isinstance(current, yaml.SequenceNode):
+            todo += reversed(current.value)
     return None
 
 
@@ -730,6 +731,30 @@ def fix_fixed_frame(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     return fix
 
 
+@fixer("rviz-ros1-config")
+def fix_rviz1_config(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
+    """The whole config converted as `pkgforge migrate` converts one (unsafe: the file is written
+    anew, its comments and RViz 1's window layout are not kept, classes RViz 2 lacks are left out)."""
+    from pkgforge.errors import PkgforgeError
+    from pkgforge.migrate.notes import Notes
+    from pkgforge.migrate.rviz1 import convert
+
+    source = ctx.files.get(diagnostic.path)
+    notes = Notes(diagnostic.package)
+    try:
+        converted = convert(source.text, source.path, notes, set(), None, by="pkgforge fix")
+    except PkgforgeError as exc:
+        raise Unfixable(str(exc).split(": ", 1)[-1]) from exc
+    renamed = sum(1 for d in notes.diagnostics if d.name == "migrate-renamed")
+    dropped = sum(1 for d in notes.diagnostics if d.name == "migrate-dropped")
+    fix = Fix(
+        f"converted to RViz 2: {renamed} class(es) renamed"
+        + (f", {dropped} without an RViz 2 class left out" if dropped else "")
+    )
+    fix.add(source.path, Edit(0, len(source.text), converted.replace("\n", source.eol)))
+    return fix
+
+
 # --- models ------------------------------------------------------------------------------------------
 
 
@@ -769,7 +794,7 @@ def fix_mesh_case(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
 
 def _python(source: SourceText) -> ast.Module:
     try:
-        return ast.parse(source.text)
+        return parse_python(source.text)
     except SyntaxError as exc:
         raise Unfixable(f"{source.path.name} does not parse: {exc.msg}") from exc
 

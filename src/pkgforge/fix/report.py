@@ -6,6 +6,7 @@ from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from pkgforge.report import printable
 from pkgforge.report.text import location, render
 
 if TYPE_CHECKING:
@@ -19,11 +20,13 @@ def render_fix(run: FixRun, *, strict: bool = False, color: bool = False) -> tup
     verb = "would fix" if _diff_mode(run) else "fixed"
     for applied in run.fixed:
         d = applied.diagnostic
-        lines.append(f"{verb} {location(d, root)}: {d.code} {d.name}: {applied.description}")
+        lines.append(f"{verb} {location(d, root)}: {d.code} {d.name}: {printable(applied.description)}")
     for outcome in run.failures:
-        lines.append(f"pkgforge: error: {_shown(outcome.path, root)} not written: {outcome.problem}")
+        lines.append(
+            printable(f"pkgforge: error: {_shown(outcome.path, root)} not written: {outcome.problem}")
+        )
     for d, why in run.not_fixed:
-        lines.append(f"not fixed {location(d, root)}: {d.code} {d.name}: {why}")
+        lines.append(f"not fixed {location(d, root)}: {d.code} {d.name}: {printable(why)}")
     if run.unsafe_available:
         counts = Counter(f"{d.code} {d.name}" for d in run.unsafe_available)
         lines.append(

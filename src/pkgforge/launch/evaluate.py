@@ -7,6 +7,7 @@ value (so both sides of `gui` are checked); `--launch-arg` values are fixed.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib.util
 import itertools
 import os
@@ -26,6 +27,7 @@ from pkgforge.launch.records import (
     LaunchResultDict,
     Recorder,
     Status,
+    UnsetUse,
     as_dict,
     evaluate_branches,
     from_dict,
@@ -248,7 +250,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         # the built-in front end's refusal of an element wraps what building it raised: that
         # error (launch's own, as the real engine reports it) at the element's line
         shown = error.__cause__
-    message = f"{type(shown).__name__}: {shown}"
+    message = runtime.failure_text(shown)
     if isinstance(error, SystemExit):
         message = f"SystemExit: the launch file called sys.exit({error.code!r})"
     if isinstance(error, ImportError) and not isinstance(error, ModuleNotFoundError):
@@ -258,7 +260,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         message = IMPORTED_FROM.sub("", message)
     record: ErrorRecordDict = {
         "stage": stage,
-        "type": type(shown).__name__,
+        "type": runtime.failure_type(shown),
         "message": message,
         "file": path,
         "line": _location_in(path, error),
@@ -300,11 +302,27 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     line = getattr(error, "line", None)  # the built-in front end's FrontendError
     if line and type(error).__name__ == "FrontendError":
         record["line"] = line
+    if record["line"] is None and stage == "load":
+        record["line"] = _null_byte_line(path, message)
     frames = traceback.extract_tb(error.__traceback__)
     origin = next((f for f in reversed(frames) if f.filename in runtime._LAUNCH_FILES), None)
     if origin is not None:
         record["file"], record["line"] = origin.filename, origin.lineno
     return as_dict(from_dict(Error, record))
+
+
+def _null_byte_line(path: str, message: str) -> int | None:
+    """Python's refusal of a launch file with a NUL byte (a UTF-16 file) names no line: the line
+    of the file's first NUL, when the file itself has one (not a module it imports)."""
+    if "source code string cannot contain null bytes" not in message or not path.endswith(".py"):
+        return None
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError:
+        return None
+    index = data.find(b"\0")
+    return data.count(b"\n", 0, index) + 1 if index >= 0 else None
 
 
 # what an event handler runs with the event's effects (nav2_minimal_tb4_sim's OnShutdown
@@ -350,20 +368,174 @@ def visit(
                 )
                 if not taken:
                     continue
+            executed(entity)
             children = entity.visit(context)
         except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
             if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
                 record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
             continue
         if children:
-            registered = type(entity).__name__ == "RegisterEventHandler"
             spans = child_spans(entity, start, ancestors, loading)
-            if not registered:
+            kind = type(entity).__name__
+            if isinstance(entity, runtime.TimerAction):  # (ROSTimer too)
+                defer(
+                    context,
+                    list(children),
+                    "TimerAction",
+                    None,
+                    depth + 1,
+                    in_handler,
+                    spans,
+                    context.current_file,
+                )
+            elif kind == "RegisterEventHandler":
+                handler = getattr(entity, "event_handler", None)
+                event = runtime.handler_event(handler, getattr(handler, "target_action", None))
+                kind = type(handler).__name__
+                defer(context, list(children), kind, event, depth + 1, True, spans, context.current_file)
+            else:
                 visit(list(children), context, depth + 1, in_handler, *spans)
+
+
+@dataclasses.dataclass
+class Deferred:
+    """Entities launch runs after the launch description is done (both engines): a TimerAction's
+    actions when its period has passed, an event handler's when its event comes. Launch visits
+    the whole description at once, then handles events: these run with the launch
+    configurations, environment and namespace as the description left them (a scoped
+    GroupAction they stood in has ended: ros2/launch#825), and with the locals they had where
+    they stood (a TimerAction keeps them; for a handler, so that ThisLaunchFileDir still names
+    its file)."""
+
+    entities: list[object]
+    kind: str  # TimerAction, or the handler's class (OnProcessExit, OnShutdown...)
+    event: object | None  # the stand-in event a handler's entities see; None for a timer
+    locals: dict[str, Any]
+    configurations: frozenset[str]  # the launch configurations set where it stood
+    current_file: str | None  # the built-in engine's file being visited there
+    depth: int
+    in_handler: bool
+    spans: tuple[ReadSpans, ReadSpans]
+    # the action whose process the handler watches (target_action): its event never comes when the
+    # action never executes (its condition false), and then neither do the handler's entities
+    target: object | None = None
+
+
+DEFERRED: list[Deferred] = []  # in the order they were met (launch's order when all come at once)
+RUNNING: list[Deferred] = []  # the deferred entities being visited
+EXECUTED: set[int] = set()  # the actions the visit executed (their condition held), by id()
+
+
+def executed(entity: object) -> None:
+    """`entity` is executed in this visit (both engines: its condition held)."""
+    EXECUTED.add(id(entity))
+
+
+def defer(
+    context: Any,
+    entities: list[object],
+    kind: str,
+    event: object | None,
+    depth: int,
+    in_handler: bool,
+    spans: tuple[ReadSpans, ReadSpans],
+    current_file: str | None = None,
+) -> None:
+    """Keep a timer's or a handler's entities for when the description is done (both engines)."""
+    configurations = frozenset(k for k in context.launch_configurations if isinstance(k, str))
+    # (read without marking the stand-in event as read: runtime.HandledEvent)
+    target = vars(event).get("action") if isinstance(event, runtime.HandledEvent) else None
+    DEFERRED.append(
+        Deferred(
+            entities,
+            kind,
+            event,
+            dict(context.get_locals_as_dict()),
+            configurations,
+            current_file,
+            depth,
+            in_handler,
+            spans,
+            target,
+        )
+    )
+
+
+def run_deferred(context: Any, run: Callable[[Deferred], None]) -> None:
+    """Visit what timers and handlers would run, once the description is done, in the order they
+    were met (and what those register, after them): `run(item)` visits one's entities. A handler
+    of a process whose action has not executed waits for it (a TimerAction may start it); one
+    whose action never executes never runs, as its event never comes."""
+    waiting: list[Deferred] = []
+    while True:
+        while DEFERRED:
+            item = DEFERRED.pop(0)
+            if item.target is not None and id(item.target) not in EXECUTED:
+                waiting.append(item)
                 continue
-            handler = getattr(entity, "event_handler", None)
-            with handling(context, runtime.handler_event(handler, getattr(handler, "target_action", None))):
-                visit(list(children), context, depth + 1, True, *spans)
+            _run_deferred(context, item, run)
+        ready = [w for w in waiting if id(w.target) in EXECUTED]
+        if not ready:
+            return
+        waiting = [w for w in waiting if id(w.target) not in EXECUTED]
+        DEFERRED.extend(ready)
+
+
+def _run_deferred(context: Any, item: Deferred, run: Callable[[Deferred], None]) -> None:
+    context._push_locals()
+    context.extend_locals(item.locals)
+    RUNNING.append(item)
+    try:
+        if item.event is None:
+            run(item)
+        else:
+            with handling(context, item.event):
+                run(item)
+    finally:
+        RUNNING.pop()
+        context._pop_locals()
+
+
+def begin_visit() -> int:
+    """Before one visit (both engines): nothing deferred or unsettled from another; the mark
+    settle_unset_uses needs."""
+    DEFERRED.clear()
+    RUNNING.clear()
+    EXECUTED.clear()
+    RECORDER.unset_uses.clear()
+    RECORDER.unfollowed.clear()
+    RECORDER.failed_sets.clear()
+    return len(RECORDER.required)
+
+
+def settle_unset_uses(declared_from: int) -> None:
+    """After one visit (both engines): each use of a launch configuration not set is verify's
+    want of a value when the visit declared that argument without a default (`ros2 launch`
+    refuses to start without it: the user gives it, PF309 says so), and what needed it is
+    skipped; any other is launch's SubstitutionFailure, an error at the substitution."""
+    declared = {r.name for r in RECORDER.required[declared_from:] if r.skipped is None}
+    uses, RECORDER.unset_uses = RECORDER.unset_uses, []
+    for use in uses:
+        if use.name in declared or use.after_failed_set:
+            file, line = use.entity_at
+            RECORDER.add("required", {"name": use.name, "skipped": use.entity, "file": file, "line": line})
+            continue
+        file, line = use.at if use.at[1] is not None else use.entity_at
+        RECORDER.add(
+            "errors",
+            {
+                "stage": "visit",
+                "type": "SubstitutionFailure",
+                "message": f"launch configuration '{use.name}' does not exist",
+                "file": file,
+                "line": line,
+                "entity": use.entity,
+                "configuration": use.name,
+                "deferred": use.deferred,
+                "scoped_away": use.scoped_away,
+                "unevaluated_include": use.unevaluated_include,
+            },
+        )
 
 
 @contextlib.contextmanager
@@ -402,12 +574,65 @@ def child_spans(
     )
 
 
+def _configurations_set_by(entity: object) -> set[str]:
+    """The launch configurations `entity` sets when it executes, as far as its names are plain
+    text (both engines' DeclareLaunchArgument, SetLaunchConfiguration (<let>) and include
+    arguments): when it fails, a use of them after it fails as a consequence, not on its own."""
+    kind = type(entity).__name__
+    if kind == "DeclareLaunchArgument":
+        name = getattr(entity, "name", None)
+        return {name} if isinstance(name, str) else set()
+    names: list[object] = []
+    if kind == "SetLaunchConfiguration":
+        names = [getattr(entity, "name", None)]
+    elif kind in INCLUDES:
+        names = [pair[0] for pair in getattr(entity, "launch_arguments", None) or [] if len(pair) == 2]
+    return {text for text in map(_plain_name, names) if text}
+
+
+def _plain_name(name: object) -> str | None:
+    """A configuration's name given as text (a str, or TextSubstitutions only), else None."""
+    if isinstance(name, str):
+        return name
+    parts = name if isinstance(name, (list, tuple)) else [name]
+    texts = [getattr(part, "text", None) for part in parts]
+    return (
+        "".join(t for t in texts if isinstance(t, str))
+        if texts and all(isinstance(t, str) for t in texts)
+        else None
+    )
+
+
 def record_visit_failure(
     entity: object, error: Exception, spans: Spans | None = None, loading: Spans | None = None
 ) -> None:
     """What an entity's failure during the visit records; the visit goes on (both engines).
     `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors';
     `loading`: those the included files it came from made while loading."""
+    unset = runtime.missing_configuration(error)
+    would_set = _configurations_set_by(entity)
+    if unset is not None:  # settled when the visit is done (settle_unset_uses)
+        name, at = unset
+        running = RUNNING[-1] if RUNNING else None
+        RECORDER.unset_uses.append(
+            UnsetUse(
+                name,
+                type(entity).__name__,
+                (getattr(entity, "_file", None), getattr(entity, "_line", None)),
+                at,
+                running.kind if running else None,
+                running is not None and name in running.configurations,
+                RECORDER.unfollowed[-1] if RECORDER.unfollowed else None,
+                name in RECORDER.failed_sets,
+            )
+        )
+        RECORDER.failed_sets.update(would_set)
+        return
+    RECORDER.failed_sets.update(would_set)
+    if type(entity).__name__ in INCLUDES:  # what the included file declares is not known now
+        located = (getattr(entity, "_file", None), getattr(entity, "_line", None))
+        last = RECORDER.includes[-1] if RECORDER.includes else None
+        RECORDER.unfollowed.append(last.path if last and (last.file, last.line) == located else "")
     if isinstance(error, Unresolved):
         RECORDER.add("required", {"name": error.name, "skipped": type(entity).__name__}, entity)
         return
@@ -596,7 +821,18 @@ def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None)
         context.current_file = path
         context.launch_configurations.update(overrides)
         context.launch_configurations.update(values)
+        declared_from = begin_visit()
         visit([description], context)
+
+        def run_one(item: Deferred) -> None:
+            previous, context.current_file = context.current_file, item.current_file
+            try:
+                visit(item.entities, context, item.depth, item.in_handler, *item.spans)
+            finally:
+                context.current_file = previous
+
+        run_deferred(context, run_one)
+        settle_unset_uses(declared_from)
 
     branching = evaluate_branches(RECORDER, path, overrides, run, budget)
     result = _result("ok", None, RECORDER)

@@ -22,6 +22,8 @@ import yaml
 from lxml import etree
 
 from pkgforge.launch import runtime as rt
+from pkgforge.model.source import NotRegularFile, open_regular
+from pkgforge.model.yamlnodes import YAMLLimit, compose, load
 
 Subs = list[rt.Substitution]  # one attribute's text as substitutions (parse_substitution)
 Attribute = str | list[str]  # an XML attribute, or a YAML scalar or list of scalars
@@ -34,6 +36,19 @@ class FrontendError(Exception):
     def __init__(self, message: str, line: int | None) -> None:
         super().__init__(message)
         self.line = line
+
+
+def decoded(data: bytes) -> str:
+    """A front-end launch file's text as launch reads it: `open(file, 'r')` (launch.frontend's
+    Parser.load), so the locale's encoding, UTF-8 where ROS 2 runs (it requires a UTF-8 locale),
+    strict. A byte that is not UTF-8 refuses the file whatever its BOM or XML declaration says
+    (a UTF-16 file, a Latin-1 one declaring encoding="ISO-8859-1"): FrontendError at the line of
+    the first such byte, caused by the UnicodeDecodeError launch raises. Both engines say it
+    through this function: the position is in the whole file (launch decodes it in chunks)."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise FrontendError(str(error), data.count(b"\n", 0, error.start) + 1) from error
 
 
 # --- substitution syntax --------------------------------------------------------------------
@@ -238,8 +253,18 @@ class Element:
         return self.attrs.get(name, default)
 
     def sub(self, name: str) -> Subs | None:
+        """An attribute's substitutions, standing on this element's line (an <include>'s <arg>,
+        a <remap>: their own line, as the real front end locates what each element reads)."""
         value = self.get(name)
-        return None if value is None else parse_substitution(str(value))
+        if value is None:
+            return None
+        rt._FRONTEND_LOCATION.append(
+            (rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None, self.line)
+        )
+        try:
+            return parse_substitution(str(value))
+        finally:
+            rt._FRONTEND_LOCATION.pop()
 
     def named(self, tag: str) -> list[Element]:
         return [c for c in self.children if c.tag == tag]
@@ -275,22 +300,28 @@ def _from_yaml(tag: str, node: yaml.Node, line: int | None) -> Element:
 
 def parse_file(path: str, kind: str) -> rt.LaunchDescription:
     rt._LAUNCH_FILES.add(path)
-    with open(path, "rb") as handle:
-        data = handle.read()
+    try:
+        handle = open_regular(path)[0]  # an included FIFO or /dev/zero: no read that never ends
+    except NotRegularFile as error:
+        raise FrontendError(str(error.strerror), None) from None
+    with open(handle, "rb", closefd=True) as stream:
+        data = stream.read()
+    text = decoded(data)
     if kind == "xml":
         try:
+            # the bytes, not the text: expat, under launch's ElementTree, still reads the XML
+            # declaration of the text it is given (ISO-8859-1 declared: each UTF-8 byte a character)
             root = etree.fromstring(data, etree.XMLParser(remove_comments=True, resolve_entities=False))
         except etree.XMLSyntaxError as error:
             raise FrontendError(f"not well-formed XML: {error.msg}", error.lineno) from None
         element = _from_xml(root)
     else:
-        try:
-            from pkgforge.model.yamlnodes import compose  # libyaml; the same nodes and errors
-
-            document = compose(data.decode("utf-8"))
-        except yaml.YAMLError as error:
+        try:  # (libyaml's nodes and PyYAML's errors: model.yamlnodes)
+            document = compose(text)
+        except yaml.YAMLError as error:  # (past the reader's bounds too: nesting, aliases)
             mark = getattr(error, "problem_mark", None)
-            raise FrontendError(f"not valid YAML: {error}", mark.line + 1 if mark else None) from None
+            words = error.problem if isinstance(error, YAMLLimit) else f"not valid YAML: {error}"
+            raise FrontendError(str(words), mark.line + 1 if mark else None) from None
         if not isinstance(document, yaml.MappingNode) or not document.value:
             raise FrontendError("a YAML launch file is a mapping with a 'launch' list", 1)
         key, value = document.value[0]
@@ -340,7 +371,7 @@ def _flag(element: Element, name: str) -> bool | None:
     if value is None:
         return None
     text = {"1": "true", "0": "false"}.get(str(value), str(value))
-    loaded = yaml.safe_load(text) if text else text
+    loaded = load(text) if text else text
     if not isinstance(loaded, bool):
         raise FrontendError(f"Cannot convert value '{value}' to '{bool}'", element.line)
     return loaded
@@ -399,15 +430,19 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
     if tag == "reset":
         return rt.ResetLaunchConfigurations(_keeps(element), condition=condition)
     if tag == "node":
+        ros_args = element.get("ros_args")
         return rt.Node(
             package=element.sub("pkg"),
             executable=element.sub("exec"),
             name=element.sub("name"),
             namespace=element.sub("namespace"),
+            exec_name=element.sub("exec_name"),
             arguments=_arguments(element.get("args")),
+            ros_arguments=None if ros_args is None else _arguments(ros_args),
             parameters=_parameters(element),
             remappings=[(r.sub("from"), r.sub("to")) for r in element.named("remap")],
             condition=condition,
+            **_process_options(element),
         )
     if tag == "node_container":
         return rt.ComposableNodeContainer(
@@ -426,7 +461,13 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             condition=condition,
         )
     if tag == "executable":
-        return rt.ExecuteProcess(cmd=_arguments(element.get("cmd")), condition=condition)
+        return rt.ExecuteProcess(
+            cmd=_arguments(element.get("cmd")),
+            shell=bool(_flag(element, "shell")),
+            name=element.sub("name"),
+            condition=condition,
+            **_process_options(element),
+        )
     if tag == "set_env":
         return rt.SetEnvironmentVariable(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "append_env":
@@ -466,6 +507,24 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
     return recorded
 
 
+def _process_options(element: Element) -> dict[str, Any]:
+    """What launch's ExecuteProcess.parse reads of a <node> or <executable> that its execute
+    performs: cwd, launch-prefix, output, respawn and the <env> children (additional_env)."""
+    options: dict[str, Any] = {}
+    for attribute, keyword in (
+        ("cwd", "cwd"),
+        ("launch-prefix", "prefix"),
+        ("output", "output"),
+        ("respawn", "respawn"),
+    ):
+        if element.get(attribute) is not None:
+            options[keyword] = element.sub(attribute)
+    variables = element.named("env")
+    if variables:
+        options["additional_env"] = {tuple(_required(e.sub("name"))): e.sub("value") for e in variables}
+    return options
+
+
 def _composable(element: Element) -> rt.ComposableNode:
     with _located_at(element):
         return _composable_here(element)
@@ -497,10 +556,27 @@ def _parameters(element: Element) -> list[rt.ParameterFile | ParameterDict]:
     for param in element.named("param"):
         with _located_at(param):
             if param.get("from") is not None:
-                out.append(rt.ParameterFile(param.sub("from")))
+                allowed = param.get("allow_substs")
+                substs = False if allowed is None else _allow_substs(param, allowed)
+                out.append(rt.ParameterFile(param.sub("from"), allow_substs=substs))
             else:
                 out.append(_parameter_dict([param]))
     return out
+
+
+def _allow_substs(param: Element, value: Attribute) -> bool | Subs:
+    """<param from=... allow_substs=...>: read as a bool (launch's get_attr(data_type=bool));
+    text that is no bool is substitutions, as launch_ros takes it."""
+    if isinstance(value, str):
+        text = {"1": "true", "0": "false"}.get(value, value)
+        try:
+            loaded = yaml.safe_load(text) if text else text
+        except yaml.YAMLError:
+            loaded = None
+        if isinstance(loaded, bool):
+            return loaded
+        return parse_substitution(value)
+    return bool(value)
 
 
 # name -> value, or a nested dict of them (as launch_ros's front end builds it)

@@ -31,7 +31,16 @@ NodeKind = Literal["node", "process"]
 ParameterForm = Literal["plain", "typed", "typed-str", "command-untyped", "file"]
 ErrorStage = Literal["load", "visit", "worker", "sandbox"]  # sandbox: the worker's guard (sandbox/worker.py)
 RecordKind = Literal[
-    "nodes", "packages", "paths", "includes", "commands", "conditions", "unsupported", "required", "errors"
+    "nodes",
+    "packages",
+    "paths",
+    "includes",
+    "commands",
+    "conditions",
+    "unsupported",
+    "required",
+    "errors",
+    "executions",
 ]
 Branch = dict[str, "str | None"]  # argument name -> value of one evaluation (None: declared without default)
 
@@ -73,6 +82,7 @@ class NodeRecordDict(RecordDict, total=False):
     remappings: list[list[str]]
     arguments: list[str]
     cmd: list[str] | None
+    shell: bool
 
 
 class PackageLookupRecordDict(RecordDict, total=False):
@@ -134,7 +144,23 @@ class ErrorRecordDict(RecordDict, total=False):
     read_from: str | None
     read_before: str | None
     event_values: bool
+    configuration: str | None
+    deferred: str | None
+    scoped_away: bool
+    unevaluated_include: str | None
     limit: LimitKind | None
+
+
+class ExecutionRecordDict(RecordDict, total=False):
+    action: str
+    cmd: list[str]
+    name: str | None
+    cwd: str | None
+    env: list[list[str]] | None
+    additional_env: list[list[str]]
+    output: str | None
+    respawn: bool
+    failure: str | None
 
 
 class StoppedBranchDict(TypedDict):
@@ -165,6 +191,7 @@ class RecordsDict(TypedDict, total=False):
     unsupported: list[UnsupportedRecordDict]
     required: list[RequiredRecordDict]
     errors: list[ErrorRecordDict]
+    executions: list[ExecutionRecordDict]
 
 
 class _StatusDict(TypedDict):
@@ -225,6 +252,7 @@ class Node(Record):
     remappings: list[list[str]] = field(default_factory=list)
     arguments: list[str] = field(default_factory=list)
     cmd: list[str] | None = None  # a plain process (ExecuteProcess)
+    shell: bool = False  # ExecuteProcess(shell=True): a shell splits its joined cmd into words
 
 
 @dataclass
@@ -302,7 +330,41 @@ class Error(Record):
     # an event handler's action failed on what only the run gives the event (event.cmd,
     # event.action.process_details): the stand-in event's empty values, not the file's defect
     event_values: bool = False
+    # a LaunchConfiguration with no default that nothing declared or set when it was performed
+    # (launch's SubstitutionFailure "launch configuration 'x' does not exist"): its name; the
+    # record stands at the substitution's line (runtime.missing_configuration)
+    configuration: str | None = None
+    # what the failing action ran after, as launch runs it once the description is done: the
+    # TimerAction or the event handler (OnProcessExit...) it is in, else None
+    deferred: str | None = None
+    # the configuration existed where that timer or handler stands, and a scoped GroupAction
+    # (or an include in one) took it away before it ran (ros2/launch#825)
+    scoped_away: bool = False
+    # a launch file included before the failing action that could not be evaluated here (its
+    # package not installed, or it failed): it may declare the configuration, as launch lets an
+    # included file's declarations stand after the include; None: none
+    unevaluated_include: str | None = None
     limit: LimitKind | None = None  # a worker limit hit (never cached)
+
+
+@dataclass
+class Execution(Record):
+    """What executing an action performs before it would start its process (launch's
+    ExecuteLocal.prepare and launch_ros's Node._perform_substitutions): what the process would
+    be given, or the failure that stops the launch there. One per action that executes."""
+
+    action: str = ""  # ExecuteProcess, Node, LifecycleNode, ComposableNodeContainer
+    # the command: the launch-prefix's words, then the action's own command (a node's executable,
+    # arguments and ros_arguments, with its name's remapping); launch_ros's own additions (the
+    # namespace, parameter files in temporary folders, remappings) left out
+    cmd: list[str] = field(default_factory=list)
+    name: str | None = None  # the process's label (exec_name, name, or the executable's), no counter
+    cwd: str | None = None
+    env: list[list[str]] | None = None  # env= given: the whole environment; None: the context's
+    additional_env: list[list[str]] = field(default_factory=list)
+    output: str | None = None  # None: a dict of outputs (not performed)
+    respawn: bool = False
+    failure: str | None = None  # "Type: message" of what stopped it; None: it would start
 
 
 KINDS: dict[RecordKind, type[Record]] = {
@@ -315,6 +377,7 @@ KINDS: dict[RecordKind, type[Record]] = {
     "unsupported": Unsupported,
     "required": Required,
     "errors": Error,
+    "executions": Execution,
 }
 ITEM_KINDS: tuple[RecordKind, ...] = tuple(KINDS)
 
@@ -371,6 +434,8 @@ def as_dict(record: Required) -> RequiredRecordDict: ...
 @overload
 def as_dict(record: Error) -> ErrorRecordDict: ...
 @overload
+def as_dict(record: Execution) -> ExecutionRecordDict: ...
+@overload
 def as_dict(record: Record) -> RecordDict: ...
 def as_dict(record: Record) -> RecordDict:
     """The record as plain data, for serialising at once: what dataclasses.asdict gives, but
@@ -422,6 +487,7 @@ class Recorder:
     unsupported: list[Unsupported] = field(default_factory=list)
     required: list[Required] = field(default_factory=list)
     errors: list[Error] = field(default_factory=list)
+    executions: list[Execution] = field(default_factory=list)
     # a Command run once per evaluation: its words -> (ok, output, message, extra record fields)
     command_cache: dict[tuple[str, ...], tuple[bool, str, str, CommandRunRecordDict]] = field(
         default_factory=dict
@@ -432,6 +498,14 @@ class Recorder:
     # not installed here, that the file opened or listed (not sent: what a load failure came from)
     stand_in_reads: list[str] = field(default_factory=list)
     load_reads: int = 0  # how many of those loading the file made (they count for every action)
+    # the current visit's uses of launch configurations not set (not sent: settled into required
+    # or errors records when the visit is done)
+    unset_uses: list[UnsetUse] = field(default_factory=list)
+    # the current visit's includes not followed (not installed here, or failed): what they
+    # would have declared is not known (not sent)
+    unfollowed: list[str] = field(default_factory=list)
+    # the configurations actions that failed in the current visit would have set (not sent)
+    failed_sets: set[str] = field(default_factory=set)
 
     # one signature per kind: the item's keys are checked against that record's TypedDict
     @overload
@@ -462,6 +536,10 @@ class Recorder:
     def add(self, kind: Literal["required"], item: RequiredRecordDict, obj: object = None) -> Required: ...
     @overload
     def add(self, kind: Literal["errors"], item: ErrorRecordDict, obj: object = None) -> Error: ...
+    @overload
+    def add(
+        self, kind: Literal["executions"], item: ExecutionRecordDict, obj: object = None
+    ) -> Execution: ...
     def add(self, kind: RecordKind, item: Mapping[str, Any], obj: object = None) -> Record:
         data = dict(item)
         if obj is not None:
@@ -496,6 +574,25 @@ class Recorder:
         out["unsupported"] = [as_dict(r) for r in self.unsupported]
         out["required"] = [as_dict(r) for r in self.required]
         out["errors"] = [as_dict(r) for r in self.errors]
+        out["executions"] = [as_dict(r) for r in self.executions]
+
+
+@dataclass
+class UnsetUse:
+    """A LaunchConfiguration with no default performed where no value is set (launch's
+    SubstitutionFailure): an error unless the visit declares it as a launch argument without a
+    default (verify has no value for it then, and records it as required). Which one is known
+    once the visit is done: a declaration may come after the use (evaluate.settle_unset_uses)."""
+
+    name: str
+    entity: str  # the action that failed
+    entity_at: tuple[str | None, int | None]
+    at: tuple[str | None, int | None]  # the substitution's place (the entity's when not known)
+    deferred: str | None = None  # Error.deferred
+    scoped_away: bool = False  # Error.scoped_away
+    unevaluated_include: str | None = None  # Error.unevaluated_include
+    # an action before it that would have set it failed: a consequence of that failure
+    after_failed_set: bool = False
 
 
 @dataclass(frozen=True)
@@ -522,6 +619,7 @@ class Resolution:
     unsupported: list[Unsupported] = field(default_factory=list)
     required: list[Required] = field(default_factory=list)
     errors: list[Error] = field(default_factory=list)
+    executions: list[Execution] = field(default_factory=list)
     files: list[str] = field(default_factory=list)  # every launch file evaluated (includes too)
     branches: int = 1
     branch_names: list[str] = field(default_factory=list)
@@ -577,6 +675,7 @@ def resolution_from_reply(launch: LaunchFile, reply: LaunchResultDict) -> Resolu
     resolution.unsupported = _merged(Unsupported, reply.get("unsupported", []), labels)
     resolution.required = _merged(Required, reply.get("required", []), labels)
     resolution.errors = _merged(Error, reply.get("errors", []), labels)
+    resolution.executions = _merged(Execution, reply.get("executions", []), labels)
     resolution.branch_names = sorted(b for b in labels if b)
     resolution.branches = max(1, len(resolution.branch_names))
     return resolution

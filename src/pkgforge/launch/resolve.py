@@ -11,7 +11,6 @@ import json
 import os
 import queue
 import secrets
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -30,17 +29,19 @@ from pkgforge.launch.records import LaunchResultDict, Resolution, resolution_fro
 from pkgforge.model.package import PackageModel
 from pkgforge.model.references import launch_kind
 from pkgforge.sandbox import processes
-from pkgforge.sandbox.coordinator import KILL_GRACE, WORK_VARIABLE, death_message, timeout_reply
+from pkgforge.sandbox.coordinator import KILL_GRACE, MAX_REPLY, WORK_VARIABLE, death_message, timeout_reply
 from pkgforge.sandbox.protocol import Confinement, Hello, LaunchRequest, WorkerRequest
 from pkgforge.sandbox.zygote import START_TIMEOUT, ForkedProcess, Zygote, worker_environment
+from pkgforge.tree import PREFIX as TREE_PREFIX
 from pkgforge.tree import InstallTree
-from pkgforge.walk import walk
+from pkgforge.walk import remove_tree, walk
 
 DEFAULT_TIMEOUT = 10.0
 DEFAULT_WORKER_MEMORY = processes.DEFAULT_WORKER_MEMORY
 AHEAD_LIMIT = 16384  # bytes of a request sent ahead to a busy worker: a quarter of a Linux pipe
 STOP_GRACE = 2.0  # seconds an idle worker has to end after its stdin closed, before it is killed
 TOKEN_BYTES = 16  # a request's token: random, so that nothing can write a reply that carries it
+MAX_REPLY_LINE = MAX_REPLY  # characters of one reply line (the coordinator already stops a longer one)
 # a result that depends on the machine's load or limits, never cached
 MACHINE_DEPENDENT = ("timeout", "crashed")
 
@@ -89,8 +90,10 @@ def _is_launch_file(path: Path) -> bool:
         return False
     if path.name.endswith((f".launch.{kind}", f"_launch.{kind}")):
         return True
-    try:
-        head = path.read_text(errors="replace")[:65536]
+    from pkgforge.model.source import read_head
+
+    try:  # (NotRegularFile is an OSError: a FIFO or /dev/zero is never read)
+        head = read_head(path, 65536)[0].decode(errors="replace")
     except OSError:
         return False
     if kind == "py":
@@ -134,7 +137,8 @@ class _Worker:
         self.zygote = zygote
         self.process: subprocess.Popen[str] | ForkedProcess | None = None
         self.replies: queue.Queue[str | None] = queue.Queue()
-        self.tokens: deque[str] = deque()  # the token of each request it has and has not answered
+        # the token and request of each request it has and has not answered, oldest first
+        self.tokens: deque[tuple[str, WorkerRequest]] = deque()
         self.confinement: Confinement | None = None  # what its coordinator said confines each request
 
     @property
@@ -233,7 +237,7 @@ class _Worker:
             stdin.flush()
         except (BrokenPipeError, OSError):
             return False
-        self.tokens.append(token)
+        self.tokens.append((token, request))
         return True
 
     def receive(self, timeout: float) -> Reply:
@@ -258,11 +262,19 @@ class _Worker:
                 code = None
             self.stop()
             return {"status": "crashed", "error": {"message": _death(code, self.limits), "line": None}}
+        if len(line) > MAX_REPLY_LINE:
+            self.stop()
+            return malformed_reply(f"a line of {len(line) // 2**20} MiB")
         try:
             reply: object = json.loads(line)
-        except ValueError:
+        except (ValueError, RecursionError):
             reply = None
-        if not isinstance(reply, dict) or expected is None or reply.pop("token", None) != expected:
+        if (
+            not isinstance(reply, dict)
+            or expected is None
+            or reply.pop("token", None) != expected[0]
+            or reply.get("request") != expected[1]
+        ):
             self.stop()
             return {
                 "status": "crashed",
@@ -354,6 +366,7 @@ def run_requests(
         zygote = Zygote()
     limits = WorkerLimits(timeout, limits.memory if limits is not None else DEFAULT_WORKER_MEMORY)
     processes.become_subreaper()
+    processes.not_dumpable()  # pkgforge's own descriptors: out of any launch file's reach
     before = processes.descendants(os.getpid())
     env = worker_environment(tree.environment(), engine)
     # the real engine's logs and temporary parameter files: removed here, however its workers end
@@ -368,7 +381,9 @@ def run_requests(
     # each request's own folder is made in here (beside the tree, not in it: the kernel lets a
     # request's process write the tree and its own folder, never another request's)
     sandbox = env.get("PKGFORGE_SANDBOX")
-    own_folders = tempfile.mkdtemp(prefix="pkgforge-work-", dir=os.path.dirname(sandbox) if sandbox else None)
+    own_folders = tempfile.mkdtemp(  # (named as a tree: removed by the next run if this one is killed)
+        prefix=f"{TREE_PREFIX}{os.getpid()}-work-", dir=os.path.dirname(sandbox) if sandbox else None
+    )
     env[WORK_VARIABLE] = own_folders
     work: queue.Queue[tuple[int, WorkerRequest]] = queue.Queue()
     for index, request in enumerate(requests):
@@ -379,10 +394,7 @@ def run_requests(
     def answered(index: int, reply: Reply) -> None:
         replies[index] = reply
         if convert is not None:
-            try:
-                replies[index] = (convert(index, reply),)
-            except Exception:  # noqa: BLE001 - converted again below, where it raises as before
-                pass
+            replies[index] = (_converted(convert, index, reply),)
         if on_done is not None:
             on_done()
 
@@ -448,8 +460,8 @@ def run_requests(
         if leftover:
             processes.reap(processes.kill_tree(leftover, skip=before), timeout=0.5)
         if scratch is not None:
-            shutil.rmtree(scratch, ignore_errors=True)
-        shutil.rmtree(own_folders, ignore_errors=True)
+            remove_tree(scratch)
+        remove_tree(own_folders)
     for index, reply in enumerate(replies):
         if reply is None:
             replies[index] = reply = {
@@ -457,8 +469,30 @@ def run_requests(
                 "error": {"message": "not evaluated (pkgforge was stopped)", "line": None},
             }
         if convert is not None:
-            replies[index] = reply[0] if isinstance(reply, tuple) else convert(index, reply)
+            replies[index] = reply[0] if isinstance(reply, tuple) else _converted(convert, index, reply)
     return replies
+
+
+def _converted(convert: Callable[[int, Reply], Any], index: int, reply: Reply) -> Any:
+    """What `convert` keeps of a reply. A reply it cannot read (an unknown status, a record of the
+    wrong shape: only a process that wrote its own line on the result channel gives one, since the
+    evaluator's own replies are well-formed) is that file's crash, never the whole run's."""
+    try:
+        return convert(index, reply)
+    except (ValueError, TypeError, KeyError, AttributeError, RecursionError) as error:
+        return convert(index, malformed_reply(f"{type(error).__name__}: {error}"))
+
+
+def malformed_reply(why: str) -> Reply:
+    return {
+        "status": "crashed",
+        "error": {
+            "message": f"its result cannot be read ({why[:200]}): the launch file wrote on the channel "
+            "its result comes back on, and no result of it can be trusted",
+            "line": None,
+            "type": "ForgedResult",
+        },
+    }
 
 
 def resolve(

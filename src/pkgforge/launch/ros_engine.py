@@ -36,6 +36,7 @@ from pkgforge.launch.records import (
     PREVIEW_LENGTH,
     BranchBudget,
     ErrorRecordDict,
+    ExecutionRecordDict,
     LaunchResultDict,
     NodeRecordDict,
     ParameterForm,
@@ -50,7 +51,6 @@ from pkgforge.launch.records import (
 # parser elements) are `Any` here, and so are the methods this module puts on their classes.
 
 MAX_DEPTH = 32
-MISSING_CONFIGURATION = re.compile(r"launch configuration '([^']*)' does not exist")
 # actions whose execution needs a running launch service or a ROS graph (SetUseSimTime sets a
 # parameter of the launch's own rclpy node): recorded, not executed, as the built-in engine does
 NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandler", "SetUseSimTime"}
@@ -242,8 +242,17 @@ def _yaml_with_lines(yaml_module: Any) -> types.SimpleNamespace:
     shim = types.SimpleNamespace(
         **{k: getattr(yaml_module, k) for k in dir(yaml_module) if not k.startswith("__")}
     )
-    shim.safe_load = lambda stream: yaml_module.load(stream, Loader=Loader)
+    shim.safe_load = lambda stream: _bounded_load(stream, Loader)
     return shim
+
+
+def _bounded_load(stream: Any, loader: Any) -> Any:
+    """yaml.load(stream, Loader=loader) through pkgforge's YAML reader: an alias bomb or 50,000
+    nested brackets end as a located YAMLError, not a walk of 10**11 nodes or a RecursionError."""
+    from pkgforge.model.yamlnodes import load
+
+    text = stream if isinstance(stream, (str, bytes)) else stream.read()
+    return load(text.decode("utf-8") if isinstance(text, bytes) else text, loader)
 
 
 def _xml_with_lines(et_module: Any) -> types.SimpleNamespace:
@@ -421,6 +430,8 @@ def _hook_locations() -> None:
         self._pkgforge_parameters = list(kwargs.get("parameters") or [])
         self._pkgforge_arguments = list(kwargs.get("arguments") or [])
         node_init(self, *args, **kwargs)
+        # the command as the node gives it to ExecuteProcess, before _perform_substitutions adds to it
+        self._pkgforge_own_cmd = len(self.cmd)
 
     launch_ros.actions.Node.__init__ = __init__
     composable_init = launch_ros.descriptions.ComposableNode.__init__
@@ -563,6 +574,8 @@ def _hook_substitutions() -> None:
             RECORDER.add("packages", {"name": "xacro", "via": "FindExecutable"}, self)
 
     wrap(subs.FindExecutable, before=find_executable)
+    _mark_missing_configuration(subs.LaunchConfiguration)
+    _locate_parameter_file_substitutions(L.launch_ros.parameter_descriptions.ParameterFile)
     _mark_failure(subs.FindExecutable, rt.FAILURE_PROGRAM)
     _mark_failure(subs.EnvironmentVariable, rt.FAILURE_VARIABLE)
 
@@ -615,6 +628,44 @@ def _mark_failure(cls: Any, mark: str) -> None:
             raise
 
     cls.perform = perform
+
+
+def _mark_missing_configuration(cls: Any) -> None:
+    """launch's failure of a LaunchConfiguration not set carries its name and the
+    substitution's place, as the built-in engine's does (runtime.missing_configuration): the
+    innermost one, where a configuration's name or default uses another."""
+    real = cls.perform
+
+    def perform(self: Any, context: Any) -> Any:
+        try:
+            return real(self, context)
+        except L.launch.substitutions.SubstitutionFailure as error:
+            unset = rt.MISSING_CONFIGURATION_TEXT.search(str(error))
+            if unset is not None and all(rt.failure_mark(error, m) is None for m in rt.FAILURE_MARKS):
+                setattr(error, rt.FAILURE_CONFIGURATION, unset.group(1))
+                setattr(
+                    error,
+                    rt.FAILURE_CONFIGURATION_AT,
+                    (getattr(self, "_file", None), getattr(self, "_line", None)),
+                )
+            raise
+
+    cls.perform = perform
+
+
+def _locate_parameter_file_substitutions(cls: Any) -> None:
+    """A parameter file read with allow_substs: the substitutions launch_ros parses from its text
+    stand at the ParameterFile's place (the built-in engine's runtime._allowed_parameter_files)."""
+    real = cls.evaluate
+
+    def evaluate(self: Any, context: Any) -> Any:
+        rt._FRONTEND_LOCATION.append((getattr(self, "_file", None), getattr(self, "_line", None)))
+        try:
+            return real(self, context)
+        finally:
+            rt._FRONTEND_LOCATION.pop()
+
+    cls.evaluate = evaluate
 
 
 def _run_time_value(name: str) -> Callable[[Any, Any], str]:
@@ -829,7 +880,7 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
     if isinstance(action, launch.actions.DeclareLaunchArgument):
         return _declare(action, context)
     if isinstance(action, launch_ros.actions.Node):
-        _record_node(action, context)
+        _execute(action, context, lambda: _record_node(action, context))
         if isinstance(action, launch_ros.actions.ComposableNodeContainer):
             _record_composable(action._ComposableNodeContainer__composable_node_descriptions or [], context)
         return None
@@ -838,9 +889,15 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
         return None
     if isinstance(action, launch.actions.ExecuteProcess):
         cmd = [L.perform(context, part) for part in action.process_description.cmd]
-        RECORDER.add("nodes", {"kind": "process", "cmd": cmd}, action)
+        shell = bool(getattr(action, "shell", False))  # (ExecuteLocal's, since humble)
+        RECORDER.add("nodes", {"kind": "process", "cmd": cmd, "shell": shell}, action)
+        _execute(action, context)
         return None
     if isinstance(action, launch.actions.TimerAction):
+        # what its execute performs; its actions are visited when the description is done
+        from launch.utilities.type_utils import perform_typed_substitution
+
+        perform_typed_substitution(context, action._TimerAction__cancel_on_shutdown, bool)
         return list(action.actions)
     if isinstance(action, launch.actions.RegisterEventHandler):
         out: list[Any] = []
@@ -853,6 +910,63 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
         )
     children: Iterable[Any] | None = action.execute(context)
     return children
+
+
+def _execute(action: Any, context: Any, before: Callable[[], None] | None = None) -> None:
+    """What the action's execute performs before it would start its process, by the real
+    methods (launch_ros's Node._perform_substitutions in `before`, then ExecuteLocal.prepare and
+    the output), recorded as its execution (runtime.execute_process is the built-in engine's);
+    a failure is recorded there too, and raised as launch raises it. Nothing is started."""
+    try:
+        if before is not None:
+            before()
+        rt.PREPARING[0] = True
+        try:
+            record = _prepared(action, context)
+        finally:
+            rt.PREPARING[0] = False
+    except Exception as error:
+        RECORDER.add(
+            "executions", {"action": type(action).__name__, "failure": rt.failure_text(error)}, action
+        )
+        raise
+    RECORDER.add("executions", record, action)
+
+
+def _prepared(action: Any, context: Any) -> ExecutionRecordDict:
+    description = action.process_description
+    node = isinstance(action, L.launch_ros.actions.Node)
+    context._push_locals()
+    try:
+        if node:  # what Node.execute puts in the locals for the command's `__node:=`
+            specific: dict[str, str] = {}
+            if action._Node__node_name is not None:
+                specific["name"] = f"__node:={action._Node__expanded_node_name}"
+            if action.expanded_node_namespace != "":
+                specific["ns"] = f"__ns:={action.expanded_node_namespace}"
+            context.extend_locals({"ros_specific_arguments": specific})
+        action.prepare(context)
+        output = action._ExecuteLocal__output
+        text = None if isinstance(output, dict) else L.perform(context, output)
+    finally:
+        context._pop_locals()
+    final: list[str] = list(description.final_cmd)
+    # what _perform_substitutions added (namespace, parameter files, remappings) left out
+    added = len(description.cmd) - action._pkgforge_own_cmd if node else 0
+    env = description.final_env if description.env is not None else None
+    additional = {
+        L.perform(context, key): L.perform(context, value) for key, value in description.additional_env or []
+    }
+    return {
+        "action": type(action).__name__,
+        "cmd": final[: len(final) - added],
+        "name": description.final_name.rsplit("-", 1)[0],
+        "cwd": description.final_cwd,
+        "env": None if env is None else [[k, v] for k, v in env.items()],
+        "additional_env": [[k, v] for k, v in additional.items()],
+        "output": text,
+        "respawn": bool(action._ExecuteLocal__respawn),
+    }
 
 
 def _shutdown_entities(handler: Any) -> list[Any]:
@@ -915,20 +1029,16 @@ def _phantom(path: str) -> bool:
 def _include(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
     source = action.launch_description_source
     path = L.perform(context, source._LaunchDescriptionSource__location)
-    arguments = {_perform(context, k): _perform(context, v) for k, v in action.launch_arguments}
+    arguments = rt.include_arguments(context, action.launch_arguments, _perform)
     exists = os.path.isfile(path)
     RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
     _record_path(path, action, "IncludeLaunchDescription")
     if not exists or _phantom(path):
+        RECORDER.unfollowed.append(path)
         return None
     rt._LAUNCH_FILES.add(path)
     children: Iterable[Any] | None = action.execute(context)
     return children
-
-
-def _missing_configuration(error: Exception) -> str | None:
-    match = MISSING_CONFIGURATION.search(str(error))
-    return match.group(1) if match else None
 
 
 def visit(
@@ -967,29 +1077,31 @@ def visit(
                 )
                 if not taken:
                     return
+            from pkgforge.launch.evaluate import executed
+
+            executed(entity)
             children = _handle(entity, context, depth)
         else:
             children = entity.visit(context)
     except Exception as error:  # noqa: BLE001 - every failure is a finding, none a crash
-        missing = _missing_configuration(error)
-        if missing is not None:
-            RECORDER.add("required", {"name": missing, "skipped": type(entity).__name__}, entity)
-            return
         from pkgforge.launch.evaluate import RUNS_ON_THE_EVENT, record_visit_failure
 
         if not (in_handler and type(entity).__name__ in RUNS_ON_THE_EVENT):
             record_visit_failure(entity, error, [*ancestors, (start, None)], list(loading))
         return
-    from pkgforge.launch.evaluate import child_spans, handling
+    from pkgforge.launch.evaluate import child_spans, defer
 
     spans = child_spans(entity, start, ancestors, loading)
-    if not isinstance(entity, launch.actions.RegisterEventHandler):
+    if isinstance(entity, launch.actions.TimerAction) and children:
+        # its actions run when the period has passed, once the description is done
+        defer(context, list(children), "TimerAction", None, depth + 1, in_handler, spans)
+    elif isinstance(entity, launch.actions.RegisterEventHandler) and children:
+        # as launch visits them when the event comes
+        kind = type(entity.event_handler).__name__
+        defer(context, list(children), kind, _handled_event(entity), depth + 1, True, spans)
+    else:
         for child in children or []:
             visit(child, context, depth + 1, in_handler, *spans)
-        return
-    with handling(context, _handled_event(entity)):  # as launch visits them when the event comes
-        for child in children or []:
-            visit(child, context, depth + 1, True, *spans)
 
 
 # --- one file -----------------------------------------------------------------------------
@@ -1052,7 +1164,15 @@ def _evaluate(
             RECORDER.branch = label
             _VISITING = context
             try:
+                declared_from = builtin.begin_visit()
                 visit(description, context)
+
+                def run_one(item: builtin.Deferred) -> None:
+                    for entity in item.entities:
+                        visit(entity, context, item.depth, item.in_handler, *item.spans)
+
+                builtin.run_deferred(context, run_one)
+                builtin.settle_unset_uses(declared_from)
             finally:
                 _VISITING = None
                 _clean_scratch()
@@ -1081,11 +1201,33 @@ def _load_error(path: str, error: BaseException) -> ErrorRecordDict:
     from pkgforge.launch import evaluate as builtin
 
     cause = getattr(error, "orig_exc", None) if type(error).__name__ == "VisitError" else None
+    refusal = _undecodable(path, error)
+    if refusal is not None:
+        error = refusal
     record = builtin._error_record(path, cause if isinstance(cause, Exception) else error, "load")
     located = getattr(error, "_pkgforge_location", None)
     if located is not None and record.get("line") is None:
         record["file"], record["line"] = located[0] or path, located[1]
     return record
+
+
+def _undecodable(path: str, error: BaseException) -> BaseException | None:
+    """launch's refusal of a front-end file that is not UTF-8 (an InvalidFrontendLaunchFileError
+    of each parser's UnicodeDecodeError) as the built-in engine says it: the decoding error, at
+    the line of the first byte that is not UTF-8 (frontend.decoded). None: another error."""
+    from pkgforge.launch.frontend import FrontendError, decoded
+
+    errors = [error, *(getattr(error, "_likely_errors", None) or [])]  # (InvalidLaunchFileError's)
+    if path.endswith(".py") or not any(isinstance(e, UnicodeDecodeError) for e in errors):
+        return None
+    try:
+        with open(path, "rb") as handle:
+            decoded(handle.read())
+    except FrontendError as refusal:
+        return refusal
+    except OSError:
+        return None
+    return None  # the file is UTF-8: a decoding error of something it read
 
 
 def _load(path: str) -> Any:  # a launch.LaunchDescription

@@ -14,6 +14,7 @@ from __future__ import annotations
 import collections.abc
 import logging
 import os
+import re
 import shlex
 import subprocess
 import sys
@@ -76,7 +77,9 @@ class SubstitutionFailure(RuntimeError):
 # evaluate.record_visit_failure); both engines set it, on their own SubstitutionFailure
 FAILURE_PROGRAM = "_pkgforge_program"  # FindExecutable: the program not found on PATH
 FAILURE_VARIABLE = "_pkgforge_variable"  # EnvironmentVariable without a default: the variable not set
-FAILURE_MARKS = (FAILURE_PROGRAM, FAILURE_VARIABLE)
+FAILURE_CONFIGURATION = "_pkgforge_configuration"  # LaunchConfiguration not set: its name (ros_engine)
+FAILURE_CONFIGURATION_AT = "_pkgforge_configuration_at"  # and its place
+FAILURE_MARKS = (FAILURE_PROGRAM, FAILURE_VARIABLE, FAILURE_CONFIGURATION)
 _Failure = TypeVar("_Failure", bound=BaseException)
 
 
@@ -131,11 +134,51 @@ class Unresolved(Exception):
         self.name = name
 
 
+class MissingConfiguration(SubstitutionFailure, Unresolved):
+    """LaunchConfiguration's failure in launch: no value set and no default. Launch's own
+    SubstitutionFailure (a launch file's `except SubstitutionFailure` catches it, as in ROS), and
+    Unresolved: verify has no value for a launch argument declared without a default either,
+    and what needs one is skipped then (evaluate.settle_unset_uses tells the two apart). `where`:
+    the LaunchConfiguration's place in the launch file."""
+
+    def __init__(self, name: str, where: tuple[str | None, int | None]) -> None:
+        SubstitutionFailure.__init__(self, f"launch configuration '{name}' does not exist")
+        self.name, self.where = name, where
+
+
+MISSING_CONFIGURATION_TEXT = re.compile(r"launch configuration '([^']*)' does not exist")
+
+
+def missing_configuration(error: BaseException) -> tuple[str, tuple[str | None, int | None]] | None:
+    """(name, the LaunchConfiguration's place or (None, None)) when `error` is launch's failure
+    of a launch configuration not set (both engines), else None."""
+    if isinstance(error, MissingConfiguration):
+        return error.name, error.where
+    name = getattr(error, FAILURE_CONFIGURATION, None)
+    if isinstance(name, str):
+        where = getattr(error, FAILURE_CONFIGURATION_AT, (None, None))
+        return name, where
+    match = MISSING_CONFIGURATION_TEXT.search(str(error))
+    return (match.group(1), (None, None)) if match else None
+
+
+def failure_type(error: BaseException) -> str:
+    """The failure's type as launch names it (both engines: MissingConfiguration is launch's
+    SubstitutionFailure)."""
+    return "SubstitutionFailure" if isinstance(error, MissingConfiguration) else type(error).__name__
+
+
+def failure_text(error: BaseException) -> str:
+    """An action's failure as both engines write it: launch's exception type and message."""
+    return f"{failure_type(error)}: {error}"
+
+
 # --- the record -----------------------------------------------------------------------------
 
 from pkgforge.launch.records import (  # noqa: E402  (the record format both engines share)
     PREVIEW_LENGTH,
     CommandRunRecordDict,
+    ExecutionRecordDict,
     NodeRecordDict,
     PackageLookupRecordDict,
     ParameterForm,
@@ -356,7 +399,7 @@ class LaunchConfiguration(Substitution):
             return value
         if self.default is not None:
             return perform(context, self.default)
-        raise Unresolved(name)
+        raise MissingConfiguration(name, (self._file, self._line))
 
 
 class PathJoinSubstitution(Substitution):
@@ -869,10 +912,28 @@ def executable_in_package(owner: object, executable: str, package: str) -> str:
     nothing about the real install (the package's build installs it)."""
     import shutil
 
-    prefix = lookup_package(package, "ExecutableInPackage", owner, "prefix")
+    if PREPARING[0]:  # the node's own package, looked up and recorded by its visit already
+        prefix = _quiet_prefix(package)
+    else:
+        prefix = lookup_package(package, "ExecutableInPackage", owner, "prefix")
     libexec = os.path.join(prefix, "lib", package)
     found = shutil.which(executable, path=libexec) if os.path.isdir(libexec) else None
     return found or os.path.join(libexec, executable)
+
+
+def _quiet_prefix(package: str) -> str:
+    """A package's prefix as lookup_package finds it (its stand-in when not found), unrecorded."""
+    from ament_index_python.packages import PackageNotFoundError as AmentNotFound
+    from ament_index_python.packages import get_package_prefix
+
+    known = RECORDER.prefix_cache
+    if package not in known:
+        try:
+            known[package] = getattr(get_package_prefix, "_pkgforge_real", get_package_prefix)(package)
+        except (AmentNotFound, PackageNotFoundError, ValueError) as error:
+            known[package] = error
+    found = known[package]
+    return os.path.join(MISSING_PACKAGE_ROOT, package) if isinstance(found, BaseException) else found
 
 
 def _record_path(path: object, obj: object, via: str) -> None:
@@ -1231,8 +1292,12 @@ class TimerAction(Action):
         super().__init__(**kwargs)
         self.period = period
         self.actions = list(actions)
+        self.cancel_on_shutdown = cancel_on_shutdown
 
     def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
+        # what its execute performs; its actions run when the period has passed (evaluate.defer)
+        if not isinstance(self.cancel_on_shutdown, bool):
+            _typed_bool(context, normalize(self.cancel_on_shutdown))
         return list(self.actions)
 
 
@@ -1430,18 +1495,101 @@ class ExecuteProcess(Action):
         cwd: SomeSubstitutionsType | None = None,
         env: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
         additional_env: dict[SomeSubstitutionsType, SomeSubstitutionsType] | None = None,
+        shell: bool = False,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
         self.cmd = cmd
+        self.shell = shell
+        self.process_name, self.cwd = name, cwd
+        self.env, self.additional_env = env, additional_env
+        # ExecuteLocal's: what its execute performs too (the rest is read only once it runs)
+        self.prefix: SomeSubstitutionsType | None = kwargs.get("prefix")
+        self.output: SomeSubstitutionsType | dict[str, str] = kwargs.get("output", "log")
+        self.respawn: bool | SomeSubstitutionsType = kwargs.get("respawn", False)
 
     def visit(self, context: LaunchContext) -> None:
-        RECORDER.add("nodes", {"kind": "process", "cmd": [perform(context, part) for part in self.cmd]}, self)
+        cmd = list(self.cmd)
+        RECORDER.add(
+            "nodes",
+            {"kind": "process", "cmd": [perform(context, part) for part in cmd], "shell": bool(self.shell)},
+            self,
+        )
+        execute_process(context, self, cmd)
+
+
+# an action's substitutions performed again as its execute performs them: what they record was
+# recorded by the visit already (a package looked up for ExecutableInPackage is the node's own)
+PREPARING = [False]
+
+
+def execute_process(
+    context: LaunchContext, action: ExecuteProcess, cmd: Sequence[SomeSubstitutionsType]
+) -> None:
+    """What launch's ExecuteLocal.execute performs before it starts the process (its prepare: the
+    command, launch-prefix, name, cwd, environment, respawn; then output), recorded as the
+    action's execution; a failure is recorded there too, and raised as launch raises it."""
+    PREPARING[0] = True
+    try:
+        record = _prepared(context, action, cmd)
+    except Exception as error:
+        RECORDER.add("executions", {"action": type(action).__name__, "failure": failure_text(error)}, action)
+        raise
+    finally:
+        PREPARING[0] = False
+    RECORDER.add("executions", record, action)
+
+
+def _prepared(
+    context: LaunchContext, action: ExecuteProcess, cmd: Sequence[SomeSubstitutionsType]
+) -> ExecutionRecordDict:
+    """launch.descriptions.Executable.prepare and ExecuteLocal's, in their order."""
+    words = [perform(context, part) for part in cmd]
+    if action.prefix is None:
+        # LaunchConfiguration('launch-prefix(-filter)', default=''): a regular expression the
+        # executable's name must match for the prefix to apply
+        pattern = context.launch_configurations.get("launch-prefix-filter", "")
+        applies = re.match(pattern, os.path.basename(words[0])) is not None
+        prefix = context.launch_configurations.get("launch-prefix", "") if applies else ""
+    else:
+        prefix = perform(context, action.prefix)
+    words = shlex.split(prefix) + words
+    name = (
+        os.path.basename(words[0]) if action.process_name is None else perform(context, action.process_name)
+    )
+    cwd = None if action.cwd is None else perform(context, action.cwd)
+    env = None if action.env is None else _environment(context, action.env)
+    additional = _environment(context, action.additional_env or {})
+    respawn = action.respawn
+    if not isinstance(respawn, bool):
+        respawn = _typed_bool(context, normalize(respawn))
+    output = None if isinstance(action.output, dict) else perform(context, action.output)
+    return {
+        "action": type(action).__name__,
+        "cmd": words,
+        "name": name,
+        "cwd": cwd,
+        "env": env,
+        "additional_env": additional,
+        "output": output,
+        "respawn": respawn,
+    }
+
+
+def _environment(
+    context: LaunchContext, variables: dict[SomeSubstitutionsType, SomeSubstitutionsType]
+) -> list[list[str]]:
+    """env= or additional_env= performed, as launch joins them into one dict (a name twice: the last)."""
+    joined = {perform(context, k): perform(context, v) for k, v in variables.items()}
+    return [[k, v] for k, v in joined.items()]
 
 
 class ExecuteLocal(ExecuteProcess):
     def __init__(self, *, process_description: object = None, **kwargs: Any) -> None:
         super().__init__(cmd=[], **kwargs)
+
+    def visit(self, context: LaunchContext) -> None:  # (its description's command is not read)
+        RECORDER.add("nodes", {"kind": "process", "cmd": []}, self)
 
 
 class Shutdown(Action):
@@ -1504,19 +1652,34 @@ class IncludeLaunchDescription(Action):
     def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
         location = self.source.location
         path = perform(context, location) if location is not None else ""
-        arguments = {perform(context, k): perform(context, v) for k, v in self.launch_arguments}
+        arguments = include_arguments(context, self.launch_arguments, perform)
         exists = os.path.isfile(path)
         RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, self)
         _record_path(path, self, "IncludeLaunchDescription")
         if not exists or _phantom(path):
+            RECORDER.unfollowed.append(path)
             return None
-        context.launch_configurations.update(arguments)
         from pkgforge.launch.evaluate import load_description  # noqa: PLC0415  (evaluate imports this module)
 
         description = load_description(path, self.source.kind)
         previous = context.current_file
         context.current_file = path
         return [description, _RestoreFile(previous)]
+
+
+def include_arguments(
+    context: Any,
+    pairs: Iterable[tuple[Any, Any]],
+    perform_one: Callable[[Any, Any], str],
+) -> dict[str, str]:
+    """An include's launch_arguments as launch sets them (both engines): one SetLaunchConfiguration
+    after another, so a value may use an argument given before it in the same list. They stay
+    set after the include, as in launch (only a scoped GroupAction takes them away)."""
+    arguments: dict[str, str] = {}
+    for key, value in pairs:
+        name = perform_one(context, key)
+        arguments[name] = context.launch_configurations[name] = perform_one(context, value)
+    return arguments
 
 
 class ScopedIncludeLaunchDescription(IncludeLaunchDescription):
@@ -1618,6 +1781,8 @@ class Node(ExecuteProcess):
         self.remappings = list(remappings or [])
         self.arguments = list(arguments or [])
         self.ros_arguments = list(ros_arguments or [])
+        self.ros_arguments_given = ros_arguments is not None
+        self.process_name = exec_name  # launch_ros gives ExecuteProcess its exec_name as name
 
     def _package(self, context: LaunchContext) -> str | None:
         """The package, recorded first: a failure later in the node must not hide it."""
@@ -1664,16 +1829,39 @@ class Node(ExecuteProcess):
         }
 
     def visit(self, context: LaunchContext) -> None:
-        package = self._package(context)
-        record = self.record(context, package)
-        RECORDER.add("nodes", record, self)
-        # recorded as written; then the rules launch_ros applies when it starts the node
+        try:
+            package = self._package(context)
+            record = self.record(context, package)
+            RECORDER.add("nodes", record, self)
+            # recorded as written; then the rules launch_ros applies when it starts the node
+            if self.node_name is not None:
+                validate_node_name(record["name"])
+            for group in self.parameters:
+                if isinstance(group, collections.abc.Mapping):
+                    for name, value in _flatten(group, None, context):
+                        _check_parameter_value(context, name, value)
+            _allowed_parameter_files(context, self.parameters)
+        except Exception as error:  # the node stops before its execution performs the rest
+            RECORDER.add("executions", {"action": type(self).__name__, "failure": failure_text(error)}, self)
+            raise
+        execute_process(context, self, self.command(record["name"]))
+
+    def command(self, name: str | None) -> list[SomeSubstitutionsType]:
+        """The command launch_ros gives ExecuteProcess (Node.__init__), up to what its
+        _perform_substitutions adds (namespace, parameters, remappings): the node's name there
+        is the `__node:=` its execute puts in the context's locals."""
+        executable: SomeSubstitutionsType = (
+            ExecutableInPackage(executable=self.executable or "", package=self.package)
+            if self.package is not None
+            else self.executable or ""
+        )
+        cmd: list[SomeSubstitutionsType] = [executable, *self.arguments]
+        if self.ros_arguments_given:
+            cmd += ["--ros-args", *self.ros_arguments]
+        cmd.append("--ros-args")
         if self.node_name is not None:
-            validate_node_name(record["name"])
-        for group in self.parameters:
-            if isinstance(group, collections.abc.Mapping):
-                for name, value in _flatten(group, None, context):
-                    _check_parameter_value(context, name, value)
+            cmd += ["-r", f"__node:={name}"]
+        return cmd
 
 
 class InvalidNodeNameException(ValueError):
@@ -1715,6 +1903,39 @@ class ParameterFile(Located):
     ) -> None:
         super().__init__()
         self.param_file = param_file
+        self.allow_substs = allow_substs
+
+
+def _allowed_parameter_files(context: LaunchContext, groups: Sequence[ParameterGroup]) -> None:
+    """launch_ros's ParameterFile.evaluate with allow_substs: the file's text is read, its
+    substitutions ($(var x)...) performed and the result read as YAML; what fails stops the
+    node (a configuration it names that is not set: at the ParameterFile's line)."""
+    import yaml
+
+    from pkgforge.launch.frontend import parse_substitution
+
+    for group in groups:
+        if not isinstance(group, ParameterFile):
+            continue
+        allowed = group.allow_substs
+        if not isinstance(allowed, bool):
+            allowed = _typed_bool(context, normalize(allowed))
+        if not allowed:
+            continue
+        source = group.param_file
+        path = os.fspath(source) if isinstance(source, os.PathLike) else perform(context, source)
+        with open(path, encoding="utf-8") as handle:
+            text = handle.read()
+        _FRONTEND_LOCATION.append((group._file, group._line))  # its substitutions stand there
+        try:
+            parsed = parse_substitution(text)
+        finally:
+            _FRONTEND_LOCATION.pop()
+        substituted = perform_substitutions(context, parsed)
+        try:
+            yaml.safe_load(substituted)
+        except Exception:  # noqa: BLE001 - launch_ros's own rule: whatever yaml raises
+            raise SubstitutionFailure("The substituted parameter file is not a valid yaml file") from None
 
 
 class Parameter(Located):

@@ -8,6 +8,7 @@ name and fills in the maintainer, so these are no reason to refuse the package.
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -16,6 +17,7 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
+from pkgforge.model.source import read_regular
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -64,19 +66,21 @@ def read_manifest(folder: Path) -> Ros1Manifest:
     manifest = folder / "package.xml"
     if not folder.is_dir():
         raise PkgforgeError(f"{folder}: no such folder; give the ROS 1 package folder (with package.xml)")
-    if not manifest.is_file():
+    if not os.path.lexists(manifest):
         raise PkgforgeError(
             f"{folder}: no package.xml: not a catkin package; give the folder that holds package.xml"
         )
+    try:
+        data = read_regular(manifest)  # (a FIFO or a device: refused, never read)
+    except OSError as exc:
+        raise PkgforgeError(f"{manifest}: {exc.strerror} (nothing written)") from exc
     parser = etree.XMLParser(resolve_entities=False, no_network=True)
     try:
-        root = etree.parse(str(manifest), parser).getroot()
+        root = etree.fromstring(data, parser, base_url=str(manifest))
     except etree.XMLSyntaxError as exc:
         raise PkgforgeError(
             f"{manifest}:{exc.lineno}: not well-formed XML: {exc.msg} (nothing written)"
         ) from exc
-    except OSError as exc:
-        raise PkgforgeError(f"{manifest}: cannot read it: {exc.strerror} (nothing written)") from exc
     if root.tag != "package":
         raise PkgforgeError(
             f"{manifest}:{root.sourceline}: the root element is <{root.tag!s}>, not <package>: "

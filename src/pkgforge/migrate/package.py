@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,7 +20,8 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
+from pkgforge.model.source import not_regular
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import WalkLimit, walk
 
@@ -54,6 +56,7 @@ def _files(source: Path) -> list[str]:
         for name in sorted(names):
             relative = os.path.relpath(os.path.join(folder, name), source)
             if not name.startswith(".") and relative not in ("package.xml", "CMakeLists.txt"):
+                _regular(os.path.join(folder, name))
                 found.append(Path(relative).as_posix())
     if limits:
         limit = limits[0]
@@ -61,6 +64,18 @@ def _files(source: Path) -> list[str]:
             f"{limit.path}: {limit.why}; {limit.hint or 'move it out of the package'} (nothing written)"
         )
     return found
+
+
+def _regular(path: str) -> None:
+    """A located PkgforgeError for a FIFO or a device (or a link to one) among the files to convert
+    and copy: reading it would block, or never end."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return  # a dangling link: its read says so, as before
+    if not stat.S_ISREG(mode):
+        refusal = not_regular(path, mode)
+        raise PkgforgeError(f"{path}: {refusal.strerror}; move it out of the package (nothing written)")
 
 
 def _copy_problems(source: Path, files: list[str]) -> list[str]:
@@ -274,7 +289,7 @@ def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) ->
                 reference.line,
             )
     for element in model.root.iter("plugin"):
-        if table.is_gazebo_classic_plugin(element.get("filename", "")):
+        if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
             notes.add(
                 "migrate-gazebo-classic",
                 f"Gazebo Classic plugin {element.get('filename')} is kept as written; it does not load in Gazebo (gz)",
@@ -377,13 +392,13 @@ def migrate(
     refused = _copy_problems(source, files)
     if refused:
         raise PkgforgeError(
-            "\n".join(refused) + f"\n{len(refused)} file(s) of the package cannot be copied: nothing "
-            "written; replace each link that leads out of the package by the file it names, or move "
-            "the file out of the package"
+            *refused,
+            f"{len(refused)} file(s) of the package cannot be copied: nothing written; replace each "
+            "link that leads out of the package by the file it names, or move the file out of the package",
         )
     models = _read_models(source, files, notes)
     if models.missing:
-        raise PkgforgeError(missing_message(models.missing, force=False))
+        raise PkgforgeError(*missing_message(models.missing, force=False))
     for folder_name, folder in models.found.items():
         renames.folder(folder_name, os.path.relpath(folder, source))
         _note_folder(notes, models, folder_name, folder)
@@ -664,9 +679,9 @@ def _dependencies(manifest: Ros1Manifest, name: str, target: str, gazebo: bool, 
         dependency = (element.text or "").strip()
         if not dependency or dependency in (name, manifest.name):
             continue
-        if dependency in table.DROPPED_DEPENDENCIES:
+        if dependency in ros1_names.DROPPED_DEPENDENCIES:
             note(f"<{element.tag!s}>{dependency}</{element.tag!s}> is ROS 1 only: not carried over", element)
-        elif dependency in table.GAZEBO_DEPENDENCIES:
+        elif dependency in ros1_names.GAZEBO_DEPENDENCIES:
             if gazebo:
                 depends.add("ros_gz_sim")
                 note(f"{dependency} → ros_gz_sim", element, "migrate-renamed")
@@ -676,7 +691,7 @@ def _dependencies(manifest: Ros1Manifest, name: str, target: str, gazebo: bool, 
                     "not carried over (--gazebo uses ros_gz_sim)",
                     element,
                 )
-        elif (replacement := table.package(dependency)) and not data.released(dependency, target):
+        elif (replacement := ros1_names.package(dependency)) and not data.released(dependency, target):
             depends.add(replacement[0])
             note(f"{dependency} → {replacement[0]}", element, "migrate-renamed")
         else:

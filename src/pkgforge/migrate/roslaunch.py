@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Literal, NamedTuple
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -345,7 +345,7 @@ class Reader:
         condition = self.condition(element)
         text = literal([p for p in path if p[0] == "text"]) or ""
         finds = [p[1] for p in path if p[0] == "find"]
-        gz_package, worlds = table.GAZEBO_WORLD_LAUNCH
+        gz_package, worlds = ros1_names.GAZEBO_WORLD_LAUNCH
         if finds == [gz_package] and text.rsplit("/", 1)[-1] in worlds:
             if not self.gazebo:
                 self.notes.add(
@@ -376,7 +376,7 @@ class Reader:
     ) -> Include:
         """gazebo_ros's empty_world.launch → ros_gz_sim's gz_sim.launch.py: the world, started
         running unless paused:=true, server only when gui:=false."""
-        package, launch = table.GZ_WORLD_LAUNCH
+        package, launch = ros1_names.GZ_WORLD_LAUNCH
         values = {k: v for k, v in arguments if k}
         world = self.gz_world(values.get("world_name"), element)
         flags = []
@@ -439,14 +439,14 @@ class Reader:
         self.need(element, "pkg", "type")
         package, executable = element.get("pkg", ""), element.get("type", "")  # required
         line = element.sourceline
-        if (package, executable) == table.GAZEBO_SPAWNER:
+        if (package, executable) == ros1_names.GAZEBO_SPAWNER:
             return self.spawner(element)
-        if package in table.COMMAND_NODES:
+        if package in ros1_names.COMMAND_NODES:
             raise Unconvertible(
-                f"{package} is a ROS 1 command-line tool; ROS 2 has `{table.COMMAND_NODES[package]}`, "
+                f"{package} is a ROS 1 command-line tool; ROS 2 has `{ros1_names.COMMAND_NODES[package]}`, "
                 "a command, not a node"
             )
-        new_package, new_executable = table.executable(package, executable)
+        new_package, new_executable = ros1_names.executable(package, executable)
         if (new_package, new_executable) != (package, executable):
             self.note(
                 "migrate-renamed", f"node {package}/{executable} → {new_package}/{new_executable}", element
@@ -462,7 +462,7 @@ class Reader:
             condition=self.condition(element),
         )
         node.arguments = split_words(tokens(element.get("args", "")))
-        if (new_package, new_executable) == table.CONTROLLER_SPAWNER:
+        if (new_package, new_executable) == ros1_names.CONTROLLER_SPAWNER:
             node.arguments = self.spawner_arguments(node.arguments, element)
         if new_executable == "static_transform_publisher":
             node.arguments = self.transform_arguments(node.arguments, element)
@@ -538,13 +538,19 @@ class Reader:
         index = 0
         while index < len(words):
             word = literal(words[index])
-            if word in table.CONTROLLER_NAMES:
-                converted.append([Token("text", table.CONTROLLER_NAMES[word])])
-                self.note("migrate-renamed", f"controller {word} → {table.CONTROLLER_NAMES[word]}", element)
-            elif word is not None and word.startswith("--") and word.split("=")[0] in table.SPAWNER_OPTIONS:
+            if word in ros1_names.CONTROLLER_NAMES:
+                converted.append([Token("text", ros1_names.CONTROLLER_NAMES[word])])
+                self.note(
+                    "migrate-renamed", f"controller {word} → {ros1_names.CONTROLLER_NAMES[word]}", element
+                )
+            elif (
+                word is not None
+                and word.startswith("--")
+                and word.split("=")[0] in ros1_names.SPAWNER_OPTIONS
+            ):
                 option, _, value = word.partition("=")
-                takes = option not in table.SPAWNER_FLAGS and not value
-                new = table.SPAWNER_OPTIONS[option]
+                takes = option not in ros1_names.SPAWNER_FLAGS and not value
+                new = ros1_names.SPAWNER_OPTIONS[option]
                 if new is None:
                     self.note(
                         "migrate-dropped",
@@ -591,7 +597,7 @@ class Reader:
                 element,
             )
             return None
-        package, executable = table.GZ_SPAWNER
+        package, executable = ros1_names.GZ_SPAWNER
         self.note("migrate-renamed", f"gazebo_ros/spawn_model → {package}/{executable}", element)
         converted: list[list[Token]] = []
         index = 0
@@ -599,7 +605,7 @@ class Reader:
         while index < len(words):
             option = literal(words[index]) or ""
             takes_value = option not in flags and index + 1 < len(words)
-            new = table.SPAWN_OPTIONS.get(option)
+            new = ros1_names.SPAWN_OPTIONS.get(option)
             if new:
                 converted.append([Token("text", new)])
                 if takes_value:
@@ -663,7 +669,11 @@ class Reader:
         took = False
         for node in found:
             words = [literal(w) for w in node.arguments]
-            if (node.package, node.executable) != table.GZ_SPAWNER or publishers or "-topic" not in words:
+            if (
+                (node.package, node.executable) != ros1_names.GZ_SPAWNER
+                or publishers
+                or "-topic" not in words
+            ):
                 continue
             at = words.index("-topic")
             if at + 1 >= len(words) or words[at + 1] != "robot_description":

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from pkgforge.errors import PkgforgeError
-from pkgforge.migrate import table
+from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -48,7 +48,11 @@ class _Lines:
         return None
 
 
-def convert(text: str, path: Path, notes: Notes, links: set[str], root_link: str | None) -> str:
+def convert(
+    text: str, path: Path, notes: Notes, links: set[str], root_link: str | None, by: str = "pkgforge migrate"
+) -> str:
+    """The RViz 2 config of an RViz 1 config's `text`; what it renamed, changed or left out goes to
+    `notes`. With the model's `links`, a Fixed Frame that is none of them becomes `root_link`."""
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
@@ -66,8 +70,8 @@ def convert(text: str, path: Path, notes: Notes, links: set[str], root_link: str
             cls = node.get("Class")
             if isinstance(cls, str) and cls:
                 line = lines.of("Class", cls)
-                if cls in table.RVIZ_CLASSES:
-                    node["Class"] = table.RVIZ_CLASSES[cls]
+                if cls in ros1_names.RVIZ_CLASSES:
+                    node["Class"] = ros1_names.RVIZ_CLASSES[cls]
                     notes.add("migrate-renamed", f"RViz class {cls} → {node['Class']}", path, line)
                 elif not cls.startswith(("rviz_common/", "rviz_default_plugins/")):
                     notes.add(
@@ -113,6 +117,6 @@ def convert(text: str, path: Path, notes: Notes, links: set[str], root_link: str
         options["Fixed Frame"] = root_link
     if isinstance(data.get("Window Geometry"), dict):
         data["Window Geometry"].pop("QMainWindow State", None)  # RViz 1's Qt layout, not RViz 2's
-    return f"# Converted from RViz 1 {path.name} by pkgforge migrate.\n" + yaml.safe_dump(
+    return f"# Converted from RViz 1 {path.name} by {by}.\n" + yaml.safe_dump(
         data, sort_keys=False, default_flow_style=False, width=1000
     )

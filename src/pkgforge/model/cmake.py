@@ -507,6 +507,9 @@ BINARY_TESTS = frozenset(
     | {"VERSION_LESS_EQUAL", "VERSION_GREATER_EQUAL", "PATH_EQUAL", "MATCHES", "IN_LIST", "IS_NEWER_THAN"}
 )
 NO_NEED: tuple[frozenset[str], frozenset[str]] = (frozenset(), frozenset())
+# parentheses in an if() condition read through (four calls a level); a condition nested deeper
+# (none is) is read as needing nothing, as any condition pkgforge cannot read is
+MAX_CONDITION_DEPTH = 64
 
 
 class _NotACondition(Exception):
@@ -520,6 +523,7 @@ def _needs_found(args: list[Argument], optional: dict[str, Command]) -> tuple[fr
     cmake-commands(7) gives their precedence. A condition read otherwise needs nothing."""
     by_lower = {name.lower(): name for name in optional}
     position = 0
+    depth = 0  # parentheses open
 
     def word(offset: int = 0) -> str | None:
         index = position + offset
@@ -547,22 +551,27 @@ def _needs_found(args: list[Argument], optional: dict[str, Command]) -> tuple[fr
 
     def negation() -> tuple[frozenset[str], frozenset[str]]:
         nonlocal position
-        if word() == "NOT":
+        flips = 0
+        while word() == "NOT":  # (counted, not recursed: `NOT NOT … x` may be any length)
             position += 1
-            when_true, when_false = negation()
-            return when_false, when_true
-        return test()
+            flips += 1
+        when_true, when_false = test()
+        return (when_false, when_true) if flips % 2 else (when_true, when_false)
 
     def test() -> tuple[frozenset[str], frozenset[str]]:
-        nonlocal position
+        nonlocal position, depth
         if position >= len(args):
             raise _NotACondition
         if word() == "(":
+            depth += 1
+            if depth > MAX_CONDITION_DEPTH:  # read recursively: deeper is read as needing nothing
+                raise _NotACondition
             position += 1
             found = either()
             if word() != ")":
                 raise _NotACondition
             position += 1
+            depth -= 1
             return found
         if word() in UNARY_TESTS:
             operator = word()

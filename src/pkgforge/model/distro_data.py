@@ -20,11 +20,12 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
-DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
+from pkgforge.model.ros1_names import PACKAGES as REPLACEMENTS
 
-# ROS 1 names, renamed packages and Gazebo Classic → their ROS 2 successors: one table, kept
-# with every other ROS 1 → ROS 2 name in migrate/table.py.
-from pkgforge.migrate.table import PACKAGES as REPLACEMENTS  # noqa: E402
+DATA_FILE = Path(__file__).parent / "data" / "distros.txt"
+# rosdep's keys (system packages: eigen, python3-numpy, ...), written by scripts/update-distro-data
+# from ros/rosdistro's rosdep/*.yaml: a name neither released nor a key fails `rosdep install`
+ROSDEP_FILE = Path(__file__).parent / "data" / "rosdep_keys.txt"
 
 
 @dataclass(frozen=True)
@@ -105,6 +106,25 @@ def active_distros() -> list[str]:
     return load().names
 
 
+@functools.lru_cache(maxsize=1)
+def rosdep_keys() -> frozenset[str]:
+    """Every key of rosdep's default sources, for some platform (a key rosdep resolves on none of
+    the target's platforms is not told apart)."""
+    text = ROSDEP_FILE.read_text(encoding="utf-8")
+    return frozenset(word for line in text.splitlines() if not line.startswith("#") for word in line.split())
+
+
+def render_rosdep(keys: Iterable[str], source: str) -> str:
+    """The rosdep key file's text: a header, then the keys sorted, a few to a line."""
+    names = sorted(set(keys))
+    lines = [
+        "# rosdep's keys: the rules of rosdep's default sources for system packages (REP 111).",
+        f"# Source: {source}. Written by scripts/update-distro-data; do not edit.",
+    ]
+    lines += [" ".join(names[start : start + 12]) for start in range(0, len(names), 12)]
+    return "\n".join(lines) + "\n"
+
+
 def replacement(name: str) -> tuple[str, str] | None:
     """(what to use instead, why) for a package name that has a known successor."""
     return REPLACEMENTS.get(name)
@@ -171,6 +191,8 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     import yaml
 
     from pkgforge.model.distros import DISTROS
+    from pkgforge.model.source import read_regular
+    from pkgforge.model.yamlnodes import load_all
 
     names = set(DISTROS)  # the same names as the data's (a test keeps them equal), without reading it
     found: set[str] = set()
@@ -178,27 +200,28 @@ def ci_distros(folder: Path) -> tuple[str, ...]:
     def distro_words(text: str) -> set[str]:
         return {w for w in text.replace(",", " ").split() if w in names}
 
-    def walk(node: object, key: str | None = None) -> None:  # parsed YAML: any JSON-like value
-        if isinstance(node, dict):
-            for k, v in node.items():
-                walk(v, str(k).lower())
-        elif isinstance(node, list):
-            for v in node:
-                walk(v, key)
-        elif isinstance(node, str):
-            if key in CI_DISTRO_KEYS:
-                found.update(distro_words(node))
-            for word in node.split():
-                image = word.split("/")[-1]  # ros:jazzy, osrf/ros:jazzy-desktop
-                if image.startswith("ros:"):
-                    distro = image[4:].split("-")[0]
-                    if distro in names:
-                        found.add(distro)
+    def walk(document: object) -> None:  # parsed YAML: any JSON-like value
+        todo: list[tuple[object, str | None]] = [(document, None)]
+        while todo:  # (no recursion: a file nests as deep as the YAML reader lets it)
+            node, key = todo.pop()
+            if isinstance(node, dict):
+                todo += [(v, str(k).lower()) for k, v in node.items()]
+            elif isinstance(node, list):
+                todo += [(v, key) for v in node]
+            elif isinstance(node, str):
+                if key in CI_DISTRO_KEYS:
+                    found.update(distro_words(node))
+                for word in node.split():
+                    image = word.split("/")[-1]  # ros:jazzy, osrf/ros:jazzy-desktop
+                    if image.startswith("ros:"):
+                        distro = image[4:].split("-")[0]
+                        if distro in names:
+                            found.add(distro)
 
     for path in files:
         try:
-            documents = list(yaml.safe_load_all(path.read_text(encoding="utf-8")))
-        except (OSError, UnicodeDecodeError, yaml.YAMLError):
+            documents = load_all(read_regular(path).decode("utf-8"))
+        except (OSError, UnicodeDecodeError, yaml.YAMLError):  # (past the YAML reader's bounds too)
             continue  # not ours to report; the CI system does
         for document in documents:
             if not _builds_another_branch(document):

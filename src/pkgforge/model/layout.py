@@ -12,7 +12,7 @@ from pathlib import Path
 
 from pkgforge.model.cmake import BINARY_DIR, INSTALL_PREFIX, PYTHON_SITE, CMakeModel, InstallRule, Unknown
 from pkgforge.model.cmake_syntax import Argument
-from pkgforge.model.setup_py import SetupPyModel
+from pkgforge.model.setup_py import SetupPyModel, package_folder
 from pkgforge.walk import WalkLimit, walk
 
 INDEX_MARKER = "share/ament_index/resource_index/packages/{name}"
@@ -233,18 +233,21 @@ def _add_python_modules(layout: InstallLayout, setup_py: SetupPyModel, package_p
     workspace imports them from the tree as from a sourced install."""
     line = setup_py.packages_line
     for dotted in setup_py.python_packages:
-        relative = dotted.replace(".", "/")
+        installed = dotted.replace(".", "/")
+        folder = package_path / package_folder(dotted, setup_py.package_dir)  # (package_dir: elsewhere)
         try:
-            names = sorted(e.name for e in os.scandir(package_path / relative) if e.name.endswith(".py"))
+            names = sorted(e.name for e in os.scandir(folder) if e.name.endswith(".py"))
         except OSError:
             continue
         for name in names:
-            source = package_path / relative / name
+            source = folder / name
             if source.is_file():
-                layout.add(f"{PYTHON_SITE}/{relative}/{name}", source, setup_py.source.path, line)
+                layout.add(f"{PYTHON_SITE}/{installed}/{name}", source, setup_py.source.path, line)
     for module in setup_py.py_modules:
-        relative = f"{module.replace('.', '/')}.py"  # (a.b: a/b.py, as setuptools installs it)
-        if (package_path / relative).is_file():
-            layout.add(f"{PYTHON_SITE}/{relative}", package_path / relative, setup_py.source.path, line)
-    for relative in setup_py.package_data:
-        layout.add(f"{PYTHON_SITE}/{relative}", package_path / relative, setup_py.source.path, line)
+        package, _, last = module.rpartition(".")  # (a.b: a/b.py, as setuptools installs it)
+        where = package_folder(package, setup_py.package_dir) if package else setup_py.package_dir.get("", "")
+        source = package_path / where / f"{last}.py"
+        if source.is_file():
+            layout.add(f"{PYTHON_SITE}/{module.replace('.', '/')}.py", source, setup_py.source.path, line)
+    for installed, relative in setup_py.package_data:
+        layout.add(f"{PYTHON_SITE}/{installed}", package_path / relative, setup_py.source.path, line)

@@ -72,6 +72,26 @@ class PackageModel:
             self.path / f for f in self.files if launch_kind(self.path / f) and f.parts[0] not in SKIPPED_DIRS
         ]
 
+    def unpredicted(self) -> tuple[Path, int | None] | None:
+        """Where the install of a setup.py package into its share folder cannot be predicted
+        (setup.py unreadable, or data_files that neither its text nor running it gave): (file,
+        line), else None. Such a share folder is unknown, never empty. (A CMake package's rule
+        pkgforge cannot evaluate keeps its own handling: a file it may install is a warning.)"""
+        layout, setup_py = self.layout, self.setup_py
+        if setup_py is None:
+            return None
+        if not layout.known:
+            return setup_py.source.path, setup_py.syntax_error[0] if setup_py.syntax_error else None
+        share = f"share/{self.share_name}"
+        for path, line, destination in layout.may_install:
+            if (
+                destination is None
+                or destination in ("", "share")
+                or (destination + "/").startswith(share + "/")
+            ):
+                return path, line
+        return None
+
     def suppressed(self, path: Path, line: int | None, keys: set[str]) -> bool:
         source = self.sources.get(path)
         if source is None or line is None:

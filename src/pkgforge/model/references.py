@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pkgforge.model.source import SourceFile
+from pkgforge.model.source import SourceFile, parse_python
 
 if TYPE_CHECKING:  # both imported where they are used: most files need neither
     import yaml
@@ -354,7 +354,7 @@ def _scan_rviz(source: SourceFile, text: str, locate: _Locator) -> list[Referenc
 
 def _scan_python(source: SourceFile, text: str) -> list[Reference]:
     try:
-        tree = ast.parse(text, filename=str(source.path))
+        tree = parse_python(text, filename=str(source.path))
     except SyntaxError:
         return []
     found: list[Reference] = []

@@ -9,9 +9,12 @@ from typing import TypedDict
 import yaml
 
 from pkgforge.model.source import read_source
-from pkgforge.model.yamlnodes import compose
+from pkgforge.model.yamlnodes import compose, problem
 
 ROBOT_MODEL = "rviz_default_plugins/RobotModel"
+# the plugin namespace of RViz 1's own classes (rviz/RobotModel, rviz/Orbit, rviz/Displays): rviz2
+# knows none of them (its own are rviz_common/ and rviz_default_plugins/)
+RVIZ1_PREFIX = "rviz/"
 
 
 # one display of an RViz config (a group's displays too), as the checks read it ("class" is a
@@ -40,6 +43,8 @@ class RvizConfig:
     fixed_frame: str | None = None
     fixed_frame_line: int | None = None
     displays: list[Display] = field(default_factory=list)
+    # every RViz 1 class (display, panel, tool, view) the config names, with its line, in file order
+    ros1_classes: list[tuple[str, int]] = field(default_factory=list)
 
 
 def _line(node: yaml.Node) -> int:
@@ -65,9 +70,9 @@ def read_rviz(path: Path) -> RvizConfig:
         return config
     try:
         document = compose(source.text)
-    except yaml.YAMLError as error:
+    except yaml.YAMLError as error:  # (past the reader's bounds too: it says which)
         mark = getattr(error, "problem_mark", None)
-        config.error = f"not valid YAML: {getattr(error, 'problem', None) or error}"
+        config.error = problem(error)
         config.error_line = mark.line + 1 if mark else None
         return config
     manager = _mapping(document).get("Visualization Manager")
@@ -78,10 +83,36 @@ def read_rviz(path: Path) -> RvizConfig:
     if "Fixed Frame" in options:
         config.fixed_frame = _scalar(options["Fixed Frame"])
         config.fixed_frame_line = _key_lines(_mapping(manager).get("Global Options"))["Fixed Frame"]
-    displays = _mapping(manager).get("Displays")
-    for node in displays.value if isinstance(displays, yaml.SequenceNode) else []:
-        _display(node, config.displays)
+    # a group's displays follow the group, in the file's order (no recursion: groups nest freely)
+    todo = list(reversed(_sequence(_mapping(manager).get("Displays"))))
+    while todo:
+        node = todo.pop()
+        if _display(node, config.displays):
+            todo += reversed(_sequence(_mapping(node).get("Displays")))
+    config.ros1_classes = _ros1_classes(document)
     return config
+
+
+def _sequence(node: yaml.Node | None) -> list[yaml.Node]:
+    return node.value if isinstance(node, yaml.SequenceNode) else []
+
+
+def _ros1_classes(document: yaml.Node | None) -> list[tuple[str, int]]:
+    """(class, line) of every `Class: rviz/...` anywhere in the config (panels, displays in
+    groups, tools, views), in file order."""
+    found: list[tuple[str, int]] = []
+    stack = [document]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, yaml.MappingNode):
+            klass = _mapping(node).get("Class")
+            value = _scalar(klass)
+            if klass is not None and value and value.startswith(RVIZ1_PREFIX):
+                found.append((value, _line(klass)))
+            stack.extend(value for _, value in node.value)
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(node.value)
+    return sorted(found, key=lambda item: item[1])
 
 
 def _key_lines(node: yaml.Node | None) -> dict[str, int]:
@@ -90,7 +121,8 @@ def _key_lines(node: yaml.Node | None) -> dict[str, int]:
     return {key.value: _line(key) for key, _ in node.value if isinstance(key, yaml.ScalarNode)}
 
 
-def _display(node: yaml.Node, out: list[Display]) -> None:
+def _display(node: yaml.Node, out: list[Display]) -> bool:
+    """Add the display; whether it is a group (whose Displays are displays too)."""
     entries = _mapping(node)
     keys = _key_lines(node)
     klass = _scalar(entries.get("Class"))
@@ -113,7 +145,4 @@ def _display(node: yaml.Node, out: list[Display]) -> None:
             "file_line": keys.get("Description File"),
         }
     )
-    if klass == "rviz_common/Group":  # displays nested in a group
-        children = entries.get("Displays")
-        for child in children.value if isinstance(children, yaml.SequenceNode) else []:
-            _display(child, out)
+    return klass == "rviz_common/Group"

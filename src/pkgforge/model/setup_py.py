@@ -15,16 +15,23 @@ import configparser
 import fnmatch
 import glob as globmodule
 import os
+import posixpath
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pkgforge.model.source import SourceFile
+from pkgforge.model.source import SourceFile, parse_python
 from pkgforge.walk import walk
 
 # a value setup.py computes (str, int, bool, None, list, tuple): the user's data, checked where used
 Value = Any
+
+
+# evaluations one inside another (an operand, an element, a call of the file's own function): no
+# setup.py nests 100 deep, and one that calls itself without end would raise RecursionError
+MAX_EVAL_DEPTH = 100
 
 
 class Unevaluable(Exception):
@@ -54,10 +61,25 @@ class SetupPyModel:
     # `packages=` (a list, or find_packages() with its where/include/exclude), `py_modules=`
     python_packages: list[str] = field(default_factory=list)
     py_modules: list[str] = field(default_factory=list)
-    # package_data={'pkg': ['*.yaml']}: the files it adds to the packages, relative to the package
-    # folder (setuptools installs them beside the modules)
-    package_data: list[str] = field(default_factory=list)
+    # package_data={'pkg': ['*.yaml']}: the files it adds to the packages, (where it installs them
+    # below site-packages, the file relative to the package folder): beside the modules
+    package_data: list[tuple[str, str]] = field(default_factory=list)
     packages_line: int | None = None
+    # setup(package_dir=...): where the packages' folders are ('' the root), when evaluated
+    package_dir: dict[str, str] = field(default_factory=dict)
+    # entry_points={'console_scripts': [...]} as setup() got them (evaluated setup.py only)
+    entry_points: dict[str, list[str]] = field(default_factory=dict)
+    setup_line: int | None = None  # the setup() call's
+    # the line of setup()'s data_files= (its computed entries are located there)
+    data_files_line: int | None = None
+    # packages=, py_modules= or package_data= that the static reader could not evaluate
+    partial: bool = False
+    # read by running setup.py as colcon does (setup_eval.py), not from its text
+    evaluated: bool = False
+    # (line, why) when running setup.py failed: the static reading above stands
+    evaluation_error: tuple[int | None, str] | None = None
+    # that failure was a limit or a crash: this machine's, not the file's (never cached)
+    evaluation_unstable: bool = False
 
 
 def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
@@ -66,7 +88,7 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
         model.syntax_error = (source.problem_line or 1, source.problem or "unreadable")
         return model
     try:
-        tree = ast.parse(source.text, filename=str(source.path))
+        tree = parse_python(source.text, filename=str(source.path))
     except SyntaxError as exc:
         model.syntax_error = (exc.lineno or 1, exc.msg)
         return model
@@ -86,6 +108,7 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
     if setup_call is None:
         return model
     model.has_setup_call = True
+    model.setup_line = setup_call.lineno
     keywords = {kw.arg: kw.value for kw in setup_call.keywords if kw.arg}
     if "name" in keywords:
         try:
@@ -94,6 +117,7 @@ def load_setup_py(source: SourceFile, package_path: Path) -> SetupPyModel:
             pass
     _read_python_packages(model, keywords, evaluator)
     data_files = keywords.get("data_files")
+    model.data_files_line = data_files.lineno if data_files is not None else None
     if data_files is None:
         _read_setup_cfg(model, package_path)
         return model
@@ -132,6 +156,7 @@ def _read_python_packages(model: SetupPyModel, keywords: dict[str, ast.expr], ev
     """`packages=` and `py_modules=` of setup(), when pkgforge can evaluate them: what a launch
     file of the workspace imports from this package (`package_dir=` moves them: left alone)."""
     if "package_dir" in keywords:
+        model.partial = True  # (setup_eval.py's evaluation reads it)
         return
     for keyword, into in (("packages", model.python_packages), ("py_modules", model.py_modules)):
         node = keywords.get(keyword)
@@ -140,27 +165,105 @@ def _read_python_packages(model: SetupPyModel, keywords: dict[str, ast.expr], ev
         try:
             value = evaluator.eval(node)
         except (Unevaluable, TypeError, ValueError):
+            model.partial = True
             continue
         if isinstance(value, (list, tuple)) and all(isinstance(v, str) and _DOTTED.match(v) for v in value):
             into.extend(value)
             model.packages_line = model.packages_line or node.lineno
     data = keywords.get("package_data")
+    if data is not None and not isinstance(data, ast.Dict):
+        model.partial = True
     if isinstance(data, ast.Dict):
         for key, patterns in zip(data.keys, data.values, strict=True):
             try:
                 name = evaluator.eval(key) if key is not None else None
                 globs = evaluator.eval(patterns)
             except (Unevaluable, TypeError, ValueError):
+                model.partial = True
                 continue
             if not isinstance(name, str) or not isinstance(globs, (list, tuple)):
                 continue
-            for dotted in model.python_packages if name in ("", "*") else [name]:
-                folder = evaluator.package_path / dotted.replace(".", "/")
-                for pattern in (g for g in globs if isinstance(g, str)):
-                    found = globmodule.glob(str(folder / pattern), recursive=True)
-                    model.package_data += sorted(
-                        os.path.relpath(f, evaluator.package_path) for f in found if os.path.isfile(f)
-                    )
+            model.package_data += package_data_files(
+                evaluator.package_path,
+                model.python_packages,
+                {},
+                name,
+                [g for g in globs if isinstance(g, str)],
+            )
+
+
+def package_data_files(
+    package_path: Path, packages: list[str], package_dir: dict[str, str], name: str, patterns: list[str]
+) -> list[tuple[str, str]]:
+    """(installed below site-packages, file relative to the package folder) for each file
+    package_data's patterns for package `name` ('' or '*': every package) match: setuptools globs
+    them in each package's folder and installs them beside its modules."""
+    out: list[tuple[str, str]] = []
+    for dotted in packages if name in ("", "*") else [name]:
+        folder = package_path / package_folder(dotted, package_dir)
+        for pattern in patterns:
+            found = globmodule.glob(str(folder / pattern), recursive=True)
+            out += sorted(
+                (
+                    posixpath.join(dotted.replace(".", "/"), os.path.relpath(f, folder)),
+                    os.path.relpath(f, package_path),
+                )
+                for f in found
+                if os.path.isfile(f)
+            )
+    return out
+
+
+def package_folder(dotted: str, package_dir: dict[str, str]) -> str:
+    """The folder of a package, relative to the package's root, as setuptools' build_py finds it:
+    package_dir of the package, or of its nearest parent with the rest of the name below it,
+    or of '' (the root)."""
+    parts = dotted.split(".")
+    for cut in range(len(parts), 0, -1):
+        base = package_dir.get(".".join(parts[:cut]))
+        if base is not None:
+            return posixpath.join(base, *parts[cut:])
+    return posixpath.join(package_dir.get("", ""), *parts)
+
+
+def evaluated_model(static: SetupPyModel, values: Mapping[str, Any], package_path: Path) -> SetupPyModel:
+    """The model of what setup() got when setup.py ran (setup_eval.py): its data_files, packages,
+    py_modules, package_data and entry_points. An entry the static reader read too keeps its line
+    (and file: setup.cfg); a computed one is at the static reader's unread element, when only one
+    was unread, else at data_files= (the setup() line without one)."""
+    model = SetupPyModel(
+        static.source,
+        has_setup_call=True,
+        name=values.get("name") if isinstance(values.get("name"), str) else static.name,
+        evaluated=True,
+        data_files_line=static.data_files_line,
+        setup_line=static.setup_line,
+    )
+    known = {(e.destination, e.files): e for e in static.entries}
+    unread = sorted({line for line, _ in static.unknown})
+    line = unread[0] if len(unread) == 1 else static.data_files_line or static.setup_line or 1
+    for item in values.get("data_files") or []:
+        files: tuple[str, ...]
+        if isinstance(item, str):  # a lone file: install_data copies it into the prefix itself
+            destination, files = "", (item,)
+        else:
+            destination, files = str(item[0]), tuple(str(f) for f in item[1])
+        same = known.get((destination, files))
+        model.entries.append(
+            DataFilesEntry(destination, files, same.line if same else line, same.path if same else None)
+        )
+    model.package_dir = {str(k): str(v) for k, v in (values.get("package_dir") or {}).items()}
+    model.python_packages = [p for p in values.get("packages") or [] if _DOTTED.match(p)]
+    model.py_modules = [m for m in values.get("py_modules") or [] if _DOTTED.match(m)]
+    model.packages_line = static.packages_line or line
+    for name, patterns in (values.get("package_data") or {}).items():
+        model.package_data += package_data_files(
+            package_path, model.python_packages, model.package_dir, name, list(patterns)
+        )
+    model.entry_points = {
+        str(k): [str(v) for v in lines] for k, lines in (values.get("entry_points") or {}).items()
+    }
+    return model
 
 
 _DOTTED = re.compile(r"^[A-Za-z_]\w*(\.[A-Za-z_]\w*)*$")
@@ -219,6 +322,7 @@ class _Evaluator:
         self.names: dict[str, Value] = {}
         self.functions: dict[str, ast.FunctionDef] = {}
         self.failed: dict[str, _Failed] = {}  # name → why its value is unknown
+        self.depth = 0  # evaluations under way, one inside the other
 
     # --- statements (module level) -----------------------------------------------------------
 
@@ -303,7 +407,19 @@ class _Evaluator:
                 self.fail(name, statement.lineno, f"changed inside a {kind} statement pkgforge does not run")
 
     def eval(self, node: ast.AST, scope: dict[str, Value] | None = None) -> Value:
-        scope = scope or {}
+        self.depth += 1
+        try:
+            if self.depth > MAX_EVAL_DEPTH:  # (each level is a few Python calls here)
+                raise Unevaluable(
+                    node,
+                    f"evaluating it goes more than {MAX_EVAL_DEPTH} levels deep (an expression nested "
+                    "that deep, or a function that calls itself): pkgforge evaluates no deeper",
+                )
+            return self._value(node, scope or {})
+        finally:
+            self.depth -= 1
+
+    def _value(self, node: ast.AST, scope: dict[str, Value]) -> Value:
         if isinstance(node, ast.Constant) and isinstance(
             node.value, (str, int, bool, type(None), tuple, list)
         ):

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Severity
-from pkgforge.report import relative
+from pkgforge.report import printable, relative
 from pkgforge.report.text import summary
 
 if TYPE_CHECKING:
@@ -15,7 +15,9 @@ COMMANDS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO:
 
 
 def _data(text: str) -> str:
-    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+    """A workflow command's message as GitHub documents its escaping, after control characters are
+    made printable (an escape sequence would act in the log; a newline is shown, not a line break)."""
+    return printable(text).replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
 
 
 def _property(text: str) -> str:

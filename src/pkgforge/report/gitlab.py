@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Severity
-from pkgforge.report import relative
+from pkgforge.report import printable, relative
 
 if TYPE_CHECKING:
     from pkgforge.verify.pipeline import VerifyResult
@@ -49,12 +49,15 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
         key = f"{d.code}\0{path}\0{d.line or 0}\0{d.message}"
         # GitLab needs a fingerprint unique per issue and stable across runs: what and where
         seen[key] = seen.get(key, -1) + 1
-        fingerprint = hashlib.sha256(f"{key}\0{seen[key]}".encode()).hexdigest()
+        # (surrogateescape: a file name's bytes that are not UTF-8, as they are)
+        fingerprint = hashlib.sha256(f"{key}\0{seen[key]}".encode("utf-8", "surrogateescape")).hexdigest()
         issues.append(
             {
                 "type": "issue",
                 "check_name": f"{d.code} {d.name}",
-                "description": f"{d.code} {d.message} (hint: {d.hint})",
+                # shown on the merge request as it is: printable; the path stays the file's own
+                # (JSON escapes it), which GitLab matches to the changed files
+                "description": printable(f"{d.code} {d.message} (hint: {d.hint})"),
                 "categories": ["Bug Risk"],
                 "severity": SEVERITIES[d.severity],
                 "fingerprint": fingerprint,

@@ -1,4 +1,7 @@
-"""JUnit XML: one testsuite per package, one testcase per check; errors are failures."""
+"""JUnit XML: one testsuite per package, one testcase per check; errors are failures.
+
+Every text from the package (names, paths, messages) goes through `printable`: XML 1.0 has no
+way to write most control characters, even as a character reference, and lxml refuses them."""
 
 from __future__ import annotations
 
@@ -8,6 +11,7 @@ from lxml import etree
 
 from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
+from pkgforge.report import printable
 from pkgforge.report.text import location
 
 if TYPE_CHECKING:
@@ -20,7 +24,8 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
     suites = etree.Element("testsuites", name="pkgforge verify")
     total_tests = total_failures = 0
     for report in result.reports:
-        suite = etree.SubElement(suites, "testsuite", name=report.name, errors="0", skipped="0", time="0")
+        package = printable(report.name)
+        suite = etree.SubElement(suites, "testsuite", name=package, errors="0", skipped="0", time="0")
         failures = 0
         for check in checks:
             found = [d for d in report.diagnostics if d.code == check.code]
@@ -28,23 +33,24 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
                 suite,
                 "testcase",
                 name=f"{check.code} {check.name}",
-                classname=f"pkgforge.{report.name}",
+                classname=f"pkgforge.{package}",
                 time="0",
             )
             failed = [d for d in found if d.severity in failing]
             if failed:
                 failures += 1
                 failure = etree.SubElement(
-                    case, "failure", message=failed[0].message, type=failed[0].severity.label
+                    case, "failure", message=printable(failed[0].message), type=failed[0].severity.label
                 )
                 failure.text = "\n".join(
-                    f"{location(d, result.root)}: {d.message}\nhint: {d.hint}" for d in failed
+                    f"{location(d, result.root)}: {printable(d.message)}\nhint: {printable(d.hint)}"
+                    for d in failed
                 )
             others = [d for d in found if d.severity not in failing]
             if others:
                 out = etree.SubElement(case, "system-out")
                 out.text = "\n".join(
-                    f"{location(d, result.root)}: [{d.severity.label}] {d.message}" for d in others
+                    f"{location(d, result.root)}: [{d.severity.label}] {printable(d.message)}" for d in others
                 )
         suite.set("tests", str(len(checks)))
         suite.set("failures", str(failures))

@@ -9,12 +9,24 @@ from pkgforge import __version__
 from pkgforge.checks.catalogue import help_uri
 from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
-from pkgforge.report import relative
+from pkgforge.report import printable, relative
 
 if TYPE_CHECKING:
     from pkgforge.verify.pipeline import VerifyResult
 
 LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+# what a URI's path may hold as it is (RFC 3986 pchar and "/"; quote() keeps letters, digits, -._~),
+# less ":": in a relative reference's first segment it would read as a scheme ("a:b.py")
+_URI_PATH_SAFE = "/!$&'()*+,;=@"
+
+
+def artifact_uri(path: str) -> str:
+    """A relative path as the URI reference SARIF requires: a space, %, :, #, ?, a non-ASCII or
+    control character percent-encoded (as UTF-8; a byte that was not UTF-8 as itself), so that
+    viewers decode it to the file's name."""
+    from urllib.parse import quote
+
+    return quote(path, safe=_URI_PATH_SAFE, errors="surrogateescape")
 
 
 def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
@@ -35,7 +47,7 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
     results = []
     for d in result.diagnostics:
         physical: dict[str, Any] = {
-            "artifactLocation": {"uri": relative(d.path, result.root), "uriBaseId": "SRCROOT"}
+            "artifactLocation": {"uri": artifact_uri(relative(d.path, result.root)), "uriBaseId": "SRCROOT"}
         }
         if d.line is not None:
             region = {"startLine": d.line}
@@ -47,7 +59,8 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
                 "ruleId": d.code,
                 "ruleIndex": index[d.code],
                 "level": LEVELS[d.severity],
-                "message": {"text": f"{d.message} (hint: {d.hint})"},
+                # the message as code scanning shows it: printable, like every report's
+                "message": {"text": printable(f"{d.message} (hint: {d.hint})")},
                 "locations": [{"physicalLocation": physical}],
             }
         )

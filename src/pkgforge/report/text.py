@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from pkgforge.diagnostics import Diagnostic, Severity
-from pkgforge.report import relative
+from pkgforge.report import printable, relative
 
 if TYPE_CHECKING:
     from pkgforge.verify.pipeline import VerifyResult
@@ -17,7 +17,8 @@ COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cya
 
 
 def location(diagnostic: Diagnostic, root: Path) -> str:
-    parts = [relative(diagnostic.path, root)]
+    """`path:line:col`, the path printable (a file's name may hold any character but / and NUL)."""
+    parts = [printable(relative(diagnostic.path, root))]
     if diagnostic.line is not None:
         parts.append(str(diagnostic.line))
         if diagnostic.column is not None:
@@ -26,7 +27,7 @@ def location(diagnostic: Diagnostic, root: Path) -> str:
 
 
 def summary(result: VerifyResult) -> str:
-    return (
+    return printable(  # the distro may come from $ROS_DISTRO as it is
         f"{result.count(Severity.ERROR)} errors, {result.count(Severity.WARNING)} warnings, "
         f"{result.count(Severity.INFO)} infos in {len(result.reports)} packages"
         + engine_note(result)
@@ -58,8 +59,9 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
         severity = style(f"[{diagnostic.severity.label}]", fg=COLORS[diagnostic.severity], bold=True)
         lines.append(
             f"{style(location(diagnostic, result.root), bold=True)}: "
-            f"{style(diagnostic.code, bold=True)} {severity} {diagnostic.message} ({diagnostic.name})"
+            f"{style(diagnostic.code, bold=True)} {severity} {printable(diagnostic.message)} "
+            f"({diagnostic.name})"
         )
-        lines.append(f"    hint: {diagnostic.hint}")
+        lines.append(f"    hint: {printable(diagnostic.hint)}")
     lines.append(summary(result))
     return "\n".join(lines) + "\n"

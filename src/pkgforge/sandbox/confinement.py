@@ -14,7 +14,7 @@ import sys
 from pkgforge.sandbox import landlock, namespaces
 from pkgforge.sandbox.protocol import Confinement
 
-DISABLE_VARIABLE = "PKGFORGE_SANDBOX_DISABLE"  # comma-separated: landlock, namespaces (tests, debugging)
+DISABLE_VARIABLE = "PKGFORGE_SANDBOX_DISABLE"  # comma-separated: landlock, namespaces, seccomp (tests)
 
 
 def probe() -> Confinement:
@@ -46,9 +46,34 @@ def probe() -> Confinement:
         "signals": abi >= landlock.SCOPES_ABI,
         "view": support["view"],
         "pid": support["pid"],
+        "network": support["view"] or abi >= landlock.NET_ABI,
+        "sockets": "seccomp" not in disabled and _filters(),
         "guard": True,
         "why": why,
     }
+
+
+def _filters() -> bool:
+    """Whether a process can install the seccomp filter (seccomp.py), tried in a throwaway one."""
+    from pkgforge.sandbox import seccomp
+
+    if not seccomp.applies() or not hasattr(os, "fork"):
+        return False
+    child = os.fork()
+    if child == 0:  # pragma: no cover - in the throwaway child
+        code = 1
+        try:
+            seccomp.install()
+            import socket
+
+            try:
+                socket.socket(socket.AF_UNIX)
+            except PermissionError:
+                code = 0
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(child, 0)
+    return os.waitstatus_to_exitcode(status) == 0
 
 
 def _restricts(abi: int) -> bool:
@@ -74,20 +99,26 @@ def unconfined() -> Confinement:
         "signals": False,
         "view": False,
         "pid": False,
+        "network": False,
+        "sockets": False,
         "guard": True,
         "why": [sys.platform],
     }
 
 
 def weaker(confinement: Confinement) -> str | None:
-    """A few words for verify's summary line when writes or signals are not kernel-enforced; None
-    when they are (Landlock with signal scoping, or a read-only view in a PID namespace)."""
-    writes = confinement["landlock"] > 0 or confinement["view"]
-    signals = confinement["signals"] or confinement["pid"]
-    if writes and signals:
+    """A few words for verify's summary line when something verify promises is not kernel-enforced:
+    writes (Landlock or the read-only view), chmod/chown/utime (only the view: Landlock does not cover
+    them), signals (Landlock's scopes or the PID namespace). None when all three are."""
+    held = {
+        "writes": confinement["landlock"] > 0 or confinement["view"],
+        "chmod/utime": confinement["view"],
+        "signals": confinement["signals"] or confinement["pid"],
+    }
+    missing = [what for what, kernel in held.items() if not kernel]
+    if not missing:
         return None
-    missing = [what for what, held in (("writes", writes), ("signals", signals)) if not held]
-    return f"sandbox weaker: {' and '.join(missing)} refused only by the Python guard (see --explain-sandbox)"
+    return f"sandbox weaker: {', '.join(missing)} refused only by the Python guard (see --explain-sandbox)"
 
 
 def describe(confinement: Confinement) -> list[str]:
@@ -97,19 +128,25 @@ def describe(confinement: Confinement) -> list[str]:
         return "✓" if active else "✗"
 
     abi = confinement["landlock"]
+    view = confinement["view"]
     lines = [
         f"{mark(abi > 0)} Landlock{f' ABI {abi}' if abi else ''}: the kernel refuses writes outside "
         "pkgforge's temporary folders, by the launch file and everything it starts",
         f"{mark(confinement['signals'])} Landlock scopes: signals and abstract Unix sockets only within "
         "the launch file's own processes",
-        f"{mark(confinement['view'])} read-only view (user and mount namespace): no write, chmod, chown "
-        "or utime anywhere else, by any program",
+        f"{mark(view)} read-only view (user and mount namespace): no write, chmod, chown or utime "
+        "anywhere else, by any program; its writes to the tree and /tmp stay its own, in a tmpfs "
+        "of --worker-memory",
         f"{mark(confinement['pid'])} PID namespace: no process outside can be seen or signalled; "
         "everything it started ends with it",
+        f"{mark(confinement['network'])} no network: no TCP port (a local server, an agent) reachable"
+        + ("; /run is empty (no session bus, no docker or systemd socket)" if view else ""),
+        f"{mark(confinement['sockets'])} no new Unix socket (seccomp): no agent reachable by its "
+        "socket's path (docker, ssh, gpg)",
         f"{mark(confinement['guard'])} Python guard (audit hook): each refused write or signal reported "
         "at its line (launch-writes-files, PF316)",
         "✓ one fresh process per launch file and per model, holding no descriptor of pkgforge's; its "
-        "result checked against the request",
+        "one result line taken once it ended, with a token it never held",
         "✓ limits: --worker-memory, --launch-timeout (CPU and wall time), 1024 open files",
     ]
     lines += [f"  not available: {why}" for why in confinement["why"]]

@@ -28,7 +28,6 @@ from __future__ import annotations
 import json
 import os
 import select
-import shutil
 import signal
 import sys
 import tempfile
@@ -38,10 +37,13 @@ from typing import Any, NoReturn
 from pkgforge.sandbox import landlock, namespaces, processes, warmup, worker
 from pkgforge.sandbox.confinement import probe
 from pkgforge.sandbox.protocol import Confinement, Hello, WorkerLimits, WorkerRequest
+from pkgforge.walk import remove_tree
 
 KILL_GRACE = 2.0  # seconds past the time limit before a process that did not stop is killed
 WORK_VARIABLE = "PKGFORGE_WORK"  # where each request's own folder is made (the parent's, per run)
-MAX_REPLY = 256 * 2**20  # bytes of one reply: a process writing more is stopped
+# bytes of one reply: a process writing more is stopped (a reply is parsed into ~20 times its size:
+# this bounds pkgforge's own memory; the records of real launch files stay far below it)
+MAX_REPLY = 32 * 2**20
 PR_SET_PDEATHSIG = 1
 
 Reply = dict[str, Any]
@@ -51,6 +53,10 @@ def main(confinement: Confinement | None = None) -> None:
     """The coordinator on stdin (requests) and stdout (replies); returns when stdin closes.
     `confinement`: what the fork server's probe found (else probed here)."""
     confinement = probe() if confinement is None else confinement
+    # Ctrl-C is pkgforge's to handle (it kills every worker); and no process of the same user
+    # reads this one's descriptors or memory through /proc (the request sent ahead, its token)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    processes.not_dumpable()
     limits = worker.read_limits()
     if limits.get("parent"):
         processes.die_with_parent(int(limits["parent"]))
@@ -61,17 +67,15 @@ def main(confinement: Confinement | None = None) -> None:
     limits["parent"] = os.getpid()  # each request's process dies with this one
     landlock.abi_version()  # (loads the C library once, here, for every request's process)
     engine = worker.prepare()
-    warmup.run(engine, work)  # what every request's process would import and cache: made once here
-    import gc
-
-    gc.freeze()  # (and left alone by the collector of each forked process)
     hello: Hello = {"hello": applied}
     _send(hello)
+    prepared: set[str] = set()
     while True:
         line = _read_line(0)
         if line is None:
             return
         request: WorkerRequest = json.loads(line)
+        _prepare_for(request, engine, work, prepared)
         own = tempfile.mkdtemp(prefix="request-", dir=work)
         reply_read, reply_write = os.pipe()
         child = os.fork()
@@ -81,10 +85,27 @@ def main(confinement: Confinement | None = None) -> None:
         os.close(reply_write)
         token = _read_line(0)  # read only now: the process that evaluates never holds it
         reply = _collect(child, reply_read, limits, applied)
-        shutil.rmtree(own, ignore_errors=True)
+        remove_tree(own)
         reply["request"] = request
         reply["token"] = (token or b"").decode(errors="replace")
         _send(reply)
+
+
+def _prepare_for(request: WorkerRequest, engine: worker.Engine, work: str, prepared: set[str]) -> None:
+    """What every process of the request's kind would import and cache, made once here before the
+    first one is forked: the scaffold evaluated for launch files and models (warmup.py), setuptools
+    for setup.py files. (A coordinator that answers only setup.py files warms no launch engine.)"""
+    kind = "setup" if "setup" in request else "launch"
+    if kind in prepared:
+        return
+    if kind == "setup":
+        worker.prepare_setup()
+    else:
+        warmup.run(engine, work)
+    import gc
+
+    gc.freeze()  # (and left alone by the collector of each forked process)
+    prepared.add(kind)
 
 
 def _enter(confinement: Confinement, writable: list[str]) -> Confinement:
@@ -96,6 +117,7 @@ def _enter(confinement: Confinement, writable: list[str]) -> Confinement:
             namespaces.enter_view(writable)
         except OSError as error:
             applied["view"] = applied["pid"] = False
+            applied["network"] = applied["landlock"] >= landlock.NET_ABI
             applied["why"].append(f"namespaces: {error}")
     applied["pid"] = applied["pid"] and applied["view"]
     if applied["pid"]:
@@ -184,6 +206,8 @@ def _collect(child: int, replies: int, limits: WorkerLimits, confinement: Confin
         wait = None if deadline is None else deadline - time.monotonic()
         if wait is not None and wait <= 0:
             more = allowance.more() if allowance is not None else 0.0
+            if more and allowance is not None and _own_load(child) >= allowance.granted:
+                more = 0.0  # it waited for its own processes (a fork bomb), not for a busy machine
             if more and deadline is not None:
                 deadline = time.monotonic() + more
                 continue
@@ -215,6 +239,23 @@ def _collect(child: int, replies: int, limits: WorkerLimits, confinement: Confin
     if timed_out:
         return timeout_reply(float(timeout or 0.0), allowance.granted if allowance is not None else 0.0)
     return _reply(bytes(received), status, limits, too_big=too_big)
+
+
+def _own_load(child: int) -> float:
+    """CPU seconds the request's other processes used: every process below the coordinator but the
+    request's own (which it waited for: its children's times, as they ended)."""
+    ticks = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+    total = 0
+    for pid in processes.descendants(os.getpid()):
+        try:
+            with open(f"/proc/{pid}/stat", "rb") as handle:
+                fields = handle.read().rsplit(b")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        # (after the name: state is field 0; utime, stime, cutime, cstime are 11 to 14)
+        own, children = int(fields[11]) + int(fields[12]), int(fields[13]) + int(fields[14])
+        total += children if pid == child else own
+    return total / ticks
 
 
 def _pidfd(pid: int) -> int | None:
@@ -295,7 +336,7 @@ def _reply(received: bytes, status: int | None, limits: WorkerLimits, *, too_big
         )
     try:
         reply: object = json.loads(lines[0])
-    except ValueError:
+    except (ValueError, RecursionError):
         return _crashed(
             "the process evaluating it wrote something that is not a result "
             "(it wrote to a file descriptor it does not own)"

@@ -52,6 +52,7 @@ if TYPE_CHECKING:  # the guard runs in any Python 3 (guard_site/): typing only f
         root: str | None  # the real path of PKGFORGE_SANDBOX (else of the process's own folder)
         roots: list[str]  # the real paths of every folder it may write: that, and its own folder
         log: str | None  # the log of refusals (PKGFORGE_SANDBOX_LOG)
+        tmp_upper: str | None  # the private /tmp overlay's upper folder (PKGFORGE_SANDBOX_TMP)
         root_pid: int | None  # the worker's pid
         locator: Locator | None
         spawned_at: tuple[str | None, int | None]  # where the running child was started
@@ -62,6 +63,8 @@ if TYPE_CHECKING:  # the guard runs in any Python 3 (guard_site/): typing only f
 
 SANDBOX_VARIABLE = "PKGFORGE_SANDBOX"
 OWN_VARIABLE = "PKGFORGE_SANDBOX_OWN"  # the folder of the process evaluating one request
+# when /tmp is the process's private overlay (namespaces.private_tmp): the overlay's upper folder
+TMP_VARIABLE = "PKGFORGE_SANDBOX_TMP"
 LOG_VARIABLE = "PKGFORGE_SANDBOX_LOG"
 ROOT_PID_VARIABLE = "PKGFORGE_SANDBOX_PID"
 # entries of SANDBOX/install not changed since this time (ns) are the install tree pkgforge made
@@ -92,6 +95,12 @@ def writable_roots(root: str | None = None) -> list[str]:
     return [os.path.realpath(folder) for folder in found if folder]
 
 
+def kernel_writable(root: str | None = None) -> list[str]:
+    """What the kernel lets a sandboxed process write (landlock.restrict): writable_roots, and /tmp
+    when it is the process's private overlay (the guard still refuses changing a file that was there)."""
+    return writable_roots(root) + (["/tmp"] if os.environ.get(TMP_VARIABLE) else [])
+
+
 def install(root: str | None = None) -> bool:
     """Install the guard for the temporary folder `root` (default: $PKGFORGE_SANDBOX) and the
     process's own folder ($PKGFORGE_SANDBOX_OWN); idempotent."""
@@ -102,6 +111,7 @@ def install(root: str | None = None) -> bool:
         return False
     _state["root"], _state["roots"] = roots[0], roots
     _state["log"] = os.environ.get(LOG_VARIABLE)
+    _state["tmp_upper"] = os.environ.get(TMP_VARIABLE)
     sealed = os.environ.get(SEALED_VARIABLE, "")
     _state["sealed"] = int(sealed) if sealed.isdigit() else None
     pid = os.environ.get(ROOT_PID_VARIABLE)
@@ -241,6 +251,20 @@ def _inside(real: str) -> bool:
     return any(real == root or real.startswith(f"{root}{os.sep}") for root in _state["roots"])
 
 
+def _private_tmp(location: str, exists: bool) -> bool:
+    """A path of /tmp where it is the process's private overlay that is the process's own: written
+    by it, or new in /tmp itself or in a folder it made there. Anything else under /tmp (a file of the
+    user's, a new file in the user's workspace kept in /tmp) is still refused."""
+    upper = _state.get("tmp_upper")
+    if not upper or not location.startswith("/tmp/"):
+        return False
+    relative = location[len("/tmp/") :]
+    if exists:
+        return os.path.lexists(os.path.join(upper, relative))
+    folder = os.path.dirname(relative)
+    return folder == "" or os.path.isdir(os.path.join(upper, folder))
+
+
 def _location(path: str) -> str:
     """Where the entry itself is (its folder's real path, its own name): links not followed."""
     folder, name = os.path.split(path)
@@ -264,7 +288,7 @@ def _check(
     exists = os.path.lexists(location)
     if creates and exists or needs and not exists:
         return
-    if not _inside(location):
+    if not _inside(location) and not _private_tmp(location, exists):
         _refuse(operation, path)
     if exists and _installed(location):
         _refuse(

@@ -7,6 +7,7 @@ A process that calls restrict() can from then on, and so can every process it st
   allowed everywhere;
 - signal processes of its own domain (itself and what it started), and connect to abstract
   Unix sockets of its own domain, where the kernel has Landlock ABI 6 (Linux 6.12);
+- bind or connect no TCP port (ABI 4, Linux 6.7): no local server or agent is reachable;
 - never lift any of it again (there is no call to undo it), nor mount, nor ptrace a process
   outside its domain (so no /proc/<pid>/fd/N of pkgforge's either).
 
@@ -59,8 +60,16 @@ WRITES_ABI1 = (
     | MAKE_BLOCK
     | MAKE_SYM
 )
+# what a writable folder allows: all of that but device nodes (a block device made there is a
+# way to the disk; nothing a launch file does needs one)
+DEVICES = MAKE_CHAR | MAKE_BLOCK
 # what may be done to a file (not a folder): a rule on a device names only these
 FILE_WRITES = WRITE_FILE | TRUNCATE
+
+# network rights (ABI 4): handled with no rule, no TCP port can be bound or connected to
+NET_BIND_TCP = 1 << 0
+NET_CONNECT_TCP = 1 << 1
+NET_ABI = 4
 
 SCOPE_ABSTRACT_UNIX_SOCKET = 1 << 0  # ABI 6
 SCOPE_SIGNAL = 1 << 1  # ABI 6
@@ -130,14 +139,15 @@ def restrict(writable: Iterable[str], abi: int | None = None) -> int:
     rights = handled_writes(abi)
     scopes = SCOPE_SIGNAL | SCOPE_ABSTRACT_UNIX_SOCKET if abi >= SCOPES_ABI else 0
     # (an older kernel takes the whole structure too: it checks that the fields it lacks are 0)
-    attr = _RulesetAttr(rights, 0, scopes)
+    network = NET_BIND_TCP | NET_CONNECT_TCP if abi >= NET_ABI else 0
+    attr = _RulesetAttr(rights, network, scopes)
     size = ctypes.c_size_t(ctypes.sizeof(_RulesetAttr))
     ruleset = libc.syscall(SYS_LANDLOCK_CREATE_RULESET, ctypes.byref(attr), size, 0)
     if ruleset < 0:
         _raise(ctypes.get_errno(), "landlock_create_ruleset")
     try:
         for folder in writable:
-            _allow(libc, ruleset, folder, rights)
+            _allow(libc, ruleset, folder, rights & ~DEVICES)
         for device in WRITABLE_DEVICES:
             if os.path.exists(device):
                 _allow(libc, ruleset, device, rights & FILE_WRITES)

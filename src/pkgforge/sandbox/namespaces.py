@@ -28,6 +28,7 @@ from typing import TypedDict
 CLONE_NEWNS = 0x00020000
 CLONE_NEWUSER = 0x10000000
 CLONE_NEWPID = 0x20000000
+CLONE_NEWNET = 0x40000000
 MS_BIND = 1 << 12
 MS_REC = 1 << 14
 MS_PRIVATE = 1 << 18
@@ -100,12 +101,15 @@ def _write(path: str, text: str) -> None:
 
 
 def enter_view(writable: Iterable[str]) -> None:
-    """Enter a new user and mount namespace where everything is read-only but `writable`.
+    """Enter a new user, mount and network namespace where everything is read-only but `writable`
+    (and where there is no network).
     Raises OSError; the process is then in whatever state the failing step left it (the caller
     goes on without the view: nothing was made read-only, or everything but `writable` was)."""
     libc = _libc()
     uid, gid = os.geteuid(), os.getegid()
     _check(libc.unshare(CLONE_NEWUSER | CLONE_NEWNS), "unshare(user, mount)")
+    # no network: nothing on the user's machine (a local server, an agent's port) reachable
+    _check(libc.unshare(CLONE_NEWNET), "unshare(network)")
     _write("/proc/self/setgroups", "deny")
     _write("/proc/self/uid_map", f"{uid} {uid} 1")
     _write("/proc/self/gid_map", f"{gid} {gid} 1")
@@ -130,6 +134,44 @@ def _set_readonly(libc: ctypes.CDLL, path: bytes, readonly: bool) -> None:
         ctypes.c_size_t(ctypes.sizeof(attr)),
     )
     _check(status, "mount_setattr")
+
+
+def private_mounts(own: str, tree: str | None, size: int) -> str:
+    """What a request's process sees in a mount namespace of its own (needs enter_view's user
+    namespace), so that nothing it writes reaches anything shared, and what it writes is bounded:
+    - its folder `own`: a tmpfs of `size` bytes, holding every write below;
+    - pkgforge's temporary tree `tree`: an overlay, its writes kept in `own` (another launch
+      file never sees them, and the tree the checks read stays as pkgforge made it);
+    - /tmp: an overlay likewise (a launch file writing /tmp/robot.urdf, then reading it back,
+      works as under ros2 launch; the user's /tmp is never written);
+    - /run: an empty tmpfs (the session bus, docker's and systemd's sockets are out of reach),
+      unless `own` or `tree` is below it.
+    → the /tmp overlay's upper folder (what the process wrote there)."""
+    libc = _libc()
+    _check(libc.unshare(CLONE_NEWNS), "unshare(mount)")
+    own_bytes = os.fsencode(own)
+    _check(
+        libc.mount(b"tmpfs", own_bytes, b"tmpfs", MS_NOSUID | MS_NODEV, f"size={size},mode=700".encode()),
+        "mount(tmpfs)",
+    )
+    _overlay(libc, "/tmp", own, "tmp")
+    if tree is not None and os.path.isdir(tree):
+        _overlay(libc, tree, own, "tree")
+    below_run = [f for f in (own, tree or "") if f == "/run" or f.startswith("/run/")]
+    if os.path.isdir("/run") and not below_run:
+        _check(
+            libc.mount(b"tmpfs", b"/run", b"tmpfs", MS_NOSUID | MS_NODEV, b"size=1m,mode=755"), "mount(/run)"
+        )
+    return os.path.join(own, ".tmp-upper")
+
+
+def _overlay(libc: ctypes.CDLL, folder: str, own: str, name: str) -> None:
+    """`folder` as an overlay whose writes go to own/.NAME-upper."""
+    upper, work = os.path.join(own, f".{name}-upper"), os.path.join(own, f".{name}-work")
+    os.mkdir(upper)
+    os.mkdir(work)
+    options = f"lowerdir={folder},upperdir={upper},workdir={work}".encode()
+    _check(libc.mount(b"overlay", os.fsencode(folder), b"overlay", 0, options), f"mount(overlay {folder})")
 
 
 def new_pid_namespace() -> None:

@@ -56,6 +56,15 @@ def _libc() -> ctypes.CDLL:
     return ctypes.CDLL(None, use_errno=True)  # once: a CDLL costs a dlopen
 
 
+PR_SET_DUMPABLE = 4
+
+
+def not_dumpable() -> bool:
+    """No process without CAP_SYS_PTRACE may read this one's /proc/<pid>/fd, mem or environ, even
+    of the same user (a launch file's process, whose capabilities are dropped). Reset at exec."""
+    return _prctl(PR_SET_DUMPABLE, 0)
+
+
 def become_subreaper() -> bool:
     """Orphaned descendants are re-parented to this process, not to init (Linux 3.4+)."""
     return _prctl(PR_SET_CHILD_SUBREAPER, 1)

@@ -1,6 +1,6 @@
 """The messages between pkgforge and its launch worker (sandbox/worker.py): one JSON object per line.
 
-The parent (launch/resolve.py) writes a request per launch file or robot model on the worker's
+The parent (launch/resolve.py) writes a request per launch file, robot model or setup.py on the worker's
 stdin and reads one reply per request from its stdout; the worker's limits come once, as JSON in
 PKGFORGE_WORKER_LIMITS. These TypedDicts are that protocol: what json.dumps writes and
 json.loads gives back, so the values are plain JSON (lists, str, int, float, None).
@@ -36,6 +36,8 @@ class Confinement(TypedDict):
     signals: bool  # Landlock scopes signals and abstract sockets to the process's own tree (ABI 6)
     view: bool  # a user and mount namespace where all but pkgforge's temporary folders is read-only
     pid: bool  # a PID namespace of its own: nothing outside can be seen or signalled; one kill ends all
+    network: bool  # no network (a namespace of its own in the view; else Landlock's TCP rights, ABI 4)
+    sockets: bool  # no new Unix socket (seccomp): no agent reachable by its socket's path
     guard: bool  # the Python guard (an audit hook) reports refused writes and signals at their line
     why: list[str]  # what the kernel did not allow, and why
 
@@ -70,7 +72,15 @@ class ModelRequest(TypedDict):
     mappings: dict[str, str]
 
 
-WorkerRequest = LaunchRequest | ModelRequest
+@final  # no other keys: `"setup" in request` tells the kinds apart
+class SetupRequest(TypedDict):
+    """Run one package's setup.py as colcon reads its metadata (model/setup_eval.py): setuptools'
+    own setup(), stopped once its configuration is read, before any command runs."""
+
+    setup: str
+
+
+WorkerRequest = LaunchRequest | ModelRequest | SetupRequest
 
 
 class Envelope(TypedDict):
@@ -125,6 +135,35 @@ class ModelReply(TypedDict, total=False):
     errors: list[ErrorRecord]  # what the guard refused while answering (none for models)
     includes: list[str]  # the files the model included (absolute paths)
     robot: RobotStructure  # the structure: links, joints, meshes (urdf/robot._structure)
+    request: WorkerRequest  # the request it answers (the coordinator adds it)
+    token: str  # the request's token (the coordinator adds it; the parent checks and drops it)
+
+
+# one data_files entry as setup() got it: [destination, [file, ...]], or a lone file (installed
+# into the prefix itself, as distutils' install_data does)
+DataFilesItem = list[str | list[str]] | str
+
+
+class SetupValues(TypedDict, total=False):
+    """What setup() was given (after setup.cfg, as setuptools merges it), as plain JSON."""
+
+    name: str | None
+    data_files: list[DataFilesItem] | None
+    packages: list[str] | None
+    py_modules: list[str] | None
+    package_data: dict[str, list[str]] | None
+    package_dir: dict[str, str] | None
+    entry_points: dict[str, list[str]] | None
+
+
+@final
+class SetupReply(TypedDict, total=False):
+    """model/setup_eval.run_setup_py's answer: the values setup() got, or where setup.py failed."""
+
+    status: Literal["ok", "error", "load-error", "timeout", "crashed"]
+    error: ErrorRecord | None
+    errors: list[ErrorRecord]  # (none: what the guard refuses, setup.py's own failure says)
+    values: SetupValues
     request: WorkerRequest  # the request it answers (the coordinator adds it)
     token: str  # the request's token (the coordinator adds it; the parent checks and drops it)
 

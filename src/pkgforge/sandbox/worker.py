@@ -34,6 +34,7 @@ from pkgforge.sandbox.protocol import (
     ErrorRecord,
     LimitKind,
     ModelReply,
+    SetupReply,
     WorkerLimits,
     WorkerRequest,
 )
@@ -41,11 +42,14 @@ from pkgforge.sandbox.protocol import (
 if TYPE_CHECKING:
     from pkgforge.launch.records import BranchBudget, LaunchResultDict
 
-    WorkerReply = LaunchResultDict | ModelReply
+    WorkerReply = LaunchResultDict | ModelReply | SetupReply
     from pkgforge.sandbox.processes import LoadAllowance
 
 API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
 OPEN_FILES = 1024  # the usual `ulimit -n`: what a launch file gets under ros2 launch too
+# bytes a request's process may write in all (its folder, its views of the tree and /tmp) when
+# --worker-memory is unlimited; else that (the tmpfs holding them is memory too)
+PRIVATE_FOLDER_SIZE = 2 * 2**30
 # the extra argument combinations start and run only until this share of --launch-timeout
 BRANCH_SHARE = 0.7
 
@@ -248,7 +252,7 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
         "stage": "worker",
         "type": type(error).__name__,
         "message": str(error),
-        "file": request["file"] if "file" in request else request["model"],
+        "file": _subject(request),
         "line": None,
     }
     if "file" in request:
@@ -258,6 +262,13 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
         if frames:
             record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
     return record
+
+
+def _subject(request: WorkerRequest) -> str:
+    """The file a request evaluates."""
+    if "file" in request:
+        return request["file"]
+    return request["model"] if "model" in request else request["setup"]
 
 
 def _install_guard(own: str) -> bool:
@@ -304,8 +315,10 @@ def _refusals(result: WorkerReply, request: WorkerRequest) -> None:
     from pkgforge.sandbox import guard
 
     for record in guard.take():
-        if "model" in request:
-            continue  # pkgforge's own xacro run on a model: no launch file to blame
+        if "file" not in request:
+            # pkgforge's own xacro run on a model: no launch file to blame; a setup.py that
+            # writes fails on the refusal, and that failure is its evaluation's answer
+            continue
         if record["kind"] == "installed":
             kind = "TreeWrite"
         else:
@@ -379,6 +392,17 @@ class Engine:
     setup_error: str | None = None  # the ros engine's libraries could not be imported: said per file
 
 
+def prepare_setup() -> None:
+    """In the coordinator, before the first setup.py request: setuptools imported once (~0.2 CPU s,
+    pkgforge's own dependency, no user code), so that each setup.py's process forks with it."""
+    import importlib
+
+    try:
+        importlib.import_module("setuptools")
+    except Exception:  # noqa: BLE001 - each request's process then says why, at setup.py
+        pass
+
+
 def prepare() -> Engine:
     """In the coordinator, once, before any request: the engine's imports and the tree's Python
     folders, so that each request's fresh process starts with them (no user code runs here)."""
@@ -420,7 +444,8 @@ def answer(
     code = 0
     try:
         _isolate(reply_fd)
-        os.chdir(own)
+        _private_mounts(own, confinement, limits)
+        os.chdir(own)  # (after: `own` may now be a tmpfs of its own)
         guarded = _install_guard(own)
         _apply_limits(limits)
         _confine(confinement)
@@ -458,16 +483,37 @@ def _open_descriptors() -> list[int]:
         return list(range(3, OPEN_FILES))
 
 
+def _private_mounts(own: str, confinement: Confinement, limits: WorkerLimits) -> None:
+    """In the read-only view: its own folder a bounded tmpfs, the tree and /tmp overlays whose
+    writes stay there, /run empty (namespaces.private_mounts)."""
+    if not confinement["view"]:
+        return
+    from pkgforge.sandbox import guard, namespaces
+
+    size = int(limits.get("memory") or PRIVATE_FOLDER_SIZE)
+    try:
+        upper = namespaces.private_mounts(own, os.environ.get(guard.SANDBOX_VARIABLE), size)
+    except OSError:
+        return  # the shared tree, and /tmp read-only: such a write fails (the guard says where)
+    os.environ[guard.TMP_VARIABLE] = upper
+
+
 def _confine(confinement: Confinement) -> None:
     """What the kernel enforces from here on, for this process and everything it starts."""
     from pkgforge.sandbox import landlock, namespaces
 
-    if confinement["view"]:
+    try:  # (also for root without a user namespace: mknod, raw disks, modules, the clock)
         namespaces.drop_privileges()
+    except OSError:
+        pass  # nothing to drop where the kernel has no capabilities to give
     if confinement["landlock"]:
         from pkgforge.sandbox import guard
 
-        landlock.restrict(guard.writable_roots(), confinement["landlock"])
+        landlock.restrict(guard.kernel_writable(), confinement["landlock"])
+    if confinement["sockets"]:
+        from pkgforge.sandbox import seccomp
+
+        seccomp.install()
 
 
 def _write_all(fd: int, data: bytes) -> None:
@@ -488,6 +534,10 @@ def _evaluate(request: WorkerRequest, engine: Engine, limits: WorkerLimits, guar
             budget = _budget(limits)
             if "model" in request:
                 result = process_model(request["model"], request.get("mappings", {}))
+            elif "setup" in request:
+                from pkgforge.model.setup_eval import run_setup_py
+
+                result = run_setup_py(request["setup"])
             elif engine.name == "ros":
                 from pkgforge.launch import ros_engine
 

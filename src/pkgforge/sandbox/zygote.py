@@ -53,6 +53,9 @@ def serve(channel: int) -> None:
 
     parent = os.getppid()
     die_with_parent(parent)
+    from pkgforge.sandbox.processes import not_dumpable
+
+    not_dumpable()  # (its socket to pkgforge is nothing a launch file may reach through /proc)
     # as in a worker: no byte code written, also for what the preload imports (xacro and
     # ament_index_python may come from the user's PYTHONPATH: a sourced overlay's folders)
     sys.dont_write_bytecode = True

@@ -326,8 +326,10 @@ def encode(text: str) -> bytes:
 def read_model(path: Path) -> ModelFile:
     """The model file; a located PkgforgeError when it cannot be read. Content after the root
     element is read as ROS 1's tools did: the root element, the rest left alone (trailing_line)."""
+    from pkgforge.model.source import read_regular
+
     try:
-        data = path.read_bytes()
+        data = read_regular(path)  # a FIFO or a device is refused, never read
     except OSError as exc:
         raise ModelUnreadable(path, None, f"cannot read it: {exc.strerror}", "") from exc
     # external entities are never read: a model's <!ENTITY x SYSTEM "file:///..."> would put
@@ -727,7 +729,7 @@ def _note_read(
     notes: Notes, read: dict[Path, ModelFile], references: list[Reference], found: dict[str, Path]
 ) -> None:
     """What the import reads differently from a strict XML parser or a ROS 2 package lookup."""
-    from pkgforge.migrate.table import is_gazebo_classic_plugin
+    from pkgforge.model.ros1_names import is_gazebo_classic_plugin
 
     for current, model in read.items():
         if model.trailing_line is not None:
@@ -787,9 +789,10 @@ def what_became(reference: Reference) -> str:
     return f"{'not copied' if reference.refused else 'not found'}: {reference.problem}"
 
 
-def missing_message(missing: list[Reference], *, force: bool = True) -> str:
+def missing_message(missing: list[Reference], *, force: bool = True) -> list[str]:
     """One line per file the model names and pkgforge cannot bring (a mesh a visual and a collision
-    both name is one line, with the other lines it is named at), then what to do."""
+    both name is one line, with the other lines it is named at), then what to do
+    (PkgforgeError(*lines))."""
     groups: dict[tuple[Path, str, str, str], list[Reference]] = {}
     for reference in missing:
         key = (reference.file, reference.kind, reference.uri, what_became(reference))
@@ -810,12 +813,7 @@ def missing_message(missing: list[Reference], *, force: bool = True) -> str:
             f"{len(groups)} file(s) the model names cannot be found: nothing written; "
             "copy them where the model says"
         )
-    return (
-        "\n".join(lines)
-        + "\n"
-        + advice
-        + (", or pass --force to write the package without them" if force else "")
-    )
+    return [*lines, advice + (", or pass --force to write the package without them" if force else "")]
 
 
 def new_from_urdf(
@@ -840,7 +838,7 @@ def new_from_urdf(
         notes.add("migrate-generated", name_note, model.absolute(), None)
     imported = import_model(name, model, uri_style=uri_style, notes=notes, add_root_link=add_root_link)
     if imported.missing and not force:
-        raise PkgforgeError(missing_message(imported.missing))
+        raise PkgforgeError(*missing_message(imported.missing))
     seen: set[tuple[Path, str]] = set()
     for reference in imported.missing:
         if (reference.file, reference.uri) in seen:

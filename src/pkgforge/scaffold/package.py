@@ -20,6 +20,7 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.model.catkin import InvalidPackage, parse_package_string
 from pkgforge.model.distros import DISTROS, Distro, default_distro
 from pkgforge.model.names import REP144_RULE, rep144_advice, rep144_problem
+from pkgforge.model.source import FileTooLarge, read_regular
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 from pkgforge.scaffold.stl import binary_stl, box_triangles
 
@@ -351,17 +352,19 @@ def create_package(
             if final.is_dir() and not final.is_symlink():
                 raise PkgforgeError(f"{final} is a folder where pkgforge writes a file (nothing written)")
             if final.exists() or final.is_symlink():
-                try:
-                    same = not final.is_symlink() and final.read_bytes() == files[relative]
+                try:  # (a FIFO or a device: refused, never read)
+                    same = not final.is_symlink() and read_regular(final) == files[relative]
+                except FileTooLarge:
+                    same = False  # (no template is 8 MB)
                 except OSError as exc:
                     raise PkgforgeError(f"cannot read {final}: {exc.strerror}") from exc
                 (unchanged if same else overwritten).append(relative)
         if overwritten and force < 2:
-            listed = "\n".join(f"  {relative}" for relative in overwritten)
-            raise PkgforgeError(
+            raise PkgforgeError(  # one line each (a name's own newline is escaped)
                 f"--force would replace {len(overwritten)} file(s) in {target} that differ from what "
-                f"pkgforge writes now (edited, or generated with other options):\n{listed}\n"
-                "nothing was written; pass --force twice to replace them, or move them away first"
+                "pkgforge writes now (edited, or generated with other options):",
+                *(f"  {relative}" for relative in overwritten),
+                "nothing was written; pass --force twice to replace them, or move them away first",
             )
     mask = _umask()
     try:

@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import os
 import posixpath
+import stat
 import struct
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from pkgforge.model.source import NotRegularFile, read_head
 from pkgforge.tree import InstallTree
 
 READ_LIMIT = 1 << 20
@@ -41,7 +43,7 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
         share = tree.installed_share(package)
         if share is None:
             return MeshLookup("unknown-package", None, package, normal)
-        return _check(share / normal, package, normal)
+        return _unless_unpredicted(_check(share / normal, package, normal), tree, package)
     if uri.startswith("file://"):
         path = Path(unquote(urlparse(uri).path))
         located = tree.locate(str(path)) if tree.is_phantom(str(path)) else None
@@ -49,7 +51,8 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
             # file://$(find zed_msgs)/meshes/zed.stl: a declared package not installed here, as
             # its package:// URI would be (zed-ros2-wrapper's zed_descr.urdf.xacro)
             return MeshLookup("unchecked", None, located[0], located[1])
-        return _check(path, None, None)
+        located = tree.locate(str(path))
+        return _unless_unpredicted(_check(path, None, None), tree, located[0] if located else None)
     if "://" in uri:
         return MeshLookup("unsupported")
     if base is not None:  # a relative path: relative to the model file, as urdfdom does
@@ -57,14 +60,26 @@ def resolve_uri(uri: str, tree: InstallTree, base: Path | None = None) -> MeshLo
     return MeshLookup("unsupported")
 
 
+def _unless_unpredicted(lookup: MeshLookup, tree: InstallTree, package: str | None) -> MeshLookup:
+    """A mesh missing from the share folder of a package whose install pkgforge cannot predict is
+    not known to be missing (its real install may have it): unchecked."""
+    if lookup.status == "missing" and package is not None and package in tree.unpredicted:
+        return MeshLookup("unchecked", lookup.path, package, lookup.relative)
+    return lookup
+
+
 def _check(path: Path, package: str | None, relative: str | None) -> MeshLookup:
-    if os.path.isfile(path):
+    try:
+        is_folder = stat.S_ISDIR(os.stat(path).st_mode)
+    except OSError:
+        is_folder = True  # nothing there (or a dangling link): look for another case of the name
+    if not is_folder:  # a file, or a FIFO or device standing in one's place (unreadable says which)
         return MeshLookup("found", path, package, relative)
     parent = path.parent
     if parent.is_dir():
         wanted = path.name.lower()
         for entry in os.listdir(parent):
-            if entry.lower() == wanted:
+            if entry.lower() == wanted and entry != path.name:
                 return MeshLookup("case", path, package, relative, entry)
     return MeshLookup("missing", path, package, relative)
 
@@ -73,9 +88,9 @@ def unreadable(path: Path) -> str | None:
     """Why the mesh file is not a readable mesh of its kind, or None when it is."""
     suffix = path.suffix.lower()
     try:
-        size = path.stat().st_size
-        with open(path, "rb") as handle:
-            head = handle.read(READ_LIMIT)
+        head, size = read_head(path, READ_LIMIT)
+    except NotRegularFile as error:
+        return str(error.strerror)
     except OSError as error:
         return f"cannot read it: {error.strerror}"
     if size == 0:

@@ -20,6 +20,8 @@ from os import PathLike
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, Literal
 
+from pkgforge.model.source import read_regular
+
 if TYPE_CHECKING:
     from lxml import etree
 
@@ -67,8 +69,7 @@ def mesh_info(path: str) -> MeshInfo | None:
 def _mesh_info(path: str, size: int, mtime: int) -> MeshInfo | None:
     suffix = os.path.splitext(path)[1].lower()
     try:
-        with open(path, "rb") as handle:
-            data = handle.read()
+        data = read_regular(path, MESH_READ_LIMIT)  # (no FIFO or device swapped in since the stat)
         _STATE.large = len(data) > NUMPY_ABOVE
         if suffix == ".stl":
             return _stl(data)

@@ -20,7 +20,9 @@ from typing import Any
 
 from lxml import etree
 
+from pkgforge.model.source import FileTooLarge, NotRegularFile, read_regular
 from pkgforge.sandbox.protocol import ErrorRecord, ModelReply
+from pkgforge.urdf.ros1_xacro import describe, ros1_tags
 from pkgforge.urdf.structure import (
     Geometry,
     Inertial,
@@ -31,7 +33,9 @@ from pkgforge.urdf.structure import (
     Origin,
     Part,
     RobotStructure,
+    Ros1Tag,
 )
+from pkgforge.urdf.urdfdom import problems
 
 Element = etree._Element
 # (tag, literal name) → (file, line) across a model's files
@@ -40,6 +44,9 @@ Sources = dict[tuple[str, str], tuple[str, int]]
 GEOMETRY_URI_TAGS = ("mesh",)
 NEEDS_ARGUMENT = re.compile(r"[Uu]ndefined substitution argument (\S+)")
 MAX_MODEL_BYTES = 8 * 1024 * 1024
+# libxml2 refuses elements nested deeper than this (unless told XML_PARSE_HUGE), in these words
+MAX_XML_DEPTH = 256
+LIBXML_TOO_DEEP = f"Excessive depth in document: {MAX_XML_DEPTH}"
 # xacro:args with an empty default tried one by one when a model fails on its own (each is a run)
 MAX_BLAME_RUNS = 8
 XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
@@ -48,22 +55,22 @@ XACRO_ARG = r"<xacro:arg\b[^>]*\bname\s*=\s*[\"']{}[\"']"
 def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
     """xacro (or plain URDF) → {status, error, robot: {links, joints, meshes, ...}}."""
     try:
-        size = os.path.getsize(path)
-    except OSError as error:
-        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
-    if size > MAX_MODEL_BYTES:
+        data = read_regular(path, MAX_MODEL_BYTES)  # a FIFO, /dev/zero: refused, never read
+    except FileTooLarge as error:
         return {
             "status": "too-large",
             "error": {
-                "message": f"{size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
+                "message": f"{error.size / 1e6:.1f} MB; pkgforge processes models up to {MAX_MODEL_BYTES // 2**20} MB",
                 "file": path,
                 "line": None,
             },
         }
+    except NotRegularFile as error:
+        return {"status": "error", "error": {"message": str(error.strerror), "file": path, "line": None}}
+    except OSError as error:
+        return {"status": "error", "error": {"message": str(error), "file": path, "line": None}}
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(4096)
-        head.decode("utf-8")
+        data[:4096].decode("utf-8")
     except UnicodeDecodeError:
         return {
             "status": "error",
@@ -74,7 +81,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
                 "stage": "xml",
             },
         }
-    output = _expand(path, mappings)
+    output = _expand(path, data.decode("utf-8", errors="replace"), mappings)
     if not isinstance(output, tuple):
         return output
     text, includes = output
@@ -84,20 +91,26 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
         return {
             "status": "error",
             "error": {
-                "message": f"not well-formed XML: {exc.msg}",
+                "message": xml_problem(exc),
                 "file": path,
                 "line": exc.lineno,
                 "stage": "xml",
             },
         }
     expanded = includes is not None
-    sources = _name_index([path, *includes]) if includes is not None else {}
-    return {
-        "status": "ok",
-        "error": None,
-        "includes": includes or [],
-        "robot": _structure(root, path, sources, expanded),
-    }
+    files = [path, *(includes or [])]
+    sources = _name_index(files) if expanded else {}
+    robot = _structure(root, path, sources, expanded, files)
+    # xacro ran (or the file uses none of it) with ROS 1's bare tags left in as plain elements
+    robot["ros1_tags"] = ros1_tags(files)
+    return {"status": "ok", "error": None, "includes": includes or [], "robot": robot}
+
+
+def xml_problem(exc: etree.XMLSyntaxError) -> str:
+    """lxml's error in words about the file (its line is the error's)."""
+    if exc.msg and exc.msg.startswith(LIBXML_TOO_DEEP):  # libxml2's bound, named by its option
+        return f"elements nest deeper than {MAX_XML_DEPTH} levels: pkgforge reads XML up to that depth"
+    return f"not well-formed XML: {exc.msg}"
 
 
 def parse_model_xml(text: str) -> etree._Element:
@@ -124,7 +137,8 @@ def structure_of_output(path: str, urdf: str, includes: list[str]) -> RobotStruc
         root = parse_model_xml(urdf)
     except etree.XMLSyntaxError:
         return None
-    return _structure(root, path, _name_index([path, *includes]), expanded=True)
+    files = [path, *includes]
+    return _structure(root, path, _name_index(files), True, files)
 
 
 @dataclasses.dataclass
@@ -162,11 +176,10 @@ def run_xacro(path: str, mappings: dict[str, str]) -> XacroRun:
         sys.stderr = real_stderr
 
 
-def _expand(path: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
-    """The xacro output (or the file itself when it uses no xacro), with the files it included
-    (None: the file itself); or the reply saying why there is none."""
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        raw = handle.read()
+def _expand(path: str, raw: str, mappings: dict[str, str]) -> tuple[str, list[str] | None] | ModelReply:
+    """The xacro output of the model at `path`, whose text is `raw` (or the text itself when it
+    uses no xacro), with the files it included (None: the file itself); or the reply saying why
+    there is none."""
     if "xacro" not in raw:
         return raw, None  # no includes: the output is the file itself
     import xacro
@@ -180,11 +193,34 @@ def _expand(path: str, mappings: dict[str, str]) -> tuple[str, list[str] | None]
     if isinstance(exc, RecursionError) or "recursion depth" in str(exc):
         return _recursion_error(xacro, path)
     status, record = _xacro_error(xacro, exc, path, mappings)
+    # ROS 1's bare <macro>, <property> ... in the files xacro read: the failure is theirs (a
+    # macro's parameter undefined where ROS 2's xacro evaluates the bare <macro>'s body)
+    read = [path, *(f for f in (getattr(xacro, "all_includes", None) or []) if f != path)]
+    tags = ros1_tags(read) if status == "error" and record["stage"] == "xacro" else []
+    if tags:
+        return {"status": "error", "error": _ros1_error(path, tags, record)}
     if (
         not mappings and status == "error" and record["stage"] == "xacro" and "type" not in record
     ):  # a worker limit hit: no second run
         status = _blame_empty_arguments(xacro, path, record, arguments) or status
     return {"status": status, "error": record}
+
+
+def _ros1_error(path: str, tags: list[Ros1Tag], failure: ErrorRecord) -> ErrorRecord:
+    """The error of a model whose xacro run failed with ROS 1's bare xacro tags in its files: at
+    the first tag, naming them all and what xacro then said."""
+    first = tags[0]
+    said = [line.strip() for line in str(failure.get("message") or "").strip().splitlines()]
+    return {
+        "message": f"{describe(tags, path)}: ROS 1's xacro tags without the xacro: prefix, which ROS 2's "
+        "xacro does not process (it keeps them as plain elements)"
+        + (f"; xacro then fails: {said[0]}" if said else ""),
+        "file": first["file"],
+        "line": first["line"],
+        "stage": "ros1-xacro",
+        "hint": f"write <xacro:{first['tag']}> (each of them with the xacro: prefix), with "
+        'xmlns:xacro="http://www.ros.org/wiki/xacro" on <robot>',
+    }
 
 
 def _blame_empty_arguments(
@@ -238,7 +274,8 @@ def _recursion_error(xacro: Any, path: str) -> ModelReply:
                 "false (a counter parameter), or call another macro",
             },
         }
-    repeated = repeated or stack[-1]
+    if repeated is None:  # no file includes itself, no macro calls itself: nesting xacro recursed into
+        return _too_deep(list(dict.fromkeys([*(f for f in reversed(stack) if f), path])), len(macros))
     return {
         "status": "error",
         "error": {
@@ -246,6 +283,40 @@ def _recursion_error(xacro: Any, path: str) -> ModelReply:
             "xacro recursed without end",
             "file": repeated,
             "line": _line_mentioning(repeated, "xacro:include"),
+            "stage": "xacro",
+        },
+    }
+
+
+def _too_deep(files: list[str], macros: int) -> ModelReply:
+    """xacro ran out of stack with nothing repeating: the file (the innermost of the include chain
+    first) whose elements nest deeper than libxml2 reads them, at the line where they pass it;
+    else macros calling other macros too deep."""
+    for file in files:
+        try:
+            etree.fromstring(read_regular(file, MAX_MODEL_BYTES), etree.XMLParser(huge_tree=False))
+        except etree.XMLSyntaxError as exc:
+            if exc.msg and exc.msg.startswith(LIBXML_TOO_DEEP):
+                return {
+                    "status": "error",
+                    "error": {
+                        "message": f"elements nest deeper than {MAX_XML_DEPTH} levels here: xacro recurses "
+                        "once per level, and ran out of stack",
+                        "file": file,
+                        "line": exc.lineno,
+                        "stage": "xacro",
+                        "hint": "nest the elements less deeply (a robot's elements nest a few levels)",
+                    },
+                }
+        except (OSError, ValueError):
+            continue
+    return {
+        "status": "error",
+        "error": {
+            "message": f"xacro recursed too deep ({macros} macros were calling one another, none itself): "
+            "it ran out of stack",
+            "file": files[0],
+            "line": None,
             "stage": "xacro",
         },
     }
@@ -363,13 +434,61 @@ def _name_index(files: list[str]) -> Sources:
     return index
 
 
-def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> RobotStructure:
+class _Texts:
+    """The model's files as text, read once, to find where an attribute's value is written."""
+
+    def __init__(self, files: list[str]):
+        self.files = list(dict.fromkeys(files))
+        self.texts: dict[str, str] = {}
+
+    def text(self, file: str) -> str:
+        if file not in self.texts:
+            try:
+                with open(file, encoding="utf-8", errors="replace") as handle:
+                    self.texts[file] = handle.read(MAX_MODEL_BYTES)
+            except OSError:
+                self.texts[file] = ""
+        return self.texts[file]
+
+    def written_once(self, tag: str, attribute: str, value: str) -> tuple[str, int] | None:
+        """(file, line) of the one `<tag ... attribute="value"` across the files, or None when it
+        is written nowhere literally (an expression) or more than once."""
+        pattern = re.compile(rf"\b{re.escape(attribute)}\s*=\s*([\"']){re.escape(value)}\1")
+        found: list[tuple[str, int]] = []
+        for file in self.files:
+            text = self.text(file)
+            for match in pattern.finditer(text):
+                start = text.rfind("<", 0, match.start())
+                if re.match(rf"<\s*{re.escape(tag)}[\s/>]", text[start:]):
+                    found.append((file, text.count("\n", 0, match.start()) + 1))
+                    if len(found) > 1:
+                        return None
+        return found[0] if found else None
+
+
+def _structure(
+    root: Element, path: str, sources: Sources, expanded: bool, files: list[str] | None = None
+) -> RobotStructure:
     plain = not expanded  # element lines are the file's own lines
+    texts = _Texts(files or [path])
 
     def where(element: Element, tag: str | None = None, name: str | None = None) -> tuple[str, int | None]:
         if tag and name and (tag, name) in sources:
             return sources[(tag, name)]
         return (path, element.sourceline if plain else None)
+
+    def place(
+        element: Element, attribute: str | None, owner: tuple[str, str | None]
+    ) -> tuple[str, int | None]:
+        """Where a person edits what urdfdom refuses: the element's line in a plain file; in xacro
+        output, where the attribute's value is written (once), else its link's or joint's line."""
+        if plain:
+            return path, element.sourceline
+        value = element.get(attribute) if attribute else None
+        written = texts.written_once(str(element.tag), attribute, value) if attribute and value else None
+        if written is not None:
+            return written
+        return where(element, *owner)
 
     robot: RobotStructure = {
         "root_tag": root.tag if isinstance(root.tag, str) else None,
@@ -377,9 +496,12 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
         "links": [],
         "joints": [],
         "meshes": [],
+        "urdfdom": [],
+        "ros1_tags": [],
     }
     if root.tag != "robot":
         return robot
+    robot["urdfdom"] = problems(root, place)
     materials = _materials(root)
     for link in root.findall("link"):
         name = link.get("name")
@@ -408,14 +530,11 @@ def _structure(root: Element, path: str, sources: Sources, expanded: bool) -> Ro
                         )
     for material in root.iter("texture"):
         if texture := material.get("filename"):
+            texture_file, texture_line = (
+                (path, material.sourceline) if plain else sources.get(("texture", texture), (path, None))
+            )
             robot["meshes"].append(
-                {
-                    "uri": texture,
-                    "link": None,
-                    "kind": "texture",
-                    "file": path,
-                    "line": material.sourceline if plain else None,
-                }
+                {"uri": texture, "link": None, "kind": "texture", "file": texture_file, "line": texture_line}
             )
     for joint in root.findall("joint"):
         name = joint.get("name")

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, TypedDict
 from pkgforge.launch.records import LaunchFile, Resolution
 from pkgforge.launch.resolve import run_requests, source_of
 from pkgforge.model.package import PackageModel
+from pkgforge.model.source import read_regular
 from pkgforge.sandbox.protocol import ModelRequest
 from pkgforge.tree import InstallTree
 from pkgforge.urdf import SEMANTIC_SUFFIXES, XACRO_MODEL_SUFFIXES
@@ -88,18 +89,16 @@ def _shape(path: Path, share: Path, package: str) -> _Shape:
     from lxml import etree
 
     try:
-        size = path.stat().st_size
-        if size == 0 or (size < 4096 and not path.read_bytes().strip()):
+        data = read_regular(path, CLASSIFY_MAX_BYTES)  # (a FIFO or a device: refused, never read)
+        if not data or (len(data) < 4096 and not data.strip()):
             # an empty file (rox_description's meca_wheel.xacro, 0 bytes in git; or blank) is no robot:
             # nothing xacro could read, and nothing includes it
             return _Shape(robot=False, content=False)
-        if size > CLASSIFY_MAX_BYTES:
-            return _Shape()
         parser = etree.XMLParser(
             remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False
         )
-        root = etree.parse(str(path), parser).getroot()
-    except (OSError, etree.XMLSyntaxError, ValueError):
+        root = etree.fromstring(data, parser, base_url=str(path))
+    except (OSError, etree.XMLSyntaxError, ValueError):  # (too large: FileTooLarge, an OSError)
         return _Shape()
     if root is None or not isinstance(root.tag, str):
         return _Shape()

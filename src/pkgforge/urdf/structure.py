@@ -90,12 +90,34 @@ class MeshDict(TypedDict):
     line: int | None
 
 
+class UrdfProblem(TypedDict):
+    """What urdfdom refuses or drops (urdf/urdfdom.py): `effect` model | part | color | mimic."""
+
+    effect: str
+    message: str
+    file: str
+    line: int | None
+    link: str | None  # the link whose part it drops (physics leaves that link's inertial alone)
+    part: str | None  # inertial | visual | collision
+
+
+class Ros1Tag(TypedDict):
+    """An un-prefixed xacro tag (ROS 1's deprecated <macro>, <property> ...) ROS 2's xacro keeps as
+    a plain element."""
+
+    tag: str
+    file: str
+    line: int | None
+
+
 class RobotStructure(TypedDict):
     root_tag: str | None  # "robot" for a URDF; anything else is the model's defect
     name: str | None
     links: list[LinkDict]
     joints: list[JointDict]
     meshes: list[MeshDict]
+    urdfdom: list[UrdfProblem]
+    ros1_tags: list[Ros1Tag]  # (set by process_model for the model's files; [] elsewhere)
 
 
 class Place(TypedDict):
@@ -109,7 +131,7 @@ class ModelError(TypedDict, total=False):
     message: str
     file: str
     line: int | None
-    stage: Literal["xml", "xacro"]
+    stage: Literal["xml", "xacro", "ros1-xacro"]  # ros1-xacro: un-prefixed xacro tags (urdf.ros1_xacro)
     hint: str
     argument: str | None  # needs-arguments: the (first) argument xacro asked for
     arguments: list[str]  # needs-arguments: the xacro:args with an empty default it needs

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 from pkgforge import __version__
 from pkgforge.diagnostics import Diagnostic, PackageReport, Severity
 from pkgforge.model.files import manifest_text, quick_name
+from pkgforge.model.source import NotRegularFile, open_regular
 from pkgforge.workspace import IGNORE_MARKERS
 
 if TYPE_CHECKING:
@@ -96,7 +97,18 @@ if TYPE_CHECKING:
 # 46: event_values only after the stand-in event was read; rviz2, rqt, gazebo on PATH; a system library no
 #    declared key names gates; a dot inside a joined suffix; include lines with comments
 # 47: choices given as one str are that word (launch tests membership by substring)
-CACHE_FORMAT = 47
+# 48: an XML or YAML launch file that is not UTF-8 is refused (launch reads it as UTF-8 text), at its
+#    first such byte; a Python one's NUL byte located; file-not-read leaves out what launch-load-error says;
+#    FIFOs and devices are never read (PF101/PF204/PF901/PF405 say what they are; a mesh link
+#    to one is no "case differs"), YAML read within bounds (nesting, aliases), a deep xacro says so
+# 49: with 48, setup.py run as colcon reads it when its text does not give its install; a package whose
+#    install is still unknown is its source in the tree (PF319 for lookups it lacks); command lines split
+#    as their consumer splits them (process records carry `shell`)
+# 50: launch configurations not set are errors (PF320, Error.configuration); executions recorded; timers'
+#    and handlers' entities visited after the description, with its final configurations
+# 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
+#    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
+CACHE_FORMAT = 51
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -149,11 +161,13 @@ class ResultCache:
         digest = hashlib.sha256()
         try:
             if S_ISDIR(stat.st_mode):  # a folder's names: an entry added below it shows
-                digest.update("\0".join(sorted(os.listdir(path))).encode())
-            else:
-                with open(path, "rb") as handle:
+                digest.update(os.fsencode("\0".join(sorted(os.listdir(path)))))
+            else:  # a FIFO or a device is never read (it blocks, or never ends): its type is its content
+                with open(open_regular(path)[0], "rb", closefd=True) as handle:
                     for block in iter(lambda: handle.read(1 << 20), b""):
                         digest.update(block)
+        except NotRegularFile:
+            return f"special:{stat.st_mode:o}:{stat.st_rdev}"
         except OSError:
             return f"unreadable:{mode}"
         self.index[path] = [*stamp, digest.hexdigest()]
@@ -166,13 +180,16 @@ class ResultCache:
             key.update(part.encode() + b"\0")
         prefix = str(folder).rstrip(os.sep) + os.sep  # (str(folder / relative), without a Path per file)
         for relative in files:
-            key.update(relative.encode() + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0")
+            # fsencode: a file name's bytes as they are, UTF-8 or not (a str's encode() refuses those)
+            key.update(
+                os.fsencode(relative) + b"\0" + (self.digest(prefix + relative) or "-").encode() + b"\0"
+            )
         return key.hexdigest()
 
     # --- entries ------------------------------------------------------------------------------
 
     def _entry_path(self, folder: Path) -> Path:
-        return self.folder / f"{hashlib.sha1(str(folder).encode()).hexdigest()}.json"
+        return self.folder / f"{hashlib.sha1(os.fsencode(folder)).hexdigest()}.json"
 
     def load(self, folder: Path, key: str) -> tuple[PackageReport, set[str]] | None:
         """(report, codes of the checks that ran) when the entry is still valid."""

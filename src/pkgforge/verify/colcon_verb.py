@@ -156,7 +156,7 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
             )
         except PkgforgeError as error:
             # 2, as `pkgforge verify`: could not run (colcon turns a returned string into 1)
-            print(f"colcon verify: {error}", file=sys.stderr)
+            print("colcon verify: " + "\n".join(error.lines()), file=sys.stderr)
             return 2
         from pkgforge.report import use_color
 

@@ -257,8 +257,10 @@ def read_config(path: Path) -> dict[str, Any]:
     else:  # pragma: no cover
         import tomli as tomllib  # type: ignore[import-not-found,unused-ignore]  # 3.10's backport: absent where mypy runs
 
-    try:
-        text = path.read_text(encoding="utf-8")
+    from pkgforge.model.source import read_regular
+
+    try:  # (a FIFO or a device: refused, never read)
+        text = read_regular(path).decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise PkgforgeError(f"{path}: cannot read: {exc}") from exc
     try:

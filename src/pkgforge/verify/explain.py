@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pkgforge.errors import PkgforgeError
+from pkgforge.report import printable
 from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
 from pkgforge.workspace import locate
 
@@ -91,11 +92,11 @@ def _place_with_branches(item: Record) -> str:
     return place + (f" [{', '.join(branches)}]" if branches else "")
 
 
-def _node(n: Node, tree: InstallTree) -> str:
+def _node(n: Node, tree: InstallTree) -> list[str]:
     text = f"{n.package}/{n.executable}" if n.kind == "node" else " ".join(n.cmd or [])
     if n.arguments:
         text += f" args {[_short(a, tree) for a in n.arguments]}"
-    return text + "".join(f"\n      param {p.name or '(file)'}: {p.form}" for p in n.parameters)
+    return [text, *(f"      param {p.name or '(file)'}: {p.form}" for p in n.parameters)]
 
 
 def _package(p: PackageLookup, tree: InstallTree) -> str:
@@ -104,13 +105,13 @@ def _package(p: PackageLookup, tree: InstallTree) -> str:
     return f"{mark} {p.name} ({p.via})" + (" — declared, not installed here" if phantom else "")
 
 
-def _command(c: CommandRun, tree: InstallTree) -> str:
+def _command(c: CommandRun, tree: InstallTree) -> list[str]:
     text = f"{OK if c.ok else MISSING} {' '.join(_short(w, tree) for w in c.command)}"
     if c.runtime_only:
-        return f"{UNCHECKED} {' '.join(c.command)} (run time only, not executed)"
+        return [f"{UNCHECKED} {' '.join(c.command)} (run time only, not executed)"]
     if not c.ok and c.message:
-        text += f"\n      {c.message.splitlines()[0]}"
-    return text
+        return [text, f"      {c.message.splitlines()[0]}"]
+    return [text]
 
 
 def _render(resolution: Resolution, tree: InstallTree) -> str:
@@ -144,27 +145,35 @@ def _render(resolution: Resolution, tree: InstallTree) -> str:
             f"not evaluated within the time limit: {resolution.unevaluated} of "
             f"{resolution.branching.planned} argument combinations"
         )
-    # each kind with how to show one of its records (Node, PackageLookup, Include …)
-    sections: list[tuple[str, Callable[[Any, InstallTree], str]]] = [
+    # each kind with how to show one of its records (Node, PackageLookup, Include …), as lines
+    sections: list[tuple[str, Callable[[Any, InstallTree], list[str]]]] = [
         ("nodes", _node),
-        ("packages", _package),
-        ("includes", lambda i, t: f"{_mark(i.path, i.exists, t)} {_short(i.path, t)} {i.arguments or ''}"),
-        ("paths", lambda p, t: f"{_mark(p.path, p.exists, t)} {_short(p.path, t)} ({p.via})"),
+        ("packages", lambda p, t: [_package(p, t)]),
+        ("includes", lambda i, t: [f"{_mark(i.path, i.exists, t)} {_short(i.path, t)} {i.arguments or ''}"]),
+        ("paths", lambda p, t: [f"{_mark(p.path, p.exists, t)} {_short(p.path, t)} ({p.via})"]),
         ("commands", _command),
-        ("errors", lambda e, t: f"{MISSING} {e.entity}: {e.message}"),
-        ("unsupported", lambda u, t: f"{UNCHECKED} {u.name} (not evaluated)"),
+        ("errors", lambda e, t: [f"{MISSING} {e.entity}: {e.message}"]),
+        ("unsupported", lambda u, t: [f"{UNCHECKED} {u.name} (not evaluated)"]),
     ]
     for kind, show in sections:
         items = getattr(resolution, kind)
         if items:
             lines.append(f"{kind}:")
-            seen: set[str] = set()
+            seen: set[tuple[str, ...]] = set()
             for item in sorted(items, key=lambda i: i.line or 0):
-                text = f"  {show(item, tree)}  @ {_place_with_branches(item)}"
-                if text not in seen:
-                    seen.add(text)
-                    lines.append(text)
-    return "\n".join(lines) + "\n"
+                entry = [printable(line) for line in show(item, tree)]
+                entry[0] = f"  {entry[0]}"
+                entry[-1] += f"  @ {printable(_place_with_branches(item))}"
+                if tuple(entry) not in seen:
+                    seen.add(tuple(entry))
+                    lines += entry
+    return _printed(lines)
+
+
+def _printed(lines: list[str]) -> str:
+    """The lines, one line each: a name's or a message's own newline or escape sequence shown,
+    not acted on (printable is idempotent: a line already made printable stays as it is)."""
+    return "".join(printable(line) + "\n" for line in lines)
 
 
 def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
@@ -188,7 +197,7 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
                 f"  {MISSING} {result.status}: {error.get('message')} "
                 f"({os.path.basename(error.get('file') or '')}:{error.get('line')})"
             )
-            return "\n".join(lines) + "\n"
+            return _printed(lines)
         robot = result.robot
         if robot is None or robot.get("root_tag") != "robot":
             raise PkgforgeError(
@@ -198,7 +207,7 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
         links, joints = robot.get("links", []), robot.get("joints", [])
         if not links:
             lines.append("a macro library: no links of its own (checked through the models that include it)")
-            return "\n".join(lines) + "\n"
+            return _printed(lines)
         lines.append(f"robot {robot.get('name')}: {len(links)} links, {len(joints)} joints")
         lines += _model_numbers(robot, tree, installed)
         meshes: dict[str | None, list[MeshDict]] = {}
@@ -218,23 +227,36 @@ def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
                     note = _mesh_note(lookup.path)
                 lines.append(f"{indent}{mesh['kind']} {mark} {mesh['uri']}{note}")
 
-        def walk(link: str | None, indent: str, seen: set[str | None]) -> None:
-            ordered = sorted(children.get(link, []), key=lambda j: j.get("name") or "")
-            for index, joint in enumerate(ordered):
-                last = index == len(ordered) - 1
+        def joints_below(link: str | None) -> list[JointDict]:  # in name order, the first last (popped)
+            return sorted(children.get(link, []), key=lambda j: j.get("name") or "")[::-1]
+
+        def walk(root: str | None) -> None:
+            """Each joint below root, depth first; a link already on the way down is not entered
+            again (a loop). Without recursion: a chain of links is as deep as it is long."""
+            on_path: dict[str | None, int] = {root: 1}
+            stack: list[tuple[str | None, str, list[JointDict]]] = [(root, "", joints_below(root))]
+            while stack:
+                link, indent, left = stack[-1]
+                if not left:
+                    stack.pop()
+                    on_path[link] -= 1
+                    continue
+                joint = left.pop()
+                last = not left
                 lines.append(
                     f"{indent}{'└─' if last else '├─'} {joint['name']} ({joint['type']}) → {joint['child']}"
                 )
                 deeper = indent + ("   " if last else "│  ")
                 mesh_lines(joint["child"], deeper + "  ")
-                if joint["child"] not in seen:
-                    walk(joint["child"], deeper, seen | {joint["child"]})
+                if not on_path.get(joint["child"]):
+                    on_path[joint["child"]] = on_path.get(joint["child"], 0) + 1
+                    stack.append((joint["child"], deeper, joints_below(joint["child"])))
 
         for root in [link["name"] for link in links if link["name"] not in child_names]:
             lines.append(str(root))
             mesh_lines(root, "  ")
-            walk(root, "", {root})
-        return "\n".join(lines) + "\n"
+            walk(root)
+        return _printed(lines)
 
 
 def _size(low: Iterable[float], high: Iterable[float]) -> str:

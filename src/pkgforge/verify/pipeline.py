@@ -312,6 +312,7 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
 def make_tree(options: VerifyOptions, workspace: Workspace, models: list[PackageModel]) -> InstallTree:
     from pkgforge.tree import built_tree, existing_tree, predicted_tree
 
+    evaluate_setup_files(models, options, None, 1)  # (when the caller did not: --explain-launch)
     if options.mode == "install-base":
         if options.install_base is None:
             raise PkgforgeError("verify against an install base needs --install-base")
@@ -543,7 +544,7 @@ def cache_folder(workspace: Workspace) -> Path:
             (build / "COLCON_IGNORE").touch()  # as colcon marks it, so no crawl enters it
         return build / "pkgforge-cache"
     home = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-    return home / "pkgforge" / hashlib.sha1(str(workspace.base_path).encode()).hexdigest()[:16]
+    return home / "pkgforge" / hashlib.sha1(os.fsencode(workspace.base_path)).hexdigest()[:16]
 
 
 def _cache_lookup(
@@ -563,7 +564,7 @@ def _cache_lookup(
     repos = "".join(
         f"{path}\0{cache.digest(str(path)) or '-'}\0" for path in vcs_repos_files(every, workspace.base_path)
     )
-    signature = workspace_key(every, texts) + hashlib.sha256(repos.encode()).hexdigest()
+    signature = workspace_key(every, texts) + hashlib.sha256(os.fsencode(repos)).hexdigest()
     keys: dict[Path, str] = {}
     hits: dict[Path, tuple[PackageReport, set[str]]] = {}
     for folder in folders:
@@ -661,7 +662,7 @@ def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list[R
                 if problem not in problems:
                     problems.append(problem)
     if problems:
-        raise PkgforgeError("\n".join(problems))
+        raise PkgforgeError(*problems)  # one line each
 
 
 def run(
@@ -693,7 +694,16 @@ def run(
     ros1: dict[str, list[LaunchFile]] = {}
     model_results: dict[str, list[ModelResult]] = {}
     rviz: RvizFound = {}
-    if any(codes[t.path] & tree_codes for t in targets):
+    needs_tree = any(codes[t.path] & tree_codes for t in targets)
+    # setup.py files the static reader could not read, run as colcon reads them (sandboxed): their
+    # layouts before the tree is made from them; the packages in the tree too when there is one
+    evaluated = evaluate_setup_files(
+        checked + (list(first_of_each(models.values(), "name").values()) if needs_tree else []),
+        options,
+        zygote,
+        jobs,
+    )
+    if needs_tree:
         from pkgforge.launch.resolve import WorkerLimits, find_launch_files, resolve
         from pkgforge.launch.uninstalled import source_only
         from pkgforge.urdf import select as robot_models
@@ -728,6 +738,8 @@ def run(
         try:  # a signal or an error: the temporary tree goes too
             launch_files, ros1_files = find_launch_files(tree, in_tree)
             launch_files += source_only(in_tree, launch_files)  # evaluated from the source
+            # a FIFO or a device where a launch file stands is no file to run (PF901 says what it is)
+            launch_files = [f for f in launch_files if os.path.isfile(f.installed)]
             for resolution in resolve(
                 launch_files,
                 tree,
@@ -822,7 +834,8 @@ def run(
     unstable = {
         t.path
         for t in targets
-        if _machine_dependent(
+        if t.path in evaluated
+        or _machine_dependent(
             resolutions.get(models[t.path].name, []), model_results.get(models[t.path].name, [])
         )
         # a package sharing its name: which copy the tree holds differs between a run on the
@@ -843,6 +856,46 @@ def run(
 
 
 BUILD_FAILED = "PF902"
+
+
+def evaluate_setup_files(
+    models: Iterable[PackageModel], options: VerifyOptions, zygote: Zygote | None, jobs: int
+) -> set[Path]:
+    """Run each setup.py the static reader could not fully read, as colcon reads a package's
+    metadata, in the sandbox (a request each: SetupRequest), and make the package's install
+    layout from what setup() got; a failure leaves the static reading, with the failure said.
+    → the packages whose evaluation this machine decided (a limit, a crash): never cached."""
+    from pkgforge.model.setup_eval import apply_setup_reply, evaluation_request, needs_evaluation
+
+    todo = list({id(m): m for m in models if needs_evaluation(m)}.values())
+    if not todo:
+        return set()
+    from pkgforge.launch.resolve import WorkerLimits, run_requests
+    from pkgforge.sandbox.protocol import SetupRequest
+    from pkgforge.tree import predicted_tree
+
+    requests: list[SetupRequest] = [{"setup": evaluation_request(model)} for model in todo]
+    progress = Progress()
+    progress.show(f"{len(todo)} setup.py files")
+    # the workers' environment is a tree's: an empty one here (setup.py runs before any tree is made)
+    tree = predicted_tree([])
+    try:
+        replies = run_requests(
+            requests,
+            tree,
+            jobs=jobs,
+            timeout=options.launch_timeout,
+            limits=WorkerLimits(options.launch_timeout, options.worker_memory),
+            engine=options.engine(),
+            zygote=zygote,
+            on_done=progress.counter("setup.py files", len(todo)),
+        )
+    finally:
+        tree.close()
+        progress.clear()
+    for model, reply in zip(todo, replies, strict=True):
+        apply_setup_reply(model, reply)
+    return {m.path for m in todo if m.setup_py is not None and m.setup_py.evaluation_unstable}
 
 
 def _report_build_failure(

@@ -28,6 +28,57 @@ def _joint_label(joint: dict[str, Any]) -> list[str]:
     return lines
 
 
+class _Placing:
+    """A link being placed: its joints to children (those not its ancestors nor placed yet when
+    it was reached), and the columns of the children placed so far."""
+
+    __slots__ = ("depth", "kids", "name", "xs")
+
+    def __init__(self, name: str, depth: int, kids: list[dict[str, Any]]):
+        self.name, self.depth, self.kids = name, depth, kids
+        self.xs: list[float] = []
+
+
+def _place(
+    root: str,
+    children: dict[str, list[dict[str, Any]]],
+    position: dict[str, tuple[float, int]],
+    column: list[int],
+) -> None:
+    """Place root's tree: a leaf in the next column, a parent centred over its first and last
+    child, each link at its depth; depth first, without recursion (a chain of links is as deep as
+    it is long)."""
+    ancestors: dict[str, int] = {}  # the links on the way down (a count: a joint may loop back)
+
+    def reach(name: str, depth: int) -> _Placing:
+        kids = [
+            j
+            for j in children.get(name, [])
+            if j.get("child") not in ancestors and j.get("child") not in position
+        ]
+        ancestors[name] = ancestors.get(name, 0) + 1
+        return _Placing(name, depth, kids)
+
+    stack = [reach(root, 0)]
+    while stack:
+        top = stack[-1]
+        if len(top.xs) < len(top.kids):
+            stack.append(reach(top.kids[len(top.xs)]["child"], top.depth + 1))
+            continue
+        stack.pop()
+        ancestors[top.name] -= 1
+        if not ancestors[top.name]:
+            del ancestors[top.name]
+        if top.kids:
+            x = (top.xs[0] + top.xs[-1]) / 2
+        else:
+            x = column[0]
+            column[0] += 1
+        position[top.name] = (x, top.depth)
+        if stack:
+            stack[-1].xs.append(x)
+
+
 def tree_svg(robot: Robot) -> str:
     links = [link["name"] for link in robot.get("links", [])]
     joints = robot.get("joints", [])
@@ -39,23 +90,8 @@ def tree_svg(robot: Robot) -> str:
     roots = [name for name in links if name not in parent_of] or links[:1]
     position: dict[str, tuple[float, int]] = {}
     column = [0]
-
-    def place(name: str, depth: int, seen: frozenset[str]) -> float:
-        kids = [
-            j for j in children.get(name, []) if j.get("child") not in seen and j.get("child") not in position
-        ]
-        x: float
-        if not kids:
-            x = column[0]
-            column[0] += 1
-        else:
-            xs = [place(j["child"], depth + 1, seen | {name}) for j in kids]
-            x = (xs[0] + xs[-1]) / 2
-        position[name] = (x, depth)
-        return x
-
     for root in roots:
-        place(root, 0, frozenset())
+        _place(root, children, position, column)
     for name in links:  # unreachable (a cycle): a row of their own at the bottom
         if name not in position:
             position[name] = (column[0], max((d for _, d in position.values()), default=0) + 1)

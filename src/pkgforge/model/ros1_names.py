@@ -1,8 +1,9 @@
 """Every ROS 1 → ROS 2 name pkgforge knows, in one place.
 
 Packages (package.xml, launch files), node executables, and RViz 1 display classes. The
-checks (package-not-in-distro, unknown-package) read PACKAGES through distro_data.replacement;
-`pkgforge migrate` reads all of it.
+checks read it (package-not-in-distro and unknown-package PACKAGES through
+distro_data.replacement, rviz-ros1-config RVIZ_CLASSES); `pkgforge migrate` reads all of it. It
+lives in model, below both, so that no check imports a command.
 """
 
 from __future__ import annotations
@@ -112,12 +113,14 @@ SPAWNER_OPTIONS: dict[str, str | None] = {
 }
 SPAWNER_FLAGS = ("--stopped",)  # options that take no value
 
-# RViz 1 class → RViz 2 class (displays, panels, tools, views)
+# RViz 1 class → RViz 2 class (displays, panels, tools, views): rviz2's own (rviz_common's panel and
+# display factories, rviz_default_plugins' plugins_description.xml)
 RVIZ_CLASSES: dict[str, str] = {
     **{
         f"rviz/{name}": f"rviz_common/{name}"
-        for name in ("Displays", "Selection", "Tool Properties", "Views", "Time", "Help")
+        for name in ("Displays", "Selection", "Tool Properties", "Views", "Time", "Help", "Group")
     },
+    "rviz/WrenchStamped": "rviz_default_plugins/Wrench",
     **{
         f"rviz/{name}": f"rviz_default_plugins/{name}"
         for name in (
@@ -149,9 +152,9 @@ RVIZ_CLASSES: dict[str, str] = {
             "RobotModel",
             "TF",
             "Temperature",
-            "WrenchStamped",
             "AccelStamped",
             "TwistStamped",
+            "Wrench",
             # tools
             "Interact",
             "MoveCamera",
