@@ -34,7 +34,8 @@ def _errors(report: dict, *, but: tuple[str, ...] = ()) -> list[tuple]:
 @pytest.fixture(scope="module")
 def exports(tmp_path_factory):
     """One workspace: the exporters' packages migrated (py; xml with --gazebo for jazzy and humble)
-    and their models imported with `new --from-urdf`; built once."""
+    and their models imported with `new --from-urdf`; built once. The export with content after
+    </robot> is migrated and imported in a workspace of its own (apart), whose errors are its own."""
     root = tmp_path_factory.mktemp("cad")
     sources = {
         "sw": sw_export(root / "ros1"),
@@ -65,7 +66,7 @@ def exports(tmp_path_factory):
         "sw": migrate(sources["sw"]),
         "fusion": migrate(sources["fusion"]),
         "folder": migrate(sources["folder"]),
-        "trailing": migrate(sources["trailing"], destination=str(root / "apart")),
+        "trailing": migrate(sources["trailing"], destination=str(root / "apart/src")),
         "fusion-jazzy": migrate(
             sources["fusion"],
             "--gazebo",
@@ -91,11 +92,15 @@ def exports(tmp_path_factory):
         "import-sw": new_from(sources["sw"] / "urdf/GripperPrototype.urdf"),
         "import-fusion": new_from(sources["fusion"] / "urdf/Arm_2.xacro"),
         "import-onshape": new_from(onshape),
+        "import-folder": new_from(sources["folder"] / "urdf/arm_description.urdf"),
+        "import-trailing": run_pkgforge(
+            "new", "xr10_imported", *MAINTAINER, "--from-urdf", model, cwd=root / "apart"
+        ),
     }
     for name, result in outputs.items():
         assert result.returncode in (0, 1), (name, result.stdout, result.stderr)
         assert result.stderr == "", (name, result.stderr)  # catkin_pkg's warnings never leak
-    for folder in (workspace, imports):
+    for folder in (workspace, imports, root / "apart"):
         build = run_pkgforge("build", cwd=folder)
         assert build.returncode == 0, build.stdout + build.stderr
     return root, workspace, sources, outputs
@@ -115,7 +120,7 @@ def exports(tmp_path_factory):
                 "gripper_prototype",
             ],
         ),
-        ("imports", ["arm_2_description", "gripper_prototype", "two_wheels"]),
+        ("imports", ["arm_2_description", "arm_description", "gripper_prototype", "two_wheels"]),
     ],
 )
 def test_every_package_builds_and_verifies(exports, folder, names):
@@ -186,11 +191,31 @@ def test_the_exporters_package_xml_is_filled_in(exports):
     assert "<version>1.0.0</version>" in written
 
 
+def test_the_maintainer_comes_from_git_config_without_options(tmp_path):
+    """No --maintainer-name/-email: the exporter's nameless maintainer is filled from git config, as
+    `new` fills it, and said so."""
+    gitconfig = tmp_path / "gitconfig"
+    gitconfig.write_text("[user]\n\tname = Ada Lovelace\n\temail = ada@example.org\n")
+    env = dict(os.environ, GIT_CONFIG_GLOBAL=str(gitconfig), GIT_CONFIG_NOSYSTEM="1", HOME=str(tmp_path))
+    source = sw_export(tmp_path / "ros1")
+    result = run_pkgforge("migrate", source, "--destination", tmp_path / "out", cwd=tmp_path, env=env)
+    assert result.returncode == 0, result.stdout + result.stderr
+    manifest = source / "package.xml"
+    assert (
+        f"ros1/GripperPrototype/package.xml:{line_of(manifest, '<maintainer')}: PF806 [info] package.xml: "
+        '<maintainer email="TODO@email.com"/> has no name: Ada Lovelace <ada@example.org> (name from git config '
+        "user.name, e-mail from git config user.email) (migrate-changed)"
+    ) in result.stdout
+    written = (tmp_path / "out/gripper_prototype/package.xml").read_text()
+    assert '<maintainer email="ada@example.org">Ada Lovelace</maintainer>' in written
+
+
 @pytest.mark.triggers("PF807")
 def test_content_after_the_root_is_read_as_ros1_did(exports):
     """A <transmission> after </robot> (a model the display launch uses) and a broken model no
     launch file uses: the migration goes on, each file kept byte for byte and reported (PF807) at
-    its line; verify names the same two defects (xacro refuses the first) and nothing else."""
+    its line; verify names the same two defects (xacro refuses the first) and nothing else. The
+    import of the first model (--from-urdf) says the same and has the same errors, no other."""
     root, _, sources, outputs = exports
     source, out = sources["trailing"], outputs["trailing"].stdout
     model, broken = source / "urdf/xr10-1500.urdf", source / "urdf/xr10-1500_trans.urdf"
@@ -204,7 +229,7 @@ def test_content_after_the_root_is_read_as_ros1_did(exports):
         "mismatch: link line 2 and robot, line 3, column 9; no launch file uses it: copied as written "
         "(migrate-source-defect)"
     ) in _notes(out)
-    package = root / "apart/xr10_1500"
+    package = root / "apart/src/xr10_1500"
     assert (package / "urdf/xr10-1500_trans.urdf").read_bytes() == broken.read_bytes()
     assert (package / "urdf/xr10-1500.urdf").read_bytes() == model.read_bytes().replace(
         b"package://xr10-1500/", b"package://xr10_1500/"
@@ -214,6 +239,21 @@ def test_content_after_the_root_is_read_as_ros1_did(exports):
         ("PF308", "launch/display.launch.py"),
         ("PF401", "urdf/xr10-1500.urdf"),
         ("PF401", "urdf/xr10-1500_trans.urdf"),
+    ]
+    imported = outputs["import-trailing"].stdout
+    assert (
+        f"{os.path.relpath(model, root / 'apart')}:{line_of(model, '<transmission')}: PF807 [warning] content after "
+        "</robot>: ROS 1's parser read the first element and went on; xacro refuses it; kept as written "
+        "(migrate-source-defect)"
+    ) in _notes(imported)
+    package = root / "apart/src/xr10_imported"
+    assert (package / "urdf/xr10-1500.urdf").read_bytes() == model.read_bytes().replace(
+        b"package://xr10-1500/", b"package://xr10_imported/"
+    )
+    status, report = verify_report(package, "--no-cache")
+    assert sorted((d[0], d[1]) for d in _errors(report)) == [
+        ("PF308", "launch/display.launch.py"),
+        ("PF401", "urdf/xr10-1500.urdf"),
     ]
 
 
@@ -230,8 +270,13 @@ def test_uris_naming_the_exporters_folder(exports):
         "package://MyArm-URDF/ names no package: read as arm_description/, the package folder around "
         "arm_description.urdf, where the exporter put what it names (migrate-generated)"
     ]
-    text = (workspace / "src/arm_description/urdf/arm_description.urdf").read_text()
-    assert "MyArm-URDF" not in text and text.count("package://arm_description/meshes/") == 6
+    for folder, out in (("ws", outputs["folder"]), ("imports", outputs["import-folder"])):
+        text = (workspace.parent / folder / "src/arm_description/urdf/arm_description.urdf").read_text()
+        assert "MyArm-URDF" not in text and text.count("package://arm_description/meshes/") == 6
+        said = [n for n in _notes(out.stdout) if "names no package" in n]
+        assert (
+            len(said) == 1 and "package://MyArm-URDF/ names no package: read as arm_description/" in said[0]
+        )
     onshape = outputs["import-onshape"].stdout
     assert [n for n in _notes(onshape) if "names no package" in n] == [
         f"{os.path.relpath(workspace.parent / 'onshape/two_wheels/robot.urdf', workspace.parent / 'imports')}:"
@@ -350,15 +395,15 @@ def prefixes(tmp_path_factory) -> dict[str, Path]:
 
 @pytest.mark.parametrize("distro", DISTROS)
 def test_every_generated_launch_file_loads_through_both_engines(exports, prefixes, distro):
-    """The launch files the migrations wrote, evaluated by pkgforge's engine and by the real launch
-    libraries of humble and jazzy: none fails to load, and both engines say the same. (arm_jazzy
-    targets jazzy: humble's frontends refuse its on_exit="shutdown", which is why humble's own
-    package has none.)"""
-    _, workspace, _, _ = exports
+    """The launch files the migrations and the imports wrote, evaluated by pkgforge's engine and by
+    the real launch libraries of humble and jazzy: none fails to load, and both engines say the
+    same. (arm_jazzy targets jazzy: humble's frontends refuse its on_exit="shutdown", which is why
+    humble's own package has none.)"""
+    root, workspace, _, _ = exports
     elsewhere = "src/arm_jazzy/" if distro == "humble" else "\0"
     reports = {
-        engine: verify_report(
-            workspace,
+        (engine, folder.name): verify_report(
+            folder,
             "--no-cache",
             "--distro",
             distro,
@@ -367,16 +412,17 @@ def test_every_generated_launch_file_loads_through_both_engines(exports, prefixe
             *(["--ros-prefix", str(prefixes[distro])] if engine == "ros" else []),
         )[1]
         for engine in ("builtin", "ros")
+        for folder in (workspace, root / "imports")
     }
     launch = {
-        engine: sorted(
+        key: sorted(
             (d["code"], d["path"], d["line"])
             for d in report["diagnostics"]
             if d["code"].startswith("PF3") and d["severity"] != "info" and not d["path"].startswith(elsewhere)
         )
-        for engine, report in reports.items()
+        for key, report in reports.items()
     }
-    assert launch["ros"] == launch["builtin"] == [], json.dumps(launch)
+    assert all(found == [] for found in launch.values()), json.dumps({str(k): v for k, v in launch.items()})
 
 
 def test_a_generated_launch_file_that_does_not_load_is_not_written(tmp_path):
@@ -399,6 +445,32 @@ def test_a_generated_launch_file_that_does_not_load_is_not_written(tmp_path):
     written = sorted(p.name for p in (tmp_path / "out/robot_arm/launch").iterdir())
     assert written == ["display.launch.py", "display_xacro.launch.py", "gazebo.launch.py", "sub.xml"]
     assert "top.launch" not in (tmp_path / "out/robot_arm/package.xml").read_text()
+
+
+def test_a_generated_launch_file_reading_a_file_that_exists_nowhere_is_not_written(tmp_path):
+    """The exporter's display.launch names <package>.urdf, a model the package does not have (the
+    user kept the export's <robot>.xacro): its ROS 2 form fails at start as the ROS 1 file did (the
+    model is read when the launch starts): left out, said so with the path; verify then finds no
+    missing file. (faro_description, rg6_gripper_description's gazebo.launch in the campaign.)"""
+    package = ros1_package(tmp_path / "ros1", "robot_arm")
+    (package / "launch/show.launch").write_text(
+        "<launch>\n"
+        '  <param name="robot_description" textfile="$(find robot_arm)/urdf/robot_arm_description.urdf"/>\n'
+        '  <node name="robot_state_publisher" pkg="robot_state_publisher" type="robot_state_publisher"/>\n'
+        "</launch>\n"
+    )
+    out = tmp_path / "out"
+    result = run_pkgforge("migrate", package, "--destination", out, *MAINTAINER, cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert (
+        "ros1/robot_arm/launch/show.launch: PF801 [warning] launch/show.launch.py not written: it reads a file "
+        "that exists nowhere: share/robot_arm/urdf/robot_arm_description.urdf does not exist, in the install tree "
+        "or in robot_arm's source (migrate-dropped)"
+    ) in result.stdout
+    written = sorted(p.name for p in (out / "robot_arm/launch").iterdir())
+    assert written == ["display.launch.py", "display_xacro.launch.py", "gazebo.launch.py"]
+    _, report = verify_report(out / "robot_arm", "--no-cache")
+    assert [d for d in report["diagnostics"] if d["code"] == "PF303"] == []
 
 
 def test_one_line_per_missing_mesh(tmp_path):

@@ -460,11 +460,10 @@ def migrate(
         failing = unloadable(spec_for(tuple(sorted(converted.uses))), converted.output, converted.modes)
         if not failing:
             break
-        for relative, message in failing.items():
-            shown = message if len(message) <= 160 else message[:159] + "…"
+        for relative, reason in failing.items():
             notes.add(
                 "migrate-dropped",
-                f"{relative} not written: it does not load on {target} ({shown})",
+                f"{relative} not written: {reason}",
                 converted.launch_sources[relative],
                 None,
             )
