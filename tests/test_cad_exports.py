@@ -174,6 +174,27 @@ def test_package_named_after_the_assembly_gets_a_valid_name(exports):
     ]
 
 
+def test_an_rviz_config_follows_the_new_name(tmp_path):
+    """An RViz config naming a mesh of the package (package://GripperPrototype/...) names it under the
+    new name, reported at its line like every other file's rewrites."""
+    source = sw_export(tmp_path / "ros1")
+    (source / "rviz").mkdir()
+    (source / "rviz/tool.rviz").write_text(
+        "Panels:\n  - Class: rviz/Displays\nVisualization Manager:\n  Displays:\n    - Class: rviz/Marker\n"
+        "      Name: Tool\n      Mesh Resource: package://GripperPrototype/meshes/Thumb.STL\n"
+        "  Global Options:\n    Fixed Frame: base_link\n"
+    )
+    result = run_pkgforge("migrate", source, "--destination", tmp_path / "out", *MAINTAINER, cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert (
+        "ros1/GripperPrototype/rviz/tool.rviz:7: PF805 [info] 1 reference(s) to GripperPrototype rewritten to "
+        "package gripper_prototype (package://, $(find); line 7) (migrate-generated)"
+    ) in result.stdout
+    written = (tmp_path / "out/gripper_prototype/rviz/tool.rviz").read_text()
+    assert "Mesh Resource: package://gripper_prototype/meshes/Thumb.STL" in written
+    assert "GripperPrototype" not in written
+
+
 def test_the_exporters_package_xml_is_filled_in(exports):
     """<maintainer email="TODO@email.com" /> with no name: filled from --maintainer-name/-email,
     reported at its line; the <p>s of the description, the author and the license kept."""
