@@ -231,6 +231,33 @@ def test_the_maintainer_comes_from_git_config_without_options(tmp_path):
     assert '<maintainer email="ada@example.org">Ada Lovelace</maintainer>' in written
 
 
+def test_a_format_1_exporter_package_xml_is_read(tmp_path):
+    """The older exporters' format 1 manifest (<package>, <build_depend>, <run_depend>) with the
+    nameless maintainer: read, the maintainer filled in, the ROS 1 dependencies said at their lines."""
+    source = sw_export(tmp_path / "ros1", "Arm_2_description")
+    manifest = source / "package.xml"
+    text = manifest.read_text().replace('<package format="2">', "<package>")
+    text = text.replace("<depend>roslaunch</depend>", "<build_depend>roslaunch</build_depend>")
+    manifest.write_text(text.replace("<depend>", "<run_depend>").replace("</depend>", "</run_depend>"))
+    result = run_pkgforge("migrate", source, "--destination", tmp_path / "out", *MAINTAINER, cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stderr == ""
+    notes = _notes(result.stdout)
+    where = "ros1/Arm_2_description/package.xml"
+    for expected in (
+        f"{where}:{line_of(manifest, '<maintainer')}: PF806 [info] package.xml: <maintainer "
+        'email="TODO@email.com"/> has no name: Test Maintainer <test@example.com> (name from --maintainer-name, '
+        "e-mail from --maintainer-email) (migrate-changed)",
+        f"{where}:{line_of(manifest, '<build_depend>roslaunch')}: PF804 [info] <build_depend>roslaunch</build_depend> "
+        "is ROS 1 only: not carried over (migrate-dependency-dropped)",
+        f"{where}:{line_of(manifest, '<run_depend>gazebo')}: PF804 [info] <run_depend>gazebo</run_depend>: Gazebo "
+        "Classic, not carried over (--gazebo uses ros_gz_sim) (migrate-dependency-dropped)",
+    ):
+        assert expected in notes, (expected, notes)
+    written = (tmp_path / "out/arm_2_description/package.xml").read_text()
+    assert '<package format="3">' in written and "<exec_depend>rviz2</exec_depend>" in written
+
+
 @pytest.mark.triggers("PF807")
 def test_content_after_the_root_is_read_as_ros1_did(exports):
     """A <transmission> after </robot> (a model the display launch uses) and a broken model no
