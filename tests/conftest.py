@@ -141,6 +141,13 @@ def line_of(path: Path, text: str) -> int:
     raise AssertionError(f"{text!r} not in {path}")
 
 
+def lines_of(path: Path, text: str) -> list[int]:
+    """Every line of path that contains text."""
+    found = [n for n, line in enumerate(path.read_text().splitlines(), start=1) if text in line]
+    assert found, f"{text!r} not in {path}"
+    return found
+
+
 def edit(path: Path, old: str, new: str) -> None:
     """Replace old (which must be there) by new, once."""
     content = path.read_text()

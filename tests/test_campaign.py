@@ -422,6 +422,13 @@ HOSTILE_XACRO = {
         '<mimic/><dynamics/><safety_controller/><calibration rising="x"/><axis xyz="0 0 0 0"/></joint>'
         "</robot>\n"
     ),
+    # what CAD exporters write (issue 29): content after the root, a package:// naming the
+    # exporter's folder, a mesh start tag over two lines
+    "trailing.urdf": '<robot name="r"><link name="l"/></robot>\n<transmission name="t"><type>x</type></transmission>\n',
+    "exporterfolder.urdf": (
+        '<robot name="r"><link name="l"><visual><geometry>'
+        '<mesh filename="package://Some-URDF/meshes/x.STL"\n scale="1 1 1"/></geometry></visual></link></robot>\n'
+    ),
 }
 
 # hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot

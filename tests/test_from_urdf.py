@@ -9,7 +9,7 @@ import os
 from pathlib import Path
 
 import pytest
-from conftest import MAINTAINER, line_of, run_pkgforge
+from conftest import MAINTAINER, line_of, lines_of, run_pkgforge
 from migrate_fixtures import bare_urdf
 
 from pkgforge.scaffold.stl import binary_stl, box_triangles
@@ -292,7 +292,9 @@ def test_a_model_naming_a_file_it_may_not_copy_writes_nothing(tmp_path, case):
     )
     assert result.returncode == 2, result.stdout + result.stderr
     lines = result.stderr.splitlines()
-    assert lines[0] == f"pkgforge: error: {where}:{line_of(where, uri)}: {kind} '{uri}' not copied: {why}"
+    first, *others = lines_of(where, uri)
+    also = f" (also line {', '.join(map(str, others))})" if others else ""  # one line per file named
+    assert lines[0] == f"pkgforge: error: {where}:{first}: {kind} '{uri}' not copied: {why}{also}"
     assert lines[-1].endswith(
         "file(s) the model names cannot be imported: nothing written; pkgforge copies only mesh and "
         "texture files, from the model's package tree and the packages the model names: copy them "

@@ -31,6 +31,12 @@ def test_invalid_names_say_why(name, reason):
         ("Bad-Name", "bad_name"),  # the hint once said 'bad-name', itself invalid
         ("Rob", "rob"),
         ("rob-desc", "rob_desc"),
+        # what CAD exporters take from the assembly (migrate's default name)
+        ("BellPepperGripperPrototype", "bell_pepper_gripper_prototype"),
+        ("er20-1780", "er20_1780"),
+        ("Arm_Assembly_URDF.SLDASM", "arm_assembly_urdf_sldasm"),
+        ("ROS_rover_urdf_description", "ros_rover_urdf_description"),
+        ("Rob__X", "rob_x"),
     ],
 )
 def test_the_suggested_name_is_valid(name, suggestion):
@@ -39,7 +45,8 @@ def test_the_suggested_name_is_valid(name, suggestion):
 
 
 def test_no_suggestion_when_no_simple_fix_is_valid():
-    assert "try" not in rep144_problem("Rob__X")
+    assert "try" not in rep144_problem("1Rob")
+    assert "try" not in rep144_problem("7260501-000000-001 TB6-R5-RevA1-URDF")
 
 
 def test_a_trailing_underscore_is_advice_not_a_rep144_violation():

@@ -165,7 +165,7 @@ class MemorySize(_SizeType):
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("name")
+@click.argument("name", required=False)
 @click.option(
     "--distro",
     type=click.Choice(list(DISTROS)),
@@ -233,8 +233,14 @@ class MemorySize(_SizeType):
     help="With --from-urdf: rewrite mesh URIs as package://NAME/meshes/... or "
     "file://$(find NAME)/meshes/....",
 )
+@click.option(
+    "--add-root-link",
+    is_flag=True,
+    help="With --from-urdf: add a massless root link above a root link with an inertia, which KDL "
+    "ignores (PF604); models are otherwise copied byte for byte.",
+)
 def new(
-    name: str,
+    name: str | None,
     distro: str,
     build_type: str,
     launch_format: str,
@@ -247,9 +253,22 @@ def new(
     ci: tuple[str, ...],
     from_urdf: Path | None,
     mesh_uri: str,
+    add_root_link: bool,
 ) -> None:
-    """Create a robot description package NAME that builds and shows in RViz2."""
+    """Create a robot description package NAME that builds and shows in RViz2 (with --from-urdf,
+    NAME defaults to the model's package name, made valid)."""
     from pkgforge.scaffold.package import create_package, default_destination, make_spec
+
+    name_note = None
+    if name is None:
+        if from_urdf is None:
+            raise click.UsageError("Missing argument 'NAME' (it may be left out with --from-urdf only).")
+        from pkgforge.scaffold.from_urdf import default_name
+
+        try:
+            name, name_note = default_name(from_urdf)
+        except PkgforgeError as error:
+            fail(error)
 
     options: dict[str, Any] = dict(  # make_spec's keyword arguments
         name=name,
@@ -276,6 +295,8 @@ def new(
                 destination or default_destination(Path.cwd()),
                 force=force,
                 uri_style=mesh_uri,
+                add_root_link=add_root_link,
+                name_note=name_note,
             )
             spec = make_spec(**options)
         else:
@@ -315,10 +336,10 @@ def new(
             f"imported {from_urdf} with {imported.meshes} mesh(es); {len(imported.files)} file(s) "
             "in urdf/ and meshes/"
         )
-        finish_with_verify(created.path, notes)
+        finish_with_verify(created.path, notes, spec.distro.name)
 
 
-def finish_with_verify(package: Path, notes: Notes) -> NoReturn:
+def finish_with_verify(package: Path, notes: Notes, distro: str) -> NoReturn:
     """`migrate` and `new --from-urdf`: what changed, then verify's report on the result; verify's exit status."""
     from pkgforge.report import render
     from pkgforge.verify.config import Selection
@@ -328,7 +349,7 @@ def finish_with_verify(package: Path, notes: Notes) -> NoReturn:
     click.echo(notes.render(Path.cwd()), nl=False)
     click.echo(f"verify {os.path.relpath(package)}:")
     try:
-        result = run_verify(package, VerifyOptions(Selection()))
+        result = run_verify(package, VerifyOptions(Selection(), distro=distro))  # the target's launch API
     except PkgforgeError as error:
         fail(error)
     click.echo(render("text", result), nl=False)
@@ -365,21 +386,58 @@ def finish_with_verify(package: Path, notes: Notes) -> NoReturn:
     help="Convert Gazebo Classic (gazebo_ros empty_world.launch, spawn_model) to Gazebo with "
     "ros_gz_sim instead of leaving it out.",
 )
-def migrate(path: Path, destination: Path | None, launch_format: str, distro: str, gazebo: bool) -> None:
+@click.option(
+    "--name",
+    default=None,
+    help="Name of the ROS 2 package [default: the source's; when that breaks REP 144 (an exporter's "
+    "Arm_2_description), the valid name close to it]. Every package://, $(find) follows.",
+)
+@click.option(
+    "--maintainer-name", default=None, help="For a maintainer without one [default: git config user.name]"
+)
+@click.option(
+    "--maintainer-email", default=None, help="For a maintainer without one [default: git config user.email]"
+)
+@click.option(
+    "--add-root-link",
+    is_flag=True,
+    help="Add a massless root link above a root link with an inertia, which KDL ignores (PF604); "
+    "models are otherwise copied byte for byte.",
+)
+def migrate(
+    path: Path,
+    destination: Path | None,
+    launch_format: str,
+    distro: str,
+    gazebo: bool,
+    name: str | None,
+    maintainer_name: str | None,
+    maintainer_email: str | None,
+    add_root_link: bool,
+) -> None:
     """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
     from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.package import migrate as run_migrate
 
     try:
         created, notes, source = run_migrate(
-            path, destination, launch_format=launch_format, distro=distro, gazebo=gazebo, notes_factory=Notes
+            path,
+            destination,
+            launch_format=launch_format,
+            distro=distro,
+            gazebo=gazebo,
+            notes_factory=Notes,
+            name=name,
+            maintainer_name=maintainer_name,
+            maintainer_email=maintainer_email,
+            add_root_link=add_root_link,
         )
     except PkgforgeError as error:
         fail(error)
     click.echo(f"migrated {os.path.relpath(source)} to ROS 2 {distro} in {os.path.relpath(created.path)}/")
     for relative in created.files:
         click.echo(f"  {relative}")
-    finish_with_verify(created.path, notes)
+    finish_with_verify(created.path, notes, distro)
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)

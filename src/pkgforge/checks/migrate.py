@@ -71,11 +71,14 @@ register(
     area="migrate",
     bad='<node pkg="rviz" type="rviz" name="rviz" args="-d $(find arm)/urdf.rviz"/>\n<!-- the package has no urdf.rviz -->',
     good="# rviz/urdf.rviz generated, Fixed Frame = the model's root link",
-    summary="a file the package refers to was made by pkgforge, or a setting changed to fit the model",
+    summary="a file or name the package needs was made by pkgforge, or a reference rewritten to fit it",
     explanation="A launch file referred to an RViz config the source does not have, or the RViz "
     "Fixed Frame is not a link of the model; the converted package gets a config "
-    "that shows the model, with the model's root link as Fixed Frame.",
-    hint="open it in RViz 2 and save your own layout over it",
+    "that shows the model, with the model's root link as Fixed Frame. A package name that breaks "
+    "REP 144 (the assembly's name a CAD exporter took) gets the valid name close to it, and every "
+    "package:// and $(find) naming the old one (or an exporter's folder named as a package) is "
+    "rewritten, each file with the lines it was rewritten at.",
+    hint="open it in RViz 2 and save your own layout over it; give --name to choose the package's name",
 )(None)
 
 register(
@@ -85,10 +88,27 @@ register(
     area="migrate",
     bad='<param name="robot_description" textfile="$(find arm)/urdf/arm.urdf"/>',
     good='Node(package="robot_state_publisher", executable="robot_state_publisher",\n     parameters=[{"robot_description": ParameterValue(\n         Command(["xacro ", PathJoinSubstitution([FindPackageShare("arm"), "urdf", "arm.urdf"])]),\n         value_type=str)}])',
-    summary="a launch construct was converted to its ROS 2 form",
+    summary="a launch construct or a manifest entry was converted to its ROS 2 form",
     explanation="robot_description becomes a string parameter of robot_state_publisher (never an "
     "argument of joint_state_publisher), the xacro output of the model; $(find) "
-    "becomes $(find-pkg-share); use_gui chooses joint_state_publisher_gui; files move "
-    "to folders that are installed.",
+    'becomes $(find-pkg-share); use_gui chooses joint_state_publisher_gui; required="true" '
+    "becomes on_exit=Shutdown(); files move to folders that are installed. A maintainer without a "
+    'name (an exporter\'s <maintainer email="TODO@email.com" />) is filled in from '
+    "--maintainer-name/--maintainer-email or git config.",
     hint="nothing to do: said so that every change is visible",
+)(None)
+
+register(
+    "PF807",
+    "migrate-source-defect",
+    "warning",
+    area="migrate",
+    bad='<!-- urdf/arm.urdf -->\n<robot name="arm">\n  ...\n</robot>\n<transmission name="tran1">...</transmission>',
+    good='<robot name="arm">\n  ...\n  <transmission name="tran1">...</transmission>\n</robot>',
+    summary="a file of the source has a defect ROS 1 tolerated: it is copied as written",
+    explanation="ROS 1's URDF parser (TinyXML) read the first element of a file and ignored what "
+    "follows it, and a model no launch file used was never read at all. pkgforge copies such a "
+    "file byte for byte and reads it as ROS 1 did, so the migration goes on; xacro, which ROS 2 "
+    "launch files run on a model, refuses content after the root element.",
+    hint="move the content into the root element (or delete it), or fix the file so it is well-formed XML",
 )(None)

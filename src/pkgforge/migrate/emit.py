@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import TypeAlias
+from typing import TYPE_CHECKING, TypeAlias
 
 import yaml
 
 from pkgforge.migrate.roslaunch import Action, Arg, Condition, Group, Include, Node, Token
+
+if TYPE_CHECKING:
+    from pkgforge.model.distros import Distro
 
 HEADER = "Converted from ROS 1 {source} by pkgforge migrate."
 
@@ -49,7 +52,8 @@ def _xml_attr(value: str) -> str:
     return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
 
 
-def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
+def to_xml(actions: list[Action], source: str, *, distro: Distro) -> str:
+    param_type = distro.frontend_param_type
     lines = ['<?xml version="1.0"?>', f"<!-- {HEADER.format(source=source)} -->", "<launch>"]
 
     def attrs(pairs: Iterable[tuple[str, str | None]]) -> str:
@@ -79,6 +83,7 @@ def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
                         ("namespace", action.namespace),
                         ("output", action.output),
                         ("respawn", action.respawn),
+                        ("on_exit", "shutdown" if action.required and distro.frontend_on_exit else None),
                         ("args", _words(action.arguments) if action.arguments else None),
                         *cond(action.condition),
                     ]
@@ -95,7 +100,9 @@ def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
                         children.append(
                             f"<param{attrs([('name', param.name), ('value', frontend(param.value))])}/>"
                         )
-                children += [f"<remap{attrs([('from', a), ('to', b)])}/>" for a, b in action.remaps]
+                children += [
+                    f"<remap{attrs([('from', frontend(a)), ('to', frontend(b))])}/>" for a, b in action.remaps
+                ]
                 if children:
                     lines.append(f"{indent}<node{head}>")
                     lines.extend(f"{indent}  {c}" for c in children)
@@ -127,7 +134,9 @@ def to_xml(actions: list[Action], source: str, *, param_type: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def to_yaml(actions: list[Action], source: str, *, param_type: bool) -> str:
+def to_yaml(actions: list[Action], source: str, *, distro: Distro) -> str:
+    param_type = distro.frontend_param_type
+
     def cond(condition: Condition | None) -> dict[str, YamlData]:
         return {condition[0]: frontend(condition[1])} if condition else {}
 
@@ -154,6 +163,8 @@ def to_yaml(actions: list[Action], source: str, *, param_type: bool) -> str:
                 ):
                     if value is not None:
                         entry[key] = value
+                if action.required and distro.frontend_on_exit:
+                    entry["on_exit"] = "shutdown"
                 if action.arguments:
                     entry["args"] = _words(action.arguments)
                 entry.update(cond(action.condition))
@@ -174,7 +185,7 @@ def to_yaml(actions: list[Action], source: str, *, param_type: bool) -> str:
                 if params:
                     entry["param"] = params
                 if action.remaps:
-                    entry["remap"] = [{"from": a, "to": b} for a, b in action.remaps]
+                    entry["remap"] = [{"from": frontend(a), "to": frontend(b)} for a, b in action.remaps]
                 out.append({"node": entry})
             elif isinstance(action, Include):
                 entry = {"file": frontend(action.path), **cond(action.condition)}
@@ -252,6 +263,8 @@ def to_python(actions: list[Action], source: str) -> str:
                         fields.append(f"{key}={value!r}")
                 if action.respawn is not None:
                     fields.append(f"respawn={action.respawn.strip().lower() == 'true'!r}")
+                if action.required:
+                    fields.append("on_exit=Shutdown()")
                 if action.arguments:
                     fields.append("arguments=[" + ", ".join(py(w) for w in action.arguments) + "]")
                 params: list[str] = []
@@ -272,7 +285,7 @@ def to_python(actions: list[Action], source: str) -> str:
                     fields.append("parameters=[" + ", ".join(params) + "]")
                 if action.remaps:
                     fields.append(
-                        "remappings=[" + ", ".join(f"({a!r}, {b!r})" for a, b in action.remaps) + "]"
+                        "remappings=[" + ", ".join(f"({py(a)}, {py(b)})" for a, b in action.remaps) + "]"
                     )
                 call("Node", fields, action.condition, indent)
             elif isinstance(action, Include):
@@ -304,6 +317,7 @@ def to_python(actions: list[Action], source: str) -> str:
             "GroupAction",
             "IncludeLaunchDescription",
             "SetLaunchConfiguration",
+            "Shutdown",
         ],
         "launch.conditions": ["IfCondition", "UnlessCondition"],
         "launch.launch_description_sources": ["AnyLaunchDescriptionSource"],

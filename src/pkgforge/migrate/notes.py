@@ -20,7 +20,9 @@ class Notes:
 
         all_checks()
         check = next(c for c in REGISTRY.values() if c.name == name)
-        self.diagnostics.append(check.diagnostic(self.package, Finding(message, Path(path), line, hint=hint)))
+        diagnostic = check.diagnostic(self.package, Finding(message, Path(path), line, hint=hint))
+        if diagnostic not in self.diagnostics:  # said once (a step run again says it again)
+            self.diagnostics.append(diagnostic)
 
     def render(self, root: Path) -> str:
         import os

@@ -1,26 +1,37 @@
-"""`pkgforge migrate PATH`: read the ROS 1 package, convert it in memory, write it atomically."""
+"""`pkgforge migrate PATH`: read the ROS 1 package, convert it in memory, write it atomically.
+
+What CAD exporters write is the normal case, not bad input: an assembly's name as package name
+(a valid one is chosen and every reference to the old one follows), a manifest without a
+maintainer's name (filled in), a model with content after </robot> (read as ROS 1 did), URIs
+naming the exporter's folder instead of a package (read in that folder). Models and meshes are
+copied byte for byte but for the references that follow a new name.
+"""
 
 from __future__ import annotations
 
 import os
+import re
 import stat
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.model import ros1_names
-from pkgforge.model.source import not_regular, read_regular
+from pkgforge.model.source import not_regular
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
+    from pkgforge.migrate.manifest import Ros1Manifest
     from pkgforge.migrate.notes import Notes
-    from pkgforge.migrate.roslaunch import Action, Token
-    from pkgforge.scaffold.from_urdf import Reference
-    from pkgforge.scaffold.package import CreatedPackage
+    from pkgforge.migrate.roslaunch import Action, LaunchFile, Reader, Token
+    from pkgforge.model.distros import Distro
+    from pkgforge.scaffold.from_urdf import ModelFile, Reference
+    from pkgforge.scaffold.package import CreatedPackage, PackageSpec
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
 DEPENDENCY_TAGS = (
@@ -31,45 +42,8 @@ DEPENDENCY_TAGS = (
     "build_export_depend",
     "buildtool_depend",
 )
-
-
-def _manifest(path: Path) -> tuple[Any, etree._Element]:
-    """(catkin_pkg Package, lxml root) of a ROS 1 catkin package, or a located PkgforgeError.
-
-    catkin_pkg has no type information: its Package is Any here."""
-    from pkgforge.model.catkin import InvalidPackage, parse_package_string
-
-    manifest = path / "package.xml"
-    if not path.is_dir():
-        raise PkgforgeError(f"{path}: no such folder; give the ROS 1 package folder (with package.xml)")
-    if not os.path.lexists(manifest):
-        raise PkgforgeError(
-            f"{path}: no package.xml: not a catkin package; give the folder that holds package.xml"
-        )
-    try:
-        data = read_regular(manifest)
-    except OSError as exc:  # (a FIFO or a device: refused, never read)
-        raise PkgforgeError(f"{manifest}: {exc.strerror} (nothing written)") from exc
-    try:
-        root = etree.fromstring(data, base_url=str(manifest))
-        package = parse_package_string(data.decode("utf-8"), filename=str(manifest))
-    except etree.XMLSyntaxError as exc:
-        raise PkgforgeError(
-            f"{manifest}:{exc.lineno}: not well-formed XML: {exc.msg} (nothing written)"
-        ) from exc
-    except InvalidPackage as exc:
-        raise PkgforgeError(
-            f"{manifest}:1: not a valid package.xml: {str(exc).splitlines()[0]} (nothing written)"
-        ) from exc
-    tools = [d.name for d in package.buildtool_depends]
-    if "catkin" not in tools:
-        line = next((e.sourceline for e in root.iter("buildtool_depend")), root.sourceline)
-        found = f"its build tool is {', '.join(tools)}" if tools else "it has no <buildtool_depend>"
-        raise PkgforgeError(
-            f"{manifest}:{line}: not a catkin package ({found}, not catkin): migrate converts "
-            "ROS 1 catkin packages (nothing written)"
-        )
-    return package, root
+# at most this many line numbers in a note (a message is one line)
+SHOWN_LINES = 8
 
 
 def _files(source: Path) -> list[str]:
@@ -92,6 +66,18 @@ def _files(source: Path) -> list[str]:
     return found
 
 
+def _regular(path: str) -> None:
+    """A located PkgforgeError for a FIFO or a device (or a link to one) among the files to convert
+    and copy: reading it would block, or never end."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return  # a dangling link: its read says so, as before
+    if not stat.S_ISREG(mode):
+        refusal = not_regular(path, mode)
+        raise PkgforgeError(f"{path}: {refusal.strerror}; move it out of the package (nothing written)")
+
+
 def _copy_problems(source: Path, files: list[str]) -> list[str]:
     """Each of the package's files migrate would copy but does not, with why: migrate copies the
     package's own regular files, so a symbolic link must lead to one inside the package (never to
@@ -107,63 +93,268 @@ def _copy_problems(source: Path, files: list[str]) -> list[str]:
     return problems
 
 
-def _regular(path: str) -> None:
-    """A located PkgforgeError for a FIFO or a device (or a link to one) among the files to convert
-    and copy: reading it would block, or never end."""
-    try:
-        mode = os.stat(path).st_mode
-    except OSError:
-        return  # a dangling link: its read says so, as before
-    if not stat.S_ISREG(mode):
-        refusal = not_regular(path, mode)
-        raise PkgforgeError(f"{path}: {refusal.strerror}; move it out of the package (nothing written)")
-
-
 def _is_ros1_launch(relative: str) -> bool:
     return relative.endswith(".launch")
 
 
-def _models(
-    source: Path, files: list[str], notes: Notes
-) -> tuple[dict[str, etree._Element], set[str], str | None, list[Reference]]:
-    """Each model parsed (by relative path), the links of all, the root link of the first .urdf,
-    and the meshes that are missing."""
-    from pkgforge.scaffold.from_urdf import model_references, parse_model, resolve, root_link
+def _is_asset(relative: str) -> bool:
+    from pkgforge.scaffold.from_urdf import ASSET_SUFFIXES
 
-    roots: dict[str, etree._Element] = {}
-    links: set[str] = set()
-    first_root: str | None = None
-    missing: list[Reference] = []
-    for relative in files:
-        if not relative.endswith(XACRO_MODEL_SUFFIXES):
-            continue
+    return relative.lower().endswith(ASSET_SUFFIXES)
+
+
+def _is_text(data: bytes) -> bool:
+    """A file whose references a rename rewrites: text (a model, a config), never a binary one."""
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return False
+    return b"\0" not in data
+
+
+def _lines(items: list[int]) -> str:
+    distinct = sorted(set(items))
+    shown = ", ".join(map(str, distinct[:SHOWN_LINES]))
+    return f"line {shown}" + (" …" if len(distinct) > SHOWN_LINES else "")
+
+
+@dataclass
+class Renames:
+    """Where references to the package go: its old name (and the folders exporters name as if they
+    were packages) → the new package. Keys and values are URI prefixes, as bytes."""
+
+    old: str
+    new: str
+    prefixes: dict[str, str] = field(default_factory=dict)
+    names: dict[str, str] = field(default_factory=dict)  # package names in launch files
+
+    @classmethod
+    def of(cls, old: str, new: str) -> Renames:
+        renames = cls(old, new)
+        if old != new:
+            renames.names[old] = new
+            renames.prefixes.update(
+                {
+                    f"package://{old}/": f"package://{new}/",
+                    f"$(find {old})": f"$(find {new})",
+                    f"$(find-pkg-share {old})": f"$(find-pkg-share {new})",
+                }
+            )
+        return renames
+
+    def folder(self, name: str, relative: str) -> None:
+        """package://NAME/ names no package but the folder `relative` of this package."""
+        self.prefixes[f"package://{name}/"] = f"package://{self.new}/" + (
+            "" if relative == "." else relative + "/"
+        )
+
+    def pattern(self) -> re.Pattern[bytes] | None:
+        if not self.prefixes:
+            return None
+        keys = sorted(self.prefixes, key=len, reverse=True)
+        return re.compile(b"|".join(re.escape(k.encode()) for k in keys))
+
+    def apply(self, data: bytes) -> tuple[bytes, list[int]]:
+        """The bytes with every reference rewritten, and the line of each rewrite."""
+        pattern = self.pattern()
+        if pattern is None:
+            return data, []
+        lines = [data.count(b"\n", 0, m.start()) + 1 for m in pattern.finditer(data)]
+        return pattern.sub(lambda m: self.prefixes[m.group(0).decode()].encode(), data), lines
+
+    def text(self, value: str) -> str:
+        data, _ = self.apply(value.encode("utf-8", "surrogateescape"))
+        return data.decode("utf-8", "surrogateescape")
+
+    def note(self, notes: Notes, path: Path, lines: list[int]) -> None:
+        if lines:
+            olds = sorted(
+                k.removeprefix("package://").rstrip("/") for k in self.prefixes if k.startswith("package://")
+            )
+            notes.add(
+                "migrate-generated",
+                f"{len(lines)} reference(s) to {' and '.join(olds)} rewritten to package {self.new} "
+                f"(package://, $(find); {_lines(lines)})",
+                path,
+                lines[0],
+            )
+
+
+def _package_name(manifest: Ros1Manifest, requested: str | None) -> tuple[str, str | None]:
+    """(the ROS 2 package's name, why it differs from the source's or None): --name, else the
+    source's when valid, else the valid name REP 144's message suggests."""
+    from pkgforge.model.names import REP144_RULE, rep144_advice, rep144_problem, suggested_name
+
+    old = manifest.name
+    if requested is not None:
+        problem = rep144_problem(requested) or rep144_advice(requested)
+        if problem:
+            raise PkgforgeError(f"invalid --name: {problem}; {REP144_RULE}")
+        return requested, "--name" if requested != old else None
+    problem = rep144_problem(old) or rep144_advice(old)
+    if problem is None:
+        return old, None
+    new = suggested_name(old)
+    if new is None:
+        raise PkgforgeError(
+            f"{manifest.path}:{manifest.name_line}: package name: {problem}, and no valid name is near "
+            "it: give the ROS 2 package's name with --name (nothing written)"
+        )
+    return new, f"{problem.split(' (try')[0]}, which REP 144 forbids"
+
+
+@dataclass
+class Models:
+    """The package's models as read, and what the migration learnt from them."""
+
+    read: dict[str, ModelFile] = field(default_factory=dict)
+    links: set[str] = field(default_factory=set)
+    root: str | None = None  # the root link of the first .urdf
+    missing: list[Reference] = field(default_factory=list)
+    found: dict[str, Path] = field(default_factory=dict)  # package://NAME/ naming no package → folder
+
+
+def _used_models(models: list[str], texts: dict[str, str], launch_files: list[str]) -> set[str]:
+    """The models a launch file names, and what they include (by file name: a model's name in a
+    launch file or in a used model's text). A file nothing names is never read by ROS 1 tools."""
+    used: set[str] = set()
+    readers = list(launch_files)
+    while readers:
+        text = texts.get(readers.pop(), "")
+        for model in models:
+            if model not in used and (model in text or Path(model).name in text):
+                used.add(model)
+                readers.append(model)
+    return used
+
+
+def _read_models(source: Path, files: list[str], notes: Notes) -> Models:
+    """Each model read (a model with content after its root as ROS 1 read it), the links of all,
+    the root link of the first .urdf, and the meshes that are missing. A model that is not
+    well-formed XML stops the migration only when a launch file uses it (ROS 1 never read it
+    otherwise): else it is copied as written, and reported."""
+    from pkgforge.scaffold.from_urdf import ModelUnreadable, decode, read_model, root_link, trailing_message
+
+    models = [r for r in files if r.endswith(XACRO_MODEL_SUFFIXES)]
+    texts = {r: decode((source / r).read_bytes()) for r in [*models, *filter(_is_ros1_launch, files)]}
+    used = _used_models(models, texts, [r for r in files if _is_ros1_launch(r)])
+    result = Models()
+    for relative in models:
         path = source / relative
-        root = roots[relative] = parse_model(path)
-        links |= {name for e in root.iter("link") if (name := e.get("name"))}
-        if first_root is None and relative.endswith(".urdf"):
-            first_root = root_link(root)
-        for reference in model_references(path, root):
-            if (
-                reference.kind in ("mesh", "texture")
-                and "$(" not in reference.uri
-                and "${" not in reference.uri
-            ):
-                found, problem = resolve(reference.uri, path)
-                if found is not None and not found.is_file():
-                    found, problem = None, f"no file {found}"  # a folder, a FIFO: no mesh
-                if found is None:
-                    reference.problem = problem
-                    missing.append(reference)
-        for element in root.iter("plugin"):
-            if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
-                notes.add(
-                    "migrate-gazebo-classic",
-                    f"Gazebo Classic plugin {element.get('filename')} is kept as "
-                    "written; it does not load in Gazebo (gz)",
-                    path,
-                    element.sourceline,
-                )
-    return roots, links, first_root, missing
+        try:
+            model = result.read[relative] = read_model(path)
+        except ModelUnreadable as error:
+            if relative in used:
+                raise
+            notes.add(
+                "migrate-source-defect",
+                f"{error.why}; no launch file uses it: copied as written",
+                path,
+                error.line,
+            )
+            continue
+        if model.trailing_line is not None:
+            notes.add("migrate-source-defect", trailing_message(model), path, model.trailing_line)
+        result.links |= {name for e in model.root.iter("link") if (name := e.get("name"))}
+        if result.root is None and relative.endswith(".urdf"):
+            result.root = root_link(model.root)
+        _check_meshes(model, relative in used, result, notes)
+    return result
+
+
+def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) -> None:
+    """Each mesh and texture a model names literally must exist (a used model's missing mesh stops
+    the migration; an unused model's is reported); Gazebo Classic plugins are reported."""
+    from pkgforge.scaffold.from_urdf import COMPUTED, model_references, resolve
+
+    reported: set[str] = set()
+    for reference in model_references(model.path, model.root, model.text):
+        if reference.kind not in ("mesh", "texture") or COMPUTED.search(reference.uri):
+            continue
+        found, problem = resolve(reference.uri, model.path, result.found)
+        if found is not None and not found.is_file():
+            found, problem = None, f"no file {found}"  # a folder, a FIFO: no mesh
+        if found is not None:
+            continue
+        reference.problem = problem
+        if used:
+            result.missing.append(reference)
+        elif reference.uri not in reported:
+            reported.add(reference.uri)
+            notes.add(
+                "migrate-source-defect",
+                f"{reference.kind} '{reference.uri}' not found ({problem}); no launch file uses this model: "
+                "copied as written",
+                model.path,
+                reference.line,
+            )
+    for element in model.root.iter("plugin"):
+        if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
+            notes.add(
+                "migrate-gazebo-classic",
+                f"Gazebo Classic plugin {element.get('filename')} is kept as written; it does not load in Gazebo (gz)",
+                model.path,
+                element.sourceline,
+            )
+
+
+@dataclass
+class Converted:
+    """The migrated package in memory: its files, their modes, and what each launch file uses."""
+
+    output: dict[str, bytes] = field(default_factory=dict)
+    modes: dict[str, int] = field(default_factory=dict)
+    uses: dict[str, set[str]] = field(default_factory=dict)  # written launch file → packages it uses
+    launches: dict[str, LaunchFile] = field(default_factory=dict)  # ROS 2 launch file → its actions
+    launch_sources: dict[str, Path] = field(default_factory=dict)  # ROS 2 launch file → the ROS 1 file
+    launch_names: dict[str, str] = field(default_factory=dict)  # ROS 2 launch file → ROS 1's, relative
+    generated_rviz: dict[str, int | None] = field(default_factory=dict)
+
+    def emit(self, leave_out: set[str], name: str, launch_format: str, distro: Distro, notes: Notes) -> None:
+        """Write the launch files in output, but for those in leave_out and those that come to start
+        nothing (a Gazebo Classic file without --gazebo); an include of a file not written is left
+        out of the file including it."""
+        from pkgforge.migrate.emit import to_python, to_xml, to_yaml, used_packages
+
+        written = set(self.launches) - leave_out
+        changed = True
+        while changed:
+            changed = False
+            for relative in sorted(written):
+                launch, path = self.launches[relative], self.launch_sources[relative]
+                for include in _includes_of(launch.actions, name, set(self.launches) - written):
+                    notes.add(
+                        "migrate-dropped",
+                        f"include of {include[1]} left out: it is not written",
+                        path,
+                        include[0],
+                    )
+                if not launch.runs_anything():
+                    notes.add(
+                        "migrate-dropped",
+                        f"{relative} not written: nothing in it starts in ROS 2",
+                        path,
+                        None,
+                    )
+                    written.discard(relative)
+                    changed = True
+        self.uses = {}
+        for relative, launch in self.launches.items():
+            self.output.pop(relative, None)
+            if relative not in written:
+                continue
+            source = os.path.relpath(
+                self.launch_sources[relative].as_posix(),
+                self.launch_sources[relative].parents[len(Path(relative).parts) - 1],
+            )
+            if launch_format == "py":
+                text = to_python(launch.actions, source)
+            elif launch_format == "xml":
+                text = to_xml(launch.actions, source, distro=distro)
+            else:
+                text = to_yaml(launch.actions, source, distro=distro)
+            self.output[relative] = text.encode("utf-8")
+            self.uses[relative] = used_packages(launch.actions)
 
 
 def migrate(
@@ -174,18 +365,29 @@ def migrate(
     distro: str | None,
     gazebo: bool,
     notes_factory: Callable[[str], Notes],
+    name: str | None = None,
+    maintainer_name: str | None = None,
+    maintainer_email: str | None = None,
+    add_root_link: bool = False,
+    check_launch: bool = True,
 ) -> tuple[CreatedPackage, Notes, Path]:
-    from pkgforge.migrate.emit import to_python, to_xml, to_yaml, used_packages
-    from pkgforge.migrate.roslaunch import Reader
-    from pkgforge.migrate.rviz1 import convert as convert_rviz
-    from pkgforge.model.distro_data import load
-    from pkgforge.scaffold.from_urdf import massless_root, missing_message
-    from pkgforge.scaffold.package import create_package, make_spec, render_files
+    from pkgforge.migrate.check import unloadable
+    from pkgforge.migrate.manifest import maintainers, read_manifest, version
+    from pkgforge.scaffold.from_urdf import missing_message
+    from pkgforge.scaffold.package import make_spec, render_files
 
     source = source.absolute()
-    package, manifest_root = _manifest(source)
-    name = package.name
-    notes = notes_factory(name)
+    manifest = read_manifest(source)
+    new_name, why = _package_name(manifest, name)
+    notes = notes_factory(new_name)
+    renames = Renames.of(manifest.name, new_name)
+    if why is not None:
+        notes.add(
+            "migrate-generated",
+            f"package name '{manifest.name}' → '{new_name}' ({why}); package://, $(find) and project() follow",
+            manifest.path,
+            manifest.name_line,
+        )
     files = _files(source)
     refused = _copy_problems(source, files)
     if refused:
@@ -194,17 +396,175 @@ def migrate(
             f"{len(refused)} file(s) of the package cannot be copied: nothing written; replace each "
             "link that leads out of the package by the file it names, or move the file out of the package",
         )
-    models, links, root, missing = _models(source, files, notes)
-    if missing:
-        raise PkgforgeError(*missing_message(missing, force=False))
+    models = _read_models(source, files, notes)
+    if models.missing:
+        raise PkgforgeError(*missing_message(models.missing, force=False))
+    for folder_name, folder in models.found.items():
+        renames.folder(folder_name, os.path.relpath(folder, source))
+        _note_folder(notes, models, folder_name, folder)
+    people = maintainers(manifest, maintainer_name, maintainer_email, notes)
     base = make_spec(
-        name,
+        new_name,
         distro=distro,
         launch_format=launch_format,
-        maintainer_name=package.maintainers[0].name if package.maintainers else None,
-        maintainer_email=package.maintainers[0].email if package.maintainers else None,
+        maintainer_name=people[0][0],
+        maintainer_email=people[0][1],
     )
+    target = base.distro.name
+    converted = _convert_files(source, files, models, renames, notes, target, launch_format, gazebo)
+    if add_root_link:
+        from pkgforge.scaffold.from_urdf import decode, encode, massless_root
 
+        for relative, model in models.read.items():
+            if etree.QName(model.root).localname == "robot":
+                text = decode(converted.output[relative])
+                converted.output[relative] = encode(massless_root(text, model.root, model.path, notes))
+    for rviz in converted.generated_rviz:
+        rviz_spec = make_spec(new_name, distro=target, fixed_frame=models.root or "base_link")
+        converted.output[rviz] = render_files(rviz_spec)["rviz/display.rviz"]
+        converted.modes.pop(rviz, None)
+    declared = _dependencies(manifest, new_name, target, gazebo, notes)
+    package_version = version(manifest, notes)
+
+    def spec_for(launch_files: tuple[str, ...]) -> PackageSpec:
+        used = set().union(*(converted.uses[f] for f in launch_files)) if launch_files else set()
+        depends = (used - {new_name}) | declared
+        if launch_files:
+            depends |= {"launch", "launch_ros"}
+        if "rviz2" in depends:
+            depends.add("rviz_default_plugins")
+        return make_spec(
+            new_name,
+            distro=target,
+            launch_format=launch_format,
+            maintainer_name=people[0][0],
+            maintainer_email=people[0][1],
+            license=manifest.licenses[0] if manifest.licenses else "TODO",
+            fixed_frame=models.root or "base_link",
+            resource_folders=tuple(sorted({r.split("/", 1)[0] for r in converted.output if "/" in r})),
+            extra_exec_depends=tuple(sorted(depends)),
+            launch_files=launch_files or ("launch",),
+            maintainers=people,
+            licenses=tuple(manifest.licenses),
+            version=package_version,
+            authors=tuple((a.name, a.email) for a in manifest.authors),
+            urls=tuple(manifest.urls),
+            description_xml=manifest.description_xml,
+        )
+
+    leave_out: set[str] = set()
+    converted.emit(leave_out, new_name, launch_format, base.distro, notes)
+    for _ in range(3):  # what is left out may leave an include in another file without its file
+        if not (check_launch and converted.uses):
+            break
+        failing = unloadable(spec_for(tuple(sorted(converted.uses))), converted.output, converted.modes)
+        if not failing:
+            break
+        for relative, reason in failing.items():
+            notes.add(
+                "migrate-dropped",
+                f"{relative} not written: {reason}",
+                converted.launch_sources[relative],
+                None,
+            )
+        leave_out |= set(failing)
+        converted.emit(leave_out, new_name, launch_format, base.distro, notes)
+    for written in sorted(converted.uses):
+        notes.add(
+            "migrate-changed",
+            f"{converted.launch_names[written]} → {written}",
+            converted.launch_sources[written],
+            None,
+        )
+    spec = spec_for(tuple(sorted(converted.uses)))
+    rendered = render_files(spec)
+    converted.output["package.xml"] = rendered["package.xml"]
+    converted.output["CMakeLists.txt"] = rendered["CMakeLists.txt"]
+    notes.add(
+        "migrate-changed",
+        "package.xml: format 3, ament_cmake, exec_depends from what the launch files use",
+        manifest.path,
+        1,
+    )
+    if (source / "CMakeLists.txt").is_file():
+        project = f"project({new_name}), " if new_name != manifest.name else ""
+        notes.add(
+            "migrate-changed",
+            f"CMakeLists.txt: ament_cmake, {project}install(DIRECTORY {' '.join(spec.folders)} "
+            "DESTINATION share/${PROJECT_NAME})",
+            source / "CMakeLists.txt",
+            1,
+        )
+    return _write(spec, converted, source, destination), notes, source
+
+
+def _write(spec: PackageSpec, converted: Converted, source: Path, destination: Path | None) -> CreatedPackage:
+    """Write the package into DESTINATION/NAME (default: beside the source, NAME_ros2 when NAME is
+    taken there, as the source usually is), never over an existing folder."""
+    from pkgforge.scaffold.package import create_package
+
+    parent = (destination or source.parent).absolute()
+    folder = spec.name
+    if destination is None and (parent / folder).exists():
+        folder = f"{spec.name}_ros2"  # beside the source, which usually has the package's name
+    if (parent / folder).exists() or (parent / folder).is_symlink():
+        raise PkgforgeError(
+            f"{parent / folder} already exists: migrate never overwrites; give another "
+            "--destination (nothing written)"
+        )
+    return create_package(spec, parent, files=converted.output, folder=folder, modes=converted.modes)
+
+
+def _includes_of(actions: list[Action], name: str, gone: set[str]) -> list[tuple[int | None, str]]:
+    """Take out each include of one of the package's launch files in `gone`: (its line, the file)."""
+    from pkgforge.migrate.roslaunch import Group, Include, Token
+
+    taken: list[tuple[int | None, str]] = []
+    for action in list(actions):
+        if isinstance(action, Group):
+            taken += _includes_of(action.actions, name, gone)
+        elif isinstance(action, Include) and len(action.path) == 2 and action.path[0] == Token("find", name):
+            relative = action.path[1][1].lstrip("/")
+            if relative in gone:
+                actions.remove(action)
+                taken.append((action.line, relative))
+    return taken
+
+
+def _note_folder(notes: Notes, models: Models, name: str, folder: Path) -> None:
+    from pkgforge.scaffold.from_urdf import folder_message, model_references
+
+    for model in models.read.values():
+        first = next(
+            (
+                r
+                for r in model_references(model.path, model.root, model.text)
+                if r.uri.startswith(f"package://{name}/")
+            ),
+            None,
+        )
+        if first is not None:
+            notes.add("migrate-generated", folder_message(name, folder, model.path), model.path, first.line)
+            return
+
+
+def _convert_files(
+    source: Path,
+    files: list[str],
+    models: Models,
+    renames: Renames,
+    notes: Notes,
+    target: str,
+    launch_format: str,
+    gazebo: bool,
+) -> Converted:
+    """Every file of the package, converted (launch files, RViz configs) or copied (the rest, with
+    each reference to a renamed package rewritten and reported)."""
+    from pkgforge.migrate.roslaunch import Reader
+    from pkgforge.migrate.rviz1 import convert as convert_rviz
+    from pkgforge.model.distros import DISTROS
+
+    distro = DISTROS[target]
     # where things go: ROS 1 launch files get their ROS 2 name; an RViz config at the top moves to rviz/
     moved: dict[str, str] = {}
     for relative in files:
@@ -212,154 +572,69 @@ def migrate(
             moved[relative] = relative.rsplit(".", 1)[0] + f".launch.{launch_format}"
         elif relative.endswith(".rviz") and "/" not in relative:
             moved[relative] = f"rviz/{relative}"
+    own = {renames.old, renames.new}
 
     def rename_launch(parts: list[Token]) -> list[Token]:
-        return _rewrite(parts, name, moved, foreign_launch=".launch.py")  # other packages' ROS 2 launch files
+        return _rewrite(parts, own, moved, foreign_launch=".launch.py")  # other packages' ROS 2 launch files
 
-    output: dict[str, bytes] = {}
-    # each file's permission bits: its source's, never wider; a file copied as it is keeps its
-    # execute bits (a script), a converted one has none
-    modes: dict[str, int] = {}
-    used: set[str] = set()
-    parameter_files: set[str] = set()  # own YAML files a node's <rosparam file> loads
-    generated_rviz: dict[str, int | None] = {}
+    def reader(path: Path, into: Notes, description: list[Token] | None) -> Reader:
+        return Reader(
+            path,
+            renames.new,
+            into,
+            gazebo=gazebo,
+            rename_launch=rename_launch,
+            distro=distro,
+            launch_format=launch_format,
+            package_description=description,
+        )
+
+    description = _package_description(
+        [source / r for r in files if _is_ros1_launch(r)],
+        renames,
+        lambda path: reader(path, type(notes)(renames.new), None),
+    )
+    converted = Converted()
     for relative in files:
         path = source / relative
-        modes[moved.get(relative, relative)] = path.stat().st_mode & 0o666
+        # each file's permission bits: its source's, never wider; a file copied as it is keeps its
+        # execute bits (a script), a converted one has none
+        converted.modes[moved.get(relative, relative)] = path.stat().st_mode & 0o666
+        data = path.read_bytes()
         if relative in moved and _is_ros1_launch(relative):
-            reader = Reader(path, name, notes, gazebo=gazebo, rename_launch=rename_launch)
-            converted = reader.read()
-            _rewrite_all(converted.actions, name, moved, source, generated_rviz, notes, path)
-            used |= used_packages(converted.actions)
-            parameter_files |= _parameter_files(converted.actions, name)
-            if launch_format == "py":
-                text = to_python(converted.actions, relative)
-            elif launch_format == "xml":
-                text = to_xml(converted.actions, relative, param_type=base.distro.frontend_param_type)
-            else:
-                text = to_yaml(converted.actions, relative, param_type=base.distro.frontend_param_type)
-            output[moved[relative]] = text.encode("utf-8")
-            notes.add("migrate-changed", f"{relative} → {moved[relative]}", path, None)
+            _, lines = renames.apply(data)
+            renames.note(notes, path, lines)
+            launch = reader(path, notes, description).read()
+            _rename_tokens(launch.actions, renames)
+            _rewrite_all(launch.actions, renames.new, moved, source, converted.generated_rviz, notes, path)
+            converted.launches[moved[relative]] = launch
+            converted.launch_sources[moved[relative]] = path
+            converted.launch_names[moved[relative]] = relative
         elif relative.endswith(".rviz"):
+            renamed, lines = renames.apply(data)
+            renames.note(notes, path, lines)
             try:
-                text = path.read_text(encoding="utf-8")
+                text = renamed.decode("utf-8")
             except UnicodeDecodeError as exc:
                 raise PkgforgeError(f"{path}: not a text file: not an RViz config (nothing written)") from exc
-            output[moved.get(relative, relative)] = convert_rviz(text, path, notes, links, root).encode(
-                "utf-8"
-            )
-        elif relative in models and etree.QName(models[relative]).localname == "robot":
-            output[relative] = massless_root(
-                path.read_text(encoding="utf-8"), models[relative], path, notes
+            converted.output[moved.get(relative, relative)] = convert_rviz(
+                text, path, notes, models.links, models.root
             ).encode("utf-8")
         else:
-            output[relative] = path.read_bytes()
-            modes[relative] = path.stat().st_mode & 0o777
-
+            if not _is_asset(relative) and _is_text(data):
+                data, lines = renames.apply(data)
+                renames.note(notes, path, lines)
+            converted.output[relative] = data
+            converted.modes[relative] = path.stat().st_mode & 0o777
+    parameter_files: set[str] = set()  # own YAML files a node's <rosparam file> loads
+    for launch in converted.launches.values():
+        parameter_files |= _parameter_files(launch.actions, renames.new)
     for relative in sorted(parameter_files):
-        if relative in output:
-            output[relative] = _as_ros2_parameters(output[relative], source / relative, notes)
-
-    # exec_depends: what the launch files use, and the old ones that still mean something
-    data = load()
-    target = base.distro.name
-    depends = (used - {name}) | {"launch", "launch_ros"}
-    depends |= (
-        {"launch_xml"} if launch_format == "xml" else {"launch_yaml"} if launch_format == "yaml" else set()
-    )
-    if "rviz2" in depends:
-        depends.add("rviz_default_plugins")
-    for element in manifest_root.iter(*DEPENDENCY_TAGS):
-        dependency = (element.text or "").strip()
-        if not dependency or dependency == name:
-            continue
-        if dependency in ros1_names.DROPPED_DEPENDENCIES:
-            notes.add(
-                "migrate-dependency-dropped",
-                f"<{element.tag!s}>{dependency}</{element.tag!s}> is ROS 1 only: not carried over",
-                source / "package.xml",
-                element.sourceline,
+        if relative in converted.output:
+            converted.output[relative] = _as_ros2_parameters(
+                converted.output[relative], source / relative, notes
             )
-        elif dependency in ros1_names.GAZEBO_DEPENDENCIES:
-            if gazebo:
-                depends.add("ros_gz_sim")
-                notes.add(
-                    "migrate-renamed",
-                    f"{dependency} → ros_gz_sim",
-                    source / "package.xml",
-                    element.sourceline,
-                )
-            else:
-                notes.add(
-                    "migrate-dependency-dropped",
-                    f"<{element.tag!s}>{dependency}</{element.tag!s}>: Gazebo Classic, "
-                    "not carried over (--gazebo uses ros_gz_sim)",
-                    source / "package.xml",
-                    element.sourceline,
-                )
-        elif (replacement := ros1_names.package(dependency)) and not data.released(dependency, target):
-            better = replacement[0]
-            depends.add(better)
-            notes.add(
-                "migrate-renamed", f"{dependency} → {better}", source / "package.xml", element.sourceline
-            )
-        else:
-            depends.add(dependency)
-
-    for rviz in generated_rviz:
-        spec_for_rviz = make_spec(name, distro=target, fixed_frame=root or "base_link")
-        output[rviz] = render_files(spec_for_rviz)["rviz/display.rviz"]
-        modes.pop(rviz, None)
-    folders = tuple(sorted({r.split("/", 1)[0] for r in output if "/" in r}))
-    launch_files = tuple(sorted(r for r in output if r.startswith("launch/") and ".launch." in r))
-    spec = make_spec(
-        name,
-        distro=target,
-        launch_format=launch_format,
-        maintainer_name=base.maintainer_name,
-        maintainer_email=base.maintainer_email,
-        license=package.licenses[0] if package.licenses else "TODO",
-        description=package.description.strip() or "",
-        model_name=None,
-        fixed_frame=root or "base_link",
-        resource_folders=folders,
-        extra_exec_depends=tuple(sorted(depends)),
-        launch_files=launch_files or ("launch",),
-        maintainers=tuple((m.name, m.email) for m in package.maintainers),
-        licenses=tuple(package.licenses),
-        version=package.version,
-        authors=tuple((a.name, a.email) for a in package.authors),
-        urls=tuple((u.type or "", u.url) for u in package.urls),
-    )
-    rendered = render_files(spec)
-    output["package.xml"] = rendered["package.xml"]
-    output["CMakeLists.txt"] = rendered["CMakeLists.txt"]
-    notes.add(
-        "migrate-changed",
-        "package.xml: format 3, ament_cmake, exec_depends from what the launch files use",
-        source / "package.xml",
-        1,
-    )
-    if (source / "CMakeLists.txt").is_file():
-        notes.add(
-            "migrate-changed",
-            f"CMakeLists.txt: ament_cmake, install(DIRECTORY {' '.join(folders)} "
-            "DESTINATION share/${PROJECT_NAME})",
-            source / "CMakeLists.txt",
-            1,
-        )
-
-    parent = (destination or source.parent).absolute()
-    folder = name
-    if destination is None and (parent / name).exists():
-        folder = f"{name}_ros2"  # beside the source, which usually has the package's name
-    if (parent / folder).exists() or (parent / folder).is_symlink():
-        raise PkgforgeError(
-            f"{parent / folder} already exists: migrate never overwrites; give another "
-            "--destination (nothing written)"
-        )
-    created = create_package(spec, parent, files=output, folder=folder, modes=modes)
-    return created, notes, source
+    return converted
 
 
 def _parameter_files(actions: list[Action], name: str) -> set[str]:
@@ -402,8 +677,78 @@ def _as_ros2_parameters(content: bytes, path: Path, notes: Notes) -> bytes:
     return f"/**:\n  ros__parameters:\n{indented}".encode()
 
 
-def _rewrite(parts: list[Token], name: str, moved: dict[str, str], foreign_launch: str) -> list[Token]:
-    """$(find NAME)/old → $(find NAME)/new for a moved file; other packages' .launch → ROS 2 name."""
+def _package_description(
+    launch_files: list[Path], renames: Renames, reader: Callable[[Path], Reader]
+) -> list[Token] | None:
+    """The model the package's launch files describe the robot with (an argument's default filled
+    in), when they agree on one: what ROS 1's global robot_description was for a launch file that
+    only read it (fusion2urdf's controller.launch starts robot_state_publisher without one)."""
+    from pkgforge.migrate.emit import frontend
+    from pkgforge.migrate.roslaunch import Arg
+
+    found: dict[str, list[Token]] = {}
+    for path in launch_files:
+        launch = reader(path).read()
+        if launch.description:
+            _rename_tokens([Arg("", launch.description, None, None)], renames)
+            found.setdefault(re.sub(r"[\'\"\s]", "", frontend(launch.description)), launch.description)
+    return next(iter(found.values())) if len(found) == 1 else None
+
+
+def _rename_tokens(actions: list[Action], renames: Renames) -> None:
+    """$(find OLD) → $(find NEW), a node of package OLD → NEW, package://OLD/ in a value → NEW."""
+    from pkgforge.migrate.roslaunch import Token, nodes, token_lists
+
+    if not renames.prefixes:
+        return
+    for parts in token_lists(actions):
+        for index, part in enumerate(parts):
+            if part[0] == "find" and part[1] in renames.names:
+                parts[index] = Token("find", renames.names[part[1]])
+            elif part[0] == "text" and "package://" in part[1]:
+                parts[index] = Token("text", renames.text(part[1]))
+    for node in nodes(actions):
+        node.package = renames.names.get(node.package, node.package)
+
+
+def _dependencies(manifest: Ros1Manifest, name: str, target: str, gazebo: bool, notes: Notes) -> set[str]:
+    """The source's dependencies that still mean something in ROS 2 (what the launch files use is
+    added to them): ROS 1's build tool and launcher dropped, renamed packages renamed."""
+    from pkgforge.model.distro_data import load
+
+    data = load()
+    depends: set[str] = set()
+
+    def note(message: str, element: etree._Element, kind: str = "migrate-dependency-dropped") -> None:
+        notes.add(kind, message, manifest.path, element.sourceline)
+
+    for element in manifest.root.iter(*DEPENDENCY_TAGS):
+        dependency = (element.text or "").strip()
+        if not dependency or dependency in (name, manifest.name):
+            continue
+        if dependency in ros1_names.DROPPED_DEPENDENCIES:
+            note(f"<{element.tag!s}>{dependency}</{element.tag!s}> is ROS 1 only: not carried over", element)
+        elif dependency in ros1_names.GAZEBO_DEPENDENCIES:
+            if gazebo:
+                depends.add("ros_gz_sim")
+                note(f"{dependency} → ros_gz_sim", element, "migrate-renamed")
+            else:
+                note(
+                    f"<{element.tag!s}>{dependency}</{element.tag!s}>: Gazebo Classic, "
+                    "not carried over (--gazebo uses ros_gz_sim)",
+                    element,
+                )
+        elif (replacement := ros1_names.package(dependency)) and not data.released(dependency, target):
+            depends.add(replacement[0])
+            note(f"{dependency} → {replacement[0]}", element, "migrate-renamed")
+        else:
+            depends.add(dependency)
+    return depends
+
+
+def _rewrite(parts: list[Token], own: set[str], moved: dict[str, str], foreign_launch: str) -> list[Token]:
+    """$(find NAME)/old → $(find NAME)/new for a moved file (NAME: the package, by its old or new
+    name); other packages' .launch → their ROS 2 name."""
     from pkgforge.migrate.roslaunch import Token
 
     out = list(parts)
@@ -411,7 +756,7 @@ def _rewrite(parts: list[Token], name: str, moved: dict[str, str], foreign_launc
         if out[index][0] == "find" and out[index + 1][0] == "text":
             rest = out[index + 1][1]
             relative = rest.lstrip("/")
-            if out[index][1] == name:
+            if out[index][1] in own:
                 for old, new in moved.items():
                     if relative == old or relative.startswith(old + " "):
                         out[index + 1] = Token("text", "/" + new + relative[len(old) :])
@@ -434,11 +779,11 @@ def _rewrite_all(
 
     for action in actions:
         if isinstance(action, Arg) and action.default:
-            action.default = _rewrite(action.default, name, moved, ".launch.py")
+            action.default = _rewrite(action.default, {name}, moved, ".launch.py")
         elif isinstance(action, Group):
             _rewrite_all(action.actions, name, moved, source, generated, notes, path)
         elif isinstance(action, Node):
-            action.arguments = [_rewrite(w, name, moved, ".launch.py") for w in action.arguments]
+            action.arguments = [_rewrite(w, {name}, moved, ".launch.py") for w in action.arguments]
             if action.package == "rviz2":
                 for index, word in enumerate(action.arguments):
                     if (

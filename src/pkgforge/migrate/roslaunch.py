@@ -20,6 +20,7 @@ from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
+    from pkgforge.model.distros import Distro
 
 SUBSTITUTION = re.compile(r"\$\(([a-z_]+)((?:\s+[^)\s]+)*)\s*\)")
 XACRO_COMMAND = re.compile(
@@ -125,8 +126,10 @@ class Node:
     output: str | None = None
     respawn: str | None = None
     params: list[Param] = field(default_factory=list)
-    remaps: list[tuple[str | None, str | None]] = field(default_factory=list)  # (from=, to=)
+    # (from=, to=), each with its substitutions ($(arg scan_topic)): tokens
+    remaps: list[tuple[list[Token], list[Token]]] = field(default_factory=list)
     condition: Condition | None = None
+    required: bool = False  # ROS 1's required="true": the launch ends when it exits (on_exit=Shutdown())
 
 
 @dataclass
@@ -153,6 +156,20 @@ class LaunchFile:
     source: Path
     actions: list[Action]
     used_args: set[str] = field(default_factory=set)
+    # the robot description this file gives robot_state_publisher, its arguments' defaults filled in
+    description: list[Token] | None = None
+
+    def runs_anything(self) -> bool:
+        """Whether it starts or includes anything (a file of arguments only launches nothing)."""
+        return any(not isinstance(a, Arg) for a in _flat(self.actions))
+
+
+def _flat(actions: list[Action]) -> Iterator[Action]:
+    for action in actions:
+        if isinstance(action, Group):
+            yield from _flat(action.actions)
+        else:
+            yield action
 
 
 class Reader:
@@ -164,9 +181,16 @@ class Reader:
         *,
         gazebo: bool,
         rename_launch: Callable[[list[Token]], list[Token]],
+        distro: Distro,
+        launch_format: str = "py",
+        package_description: list[Token] | None = None,
     ):
         self.path, self.package, self.notes, self.gazebo = path, package, notes, gazebo
         self.rename_launch = rename_launch  # tokens of an included ROS 1 launch file → ROS 2 tokens
+        self.distro, self.launch_format = distro, launch_format
+        # the model the package's other launch files describe the robot with (ROS 1 set it as a
+        # global parameter that a node of this file read), for a node here that needs it
+        self.package_description = package_description
         # (xacro tokens, line, kind)
         self.description: tuple[list[Token], int | None, str] | None = None
         self.use_gui: list[Token] | None = None
@@ -189,6 +213,10 @@ class Reader:
             )
         actions = self.block(root)
         self.finish(actions)
+        description = self.description[0] if self.description else None
+        for node in nodes(actions):
+            description = description or next((p.value for p in node.params if p.kind == "description"), None)
+        resolved = _with_defaults(description, actions) if description else None
         used = _variables(actions)
         for arg in [a for a in actions if isinstance(a, Arg) and a.default is None and a.name not in used]:
             actions.remove(arg)
@@ -199,7 +227,7 @@ class Reader:
                 self.path,
                 arg.line,
             )
-        return LaunchFile(self.path, actions)
+        return LaunchFile(self.path, actions, description=resolved)
 
     def value(self, element: etree._Element, attribute: str) -> list[Token] | None:
         text = element.get(attribute)
@@ -238,13 +266,13 @@ class Reader:
                 actions.append(result)
         return actions
 
-    def required(self, element: etree._Element, *names: str) -> None:
+    def need(self, element: etree._Element, *names: str) -> None:
         missing = [n for n in names if not element.get(n)]
         if missing:
             raise Unconvertible(f"it has no {', '.join(missing)}= attribute")
 
     def read_arg(self, element: etree._Element) -> Arg:
-        self.required(element, "name")
+        self.need(element, "name")
         name = element.get("name", "")  # required: never the default
         if element.get("value") is not None:
             return Arg(name, tokens(element.get("value")), element.get("doc"), element.sourceline, fixed=True)
@@ -273,15 +301,15 @@ class Reader:
             rest = command[match.end() :].replace("--inorder", " ").strip()
             self.note(
                 "migrate-changed",
-                "robot_description from xacro: a string parameter of "
-                "robot_state_publisher (ParameterValue(Command(['xacro ', ...]), value_type=str))",
+                "robot_description from xacro: a string parameter "
+                "(ParameterValue(Command(['xacro ', ...]), value_type=str))",
                 element,
             )
             return tokens(re.sub(r"\s+", " ", rest))
         return None
 
     def read_param(self, element: etree._Element) -> None:
-        self.required(element, "name")
+        self.need(element, "name")
         name = element.get("name", "")
         if name.lstrip("/") == "robot_description":
             self.description = (
@@ -307,7 +335,7 @@ class Reader:
         )
 
     def read_include(self, element: etree._Element) -> Include | None:
-        self.required(element, "file")
+        self.need(element, "file")
         path = tokens(element.get("file"))
         arguments = [
             (a.get("name"), tokens(a.get("value", a.get("default", ""))))
@@ -328,28 +356,7 @@ class Reader:
                     element.sourceline,
                 )
                 return None
-            package, launch = ros1_names.GZ_WORLD_LAUNCH
-            world = next((v for k, v in arguments if k == "world_name"), None)
-            self.notes.add(
-                "migrate-renamed",
-                f"{gz_package} {text.lstrip('/')} → {package} {launch} (Gazebo, started running)",
-                self.path,
-                element.sourceline,
-            )
-            dropped = [k or "(unnamed)" for k, _ in arguments if k != "world_name"]
-            if dropped:
-                self.note(
-                    "migrate-dropped",
-                    f"arguments {', '.join(dropped)} of {text.lstrip('/')} have no "
-                    f"{package} equivalent: left out",
-                    element,
-                )
-            return Include(
-                [Token("find", package), Token("text", "/" + launch)],
-                element.sourceline,
-                [("gz_args", (world or [Token("text", "empty.sdf")]) + [Token("text", " -r")])],
-                condition,
-            )
+            return self.gz_sim(element, arguments, condition, text.lstrip("/"))
         renamed = self.rename_launch(path)
         if renamed != path:
             self.notes.add(
@@ -360,8 +367,76 @@ class Reader:
             )
         return Include(renamed, element.sourceline, arguments, condition)
 
+    def gz_sim(
+        self,
+        element: etree._Element,
+        arguments: list[tuple[str | None, list[Token]]],
+        condition: Condition | None,
+        classic: str,
+    ) -> Include:
+        """gazebo_ros's empty_world.launch → ros_gz_sim's gz_sim.launch.py: the world, started
+        running unless paused:=true, server only when gui:=false."""
+        package, launch = ros1_names.GZ_WORLD_LAUNCH
+        values = {k: v for k, v in arguments if k}
+        world = self.gz_world(values.get("world_name"), element)
+        flags = []
+        paused = _literal_value(values.get("paused"))
+        if paused not in ("true", "1"):
+            flags.append("-r")  # Gazebo Classic started running unless paused
+        how = "started paused" if paused in ("true", "1") else "started running"
+        self.note("migrate-renamed", f"gazebo_ros {classic} → {package} {launch} (Gazebo, {how})", element)
+        gui = _literal_value(values.get("gui"))
+        if gui in ("false", "0"):
+            flags.append("-s")  # no GUI: the server only
+        handled = {
+            "world_name",
+            *(["paused"] if paused is not None else []),
+            *(["gui"] if gui is not None else []),
+        }
+        dropped = [k or "(unnamed)" for k, _ in arguments if k not in handled]
+        if dropped:
+            self.note(
+                "migrate-dropped",
+                f"arguments {', '.join(dropped)} of {classic} have no {package} equivalent: left out",
+                element,
+            )
+        gz_args = world + ([Token("text", " " + " ".join(flags))] if flags else [])
+        return Include(
+            [Token("find", package), Token("text", "/" + launch)],
+            element.sourceline,
+            [("gz_args", gz_args)],
+            condition,
+        )
+
+    def gz_world(self, world: list[Token] | None, element: etree._Element) -> list[Token]:
+        """The world gz sim opens: Gazebo Classic's own worlds (worlds/empty.world, found in Classic's
+        resource path, or gazebo_ros's) have no file for gz sim: its empty.sdf instead."""
+        empty = [Token("text", "empty.sdf")]
+        if world is None:
+            return empty
+        text = literal(world)
+        finds = [p[1] for p in world if p[0] == "find"]
+        classic = (
+            text is not None and (text.strip().startswith("worlds/") or not text.strip())
+        ) or finds == ["gazebo_ros"]
+        shown = "".join(p[1] if p[0] == "text" else f"$({p[0]} {p[1]})" for p in world)
+        if classic:
+            if not (text or "").strip().endswith("empty.world"):
+                self.note(
+                    "migrate-gazebo-classic",
+                    f"world {shown} is Gazebo Classic's, which gz sim has not: empty.sdf instead (convert the world)",
+                    element,
+                )
+            return empty
+        self.note(
+            "migrate-gazebo-classic",
+            f"world {shown} is a Gazebo Classic world: gz sim reads its SDF, not Classic's plugins",
+            element,
+        )
+        return world
+
     def read_node(self, element: etree._Element) -> Node | None:
-        self.required(element, "pkg", "type")
+        self.need(element, "pkg", "type")
         package, executable = element.get("pkg", ""), element.get("type", "")  # required
         line = element.sourceline
         if (package, executable) == ros1_names.GAZEBO_SPAWNER:
@@ -387,9 +462,12 @@ class Reader:
             condition=self.condition(element),
         )
         node.arguments = split_words(tokens(element.get("args", "")))
+        if (new_package, new_executable) == ros1_names.CONTROLLER_SPAWNER:
+            node.arguments = self.spawner_arguments(node.arguments, element)
         if new_executable == "static_transform_publisher":
             node.arguments = self.transform_arguments(node.arguments, element)
-        for attribute in ("machine", "launch-prefix", "required", "cwd", "clear_params"):
+        self.required_node(element, node)
+        for attribute in ("machine", "launch-prefix", "cwd", "clear_params"):
             if element.get(attribute) is not None:
                 self.note(
                     "migrate-dropped",
@@ -414,7 +492,8 @@ class Reader:
                 elif child.tag == "rosparam" and child.get("file") and child.get("command", "load") == "load":
                     node.params.append(Param("", tokens(child.get("file")), "file"))
                 elif child.tag == "remap":
-                    node.remaps.append((child.get("from"), child.get("to")))
+                    self.need(child, "from", "to")
+                    node.remaps.append((tokens(child.get("from")), tokens(child.get("to"))))
                 else:
                     raise Unconvertible("no ROS 2 equivalent")
             except Unconvertible as exc:
@@ -428,6 +507,67 @@ class Reader:
                 element,
             )
         return node
+
+    def required_node(self, element: etree._Element, node: Node) -> None:
+        """required="true": ROS 1 ends the launch when the node exits; ROS 2 says so with the
+        node's on_exit=Shutdown() (Python; XML and YAML after Humble: on_exit="shutdown")."""
+        value = element.get("required")
+        if value is None:
+            return
+        if value.strip().lower() not in ("true", "1"):
+            self.note("migrate-changed", f'node attribute required="{value}": the default, left out', element)
+        elif self.launch_format == "py" or self.distro.frontend_on_exit:
+            node.required = True
+            form = "on_exit=Shutdown()" if self.launch_format == "py" else 'on_exit="shutdown"'
+            self.note(
+                "migrate-changed",
+                f'node attribute required="true" → {form}: the launch ends when it exits',
+                element,
+            )
+        else:
+            self.note(
+                "migrate-dropped",
+                f'node attribute required="true" left out: {self.distro.name}\'s {self.launch_format.upper()} launch '
+                "has no on_exit (Python's on_exit=Shutdown() has: --launch-format py)",
+                element,
+            )
+
+    def spawner_arguments(self, words: list[list[Token]], element: etree._Element) -> list[list[Token]]:
+        """controller_manager's spawner: ROS 1's controller names and options → ROS 2's."""
+        converted: list[list[Token]] = []
+        index = 0
+        while index < len(words):
+            word = literal(words[index])
+            if word in ros1_names.CONTROLLER_NAMES:
+                converted.append([Token("text", ros1_names.CONTROLLER_NAMES[word])])
+                self.note(
+                    "migrate-renamed", f"controller {word} → {ros1_names.CONTROLLER_NAMES[word]}", element
+                )
+            elif (
+                word is not None
+                and word.startswith("--")
+                and word.split("=")[0] in ros1_names.SPAWNER_OPTIONS
+            ):
+                option, _, value = word.partition("=")
+                takes = option not in ros1_names.SPAWNER_FLAGS and not value
+                new = ros1_names.SPAWNER_OPTIONS[option]
+                if new is None:
+                    self.note(
+                        "migrate-dropped",
+                        f"spawner option {option} has no ROS 2 equivalent: left out",
+                        element,
+                    )
+                else:
+                    converted.append([Token("text", new + (f"={value}" if value else ""))])
+                    if takes and index + 1 < len(words):
+                        converted.append(words[index + 1])
+                    self.note("migrate-renamed", f"spawner option {option} → {new}", element)
+                index += 2 if takes else 1
+                continue
+            else:
+                converted.append(words[index])
+            index += 1
+        return converted
 
     def transform_arguments(self, words: list[list[Token]], element: etree._Element) -> list[list[Token]]:
         """tf's `x y z yaw pitch roll frame child period` → tf2_ros's named options."""
@@ -489,23 +629,79 @@ class Reader:
         )
 
     def finish(self, actions: list[Action]) -> None:
-        """Global robot_description → robot_state_publisher's parameter; use_gui → which publisher."""
+        """Global robot_description → robot_state_publisher's parameter (ros_gz_sim create's when it
+        is alone); use_gui → which publisher."""
         found = list(nodes(actions))
-        if self.description is not None:
-            description, line, _ = self.description
-            publishers = [n for n in found if n.package == "robot_state_publisher"]
-            for node in publishers:
-                if not any(p.name == "robot_description" for p in node.params):
-                    node.params.insert(0, Param("robot_description", description, "description"))
-            if not publishers and not any(n.package == "ros_gz_sim" for n in found):
+        description, line = (self.description[0], self.description[1]) if self.description else (None, None)
+        publishers = [n for n in found if n.package == "robot_state_publisher"]
+        for node in publishers:
+            if any(p.name == "robot_description" for p in node.params):
+                continue
+            if description is not None:
+                node.params.insert(0, Param("robot_description", description, "description"))
+            elif self.package_description is not None:
+                node.params.insert(0, Param("robot_description", self.package_description, "description"))
                 self.notes.add(
-                    "migrate-dropped",
-                    "global robot_description left out: no robot_state_publisher here to publish it",
+                    "migrate-generated",
+                    "robot_state_publisher read ROS 1's global robot_description, which another launch file "
+                    "set: given the model the package's launch files describe the robot with",
                     self.path,
-                    line,
+                    node.line,
                 )
+        spawned = self.spawn_description(found, publishers, description)
+        if description is not None and not publishers and not spawned:
+            self.notes.add(
+                "migrate-dropped",
+                "global robot_description left out: no robot_state_publisher here to publish it",
+                self.path,
+                line,
+            )
         if self.use_gui is None:
             return
+        self.gui_publisher(actions)
+
+    def spawn_description(
+        self, found: list[Node], publishers: list[Node], description: list[Token] | None
+    ) -> bool:
+        """ros_gz_sim create -topic robot_description reads what robot_state_publisher publishes: with
+        none in this file, create gets the description as its own parameter instead (-param: ROS 1's
+        spawn_model -param read the global parameter). True when a create node took it."""
+        took = False
+        for node in found:
+            words = [literal(w) for w in node.arguments]
+            if (
+                (node.package, node.executable) != ros1_names.GZ_SPAWNER
+                or publishers
+                or "-topic" not in words
+            ):
+                continue
+            at = words.index("-topic")
+            if at + 1 >= len(words) or words[at + 1] != "robot_description":
+                continue
+            model = description or self.package_description
+            if model is None:
+                self.notes.add(
+                    "migrate-gazebo-classic",
+                    "ros_gz_sim create waits for /robot_description, which nothing here publishes (ROS 1 "
+                    "read the global parameter another launch file set): start robot_state_publisher too",
+                    self.path,
+                    node.line,
+                )
+                continue
+            node.arguments[at] = [Token("text", "-param")]
+            node.params.append(Param("robot_description", model, "description"))
+            took = True
+            self.notes.add(
+                "migrate-changed",
+                "ros_gz_sim create -param robot_description: create reads the model as its own parameter "
+                "(nothing here publishes /robot_description)",
+                self.path,
+                node.line,
+            )
+        return took
+
+    def gui_publisher(self, actions: list[Action]) -> None:
+        assert self.use_gui is not None
         gui = literal(self.use_gui)
         for container, node in _node_places(actions):
             if node.package != "joint_state_publisher" or node.condition is not None:
@@ -523,6 +719,28 @@ class Reader:
             )
             node.condition = ("unless", self.use_gui)
             container.insert(container.index(node) + 1, with_gui)
+
+
+def _literal_value(parts: list[Token] | None) -> str | None:
+    """An argument's value when it is written literally, lower case; None otherwise."""
+    text = literal(parts) if parts is not None else None
+    return text.strip().lower() if text else None
+
+
+def _with_defaults(parts: list[Token], actions: list[Action]) -> list[Token] | None:
+    """The tokens with each launch argument replaced by its default (a description another launch
+    file can use), or None when one has no default that is free of arguments."""
+    defaults = {a.name: a.default for a in actions if isinstance(a, Arg) and a.default is not None}
+    out: list[Token] = []
+    for part in parts:
+        if part[0] != "var":
+            out.append(part)
+            continue
+        default = defaults.get(part[1])
+        if default is None or any(p[0] == "var" for p in default):
+            return None
+        out.extend(default)
+    return out
 
 
 def _node_places(actions: list[Action]) -> Iterator[tuple[list[Action], Node]]:
@@ -549,6 +767,7 @@ def token_lists(actions: list[Action]) -> Iterator[list[Token]]:
         elif isinstance(action, Node):
             yield from action.arguments
             yield from (param.value or [] for param in action.params)
+            yield from (part for remap in action.remaps for part in remap)
         elif isinstance(action, Include):
             yield action.path
             yield from (value for _, value in action.arguments)

@@ -16,6 +16,9 @@ class Distro:
     docker_image: str
     lts: bool
     ubuntu: str  # the Ubuntu release of its ros:<distro> image
+    # launch's XML/YAML frontends read a node's on_exit="shutdown" after Humble (Humble refuses
+    # the attribute: "Unexpected attribute(s) found in `node`")
+    frontend_on_exit: bool = True
 
 
 # every active ROS 2 distro, oldest first (the released packages of each: distro_data)
@@ -23,7 +26,12 @@ DISTROS: dict[str, Distro] = {
     d.name: d
     for d in (
         Distro(
-            "humble", frontend_param_type=False, docker_image="ros:humble", lts=True, ubuntu="22.04 jammy"
+            "humble",
+            frontend_param_type=False,
+            docker_image="ros:humble",
+            lts=True,
+            ubuntu="22.04 jammy",
+            frontend_on_exit=False,
         ),
         Distro("jazzy", frontend_param_type=True, docker_image="ros:jazzy", lts=True, ubuntu="24.04 noble"),
         Distro(

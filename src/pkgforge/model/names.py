@@ -27,9 +27,10 @@ def rep144_problem(name: str) -> str | None:
             return f"'{name}' has upper-case letters{try_it}"
         if "-" in name:
             return f"'{name}' has '-'{try_it}"
-        return f"'{name}' has characters other than a-z, 0-9 and '_'"
+        return f"'{name}' has characters other than a-z, 0-9 and '_'{try_it}"
     if "__" in name:
-        return f"'{name}' has a double underscore"
+        suggestion = _suggestion(name)
+        return f"'{name}' has a double underscore" + (f" (try '{suggestion}')" if suggestion else "")
     return None
 
 
@@ -42,12 +43,19 @@ def rep144_advice(name: str) -> str | None:
     return None
 
 
+def suggested_name(name: str) -> str | None:
+    """A valid package name close to `name`, or None when none is near: the name CAD exporters take
+    from the assembly made valid (BellPepperGripperPrototype → bell_pepper_gripper_prototype,
+    er20-1780 → er20_1780, Arm_Assembly_URDF.SLDASM → arm_assembly_urdf_sldasm). Words of a camel-case
+    name are joined by '_', every other character that is not a letter or digit becomes one '_'.
+    A hint must never suggest another invalid name: None when the result is not valid (a name
+    starting with a digit)."""
+    words = re.sub(r"(?<=[a-z0-9])(?=[A-Z])|(?<=[A-Z])(?=[A-Z][a-z])", "_", name)
+    candidate = re.sub(r"[^a-z0-9]+", "_", words.lower()).strip("_")
+    if candidate == name or not candidate:
+        return None
+    return candidate if rep144_problem(candidate) is None and rep144_advice(candidate) is None else None
+
+
 def _suggestion(name: str) -> str | None:
-    """A valid name close to `name` (lower case, '-' as '_'), or None when that is not valid either:
-    a hint must never suggest another invalid name."""
-    candidate = name.lower().replace("-", "_")
-    return (
-        candidate
-        if REP144_PATTERN.match(candidate) and "__" not in candidate and not candidate.endswith("_")
-        else None
-    )
+    return suggested_name(name)

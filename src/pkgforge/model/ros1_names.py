@@ -55,6 +55,10 @@ EXECUTABLES: dict[tuple[str, str], tuple[str, str]] = {
     ("robot_state_publisher", "state_publisher"): ("robot_state_publisher", "robot_state_publisher"),
     ("rviz", "rviz"): ("rviz2", "rviz2"),
     ("tf", "static_transform_publisher"): ("tf2_ros", "static_transform_publisher"),
+    # ROS 1 navigation's nodes → Navigation2's (a node's package, not a replacement verify suggests:
+    # Navigation2 is released for some distros only)
+    ("map_server", "map_server"): ("nav2_map_server", "map_server"),
+    ("amcl", "amcl"): ("nav2_amcl", "amcl"),
     ("joint_state_publisher", "joint_state_publisher_gui"): (
         "joint_state_publisher_gui",
         "joint_state_publisher_gui",
@@ -93,6 +97,21 @@ SPAWN_OPTIONS: dict[str, str | None] = {
     "-robot_namespace": None,
     "-J": None,
 }
+
+# ros_control's controller names → ros2_control's (ros2_controllers), in a spawner's arguments: ROS 1's
+# joint_state_controller/JointStateController is ROS 2's joint_state_broadcaster/JointStateBroadcaster,
+# and the name ROS 2 configurations give it
+CONTROLLER_NAMES: dict[str, str] = {"joint_state_controller": "joint_state_broadcaster"}
+CONTROLLER_SPAWNER = ("controller_manager", "spawner")
+# ROS 1 spawner option → ROS 2 spawner option (humble and later); None: no equivalent, dropped
+SPAWNER_OPTIONS: dict[str, str | None] = {
+    "--stopped": "--inactive",
+    "--timeout": "--controller-manager-timeout",
+    "--namespace": "-n",
+    "--shutdown-timeout": None,
+    "--wait-for": None,
+}
+SPAWNER_FLAGS = ("--stopped",)  # options that take no value
 
 # RViz 1 class → RViz 2 class (displays, panels, tools, views): rviz2's own (rviz_common's panel and
 # display factories, rviz_default_plugins' plugins_description.xml)

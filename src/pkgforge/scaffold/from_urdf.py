@@ -30,6 +30,7 @@ from lxml import etree
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
+from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
     from pkgforge.migrate.notes import Notes
@@ -62,6 +63,10 @@ class Reference:
     problem: str | None = None
     refused: bool = False  # the file exists; problem says why pkgforge does not copy it
     root: Path | None = None  # the allowed folder its real path lies in (copy_problem)
+    # a URI xacro computes below a literal folder (package://P/meshes/${name}.stl): that folder as
+    # written (package://P/meshes/) and found; every mesh and texture in it comes along
+    static: str | None = None
+    folder: Path | None = None
 
 
 def package_root(name: str, near: Path) -> Path | None:
@@ -89,8 +94,28 @@ def package_root(name: str, near: Path) -> Path | None:
     return None
 
 
-def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
-    """(the path a URI names, which exists, None) or (None, why not)."""
+def exporter_folder(name: str, rest: str, model: Path, found: dict[str, Path] | None = None) -> Path | None:
+    """The folder a `package://NAME/REST` that names no package means, as the exporter wrote it, or
+    None: the package folder around the model when REST is there (a SolidWorks export named
+    package://<model>-URDF/meshes/... in a package of another name), else the folder NAME beside
+    the model (onshape-to-robot's package://assets/..., which pybullet and MuJoCo read so). One
+    NAME means one folder: the first that holds a file the model names (`found` remembers it)."""
+    if name in ("", ".", ".."):
+        return None  # no name a package or an exporter's folder has
+    if found is not None and name in found:
+        return found[name] if (found[name] / rest).exists() else None
+    tree = model_tree(model)
+    for folder in (tree, model.parent / name, tree / name):
+        if rest and (folder / rest).exists():
+            if found is not None:
+                found[name] = folder
+            return folder
+    return None
+
+
+def resolve(uri: str, model: Path, found: dict[str, Path] | None = None) -> tuple[Path | None, str | None]:
+    """(the path a URI names, which exists, None) or (None, why not). A package:// URI naming no
+    package is read in the exporter's folder (exporter_folder), which `found` records."""
 
     def find(match: re.Match[str]) -> str:
         root = package_root(match.group(1), model.parent)
@@ -111,7 +136,7 @@ def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
         )
     if text.startswith("package://"):
         name, _, rest = text[len("package://") :].partition("/")
-        root = package_root(name, model.parent)
+        root = package_root(name, model.parent) or exporter_folder(name, rest, model, found)
         if root is None:
             return None, f"package '{name}' is found neither above {model.name} nor in AMENT_PREFIX_PATH"
         path = root / rest
@@ -124,6 +149,21 @@ def resolve(uri: str, model: Path) -> tuple[Path | None, str | None]:
     if not path.exists():
         return None, f"no file {path}"
     return path, None  # what it is (a regular file, where) is copy_problem's to judge
+
+
+# what xacro computes in a URI: a property or an argument, any substitution but $(find)
+COMPUTED = re.compile(r"\$\{|\$\((?!find )")
+
+
+def static_folder(uri: str) -> str | None:
+    """The literal folder a computed URI starts with (package://P/meshes/ of
+    package://P/meshes/${name}.stl), or None when it is not computed or has no literal folder."""
+    match = COMPUTED.search(uri)
+    if match is None:
+        return None
+    head = uri[: match.start()]
+    cut = head.rfind("/")
+    return head[: cut + 1] if cut > 0 and not COMPUTED.search(head[: cut + 1]) else None
 
 
 def model_tree(model: Path) -> Path:
@@ -207,38 +247,116 @@ def admit(reference: Reference, roots: Sequence[Path], suffixes: Sequence[str] |
         reference.source, reference.problem, reference.refused = None, problem, True
 
 
-def model_references(model: Path, root: etree._Element) -> list[Reference]:
-    """The meshes, textures and xacro includes a parsed model names, with their lines."""
+URI_PREFIXES = ("package://", "$(find ", "file://")
+
+
+def model_references(
+    model: Path, root: etree._Element, text: str | None = None, *, values: bool = False
+) -> list[Reference]:
+    """The meshes, textures and xacro includes a parsed model names, each at the line of its
+    filename (given the text: libxml2 gives an element the line its start tag ends on). `values`:
+    also every other attribute holding a URI (a xacro property's package://P/meshes/, a macro's
+    default), kind "value": what xacro computes a mesh's filename from."""
+    lines = text.split("\n") if text is not None else None
     found: list[Reference] = []
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
         tag = etree.QName(element).localname
-        filename = element.get("filename")
-        if filename is None:
-            continue
-        if tag == "mesh":
-            found.append(Reference(filename, model, element.sourceline or 0, "mesh"))
-        elif tag == "texture":
-            found.append(Reference(filename, model, element.sourceline or 0, "texture"))
-        elif tag == "include" and etree.QName(element).namespace == XACRO_NS:
-            found.append(Reference(filename, model, element.sourceline or 0, "include"))
+        for attribute, value in element.items():
+            kind = None
+            if attribute == "filename" and tag in ("mesh", "texture"):
+                kind = tag
+            elif attribute == "filename" and tag == "include" and etree.QName(element).namespace == XACRO_NS:
+                kind = "include"
+            elif values and value.strip().startswith(URI_PREFIXES):
+                kind = "value"
+            if kind is not None:
+                line = value_line(lines, element.sourceline or 0, value) if lines else element.sourceline or 0
+                found.append(Reference(value, model, line, kind))
     return found
+
+
+def _escaped(value: str) -> str:
+    return value.replace("&", "&amp;").replace("<", "&lt;").replace('"', "&quot;")
+
+
+def value_line(lines: list[str], end: int, value: str) -> int:
+    """The line of an attribute value in an element whose start tag ends on line `end`."""
+    for index in range(min(end, len(lines)) - 1, max(end - 64, 0) - 1, -1):
+        if value in lines[index] or _escaped(value) in lines[index]:
+            return index + 1
+    return end
+
+
+class ModelUnreadable(PkgforgeError):
+    """A model that cannot be read: where and why, for a caller that goes on without it."""
+
+    def __init__(self, path: Path, line: int | None, why: str, advice: str) -> None:
+        super().__init__(f"{path}{f':{line}' if line else ''}: {why}{advice}")
+        self.path, self.line, self.why = path, line, why
+
+
+@dataclass
+class ModelFile:
+    """A model file as read: its bytes, text (undecodable bytes kept as they are), root element,
+    and the line of content after the root element, which ROS 1's TinyXML and urdfdom's tinyxml2
+    read past (a <transmission> pasted after </robot>)."""
+
+    path: Path
+    data: bytes
+    root: etree._Element
+    trailing_line: int | None = None
+
+    @property
+    def text(self) -> str:
+        return decode(self.data)
+
+
+def decode(data: bytes) -> str:
+    """A model's bytes as text, byte for byte: no newline translation (CRLF stays CRLF), and bytes
+    that are not UTF-8 kept as they are (encode() gives them back)."""
+    return data.decode("utf-8", "surrogateescape")
+
+
+def encode(text: str) -> bytes:
+    return text.encode("utf-8", "surrogateescape")
+
+
+def read_model(path: Path) -> ModelFile:
+    """The model file; a located PkgforgeError when it cannot be read. Content after the root
+    element is read as ROS 1's tools did: the root element, the rest left alone (trailing_line)."""
+    from pkgforge.model.source import read_regular
+
+    try:
+        data = read_regular(path)  # a FIFO or a device is refused, never read
+    except OSError as exc:
+        raise ModelUnreadable(path, None, f"cannot read it: {exc.strerror}", "") from exc
+    # external entities are never read: a model's <!ENTITY x SYSTEM "file:///..."> would put
+    # another file's text in a path, and so in a message (lxml before 5 resolves them)
+    parser = etree.XMLParser(remove_comments=False, resolve_entities=False, no_network=True)
+    try:
+        return ModelFile(path, data, etree.fromstring(data, parser, base_url=str(path)))
+    except etree.XMLSyntaxError as exc:
+        if exc.code != etree.ErrorTypes.ERR_DOCUMENT_END:
+            raise ModelUnreadable(
+                path, exc.lineno, f"not well-formed XML: {exc.msg}", "; fix the model (nothing written)"
+            ) from exc
+        trailing = exc.lineno
+    recovering = etree.XMLParser(remove_comments=False, resolve_entities=False, no_network=True, recover=True)
+    return ModelFile(path, data, etree.fromstring(data, recovering, base_url=str(path)), trailing)
 
 
 def parse_model(path: Path) -> etree._Element:
     """The root element of a URDF or xacro file; a located PkgforgeError when it cannot be read."""
-    try:
-        # external entities are never read: a model's <!ENTITY x SYSTEM "file:///..."> would put
-        # another file's text in a path, and so in a message (lxml before 5 resolves them)
-        parser = etree.XMLParser(remove_comments=False, resolve_entities=False, no_network=True)
-        return etree.parse(str(path), parser).getroot()
-    except etree.XMLSyntaxError as exc:
-        raise PkgforgeError(
-            f"{path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the model (nothing written)"
-        ) from exc
-    except OSError as exc:
-        raise PkgforgeError(f"{path}: cannot read it: {exc.strerror}") from exc
+    return read_model(path).root
+
+
+def trailing_message(model: ModelFile) -> str:
+    return (
+        f"content after </{etree.QName(model.root).localname}>: ROS 1's parser read the first element "
+        "and went on; xacro refuses it; kept as written"
+    )
 
 
 def named_files(mesh: Path) -> list[tuple[str, Path, int, str]]:
@@ -306,13 +424,30 @@ def _read_copy(path: Path) -> tuple[bytes, int]:
         raise PkgforgeError(f"{path}: cannot read it: {exc.strerror} (nothing written)") from exc
 
 
-def _line_replace(text: str, line: int | None, old: str, new: str) -> str:
-    lines = text.split("\n")
-    for index in range((line or 1) - 1, len(lines)):  # an attribute may sit below its element's first line
-        if old in lines[index]:
-            lines[index] = lines[index].replace(f'"{old}"', f'"{new}"').replace(f"'{old}'", f"'{new}'")
-            return "\n".join(lines)
-    return text
+def replace_values(text: str, mapping: dict[str, str]) -> str:
+    """Every quoted attribute value `old` of mapping → `new`, in one pass over the whole file: one
+    URI always means the same file in one model, so each of its uses (a visual's and a collision's)
+    is rewritten, wherever its element's lines are. Values written with entities (&amp;) too."""
+    variants = {**{_escaped(k): _escaped(v) for k, v in mapping.items()}, **mapping}
+    if not variants:
+        return text
+    pattern = re.compile(
+        r"([\"'])(" + "|".join(map(re.escape, sorted(variants, key=len, reverse=True))) + r")\1"
+    )
+    return pattern.sub(lambda m: m.group(1) + variants[m.group(2)] + m.group(1), text)
+
+
+def _unrewritten(text: str, path: Path, mapping: dict[str, str]) -> list[str]:
+    """The values of the rewritten model that still name an old place (an attribute the text
+    writes in a way pkgforge did not find): each would be a mesh the new package cannot resolve."""
+    if not mapping:
+        return []
+    parser = etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True, recover=True)
+    root = etree.fromstring(encode(text), parser, base_url=str(path))
+    left = mapping.keys() - set(mapping.values())
+    return sorted(
+        {value for e in root.iter() if isinstance(e.tag, str) for value in e.values() if value in left}
+    )
 
 
 def root_link(root: etree._Element) -> str | None:
@@ -326,12 +461,13 @@ ROBOT_START_TAG = re.compile(r"""<robot\b(?:[^>"']|"[^"]*"|'[^']*')*>""")
 
 
 def massless_root(text: str, root: etree._Element, path: Path, notes: Notes | None = None) -> str:
-    """The model with a massless root link when its root link has an <inertial>.
+    """The model with a massless root link when its root link has an <inertial> (--add-root-link).
 
     KDL ignores a root link's inertia and robot_state_publisher warns (PF604 root-link-inertia);
     exporters put one on base_link. KDL's own advice is a link without inertia above it, joined by
     a fixed joint: that is added right after <robot>, named <root>_root, so no frame the package
-    already publishes (base_footprint, world) changes. The RViz Fixed Frame stays the old root."""
+    already publishes (base_footprint, world) changes. The RViz Fixed Frame stays the old root.
+    The file's line endings are kept (a CRLF export stays CRLF)."""
     name = root_link(root)
     link = next((e for e in root if e.tag == "link" and e.get("name") == name), None)  # not in a macro
     if name is None or link is None or link.find("inertial") is None:
@@ -344,16 +480,24 @@ def massless_root(text: str, root: etree._Element, path: Path, notes: Notes | No
     tag = ROBOT_START_TAG.search(text, start)
     if tag is None:
         return text
-    added = (
-        f"\n  <!-- added by pkgforge: KDL ignores the inertia of a root link; {name} now hangs below "
-        f'this massless link -->\n  <link name="{new}"/>\n  <joint name="{new}_joint" type="fixed">\n'
-        f'    <parent link="{new}"/>\n    <child link="{name}"/>\n  </joint>'
+    eol = "\r\n" if "\r\n" in text else "\n"
+    added = eol.join(
+        [
+            "",
+            f"  <!-- added by pkgforge (add-root-link): KDL ignores the inertia of a root link; {name} "
+            "now hangs below this massless link -->",
+            f'  <link name="{new}"/>',
+            f'  <joint name="{new}_joint" type="fixed">',
+            f'    <parent link="{new}"/>',
+            f'    <child link="{name}"/>',
+            "  </joint>",
+        ]
     )
     if notes is not None:
         notes.add(
             "migrate-changed",
             f"root link {name} has an inertia, which KDL ignores: link {new} added as "
-            "the root, joined to it by a fixed joint",
+            "the root, joined to it by a fixed joint (--add-root-link)",
             path,
             link.sourceline,
         )
@@ -370,20 +514,47 @@ class Imported:
     modes: dict[str, int]  # each file's permission bits: its source's, never wider
 
 
+# the most files a folder a model computes mesh names in may bring along
+MAX_FOLDER_FILES = 10_000
+
+
+def _admit_folder(
+    reference: Reference, current: Path, tree: Path, home: Path, found: dict[str, Path]
+) -> None:
+    """A URI computed below a literal folder (Reference.static): find the folder, which must lie in
+    the model's tree, the naming file's home or the package the URI names."""
+    assert reference.static is not None
+    folder, problem = resolve(reference.static, current, found)
+    if folder is not None and not folder.is_dir():
+        folder, problem = None, f"{folder} is not a folder"
+    if folder is None:
+        reference.problem = problem
+        return
+    real = Path(os.path.realpath(folder))
+    roots = list(dict.fromkeys([tree, home, *package_folders(reference.static, current)]))
+    reference.root = next((r for r in roots if _inside(real, r)), None)
+    if reference.root is None:
+        reference.problem, reference.refused = f"{real} is outside {' and '.join(map(str, roots))}", True
+    else:
+        reference.folder = folder
+
+
 def _read_models(
-    model: Path, tree: Path
-) -> tuple[dict[Path, str], list[Reference], dict[Path, etree._Element]]:
-    """The model and the xacro files it includes (each with its name in urdf/ and its parsed
-    root) and every reference they hold, resolved and admitted.
+    model: Path, tree: Path, found: dict[str, Path]
+) -> tuple[dict[Path, str], list[Reference], dict[Path, ModelFile]]:
+    """The model and the xacro files it includes (each with its name in urdf/ and as read) and every
+    reference they hold, resolved and admitted.
 
     A file a model names may lie in the model's package tree, in a package the URI names, or in
     the folder the naming (included) file was admitted from: a package's own xacro names its
-    meshes relative to itself."""
+    meshes relative to itself. A URI xacro computes below a literal folder brings the folder's
+    meshes and textures; any other attribute holding a URI (a property's value) that names a mesh
+    or a folder of meshes brings them too; one that names nothing is left alone."""
     models: dict[Path, str] = {}  # model file → its name in urdf/
     homes = {model: tree}  # model file → the allowed folder it lies in
     references: list[Reference] = []
     queue = [model]
-    roots: dict[Path, etree._Element] = {}
+    files: dict[Path, ModelFile] = {}
     while queue:
         current = queue.pop(0)
         if current in models:
@@ -391,10 +562,27 @@ def _read_models(
         models[current] = (
             current.name if current.name not in models.values() else f"{current.parent.name}_{current.name}"
         )
-        root = parse_model(current)
-        roots[current] = root
-        for reference in model_references(current, root):
-            reference.source, reference.problem = resolve(reference.uri, current)
+        read = files[current] = read_model(current)
+        for reference in model_references(current, read.root, read.text, values=True):
+            computed = COMPUTED.search(reference.uri) is not None
+            folder_value = reference.kind == "value" and reference.uri.rstrip().endswith("/")
+            if (computed and reference.kind != "include") or folder_value:
+                reference.static = reference.uri if folder_value else static_folder(reference.uri)
+                if reference.static is None:
+                    if reference.kind != "value":
+                        reference.problem = resolve(reference.uri, current)[1]
+                        references.append(reference)
+                    continue
+                _admit_folder(reference, current, tree, homes[current], found)
+                if reference.kind == "value" and reference.folder is None:
+                    continue  # a value naming no folder here: not pkgforge's to bring
+                references.append(reference)
+                continue
+            reference.source, reference.problem = resolve(reference.uri, current, found)
+            if reference.kind == "value" and (
+                reference.source is None or not reference.uri.lower().endswith(ASSET_SUFFIXES)
+            ):
+                continue  # a value that names no mesh or texture: left as written
             if reference.source is not None:
                 allowed = [tree, homes[current], *package_folders(reference.uri, current)]
                 admit(reference, allowed, None if reference.kind == "include" else ASSET_SUFFIXES)
@@ -402,29 +590,109 @@ def _read_models(
             if reference.kind == "include" and reference.source is not None and reference.root is not None:
                 queue.append(reference.source)
                 homes.setdefault(reference.source, reference.root)
-    return models, references, roots
+    return models, references, files
+
+
+def folder_assets(folders: list[Reference], tree: Path) -> list[Reference]:
+    """The meshes and textures in each folder a model computes names in (what xacro may name there),
+    each admitted as a mesh the model names."""
+    found: list[Reference] = []
+    seen: set[Path] = set()
+    for reference in folders:
+        if reference.folder is None or reference.root is None:
+            continue
+        limits: list[WalkLimit] = []
+        for folder, subfolders, names in walk(reference.folder, limits=limits, max_files=MAX_FOLDER_FILES):
+            subfolders[:] = sorted(f for f in subfolders if not f.startswith("."))
+            for name in sorted(names):
+                path = Path(folder) / name
+                if name.startswith(".") or not name.lower().endswith(ASSET_SUFFIXES) or path in seen:
+                    continue
+                seen.add(path)
+                uri = (reference.static or "") + path.relative_to(reference.folder).as_posix()
+                asset = Reference(uri, reference.file, reference.line, "mesh", source=path)
+                admit(asset, [tree, reference.root], ASSET_SUFFIXES)
+                found.append(asset)
+        if limits:
+            reference.problem = f"{limits[0].path}: {limits[0].why}"
+    return found
+
+
+def _new_uri(name: str, relative: str, uri_style: str) -> str:
+    return (
+        f"package://{name}/meshes/{relative}"
+        if uri_style == "package"
+        else f"file://$(find {name})/meshes/{relative}"
+    )
+
+
+def _rewrites(
+    name: str,
+    current: Path,
+    references: list[Reference],
+    models: dict[Path, str],
+    placed: dict[Path, str],
+    common: Path | None,
+    uri_style: str,
+) -> dict[str, str]:
+    """Each URI of `current` that changes → what it becomes in the new package."""
+    mapping: dict[str, str] = {}
+    for reference in references:
+        if reference.file != current or reference.problem is not None:
+            continue
+        if reference.kind == "include" and reference.source is not None:
+            new = f"$(find {name})/urdf/{models[reference.source]}"
+        elif reference.source is not None:
+            new = _new_uri(name, placed[Path(os.path.realpath(reference.source))], uri_style)
+        elif reference.folder is not None and reference.static is not None and common is not None:
+            relative = os.path.relpath(os.path.realpath(reference.folder), common)
+            if relative.startswith(".."):
+                continue  # a folder with no mesh in it: nothing of it was copied
+            folder = "" if relative == "." else Path(relative).as_posix() + "/"
+            new = _new_uri(name, folder, uri_style) + reference.uri[len(reference.static) :]
+        else:
+            continue
+        if new != reference.uri:
+            mapping[reference.uri] = new
+    return mapping
 
 
 def import_model(
-    name: str, model: Path, *, uri_style: str = "package", notes: Notes | None = None
+    name: str,
+    model: Path,
+    *,
+    uri_style: str = "package",
+    notes: Notes | None = None,
+    add_root_link: bool = False,
 ) -> Imported:
     """Read the model (and the xacro files it includes), find every mesh and texture, and say
-    what the new package's urdf/ and meshes/ hold."""
+    what the new package's urdf/ and meshes/ hold. Models are copied byte for byte but for the
+    URIs that name what was copied (and --add-root-link's link)."""
     model = model.absolute()
     if not model.is_file():
         raise PkgforgeError(f"{model}: no such file; give the .urdf or .urdf.xacro to import")
     if not model.name.lower().endswith(XACRO_MODEL_SUFFIXES):
         raise PkgforgeError(f"{model}: not a .urdf or .urdf.xacro file")
     tree = Path(os.path.realpath(model_tree(model)))
-    models, references, roots = _read_models(model, tree)
-    if etree.QName(roots[model]).localname != "robot":
+    found: dict[str, Path] = {}
+    models, references, read = _read_models(model, tree, found)
+    top = read[model].root
+    if etree.QName(top).localname != "robot":
         raise PkgforgeError(
-            f"{model}:{roots[model].sourceline}: the root element is "
-            f"<{etree.QName(roots[model]).localname}>, not <robot>: not a URDF"
+            f"{model}:{top.sourceline}: the root element is <{etree.QName(top).localname}>, not <robot>: not a URDF"
         )
+    if notes is not None:
+        _note_read(notes, read, references, found)
     assets = [r for r in references if r.kind != "include" and r.source is not None]
+    assets += folder_assets([r for r in references if r.folder is not None], tree)
     inner = inner_references(assets, tree)
-    missing = [r for r in [*references, *inner] if r.problem is not None]
+    if any(r.kind == "value" and r.folder is not None for r in references):
+        # a filename computed whole (${mesh_path}base.stl) from a property naming a folder that
+        # came along: the property is rewritten, so xacro computes a name in the new package
+        references = [
+            r for r in references if not (r.problem and r.static is None and COMPUTED.search(r.uri))
+        ]
+    missing = [r for r in [*references, *assets, *inner] if r.problem is not None]
     files_to_copy = sorted(
         {Path(os.path.realpath(r.source)) for r in [*assets, *inner] if r.source is not None}
     )
@@ -435,44 +703,84 @@ def import_model(
     for source, relative in placed.items():
         files[f"meshes/{relative}"], modes[f"meshes/{relative}"] = _read_copy(source)
     for current, file_name in models.items():
-        text = current.read_text(encoding="utf-8")
-        for reference in references:
-            if reference.file != current or reference.source is None:
-                continue
-            if reference.kind == "include":
-                new = f"$(find {name})/urdf/{models[reference.source]}"
-            else:
-                relative = placed[Path(os.path.realpath(reference.source))]
-                new = (
-                    f"package://{name}/meshes/{relative}"
-                    if uri_style == "package"
-                    else f"file://$(find {name})/meshes/{relative}"
-                )
-            if new != reference.uri:
-                text = _line_replace(text, reference.line, reference.uri, new)
-        if current == model:
-            text = massless_root(text, roots[current], current, notes)
-        files[f"urdf/{file_name}"] = text.encode("utf-8")
+        mapping = _rewrites(name, current, references, models, placed, common, uri_style)
+        text = replace_values(read[current].text, mapping)
+        left = _unrewritten(text, current, mapping)
+        if left:  # never a package whose meshes resolve in the source only
+            raise PkgforgeError(
+                f"{current}: pkgforge could not rewrite {len(left)} URI(s) ({left[0]} …): nothing written; "
+                "please report it"
+            )
+        if current == model and add_root_link:
+            text = massless_root(text, read[current].root, current, notes)
+        files[f"urdf/{file_name}"] = encode(text)
         modes[f"urdf/{file_name}"] = current.stat().st_mode & 0o666
-        if notes is not None:
-            from pkgforge.model.ros1_names import is_gazebo_classic_plugin
-
-            for element in roots[current].iter("plugin"):
-                if is_gazebo_classic_plugin(element.get("filename", "")):
-                    notes.add(
-                        "migrate-gazebo-classic",
-                        f"Gazebo Classic plugin {element.get('filename')} "
-                        "is kept as written; it does not load in Gazebo (gz)",
-                        current,
-                        element.sourceline,
-                    )
     return Imported(
         files,
         models[model],
-        root_link(roots[model]),
+        root_link(top),
         len({os.path.realpath(r.source) for r in assets if r.kind == "mesh" and r.source is not None}),
         missing,
         modes,
+    )
+
+
+def _note_read(
+    notes: Notes, read: dict[Path, ModelFile], references: list[Reference], found: dict[str, Path]
+) -> None:
+    """What the import reads differently from a strict XML parser or a ROS 2 package lookup."""
+    from pkgforge.model.ros1_names import is_gazebo_classic_plugin
+
+    for current, model in read.items():
+        if model.trailing_line is not None:
+            notes.add("migrate-source-defect", trailing_message(model), current, model.trailing_line)
+        for element in model.root.iter("plugin"):
+            if is_gazebo_classic_plugin(element.get("filename", "")):
+                notes.add(
+                    "migrate-gazebo-classic",
+                    f"Gazebo Classic plugin {element.get('filename')} "
+                    "is kept as written; it does not load in Gazebo (gz)",
+                    current,
+                    element.sourceline,
+                )
+    for package, folder in found.items():
+        first = next(r for r in references if r.uri.startswith(f"package://{package}/"))
+        notes.add("migrate-generated", folder_message(package, folder, first.file), first.file, first.line)
+
+
+def folder_message(package: str, folder: Path, model: Path) -> str:
+    where = "the package folder around" if folder == model_tree(model) else "the folder beside"
+    return (
+        f"package://{package}/ names no package: read as {Path(os.path.normpath(folder)).name}/, {where} "
+        f"{model.name}, where the exporter put what it names"
+    )
+
+
+def default_name(model: Path) -> tuple[str, str]:
+    """(the name `new --from-urdf` gives the package when NAME is left out, how it was chosen): the
+    name of the model's package (its package.xml), else of the exporter's folder, made valid when it
+    breaks REP 144 (an exporter's Arm_2_description → arm_2_description)."""
+    from pkgforge.model.names import rep144_advice, rep144_problem, suggested_name
+
+    tree = model_tree(model.absolute())
+    name, what = tree.name, f"the folder {tree.name}"
+    if (tree / "package.xml").is_file():
+        try:
+            named = (etree.parse(str(tree / "package.xml")).findtext("name") or "").strip()
+        except (etree.XMLSyntaxError, OSError):
+            named = ""
+        if named:
+            name, what = named, f"the name of its package {named}"
+    if rep144_problem(name) is None and rep144_advice(name) is None:
+        return name, f"the package is named {name}: {what} (give NAME to choose another)"
+    valid = suggested_name(name)
+    if valid is None:
+        raise PkgforgeError(
+            f"{model}: {what} is no valid package name and none is near it: give the package's NAME"
+        )
+    return (
+        valid,
+        f"the package is named {valid}: {what}, made valid for REP 144 (give NAME to choose another)",
     )
 
 
@@ -482,18 +790,27 @@ def what_became(reference: Reference) -> str:
 
 
 def missing_message(missing: list[Reference], *, force: bool = True) -> list[str]:
-    """The lines of the error: one per file not found or refused, then what to do
+    """One line per file the model names and pkgforge cannot bring (a mesh a visual and a collision
+    both name is one line, with the other lines it is named at), then what to do
     (PkgforgeError(*lines))."""
-    lines = [f"{r.file}:{r.line}: {r.kind} '{r.uri}' {what_became(r)}" for r in missing]
+    groups: dict[tuple[Path, str, str, str], list[Reference]] = {}
+    for reference in missing:
+        key = (reference.file, reference.kind, reference.uri, what_became(reference))
+        groups.setdefault(key, []).append(reference)
+    lines = []
+    for (file, kind, uri, became), uses in groups.items():
+        also = sorted({u.line or 0 for u in uses[1:] if u.line != uses[0].line})
+        more = f" (also line {', '.join(map(str, also))})" if also else ""
+        lines.append(f"{file}:{uses[0].line}: {kind} '{uri}' {became}{more}")
     if any(r.refused for r in missing):
         advice = (
-            f"{len(missing)} file(s) the model names cannot be imported: nothing written; pkgforge "
+            f"{len(groups)} file(s) the model names cannot be imported: nothing written; pkgforge "
             "copies only mesh and texture files, from the model's package tree and the packages the "
             "model names: copy them there"
         )
     else:
         advice = (
-            f"{len(missing)} file(s) the model names cannot be found: nothing written; "
+            f"{len(groups)} file(s) the model names cannot be found: nothing written; "
             "copy them where the model says"
         )
     return [*lines, advice + (", or pass --force to write the package without them" if force else "")]
@@ -506,18 +823,27 @@ def new_from_urdf(
     *,
     force: int = 0,
     uri_style: str = "package",
+    add_root_link: bool = False,
+    name_note: str | None = None,
 ) -> tuple[CreatedPackage, Notes, Imported]:
-    """Write the package; returns (CreatedPackage, Notes, Imported). `spec_options`: make_spec's."""
+    """Write the package; returns (CreatedPackage, Notes, Imported). `spec_options`: make_spec's.
+    `name_note`: how the name was chosen when the command line gave none (default_name)."""
     from pkgforge.migrate.notes import Notes
     from pkgforge.scaffold.package import create_package, make_spec, render_files
 
     name = spec_options["name"]
     make_spec(**spec_options)  # a bad name or option fails before the model is read
     notes = Notes(name)
-    imported = import_model(name, model, uri_style=uri_style, notes=notes)
+    if name_note is not None:
+        notes.add("migrate-generated", name_note, model.absolute(), None)
+    imported = import_model(name, model, uri_style=uri_style, notes=notes, add_root_link=add_root_link)
     if imported.missing and not force:
         raise PkgforgeError(*missing_message(imported.missing))
+    seen: set[tuple[Path, str]] = set()
     for reference in imported.missing:
+        if (reference.file, reference.uri) in seen:
+            continue  # one line per file, not per use
+        seen.add((reference.file, reference.uri))
         notes.add(
             "migrate-dropped",
             f"{reference.kind} '{reference.uri}' {'not copied' if reference.refused else 'not found'} "

@@ -76,6 +76,8 @@ class PackageSpec:
     licenses: tuple[str, ...] = ()
     authors: tuple[tuple[str, str | None], ...] = ()
     urls: tuple[tuple[str, str], ...] = ()
+    # migrate: the source's <description> content as XML (its <p>s kept), written as it is
+    description_xml: str | None = None
 
     @property
     def folders(self) -> tuple[str, ...]:
