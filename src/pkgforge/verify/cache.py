@@ -108,7 +108,9 @@ if TYPE_CHECKING:
 #    and handlers' entities visited after the description, with its final configurations
 # 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
 #    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
-CACHE_FORMAT = 51
+# 52: diagnostics carry `detail` (messages one line of at most 300 characters), findings of one cause
+#    grouped per file, per-file-ignores in the selection's key, no path of pkgforge's tree reported
+CACHE_FORMAT = 52
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -426,7 +428,8 @@ def _report_to(report: PackageReport) -> dict[str, Any]:
         "path": str(report.path),
         "build_type": report.build_type,
         "diagnostics": [
-            {**d.__dict__, "path": str(d.path), "severity": d.severity.label} for d in report.diagnostics
+            {**d.__dict__, "path": str(d.path), "severity": d.severity.label, "group": None}
+            for d in report.diagnostics
         ],
     }
 
