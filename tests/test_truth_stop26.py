@@ -759,8 +759,8 @@ def test_a_zero_velocity_where_only_moveit_reads_the_model_is_a_warning(tmp_path
             "warning",
             "src/audit_arm/urdf/arm.urdf",
             line_of(folder / "urdf" / "arm.urdf", "<limit"),
-            "revolute joint 'j1': velocity limit is 0.0 (nothing here simulates or controls it: RViz and "
-            "MoveIt read 0 as no limit)",
+            "revolute joint 'j1': velocity=\"0\" (nothing here enforces it: MoveIt reads 0 as no limit and "
+            "RViz ignores it; a simulator or ros2_control would stop the joint)",
         )
     ]
 
