@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+from pkgforge.printable import printable
+
 
 class PkgforgeError(Exception):
     """A problem with the user's input or environment; exit status 2.
@@ -19,7 +21,6 @@ class PkgforgeError(Exception):
 
     def lines(self) -> list[str]:
         """What the error says, one printable line each (`pkgforge: error: ` goes before the first)."""
-        from pkgforge.report import printable
 
         return [printable(str(line)) for line in self.args] or [""]
 
@@ -64,8 +65,6 @@ def describe_os_error(exc: OSError) -> str:
     """One located line for an OSError: the file, what went wrong, what to do (printable: the
     file's name may hold a newline or an escape sequence)."""
     import errno
-
-    from pkgforge.report import printable
 
     where = exc.filename if exc.filename is not None else None
     if exc.filename2 is not None:

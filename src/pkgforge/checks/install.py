@@ -405,8 +405,19 @@ def ament_package_missing(ctx: CheckContext) -> Iterator[Finding]:
 )
 def install_rule_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     setup_py = ctx.model.setup_py
+    unknown = ctx.model.layout.unknown
     if setup_py is not None and setup_py.evaluation_error is not None:
         line, why = setup_py.evaluation_error
+    else:
+        line, why = None, None
+    # One cause, one finding: where the text's own reading already said why a rule is
+    # unpredictable at that very line (a function that calls itself), the run that then
+    # failed there says nothing more.
+    if (
+        setup_py is not None
+        and why is not None
+        and not any(path == setup_py.source.path and at == line for path, at, _ in unknown)
+    ):
         yield Finding(
             f"setup.py could not be evaluated here ({why}); its computed install rules are not predicted",
             setup_py.source.path,
@@ -414,8 +425,8 @@ def install_rule_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
             hint="make setup.py run without what this machine lacks (or without writing files), or "
             "verify against a real build (--build)",
         )
-    for path, line, why in ctx.model.layout.unknown:
-        yield Finding(f"cannot predict this install rule: {why}", path, line)
+    for path, at, reason in unknown:
+        yield Finding(f"cannot predict this install rule: {reason}", path, at)
 
 
 @register(
