@@ -172,6 +172,58 @@ GRIPPER = """<?xml version="1.0"?>
 """
 
 
+PARTS = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:macro name="load_arm" params="arm">
+    <xacro:include filename="$(find rob_description)/urdf/arms/${arm}_macro.xacro"/>
+  </xacro:macro>
+</robot>
+"""
+TWIN = """<?xml version="1.0"?>
+<robot name="twin" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find rob_description)/urdf/parts.xacro"/>
+  <link name="base_link"/>
+  <xacro:load_arm arm="absent"/>
+</robot>
+"""
+CALL = """<?xml version="1.0"?>
+<robot name="call" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:macro name="arm" params="prefix">
+    <link name="${prefix}base"/>
+  </xacro:macro>
+  <xacro:arm
+    prefix="a_"
+    sim="true"/>
+</robot>
+"""
+
+
+def test_a_xacro_error_is_at_the_line_of_its_culprit(tmp_path):
+    """kortex: a macro call over several lines passing a parameter the macro does not declare (at
+    that attribute's line); an include whose filename a macro builds from its parameters, in a
+    file the model includes (at that include); xacro's errno text said once."""
+    package = scaffold(tmp_path)
+    urdf = package / "urdf"
+    (urdf / "parts.xacro").write_text(PARTS)
+    (urdf / "twin.urdf.xacro").write_text(TWIN)
+    (urdf / "call.urdf.xacro").write_text(CALL)
+    _, report = verify_report(tmp_path, "--no-cache", "--select", "PF308")
+    assert diagnostics(report, "PF308") == [
+        (
+            "error",
+            "src/rob_description/urdf/call.urdf.xacro",
+            line_of(urdf / "call.urdf.xacro", 'sim="true"'),
+            'xacro call.urdf.xacro: Invalid parameter "sim"',
+        ),
+        (
+            "error",
+            "src/rob_description/urdf/parts.xacro",
+            line_of(urdf / "parts.xacro", "<xacro:include"),
+            "xacro twin.urdf.xacro: No such file or directory: urdf/arms/absent_macro.xacro",
+        ),
+    ]
+
+
 READS_ABSENT_FILE = """import os
 
 from ament_index_python.packages import get_package_share_directory

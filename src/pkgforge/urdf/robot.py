@@ -374,6 +374,8 @@ def _xacro_error(
     needs = NEEDS_ARGUMENT.search(message)
     status: ModelStatus = "needs-arguments" if needs and not mappings else "error"
     file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
+    if line is None:  # the culprit may stand in a file the model included (a macro's body)
+        file, line = _in_includes(exc, file, getattr(xacro, "all_includes", None) or [])
     stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
     error: ErrorRecord = {
         "message": _said_once(message.strip()),
@@ -427,8 +429,44 @@ def _xacro_location(exc: BaseException, path: str, filestack: list[str]) -> tupl
     elif package:
         line = _line_mentioning(file, f"$(find {package.group(1)}")
     elif parameter:
-        line = _line_matching(file, re.compile(rf"<xacro:[^>]*\s{re.escape(parameter.group(1))}\s*="))
+        line = _attribute_line(file, parameter.group(1))
     return file, line
+
+
+def _in_includes(exc: BaseException, file: str, includes: list[str]) -> tuple[str, int | None]:
+    """Where in the files the model included the culprit of a failure stands (an include built
+    from a macro's parameters, a macro call), when the file xacro was in does not hold it."""
+    text = str(exc)
+    missing = re.search(r"No such file or directory: \[?'?([^'\]\s]+)", text)
+    parameter = re.search(r'Invalid parameter "([^"]+)"', text)
+    for include in includes:
+        if include == file:
+            continue
+        line = None
+        if missing:
+            line = _include_line(include, missing.group(1))
+        elif parameter:
+            line = _attribute_line(include, parameter.group(1))
+        if line is not None:
+            return include, line
+    return file, None
+
+
+def _attribute_line(path: str, name: str) -> int | None:
+    """The line of the attribute `name=` of a macro call (<xacro:NAME ... name="...">), which may
+    span lines."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            text = handle.read()
+    except OSError:
+        return None
+    for call in re.finditer(
+        r"<\s*xacro:(?!macro\b|include\b|property\b|arg\b|if\b|unless\b)[\w.-]+\b[^>]*>", text
+    ):
+        attribute = re.search(rf"\s{re.escape(name)}\s*=", call.group(0))
+        if attribute is not None:
+            return text.count("\n", 0, call.start() + attribute.start() + 1) + 1
+    return None
 
 
 INCLUDE_FILENAME = re.compile(r"<\s*xacro:include\b[^>]*?\bfilename\s*=\s*[\"']([^\"']+)[\"']")
