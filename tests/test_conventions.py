@@ -370,7 +370,8 @@ def workspace(tmp_path) -> Path:
         (
             '[verify]\nselect = ["PF1"]\nignor = ["PF107"]\n',
             3,
-            "unknown key 'verify.ignor' (did you mean 'ignore'? known here: select, ignore, distro, packages)",
+            "unknown key 'verify.ignor' (did you mean 'ignore'? known here: select, ignore, distro, packages, "
+            "per-file-ignores)",
         ),
         ('[verfy]\nignore = ["PF107"]\n', 1, "unknown key 'verfy' (did you mean 'verify'?"),
         (
@@ -391,6 +392,19 @@ def workspace(tmp_path) -> Path:
         ),
         ('[severity]\nPF1O7 = "error"\n', 2, "severity.PF1O7: no check is named or coded 'PF1O7'"),
         ('severity = ["PF107"]\n', 1, "'severity' must be a table ([severity])"),
+        # [verify.per-file-ignores] (issue 30): a glob's checks a list of known checks, at its line
+        (
+            '[verify.per-file-ignores]\n"launch/*.py" = "PF301"\n',
+            2,
+            "'verify.per-file-ignores.\"launch/*.py\"' must be a list of check codes, code prefixes or "
+            "names, not 'PF301'",
+        ),
+        (
+            '[verify.per-file-ignores]\n"*.py" = ["PF3O1"]\n',
+            2,
+            "verify.per-file-ignores.\"*.py\": no check is named or coded 'PF3O1' (did you mean",
+        ),
+        ("[verify]\nper-file-ignores = 3\n", 2, "'verify.per-file-ignores' must be a table"),
     ],
 )
 def test_bad_pkgforge_toml_names_file_line_and_key(workspace, content, line, says):

@@ -16,6 +16,7 @@ pkgforge.toml, at the workspace root or a package root:
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass, field
@@ -319,9 +320,12 @@ def validate(data: dict[str, Any], path: Path, text: str) -> None:
                 value(own, rule[key], f"{dotted}.{key}".lstrip("."))
         elif isinstance(rule, Entries):
             for key, own in item.items():
+                # a key that is no bare TOML key (a glob of per-file-ignores: "launch/*.py") quoted
+                # as written, so that its line is found
+                named = f"{dotted}.{key}" if re.fullmatch(r"[A-Za-z0-9_-]+", key) else f'{dotted}."{key}"'
                 if rule.key_is_check:
-                    validate_keys([key], f"{path}{_at(text, f'{dotted}.{key}')}: {dotted}.{key}")
-                value(own, rule.each, f"{dotted}.{key}")
+                    validate_keys([key], f"{path}{_at(text, named)}: {named}")
+                value(own, rule.each, named)
         else:
             test, expected = rule
             if not test(item):
