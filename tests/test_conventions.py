@@ -498,11 +498,14 @@ def test_colcon_verify_has_no_build_base_it_would_ignore(tmp_path):
 def test_color_in_every_command(workspace, env, args, colored):
     environment = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")} | env
     package_xml = "src/rob_description/package.xml"
-    for command in (["verify", "."], ["verify-files", package_xml], ["fix", "--diff", "."]):
+    for command in (["verify", "."], ["verify-files", package_xml]):
         result = run_pkgforge(*command, *args, cwd=workspace, env=environment)
         shown = result.stdout + result.stderr
         assert "PF107" in shown, (command, shown)
         assert (ANSI in shown) == colored, (command, env, args, shown)
+    # fix --diff prints a diff for `git apply` and one line of counts (issue 30): never coloured
+    result = run_pkgforge("fix", "--diff", ".", *args, cwd=workspace, env=environment)
+    assert ANSI not in result.stdout + result.stderr
 
 
 def test_color_option_refuses_other_values(workspace):

@@ -75,16 +75,24 @@ def one_line(message: str, detail: str | None = None) -> tuple[str, str | None]:
     return head + CUT_NOTE, _both(message, detail)
 
 
-# line breaks with the blanks around them
-_BREAK = re.compile(r"[ \t]*[\r\n][ \t\r\n]*")
+# a line break that lays text out: with blanks around it (indentation), or several in a row
+_LAYOUT_BREAK = re.compile(r"[ \t]*(\r\n|\r|\n)[ \t\r\n]*")
 
 
 def flattened(text: str) -> str:
-    """text on one line: each run of line breaks (with the blanks around it) one space. A break
-    inside a file's name becomes a space too: the report's `path` keeps the real name."""
+    """text on one line: each line break that lays it out (the blanks around it, blank lines) one
+    space; a lone break between two characters, as a file's name may hold one, the two characters
+    \\n (what the reports print for it: `printable`), so the name stays recognisable."""
     if "\n" not in text and "\r" not in text:
         return text
-    return _BREAK.sub(" ", text).strip()
+
+    def join(match: re.Match[str]) -> str:
+        edge = match.start() == 0 or match.end() == len(text)
+        if match.group(0) == match.group(1) and not edge:
+            return match.group(1).replace("\r", "\\r").replace("\n", "\\n")
+        return " "
+
+    return _LAYOUT_BREAK.sub(join, text).strip()
 
 
 def _both(message: str, detail: str | None) -> str:
