@@ -51,8 +51,17 @@ def _same(members: list[Diagnostic]) -> list[Diagnostic]:
     if len(lines) < 2:
         return members
     room = MESSAGE_LIMIT - len(first.message) - len(" (lines )")
-    message, detail = one_line(f"{first.message} (lines {listed([str(n) for n in lines], max(room, 20))})")
-    return [replace(first, message=message, detail=first.detail or detail)]
+    message, detail = one_line(
+        f"{first.message} (lines {listed([str(n) for n in lines], max(room, 20))})", _each(members)
+    )
+    return [replace(first, message=message, detail=detail)]
+
+
+def _each(members: list[Diagnostic]) -> str:
+    """The detail of a grouped diagnostic: each finding's line and whole text, one a line."""
+    return "\n".join(
+        (f"line {d.line}: " if d.line is not None else "") + (d.detail or d.message) for d in members
+    )
 
 
 def _one(members: list[Diagnostic]) -> Diagnostic:
@@ -63,9 +72,7 @@ def _one(members: list[Diagnostic]) -> Diagnostic:
         return replace(first, group=None)
     items = list(dict.fromkeys(d.group.item for d in members if d.group is not None))
     lines = sorted({d.line for d in members if d.line is not None})
-    each = "\n".join(
-        (f"line {d.line}: " if d.line is not None else "") + (d.detail or d.message) for d in members
-    )
+    each = _each(members)
     if len(items) == 1:  # one item found more than once (a mesh of two models): the first's message
         where = f" (lines {listed([str(n) for n in lines], 60)})" if len(lines) > 1 else ""
         message, detail = one_line(first.message + where, each)
