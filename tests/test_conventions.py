@@ -408,7 +408,8 @@ def workspace(tmp_path) -> Path:
         (
             '[verify]\nselect = ["PF1"]\nignor = ["PF107"]\n',
             3,
-            "unknown key 'verify.ignor' (did you mean 'ignore'? known here: select, ignore, distro, packages)",
+            "unknown key 'verify.ignor' (did you mean 'ignore'? known here: select, ignore, distro, packages, "
+            "per-file-ignores)",
         ),
         ('[verfy]\nignore = ["PF107"]\n', 1, "unknown key 'verfy' (did you mean 'verify'?"),
         (
@@ -429,6 +430,19 @@ def workspace(tmp_path) -> Path:
         ),
         ('[severity]\nPF1O7 = "error"\n', 2, "severity.PF1O7: no check is named or coded 'PF1O7'"),
         ('severity = ["PF107"]\n', 1, "'severity' must be a table ([severity])"),
+        # [verify.per-file-ignores] (issue 30): a glob's checks a list of known checks, at its line
+        (
+            '[verify.per-file-ignores]\n"launch/*.py" = "PF301"\n',
+            2,
+            "'verify.per-file-ignores.\"launch/*.py\"' must be a list of check codes, code prefixes or "
+            "names, not 'PF301'",
+        ),
+        (
+            '[verify.per-file-ignores]\n"*.py" = ["PF3O1"]\n',
+            2,
+            "verify.per-file-ignores.\"*.py\": no check is named or coded 'PF3O1' (did you mean",
+        ),
+        ("[verify]\nper-file-ignores = 3\n", 2, "'verify.per-file-ignores' must be a table"),
     ],
 )
 def test_bad_pkgforge_toml_names_file_line_and_key(workspace, content, line, says):
@@ -522,11 +536,14 @@ def test_colcon_verify_has_no_build_base_it_would_ignore(tmp_path):
 def test_color_in_every_command(workspace, env, args, colored):
     environment = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")} | env
     package_xml = "src/rob_description/package.xml"
-    for command in (["verify", "."], ["verify-files", package_xml], ["fix", "--diff", "."]):
+    for command in (["verify", "."], ["verify-files", package_xml]):
         result = run_pkgforge(*command, *args, cwd=workspace, env=environment)
         shown = result.stdout + result.stderr
         assert "PF107" in shown, (command, shown)
         assert (ANSI in shown) == colored, (command, env, args, shown)
+    # fix --diff prints a diff for `git apply` and one line of counts (issue 30): never coloured
+    result = run_pkgforge("fix", "--diff", ".", *args, cwd=workspace, env=environment)
+    assert ANSI not in result.stdout + result.stderr
 
 
 def test_color_option_refuses_other_values(workspace):

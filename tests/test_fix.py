@@ -289,7 +289,8 @@ def test_diff_writes_nothing(seeds):
         "-install(DIRECTORY launch worlds urdf meshes models rviz\n+install(DIRECTORY launch urdf meshes rviz\n"
         in result.stdout
     )
-    assert "would fix src/small_turtle/CMakeLists.txt:2:1: PF103 project-name-mismatch" in result.stderr
+    # beside the diff, one line of counts (ruff's --diff): the findings are verify's (issue 30)
+    assert result.stderr.startswith("would fix ") and result.stderr.count("\n") == 1, result.stderr
     # every pass ran on a copy: applied, the diff is exactly what `pkgforge fix` writes
     if shutil.which("git") is None:
         pytest.skip("git is not installed: the diff's application is not checked")

@@ -143,7 +143,12 @@ def test_example_robot_data_models_have_no_physical_errors(model):
             return share if package == "example-robot-data" else None
 
     result = SimpleNamespace(status="ok", robot=data["robot"], installed=path, source=path, origins=[])
-    context = SimpleNamespace(model_results=[result], tree=Tree(), own_source=lambda file: Path(file))
+    context = SimpleNamespace(
+        model_results=[result],
+        tree=Tree(),
+        own_source=lambda file: Path(file),
+        simulator_feeding=lambda result: None,  # no launch file feeds it to a simulator
+    )
     errors = []
     for check in all_checks():
         if check.area == "physics":
@@ -220,9 +225,9 @@ def test_unusual_mesh_files_never_stop_the_physical_checks(tmp_path):
 
 
 def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp_path):
-    """ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose (position controlled): only a
-    warning; a zero velocity stops simulators and ros2_control (MoveIt reads it as no limit): an
-    error where the workspace uses one."""
+    """ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose (position controlled), and
+    exporters write velocity="0" (MoveIt reads it as no limit): warnings that say who would
+    enforce them; an error where something of the workspace holds the joint to it (issue 30)."""
     package = physics_package(tmp_path, "joint-limit-invalid")
     model = package / "urdf" / "robot.urdf"
     model.write_text(
@@ -242,7 +247,8 @@ def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp
             "warning",
             "src/phys_description/urdf/robot.urdf",
             line,
-            "revolute joint 'shoulder': effort limit is 0.0",
+            "revolute joint 'shoulder': effort=\"0\" (nothing here enforces it: MoveIt and RViz never "
+            "read it; a simulator or ros2_control would stop the joint)",
         )
     ]
     # SolidWorks' exporter writes velocity="0" (mycobot_ros2): only planning and simulation read it
@@ -251,15 +257,36 @@ def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp
     assert status == 0 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [
         ("PF605", "warning")
     ]
-    # a workspace that simulates or controls the robot enforces the velocity limit: an error
+    # a package that merely declares ros2_control enforces nothing on this model: still a warning
     package_xml = package / "package.xml"
     package_xml.write_text(
         package_xml.read_text().replace("<export>", "<exec_depend>ros2_control</exec_depend>\n  <export>", 1)
     )
     status, report = verify_report(tmp_path, "--no-cache")
     assert [(d["code"], d["severity"]) for d in report["diagnostics"] if d["code"] == "PF605"] == [
-        ("PF605", "error")
+        ("PF605", "warning")
     ]
+    # a <ros2_control> block naming the joint holds it to its limits: an error
+    text = model.read_text()
+    model.write_text(
+        text.replace(
+            "</robot>",
+            '  <ros2_control name="arm" type="system">\n    <joint name="shoulder">'
+            '<command_interface name="velocity"/></joint>\n  </ros2_control>\n</robot>',
+        )
+    )
+    status, report = verify_report(tmp_path, "--no-cache")
+    assert [
+        (d["code"], d["severity"], d["message"]) for d in report["diagnostics"] if d["code"] == "PF605"
+    ] == [
+        (
+            "PF605",
+            "error",
+            "revolute joint 'shoulder': velocity=\"0\", and <ros2_control> holds the joint to it: the "
+            "joint cannot move",
+        )
+    ]
+    model.write_text(text)
     package_xml.write_text(package_xml.read_text().replace("<exec_depend>ros2_control</exec_depend>\n  ", ""))
     # reversed limits leave no allowed position: an error
     model.write_text(

@@ -43,7 +43,9 @@ def test_a_model_broken_whatever_it_is_given_stays_an_error(tmp_path):
         "            executable='robot_state_publisher',\n            condition=LaunchConfigurationEquals('robot_type', 'small'),",
     )
     _, report = verify_report(tmp_path, "--no-cache")
-    assert errors(report, "choice_model_description") == [("xacro-error", "urdf/robot.urdf.xacro", None)]
+    # at the include whose filename the arguments build (issue 30: every finding at its line)
+    include = line_of(package / "urdf" / "robot.urdf.xacro", "<xacro:include")
+    assert errors(report, "choice_model_description") == [("xacro-error", "urdf/robot.urdf.xacro", include)]
 
 
 def test_a_misspelt_module_next_to_a_folder_on_sys_path_is_a_load_error(tmp_path):

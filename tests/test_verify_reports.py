@@ -52,6 +52,7 @@ JSON_REPORT_SCHEMA = {
                     "column",
                     "message",
                     "hint",
+                    "detail",
                 ],
                 "properties": {
                     "code": {"type": "string", "pattern": "^PF[0-9]{3}$"},
@@ -61,8 +62,10 @@ JSON_REPORT_SCHEMA = {
                     "path": {"type": "string"},
                     "line": NULLABLE_INT,
                     "column": NULLABLE_INT,
-                    "message": {"type": "string"},
-                    "hint": {"type": "string"},
+                    # one line of at most 300 characters; the full text (when longer) in detail
+                    "message": {"type": "string", "maxLength": 300, "pattern": "^[^\\n\\r]*$"},
+                    "hint": {"type": "string", "pattern": "^[^\\n\\r]*$"},
+                    "detail": {"type": ["string", "null"]},
                 },
             },
         },

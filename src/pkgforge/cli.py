@@ -588,6 +588,14 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
     help="Skip these checks: codes, code prefixes or names; comma-separated.",
 )
 @click.option("--strict", is_flag=True, help="Treat warnings as errors (exit 1 on any warning).")
+@click.option(
+    "--statistics",
+    is_flag=True,
+    help="Print one line per check code with its count instead of the diagnostics (text report).",
+)
+@click.option(
+    "--quiet", "-q", is_flag=True, help="Print the findings and the summary line only: no hints, no progress."
+)
 @color_option
 @click.option(
     "--jobs",
@@ -713,6 +721,8 @@ def verify(
     select: tuple[str, ...],
     ignore: tuple[str, ...],
     strict: bool,
+    statistics: bool,
+    quiet: bool,
     color: str,
     jobs: int | None,
     build_tree: bool,
@@ -750,6 +760,8 @@ def verify(
 
     if build_tree and install_base is not None:
         fail(PkgforgeError("--build and --install-base exclude each other: build, or read an existing tree"))
+    if statistics and fmt != "text":
+        fail(PkgforgeError(f"--statistics prints a text report: drop --format {fmt}"))
     meta = click.get_current_context().meta
     apply_fixes, unsafe_fixes = meta.get("fix", False), meta.get("unsafe_fixes", False)
     if unsafe_fixes and not apply_fixes:
@@ -802,6 +814,7 @@ def verify(
         distro=target_distro,
         launch_engine=launch_engine,
         ros_prefix=ros_prefix,
+        progress=not quiet,
     )
     try:
         if explain_launch is not None:
@@ -833,13 +846,18 @@ def verify(
     from pkgforge.report import use_color
 
     colored = fmt == "text" and output is None and use_color(color, sys.stdout)
-    text = render(fmt, result, color=colored, strict=strict)
+    if fmt == "text":
+        from pkgforge.report.text import render as render_text
+
+        text = render_text(result, color=colored, strict=strict, quiet=quiet, statistics=statistics)
+    else:
+        text = render(fmt, result, color=colored, strict=strict)
     if output is not None:
         try:
             output.write_text(text, encoding="utf-8")
         except OSError as exc:
             fail(PkgforgeError(f"cannot write {output}: {exc.strerror}"))
-        if fmt != "text":
+        if fmt != "text" and not quiet:
             from pkgforge.report.text import summary
 
             click.echo(summary(result), err=True)
@@ -1007,23 +1025,12 @@ def checks(fmt: str) -> None:
 @click.argument("check")
 def rule(check: str) -> None:
     """Explain one check, by code (PF302) or name (uninstalled-reference): why, an example, the fix."""
-    import difflib
-
     from pkgforge.checks.catalogue import rule_text
-    from pkgforge.checks.registry import all_checks, find_check
+    from pkgforge.checks.registry import close_checks, find_check
 
     found = find_check(check)
     if found is None:
-        keys = [c.code for c in all_checks()] + [c.name for c in all_checks()]
-        # a code typed with the letter O for the digit 0 (PF3O2): that code first
-        digits = check.strip().upper().replace("O", "0") if check.strip().upper().startswith("PF") else ""
-        close = [k for k in keys if k == digits] + [
-            k
-            for k in difflib.get_close_matches(check.strip(), keys, n=3)
-            or difflib.get_close_matches(check.strip().upper(), keys, n=3)
-            if k != digits
-        ]
-        close = close[:3]
+        close = close_checks(check)
         also = f" (did you mean {', '.join(close)}?)" if close else ""
         fail(PkgforgeError(f"no check is coded or named '{check}'{also}; `pkgforge checks` lists them"))
     click.echo(rule_text(found), nl=False)
@@ -1069,7 +1076,7 @@ def run_fix_command(
     color: str = "auto",
 ) -> NoReturn:
     """`pkgforge fix` and `pkgforge verify --fix`: fix, then report what was fixed and what remains."""
-    from pkgforge.fix.report import render_fix
+    from pkgforge.fix.report import diff_summary, render_fix
     from pkgforge.fix.run import FixOptions, run_fix
     from pkgforge.report import use_color
     from pkgforge.verify.config import Selection, split_keys
@@ -1095,9 +1102,9 @@ def run_fix_command(
         run.result.root = Path.cwd()  # paths as the user's shell shows them
         shown = use_color(color, sys.stderr if diff else sys.stdout)
         report, diff_text = render_fix(run, strict=strict, color=shown)
-        if diff:
+        if diff:  # the diff alone on stdout, a line of counts on stderr (ruff's --diff)
             click.echo(diff_text, nl=False)
-            click.echo(report, nl=False, err=True, color=shown)
+            click.echo(diff_summary(run), nl=False, err=True)
         else:
             click.echo(report, nl=False, color=shown)
         status = max(status, run.exit_code(strict))

@@ -96,17 +96,35 @@ _T = TypeVar("_T")
 # the text None standing in a path or a name for an unset variable (os.getenv('X') + '_robot')
 NONE_TEXT = re.compile(r"(^|[/'\"])None([./_'\"-]|$)")
 
-# packages that read a joint's velocity limit: MoveIt's planning, simulators, ros2_control.
-# (controller_manager alone is left out: mycobot_ros2 declares it in 15 packages and starts it
-# nowhere; a robot really controlled declares ros2_control or its controllers too)
-# what moves a model's joints within its URDF limits: simulators and ros2_control (MoveIt reads a
-# velocity limit of 0 as no limit: robot_model.cpp's velocity_bounded_ = max_velocity_ > epsilon)
-MOTION_PREFIXES = ("gazebo", "gz_", "ros_gz", "ign_", "ros_ign", "ros2_control", "webots")
+# simulators: they move a model's joints within its URDF limits, as ros2_control does the joints
+# its <ros2_control> block names (MoveIt reads a velocity limit of 0 as no limit: robot_model.cpp's
+# velocity_bounded_ = max_velocity_ > epsilon; RViz never reads it). A package declared is no use:
+# mycobot_ros2 declares controller_manager in 15 packages and starts it nowhere
+SIMULATOR_PREFIXES = ("gazebo", "gz_", "ros_gz", "ign_", "ros_ign", "webots")
+# a simulator's own program, started by a launch file's ExecuteProcess
+SIMULATOR_PROGRAMS = {"gazebo", "gzserver", "gz", "ign", "webots"}
 # Gazebo Classic (ODE): every package of it is named gazebo_* (gz-sim's are gz_*, ros_gz_*, ign_*)
 CLASSIC_PREFIXES = ("gazebo",)
 
 # what colcon leaves in its own build/ and install/ folders (beside their COLCON_IGNORE)
 COLCON_OUTPUT_MARKERS = frozenset({".built_by", ".colcon_install_layout"})
+
+
+def only_with(settings: list[str]) -> tuple[str, str | None]:
+    """(a note for a message, the full text for its detail) saying which argument settings a
+    finding holds under. One setting is named; several combinations ("a:=1 b:=2", "a:=1 b:=3")
+    by the settings they all share and their count, the combinations themselves in the detail:
+    eight combinations of eight arguments each make no line a person reads."""
+    if len(settings) <= 1:
+        return (f" (only with {settings[0]})" if settings else ""), None
+    parsed = [dict(w.split(":=", 1) for w in setting.split() if ":=" in w) for setting in settings]
+    shared = [f"{k}:={v}" for k, v in parsed[0].items() if all(p.get(k) == v for p in parsed[1:])]
+    full = "only with " + ", ".join(settings)
+    if shared and len(" ".join(shared)) <= 120:
+        return f" (only with {' '.join(shared)}: {len(settings)} argument combinations)", full
+    if len(full) <= 120:
+        return f" ({full})", None
+    return f" (only in {len(settings)} argument combinations, e.g. {settings[0][:80]})", full
 
 
 class FileFacts:
@@ -389,10 +407,24 @@ class CheckContext:
                     todo.append(name)
         return False
 
-    def simulated_or_controlled(self) -> bool:
-        """Whether a package of the workspace uses a simulator or ros2_control (a dependency of
-        that family declared anywhere): then the models' joint limits are enforced."""
-        return self._workspace_declares(MOTION_PREFIXES)
+    def simulator_feeding(self, result: ModelResult) -> str | None:
+        """What runs a simulator in a launch file that feeds this model to xacro (it simulates
+        the model's joints within their limits), as a message names it; None: none does."""
+        for origin in result.origins:
+            resolution = next((r for r in self.resolutions if r.launch == origin["launch"]), None)
+            if resolution is None:
+                continue
+            for node in resolution.nodes:
+                program = os.path.basename(node.cmd[0]) if node.cmd else None
+                if (node.package or "").startswith(SIMULATOR_PREFIXES) or program in SIMULATOR_PROGRAMS:
+                    name = resolution.launch.source or resolution.launch.installed
+                    what = f"{node.package} {node.executable}" if node.package else program
+                    return f"{Path(name).name}'s simulator ({what})"
+            for lookup in resolution.packages:
+                if lookup.name.startswith(SIMULATOR_PREFIXES) and lookup.name not in ("gazebo_msgs",):
+                    name = resolution.launch.source or resolution.launch.installed
+                    return f"{Path(name).name}'s simulator ({lookup.name})"
+        return None
 
     def uses_gazebo_classic(self) -> bool:
         """Whether a package of the workspace declares a Gazebo Classic package (gazebo_ros, ...)."""

@@ -9,13 +9,13 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from pkgforge.checks.context import NONE_TEXT, CheckContext
+from pkgforge.checks.context import NONE_TEXT, CheckContext, only_with
 from pkgforge.checks.files import read_problem_hint, undeclared_find, untree, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.checks.sandbox import MARKER as GUARD_MARKER
 from pkgforge.checks.sandbox import SANDBOX_TYPES, sandbox_records, stopped_by_guard
-from pkgforge.diagnostics import Finding, Severity
+from pkgforge.diagnostics import Finding, Group, Severity
 from pkgforge.launch.records import PREVIEW_LENGTH, PackageLookup, Record, Resolution, ResolvedPath
 from pkgforge.launch.records import Error as LaunchError
 from pkgforge.model.manifest import EXPORT_TAGS
@@ -70,9 +70,11 @@ def read_as_failed(ctx: CheckContext, path: Path, item: Record | None) -> bool:
 
 
 def _branch_note(item: Record, resolution: Resolution) -> str:
+    """' (only with ...)' when the item was seen with some argument settings only (their shared
+    settings and count when they are several: context.only_with; --explain-launch lists each)."""
     branches = [b for b in item.branches if b]
     if branches and len(branches) < resolution.branches and "" not in item.branches:  # "": while loading
-        return f" (only with {', '.join(branches)})"
+        return only_with(branches)[0]
     return ""
 
 
@@ -757,17 +759,31 @@ def unknown_package(ctx: CheckContext) -> Iterator[Finding]:
             )
             continue
         if not only:
-            yield Finding(message, path, line, hint=_unknown_hint(ctx, name))
+            # one package named by many nodes or lookups of a file: one diagnostic naming them
+            yield Finding(
+                message,
+                path,
+                line,
+                hint=_unknown_hint(ctx, name),
+                group=Group(
+                    f"unknown {name}",
+                    via,
+                    f"package '{name}' ({{items}}) is not in the workspace, not declared in package.xml "
+                    "and released in no ROS 2 distro",
+                ),
+            )
             continue
         # used only with settings other than the defaults (linorobot2's sensor:=xv11 runs
         # xv_11_driver, which its users clone from source): more likely an optional driver built
         # from source than a typo
+        note, detail = only_with(only)
         yield Finding(
-            f"{message} (only with {', '.join(only)})",
+            f"{message}{note}",
             path,
             line,
             severity=Severity.WARNING,
             hint=f"{_unknown_hint(ctx, name)}; if it is built from source, list it in a .repos file",
+            detail=detail,
         )
 
 
@@ -1195,7 +1211,15 @@ def launch_argument_required(ctx: CheckContext) -> Iterator[Finding]:
             position = ctx.source_position(resolution, item.file, item.line)
             if position is not None and (item.name, position) not in seen:
                 seen.add((item.name, position))
-                yield Finding(f"launch argument '{item.name}' has no default and no value", *position)
+                yield Finding(
+                    f"launch argument '{item.name}' has no default and no value",
+                    *position,
+                    group=Group(
+                        "required",
+                        item.name,
+                        "{count} launch arguments have no default and no value: {items}",
+                    ),
+                )
 
 
 @register(

@@ -8,10 +8,10 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from pkgforge.checks.context import CheckContext
+from pkgforge.checks.context import CheckContext, only_with
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
-from pkgforge.diagnostics import Finding, Severity
+from pkgforge.diagnostics import Finding, Group, Severity
 from pkgforge.model.cmake_syntax import Command
 from pkgforge.model.exports import brought_by
 from pkgforge.model.manifest import DEPENDENCY_TAGS, GENERIC_OVERLAPS, RUN_TAGS, Dependency
@@ -232,6 +232,11 @@ def duplicate_dependency(ctx: CheckContext) -> Iterator[Finding]:
                     dependency.line,
                     hint=f"delete the repeat at line {dependency.line}",
                     fix=_repeat_fix(dependency, first),
+                    group=Group(
+                        "again",
+                        f"<{dependency.tag}>{name}</{dependency.tag}> (first at line {first.line})",
+                        "{count} dependencies are declared again: {items}",
+                    ),
                 )
 
 
@@ -322,6 +327,9 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
             f"nothing in {model.name} uses exec_depend '{dependency.name}'",
             model.manifest.path,
             dependency.line,
+            group=Group(
+                "unused", dependency.name, f"nothing in {model.name} uses {{count}} exec_depends: {{items}}"
+            ),
         )
 
 
@@ -535,13 +543,14 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
         if all(settings[name]):
             # only with settings other than the defaults (moveit_resources' demo.launch.py runs
             # warehouse_ros_mongo only with db:=True): the default launch runs, that option fails
-            only = sorted({s for one in settings[name] for s in one})
+            note, detail = only_with(sorted({s for one in settings[name] for s in one}))
             yield Finding(
-                f"{message} (only with {', '.join(only)})",
+                f"{message}{note}",
                 path,
                 line,
                 severity=Severity.WARNING,
                 hint=f"{problem.hint}; or leave that setting unsupported on this distro",
+                detail=detail,
             )
             continue
         yield Finding(message, path, line, hint=problem.hint)

@@ -15,7 +15,7 @@ from pathlib import Path
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
 from pkgforge.checks.urdf import model_item_position
-from pkgforge.diagnostics import Finding, Severity
+from pkgforge.diagnostics import Finding, Group, Severity
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
 from pkgforge.urdf.select import ModelResult
@@ -120,6 +120,11 @@ def mass_not_positive(ctx: CheckContext) -> Iterator[Finding]:
                 yield Finding(
                     f"link '{link['name']}' has mass {inertial.get('mass')}",
                     *model_item_position(ctx, result, link, inertial.get("line")),
+                    group=Group(
+                        "mass",
+                        f"{link['name']} ({inertial.get('mass')})",
+                        "{count} links have a mass that is zero, negative or not a number: {items}",
+                    ),
                 )
 
 
@@ -166,17 +171,33 @@ def inertia_invalid(ctx: CheckContext) -> Iterator[Finding]:
                     severity=Severity.WARNING,
                     hint="give it the inertia of its shape; Gazebo Classic (ODE) needs one, gz-sim and "
                     "KDL do not",
+                    group=Group(
+                        "point",
+                        str(link["name"]),
+                        "{count} links are point masses (inertia all zero) on joints that move: {items}",
+                    ),
                 )
             elif moments[0] < -tolerance or moments[0] <= 0 and not point or point and link["name"] in moving:
                 yield Finding(
                     f"link '{link['name']}': inertia not positive definite (principal moments {shown})",
                     *model_item_position(ctx, result, link, inertial.get("line")),
+                    group=Group(
+                        "definite",
+                        f"{link['name']} ({shown})",
+                        "{count} links have an inertia that is not positive definite (principal "
+                        "moments): {items}",
+                    ),
                 )
             elif moments[2] > moments[0] + moments[1] + tolerance:
                 yield Finding(
                     f"link '{link['name']}': principal moments {shown} break the triangle "
                     f"inequality ({moments[2]:.4g} > {moments[0]:.4g} + {moments[1]:.4g})",
                     *model_item_position(ctx, result, link, inertial.get("line")),
+                    group=Group(
+                        "triangle",
+                        f"{link['name']} ({moments[2]:.4g} > {moments[0]:.4g} + {moments[1]:.4g})",
+                        "{count} links have principal moments that break the triangle inequality: {items}",
+                    ),
                 )
 
 
@@ -204,6 +225,11 @@ def collision_without_inertial(ctx: CheckContext) -> Iterator[Finding]:
                     f"link '{link['name']}' has {len(link['collisions'])} collision shape(s) and "
                     "no <inertial>",
                     *model_item_position(ctx, result, link),
+                    group=Group(
+                        "no-inertial",
+                        str(link["name"]),
+                        "{count} links have collision shapes and no <inertial>: {items}",
+                    ),
                 )
 
 
@@ -241,16 +267,20 @@ def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
     summary="a revolute or prismatic joint's <limit> is missing, reversed (lower > upper), or has "
     "zero or negative velocity or effort",
     explanation="urdfdom refuses a revolute or prismatic joint without <limit>; reversed limits "
-    "leave no allowed position (errors). Controllers, simulators and MoveIt cannot move a joint "
-    "whose velocity or effort limit is 0; RViz and the state publishers never read them, MoveIt "
-    "reads a zero velocity as no limit, and exporters write 0 by default: a zero effort is a "
-    "warning, a zero velocity too unless a package of the workspace uses a simulator or "
-    "ros2_control.",
+    "leave no allowed position (errors). Simulators and ros2_control hold a joint to its velocity "
+    "and effort limits: at 0 it cannot move. RViz and the state publishers never read them, MoveIt "
+    'reads a zero velocity as no limit, and exporters write 0 by default: velocity="0" or '
+    'effort="0" is an error only where something of the workspace enforces it (a <ros2_control> '
+    "block or a Gazebo plugin of the model naming the joint, a launch file that feeds the model to "
+    "a simulator), a warning that says who would elsewhere. The joints of one model with the same "
+    "defect are one diagnostic.",
     hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
     "velocity, effort > 0",
 )
 def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
+        simulator = ctx.simulator_feeding(result)
+        users = robot.get("joint_users") or {}
         for joint in robot.get("joints", []):
             if joint.get("type") not in MOVING:
                 continue
@@ -262,6 +292,12 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
                     f"{name} has no <limit>: urdfdom refuses the whole model (robot_state_publisher "
                     "exits at start and RViz shows no robot)",
                     *where,
+                    group=Group(
+                        "no-limit",
+                        str(joint["name"]),
+                        "{count} revolute or prismatic joints have no <limit>: urdfdom refuses the whole "
+                        "model (robot_state_publisher exits at start, RViz shows no robot): {items}",
+                    ),
                 )
                 continue
             lower, upper = limit.get("lower") or 0.0, limit.get("upper") or 0.0
@@ -270,38 +306,57 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
                     f"{name}: lower limit {lower:g} > upper limit {upper:g}",
                     *where,
                     hint="swap lower and upper",
+                    group=Group(
+                        "reversed",
+                        f"{joint['name']} ({lower:g} > {upper:g})",
+                        "{count} joints have a lower limit above their upper limit: {items}",
+                    ),
                 )
             if limit.get("velocity") is None or limit.get("effort") is None:
                 continue  # absent or not a number: urdfdom refuses the model (urdf-invalid says so)
-            if not (limit.get("velocity") or 0) > 0:
-                # SolidWorks' URDF exporter writes velocity="0": urdfdom, robot_state_publisher,
-                # joint_state_publisher and RViz accept and never read it (mycobot_ros2's 259
-                # joints), and MoveIt reads 0 as no limit (roarm): a warning. Simulators and
-                # ros2_control enforce it: an error where the workspace uses one (dobot's Gazebo)
-                planned = ctx.simulated_or_controlled()
-                yield Finding(
-                    f"{name}: velocity limit is {limit.get('velocity')}"
-                    + (
-                        ""
-                        if planned
-                        else " (nothing here simulates or controls it: RViz and MoveIt read 0 as no limit)"
-                    ),
-                    *where,
-                    severity=None if planned else Severity.WARNING,
-                    hint="set velocity= to the joint's real maximum (> 0)"
-                    + ("" if planned else " before a simulator or ros2_control moves it"),
-                )
-            if not (limit.get("effort") or 0) > 0:
-                # ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose: they are position
-                # controlled, and RViz and MoveIt never read it. Only a simulator's effort control
-                # fails on it: a warning, not an error.
-                yield Finding(
-                    f"{name}: effort limit is {limit.get('effort')}",
-                    *where,
-                    severity=Severity.WARNING,
-                    hint="set effort= to the joint's real maximum (> 0) if the joint is simulated "
-                    "or effort-controlled",
-                )
+            enforcer = users.get(str(joint["name"])) or simulator
+            for what, value in (("velocity", limit["velocity"]), ("effort", limit["effort"])):
+                if value is not None and not value > 0:  # (NaN too)
+                    yield _limit_zero(what, value, str(joint["name"]), name, enforcer, where)
+
+
+def _limit_zero(
+    what: str, value: float, joint: str, name: str, enforcer: str | None, where: tuple[Path, int | None]
+) -> Finding:
+    """velocity="0" (effort="0") on a joint: an error where something of the workspace holds the
+    joint to it (it cannot move there), else a warning that says who would. SolidWorks' URDF
+    exporter writes velocity="0": urdfdom, robot_state_publisher, joint_state_publisher and RViz
+    accept and never read it (mycobot_ros2's 259 joints), and MoveIt reads 0 as no limit (roarm);
+    ROS-Industrial arms (KUKA, FANUC) declare effort="0" on purpose, position controlled."""
+    written = f'{what}="{value:g}"'
+    if enforcer is not None:
+        return Finding(
+            f"{name}: {written}, and {enforcer} holds the joint to it: the joint cannot move",
+            *where,
+            hint=f"set {what}= to the joint's real maximum (> 0)",
+            group=Group(
+                f"{written}|{enforcer}",
+                joint,
+                f"{{count}} joints have {written}, and {enforcer} holds them to it (they cannot move): {{items}}",
+            ),
+        )
+    readers = (
+        "MoveIt reads 0 as no limit and RViz ignores it"
+        if what == "velocity"
+        else "MoveIt and RViz never read it"
+    )
+    nobody = f"nothing here enforces it: {readers}"
+    return Finding(
+        f"{name}: {written} ({nobody}; a simulator or ros2_control would stop the joint)",
+        *where,
+        severity=Severity.WARNING,
+        hint=f"set {what}= to the joint's real maximum (> 0) before a simulator or ros2_control moves it",
+        group=Group(
+            written,
+            joint,
+            f"{{count}} joints have {written} ({nobody}; a simulator or ros2_control would stop them): {{items}}",
+        ),
+    )
 
 
 @register(
@@ -325,6 +380,11 @@ def continuous_joint_limits(ctx: CheckContext) -> Iterator[Finding]:
                 yield Finding(
                     f"continuous joint '{joint['name']}' has lower={lower} upper={upper}, which are ignored",
                     *model_item_position(ctx, result, joint, limit.get("line") if limit else None),
+                    group=Group(
+                        "continuous",
+                        str(joint["name"]),
+                        "{count} continuous joints have lower/upper limits, which are ignored: {items}",
+                    ),
                 )
 
 
@@ -348,6 +408,9 @@ def joint_axis_zero(ctx: CheckContext) -> Iterator[Finding]:
                 yield Finding(
                     f"joint '{joint['name']}' has axis {' '.join(f'{a:g}' for a in axis)}",
                     *model_item_position(ctx, result, joint),
+                    group=Group(
+                        "axis", str(joint["name"]), "{count} joints have the zero vector as axis: {items}"
+                    ),
                 )
 
 
@@ -450,4 +513,9 @@ def collision_mesh_heavy(ctx: CheckContext) -> Iterator[Finding]:
                     yield Finding(
                         f"{uri} (collision of link '{link['name']}') has {info.triangles} triangles",
                         *model_item_position(ctx, result, link, part.get("line")),
+                        group=Group(
+                            "heavy",
+                            f"{uri} ({info.triangles})",
+                            f"{{count}} collision meshes have more than {COLLISION_TRIANGLES} triangles: {{items}}",
+                        ),
                     )

@@ -6,12 +6,14 @@ Findings; it never opens files. The registry turns Findings into Diagnostics.
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pkgforge.diagnostics import Diagnostic, Finding, Severity
+from pkgforge.diagnostics import Diagnostic, Finding, Group, Severity, flattened, one_line
 
 if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
@@ -52,6 +54,9 @@ class Check:
         ]
 
     def diagnostic(self, package: str, finding: Finding) -> Diagnostic:
+        # every message one short line, whatever a check or an error it quotes wrote (a URDF in a
+        # launch error, a xacro command line): the whole text is the detail
+        message, detail = one_line(finding.message, finding.detail)
         return Diagnostic(
             code=self.code,
             name=self.name,
@@ -60,38 +65,82 @@ class Check:
             path=finding.path,
             line=finding.line,
             column=finding.column,
-            message=finding.message,
-            hint=finding.hint or self.hint,
+            message=message,
+            hint=flattened(finding.hint or self.hint),
             fix=finding.fix,
+            detail=detail,
+            group=finding.group,
         )
 
 
 def _user_paths(finding: Finding, context: CheckContext) -> Finding:
-    """Messages name the user's files, never pkgforge's temporary tree (/tmp/pkgforge-tree-...):
-    a path there becomes the package's own file, else share/<package>/<path>."""
+    """Findings name the user's files, never pkgforge's temporary tree (/dev/shm/pkgforge-tree-...):
+    in a text, a path there becomes the package's own file, else share/<package>/<path> (inside a
+    file:// URI, the path in the user's install base: what their launch resolves); a finding
+    located there is located at the user's file it stands for."""
     tree = context.tree
-    if tree is None or tree.kind != "predicted" and tree.phantom is None:
+    if tree is None or tree.root is None and (tree.kind != "predicted" and tree.phantom is None):
         return finding
     roots = ([*tree.prefixes] if tree.kind == "predicted" else []) + ([tree.phantom] if tree.phantom else [])
-    pattern = re.compile("|".join(re.escape(str(root)) + r"/[^\s'\"()\[\],;:]*" for root in roots))
+    pattern = re.compile(
+        "(file://)?(?:" + "|".join(re.escape(str(root)) + r"/[^\s'\"()\[\],;:]*" for root in roots) + ")"
+        if roots
+        else "(?!)"
+    )
+    temporary = str(tree.root) if tree.root is not None else None
 
     def shown(match: re.Match[str]) -> str:
-        located = tree.locate(match.group(0))
+        uri, path = match.group(1), match.group(0)[len(match.group(1) or "") :]
+        located = tree.locate(path)
         if located is None:
             return match.group(0)
         package, relative, _ = located
+        if uri and tree.user_install is not None and not tree.is_phantom(path):
+            return uri + tree.as_users(path)
         owner = context.model_for_share(package)
-        if owner is not None and owner is context.model:
+        if owner is not None and owner is context.model and not uri:
             return relative
         return f"share/{package}/{relative}"
 
     def rewrite(text: str | None) -> str | None:
-        return pattern.sub(shown, text) if text else text
+        if not text:
+            return text
+        text = pattern.sub(shown, text)
+        if temporary is not None and temporary in text:  # what no prefix holds
+            text = re.sub(re.escape(temporary) + r"(?=/|$)[^\s'\"()\[\],;:]*", elsewhere, text)
+        return text
 
-    message, hint = pattern.sub(shown, finding.message), rewrite(finding.hint)
-    if (message, hint) == (finding.message, finding.hint):
-        return finding
-    return replace(finding, message=message, hint=hint)
+    def elsewhere(match: re.Match[str]) -> str:
+        """A path in the tree outside its prefixes: the user's file it copies or mirrors, the
+        path in the user's install base, else pkgforge's folder named as such."""
+        path = match.group(0)
+        origin = tree.origin(path)
+        if temporary is not None and not (origin + os.sep).startswith(temporary + os.sep):
+            return origin
+        users = tree.as_users(path)
+        return users if users != path else "(pkgforge's temporary tree)"
+
+    changes: dict[str, object] = {}
+    for name in ("message", "hint", "detail"):
+        value = getattr(finding, name)
+        if rewrite(value) != value:
+            changes[name] = rewrite(value)
+    group = finding.group
+    if group is not None and (rewrite(group.item), rewrite(group.many)) != (group.item, group.many):
+        changes["group"] = Group(group.cause, rewrite(group.item) or "", rewrite(group.many) or "")
+    if temporary is not None and str(finding.path).startswith(temporary + os.sep):
+        changes.update(_user_place(finding, context, temporary))
+    return replace(finding, **changes) if changes else finding  # type: ignore[arg-type]
+
+
+def _user_place(finding: Finding, context: CheckContext, temporary: str) -> dict[str, object]:
+    """A finding located in pkgforge's tree: at the user's file that tree file copies (the same
+    line), else at the package's manifest, without a line (no file of the user's holds it)."""
+    assert context.tree is not None
+    origin = context.tree.origin(str(finding.path))
+    if not origin.startswith(temporary + os.sep):
+        return {"path": Path(origin)}
+    return {"path": context.model.path / "package.xml", "line": None, "column": None}
 
 
 REGISTRY: dict[str, Check] = {}
@@ -161,3 +210,22 @@ def find_check(key: str) -> Check | None:
         if check.code == key.upper() or check.name == key:
             return check
     return None
+
+
+def close_checks(key: str) -> list[str]:
+    """The codes and names of up to three checks that `key` may misspell (`pkgforge rule`,
+    --select/--ignore, pkgforge.toml)."""
+    import difflib
+
+    checks = all_checks()
+    names = [c.code for c in checks] + [c.name for c in checks]
+    # a code typed with the letter O for the digit 0 (PF3O2): that code first
+    typed = key.strip().upper()
+    digits = typed.replace("O", "0") if typed.startswith("PF") else ""
+    close = [n for n in names if n == digits] + [
+        n
+        for n in difflib.get_close_matches(key.strip(), names, n=3)
+        or difflib.get_close_matches(typed, names, n=3)
+        if n != digits
+    ]
+    return close[:3]

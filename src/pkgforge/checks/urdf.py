@@ -10,11 +10,11 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from pkgforge.checks.context import CheckContext, FileFacts
+from pkgforge.checks.context import CheckContext, FileFacts, only_with
 from pkgforge.checks.files import read_problem_hint, undeclared_find, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
-from pkgforge.diagnostics import Finding, Severity
+from pkgforge.diagnostics import Finding, Group, Severity
 from pkgforge.launch.records import CommandRun, LaunchFile, Resolution
 from pkgforge.tree import InstallTree
 from pkgforge.urdf.meshes import MeshLookup
@@ -189,13 +189,15 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 and any(r.installed == result.installed and r.status == "ok" for r in ctx.model_results)
             ):
                 settings = sorted({s for o in result.origins for s in o["only_with"]})
+                note, detail = only_with(settings)
                 yield Finding(
-                    f"{message} (only with {', '.join(settings)})",
+                    f"{message}{note}",
                     *model_item_position(ctx, result, error),
                     severity=Severity.WARNING,
                     hint=f"with {settings[0]}, the user must give other arguments too: say which in "
                     "the arguments' descriptions, or make the model work with that setting alone"
                     + (f" ({hint})" if hint else ""),
+                    detail=detail,
                 )
                 continue
             yield Finding(message, *model_item_position(ctx, result, error), hint=hint)
@@ -231,9 +233,10 @@ def xacro_error(ctx: CheckContext) -> Iterator[Finding]:
                 spaced, piece = split
                 program = os.path.basename(command.command[0]) if command.command else "the command"
                 yield Finding(
-                    f"{program} {Path(spaced).name}: the path '{spaced}' has a space, and "
-                    "Command joins its parts into one line that it splits at spaces (ROS's "
-                    f"Command does too): {program} got '{piece}'",
+                    # (what the program got first: a long path would cut the message before it)
+                    f"{program} {Path(spaced).name} got '{piece}': Command joins its parts into one "
+                    f"line that it splits at spaces (ROS's Command does too), and the path '{spaced}' "
+                    "has a space",
                     *position,
                     hint="quote the path inside the command line, e.g. Command(['xacro \"', "
                     "path, '\"']), or use a workspace path without spaces",
@@ -471,26 +474,38 @@ def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
     for result, mesh, lookup in _meshes(ctx):
         position = model_item_position(ctx, result, mesh)
         where = f"{mesh['kind']} of link '{mesh['link']}'" if mesh.get("link") else mesh["kind"]
+        item = f"{mesh['uri']} ({where})"
         if lookup.status == "escapes":
             yield Finding(
-                f"{mesh['uri']} ({where}) leaves package {lookup.package} with '..'",
+                f"{item} leaves package {lookup.package} with '..'",
                 *position,
                 hint=f"name a file inside {lookup.package}, or use package://<other>/... for "
                 "another package's file",
+                group=Group(
+                    f"escapes {lookup.package}",
+                    mesh["uri"],
+                    f"{{count}} mesh URIs leave package {lookup.package} with '..': {{items}}",
+                ),
             )
         elif lookup.status == "unknown-package" and not lookup.package:
             fixed = "package://" + mesh["uri"][len("package://") :].lstrip("/")
             yield Finding(
-                f"{mesh['uri']} ({where}) names no package: 'package:///' has three slashes, and "
+                f"{item} names no package: 'package:///' has three slashes, and "
                 "RViz's resource retriever reads an empty package name",
                 *position,
                 hint=f"write {fixed}",
             )
         elif lookup.status == "unknown-package":
             yield Finding(
-                f"{mesh['uri']} ({where}): package '{lookup.package}' is not installed anywhere",
+                f"{item}: package '{lookup.package}' is not installed anywhere",
                 *position,
                 hint="fix the package name in the URI",
+                group=Group(
+                    f"unknown {lookup.package}",
+                    mesh["uri"],
+                    f"{{count}} mesh URIs name package '{lookup.package}', which is not installed "
+                    "anywhere: {items}",
+                ),
             )
         elif lookup.status == "missing":
             owner = ctx.model_for_share(lookup.package) if lookup.package else None
@@ -498,22 +513,28 @@ def mesh_not_found(ctx: CheckContext) -> Iterator[Finding]:
             in_source = owner is not None and ctx.files.is_file(owner.path / relative)
             linked = link_hint(ctx.files, owner, relative) if owner is not None else None
             if linked is not None:
-                yield Finding(
-                    f"{mesh['uri']} ({where}) is not in the install tree: {linked[0]}",
-                    *position,
-                    hint=linked[1],
-                )
+                yield Finding(f"{item} is not in the install tree: {linked[0]}", *position, hint=linked[1])
             elif in_source and owner is not None:
+                top = relative.split("/")[0]
                 yield Finding(
-                    f"{mesh['uri']} ({where}) is not installed: {relative} is in the source of "
+                    f"{item} is not installed: {relative} is in the source of "
                     f"{lookup.package} but no install rule covers it",
                     *position,
-                    hint=install_fix(owner, relative.split("/")[0], relative),
-                    fix=install_fix_data(owner, relative.split("/")[0]),
+                    hint=install_fix(owner, top, relative),
+                    fix=install_fix_data(owner, top),
+                    group=Group(
+                        f"not installed {lookup.package}/{top}",
+                        mesh["uri"],
+                        f"{{count}} meshes are not installed: they are in {top}/ of {lookup.package}'s "
+                        "source but no install rule covers them: {items}",
+                    ),
                 )
             else:
                 yield Finding(
-                    f"{mesh['uri']} ({where}) does not exist", *position, hint="fix the file name in the URI"
+                    f"{item} does not exist",
+                    *position,
+                    hint="fix the file name in the URI",
+                    group=Group("missing", mesh["uri"], "{count} mesh files do not exist: {items}"),
                 )
 
 

@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 from collections import Counter
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pkgforge.report import printable
+from pkgforge.report import from_here, printable
 from pkgforge.report.text import location, render
 
 if TYPE_CHECKING:
@@ -15,18 +14,15 @@ if TYPE_CHECKING:
 
 def render_fix(run: FixRun, *, strict: bool = False, color: bool = False) -> tuple[str, str]:
     """(the report, the diff): with --diff the report goes to stderr, the diff to stdout."""
-    root = run.result.root
     lines: list[str] = []
     verb = "would fix" if _diff_mode(run) else "fixed"
     for applied in run.fixed:
         d = applied.diagnostic
-        lines.append(f"{verb} {location(d, root)}: {d.code} {d.name}: {printable(applied.description)}")
+        lines.append(f"{verb} {location(d)}: {d.code} {d.name}: {printable(applied.description)}")
     for outcome in run.failures:
-        lines.append(
-            printable(f"pkgforge: error: {_shown(outcome.path, root)} not written: {outcome.problem}")
-        )
+        lines.append(printable(f"pkgforge: error: {from_here(outcome.path)} not written: {outcome.problem}"))
     for d, why in run.not_fixed:
-        lines.append(f"not fixed {location(d, root)}: {d.code} {d.name}: {printable(why)}")
+        lines.append(f"not fixed {location(d)}: {d.code} {d.name}: {printable(why)}")
     if run.unsafe_available:
         counts = Counter(f"{d.code} {d.name}" for d in run.unsafe_available)
         lines.append(
@@ -50,7 +46,15 @@ def _diff_mode(run: FixRun) -> bool:
     return run.diff_mode
 
 
-def _shown(path: Path, root: Path) -> str:
-    from pkgforge.report import relative
-
-    return relative(path, root)
+def diff_summary(run: FixRun) -> str:
+    """What `fix --diff` says on stderr beside the diff, as ruff does: one line of counts (the
+    findings themselves are `pkgforge verify`'s report); empty when there is nothing to say."""
+    files = sum(1 for line in run.diff.splitlines() if line.startswith("+++ "))
+    parts = []
+    if run.fixed:
+        parts.append(f"would fix {len(run.fixed)} problem(s) in {files} file(s)")
+    if run.unsafe_available:
+        parts.append(f"{len(run.unsafe_available)} more with --unsafe-fixes")
+    if run.failures:
+        parts.append(f"{len(run.failures)} file(s) could not be fixed")
+    return "; ".join(parts) + "\n" if parts else ""

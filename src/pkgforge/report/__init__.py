@@ -36,8 +36,52 @@ __all__ = ["COLOR_CHOICES", "FORMATS", "printable", "relative", "render", "use_c
 
 
 def relative(path: Path, root: Path) -> str:
-    """A path as the user sees it: relative to the folder verify was given."""
+    """A path relative to a folder (the JSON report's: the folder verify was given)."""
     return Path(os.path.relpath(path, root)).as_posix()
+
+
+def from_here(path: Path) -> str:
+    """A path as the user's shell reaches it, as ruff and gcc print one: relative to the current
+    folder when it is inside it, else absolute (never ../../: a terminal opens what it shows)."""
+    absolute = Path(os.path.abspath(path))
+    try:
+        here = Path(os.getcwd())
+    except OSError:  # the current folder was removed
+        return absolute.as_posix()
+    try:
+        return absolute.relative_to(here).as_posix()
+    except ValueError:
+        return absolute.as_posix()
+
+
+class InRepository:
+    """A file's path as CI services match it against the repository's files: relative to the
+    root of the git repository that holds it (the nearest folder above it with a .git, as
+    actions/checkout and GitLab's clone make it), else relative to `fallback`."""
+
+    def __init__(self, fallback: Path):
+        self.fallback = fallback
+        self._known: dict[Path, Path | None] = {}
+
+    def root(self, path: Path) -> Path | None:
+        folder = Path(os.path.abspath(path)).parent
+        trail = []
+        while folder not in self._known:
+            trail.append(folder)
+            if (folder / ".git").exists():
+                self._known[folder] = folder
+                break
+            if folder.parent == folder:
+                self._known[folder] = None
+                break
+            folder = folder.parent
+        found = self._known[folder]
+        for seen in trail:
+            self._known[seen] = found
+        return found
+
+    def __call__(self, path: Path) -> str:
+        return relative(path, self.root(path) or self.fallback)
 
 
 def render(fmt: str, result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:

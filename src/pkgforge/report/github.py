@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Severity
-from pkgforge.report import printable, relative
+from pkgforge.report import InRepository, printable
 from pkgforge.report.text import summary
 
 if TYPE_CHECKING:
@@ -26,8 +26,11 @@ def _property(text: str) -> str:
 
 def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
     lines = []
+    # GitHub matches an annotation's file against the repository's paths: actions/checkout puts
+    # the repository in src/<package> of the workspace pkgforge's workflow verifies
+    in_repository = InRepository(result.root)
     for d in result.diagnostics:
-        props = [f"file={_property(relative(d.path, result.root))}"]
+        props = [f"file={_property(in_repository(d.path))}"]
         if d.line is not None:
             props.append(f"line={d.line}")
             if d.column is not None:

@@ -9,12 +9,10 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Severity
-from pkgforge.report import printable, relative
+from pkgforge.report import InRepository, printable
 
 if TYPE_CHECKING:
     from pkgforge.verify.pipeline import VerifyResult
@@ -22,30 +20,12 @@ if TYPE_CHECKING:
 SEVERITIES = {Severity.ERROR: "major", Severity.WARNING: "minor", Severity.INFO: "info"}
 
 
-def _repository(folder: Path, known: dict[Path, Path | None]) -> Path | None:
-    trail = []
-    while folder not in known:
-        trail.append(folder)
-        if (folder / ".git").exists():
-            known[folder] = folder
-            break
-        if folder.parent == folder:
-            known[folder] = None
-            break
-        folder = folder.parent
-    found = known[folder]
-    for seen in trail:
-        known[seen] = found
-    return found
-
-
 def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
-    known: dict[Path, Path | None] = {}
+    in_repository = InRepository(result.root)
     issues: list[dict[str, Any]] = []
     seen: dict[str, int] = {}
     for d in result.diagnostics:
-        base = _repository(Path(os.path.abspath(d.path)).parent, known) or result.root
-        path = relative(d.path, base)
+        path = in_repository(d.path)
         key = f"{d.code}\0{path}\0{d.line or 0}\0{d.message}"
         # GitLab needs a fingerprint unique per issue and stable across runs: what and where
         seen[key] = seen.get(key, -1) + 1

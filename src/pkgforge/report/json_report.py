@@ -32,6 +32,9 @@ def as_dict(result: VerifyResult) -> dict[str, Any]:
                 "column": d.column,
                 "message": d.message,
                 "hint": d.hint,
+                # the full text when the message is short for it (an error's whole output,
+                # the items and lines of a grouped finding); null: the message says it all
+                "detail": d.detail,
             }
             for d in result.diagnostics
         ],

@@ -11,7 +11,7 @@ from lxml import etree
 
 from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
-from pkgforge.report import printable
+from pkgforge.report import InRepository, printable
 from pkgforge.report.text import location
 
 if TYPE_CHECKING:
@@ -23,6 +23,7 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
     checks = [c for c in all_checks() if c.code in result.checks_run]
     suites = etree.Element("testsuites", name="pkgforge verify")
     total_tests = total_failures = 0
+    in_repository = InRepository(result.root)  # a CI report: paths as the repository has them
     for report in result.reports:
         package = printable(report.name)
         suite = etree.SubElement(suites, "testsuite", name=package, errors="0", skipped="0", time="0")
@@ -43,14 +44,15 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
                     case, "failure", message=printable(failed[0].message), type=failed[0].severity.label
                 )
                 failure.text = "\n".join(
-                    f"{location(d, result.root)}: {printable(d.message)}\nhint: {printable(d.hint)}"
+                    f"{location(d, in_repository)}: {printable(d.message)}\nhint: {printable(d.hint)}"
                     for d in failed
                 )
             others = [d for d in found if d.severity not in failing]
             if others:
                 out = etree.SubElement(case, "system-out")
                 out.text = "\n".join(
-                    f"{location(d, result.root)}: [{d.severity.label}] {printable(d.message)}" for d in others
+                    f"{location(d, in_repository)}: [{d.severity.label}] {printable(d.message)}"
+                    for d in others
                 )
         suite.set("tests", str(len(checks)))
         suite.set("failures", str(failures))

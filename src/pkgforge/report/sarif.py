@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pkgforge import __version__
 from pkgforge.checks.catalogue import help_uri
 from pkgforge.checks.registry import all_checks
 from pkgforge.diagnostics import Severity
-from pkgforge.report import printable, relative
+from pkgforge.report import InRepository, printable, relative
 
 if TYPE_CHECKING:
     from pkgforge.verify.pipeline import VerifyResult
@@ -45,9 +46,15 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
         for c in checks
     ]
     results = []
+    # code scanning matches a result's file against the repository's paths: each relative to the
+    # root of the git repository that holds it (SRCROOT the first, then SRCROOT2 ...)
+    in_repository = InRepository(result.root)
+    bases: dict[Path, str] = {}
     for d in result.diagnostics:
+        base = in_repository.root(d.path) or result.root
+        base_id = bases.setdefault(base, "SRCROOT" if not bases else f"SRCROOT{len(bases) + 1}")
         physical: dict[str, Any] = {
-            "artifactLocation": {"uri": artifact_uri(relative(d.path, result.root)), "uriBaseId": "SRCROOT"}
+            "artifactLocation": {"uri": artifact_uri(relative(d.path, base)), "uriBaseId": base_id}
         }
         if d.line is not None:
             region = {"startLine": d.line}
@@ -70,7 +77,10 @@ def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -
         "runs": [
             {
                 "tool": {"driver": {"name": "pkgforge", "version": __version__, "rules": rules}},
-                "originalUriBaseIds": {"SRCROOT": {"uri": result.root.as_uri() + "/"}},
+                "originalUriBaseIds": {
+                    base_id: {"uri": base.as_uri() + "/"}
+                    for base, base_id in (bases or {result.root: "SRCROOT"}).items()
+                },
                 "results": results,
             }
         ],

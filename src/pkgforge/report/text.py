@@ -1,14 +1,16 @@
-"""ruff/mypy style: `path:line:col: CODE [severity] message (name)`, then `hint:`."""
+"""ruff/mypy style: `path:line:col: CODE [severity] message (name)`, then `hint:`; paths as the
+shell reaches them (relative to the current folder, else absolute), so a terminal opens them."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
 
 from pkgforge.diagnostics import Diagnostic, Severity
-from pkgforge.report import printable, relative
+from pkgforge.report import from_here, printable
 
 if TYPE_CHECKING:
     from pkgforge.verify.pipeline import VerifyResult
@@ -16,9 +18,9 @@ if TYPE_CHECKING:
 COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 
 
-def location(diagnostic: Diagnostic, root: Path) -> str:
+def location(diagnostic: Diagnostic, shown: Callable[[Path], str] = from_here) -> str:
     """`path:line:col`, the path printable (a file's name may hold any character but / and NUL)."""
-    parts = [printable(relative(diagnostic.path, root))]
+    parts = [printable(shown(diagnostic.path))]
     if diagnostic.line is not None:
         parts.append(str(diagnostic.line))
         if diagnostic.column is not None:
@@ -65,18 +67,45 @@ def engine_note(result: VerifyResult) -> str:
     return f"; launch: ROS 2 {result.distro or '(distro unknown)'}"
 
 
-def render(result: VerifyResult, *, color: bool = False, strict: bool = False) -> str:
+def render(
+    result: VerifyResult,
+    *,
+    color: bool = False,
+    strict: bool = False,
+    quiet: bool = False,
+    statistics: bool = False,
+) -> str:
+    """The report: each diagnostic and its hint (`quiet`: without the hints), then the summary;
+    `statistics`: one line per code with its count instead of the diagnostics (ruff's)."""
+
     def style(text: str, **kwargs: Any) -> str:
         return click.style(text, **kwargs) if color else text
 
+    if statistics:
+        return "\n".join([*statistics_lines(result), summary(result)]) + "\n"
     lines = []
     for diagnostic in result.diagnostics:
         severity = style(f"[{diagnostic.severity.label}]", fg=COLORS[diagnostic.severity], bold=True)
         lines.append(
-            f"{style(location(diagnostic, result.root), bold=True)}: "
+            f"{style(location(diagnostic), bold=True)}: "
             f"{style(diagnostic.code, bold=True)} {severity} {printable(diagnostic.message)} "
             f"({diagnostic.name})"
         )
-        lines.append(f"    hint: {printable(diagnostic.hint)}")
+        if not quiet:
+            lines.append(f"    hint: {printable(diagnostic.hint)}")
     lines.append(summary(result))
     return "\n".join(lines) + "\n"
+
+
+def statistics_lines(result: VerifyResult) -> list[str]:
+    """`count  CODE  name [severity]` per code, the most frequent first (a code found at several
+    severities, e.g. after [severity] or a finding's own, lists them)."""
+    counts: dict[tuple[str, str], list[Severity]] = {}
+    for diagnostic in result.diagnostics:
+        counts.setdefault((diagnostic.code, diagnostic.name), []).append(diagnostic.severity)
+    width = len(str(max((len(found) for found in counts.values()), default=0)))
+    lines = []
+    for (code, name), found in sorted(counts.items(), key=lambda item: (-len(item[1]), item[0])):
+        levels = ", ".join(level.label for level in sorted(set(found), reverse=True))
+        lines.append(f"{len(found):>{width}}  {code}  {name} [{levels}]")
+    return lines

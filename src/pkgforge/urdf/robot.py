@@ -39,8 +39,50 @@ from pkgforge.urdf.structure import (
 from pkgforge.urdf.urdfdom import problems
 
 Element = etree._Element
-# (tag, literal name) → (file, line) across a model's files
-Sources = dict[tuple[str, str], tuple[str, int]]
+Place = tuple[str, int]  # (file, line)
+# a ${...} or $(...) inside an attribute's value: what xacro writes there is known only after it ran
+EXPRESSION = re.compile(r"\$\{[^}]*\}|\$\([^)]*\)")
+
+
+class Sources:
+    """(tag, name) → (file, line) across a model's files: where the name (a mesh's filename) is
+    written literally, else where a template of it is written (`<link name="${arm_id}_link1">`
+    for panda_link1, in the macro that makes it): of the templates that match, the one with the
+    most literal text, the first of the files when two have as much. A template that is nothing
+    but an expression (`name="${name}"`) stands for a name only when it is the only one of its tag."""
+
+    def __init__(self) -> None:
+        self.literal: dict[tuple[str, str], Place] = {}
+        # tag → [(the value as a pattern, its literal characters, file, line)]
+        self.templates: dict[str, list[tuple[re.Pattern[str], int, str, int]]] = {}
+
+    def add(self, tag: str, value: str, place: Place) -> None:
+        if EXPRESSION.search(value) is None:
+            self.literal.setdefault((tag, value), place)
+            return
+        pieces = EXPRESSION.split(value)
+        pattern = re.compile(".*".join(re.escape(piece) for piece in pieces))
+        self.templates.setdefault(tag, []).append((pattern, sum(map(len, pieces)), *place))
+
+    def get(self, key: tuple[str, str | None], default: tuple[str, int | None]) -> tuple[str, int | None]:
+        found = self.find(*key)
+        return default if found is None else found
+
+    def find(self, tag: str, name: str | None) -> Place | None:
+        if name is None:
+            return None
+        if (tag, name) in self.literal:
+            return self.literal[(tag, name)]
+        templates = self.templates.get(tag, [])
+        matching = [t for t in templates if t[0].fullmatch(name)]
+        best = max((t[1] for t in matching), default=0)
+        if best == 0 and len(templates) != 1:
+            return None  # only bare expressions match, and there are several: any of them
+        for _, literal, file, line in matching:
+            if literal == best:
+                return file, line
+        return None
+
 
 GEOMETRY_URI_TAGS = ("mesh",)
 NEEDS_ARGUMENT = re.compile(r"[Uu]ndefined substitution argument (\S+)")
@@ -100,7 +142,7 @@ def process_model(path: str, mappings: dict[str, str]) -> ModelReply:
         }
     expanded = includes is not None
     files = [path, *(includes or [])]
-    sources = _name_index(files) if expanded else {}
+    sources = _name_index(files) if expanded else Sources()
     robot = _structure(root, path, sources, expanded, files)
     # xacro ran (or the file uses none of it) with ROS 1's bare tags left in as plain elements
     robot["ros1_tags"] = ros1_tags(files)
@@ -333,9 +375,11 @@ def _xacro_error(
     needs = NEEDS_ARGUMENT.search(message)
     status: ModelStatus = "needs-arguments" if needs and not mappings else "error"
     file, line = _xacro_location(exc, path, getattr(xacro, "filestack", None) or [])
+    if line is None:  # the culprit may stand in a file the model included (a macro's body)
+        file, line = _in_includes(exc, file, getattr(xacro, "all_includes", None) or [])
     stage = "xml" if "ExpatError" in type(exc).__name__ or "not well-formed" in message else "xacro"
     error: ErrorRecord = {
-        "message": message.strip(),
+        "message": _said_once(message.strip()),
         "file": file,
         "line": line,
         "argument": needs.group(1) if needs else None,
@@ -351,6 +395,20 @@ def _xacro_error(
     return status, error
 
 
+ERRNO = re.compile(r"\s*\[Errno \d+\] ([^:\[\]]+): '([^']*)'")
+
+
+def _said_once(message: str) -> str:
+    """xacro's message without the OSError it appends when it said the same already
+    ("No such file or directory: a.xacro [Errno 2] No such file or directory: 'a.xacro'")."""
+
+    def repeated(match: re.Match[str]) -> str:
+        said = f"{match.group(1)}: {match.group(2)}"
+        return "" if said in message[: match.start()] else match.group(0)
+
+    return ERRNO.sub(repeated, message)
+
+
 def _xacro_location(exc: BaseException, path: str, filestack: list[str]) -> tuple[str, int | None]:
     """The file xacro was in when it failed (the end of its include chain), and the line naming the culprit."""
     file = next((f for f in reversed(filestack) if f), path)
@@ -361,13 +419,82 @@ def _xacro_location(exc: BaseException, path: str, filestack: list[str]) -> tupl
         r"[Uu]ndefined substitution argument (\S+)", text
     )
     package = re.search(r"package '([^']+)' not found", text)
+    # a macro called with a parameter it does not declare: the call that passes it
+    parameter = re.search(r'Invalid parameter "([^"]+)"', text)
     if missing:
-        line = _line_mentioning(file, os.path.basename(missing.group(1)))
+        line = _line_mentioning(file, os.path.basename(missing.group(1))) or _include_line(
+            file, missing.group(1)
+        )
     elif undefined:
         line = _line_mentioning(file, undefined.group(1))
     elif package:
         line = _line_mentioning(file, f"$(find {package.group(1)}")
+    elif parameter:
+        line = _attribute_line(file, parameter.group(1))
     return file, line
+
+
+def _in_includes(exc: BaseException, file: str, includes: list[str]) -> tuple[str, int | None]:
+    """Where in the files the model included the culprit of a failure stands (an include built
+    from a macro's parameters, a macro call), when the file xacro was in does not hold it."""
+    text = str(exc)
+    missing = re.search(r"No such file or directory: \[?'?([^'\]\s]+)", text)
+    parameter = re.search(r'Invalid parameter "([^"]+)"', text)
+    for include in includes:
+        if include == file:
+            continue
+        line = None
+        if missing:
+            line = _include_line(include, missing.group(1))
+        elif parameter:
+            line = _attribute_line(include, parameter.group(1))
+        if line is not None:
+            return include, line
+    return file, None
+
+
+def _attribute_line(path: str, name: str) -> int | None:
+    """The line of the attribute `name=` of a macro call (<xacro:NAME ... name="...">), which may
+    span lines."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            text = handle.read()
+    except OSError:
+        return None
+    for call in re.finditer(
+        r"<\s*xacro:(?!macro\b|include\b|property\b|arg\b|if\b|unless\b)[\w.-]+\b[^>]*>", text
+    ):
+        attribute = re.search(rf"\s{re.escape(name)}\s*=", call.group(0))
+        if attribute is not None:
+            return text.count("\n", 0, call.start() + attribute.start() + 1) + 1
+    return None
+
+
+INCLUDE_FILENAME = re.compile(r"<\s*xacro:include\b[^>]*?\bfilename\s*=\s*[\"']([^\"']+)[\"']")
+
+
+def _include_line(path: str, missing: str) -> int | None:
+    """The line of the <xacro:include> whose filename, built from arguments or properties
+    (`arms/$(arg arm)_$(arg dof).xacro`), names the missing file: of those whose literal text
+    matches it, the one with the most."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            lines = handle.read().splitlines()
+    except OSError:
+        return None
+    best: tuple[int, int] | None = None  # (literal characters, line)
+    for number, text in enumerate(lines, start=1):
+        for match in INCLUDE_FILENAME.finditer(text):
+            pieces = EXPRESSION.split(match.group(1))
+            literal = sum(map(len, pieces))
+            pattern = ".*".join(re.escape(piece) for piece in pieces)
+            if (
+                literal >= 4
+                and re.search(f"(?:^|/){pattern}$", missing)
+                and (best is None or literal > best[0])
+            ):
+                best = (literal, number)
+    return best[1] if best else None
 
 
 def _declaration(path: str, name: str, xacro: Any) -> tuple[str, int | None]:
@@ -402,36 +529,40 @@ def _line_mentioning(path: str, text: str) -> int | None:
     return None
 
 
-NAME_ATTRIBUTE = re.compile(r"<\s*(link|joint)\b[^>]*?\bname\s*=\s*[\"']([^\"'$]+)[\"']")
-MESH_ATTRIBUTE = re.compile(r"<\s*(mesh|texture)\b[^>]*?\bfilename\s*=\s*[\"']([^\"'$]+)[\"']")
+NAME_ATTRIBUTE = re.compile(
+    r"<\s*(link|joint)\b[^>]*?\bname\s*=\s*\"([^\"]+)\"|<\s*(link|joint)\b[^>]*?\bname\s*=\s*'([^']+)'"
+)
+MESH_ATTRIBUTE = re.compile(
+    r"<\s*(mesh|texture)\b[^>]*?\bfilename\s*=\s*\"([^\"]+)\"|<\s*(mesh|texture)\b[^>]*?\bfilename\s*=\s*'([^']+)'"
+)
 JOINT_TYPE = re.compile(r"\btype\s*=")
 
 
 def _name_index(files: list[str]) -> Sources:
-    """(tag, literal name) → (file, line) across the model's files.
+    """(tag, name) → (file, line) across the model's files (Sources: literal names and templates).
 
     A tag may span lines (SolidWorks exports write `<joint` and `name=` on lines of their
     own), so the patterns run over the whole text. A `<joint>` without `type=` is not a
     URDF joint but a ros2_control or transmission one naming it: never its place.
     """
-    index: Sources = {}
+    index = Sources()
     for file in files:
         try:
             with open(file, encoding="utf-8", errors="replace") as handle:
                 text = handle.read()
         except OSError:
             continue
+        text = re.sub(r"<!--.*?-->", lambda m: re.sub(r"[^\n]", " ", m.group(0)), text, flags=re.S)
         newlines = [offset for offset, char in enumerate(text) if char == "\n"]
         for pattern in (NAME_ATTRIBUTE, MESH_ATTRIBUTE):
             for match in pattern.finditer(text):
+                tag, value = match.group(1) or match.group(3), match.group(2) or match.group(4)
                 end = text.find(">", match.end())
-                if match.group(1) == "joint" and not JOINT_TYPE.search(
+                if tag == "joint" and not JOINT_TYPE.search(
                     text, match.start(), end if end >= 0 else len(text)
                 ):
                     continue
-                key = (match.group(1), match.group(2))
-                if key not in index:
-                    index[key] = (file, bisect.bisect_left(newlines, match.start()) + 1)
+                index.add(tag, value, (file, bisect.bisect_left(newlines, match.start()) + 1))
     return index
 
 
@@ -474,8 +605,9 @@ def _structure(
     texts = _Texts(files or [path])
 
     def where(element: Element, tag: str | None = None, name: str | None = None) -> tuple[str, int | None]:
-        if tag and name and (tag, name) in sources:
-            return sources[(tag, name)]
+        found = sources.find(tag, name) if tag and not plain else None
+        if found is not None:
+            return found
         return (path, element.sourceline if plain else None)
 
     def place(
@@ -499,6 +631,7 @@ def _structure(
         "meshes": [],
         "urdfdom": [],
         "ros1_tags": [],
+        "joint_users": {},
     }
     if root.tag != "robot":
         return robot
@@ -555,7 +688,29 @@ def _structure(
                 "limit": limit,
             }
         )
+    robot["joint_users"] = _joint_users(root, {j["name"] for j in robot["joints"] if j["name"]})
     return robot
+
+
+def _joint_users(root: Element, joints: set[str]) -> dict[str, str]:
+    """joint → what in the model enforces its limits: a <ros2_control> block naming it (its
+    hardware interface and controllers), else a Gazebo plugin naming it in one of its elements
+    (gazebo_ros_diff_drive's <left_joint>, a joint state plugin's <joint_name>)."""
+    users: dict[str, str] = {}
+    for block in root.iter("ros2_control"):
+        for joint in block.iter("joint"):
+            name = joint.get("name")
+            if name in joints:
+                users.setdefault(name, "<ros2_control>")
+    for gazebo in root.iter("gazebo"):
+        for plugin in gazebo.iter("plugin"):
+            what = plugin.get("filename") or plugin.get("name") or "plugin"
+            for element in plugin.iter():
+                text = (element.text or "").strip() if isinstance(element.tag, str) else ""
+                for name in {text, element.get("name") if element.tag == "joint" else None}:
+                    if name in joints:
+                        users.setdefault(name, f"Gazebo plugin {what}")
+    return users
 
 
 # --- the numbers physics and rendering need (pkgforge.urdf.physics, pkgforge.view) -------------------

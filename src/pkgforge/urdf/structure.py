@@ -120,6 +120,9 @@ class RobotStructure(TypedDict):
     meshes: list[MeshDict]
     urdfdom: list[UrdfProblem]
     ros1_tags: list[Ros1Tag]  # (set by process_model for the model's files; [] elsewhere)
+    # joint name → what in the model moves it within its <limit>: "<ros2_control>" (its hardware
+    # and controllers enforce the limits), or the Gazebo plugin that names it
+    joint_users: dict[str, str]
 
 
 class Place(TypedDict):

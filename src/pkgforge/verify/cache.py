@@ -114,7 +114,9 @@ if TYPE_CHECKING:
 #    SetParametersFromFile's files
 # 53: with 52, a report says under which distro's launch API the built-in engine evaluated its launch
 #    files, and where that distro came from; action-ros-ci's target-ros2-distro is a CI distro (issue 30)
-CACHE_FORMAT = 53
+# 54: with 53, diagnostics carry `detail` (messages one line of at most 300 characters), findings of one cause
+#    grouped per file, per-file-ignores in the selection's key, no path of pkgforge's tree reported
+CACHE_FORMAT = 54
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
@@ -433,7 +435,8 @@ def _report_to(report: PackageReport) -> dict[str, Any]:
         "build_type": report.build_type,
         "launch_distro": list(report.launch_distro) if report.launch_distro else None,
         "diagnostics": [
-            {**d.__dict__, "path": str(d.path), "severity": d.severity.label} for d in report.diagnostics
+            {**d.__dict__, "path": str(d.path), "severity": d.severity.label, "group": None}
+            for d in report.diagnostics
         ],
     }
 

@@ -8,12 +8,15 @@ pkgforge.toml, at the workspace root or a package root:
     distro = "jazzy"                     # or a list: the ROS 2 distros the package targets
     [verify.packages.rob_description]   # workspace file only
     ignore = ["folder-name-mismatch"]
+    [verify.per-file-ignores]            # glob (from this file's folder) -> codes, prefixes or names
+    "launch/legacy_*.py" = ["PF301"]     # a glob without / matches the file's name in any folder
     [severity]                           # per check: code, code prefix or name
     PF203 = "warning"                    # error, warning or info; a package's file wins
 """
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass, field
@@ -33,11 +36,21 @@ class Selection:
     ignore: list[str] = field(default_factory=list)
     # [severity] of pkgforge.toml: check code, code prefix or name -> error, warning or info
     severity: dict[str, str] = field(default_factory=dict)
+    # [verify.per-file-ignores]: (the folder of the pkgforge.toml, a glob, the checks it silences)
+    per_file: list[tuple[Path, str, list[str]]] = field(default_factory=list)
 
     def key(self) -> str:
         """The selection as text, for cache keys (with pkgforge's version, it decides the codes
         and the severities a cached report holds)."""
-        return f"{sorted(self.select)}|{sorted(self.ignore)}|{sorted(self.severity.items())}"
+        files = sorted((str(base), glob, sorted(keys)) for base, glob, keys in self.per_file)
+        return f"{sorted(self.select)}|{sorted(self.ignore)}|{sorted(self.severity.items())}|{files}"
+
+    def ignored_in(self, path: Path, check: Check) -> bool:
+        """Whether [verify.per-file-ignores] silences `check` in the file at `path`."""
+        for base, glob, keys in self.per_file:
+            if any(_matches(check, key) for key in keys) and glob_matches(glob, path, base):
+                return True
+        return False
 
     def severity_of(self, check: Check) -> Severity | None:
         """The severity pkgforge.toml sets for this check: its code or name, else its longest
@@ -98,10 +111,65 @@ def _matches(check: Check, key: str) -> bool:
 def validate_keys(keys: list[str], where: str) -> None:
     if not keys:
         return
+    from pkgforge.checks.registry import close_checks
+
     checks = all_checks()
     for key in keys:
         if not any(_matches(c, key) for c in checks):
-            raise PkgforgeError(f"{where}: no check is named or coded '{key}' (see `pkgforge checks`)")
+            close = close_checks(key)
+            also = f" (did you mean {', '.join(close)}?)" if close else ""
+            raise PkgforgeError(
+                f"{where}: no check is named or coded '{key}'{also}; `pkgforge checks` lists them"
+            )
+
+
+def glob_matches(glob: str, path: Path, base: Path) -> bool:
+    """Whether `path` matches `glob` written in a pkgforge.toml of the folder `base`: relative to
+    `base` (`**` any folders, `*` and `?` within a name); a glob without / matches the file's
+    name in any folder below `base`, as ruff's per-file-ignores and .gitignore read one."""
+    import os
+    import re
+
+    try:
+        relative = Path(os.path.relpath(path, base)).as_posix()
+    except ValueError:  # (another drive)
+        return False
+    if relative == ".." or relative.startswith("../"):
+        return False
+    pattern = glob.strip().removeprefix("./")
+    if "/" not in pattern.rstrip("/"):
+        pattern = "**/" + pattern
+    return re.fullmatch(_glob_regex(pattern.rstrip("/")), relative) is not None or (
+        glob.endswith("/") and re.match(_glob_regex(pattern.rstrip("/")) + "/", relative) is not None
+    )
+
+
+def _glob_regex(glob: str) -> str:
+    import re
+
+    out, index = [], 0
+    while index < len(glob):
+        if glob.startswith("**/", index):
+            out.append("(?:.*/)?")
+            index += 3
+        elif glob.startswith("**", index):
+            out.append(".*")
+            index += 2
+        elif glob[index] == "*":
+            out.append("[^/]*")
+            index += 1
+        elif glob[index] == "?":
+            out.append("[^/]")
+            index += 1
+        elif glob[index] == "[" and "]" in glob[index + 2 :]:
+            end = glob.index("]", index + 2)
+            body = glob[index + 1 : end]
+            out.append("[" + ("^" + body[1:] if body.startswith("!") else body).replace("\\", "\\\\") + "]")
+            index = end + 1
+        else:
+            out.append(re.escape(glob[index]))
+            index += 1
+    return "".join(out)
 
 
 @dataclass
@@ -118,6 +186,7 @@ class Config:
         ignore = list(self.cli.ignore) + list(verify.get("ignore", []))
         ignore += list(verify.get("packages", {}).get(name, {}).get("ignore", []))
         severity = {key: str(level).lower() for key, level in self.workspace.get("severity", {}).items()}
+        per_file = _per_file(verify, self.workspace_file)
         own = package_path / CONFIG_FILE
         if own.is_file() and own != self.workspace_file:
             own_config = read_config(own)
@@ -128,7 +197,8 @@ class Config:
             severity.update(
                 {key: str(level).lower() for key, level in own_config.get("severity", {}).items()}
             )
-        return Selection(select, ignore, severity)
+            per_file += _per_file(own_verify, own)
+        return Selection(select, ignore, severity, per_file)
 
     def distro_for(self, package_path: Path) -> str | list[str] | None:
         """[verify] distro of the package's pkgforge.toml, else the workspace's; None if neither."""
@@ -140,6 +210,14 @@ class Config:
                 return value
         value = self.workspace.get("verify", {}).get("distro")
         return value
+
+
+def _per_file(verify: dict[str, Any], file: Path | None) -> list[tuple[Path, str, list[str]]]:
+    """[verify.per-file-ignores] of a pkgforge.toml: its globs are read from its own folder."""
+    table = verify.get("per-file-ignores", {})
+    if not table or file is None:
+        return []
+    return [(file.parent.resolve(), glob, list(keys)) for glob, keys in table.items()]
 
 
 # What pkgforge.toml may hold: a key not here (a misspelling) is an error, not silently ignored.
@@ -172,6 +250,8 @@ SCHEMA: dict[str, Rule] = {
         "ignore": (_strings, "a list of check codes, code prefixes or names"),
         "distro": (_distros, "a ROS 2 distro name, or a list of them"),
         "packages": Entries({"ignore": (_strings, "a list of check codes or names")}),  # workspace file only
+        # glob -> the checks silenced in the files it matches
+        "per-file-ignores": Entries((_strings, "a list of check codes, code prefixes or names")),
     },
     # check code, code prefix or name = "error" | "warning" | "info"
     "severity": Entries(
@@ -240,9 +320,12 @@ def validate(data: dict[str, Any], path: Path, text: str) -> None:
                 value(own, rule[key], f"{dotted}.{key}".lstrip("."))
         elif isinstance(rule, Entries):
             for key, own in item.items():
+                # a key that is no bare TOML key (a glob of per-file-ignores: "launch/*.py") quoted
+                # as written, so that its line is found
+                named = f"{dotted}.{key}" if re.fullmatch(r"[A-Za-z0-9_-]+", key) else f'{dotted}."{key}"'
                 if rule.key_is_check:
-                    validate_keys([key], f"{path}{_at(text, f'{dotted}.{key}')}: {dotted}.{key}")
-                value(own, rule.each, f"{dotted}.{key}")
+                    validate_keys([key], f"{path}{_at(text, named)}: {named}")
+                value(own, rule.each, named)
         else:
             test, expected = rule
             if not test(item):
@@ -286,6 +369,9 @@ def read_config(path: Path) -> dict[str, Any]:
             )
     for package, table in verify.get("packages", {}).items():
         validate_keys(list(table.get("ignore", [])), f"{path}: verify.packages.{package}.ignore")
+    for glob, keys in verify.get("per-file-ignores", {}).items():
+        dotted = f'verify.per-file-ignores."{glob}"'
+        validate_keys(list(keys), f"{path}{_at(text, dotted)}: {dotted}")
     return data
 
 

@@ -26,6 +26,7 @@ from pkgforge.workspace import IGNORE_MARKERS, Workspace, discover, locate
 
 if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
+    from pkgforge.checks.registry import Check
     from pkgforge.launch.engines import LaunchEngine
     from pkgforge.launch.records import LaunchFile, Resolution
     from pkgforge.model.package import PackageModel
@@ -79,6 +80,7 @@ class VerifyOptions:
     )
     launch_engine: str = "auto"  # auto | ros | builtin
     ros_prefix: Path | None = None
+    progress: bool = True  # status lines on a terminal (never elsewhere); --quiet: none
     _engine: LaunchEngine | None = field(default=None, repr=False, compare=False)
     # called with (tree, [ModelResult]) while the install tree is open (`view`, --artifacts)
     on_models: Callable[[InstallTree, list[ModelResult]], None] | None = field(
@@ -264,7 +266,11 @@ def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], d
 # --- checks ---------------------------------------------------------------------------------
 
 
-def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
+def run_checks(
+    context: CheckContext, codes: set[str], ignored: Callable[[Path, Check], bool] | None = None
+) -> PackageReport:
+    """The package's diagnostics of the checks `codes`; `ignored`: whether pkgforge.toml's
+    per-file-ignores silence a check in a file."""
     from pkgforge.checks.registry import all_checks
 
     model = context.model
@@ -311,10 +317,18 @@ def run_checks(context: CheckContext, codes: set[str]) -> PackageReport:
             ]
         for diagnostic in diagnostics:
             key = (diagnostic.code, str(diagnostic.path), diagnostic.line, diagnostic.message)
-            if key in seen or model.suppressed(diagnostic.path, diagnostic.line, {check.code, check.name}):
+            if (
+                key in seen
+                or model.suppressed(diagnostic.path, diagnostic.line, {check.code, check.name})
+                or (ignored is not None and ignored(diagnostic.path, check))
+            ):
                 continue
             seen.add(key)
             report.diagnostics.append(diagnostic)
+    from pkgforge.verify.grouping import grouped
+
+    # (after the suppressions, which silence one line each: a group holds what is left)
+    report.diagnostics = grouped(report.diagnostics)
     report.diagnostics.sort(key=Diagnostic.sort_key)
     return report
 
@@ -743,7 +757,7 @@ def run(
         from pkgforge.urdf import select as robot_models
 
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
-        progress = Progress()
+        progress = Progress(enabled=None if options.progress else False)
         progress.show(f"{len(checked)} packages: install tree")
         # one copy of a package name, as an install folder holds one (the others are shadowed,
         # PF110): files only another copy has would stand in its share folder, sourceless
@@ -845,7 +859,10 @@ def run(
                 shadowed=not own,
                 shared=shared,
             )
-            report = run_checks(context, codes[target.path])
+            selection = selections[target.path]
+            report = run_checks(
+                context, codes[target.path], selection.ignored_in if selection.per_file else None
+            )
             if options.engine().name == "builtin":
                 report.launch_distro = launch_distros[target.path]
             if build_failure is not None and BUILD_FAILED in codes[target.path]:
@@ -938,7 +955,7 @@ def evaluate_setup_files(
     from pkgforge.tree import predicted_tree
 
     requests: list[SetupRequest] = [{"setup": evaluation_request(model)} for model in todo]
-    progress = Progress()
+    progress = Progress(enabled=None if options.progress else False)
     progress.show(f"{len(todo)} setup.py files")
     # the workers' environment is a tree's: an empty one here (setup.py runs before any tree is made)
     tree = predicted_tree([])
