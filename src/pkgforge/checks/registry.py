@@ -109,6 +109,7 @@ AREAS = {
     "4": "model",
     "5": "rviz",
     "6": "physics",
+    "7": "simulation",
     "8": "migrate",
     "9": "run",
 }
