@@ -535,7 +535,9 @@ def _spawned(node: Node) -> tuple[list[str], bool]:
 )
 def spawner_controller_unknown(ctx: CheckContext) -> Iterator[Finding]:
     files = _controller_files(ctx)
-    if not files or any(f.parameters.error for f in files):
+    broken = {f.installed for f in files if f.parameters.error}
+    # one cause, one finding: a broken file (controller-config-invalid) defines nothing known
+    if not files:
         return
     defined = {name for f in files for name in f.parameters.controllers}
     for resolution in ctx.resolutions:
@@ -544,8 +546,15 @@ def spawner_controller_unknown(ctx: CheckContext) -> Iterator[Finding]:
                 continue
             position = ctx.source_position(resolution, node.file, node.line)
             names, typed = _spawned(node)
-            if position is None or typed:
+            if position is None or typed or broken & set(_spawner_files(node)):
                 continue
+            if any(
+                p.form == "file" and p.value_preview in broken
+                for r in ctx.resolutions
+                for n in r.nodes
+                for p in n.parameters
+            ):
+                return
             for name in names:
                 if name not in defined:
                     yield Finding(

@@ -1,0 +1,140 @@
+"""Simulation and control readiness (issue 31): Gazebo plugins, <ros2_control>, controller YAML,
+spawners and how the description reaches the controller manager, per target distro."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from conftest import edit, line_of, verify_report
+
+FIXTURE = Path(__file__).parent / "fixtures" / "simulation"
+
+
+def simulation_package(tmp_path: Path, template_package: Path) -> Path:
+    """The clean scaffold with tests/fixtures/simulation's model, controllers and launch file."""
+    package = tmp_path / "src" / "rob_description"
+    shutil.copytree(template_package, package)
+    (package / "config").mkdir()
+    for name in ("controllers.yaml", "broken.yaml"):
+        shutil.copy(FIXTURE / name, package / "config" / name)
+    shutil.copy(FIXTURE / "sim.urdf.xacro", package / "urdf" / "sim.urdf.xacro")
+    shutil.copy(FIXTURE / "sim.launch.py", package / "launch" / "sim.launch.py")
+    edit(
+        package / "CMakeLists.txt",
+        "DIRECTORY launch meshes rviz urdf",
+        "DIRECTORY config launch meshes rviz urdf",
+    )
+    return package
+
+
+def found(report: dict, prefix: str = "PF7") -> list[tuple[str, str, int | None, str]]:
+    return sorted(
+        (d["code"], d["path"], d["line"], d["severity"])
+        for d in report["diagnostics"]
+        if d["code"].startswith(prefix)
+    )
+
+
+@pytest.fixture(scope="module")
+def broken(tmp_path_factory, template_package) -> tuple[Path, dict[str, dict]]:
+    package = simulation_package(tmp_path_factory.mktemp("sim"), template_package)
+    reports = {d: verify_report(package, "--no-cache", "--distro", d)[1] for d in ("humble", "jazzy")}
+    return package, reports
+
+
+@pytest.mark.triggers("PF701", "PF702", "PF703", "PF704", "PF705", "PF706", "PF707", "PF708", "PF709")
+def test_each_simulation_defect_is_found_at_its_line_per_distro(broken):
+    package, reports = broken
+    model, launch = package / "urdf" / "sim.urdf.xacro", package / "launch" / "sim.launch.py"
+    controllers = package / "config" / "controllers.yaml"
+    common = [
+        ("PF702", "urdf/sim.urdf.xacro", line_of(model, '<joint name="ghost_joint">'), "error"),
+        ("PF702", "urdf/sim.urdf.xacro", line_of(model, '<joint name="body_joint">'), "error"),
+        ("PF703", "urdf/sim.urdf.xacro", line_of(model, '<joint name="wheel_joint">'), "warning"),
+        (
+            "PF704",
+            "urdf/sim.urdf.xacro",
+            line_of(model, "<plugin>gz_ros2_control/GazeboSimSystem"),
+            "warning",
+        ),
+        ("PF705", "config/broken.yaml", 4, "error"),
+        ("PF706", "config/controllers.yaml", line_of(controllers, "joint_state_controller/"), "error"),
+        ("PF707", "config/controllers.yaml", line_of(controllers, "right_wheel_names"), "error"),
+        ("PF708", "launch/sim.launch.py", line_of(launch, '"drive_controller"'), "error"),
+        ("PF701", "urdf/sim.urdf.xacro", line_of(model, "gz-sim-no-such-thing-system"), "error"),
+    ]
+    assert found(reports["humble"]) == sorted(common)
+    assert found(reports["jazzy"]) == sorted(
+        common
+        + [
+            ("PF701", "urdf/sim.urdf.xacro", line_of(model, "libgazebo_ros_diff_drive.so"), "error"),
+            (
+                "PF709",
+                "launch/sim.launch.py",
+                line_of(launch, 'executable="ros2_control_node"') - 2,
+                "warning",
+            ),
+        ]
+    )
+    messages = {
+        d["code"]: d["message"] for d in reports["jazzy"]["diagnostics"] if "libgazebo" in d["message"]
+    }
+    assert messages["PF701"] == (
+        "plugin 'libgazebo_ros_diff_drive.so' does not load on jazzy: Gazebo Classic's "
+        "libgazebo_ros_diff_drive.so (gazebo_plugins) is not released for jazzy; use gz-sim-diff-drive-system"
+    )
+
+
+def test_the_simulation_package_fixed_is_clean_on_humble_and_jazzy(tmp_path, template_package):
+    package = simulation_package(tmp_path, template_package)
+    model, launch = package / "urdf" / "sim.urdf.xacro", package / "launch" / "sim.launch.py"
+    edit(
+        model, '    <joint name="ghost_joint">\n      <state_interface name="position"/>\n    </joint>\n', ""
+    )
+    edit(model, '    <joint name="body_joint">\n      <state_interface name="position"/>\n    </joint>\n', "")
+    edit(model, '      <state_interface name="pos"/>\n', "")
+    edit(model, '    <plugin filename="libgazebo_ros_diff_drive.so" name="classic_drive"/>\n', "")
+    edit(model, "gz-sim-no-such-thing-system", "gz-sim-sensors-system")
+    edit(
+        package / "config" / "controllers.yaml",
+        "    old_states:\n      type: joint_state_controller/JointStateController\n",
+        "",
+    )
+    edit(package / "config" / "controllers.yaml", "[right_wheel]", "[wheel_joint]")
+    edit(
+        launch,
+        '            Node(package="controller_manager", executable="spawner", arguments=["drive_controller"]),\n',
+        "",
+    )
+    edit(
+        launch,
+        '            Node(package="controller_manager", executable="spawner", arguments=["extra", "--param-file", broken]),\n',
+        "",
+    )
+    edit(
+        launch,
+        "parameters=[description, controllers],",
+        'parameters=[controllers], remappings=[("~/robot_description", "/robot_description")],',
+    )
+    edit(
+        package / "package.xml",
+        "<exec_depend>",
+        "<exec_depend>gz_ros2_control</exec_depend>\n  <exec_depend>",
+    )
+    for distro in ("humble", "jazzy"):
+        assert found(verify_report(package, "--no-cache", "--distro", distro)[1]) == [], distro
+
+
+def test_the_description_reaches_the_controller_manager_as_each_distro_reads_it(tmp_path, template_package):
+    """Humble reads the parameter (or a remapped ~/robot_description); Jazzy only the topic."""
+    package = simulation_package(tmp_path, template_package)
+    launch = package / "launch" / "sim.launch.py"
+    edit(launch, "parameters=[description, controllers],", "parameters=[controllers],")
+    line = line_of(launch, 'executable="ros2_control_node"') - 2
+    humble = verify_report(package, "--no-cache", "--distro", "humble")[1]
+    jazzy = verify_report(package, "--no-cache", "--distro", "jazzy")[1]
+    assert found(humble, "PF709") == [("PF709", "launch/sim.launch.py", line, "error")]
+    assert found(jazzy, "PF709") == []
