@@ -7,8 +7,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-
-from conftest import edit, line_of, verify_report
+from conftest import edit, line_of, new_package, verify_report
 
 FIXTURE = Path(__file__).parent / "fixtures" / "simulation"
 
@@ -138,3 +137,52 @@ def test_the_description_reaches_the_controller_manager_as_each_distro_reads_it(
     jazzy = verify_report(package, "--no-cache", "--distro", "jazzy")[1]
     assert found(humble, "PF709") == [("PF709", "launch/sim.launch.py", line, "error")]
     assert found(jazzy, "PF709") == []
+
+
+@pytest.mark.parametrize("distro", ["humble", "jazzy"])
+def test_new_sim_gz_is_clean_and_its_launch_files_load_in_both_engines(tmp_path, distro):
+    """`pkgforge new --sim gz`: a world, sim.launch.py (ros_gz_sim, the clock bridge, the spawners),
+    <ros2_control> with the distro's Gazebo plugin and controllers.yaml; clean in both engines."""
+    from ros_prefix import make_prefix
+
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "sim_robot", "--sim", "gz", "--distro", distro)
+    model = (package / "urdf" / "sim_robot.urdf.xacro").read_text()
+    world = (package / "worlds" / "empty.sdf").read_text()
+    plugin, system = (
+        ("ign_ros2_control-system", "ignition-gazebo-physics-system")
+        if distro == "humble"
+        else ("gz_ros2_control-system", "gz-sim-physics-system")
+    )
+    assert f'filename="{plugin}"' in model and f'filename="{system}"' in world
+    assert (package / "config" / "controllers.yaml").is_file()
+    builtin = verify_report(tmp_path, "--no-cache", "--distro", distro, "--launch-engine", "builtin")[1]
+    assert builtin["diagnostics"] == []
+    prefix, reason = make_prefix(distro, tmp_path / "ros")
+    if prefix is None:
+        pytest.skip(f"no real ROS 2 launch library for {distro}: {reason}")
+    real = verify_report(
+        tmp_path, "--no-cache", "--distro", distro, "--launch-engine", "ros", "--ros-prefix", str(prefix)
+    )[1]
+    assert real["diagnostics"] == []
+
+
+@pytest.mark.parametrize("distro", ["humble", "jazzy"])
+def test_new_sim_gz_checks_what_it_wrote(tmp_path, distro):
+    """The scaffold's launch file and model are really read: a spawner of a controller the YAML
+    lacks is found at its line (a clean report is not an unread one)."""
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "sim_robot", "--sim", "gz", "--distro", distro)
+    launch = package / "launch" / "sim.launch.py"
+    edit(launch, "arguments=['arm_controller']", "arguments=['arm_ctrl']")
+    edit(package / "config" / "controllers.yaml", "      - arm_joint\n", "      - arm_joint_x\n")
+    report = verify_report(tmp_path, "--no-cache", "--distro", distro, "--launch-engine", "builtin")[1]
+    assert found(report) == [
+        (
+            "PF707",
+            "src/sim_robot/config/controllers.yaml",
+            line_of(package / "config" / "controllers.yaml", "arm_joint_x"),
+            "error",
+        ),
+        ("PF708", "src/sim_robot/launch/sim.launch.py", line_of(launch, "'arm_ctrl'") - 3, "error"),
+    ]

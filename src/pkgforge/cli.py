@@ -233,6 +233,14 @@ class MemorySize(_SizeType):
     help="With --from-urdf: rewrite mesh URIs as package://NAME/meshes/... or "
     "file://$(find NAME)/meshes/....",
 )
+@click.option(
+    "--sim",
+    type=click.Choice(["gz"]),
+    default=None,
+    help="Add what Gazebo and ros2_control need for the target distro: worlds/empty.sdf, "
+    "launch/sim.launch.py (ros_gz_sim, the clock bridge, the spawners), <ros2_control> with "
+    "gz_ros2_control (ign_ros2_control on humble) and config/controllers.yaml.",
+)
 def new(
     name: str,
     distro: str,
@@ -247,6 +255,7 @@ def new(
     ci: tuple[str, ...],
     from_urdf: Path | None,
     mesh_uri: str,
+    sim: str | None,
 ) -> None:
     """Create a robot description package NAME that builds and shows in RViz2."""
     from pkgforge.scaffold.package import create_package, default_destination, make_spec
@@ -262,6 +271,14 @@ def new(
         description=description,
         ci=tuple(dict.fromkeys(ci)),
     )
+    if sim is not None:
+        if from_urdf is not None:
+            fail(
+                PkgforgeError(
+                    "--sim gz writes the example robot's ros2_control and controllers: not with --from-urdf"
+                )
+            )
+        options["sim"] = sim
     notes: Notes | None = None
     try:
         if from_urdf is not None:
