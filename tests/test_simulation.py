@@ -186,3 +186,24 @@ def test_new_sim_gz_checks_what_it_wrote(tmp_path, distro):
         ),
         ("PF708", "src/sim_robot/launch/sim.launch.py", line_of(launch, "'arm_ctrl'") - 3, "error"),
     ]
+
+
+def test_a_type_given_in_the_controller_s_own_section_defines_the_controller(tmp_path, template_package):
+    """Jazzy's form (gz_ros2_control's demos): `drive: ros__parameters: type: ...`; the spawner of
+    it is no finding, and its joints are still checked."""
+    package = simulation_package(tmp_path, template_package)
+    controllers = package / "config" / "controllers.yaml"
+    edit(controllers, "    drive:\n      type: diff_drive_controller/DiffDriveController\n", "")
+    edit(
+        controllers,
+        "drive:\n  ros__parameters:\n",
+        "drive:\n  ros__parameters:\n    type: diff_drive_controller/DiffDriveController\n",
+    )
+    report = verify_report(package, "--no-cache", "--distro", "jazzy")[1]
+    launch = package / "launch" / "sim.launch.py"
+    assert found(report, "PF708") == [
+        ("PF708", "launch/sim.launch.py", line_of(launch, '"drive_controller"'), "error")
+    ]
+    assert found(report, "PF707") == [
+        ("PF707", "config/controllers.yaml", line_of(controllers, "right_wheel_names"), "error")
+    ]

@@ -72,6 +72,15 @@ def read_controller_parameters(text: str, joint_parameters: dict[str, list[str]]
                 continue
             controller = Controller(entry, _line(entry_key), str(type_node.value), _line(type_node))
             found.controllers.setdefault(entry, controller)
+    for name, (key, parameters) in sections.items():
+        # from Jazzy on a controller's own section may give its type (gz_ros2_control's demos:
+        # diff_drive_base_controller: ros__parameters: type: ...)
+        spec = _mapping(parameters)
+        type_node = spec["type"][1] if spec is not None and "type" in spec else None
+        if isinstance(type_node, yaml.ScalarNode) and "/" in str(type_node.value):
+            found.controllers.setdefault(
+                name, Controller(name, _line(key), str(type_node.value), _line(type_node))
+            )
     for controller in found.controllers.values():
         own = sections.get(controller.name)
         for parameter in joint_parameters.get(controller.type or "", []):
