@@ -207,3 +207,44 @@ def test_a_type_given_in_the_controller_s_own_section_defines_the_controller(tmp
     assert found(report, "PF707") == [
         ("PF707", "config/controllers.yaml", line_of(controllers, "right_wheel_names"), "error")
     ]
+
+
+def test_an_sdf_a_model_config_offers_for_an_older_version_is_not_what_gazebo_loads(package):
+    """turtlebot3_gazebo's models: model-1_4.sdf (Classic plugins) for SDF 1.4 beside model.sdf for
+    gz; Gazebo loads the newest, so only a world that really names a Classic plugin is found."""
+    models = package / "models" / "bot"
+    models.mkdir(parents=True)
+    (models / "model.config").write_text(
+        '<?xml version="1.0"?>\n<model>\n  <name>bot</name>\n  <sdf version="1.4">model-1_4.sdf</sdf>\n'
+        '  <sdf version="1.6">model.sdf</sdf>\n</model>\n'
+    )
+    classic = '<plugin name="drive" filename="libgazebo_ros_diff_drive.so"/>'
+    modern = '<plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive"/>'
+    model = '<?xml version="1.0"?>\n<sdf version="{v}">\n  <model name="bot">\n    {p}\n  </model>\n</sdf>\n'
+    (models / "model-1_4.sdf").write_text(model.format(v="1.4", p=classic))
+    (models / "model.sdf").write_text(model.format(v="1.6", p=modern))
+    (package / "worlds").mkdir()
+    world = package / "worlds" / "classic.world"
+    world.write_text(
+        '<?xml version="1.0"?>\n<sdf version="1.6">\n  <world name="w">\n    '
+        + classic
+        + "\n  </world>\n</sdf>\n"
+    )
+    report = verify_report(package, "--no-cache", "--distro", "jazzy")[1]
+    assert found(report, "PF701") == [
+        ("PF701", "worlds/classic.world", line_of(world, "libgazebo_ros"), "error")
+    ]
+    assert found(verify_report(package, "--no-cache", "--distro", "humble")[1], "PF701") == []
+
+
+def test_a_hardware_package_declared_for_some_distros_is_not_undeclared(tmp_path, template_package):
+    """bumperbot_description declares gz_ros2_control for $ROS_DISTRO >= iron (ign_ros2_control for
+    humble) and its xacro picks the plugin alike: the model, evaluated once, is not judged against
+    the declaration of another distro."""
+    package = simulation_package(tmp_path, template_package)
+    edit(
+        package / "package.xml",
+        "<exec_depend>",
+        '<exec_depend condition="$ROS_DISTRO != humble">gz_ros2_control</exec_depend>\n  <exec_depend>',
+    )
+    assert found(verify_report(package, "--no-cache", "--distro", "humble")[1], "PF704") == []

@@ -108,12 +108,36 @@ def _plugin_places(ctx: CheckContext) -> Iterator[tuple[str, Path, int | None]]:
     for result in _models(ctx):
         for plugin in _robot_items(result, "gazebo_plugins"):
             yield (plugin["filename"], *_position(ctx, result, plugin["file"], plugin["line"]))
+    fallbacks = _older_sdf_versions(ctx)
     for relative in ctx.model.files:
-        if relative.suffix in SDF_SUFFIXES:
+        if relative.suffix in SDF_SUFFIXES and relative not in fallbacks:
             path = ctx.model.path / relative
             for number, text in enumerate(ctx.files.lines(path), start=1):
                 for match in SDF_PLUGIN.finditer(text):
                     yield match.group(2).strip(), path, number
+
+
+MODEL_CONFIG_SDF = re.compile(r"<\s*sdf\b[^>]*\bversion\s*=\s*[\"']([0-9.]+)[\"'][^>]*>\s*([^<\s]+)\s*<")
+
+
+def _older_sdf_versions(ctx: CheckContext) -> set[Path]:
+    """The SDF files a model.config offers for an older SDF version beside a newer one
+    (turtlebot3_gazebo: model-1_4.sdf for Gazebo Classic, model.sdf for gz): Gazebo loads the
+    newest version its sdformat reads, so the older file is not what it loads."""
+    older: set[Path] = set()
+    for relative in ctx.model.files:
+        if relative.name != "model.config":
+            continue
+        text = "\n".join(ctx.files.lines(ctx.model.path / relative))
+        offered = [(_version(v), f) for v, f in MODEL_CONFIG_SDF.findall(text)]
+        if len(offered) > 1:
+            newest = max(v for v, _ in offered)
+            older |= {relative.parent / f for v, f in offered if v < newest}
+    return older
+
+
+def _version(text: str) -> tuple[int, ...]:
+    return tuple(int(part) for part in text.split(".") if part.isdigit())
 
 
 @register(
@@ -325,7 +349,11 @@ def ros2_control_hardware_unavailable(ctx: CheckContext) -> Iterator[Finding]:
         if not _runs_control(ctx) or not needed:
             continue
         for package in sorted(needed - ctx.model.manifest.declared()):
-            if package in ctx.workspace or ctx.brought_along(package, EXPORT_TAGS) is not None:
+            if (
+                package in ctx.workspace
+                or ctx.brought_along(package, EXPORT_TAGS) is not None
+                or _declared_under_a_condition(ctx, package)
+            ):
                 continue
             yield Finding(
                 f"hardware plugin '{plugin}' comes from {package}, which package.xml does not declare",
@@ -333,6 +361,31 @@ def ros2_control_hardware_unavailable(ctx: CheckContext) -> Iterator[Finding]:
                 hint=f"add <exec_depend>{package}</exec_depend> to package.xml",
                 fix={"dependency": package, "tag": "exec_depend", "manifest": str(ctx.model.manifest.path)},
             )
+
+
+def _declared_under_a_condition(ctx: CheckContext, package: str) -> bool:
+    """Whether this package, or a workspace package it depends on, declares `package` under any
+    condition: the model was evaluated for one distro (bumperbot_description declares
+    gz_ros2_control for $ROS_DISTRO >= iron and ign_ros2_control for humble, its xacro picks the
+    plugin alike), so the declaration for another distro is not judged against it."""
+    from pkgforge.model.manifest import load_manifest
+    from pkgforge.model.source import read_source
+
+    def declares(name: str) -> bool:
+        model = ctx.model if name == ctx.model.name else ctx.models.get(name)
+        if model is not None:
+            return any(d.name == package for d in model.manifest.dependencies)
+        folder = ctx.workspace.get(name)
+        if folder is None:
+            return False
+        manifest = load_manifest(read_source(folder / "package.xml"), validate=False)
+        return any(d.name == package for d in manifest.dependencies)
+
+    return declares(ctx.model.name) or any(
+        ctx.depends_on(ctx.model.name, name) and declares(name)
+        for name in ctx.workspace
+        if name != ctx.model.name
+    )
 
 
 # --- 3. controller configuration ------------------------------------------------------------------
