@@ -248,3 +248,35 @@ def test_a_hardware_package_declared_for_some_distros_is_not_undeclared(tmp_path
         '<exec_depend condition="$ROS_DISTRO != humble">gz_ros2_control</exec_depend>\n  <exec_depend>',
     )
     assert found(verify_report(package, "--no-cache", "--distro", "humble")[1], "PF704") == []
+
+
+BRANCHED = """<?xml version="1.0"?>
+<robot name="branched" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="is_ignition" default="true"/>
+  <xacro:arg name="ground_truth" default="true"/>
+  <link name="base_link"/>
+  <gazebo>
+    <xacro:if value="$(arg is_ignition)">
+      <plugin filename="ign_ros2_control-system" name="ign_ros2_control::IgnitionROS2ControlPlugin"/>
+    </xacro:if>
+    <xacro:unless value="$(arg is_ignition)">
+      <plugin filename="gz_ros2_control-system" name="gz_ros2_control::GazeboSimROS2ControlPlugin"/>
+    </xacro:unless>
+    <xacro:if value="$(arg ground_truth)">
+      <plugin filename="libgazebo_ros_p3d.so" name="ground_truth"/>
+    </xacro:if>
+  </gazebo>
+</robot>
+"""
+
+
+def test_a_plugin_in_a_xacro_conditional_is_judged_per_branch(package):
+    """bumperbot_description: ign_ros2_control-system under is_ignition (default true, for humble),
+    gz_ros2_control-system under its unless: on jazzy the other branch loads, no finding; a Classic
+    plugin in a conditional with no other branch is still one."""
+    model = package / "urdf" / "branched.urdf.xacro"
+    model.write_text(BRANCHED)
+    report = verify_report(package, "--no-cache", "--distro", "jazzy")[1]
+    assert found(report, "PF701") == [
+        ("PF701", "urdf/branched.urdf.xacro", line_of(model, "libgazebo_ros_p3d.so"), "error")
+    ]

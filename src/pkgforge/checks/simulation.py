@@ -102,19 +102,74 @@ def _which(distros: list[str]) -> str:
 # --- 1. Gazebo plugins ----------------------------------------------------------------------------
 
 
-def _plugin_places(ctx: CheckContext) -> Iterator[tuple[str, Path, int | None]]:
-    """(plugin library, source file, line) of every <gazebo><plugin> of the processed models and
-    every <plugin> of the package's own SDF worlds and models."""
+def _plugin_places(ctx: CheckContext) -> Iterator[tuple[str, Path, int | None, frozenset[str]]]:
+    """(plugin library, source file, line, the other branches' libraries) of every <gazebo><plugin>
+    of the processed models and every <plugin> of the package's own SDF worlds and models. A
+    plugin written inside a xacro:if or xacro:unless has other branches: the libraries of the
+    conditionals beside it."""
     for result in _models(ctx):
         for plugin in _robot_items(result, "gazebo_plugins"):
-            yield (plugin["filename"], *_position(ctx, result, plugin["file"], plugin["line"]))
+            others = _other_branches(ctx, plugin["file"], plugin["line"], "plugin")
+            yield (plugin["filename"], *_position(ctx, result, plugin["file"], plugin["line"]), others)
     fallbacks = _older_sdf_versions(ctx)
     for relative in ctx.model.files:
         if relative.suffix in SDF_SUFFIXES and relative not in fallbacks:
             path = ctx.model.path / relative
             for number, text in enumerate(ctx.files.lines(path), start=1):
                 for match in SDF_PLUGIN.finditer(text):
-                    yield match.group(2).strip(), path, number
+                    yield match.group(2).strip(), path, number, frozenset()
+
+
+XACRO_CONDITIONALS = ("{http://www.ros.org/wiki/xacro}if", "{http://www.ros.org/wiki/xacro}unless")
+
+
+def _other_branches(ctx: CheckContext, file: str, line: int | None, tag: str) -> frozenset[str]:
+    """What the other branches of the xacro conditional holding the `tag` element at `line` of
+    `file` name (a <plugin filename>, a hardware <plugin>'s text): the same tag inside the
+    opposite conditional beside it. Empty when the element is in no conditional (or the file does not
+    parse)."""
+    if line is None:
+        return frozenset()
+
+    def parse() -> Any:
+        from lxml import etree
+
+        try:
+            parser = etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True)
+            return etree.fromstring("\n".join(ctx.files.lines(file)).encode("utf-8"), parser)
+        except etree.XMLSyntaxError:
+            return None
+
+    root = ctx._shared(("xml", file), parse)
+    if root is None:
+        return frozenset()
+    # the element starting at `line`, or a few lines above it (<plugin on a line of its own,
+    # filename= on the next: the model gives the attribute's line)
+    near = [e for e in root.iter(tag) if e.sourceline is not None and 0 <= line - e.sourceline <= 4]
+    element = max(near, key=lambda e: e.sourceline) if near else None
+    conditional = (
+        next((a for a in element.iterancestors() if a.tag in XACRO_CONDITIONALS), None)
+        if element is not None
+        else None
+    )
+    if conditional is None:
+        return frozenset()
+    # the other branch: the opposite conditional on the same value beside it (xacro:if
+    # value="$(arg is_ignition)" and xacro:unless value="$(arg is_ignition)" under one parent)
+    parent = conditional.getparent()
+    siblings = [
+        c
+        for c in (parent if parent is not None else [])
+        if c.tag in XACRO_CONDITIONALS
+        and c.tag != conditional.tag
+        and c.get("value") == conditional.get("value")
+    ]
+    return frozenset(
+        value.strip()
+        for branch in siblings
+        for other in branch.iter(tag)
+        if (value := other.get("filename") if tag == "plugin" and other.get("filename") else other.text)
+    )
 
 
 MODEL_CONFIG_SDF = re.compile(r"<\s*sdf\b[^>]*\bversion\s*=\s*[\"']([0-9.]+)[\"'][^>]*>\s*([^<\s]+)\s*<")
@@ -138,6 +193,15 @@ def _older_sdf_versions(ctx: CheckContext) -> set[Path]:
 
 def _version(text: str) -> tuple[int, ...]:
     return tuple(int(part) for part in text.split(".") if part.isdigit())
+
+
+def _loads_instead(other: str, filename: str, distro: str) -> bool:
+    """Whether library `other` (another branch's) is a Gazebo library that loads on `distro`."""
+    from pkgforge.model.simulation import GZ_CONTROL, GZ_SYSTEM
+
+    name = other.rsplit("/", 1)[-1]
+    known = bool(GZ_CONTROL.match(name) or GZ_SYSTEM.match(name))
+    return other != filename and known and plugin_verdict(other, distro, _released(distro)) is None
 
 
 @register(
@@ -164,11 +228,16 @@ def _version(text: str) -> tuple[int, ...]:
 )
 def gazebo_plugin_unavailable(ctx: CheckContext) -> Iterator[Finding]:
     seen: set[tuple[str, Path, int | None]] = set()
-    for filename, path, line in _plugin_places(ctx):
+    for filename, path, line, others in _plugin_places(ctx):
         if (filename, path, line) in seen:
             continue
         seen.add((filename, path, line))
         verdicts = {d: plugin_verdict(filename, d, _released(d)) for d in _distros(ctx)[0]}
+        # judged per branch: another branch of its xacro conditional that loads there (bumperbot's
+        # ign_ros2_control-system under is_ignition, gz_ros2_control-system under its unless)
+        for distro in [d for d, v in verdicts.items() if v is not None]:
+            if any(_loads_instead(other, filename, distro) for other in others):
+                verdicts[distro] = None
         failing = _failing(ctx, {d: v is not None for d, v in verdicts.items()})
         if not failing:
             continue
@@ -289,6 +358,16 @@ def _hardware_package(plugin: str, distro: str) -> str | None:
     return None
 
 
+def _hardware_instead(others: frozenset[str], distro: str) -> bool:
+    """Whether another branch of the xacro conditional names a Gazebo hardware plugin released
+    for `distro` (judged per branch)."""
+    for other in others:
+        package = _hardware_package(other, distro) if other in GAZEBO_HARDWARE.values() else None
+        if package is not None and package in _released(distro):
+            return True
+    return False
+
+
 def _runs_control(ctx: CheckContext) -> bool:
     """Whether this package's launch files start a controller manager or spawn into Gazebo (where
     the hardware plugin is loaded)."""
@@ -336,7 +415,14 @@ def ros2_control_hardware_unavailable(ctx: CheckContext) -> Iterator[Finding]:
             continue
         seen.add(position)
         packages = {d: _hardware_package(plugin, d) for d in _distros(ctx)[0]}
-        failing = _failing(ctx, {d: p is not None and p not in _released(d) for d, p in packages.items()})
+        others = _other_branches(ctx, system["plugin_file"], system["plugin_line"], "plugin")
+        failing = _failing(
+            ctx,
+            {
+                d: p is not None and p not in _released(d) and not _hardware_instead(others, d)
+                for d, p in packages.items()
+            },
+        )
         if failing:
             yield Finding(
                 f"hardware plugin '{plugin}' does not load on {_which(failing)}: "

@@ -115,7 +115,7 @@ def _system_verdict(name: str, distro: str) -> PluginVerdict | None:
     if version and version != facts["branch"].rsplit("sim", 1)[-1].rsplit("gazebo", 1)[-1]:
         return PluginVerdict(
             f"Gazebo {title} ({facts['branch']}) installs no version {version} of it",
-            f"{prefix}-{short}-system",
+            f"{facts['prefixes'][0]}-{short}-system",
         )
     if short not in facts["systems"]:
         return PluginVerdict(f"Gazebo {title} ({facts['branch']}) has no '{short}' system", None)
