@@ -280,3 +280,20 @@ def test_a_plugin_in_a_xacro_conditional_is_judged_per_branch(package):
     assert found(report, "PF701") == [
         ("PF701", "urdf/branched.urdf.xacro", line_of(model, "libgazebo_ros_p3d.so"), "error")
     ]
+
+
+def test_the_conditional_is_known_by_its_xacro_prefix_whatever_its_uri(package):
+    """xacro knows xacro:if by its prefix: bumperbot_description binds http://ros.org/wiki/xacro."""
+    model = package / "urdf" / "branched.urdf.xacro"
+    model.write_text(BRANCHED.replace("http://www.ros.org/wiki/xacro", "http://ros.org/wiki/xacro"))
+    report = verify_report(package, "--no-cache", "--distro", "jazzy")[1]
+    assert found(report, "PF701") == [
+        ("PF701", "urdf/branched.urdf.xacro", line_of(model, "libgazebo_ros_p3d.so"), "error")
+    ]
+
+
+def test_selecting_the_simulation_checks_runs_what_they_read(broken, tmp_path, template_package):
+    """--select PF7: the install tree, the launch files and the models are evaluated for them."""
+    package = simulation_package(tmp_path, template_package)
+    report = verify_report(package, "--no-cache", "--distro", "jazzy", "--select", "PF7")[1]
+    assert found(report) == found(broken[1]["jazzy"])

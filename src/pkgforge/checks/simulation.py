@@ -120,7 +120,14 @@ def _plugin_places(ctx: CheckContext) -> Iterator[tuple[str, Path, int | None, f
                     yield match.group(2).strip(), path, number, frozenset()
 
 
-XACRO_CONDITIONALS = ("{http://www.ros.org/wiki/xacro}if", "{http://www.ros.org/wiki/xacro}unless")
+def _conditional(element: Any) -> str | None:
+    """ "if" or "unless" for a xacro conditional element, else None. xacro (on minidom) knows its
+    tags by the prefix xacro:, whatever URI it is bound to (bumperbot_description binds
+    http://ros.org/wiki/xacro, without www)."""
+    if not isinstance(element.tag, str) or element.prefix != "xacro":
+        return None
+    name = str(element.tag).rsplit("}", 1)[-1]
+    return name if name in ("if", "unless") else None
 
 
 def _other_branches(ctx: CheckContext, file: str, line: int | None, tag: str) -> frozenset[str]:
@@ -148,9 +155,7 @@ def _other_branches(ctx: CheckContext, file: str, line: int | None, tag: str) ->
     near = [e for e in root.iter(tag) if e.sourceline is not None and 0 <= line - e.sourceline <= 4]
     element = max(near, key=lambda e: e.sourceline) if near else None
     conditional = (
-        next((a for a in element.iterancestors() if a.tag in XACRO_CONDITIONALS), None)
-        if element is not None
-        else None
+        next((a for a in element.iterancestors() if _conditional(a)), None) if element is not None else None
     )
     if conditional is None:
         return frozenset()
@@ -160,8 +165,7 @@ def _other_branches(ctx: CheckContext, file: str, line: int | None, tag: str) ->
     siblings = [
         c
         for c in (parent if parent is not None else [])
-        if c.tag in XACRO_CONDITIONALS
-        and c.tag != conditional.tag
+        if _conditional(c) not in (None, _conditional(conditional))
         and c.get("value") == conditional.get("value")
     ]
     return frozenset(
