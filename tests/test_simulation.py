@@ -223,6 +223,7 @@ def test_an_sdf_a_model_config_offers_for_an_older_version_is_not_what_gazebo_lo
     model = '<?xml version="1.0"?>\n<sdf version="{v}">\n  <model name="bot">\n    {p}\n  </model>\n</sdf>\n'
     (models / "model-1_4.sdf").write_text(model.format(v="1.4", p=classic))
     (models / "model.sdf").write_text(model.format(v="1.6", p=modern))
+    (models / "model-1_4_.sdf").write_text(model.format(v="1.4", p=classic))  # named by no config
     (package / "worlds").mkdir()
     world = package / "worlds" / "classic.world"
     world.write_text(

@@ -180,19 +180,22 @@ MODEL_CONFIG_SDF = re.compile(r"<\s*sdf\b[^>]*\bversion\s*=\s*[\"']([0-9.]+)[\"'
 
 
 def _older_sdf_versions(ctx: CheckContext) -> set[Path]:
-    """The SDF files a model.config offers for an older SDF version beside a newer one
-    (turtlebot3_gazebo: model-1_4.sdf for Gazebo Classic, model.sdf for gz): Gazebo loads the
-    newest version its sdformat reads, so the older file is not what it loads."""
-    older: set[Path] = set()
+    """The SDF files of a model folder that Gazebo does not load: its model.config names the file
+    for each SDF version and Gazebo loads the newest its sdformat reads, so an older version's file
+    (turtlebot3_gazebo: model-1_4.sdf for Gazebo Classic beside model.sdf for gz), or one the
+    config does not name (turtlebot3_waffle_pi's model-1_4_.sdf), is not what it loads."""
+    skipped: set[Path] = set()
+    sdf_files = [r for r in ctx.model.files if r.suffix == ".sdf"]
     for relative in ctx.model.files:
         if relative.name != "model.config":
             continue
         text = "\n".join(ctx.files.lines(ctx.model.path / relative))
         offered = [(_version(v), f) for v, f in MODEL_CONFIG_SDF.findall(text)]
-        if len(offered) > 1:
-            newest = max(v for v, _ in offered)
-            older |= {relative.parent / f for v, f in offered if v < newest}
-    return older
+        if not offered:
+            continue
+        newest = max(offered)[1]
+        skipped |= {f for f in sdf_files if f.parent == relative.parent and f.name != newest}
+    return skipped
 
 
 def _version(text: str) -> tuple[int, ...]:
