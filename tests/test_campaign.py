@@ -429,6 +429,24 @@ HOSTILE_XACRO = {
         '<robot name="r"><link name="l"><visual><geometry>'
         '<mesh filename="package://Some-URDF/meshes/x.STL"\n scale="1 1 1"/></geometry></visual></link></robot>\n'
     ),
+    # simulation and control tags at their oddest (issue 31): nameless, empty, repeated, nested in
+    # conditionals, plugin names of every family, parameters files that are no file or not YAML
+    "control.urdf.xacro": (
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"><link name="a"/><link name="b"/>'
+        '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>'
+        '<ros2_control><hardware><plugin/></hardware><joint/><joint name=""><command_interface/></joint>'
+        '<gpio name="g"/><sensor name="s"/></ros2_control>'
+        '<ros2_control name="x" type="system"><hardware><plugin>  </plugin><plugin>a/b/c</plugin></hardware>'
+        '<joint name="j"><state_interface name="\u00e9"/></joint><joint name="j"/></ros2_control>'
+        '<xacro:if value="1"><ros2_control name="y"><hardware><plugin>gz_ros2_control/GazeboSimSystem'
+        '</plugin></hardware><joint name="nowhere"/></ros2_control></xacro:if>'
+        '<gazebo><plugin/><plugin filename=""/><plugin filename="/abs/libgazebo_ros_camera.so"/>'
+        '<plugin filename="libgz-sim99-x-system.so"/><plugin filename="ignition-gazebo--system"/>'
+        '<plugin filename="gz_ros2_control-system"><parameters>/etc/passwd</parameters>'
+        "<parameters>$(find NAME)/urdf/control.urdf.xacro</parameters><parameters>/nowhere.yaml</parameters>"
+        '<parameters/></plugin><plugin filename="' + "x" * 5000 + '"/></gazebo>'
+        "</robot>\n"
+    ),
 }
 
 # hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot

@@ -239,6 +239,14 @@ class MemorySize(_SizeType):
     help="With --from-urdf: add a massless root link above a root link with an inertia, which KDL "
     "ignores (PF604); models are otherwise copied byte for byte.",
 )
+@click.option(
+    "--sim",
+    type=click.Choice(["gz"]),
+    default=None,
+    help="Add what Gazebo and ros2_control need for the target distro: worlds/empty.sdf, "
+    "launch/sim.launch.py (ros_gz_sim, the clock bridge, the spawners), <ros2_control> with "
+    "gz_ros2_control (ign_ros2_control on humble) and config/controllers.yaml.",
+)
 def new(
     name: str | None,
     distro: str,
@@ -254,6 +262,7 @@ def new(
     from_urdf: Path | None,
     mesh_uri: str,
     add_root_link: bool,
+    sim: str | None,
 ) -> None:
     """Create a robot description package NAME that builds and shows in RViz2 (with --from-urdf,
     NAME defaults to the model's package name, made valid)."""
@@ -284,6 +293,14 @@ def new(
         record_distro=click.get_current_context().get_parameter_source("distro")
         == click.core.ParameterSource.COMMANDLINE,
     )
+    if sim is not None:
+        if from_urdf is not None:
+            fail(
+                PkgforgeError(
+                    "--sim gz writes the example robot's ros2_control and controllers: not with --from-urdf"
+                )
+            )
+        options["sim"] = sim
     notes: Notes | None = None
     try:
         if from_urdf is not None:

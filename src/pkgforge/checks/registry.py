@@ -158,6 +158,7 @@ AREAS = {
     "4": "model",
     "5": "rviz",
     "6": "physics",
+    "7": "simulation",
     "8": "migrate",
     "9": "run",
 }

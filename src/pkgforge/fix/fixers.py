@@ -225,7 +225,7 @@ def _manifest_for(diagnostic: Diagnostic) -> Path:
     return folder / "package.xml"
 
 
-@fixer("missing-exec-depend", "find-package-undeclared")
+@fixer("missing-exec-depend", "find-package-undeclared", "ros2-control-hardware-unavailable")
 def fix_dependency(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     data = diagnostic.fix or {}
     name, tag = data.get("dependency"), data.get("tag")

@@ -45,6 +45,17 @@ LAUNCH_FORMAT_DEPENDS = {
     "yaml": ("launch", "launch_ros", "launch_yaml"),
 }
 
+# `new --sim gz`: what sim.launch.py starts and the controllers it spawns (+ the distro's
+# gz_ros2_control or ign_ros2_control), and the folders of the world and the controllers
+SIM_EXEC_DEPENDS = (
+    "controller_manager",
+    "joint_state_broadcaster",
+    "joint_trajectory_controller",
+    "ros_gz_bridge",
+    "ros_gz_sim",
+)
+SIM_FOLDERS = ("config", "worlds")
+
 # The mesh the scaffold writes: a 4 cm x 4 cm x 30 cm arm segment.
 ARM_MESH_SIZE = (0.04, 0.04, 0.3)
 
@@ -78,11 +89,40 @@ class PackageSpec:
     urls: tuple[tuple[str, str], ...] = ()
     # migrate: the source's <description> content as XML (its <p>s kept), written as it is
     description_xml: str | None = None
+    sim: str | None = None  # "gz": a Gazebo world, a spawn launch file, ros2_control and controllers
 
     @property
     def folders(self) -> tuple[str, ...]:
         """Resource folders the package gets; each one is installed to share/<name>/."""
-        return self.resource_folders or ("launch", "meshes", "rviz", "urdf")
+        folders = self.resource_folders or ("launch", "meshes", "rviz", "urdf")
+        return tuple(sorted({*folders, *SIM_FOLDERS})) if self.sim else folders
+
+    @property
+    def gz(self) -> dict[str, str]:
+        """The names the distro's Gazebo and its ros2_control plugin answer to (Humble: Fortress
+        and ign_ros2_control, gz_ros2_control's humble branch; later: gz-sim and gz_ros2_control;
+        the bridge's message names: ros_gz's humble README ignition.msgs, jazzy gz.msgs)."""
+        if self.distro.name == "humble":
+            return {
+                "system": "ignition-gazebo",
+                "control": "ign_ros2_control",
+                "plugin": "ign_ros2_control-system",
+                "plugin_name": "ign_ros2_control::IgnitionROS2ControlPlugin",
+                "hardware": "ign_ros2_control/IgnitionSystem",
+                "msgs": "ignition.msgs",
+                "namespace": "ignition::gazebo",
+                "resource": "IGN_GAZEBO_RESOURCE_PATH",
+            }
+        return {
+            "system": "gz-sim",
+            "control": "gz_ros2_control",
+            "plugin": "gz_ros2_control-system",
+            "plugin_name": "gz_ros2_control::GazeboSimROS2ControlPlugin",
+            "hardware": "gz_ros2_control/GazeboSimSystem",
+            "msgs": "gz.msgs",
+            "namespace": "gz::sim",
+            "resource": "GZ_SIM_RESOURCE_PATH",
+        }
 
     @property
     def exec_depends(self) -> list[str]:
@@ -92,6 +132,7 @@ class PackageSpec:
             set(BASE_EXEC_DEPENDS)
             | set(LAUNCH_FORMAT_DEPENDS[self.launch_format])
             | set(self.extra_exec_depends)
+            | (set(SIM_EXEC_DEPENDS) | {self.gz["control"]} if self.sim else set())
         )
 
     @property
@@ -241,6 +282,10 @@ def render_files(spec: PackageSpec) -> dict[str, bytes]:
         files["setup.py"] = render("setup.py.j2")
         files["setup.cfg"] = render("setup.cfg.j2")
         files[f"resource/{spec.name}"] = b""
+    if spec.sim:
+        files["launch/sim.launch.py"] = render("launch/sim.launch.py.j2")
+        files["config/controllers.yaml"] = render("config/controllers.yaml.j2")
+        files["worlds/empty.sdf"] = render("worlds/empty.sdf.j2")
     for system in spec.ci:
         path = {"github": ".github/workflows/pkgforge.yml", "gitlab": ".gitlab-ci.yml"}[system]
         files[path] = render(f"ci/{system}.yml.j2")

@@ -24,6 +24,9 @@ from pkgforge.model.source import FileTooLarge, NotRegularFile, read_regular
 from pkgforge.sandbox.protocol import ErrorRecord
 from pkgforge.urdf.ros1_xacro import describe, ros1_tags
 from pkgforge.urdf.structure import (
+    ControlJoint,
+    ControlSystem,
+    GazeboPlugin,
     Geometry,
     Inertial,
     Limit,
@@ -597,6 +600,28 @@ class _Texts:
                         return None
         return found[0] if found else None
 
+    def first_written(
+        self, tag: str, attribute: str | None, value: str, untyped: bool = False
+    ) -> tuple[str, int] | None:
+        """(file, line) of the first `<tag ... attribute="value"` across the files (`attribute`
+        None: `<tag>value</tag>`); `untyped`: only a tag without type= (a ros2_control <joint>,
+        not the URDF joint of that name)."""
+        if attribute is None:
+            pattern = re.compile(rf"<\s*{re.escape(tag)}\s*>\s*{re.escape(value)}\s*<")
+        else:
+            pattern = re.compile(rf"\b{re.escape(attribute)}\s*=\s*([\"']){re.escape(value)}\1")
+        for file in self.files:
+            text = self.text(file)
+            for match in pattern.finditer(text):
+                start = match.start() if attribute is None else text.rfind("<", 0, match.start())
+                if not re.match(rf"<\s*{re.escape(tag)}[\s/>]", text[start:]):
+                    continue
+                end = text.find(">", start)
+                if untyped and JOINT_TYPE.search(text, start, end if end >= 0 else len(text)):
+                    continue
+                return file, text.count("\n", 0, match.start()) + 1
+        return None
+
 
 def _structure(
     root: Element, path: str, sources: Sources, expanded: bool, files: list[str] | None = None
@@ -632,6 +657,8 @@ def _structure(
         "urdfdom": [],
         "ros1_tags": [],
         "joint_users": {},
+        "gazebo_plugins": [],
+        "ros2_control": [],
     }
     if root.tag != "robot":
         return robot
@@ -689,6 +716,8 @@ def _structure(
             }
         )
     robot["joint_users"] = _joint_users(root, {j["name"] for j in robot["joints"] if j["name"]})
+    robot["gazebo_plugins"] = _gazebo_plugins(root, path, plain, texts)
+    robot["ros2_control"] = _control_systems(root, path, plain, texts)
     return robot
 
 
@@ -711,6 +740,83 @@ def _joint_users(root: Element, joints: set[str]) -> dict[str, str]:
                     if name in joints:
                         users.setdefault(name, f"Gazebo plugin {what}")
     return users
+
+
+def _written(
+    element: Element, path: str, plain: bool, found: tuple[str, int] | None, fallback: tuple[str, int | None]
+) -> tuple[str, int | None]:
+    """Where a person edits an element: its line in a plain file; in xacro output, where its
+    identifying value is first written, else `fallback`."""
+    if plain:
+        return path, element.sourceline
+    return found if found is not None else fallback
+
+
+def _gazebo_plugins(root: Element, path: str, plain: bool, texts: _Texts) -> list[GazeboPlugin]:
+    plugins: list[GazeboPlugin] = []
+    for gazebo in root.findall("gazebo"):
+        for plugin in gazebo.iter("plugin"):
+            filename = (plugin.get("filename") or "").strip()
+            if not filename:
+                continue
+            file, line = _written(
+                plugin, path, plain, texts.first_written("plugin", "filename", filename), (path, None)
+            )
+            parameters = [(p.text or "").strip() for p in plugin.iter("parameters") if (p.text or "").strip()]
+            plugins.append(
+                {
+                    "filename": filename,
+                    "name": plugin.get("name"),
+                    "parameters": parameters,
+                    "file": file,
+                    "line": line,
+                }
+            )
+    return plugins
+
+
+def _control_systems(root: Element, path: str, plain: bool, texts: _Texts) -> list[ControlSystem]:
+    systems: list[ControlSystem] = []
+    for control in root.findall("ros2_control"):
+        name = control.get("name")
+        found = texts.first_written("ros2_control", "name", name) if name else None
+        file, line = _written(control, path, plain, found, (path, None))
+        hardware = control.find("hardware/plugin")
+        plugin = (hardware.text or "").strip() if hardware is not None else None
+        plugin_place = (
+            _written(hardware, path, plain, texts.first_written("plugin", None, plugin), (file, line))
+            if hardware is not None and plugin
+            else (file, line)
+        )
+        joints: list[ControlJoint] = []
+        for kind in ("joint", "sensor", "gpio"):
+            for joint in control.findall(kind):
+                joint_name = joint.get("name")
+                written = texts.first_written(kind, "name", joint_name, untyped=True) if joint_name else None
+                joint_file, joint_line = _written(joint, path, plain, written, (file, line))
+                joints.append(
+                    {
+                        "name": joint_name,
+                        "kind": kind,
+                        "command": [i.get("name") or "" for i in joint.findall("command_interface")],
+                        "state": [i.get("name") or "" for i in joint.findall("state_interface")],
+                        "file": joint_file,
+                        "line": joint_line,
+                    }
+                )
+        systems.append(
+            {
+                "name": name,
+                "type": control.get("type"),
+                "plugin": plugin,
+                "file": file,
+                "line": line,
+                "plugin_file": plugin_place[0],
+                "plugin_line": plugin_place[1],
+                "joints": joints,
+            }
+        )
+    return systems
 
 
 # --- the numbers physics and rendering need (pkgforge.urdf.physics, pkgforge.view) -------------------

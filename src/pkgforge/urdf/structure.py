@@ -112,6 +112,40 @@ class Ros1Tag(TypedDict):
     line: int | None
 
 
+class GazeboPlugin(TypedDict):
+    """A <plugin> inside a URDF's <gazebo> (a model plugin, or a sensor's)."""
+
+    filename: str
+    name: str | None
+    parameters: list[str]  # the text of its <parameters> elements (gz_ros2_control's controller YAML)
+    file: str
+    line: int | None
+
+
+class ControlJoint(TypedDict):
+    """A <joint> (or <gpio>/<sensor>: kind) of a <ros2_control> with its interfaces' names."""
+
+    name: str | None
+    kind: str  # joint | sensor | gpio
+    command: list[str]
+    state: list[str]
+    file: str
+    line: int | None
+
+
+class ControlSystem(TypedDict):
+    """A <ros2_control> element: its hardware plugin and what it controls."""
+
+    name: str | None
+    type: str | None
+    plugin: str | None  # <hardware><plugin>'s text
+    file: str
+    line: int | None
+    plugin_file: str
+    plugin_line: int | None
+    joints: list[ControlJoint]
+
+
 class RobotStructure(TypedDict):
     root_tag: str | None  # "robot" for a URDF; anything else is the model's defect
     name: str | None
@@ -123,6 +157,8 @@ class RobotStructure(TypedDict):
     # joint name → what in the model moves it within its <limit>: "<ros2_control>" (its hardware
     # and controllers enforce the limits), or the Gazebo plugin that names it
     joint_users: dict[str, str]
+    gazebo_plugins: list[GazeboPlugin]
+    ros2_control: list[ControlSystem]
 
 
 class Place(TypedDict):

@@ -116,7 +116,8 @@ if TYPE_CHECKING:
 #    files, and where that distro came from; action-ros-ci's target-ros2-distro is a CI distro (issue 30)
 # 54: with 53, diagnostics carry `detail` (messages one line of at most 300 characters), findings of one cause
 #    grouped per file, per-file-ignores in the selection's key, no path of pkgforge's tree reported
-CACHE_FORMAT = 54
+# 55: with 54, model structures carry their Gazebo plugins and <ros2_control> systems (issue 31)
+CACHE_FORMAT = 55
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 

@@ -46,7 +46,7 @@ if TYPE_CHECKING:
 # Below this many packages, starting worker processes costs more than it saves.
 PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
-TREE_AREAS = ("launch", "model", "physics", "rviz")
+TREE_AREAS = ("launch", "model", "physics", "rviz", "simulation")
 
 
 def _tree_codes() -> set[str]:

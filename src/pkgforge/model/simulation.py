@@ -1,0 +1,138 @@
+"""What Gazebo and ros2_control offer on each ROS 2 distro, read from data/simulation.json.
+
+scripts/update-sim-data writes that file from the sources (gz-sim's ign-gazebo6, gz-sim8, gz-sim9
+and gz-sim10 branches; gazebo_ros_pkgs' ros2 branch; gz_ros2_control's humble and jazzy branches;
+ros2_control's and ros2_controllers' humble, jazzy, kilted and master branches), naming each
+branch's commit. The checks in checks/simulation.py ask the questions below.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+DATA_FILE = Path(__file__).parent / "data" / "simulation.json"
+
+# Gazebo Classic plugins a gz-sim system replaces (gz-sim's systems, by the Classic library's name)
+CLASSIC_REPLACEMENTS = {
+    "libgazebo_ros_diff_drive.so": "gz-sim-diff-drive-system",
+    "libgazebo_ros_joint_state_publisher.so": "gz-sim-joint-state-publisher-system",
+    "libgazebo_ros_planar_move.so": "gz-sim-velocity-control-system",
+    "libgazebo_ros_p3d.so": "gz-sim-odometry-publisher-system",
+    "libgazebo_ros_imu_sensor.so": "gz-sim-imu-system",
+    "libgazebo_ros_ray_sensor.so": "gz-sim-sensors-system",
+    "libgazebo_ros_camera.so": "gz-sim-sensors-system",
+    "libgazebo_ros_gps_sensor.so": "gz-sim-navsat-system",
+    "libgazebo_ros_ft_sensor.so": "gz-sim-forcetorque-system",
+    "libgazebo_ros_bumper.so": "gz-sim-contact-system",
+    "libgazebo_ros_ackermann_drive.so": "gz-sim-ackermann-steering-system",
+    "libgazebo_ros_joint_pose_trajectory.so": "gz-sim-joint-position-controller-system",
+    "libgazebo_ros2_control.so": "gz_ros2_control-system",
+}
+# the Classic ros2_control plugin (ros-controls/gazebo_ros2_control, released for Humble only)
+CLASSIC_CONTROL = "libgazebo_ros2_control.so"
+# the hardware plugins of the Gazebo ros2_control integrations, by the package that ships them
+GAZEBO_HARDWARE = {
+    "gz_ros2_control": "gz_ros2_control/GazeboSimSystem",
+    "ign_ros2_control": "ign_ros2_control/IgnitionSystem",
+    "gazebo_ros2_control": "gazebo_ros2_control/GazeboSystem",
+}
+# the joint interfaces gz_ros2_control's and gazebo_ros2_control's systems export (gz_system.cpp)
+GAZEBO_INTERFACES = ("position", "velocity", "effort")
+# a gz-sim system's library name: [lib](gz-sim|ignition-gazebo)[N]-<system>-system[.so]
+GZ_SYSTEM = re.compile(r"^(?:lib)?(gz-sim|ignition-gazebo)(\d*)-(.+)-system(?:\.so)?$")
+GZ_CONTROL = re.compile(r"^(?:lib)?(gz|ign)_ros2_control-system(?:\.so)?$")
+
+
+@functools.lru_cache(maxsize=1)
+def data() -> dict[str, Any]:
+    loaded: dict[str, Any] = json.loads(DATA_FILE.read_text(encoding="utf-8"))
+    return loaded
+
+
+def gazebo_of(distro: str) -> str | None:
+    """The Gazebo release the distro's ros_gz is built against (fortress, harmonic, ...)."""
+    found: str | None = data()["distro_gazebo"].get(distro)
+    return found
+
+
+def gazebo_branch(gazebo: str) -> str:
+    branch: str = data()["gazebo"][gazebo]["branch"]
+    return branch
+
+
+@dataclass(frozen=True)
+class PluginVerdict:
+    """Why a plugin library does not load on a distro, and what does."""
+
+    reason: str
+    replacement: str | None
+
+
+def plugin_verdict(filename: str, distro: str, released: frozenset[str]) -> PluginVerdict | None:
+    """None when the distro's simulator ships `filename` (or it is none of the libraries pkgforge
+    knows: a package's own plugin), else why not. `released`: the distro's released packages."""
+    name = filename.rsplit("/", 1)[-1]
+    classic = set(data()["classic"]["libraries"]) | {CLASSIC_CONTROL}
+    if name in classic or f"lib{name}.so" in classic:
+        package = "gazebo_ros2_control" if CLASSIC_CONTROL in (name, f"lib{name}.so") else "gazebo_plugins"
+        if package in released:
+            return None
+        library = name if name.endswith(".so") else f"lib{name}.so"
+        return PluginVerdict(
+            f"Gazebo Classic's {name} ({package}) is not released for {distro}",
+            CLASSIC_REPLACEMENTS.get(library),
+        )
+    control = GZ_CONTROL.match(name)
+    if control:
+        package = f"{control.group(1)}_ros2_control"
+        if package in released:
+            return None
+        other = "gz_ros2_control" if package == "ign_ros2_control" else "ign_ros2_control"
+        return PluginVerdict(
+            f"{package} is not released for {distro}",
+            f"{other}-system" if other in released else None,
+        )
+    return _system_verdict(name, distro)
+
+
+def _system_verdict(name: str, distro: str) -> PluginVerdict | None:
+    system = GZ_SYSTEM.match(name)
+    gazebo = gazebo_of(distro)
+    if system is None or gazebo is None:
+        return None
+    prefix, version, short = system.groups()
+    facts = data()["gazebo"][gazebo]
+    title = gazebo.capitalize()
+    if prefix not in facts["prefixes"]:
+        return PluginVerdict(
+            f"Gazebo {title} ({facts['branch']}) loads no '{prefix}-' library", f"gz-sim-{short}-system"
+        )
+    if version and version != facts["branch"].rsplit("sim", 1)[-1].rsplit("gazebo", 1)[-1]:
+        return PluginVerdict(
+            f"Gazebo {title} ({facts['branch']}) installs no version {version} of it",
+            f"{facts['prefixes'][0]}-{short}-system",
+        )
+    if short not in facts["systems"]:
+        return PluginVerdict(f"Gazebo {title} ({facts['branch']}) has no '{short}' system", None)
+    return None
+
+
+def controller_types(distro: str) -> dict[str, dict[str, Any]]:
+    """ros2_controllers' controller types on the distro's branch: type → {package, joints}."""
+    types: dict[str, dict[str, Any]] = data()["controllers"][distro]["types"]
+    return types
+
+
+def controller_packages() -> frozenset[str]:
+    """Every package ros2_controllers ships a controller from (on some branch), by type prefix."""
+    return frozenset(t.split("/", 1)[0] for d in data()["controllers"].values() for t in d["types"])
+
+
+def controllers_branch(distro: str) -> str:
+    branch: str = data()["controllers"][distro]["branch"]
+    return branch
