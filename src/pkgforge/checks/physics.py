@@ -24,6 +24,14 @@ from pkgforge.urdf.structure import Geometry, LinkDict, Part, RobotStructure
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake
 COLLISION_TRIANGLES = 20_000  # above this, a collision mesh slows every contact computation
 MOVING = ("revolute", "prismatic")
+# an inertia this many times that of a solid box of the link's mass filling its collision bounds
+# (or that many times smaller): no body of that mass and size has it. Mass kept inside the bounds
+# gives at most 3 times the solid box's (all of it in the corners); kg·mm² written as kg·m² is 1e6
+INERTIA_RATIO = 100.0
+# MuJoCo's mjMINVAL: below it MuJoCo refuses a moving body ("mass and inertia of moving bodies
+# must be larger than mjMINVAL"); DART (gz-sim's engine) computes NaN from such a body and aborts
+# (gz-physics#851, a mass of 1e-300)
+ENGINE_MINIMUM = 1e-15
 
 
 def _robots(ctx: CheckContext) -> Iterator[tuple[ModelResult, RobotStructure]]:
@@ -351,6 +359,118 @@ def joint_axis_zero(ctx: CheckContext) -> Iterator[Finding]:
                 )
 
 
+def _collision_bounds(
+    link: LinkDict, resolve: Callable[[str], Path | None]
+) -> tuple[float, float, float] | None:
+    """The size (x, y, z) of the box around the link's collision shapes in the link's frame,
+    None when it has none or one whose size is not known (a mesh not found or not read)."""
+    points: list[physics.Vec3] = []
+    identity: physics.Pose = (((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)), (0.0, 0.0, 0.0))
+    for part in link.get("collisions", []):
+        box = physics.local_box(part.get("geometry"), resolve)
+        if box is None:
+            return None
+        pose = physics.compose(identity, part.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+        points += [physics.apply(pose, corner) for corner in physics.box_corners(box)]
+    if not points:
+        return None
+    x, y, z = (max(p[i] for p in points) - min(p[i] for p in points) for i in range(3))
+    return x, y, z
+
+
+@register(
+    "PF610",
+    "inertia-implausible",
+    "error",
+    area="physics",
+    bad='<inertial><mass value="1.0"/><inertia ixx="7700" iyy="7700" izz="400" ixy="0" ixz="0" iyz="0"/></inertial>\n'
+    '<collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>  <!-- kg·mm² -->',
+    good='<inertial><mass value="1.0"/><inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/></inertial>\n'
+    '<collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>',
+    summary=f"a link's inertia is more than {INERTIA_RATIO:g} times that of a solid box of its mass "
+    "filling its collision geometry's bounds (or that many times smaller)",
+    explanation="The sum of the principal moments is compared with a solid box's, m(a²+b²+c²)/6, "
+    "a, b, c the bounds of the link's collision shapes (meshes with their scale): mass kept inside "
+    "those bounds gives at most 3 times it, so a link 100 times above it was computed in other "
+    "units, typically kg·mm² written as kg·m² (1e6 times too big: the link barely turns in a "
+    "simulator). 100 times below it (a placeholder 1e-6 on a big link) is a warning: simulators "
+    "take it, but the link spins up at the least torque and the solver grows unstable.",
+    hint="compute the inertia in kg·m² from the link's shape and mass (a CAD export in kg·mm²: divide by 1e6)",
+)
+def inertia_implausible(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot in _robots(ctx):
+        resolve = _resolver(ctx, result)
+        unparsed = _unparsed_inertials(robot)
+        rescaled = {uri for uri, _, _, _ in _scale_suspects(robot, resolve)}
+        for link in robot["links"]:
+            inertial = link.get("inertial")
+            inertia = inertial.get("inertia") if inertial is not None else None
+            mass = (inertial.get("mass") or 0) if inertial is not None else 0
+            if inertial is None or inertia is None or not mass >= ENGINE_MINIMUM or link["name"] in unparsed:
+                continue  # (a mass below what engines take: mass-below-engine-minimum's)
+            if any((p.get("geometry") or {}).get("uri") in rescaled for p in link.get("collisions", [])):
+                continue  # a mesh in the wrong unit: mesh-scale-suspect says so, the bounds are wrong
+            moments = physics.principal_moments(inertia)
+            size = _collision_bounds(link, resolve)
+            if size is None or moments[0] <= 0 or moments[2] > moments[0] + moments[1]:
+                continue  # no shape to compare with, or no inertia of a body (inertia-invalid's)
+            solid = mass * sum(s * s for s in size) / 6
+            if not solid > 0:
+                continue
+            ratio = sum(moments) / solid
+            if 1 / INERTIA_RATIO <= ratio <= INERTIA_RATIO:
+                continue
+            bounds = " x ".join(f"{s:.3g}" for s in size)
+            units = " (kg·mm² written as kg·m²?)" if ratio > 1e4 else ""
+            yield Finding(
+                f"link '{link['name']}': inertia (moments summing to {sum(moments):.3g} kg·m²) is "
+                + (f"{ratio:.3g} times" if ratio > 1 else f"1/{1 / ratio:.3g} of")
+                + f" that of a solid {mass:.3g} kg box filling its {bounds} m collision bounds{units}",
+                *model_item_position(ctx, result, link, inertial.get("line")),
+                severity=None if ratio > 1 else Severity.WARNING,
+            )
+
+
+@register(
+    "PF611",
+    "mass-below-engine-minimum",
+    "error",
+    area="physics",
+    bad='<inertial><mass value="1e-20"/><inertia ixx="1e-6" iyy="1e-6" izz="1e-6" ixy="0" ixz="0" iyz="0"/></inertial>',
+    good='<inertial><mass value="0.01"/><inertia ixx="1e-6" iyy="1e-6" izz="1e-6" ixy="0" ixz="0" iyz="0"/></inertial>',
+    summary=f"a link a joint moves has a mass or a principal moment of inertia above 0 but below {ENGINE_MINIMUM:g}",
+    explanation="MuJoCo refuses the model ('mass and inertia of moving bodies must be larger than "
+    "mjMINVAL', 1e-15); DART, gz-sim's physics engine, computes NaN from such a body and aborts "
+    "(gz-physics issue 851). A link fixed to its parent is merged into it and passes.",
+    hint="give the link its real mass and inertia (a few grams and the inertia of its shape "
+    "for a light part), or fix it to its parent",
+)
+def mass_below_engine_minimum(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot in _robots(ctx):
+        moving = _links_that_move(robot)
+        unparsed = _unparsed_inertials(robot)
+        for link in robot["links"]:
+            inertial = link.get("inertial")
+            if inertial is None or link["name"] not in moving or link["name"] in unparsed:
+                continue
+            mass = inertial.get("mass") or 0
+            inertia = inertial.get("inertia")
+            moments = physics.principal_moments(inertia) if inertia else []
+            if not mass > 0 or moments and not moments[0] > 0:
+                continue  # mass-not-positive's, inertia-invalid's
+            tiny = [
+                f"{what} {value:.3g}"
+                for what, value in (("mass", mass), *(("principal moment", m) for m in moments[:1]))
+                if value < ENGINE_MINIMUM
+            ]
+            if tiny:
+                yield Finding(
+                    f"link '{link['name']}' (moved by a joint) has {' and '.join(tiny)}, below the "
+                    f"{ENGINE_MINIMUM:g} MuJoCo and DART need",
+                    *model_item_position(ctx, result, link, inertial.get("line")),
+                )
+
+
 def _resolver(ctx: CheckContext, result: ModelResult) -> Callable[[str], Path | None]:
     def resolve(uri: str) -> Path | None:
         lookup = resolve_uri(uri, ctx.tree, result.installed) if ctx.tree is not None else None
@@ -392,28 +512,7 @@ def _shape(part: Part) -> str | None:
 )
 def mesh_scale_suspect(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
-        resolve = _resolver(ctx, result)
-        sizes = [s for s in _sizes(robot, resolve) if s[3] > 0]
-        meshes = [s for s in sizes if _shape(s[1]) == "mesh"]
-        if not meshes:
-            continue
-        reference = [s[3] for s in sizes if _shape(s[1]) != "mesh"]
-        reference += [
-            sum(v * v for v in j["origin"]["xyz"]) ** 0.5
-            for j in robot.get("joints", [])
-            if j.get("origin") and any(j["origin"]["xyz"])
-        ]
-        if not reference:  # only meshes: compare each with the others
-            reference = [s[3] for s in meshes]
-        typical = statistics.median(reference)
-        seen = set()
-        for link, part, kind, extent in meshes:
-            geometry = part["geometry"]
-            uri = geometry["uri"] if geometry else None
-            ratio = extent / typical
-            if (uri, kind) in seen or 1 / MESH_SCALE_RATIO <= ratio <= MESH_SCALE_RATIO:
-                continue
-            seen.add((uri, kind))
+        for uri, link, part, (kind, extent, ratio, typical) in _scale_suspects(robot, _resolver(ctx, result)):
             factor = "0.001" if ratio > 1 else "1000"
             yield Finding(
                 f"{uri} ({kind[:-1]} of link '{link['name']}') is {extent:.3g} m across, "
@@ -421,6 +520,35 @@ def mesh_scale_suspect(ctx: CheckContext) -> Iterator[Finding]:
                 *model_item_position(ctx, result, link, part.get("line")),
                 hint=f'add scale="{factor} {factor} {factor}" to the <mesh>, or export it in metres',
             )
+
+
+def _scale_suspects(
+    robot: RobotStructure, resolve: Callable[[str], Path | None]
+) -> Iterator[tuple[str | None, LinkDict, Part, tuple[str, float, float, float]]]:
+    """(uri, link, part, (kind, extent, ratio to the typical size, typical size)) of each mesh
+    about 1000 times bigger or smaller than the rest of the model, once per (uri, kind)."""
+    sizes = [s for s in _sizes(robot, resolve) if s[3] > 0]
+    meshes = [s for s in sizes if _shape(s[1]) == "mesh"]
+    if not meshes:
+        return
+    reference = [s[3] for s in sizes if _shape(s[1]) != "mesh"]
+    reference += [
+        sum(v * v for v in j["origin"]["xyz"]) ** 0.5
+        for j in robot.get("joints", [])
+        if j.get("origin") and any(j["origin"]["xyz"])
+    ]
+    if not reference:  # only meshes: compare each with the others
+        reference = [s[3] for s in meshes]
+    typical = statistics.median(reference)
+    seen = set()
+    for link, part, kind, extent in meshes:
+        geometry = part["geometry"]
+        uri = geometry["uri"] if geometry else None
+        ratio = extent / typical
+        if (uri, kind) in seen or 1 / MESH_SCALE_RATIO <= ratio <= MESH_SCALE_RATIO:
+            continue
+        seen.add((uri, kind))
+        yield uri, link, part, (kind, extent, ratio, typical)
 
 
 @register(
