@@ -12,5 +12,6 @@ from pkgforge.checks import (  # noqa: F401
     physics,
     rviz,
     sandbox,
+    sdf,
     urdf,
 )

@@ -108,7 +108,7 @@ if TYPE_CHECKING:
 #    and handlers' entities visited after the description, with its final configurations
 # 51: with 50, RViz 1 configs, ROS 1's bare xacro tags, what urdfdom refuses or drops, nested packages,
 #    dependencies released nowhere (issue 28 classes 3, 6, 7, 8)
-CACHE_FORMAT = 51
+CACHE_FORMAT = 52
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
