@@ -2,8 +2,8 @@
 they declare, their <include> and <mesh> URIs found, and the resource path Gazebo needs to find
 the package's own models set by the package.
 
-Where the rules come from: sdformat's parser (an <sdf version> root; the attributes each SDF
-version added: sdformat's sdf/1.7-1.9 descriptions), gz-common's URI lookup (model://NAME is
+Where the rules come from: sdformat's parser (an <sdf version> root whose version it has a
+description of; the file converted to sdformat's newest version before it is read), gz-common's URI lookup (model://NAME is
 NAME's folder on GZ_SIM_RESOURCE_PATH, IGN_GAZEBO_RESOURCE_PATH on Fortress, GAZEBO_MODEL_PATH on
 Gazebo Classic), and gazebosim/ros_gz's ros_gz_sim/launch/gz_sim.launch.py.in on its humble
 (0.244.14 and later) and jazzy branches: it appends each package's <export><gazebo_ros
@@ -30,16 +30,6 @@ from pkgforge.diagnostics import Finding, Severity
 SDF_SUFFIXES = (".sdf", ".world")
 # the SDF versions sdformat has descriptions of (sdf/1.0 ... sdf/1.12)
 SDF_VERSIONS = frozenset(f"1.{minor}" for minor in range(13))
-# attributes an SDF version introduced: an older file's sdformat ignores them with a warning
-# ("XML Attribute[relative_to] in element[pose] not defined in SDF"), so the pose means another frame
-ATTRIBUTE_SINCE = {
-    "attached_to": (1, 7),
-    "relative_to": (1, 8),
-    "placement_frame": (1, 8),
-    "merge": (1, 9),
-    "degrees": (1, 9),
-    "rotation_format": (1, 9),
-}
 # the variables Gazebo finds models and meshes by (gz-sim, Fortress, Classic)
 RESOURCE_VARIABLES = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH")
 # models Gazebo Classic installs itself (gazebo11's models/): worlds include them everywhere
@@ -101,13 +91,12 @@ def _version(text: str | None) -> tuple[int, int] | None:
     area="model",
     bad='<!-- worlds/yard.sdf -->\n<world name="yard">  <!-- no <sdf version=...> around it -->',
     good='<!-- worlds/yard.sdf -->\n<sdf version="1.9">\n  <world name="yard">',
-    summary="an installed SDF world or model is not XML, has no <sdf version=...> root with a version "
-    "sdformat knows, or uses an attribute its declared version does not have",
+    summary="an installed SDF world or model is not XML or has no <sdf version=...> root with a "
+    "version sdformat knows",
     explanation="sdformat (Gazebo's parser, every version) refuses a file that is not XML or whose "
     "root is not <sdf> with a version it has a description of (1.0 to 1.12): Gazebo loads no world. "
-    "An attribute newer than the declared version (relative_to and placement_frame since 1.8, "
-    "attached_to since 1.7, merge, degrees, rotation_format since 1.9) is dropped with a warning, "
-    "so the pose it qualifies is taken in another frame (a warning here).",
+    "(sdformat converts an older file to its own newest version and reads it against that "
+    "version's description: an attribute newer than the declared version is read, not refused.)",
     hint='declare the SDF version the file is written for, e.g. <sdf version="1.9">',
 )
 def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
@@ -144,27 +133,6 @@ def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
                 hint='declare the version the file is written for, e.g. version="1.9"',
             )
             continue
-        yield from _newer_attributes(sdf, root, _version(declared) or (1, 0))
-
-
-def _newer_attributes(sdf: SdfFile, root: etree._Element, declared: tuple[int, int]) -> Iterator[Finding]:
-    said = set()
-    for element in root.iter():
-        if not isinstance(element.tag, str):
-            continue
-        for name in element.attrib:
-            since = ATTRIBUTE_SINCE.get(str(name))
-            if since is None or declared >= since or name in said:
-                continue
-            said.add(name)
-            yield Finding(
-                f"{sdf.installed}: <{etree.QName(element).localname} {name!s}=...> is SDF {since[0]}.{since[1]}, the file "
-                f"declares {declared[0]}.{declared[1]}: sdformat ignores the attribute",
-                sdf.source,
-                element.sourceline,
-                severity=Severity.WARNING,
-                hint=f'declare <sdf version="{since[0]}.{since[1]}"> or later, or drop {name}=',
-            )
 
 
 @dataclass(frozen=True)
@@ -276,7 +244,8 @@ def _unresolved(
             )
         return None  # a system path (/usr/share/...): the target machine's
     if parsed.scheme == "model":
-        name, _, rest = unquote(parsed.netloc + parsed.path).partition("/")
+        # (model:///NAME/...: gz-common and Gazebo Classic join the rest to each resource path)
+        name, _, rest = unquote(parsed.netloc + parsed.path).lstrip("/").partition("/")
         if name in ("", ".", "..") or ".." in rest.split("/"):
             return ": not a model name and a path inside it (model://NAME/...)", None
         folders = [root / name for root in roots if files.is_dir(root / name)]
@@ -344,7 +313,7 @@ def gazebo_resource_path_unset(ctx: CheckContext) -> Iterator[Finding]:
             parsed = urlparse(uri.text)
             if parsed.scheme != "model":
                 continue
-            name = (parsed.netloc + parsed.path).partition("/")[0]
+            name = unquote(parsed.netloc + parsed.path).lstrip("/").partition("/")[0]
             found = [folder for folder in roots if ctx.files.is_dir(folder / name)]
             if not found or any(folder in exported for folder in found) or _sets_resource_path(ctx):
                 continue
