@@ -317,3 +317,16 @@ def test_real_robots_pass_the_drop_test(model):
 
 # the Panda's joint 6 at 0 folds the hand back beside link 5 (its convex hull): a warning, PF614
 PANDA_FOLDED = {"panda_description/urdf/panda.urdf": [["panda_link5", "panda_link7"]]}
+
+
+def test_a_mass_the_static_check_reports_is_not_reported_again_by_the_drop_test(tmp_path):
+    """One cause, one finding: MuJoCo refuses the 1e-20 kg link (mjMINVAL), which
+    mass-below-engine-minimum says already; --simulate adds no PF612 for it."""
+    pytest.importorskip("mujoco")
+    package = physics_package(tmp_path, "mass-below-engine-minimum")
+    status, report = verify_report(tmp_path, "--simulate")
+    model = package / "urdf" / "robot.urdf"
+    assert [(d["code"], d["path"], d["line"]) for d in report["diagnostics"]] == [
+        ("PF611", "src/phys_description/urdf/robot.urdf", line_of(model, "<inertial>"))
+    ]
+    assert status == 1

@@ -616,6 +616,20 @@ def _drop_position(
     return model_item_position(ctx, result, item)
 
 
+def _mass_said(robot: RobotStructure, problem: Problem) -> bool:
+    """Whether MuJoCo's refusal names a link whose mass or inertia mass-not-positive,
+    inertia-invalid or mass-below-engine-minimum already report (one cause, one finding)."""
+    for link in robot["links"]:
+        inertial = link.get("inertial")
+        if link["name"] not in problem.links or inertial is None:
+            continue
+        inertia = inertial.get("inertia")
+        moments = physics.principal_moments(inertia) if inertia else [0.0]
+        if not (inertial.get("mass") or 0) >= ENGINE_MINIMUM or moments[0] < ENGINE_MINIMUM:
+            return True
+    return False
+
+
 @register(
     "PF612",
     "simulation-refused",
@@ -638,7 +652,7 @@ def simulation_refused(ctx: CheckContext) -> Iterator[Finding]:
                 f"drop test not run: {outcome.error}", *model_source_position(ctx, result, None, None)
             )
         for problem in outcome.problems:
-            if problem.kind == "refused":
+            if problem.kind == "refused" and not _mass_said(robot, problem):
                 yield Finding(
                     f"MuJoCo refuses the model: {problem.message}"
                     + (f" (link '{problem.links[0]}')" if problem.links else ""),
