@@ -71,7 +71,8 @@ def test_uris_not_found_or_into_a_home_folder(tmp_path):
     (package / "worlds" / "home.world").write_text(
         '<sdf version="1.6">\n  <world name="w">\n    <include><uri>model://sun</uri></include>\n'
         "    <include><uri>file:///home/ada/models/tree</uri></include>\n"
-        "    <include><uri>model://oak_tree</uri></include>\n  </world>\n</sdf>\n"
+        "    <include><uri>model://oak_tree</uri></include>\n"
+        "    <include><uri>birch</uri></include>\n  </world>\n</sdf>\n"
     )
     status, report = verify_report(tmp_path)
     assert status == 1
@@ -80,6 +81,7 @@ def test_uris_not_found_or_into_a_home_folder(tmp_path):
         ("PF421", "error", MODEL, line_of(model, "crate.STL")),
         ("PF421", "error", "src/world_sim/worlds/home.world", 4),
         ("PF421", "warning", "src/world_sim/worlds/home.world", 5),
+        ("PF421", "warning", "src/world_sim/worlds/home.world", 6),  # a bare name: the path too
         ("PF421", "error", WORLD, line_of(world, "gone.stl")),
     ]
     assert "home folder" in report["diagnostics"][2]["message"]

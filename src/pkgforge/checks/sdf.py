@@ -139,6 +139,7 @@ def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
 class _Uri:
     text: str
     line: int | None
+    include: bool  # an <include>'s (else a <mesh>'s)
 
 
 def _uris(root: etree._Element) -> Iterator[_Uri]:
@@ -146,7 +147,7 @@ def _uris(root: etree._Element) -> Iterator[_Uri]:
     for element in root.iter("uri"):
         parent = element.getparent()
         if parent is not None and parent.tag in ("include", "mesh") and (element.text or "").strip():
-            yield _Uri((element.text or "").strip(), element.sourceline)
+            yield _Uri((element.text or "").strip(), element.sourceline, parent.tag == "include")
 
 
 def _model_roots(ctx: CheckContext) -> dict[Path, str]:
@@ -219,7 +220,7 @@ def sdf_uri_unresolved(ctx: CheckContext) -> Iterator[Finding]:
             continue
         here = (share / sdf.installed).parent
         for uri in _uris(root):
-            message = _unresolved(ctx, uri.text, here, roots)
+            message = _unresolved(ctx, uri, here, roots)
             if message is not None:
                 text, severity = message
                 yield Finding(
@@ -228,11 +229,12 @@ def sdf_uri_unresolved(ctx: CheckContext) -> Iterator[Finding]:
 
 
 def _unresolved(
-    ctx: CheckContext, uri: str, here: Path, roots: dict[Path, str]
+    ctx: CheckContext, found: _Uri, here: Path, roots: dict[Path, str]
 ) -> tuple[str, Severity | None] | None:
     """What is wrong with one URI (the message after the URI, and its severity when not the
     check's), None when it is found or not Gazebo's to find here."""
     files = ctx.files
+    uri = found.text
     parsed = urlparse(uri)
     if parsed.scheme in ("file", "") and (path := unquote(parsed.path if parsed.scheme else uri)).startswith(
         "/"
@@ -272,6 +274,8 @@ def _unresolved(
             return f": package {parsed.netloc} installs no {_shown(relative)}", None
         return None
     if not parsed.scheme and uri and not files.exists(here / unquote(uri)):
+        if found.include:  # sdformat looks for an include's bare name on the resource path too
+            return ": not beside the SDF file (Gazebo looks on its resource path too)", Severity.WARNING
         return ": no such file beside the SDF file", None
     return None
 
