@@ -447,6 +447,20 @@ HOSTILE_XACRO = {
         '<parameters/></plugin><plugin filename="' + "x" * 5000 + '"/></gazebo>'
         "</robot>\n"
     ),
+    # Gazebo worlds and SDF models (issue 31 item 4): entities, URIs that climb out, odd versions
+    "laughs.sdf": (
+        '<?xml version="1.0"?><!DOCTYPE sdf [<!ENTITY a "aaaaaaaaaa">'
+        '<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;"><!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">]>'
+        '<sdf version="&c;"><world name="&c;"><include><uri>model://&c;</uri></include></world></sdf>\n'
+    ),
+    "climb.world": (
+        '<sdf version="1.x"><world name="w"><include><uri>model://../../../../etc</uri></include>'
+        "<include><uri>package://NAME/../../../../etc/passwd</uri></include>"
+        "<include><uri>file:///home/</uri></include><include><uri>model://</uri></include>"
+        "<model name='m'><link name='l'><visual name='v'><geometry><mesh><uri>%00/dev/zero</uri>"
+        "</mesh></geometry></visual></link></model><include><uri>\u00e9</uri></include>"
+        '<pose relative_to="" degrees="maybe"/></world></sdf>\n'
+    ),
 }
 
 # hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot

@@ -21,7 +21,14 @@ EXPECTED = {
     "joint-axis-zero": ("PF607", '<joint name="shoulder"'),
     "mesh-scale-suspect": ("PF608", "link_mm.stl"),
     "collision-mesh-heavy": ("PF609", "heavy.stl"),
+    "inertia-implausible": ("PF610", "<inertial>"),
+    "mass-below-engine-minimum": ("PF611", "<inertial>"),
+    "simulation-refused": ("PF612", '<link name="elbow_frame"/>'),
+    "simulation-unstable": ("PF613", '<link name="rotor">'),
+    "collision-overlap-at-zero": ("PF614", '<link name="forearm">'),
 }
+# the cases only verify --simulate's drop test finds (MuJoCo, the `simulate` extra)
+SIMULATED = {"simulation-refused", "simulation-unstable", "collision-overlap-at-zero"}
 
 
 def heavy_stl(path: Path, triangles: int = 20_001) -> None:
@@ -73,12 +80,17 @@ def test_every_physical_check_has_a_case():
         pytest.param("joint-axis-zero", marks=pytest.mark.triggers("PF607")),
         pytest.param("mesh-scale-suspect", marks=pytest.mark.triggers("PF608")),
         pytest.param("collision-mesh-heavy", marks=pytest.mark.triggers("PF609")),
+        pytest.param("inertia-implausible", marks=pytest.mark.triggers("PF610")),
+        pytest.param("mass-below-engine-minimum", marks=pytest.mark.triggers("PF611")),
+        pytest.param("simulation-refused", marks=pytest.mark.triggers("PF612")),
+        pytest.param("simulation-unstable", marks=pytest.mark.triggers("PF613")),
+        pytest.param("collision-overlap-at-zero", marks=pytest.mark.triggers("PF614")),
     ],
 )
 def test_each_case_triggers_exactly_its_check(tmp_path, case):
     package = physics_package(tmp_path, case)
     code, text = EXPECTED[case]
-    status, report = verify_report(tmp_path)
+    status, report = verify_report(tmp_path, *(["--simulate"] if case in SIMULATED else []))
     found = [(d["code"], d["path"], d["line"]) for d in report["diagnostics"]]
     model = package / "urdf" / "robot.urdf"
     assert found == [(code, "src/phys_description/urdf/robot.urdf", line_of(model, text))], found
@@ -120,6 +132,12 @@ def erd_share() -> Path:
     return Path(manifest.locate()).parent
 
 
+# the true defects these models have: the UR5's wrist_3_link has the inertia of wrist 2 (0.0171
+# kg·m² for a 0.19 kg disc 8 cm across, ~130 times too big), fixed upstream by
+# ros-industrial/universal_robot#426 ("the inertia's geometry of wrist3 is matching wrist2")
+ERD_DEFECTS = {"ur_description/urdf/ur5_robot.urdf": [("PF610", "wrist_3_link")]}
+
+
 @pytest.mark.parametrize("model", ERD_ROBOTS)
 def test_example_robot_data_models_have_no_physical_errors(model):
     """The checks over the structure robot.py extracts, with meshes resolved in the wheel's share/."""
@@ -148,6 +166,7 @@ def test_example_robot_data_models_have_no_physical_errors(model):
         tree=Tree(),
         own_source=lambda file: Path(file),
         simulator_feeding=lambda result: None,  # no launch file feeds it to a simulator
+        simulations={},
     )
     errors = []
     for check in all_checks():
@@ -157,7 +176,7 @@ def test_example_robot_data_models_have_no_physical_errors(model):
                 for f in check.function(context)
                 if (f.severity or check.severity) == Severity.ERROR
             ]
-    assert errors == []
+    assert [(code, message.split("'")[1]) for code, message in errors] == ERD_DEFECTS.get(model, [])
     # the meshes did resolve (the scale check compared real sizes): the robot is 0.3 to 2 m
     low, high = world_bounds(data["robot"], _resolver(context, result))
     assert 0.3 < max(h - lo for lo, h in zip(low, high, strict=False)) < 2.0
@@ -296,3 +315,44 @@ def test_zero_effort_and_zero_velocity_are_warnings_reversed_limits_an_error(tmp
     )
     status, report = verify_report(tmp_path, "--no-cache")
     assert status == 1 and [(d["code"], d["severity"]) for d in report["diagnostics"]] == [("PF605", "error")]
+
+
+@pytest.mark.parametrize("model", [*ERD_ROBOTS, "talos_data/robots/talos_full_v2.urdf"])
+def test_real_robots_pass_the_drop_test(model):
+    """verify --simulate's drop test (MuJoCo in its own limited process) on real robots: none is
+    refused or unstable, collision shapes overlap deeper than 1 cm (their convex hulls) only where
+    PANDA_FOLDED says, and one model costs seconds, not minutes (~1.3 s of it the process starting
+    and importing MuJoCo)."""
+    pytest.importorskip("mujoco")
+    from pkgforge.simulate import drop_test, model_urdf
+    from pkgforge.urdf import robot as robots
+
+    share = erd_share()
+    data = robots.process_model(str(share / "robots" / model), {})
+
+    def resolve(uri: str) -> Path | None:
+        path = share / uri.removeprefix("package://example-robot-data/")
+        return path if uri.startswith("package://example-robot-data/") and path.is_file() else None
+
+    outcome = drop_test(model_urdf(data["robot"], resolve), data["robot"]["links"][0]["name"])
+    assert outcome.error is None
+    assert [p.kind for p in outcome.problems if p.kind != "overlap"] == []
+    assert [p.links for p in outcome.problems if p.kind == "overlap"] == PANDA_FOLDED.get(model, [])
+    assert outcome.seconds < 20
+
+
+# the Panda's joint 6 at 0 folds the hand back beside link 5 (its convex hull): a warning, PF614
+PANDA_FOLDED = {"panda_description/urdf/panda.urdf": [["panda_link5", "panda_link7"]]}
+
+
+def test_a_mass_the_static_check_reports_is_not_reported_again_by_the_drop_test(tmp_path):
+    """One cause, one finding: MuJoCo refuses the 1e-20 kg link (mjMINVAL), which
+    mass-below-engine-minimum says already; --simulate adds no PF612 for it."""
+    pytest.importorskip("mujoco")
+    package = physics_package(tmp_path, "mass-below-engine-minimum")
+    status, report = verify_report(tmp_path, "--simulate")
+    model = package / "urdf" / "robot.urdf"
+    assert [(d["code"], d["path"], d["line"]) for d in report["diagnostics"]] == [
+        ("PF611", "src/phys_description/urdf/robot.urdf", line_of(model, "<inertial>"))
+    ]
+    assert status == 1

@@ -678,6 +678,12 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
     "(cache: build/pkgforge-cache/, safe to delete).",
 )
 @click.option(
+    "--simulate",
+    is_flag=True,
+    help="Also drop-test each robot model in MuJoCo (base fixed, joints limp, gravity, 2 s; "
+    "needs pip install 'ros-pkgforge[simulate]'), in a separate limited process per model.",
+)
+@click.option(
     "--distro",
     "target_distro",
     type=click.Choice(list(DISTROS)),
@@ -750,6 +756,7 @@ def verify(
     launch_engine: str,
     ros_prefix: Path | None,
     no_cache: bool,
+    simulate: bool,
     target_distro: str | None,
     explain_launch: Path | None,
     explain_model: Path | None,
@@ -765,6 +772,11 @@ def verify(
     if explain_sandbox:
         _explain_sandbox(launch_engine, ros_prefix, target_distro)
         return
+    if simulate:
+        from pkgforge.simulate import available
+
+        if not available():
+            raise click.UsageError("--simulate needs MuJoCo: pip install 'ros-pkgforge[simulate]'")
     fork_server = None
     if no_cache and not (build_tree or select or explain_launch or explain_model or context.meta.get("fix")):
         fork_server = _fork_server_first(launch_engine, ros_prefix, target_distro)
@@ -828,6 +840,7 @@ def verify(
         launch_arguments=arguments,
         use_cache=not no_cache,
         worker_memory=worker_memory,
+        simulate=simulate,
         distro=target_distro,
         launch_engine=launch_engine,
         ros_prefix=ros_prefix,

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from pkgforge.model.manifest import Dependency
     from pkgforge.model.references import Reference
     from pkgforge.model.ros_params import ParametersFile, Problem
+    from pkgforge.simulate import Outcome
     from pkgforge.urdf.meshes import MeshLookup
     from pkgforge.urdf.select import ModelResult
 
@@ -224,6 +225,8 @@ class CheckContext:
     # files outside the workspace's packages whose content this package's checks used (the cache
     # stamps them: verify/cache.py externals)
     read_elsewhere: set[str] = field(default_factory=set)
+    # verify --simulate: each robot model's drop test in MuJoCo, by the model's installed file
+    simulations: dict[Path, Outcome] = field(default_factory=dict)
 
     def _shared(self, key: object, compute: Any) -> Any:
         if key not in self.shared:

@@ -12,6 +12,7 @@ from pkgforge.checks import (  # noqa: F401
     physics,
     rviz,
     sandbox,
+    sdf,
     simulation,
     urdf,
 )

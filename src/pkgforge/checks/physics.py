@@ -9,13 +9,16 @@ connected are urdf-invalid's (PF401).
 from __future__ import annotations
 
 import statistics
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
-from pkgforge.checks.urdf import model_item_position
+from pkgforge.checks.urdf import model_item_position, model_source_position
 from pkgforge.diagnostics import Finding, Group, Severity
+from pkgforge.simulate import Outcome, Problem
+from pkgforge.simulate.drop import ANGULAR_SPEED, LINEAR_SPEED
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
 from pkgforge.urdf.select import ModelResult
@@ -24,6 +27,14 @@ from pkgforge.urdf.structure import Geometry, LinkDict, Part, RobotStructure
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake
 COLLISION_TRIANGLES = 20_000  # above this, a collision mesh slows every contact computation
 MOVING = ("revolute", "prismatic")
+# an inertia this many times that of a solid box of the link's mass filling its collision bounds
+# (or that many times smaller): no body of that mass and size has it. Mass kept inside the bounds
+# gives at most 3 times the solid box's (all of it in the corners); kg·mm² written as kg·m² is 1e6
+INERTIA_RATIO = 100.0
+# MuJoCo's mjMINVAL: below it MuJoCo refuses a moving body ("mass and inertia of moving bodies
+# must be larger than mjMINVAL"); DART (gz-sim's engine) computes NaN from such a body and aborts
+# (gz-physics#851, a mass of 1e-300)
+ENGINE_MINIMUM = 1e-15
 
 
 def _robots(ctx: CheckContext) -> Iterator[tuple[ModelResult, RobotStructure]]:
@@ -414,6 +425,118 @@ def joint_axis_zero(ctx: CheckContext) -> Iterator[Finding]:
                 )
 
 
+def _collision_bounds(
+    link: LinkDict, resolve: Callable[[str], Path | None]
+) -> tuple[float, float, float] | None:
+    """The size (x, y, z) of the box around the link's collision shapes in the link's frame,
+    None when it has none or one whose size is not known (a mesh not found or not read)."""
+    points: list[physics.Vec3] = []
+    identity: physics.Pose = (((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)), (0.0, 0.0, 0.0))
+    for part in link.get("collisions", []):
+        box = physics.local_box(part.get("geometry"), resolve)
+        if box is None:
+            return None
+        pose = physics.compose(identity, part.get("origin") or {"xyz": [0.0] * 3, "rpy": [0.0] * 3})
+        points += [physics.apply(pose, corner) for corner in physics.box_corners(box)]
+    if not points:
+        return None
+    x, y, z = (max(p[i] for p in points) - min(p[i] for p in points) for i in range(3))
+    return x, y, z
+
+
+@register(
+    "PF610",
+    "inertia-implausible",
+    "error",
+    area="physics",
+    bad='<inertial><mass value="1.0"/><inertia ixx="7700" iyy="7700" izz="400" ixy="0" ixz="0" iyz="0"/></inertial>\n'
+    '<collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>  <!-- kg·mm² -->',
+    good='<inertial><mass value="1.0"/><inertia ixx="0.0077" iyy="0.0077" izz="0.0004" ixy="0" ixz="0" iyz="0"/></inertial>\n'
+    '<collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>',
+    summary=f"a link's inertia is more than {INERTIA_RATIO:g} times that of a solid box of its mass "
+    "filling its collision geometry's bounds (or that many times smaller)",
+    explanation="The sum of the principal moments is compared with a solid box's, m(a²+b²+c²)/6, "
+    "a, b, c the bounds of the link's collision shapes (meshes with their scale): mass kept inside "
+    "those bounds gives at most 3 times it, so a link 100 times above it was computed in other "
+    "units, typically kg·mm² written as kg·m² (1e6 times too big: the link barely turns in a "
+    "simulator). 100 times below it (a placeholder 1e-6 on a big link) is a warning: simulators "
+    "take it, but the link spins up at the least torque and the solver grows unstable.",
+    hint="compute the inertia in kg·m² from the link's shape and mass (a CAD export in kg·mm²: divide by 1e6)",
+)
+def inertia_implausible(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot in _robots(ctx):
+        resolve = _resolver(ctx, result)
+        unparsed = _unparsed_inertials(robot)
+        rescaled = {uri for uri, _, _, _ in _scale_suspects(robot, resolve)}
+        for link in robot["links"]:
+            inertial = link.get("inertial")
+            inertia = inertial.get("inertia") if inertial is not None else None
+            mass = (inertial.get("mass") or 0) if inertial is not None else 0
+            if inertial is None or inertia is None or not mass >= ENGINE_MINIMUM or link["name"] in unparsed:
+                continue  # (a mass below what engines take: mass-below-engine-minimum's)
+            if any((p.get("geometry") or {}).get("uri") in rescaled for p in link.get("collisions", [])):
+                continue  # a mesh in the wrong unit: mesh-scale-suspect says so, the bounds are wrong
+            moments = physics.principal_moments(inertia)
+            size = _collision_bounds(link, resolve)
+            if size is None or moments[0] <= 0 or moments[2] > moments[0] + moments[1]:
+                continue  # no shape to compare with, or no inertia of a body (inertia-invalid's)
+            solid = mass * sum(s * s for s in size) / 6
+            if not solid > 0:
+                continue
+            ratio = sum(moments) / solid
+            if 1 / INERTIA_RATIO <= ratio <= INERTIA_RATIO:
+                continue
+            bounds = " x ".join(f"{s:.3g}" for s in size)
+            units = " (kg·mm² written as kg·m²?)" if ratio > 1e4 else ""
+            yield Finding(
+                f"link '{link['name']}': inertia (moments summing to {sum(moments):.3g} kg·m²) is "
+                + (f"{ratio:.3g} times" if ratio > 1 else f"1/{1 / ratio:.3g} of")
+                + f" that of a solid {mass:.3g} kg box filling its {bounds} m collision bounds{units}",
+                *model_item_position(ctx, result, link, inertial.get("line")),
+                severity=None if ratio > 1 else Severity.WARNING,
+            )
+
+
+@register(
+    "PF611",
+    "mass-below-engine-minimum",
+    "error",
+    area="physics",
+    bad='<inertial><mass value="1e-20"/><inertia ixx="1e-6" iyy="1e-6" izz="1e-6" ixy="0" ixz="0" iyz="0"/></inertial>',
+    good='<inertial><mass value="0.01"/><inertia ixx="1e-6" iyy="1e-6" izz="1e-6" ixy="0" ixz="0" iyz="0"/></inertial>',
+    summary=f"a link a joint moves has a mass or a principal moment of inertia above 0 but below {ENGINE_MINIMUM:g}",
+    explanation="MuJoCo refuses the model ('mass and inertia of moving bodies must be larger than "
+    "mjMINVAL', 1e-15); DART, gz-sim's physics engine, computes NaN from such a body and aborts "
+    "(gz-physics issue 851). A link fixed to its parent is merged into it and passes.",
+    hint="give the link its real mass and inertia (a few grams and the inertia of its shape "
+    "for a light part), or fix it to its parent",
+)
+def mass_below_engine_minimum(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot in _robots(ctx):
+        moving = _links_that_move(robot)
+        unparsed = _unparsed_inertials(robot)
+        for link in robot["links"]:
+            inertial = link.get("inertial")
+            if inertial is None or link["name"] not in moving or link["name"] in unparsed:
+                continue
+            mass = inertial.get("mass") or 0
+            inertia = inertial.get("inertia")
+            moments = physics.principal_moments(inertia) if inertia else []
+            if not mass > 0 or moments and not moments[0] > 0:
+                continue  # mass-not-positive's, inertia-invalid's
+            tiny = [
+                f"{what} {value:.3g}"
+                for what, value in (("mass", mass), *(("principal moment", m) for m in moments[:1]))
+                if value < ENGINE_MINIMUM
+            ]
+            if tiny:
+                yield Finding(
+                    f"link '{link['name']}' (moved by a joint) has {' and '.join(tiny)}, below the "
+                    f"{ENGINE_MINIMUM:g} MuJoCo and DART need",
+                    *model_item_position(ctx, result, link, inertial.get("line")),
+                )
+
+
 def _resolver(ctx: CheckContext, result: ModelResult) -> Callable[[str], Path | None]:
     def resolve(uri: str) -> Path | None:
         lookup = resolve_uri(uri, ctx.tree, result.installed) if ctx.tree is not None else None
@@ -455,28 +578,7 @@ def _shape(part: Part) -> str | None:
 )
 def mesh_scale_suspect(ctx: CheckContext) -> Iterator[Finding]:
     for result, robot in _robots(ctx):
-        resolve = _resolver(ctx, result)
-        sizes = [s for s in _sizes(robot, resolve) if s[3] > 0]
-        meshes = [s for s in sizes if _shape(s[1]) == "mesh"]
-        if not meshes:
-            continue
-        reference = [s[3] for s in sizes if _shape(s[1]) != "mesh"]
-        reference += [
-            sum(v * v for v in j["origin"]["xyz"]) ** 0.5
-            for j in robot.get("joints", [])
-            if j.get("origin") and any(j["origin"]["xyz"])
-        ]
-        if not reference:  # only meshes: compare each with the others
-            reference = [s[3] for s in meshes]
-        typical = statistics.median(reference)
-        seen = set()
-        for link, part, kind, extent in meshes:
-            geometry = part["geometry"]
-            uri = geometry["uri"] if geometry else None
-            ratio = extent / typical
-            if (uri, kind) in seen or 1 / MESH_SCALE_RATIO <= ratio <= MESH_SCALE_RATIO:
-                continue
-            seen.add((uri, kind))
+        for uri, link, part, (kind, extent, ratio, typical) in _scale_suspects(robot, _resolver(ctx, result)):
             factor = "0.001" if ratio > 1 else "1000"
             yield Finding(
                 f"{uri} ({kind[:-1]} of link '{link['name']}') is {extent:.3g} m across, "
@@ -484,6 +586,35 @@ def mesh_scale_suspect(ctx: CheckContext) -> Iterator[Finding]:
                 *model_item_position(ctx, result, link, part.get("line")),
                 hint=f'add scale="{factor} {factor} {factor}" to the <mesh>, or export it in metres',
             )
+
+
+def _scale_suspects(
+    robot: RobotStructure, resolve: Callable[[str], Path | None]
+) -> Iterator[tuple[str | None, LinkDict, Part, tuple[str, float, float, float]]]:
+    """(uri, link, part, (kind, extent, ratio to the typical size, typical size)) of each mesh
+    about 1000 times bigger or smaller than the rest of the model, once per (uri, kind)."""
+    sizes = [s for s in _sizes(robot, resolve) if s[3] > 0]
+    meshes = [s for s in sizes if _shape(s[1]) == "mesh"]
+    if not meshes:
+        return
+    reference = [s[3] for s in sizes if _shape(s[1]) != "mesh"]
+    reference += [
+        sum(v * v for v in j["origin"]["xyz"]) ** 0.5
+        for j in robot.get("joints", [])
+        if j.get("origin") and any(j["origin"]["xyz"])
+    ]
+    if not reference:  # only meshes: compare each with the others
+        reference = [s[3] for s in meshes]
+    typical = statistics.median(reference)
+    seen = set()
+    for link, part, kind, extent in meshes:
+        geometry = part["geometry"]
+        uri = geometry["uri"] if geometry else None
+        ratio = extent / typical
+        if (uri, kind) in seen or 1 / MESH_SCALE_RATIO <= ratio <= MESH_SCALE_RATIO:
+            continue
+        seen.add((uri, kind))
+        yield uri, link, part, (kind, extent, ratio, typical)
 
 
 @register(
@@ -519,3 +650,154 @@ def collision_mesh_heavy(ctx: CheckContext) -> Iterator[Finding]:
                             f"{{count}} collision meshes have more than {COLLISION_TRIANGLES} triangles: {{items}}",
                         ),
                     )
+
+
+def _drop_tests(ctx: CheckContext) -> Iterator[tuple[ModelResult, RobotStructure, Outcome]]:
+    """(model, its structure, its drop test) for each model verify --simulate tested."""
+    for result, robot in _robots(ctx):
+        outcome = ctx.simulations.get(result.installed)
+        if outcome is not None:
+            yield result, robot, outcome
+
+
+def _named_item(robot: RobotStructure, problem: Problem) -> Mapping[str, Any] | None:
+    """The joint or link (in that order) a drop test's problem names, None when it names none."""
+    for joint in robot.get("joints", []):
+        if problem.joint is not None and joint["name"] == problem.joint:
+            return joint
+    for name in problem.links:
+        for link in robot["links"]:
+            if link["name"] == name:
+                return link
+        for joint in robot.get("joints", []):  # (MuJoCo's message may name a joint element)
+            if joint["name"] == name:
+                return joint
+    return None
+
+
+def _drop_position(
+    ctx: CheckContext, result: ModelResult, robot: RobotStructure, problem: Problem
+) -> tuple[Path, int | None]:
+    item = _named_item(robot, problem)
+    if item is None:
+        return model_source_position(ctx, result, None, None)
+    return model_item_position(ctx, result, item)
+
+
+def _mass_said(robot: RobotStructure, problem: Problem) -> bool:
+    """Whether MuJoCo's refusal names a link whose mass or inertia mass-not-positive,
+    inertia-invalid or mass-below-engine-minimum already report (one cause, one finding)."""
+    for link in robot["links"]:
+        inertial = link.get("inertial")
+        if link["name"] not in problem.links or inertial is None:
+            continue
+        inertia = inertial.get("inertia")
+        moments = physics.principal_moments(inertia) if inertia else [0.0]
+        if not (inertial.get("mass") or 0) >= ENGINE_MINIMUM or moments[0] < ENGINE_MINIMUM:
+            return True
+    return False
+
+
+@register(
+    "PF612",
+    "simulation-refused",
+    "warning",
+    area="physics",
+    bad='<link name="elbow_frame"/>  <!-- between two revolute joints: no mass, no inertia -->',
+    good='<link name="elbow_frame"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>',
+    summary="verify --simulate: MuJoCo refuses the model, or the drop test could not run",
+    explanation="With --simulate each robot model is loaded with MuJoCo's URDF importer (PyPI "
+    "mujoco, the `simulate` extra) in a separate process limited in memory, CPU and time. What "
+    "MuJoCo refuses (a link a joint moves without mass or inertia, a mesh it cannot use) is named "
+    "at the link or joint its message names. A warning: other simulators accept some of it.",
+    hint="give the named link a mass and inertia of its own (or fix it to its parent); for a mesh "
+    "MuJoCo cannot read, use an STL or OBJ collision mesh",
+)
+def simulation_refused(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot, outcome in _drop_tests(ctx):
+        if outcome.error is not None:
+            yield Finding(
+                f"drop test not run: {outcome.error}", *model_source_position(ctx, result, None, None)
+            )
+        for problem in outcome.problems:
+            if problem.kind == "refused" and not _mass_said(robot, problem):
+                yield Finding(
+                    f"MuJoCo refuses the model: {problem.message}"
+                    + (f" (link '{problem.links[0]}')" if problem.links else ""),
+                    *_drop_position(ctx, result, robot, problem),
+                )
+
+
+@register(
+    "PF613",
+    "simulation-unstable",
+    "error",
+    area="physics",
+    bad='<inertial><origin xyz="0.00001 0 0"/><mass value="1"/><inertia ixx="1e-10" iyy="1e-10" izz="1e-10" ixy="0" ixz="0" iyz="0"/></inertial>',
+    good='<inertial><origin xyz="0.05 0 0"/><mass value="1"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>',
+    summary="verify --simulate: the model falling limp under gravity reaches non-finite state or "
+    f"absurd speeds (over {LINEAR_SPEED:g} m/s or {ANGULAR_SPEED:g} rad/s) within 2 s",
+    explanation="The drop test (MuJoCo, base fixed, joints limp, gravity on, 2 s at MuJoCo's "
+    "default 2 ms step) is what a simulator does with the model before any controller acts: "
+    "a link that spins up or a state that turns NaN there explodes in Gazebo too. The cause is "
+    "almost always an inertia far too small for the link's mass and centre of mass.",
+    hint="give the named link the inertia of its shape and mass (its centre of mass where the material is)",
+)
+def simulation_unstable(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot, outcome in _drop_tests(ctx):
+        for problem in outcome.problems:
+            if problem.kind == "unstable":
+                named = (
+                    f"joint '{problem.joint}'"
+                    if problem.joint
+                    else f"link '{problem.links[0]}'"
+                    if problem.links
+                    else "the model"
+                )
+                yield Finding(
+                    f"{named}, falling limp under gravity, {problem.message}",
+                    *_drop_position(ctx, result, robot, problem),
+                )
+
+
+@register(
+    "PF614",
+    "collision-overlap-at-zero",
+    "warning",
+    area="physics",
+    bad='<joint name="elbow" type="revolute"><parent link="arm"/><child link="forearm"/>\n'
+    '  <origin xyz="0 0 -0.2"/>  <!-- forearm folded into the base -->',
+    good='<joint name="elbow" type="revolute"><parent link="arm"/><child link="forearm"/>\n  <origin xyz="0 0 0.3"/>',
+    summary="verify --simulate: collision shapes of links not joined to each other overlap at the zero pose",
+    explanation="At the pose every joint at 0 (where simulators spawn the robot), the collision "
+    "shapes of two links that no joint joins (MuJoCo ignores parent and child) lie more than 10 mm "
+    "inside each other: the simulator pushes them apart at the first step and the robot jumps. "
+    "Meshes count as their convex hulls (as MuJoCo's collisions see them; COLLADA as their bounding box).",
+    hint="move the collision shapes apart (smaller or split shapes), or disable the pair's "
+    "collisions in the simulator",
+)
+def collision_overlap_at_zero(ctx: CheckContext) -> Iterator[Finding]:
+    for result, robot, outcome in _drop_tests(ctx):
+        for problem in outcome.problems:
+            if problem.kind == "overlap" and len(problem.links) == 2:
+                # named at the link further down the tree (the one a joint brings into the other)
+                depth = _depths(robot)
+                deeper = sorted(problem.links, key=lambda name: -depth.get(name, 0))
+                yield Finding(
+                    f"collision shapes of links '{deeper[0]}' and '{deeper[1]}' overlap at the zero "
+                    f"pose ({problem.message})",
+                    *_drop_position(ctx, result, robot, Problem(problem.kind, problem.message, deeper)),
+                )
+
+
+def _depths(robot: RobotStructure) -> dict[str | None, int]:
+    """Each link's number of joints from the root."""
+    parent = {j.get("child"): j.get("parent") for j in robot.get("joints", [])}
+    depths: dict[str | None, int] = {}
+    for link in robot["links"]:
+        name, steps, seen = link["name"], 0, set()
+        while name in parent and name not in seen:  # (a loop in a broken model: stops)
+            seen.add(name)
+            name, steps = parent[name], steps + 1
+        depths[link["name"]] = steps
+    return depths

@@ -117,7 +117,8 @@ if TYPE_CHECKING:
 # 54: with 53, diagnostics carry `detail` (messages one line of at most 300 characters), findings of one cause
 #    grouped per file, per-file-ignores in the selection's key, no path of pkgforge's tree reported
 # 55: with 54, model structures carry their Gazebo plugins and <ros2_control> systems (issue 31)
-CACHE_FORMAT = 55
+# 56: with 55, Gazebo worlds and SDF models read, --simulate's outcomes, inertia against geometry (issue 31)
+CACHE_FORMAT = 56
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 

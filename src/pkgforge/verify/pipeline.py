@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     from pkgforge.model.rviz import RvizConfig
     from pkgforge.sandbox.protocol import Confinement
     from pkgforge.sandbox.zygote import Zygote
+    from pkgforge.simulate import Outcome
     from pkgforge.tree import InstallTree
     from pkgforge.urdf.select import ModelResult
     from pkgforge.verify.cache import ResultCache
@@ -75,6 +76,7 @@ class VerifyOptions:
     launch_arguments: dict[str, str] = field(default_factory=dict)
     use_cache: bool = True
     worker_memory: int | None = DEFAULT_WORKER_MEMORY  # bytes per launch worker; None: unlimited
+    simulate: bool = False  # --simulate: each robot model's drop test in MuJoCo (simulate/)
     distro: str | None = (
         None  # --distro; else ROS_DISTRO, pkgforge.toml, CI file (distro_data.target_distros)
     )
@@ -107,6 +109,7 @@ class VerifyOptions:
                 engine.name,
                 engine.prefix,
                 engine.distro,
+                *(["simulate"] if self.simulate else []),
             ]
         )
 
@@ -453,6 +456,40 @@ def rviz_configs(
     return out
 
 
+def _drop_tests(
+    tree: InstallTree, model_results: dict[str, list[ModelResult]], progress: Progress, jobs: int
+) -> dict[Path, Outcome]:
+    """--simulate: each robot model's drop test (simulate/), one limited process per model,
+    `jobs` of them at a time."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pkgforge.simulate import drop_test, model_urdf
+    from pkgforge.urdf.meshes import resolve_uri
+
+    models = [
+        result
+        for results in model_results.values()
+        for result in results
+        if result.status == "ok" and result.robot and result.robot.get("root_tag") == "robot"
+    ]
+    done = progress.counter("drop tests", len(models))
+
+    def test(result: ModelResult) -> Outcome:
+        def resolve(uri: str) -> Path | None:
+            lookup = resolve_uri(uri, tree, result.installed)
+            return lookup.path if lookup.status == "found" else None
+
+        assert result.robot is not None
+        children = {joint.get("child") for joint in result.robot.get("joints", [])}
+        root = next((link["name"] for link in result.robot["links"] if link["name"] not in children), None)
+        outcome = drop_test(model_urdf(result.robot, resolve), root)
+        done()
+        return outcome
+
+    with ThreadPoolExecutor(max(1, jobs)) as pool:
+        return dict(zip([r.installed for r in models], pool.map(test, models), strict=True))
+
+
 # Python's cyclic collector makes a pass each time 700 more objects are allocated than freed, and
 # a full one every 100 of those (the default 700, 10, 10): verify keeps ~1e6 objects alive (models,
 # launch records), so the passes found next to nothing while they took ~0.6 of the main process's
@@ -742,6 +779,7 @@ def run(
     ros1: dict[str, list[LaunchFile]] = {}
     model_results: dict[str, list[ModelResult]] = {}
     rviz: RvizFound = {}
+    simulations: dict[Path, Outcome] = {}  # --simulate: each model's drop test, by its installed file
     needs_tree = any(codes[t.path] & tree_codes for t in targets)
     # setup.py files the static reader could not read, run as colcon reads them (sandboxed): their
     # layouts before the tree is made from them; the packages in the tree too when there is one
@@ -822,6 +860,8 @@ def run(
             if options.on_models is not None:
                 options.on_models(tree, [r for results in model_results.values() for r in results])
             rviz = rviz_configs(tree, in_tree, resolutions)
+            if options.simulate:
+                simulations = _drop_tests(tree, model_results, progress, jobs)
             progress.clear()
         except BaseException:
             progress.clear()
@@ -858,6 +898,7 @@ def run(
                 namesakes=(namesakes or {}).get(target.path, ()),
                 shadowed=not own,
                 shared=shared,
+                simulations=simulations,
             )
             selection = selections[target.path]
             report = run_checks(
