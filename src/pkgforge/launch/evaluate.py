@@ -9,16 +9,32 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import importlib.util
-import itertools
 import os
 import re
 import sys
 import traceback
 from collections.abc import Callable, Iterator
-from types import ModuleType
 from typing import Any
 
-from pkgforge.launch import runtime
+from pkgforge.launch.builtin.launch.action import Action, LaunchDescriptionEntity
+from pkgforge.launch.builtin.launch.actions import TimerAction
+from pkgforge.launch.builtin.launch.command import running_xacro
+from pkgforge.launch.builtin.launch.errors import (
+    FAILURE_PROGRAM,
+    FAILURE_VARIABLE,
+    Unresolved,
+    failure_mark,
+    failure_text,
+    failure_type,
+    missing_configuration,
+)
+from pkgforge.launch.builtin.launch.event_handlers import EVENT_READ, HANDLING, HandledEvent, handler_event
+from pkgforge.launch.builtin.launch.frontend_reader import FrontendReader, register
+from pkgforge.launch.builtin.launch.launch_context import MISSING_PACKAGE_ROOT, RECORDER, LaunchContext
+from pkgforge.launch.builtin.launch.launch_description_sources import load_description
+from pkgforge.launch.builtin.launch_ros.substitutions import lookup_package
+from pkgforge.launch.frontend import parse_file, parse_substitution
+from pkgforge.launch.place import LAUNCH_FILES, here
 from pkgforge.launch.records import (
     BranchBudget,
     Error,
@@ -32,59 +48,21 @@ from pkgforge.launch.records import (
     evaluate_branches,
     from_dict,
 )
-from pkgforge.launch.runtime import (
-    RECORDER,
-    Action,
-    LaunchContext,
-    LaunchDescription,
-    LaunchDescriptionEntity,
-    Unresolved,
-)
-from pkgforge.model.references import launch_format
+
+# the launch API reaches the XML/YAML reader through frontend_reader (an included XML file, a
+# parameter file's $(...)): wired here, above both, as launch finds launch_xml by entry point
+register(FrontendReader(parse_file=parse_file, parse_substitution=parse_substitution))
 
 MAX_DEPTH = 32
 NOT_FOUND = re.compile(r"package '([^']+)' not found")
 IMPORTED_FROM = re.compile(r" \((?:/|<)[^\n]*?\.py\)$")
-_module_counter = itertools.count()
-
-
-def load_module(path: str) -> ModuleType:
-    """A Python launch file as a module (launch's load_python_launch_file_as_module)."""
-    runtime._LAUNCH_FILES.add(path)
-    spec = importlib.util.spec_from_file_location(f"pkgforge_launch_{next(_module_counter)}", path)
-    if spec is None or spec.loader is None:  # a name importlib knows no loader for
-        raise ImportError(f"cannot load {path} as a Python module")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def load_description(path: str, kind: str | None = None) -> LaunchDescription:
-    kind = kind or launch_format(path)
-    runtime._LAUNCH_FILES.add(path)
-    if kind == "py":
-        module = load_module(path)
-        function = getattr(module, "generate_launch_description", None)
-        if function is None:
-            raise runtime.InvalidLaunchFileError(
-                f"{os.path.basename(path)} has no generate_launch_description()"
-            )
-        description: object = function()
-        if not isinstance(description, LaunchDescription):
-            raise runtime.InvalidLaunchFileError(
-                f"generate_launch_description() returned {type(description).__name__}, not a LaunchDescription"
-            )
-        return description
-    from pkgforge.launch.frontend import parse_file
-
-    return parse_file(path, kind)
 
 
 def _location_in(path: str, error: BaseException) -> int | None:
     """The deepest traceback line inside the launch file (or any launch file being evaluated)."""
     line = None
     for frame in traceback.extract_tb(error.__traceback__):
-        if frame.filename == path or frame.filename in runtime._LAUNCH_FILES:
+        if frame.filename == path or frame.filename in LAUNCH_FILES:
             line = frame.lineno
     if line is None and isinstance(error, SyntaxError) and error.filename == path:
         line = error.lineno
@@ -96,13 +74,13 @@ def _missing_package_of(error: BaseException) -> str | None:
     that lookup, already reported), else None."""
     texts = [str(error), str(getattr(error, "filename", "") or "")]
     for text in texts:
-        index = text.find(runtime.MISSING_PACKAGE_ROOT + "/")
+        index = text.find(MISSING_PACKAGE_ROOT + "/")
         if index >= 0:
-            rest = text[index + len(runtime.MISSING_PACKAGE_ROOT) + 1 :]
+            rest = text[index + len(MISSING_PACKAGE_ROOT) + 1 :]
             return re.split(r"[/'\"\s]", rest, maxsplit=1)[0] or None
     # a module looked for in a folder the file put on sys.path from a package not found here
     # (sys.path.append(os.path.join(get_package_share_directory('realsense2_camera'), 'launch')))
-    return _package_folder_on_path(runtime.MISSING_PACKAGE_ROOT + "/", error)
+    return _package_folder_on_path(MISSING_PACKAGE_ROOT + "/", error)
 
 
 def _empty_read_consequence(error: BaseException) -> bool:
@@ -138,7 +116,7 @@ def _missing_package_read() -> str | None:
     reads a YAML file from the stand-in, its own try returns None, and `dict.update(None)` raised
     a TypeError at a line with nothing wrong on it. A failure with no such read before it stays
     the file's own (a lookup caught by a try in a caller may return the stand-in too)."""
-    return _read_package(runtime.MISSING_PACKAGE_ROOT + os.sep)
+    return _read_package(MISSING_PACKAGE_ROOT + os.sep)
 
 
 def _not_installed_read(error: BaseException, spans: Spans | None = None) -> str | None:
@@ -168,7 +146,7 @@ def _watch_stand_in_reads() -> None:
     if _READS_WATCHED:
         return
     _READS_WATCHED.append(True)
-    roots = [runtime.MISSING_PACKAGE_ROOT + os.sep]
+    roots = [MISSING_PACKAGE_ROOT + os.sep]
     phantom = os.environ.get("PKGFORGE_PHANTOM_PREFIX")
     if phantom:
         roots.append(os.path.join(phantom, "share") + os.sep)
@@ -225,7 +203,7 @@ def _ros_program_not_found(error: BaseException) -> str | None:
     """The program FindExecutable did not find on PATH, when it is one a sourced ROS puts there
     (ros2, gz): a node's executable lives in lib/<package>/, never on PATH, and a misspelt name
     (pyhton3, xacroo) fails everywhere, so those stay the file's error."""
-    found = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    found = failure_mark(error, FAILURE_PROGRAM)
     return found if found in ROS_PROGRAMS else None
 
 
@@ -250,7 +228,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         # the built-in front end's refusal of an element wraps what building it raised: that
         # error (launch's own, as the real engine reports it) at the element's line
         shown = error.__cause__
-    message = runtime.failure_text(shown)
+    message = failure_text(shown)
     if isinstance(error, SystemExit):
         message = f"SystemExit: the launch file called sys.exit({error.code!r})"
     if isinstance(error, ImportError) and not isinstance(error, ModuleNotFoundError):
@@ -260,7 +238,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
         message = IMPORTED_FROM.sub("", message)
     record: ErrorRecordDict = {
         "stage": stage,
-        "type": runtime.failure_type(shown),
+        "type": failure_type(shown),
         "message": message,
         "file": path,
         "line": _location_in(path, error),
@@ -296,7 +274,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     program = _program_not_found(error)
     if program is not None:
         record["program"] = program
-    variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
+    variable = failure_mark(error, FAILURE_VARIABLE)
     if variable is not None:
         record["variable"] = variable
     line = getattr(error, "line", None)  # the built-in front end's FrontendError
@@ -305,7 +283,7 @@ def _error_record(path: str, error: BaseException, stage: ErrorStage) -> ErrorRe
     if record["line"] is None and stage == "load":
         record["line"] = _null_byte_line(path, message)
     frames = traceback.extract_tb(error.__traceback__)
-    origin = next((f for f in reversed(frames) if f.filename in runtime._LAUNCH_FILES), None)
+    origin = next((f for f in reversed(frames) if f.filename in LAUNCH_FILES), None)
     if origin is not None:
         record["file"], record["line"] = origin.filename, origin.lineno
     return as_dict(from_dict(Error, record))
@@ -377,7 +355,7 @@ def visit(
         if children:
             spans = child_spans(entity, start, ancestors, loading)
             kind = type(entity).__name__
-            if isinstance(entity, runtime.TimerAction):  # (ROSTimer too)
+            if isinstance(entity, TimerAction):  # (ROSTimer too)
                 defer(
                     context,
                     list(children),
@@ -390,7 +368,7 @@ def visit(
                 )
             elif kind == "RegisterEventHandler":
                 handler = getattr(entity, "event_handler", None)
-                event = runtime.handler_event(handler, getattr(handler, "target_action", None))
+                event = handler_event(handler, getattr(handler, "target_action", None))
                 kind = type(handler).__name__
                 defer(context, list(children), kind, event, depth + 1, True, spans, context.current_file)
             else:
@@ -443,8 +421,8 @@ def defer(
 ) -> None:
     """Keep a timer's or a handler's entities for when the description is done (both engines)."""
     configurations = frozenset(k for k in context.launch_configurations if isinstance(k, str))
-    # (read without marking the stand-in event as read: runtime.HandledEvent)
-    target = vars(event).get("action") if isinstance(event, runtime.HandledEvent) else None
+    # (read without marking the stand-in event as read: HandledEvent)
+    target = vars(event).get("action") if isinstance(event, HandledEvent) else None
     DEFERRED.append(
         Deferred(
             entities,
@@ -544,13 +522,13 @@ def handling(context: Any, event: object) -> Iterator[None]:
     engines): the locals pushed, `event` added (BaseEventHandler.handle), the locals popped after."""
     context._push_locals()
     context.extend_locals({"event": event})
-    runtime.HANDLING.append(event)
-    read, runtime.EVENT_READ[0] = runtime.EVENT_READ[0], False
+    HANDLING.append(event)
+    read, EVENT_READ[0] = EVENT_READ[0], False
     try:
         yield
     finally:
-        runtime.EVENT_READ[0] = read
-        runtime.HANDLING.pop()
+        EVENT_READ[0] = read
+        HANDLING.pop()
         context._pop_locals()
 
 
@@ -609,7 +587,7 @@ def record_visit_failure(
     """What an entity's failure during the visit records; the visit goes on (both engines).
     `spans`: the stand-in reads that are the entity's own and its OpaqueFunction ancestors';
     `loading`: those the included files it came from made while loading."""
-    unset = runtime.missing_configuration(error)
+    unset = missing_configuration(error)
     would_set = _configurations_set_by(entity)
     if unset is not None:  # settled when the visit is done (settle_unset_uses)
         name, at = unset
@@ -654,7 +632,7 @@ def record_visit_failure(
             entity,
         )
         return
-    named = runtime.failure_mark(error, runtime.FAILURE_PROGRAM)
+    named = failure_mark(error, FAILURE_PROGRAM)
     record: ErrorRecordDict = {
         "stage": "visit",
         "type": type(error).__name__,
@@ -670,10 +648,10 @@ def record_visit_failure(
     program = _ros_program_not_found(error)
     if program is not None:  # FindExecutable(name='ros2'): on PATH where ROS is sourced
         record["program"] = program
-    variable = runtime.failure_mark(error, runtime.FAILURE_VARIABLE)
+    variable = failure_mark(error, FAILURE_VARIABLE)
     if variable is not None:  # EnvironmentVariable('USER') without a default, not set here
         record["variable"] = variable
-    if runtime.HANDLING and runtime.EVENT_READ[0] and _empty_read_consequence(error):
+    if HANDLING and EVENT_READ[0] and _empty_read_consequence(error):
         record["event_values"] = True  # event.cmd[0], event.action.process_details['name']
     absent = _not_installed_read(error, spans)
     if absent is not None:  # an OpaqueFunction reading a declared package's file, not installed here
@@ -696,12 +674,12 @@ def _watch_xacro() -> None:
     def note(path: object, via: str, mappings: object = None) -> None:
         # only a call from the launch file itself: xacro calls parse() for every include too
         caller = sys._getframe(2).f_code.co_filename
-        if caller not in runtime._LAUNCH_FILES:
+        if caller not in LAUNCH_FILES:
             return
         if isinstance(path, os.PathLike):  # xacro opens a pathlib.Path as it opens a str
             path = os.fspath(path)
-        if not runtime._RUNNING_XACRO and isinstance(path, str) and os.path.isabs(path):
-            file, line = runtime.here()
+        if not running_xacro() and isinstance(path, str) and os.path.isabs(path):
+            file, line = here()
             # the xacro arguments it gives (andino's spawn_robot: use_gazebo_ros_control), so the
             # model is checked as the file processes it, not failing for want of them
             given = (
@@ -750,7 +728,7 @@ def _watch_ament() -> None:
         return
 
     def from_launch_file() -> bool:
-        return sys._getframe(2).f_code.co_filename in runtime._LAUNCH_FILES
+        return sys._getframe(2).f_code.co_filename in LAUNCH_FILES
 
     real_prefix = packages.get_package_prefix
     real_share = packages.get_package_share_directory
@@ -758,25 +736,23 @@ def _watch_ament() -> None:
 
     def get_package_prefix(package_name: str) -> str:
         if from_launch_file():
-            return runtime.lookup_package(package_name, "get_package_prefix", runtime.here(), "prefix")
+            return lookup_package(package_name, "get_package_prefix", here(), "prefix")
         return real_prefix(package_name)
 
     def get_package_share_directory(package_name: str, *args: Any, **kwargs: Any) -> str:
         if from_launch_file():
-            return runtime.lookup_package(package_name, "get_package_share_directory", runtime.here())
+            return lookup_package(package_name, "get_package_share_directory", here())
         return real_share(package_name, *args, **kwargs)
 
     def get_package_share_path(package_name: str, *args: Any, **kwargs: Any) -> Any:
         import pathlib
 
         if from_launch_file():
-            return pathlib.Path(
-                runtime.lookup_package(package_name, "get_package_share_path", runtime.here())
-            )
+            return pathlib.Path(lookup_package(package_name, "get_package_share_path", here()))
         assert real_share_path is not None  # patched in only where the module has it
         return real_share_path(package_name, *args, **kwargs)
 
-    get_package_prefix.__dict__["_pkgforge_real"] = real_prefix  # runtime.lookup_package calls it
+    get_package_prefix.__dict__["_pkgforge_real"] = real_prefix  # lookup_package calls it
     patched: dict[str, Callable[..., Any]] = {
         "get_package_prefix": get_package_prefix,
         "get_package_share_directory": get_package_share_directory,
@@ -806,9 +782,9 @@ def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None)
     _watch_xacro()
     _watch_ament()
     _watch_stand_in_reads()
-    runtime.RECORDER.reset()  # a fresh record for each file
-    runtime._LAUNCH_FILES.clear()
-    runtime._LAUNCH_FILES.add(path)
+    RECORDER.reset()  # a fresh record for each file
+    LAUNCH_FILES.clear()
+    LAUNCH_FILES.add(path)
     try:
         description = load_description(path)
     except BaseException as error:  # noqa: BLE001 - SystemExit and friends included
@@ -843,6 +819,6 @@ def _evaluate(path: str, overrides: dict[str, str], budget: BranchBudget | None)
 def _result(status: Status, error: ErrorRecordDict | None, recorder: Recorder) -> LaunchResultDict:
     result: LaunchResultDict = {"status": status, "error": error}
     recorder.dump_into(result)
-    result["files"] = sorted(runtime._LAUNCH_FILES)
+    result["files"] = sorted(LAUNCH_FILES)
     result["engine"] = "builtin"
     return result

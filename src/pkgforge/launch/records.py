@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypedDict, TypeVar, cast, overload
 
+from pkgforge.launch.place import LAUNCH_FILES
 from pkgforge.sandbox.protocol import LaunchRequest, LimitKind
 
 if TYPE_CHECKING:
@@ -332,7 +333,7 @@ class Error(Record):
     event_values: bool = False
     # a LaunchConfiguration with no default that nothing declared or set when it was performed
     # (launch's SubstitutionFailure "launch configuration 'x' does not exist"): its name; the
-    # record stands at the substitution's line (runtime.missing_configuration)
+    # record stands at the substitution's line (builtin.launch.errors.missing_configuration)
     configuration: str | None = None
     # what the failing action ran after, as launch runs it once the description is done: the
     # TimerAction or the event handler (OnProcessExit...) it is in, else None
@@ -859,9 +860,7 @@ def _where_stopped(error: BaseException) -> _Where:
     """The launch file's line a stopped branch was running (the deepest frame in a launch file)."""
     import traceback
 
-    from pkgforge.launch.runtime import _LAUNCH_FILES
-
-    frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in _LAUNCH_FILES]
+    frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in LAUNCH_FILES]
     return (
         {"file": frames[-1].filename, "line": frames[-1].lineno} if frames else {"file": None, "line": None}
     )

@@ -31,7 +31,28 @@ from collections.abc import Callable, Iterable
 from typing import Any
 
 from pkgforge.build.toolchain import python_paths
-from pkgforge.launch import runtime as rt
+from pkgforge.launch.builtin.launch.command import command_output
+from pkgforge.launch.builtin.launch.errors import (
+    FAILURE_CONFIGURATION,
+    FAILURE_CONFIGURATION_AT,
+    FAILURE_MARKS,
+    FAILURE_PROGRAM,
+    FAILURE_VARIABLE,
+    MISSING_CONFIGURATION_TEXT,
+    Unresolved,
+    failure_mark,
+    failure_text,
+    marked,
+)
+from pkgforge.launch.builtin.launch.event_handlers import HandledEvent, handler_event
+from pkgforge.launch.builtin.launch.execute_process import PREPARING
+from pkgforge.launch.builtin.launch.include_launch_description import include_arguments
+from pkgforge.launch.builtin.launch.launch_context import RECORDER, record_path
+from pkgforge.launch.builtin.launch.substitution import joined
+from pkgforge.launch.builtin.launch_ros.node import InvalidNodeNameException
+from pkgforge.launch.builtin.launch_ros.node import validate_node_name as _validate_node_name
+from pkgforge.launch.builtin.launch_ros.substitutions import executable_in_package, lookup_package
+from pkgforge.launch.place import FRONTEND_LOCATION, LAUNCH_FILES, here
 from pkgforge.launch.records import (
     PREVIEW_LENGTH,
     BranchBudget,
@@ -58,7 +79,6 @@ NOT_EVALUATED = {"OpaqueCoroutine", "LifecycleTransition", "UnregisterEventHandl
 # as not evaluated, and what uses them skipped, as the built-in engine does
 RUN_TIME_VALUES = ("LaunchLogDir",)
 
-RECORDER = rt.RECORDER
 L = types.SimpleNamespace()  # the real libraries, once imported
 _SCRATCH: str | None = None
 # the context being visited; launch also performs substitutions in throw-away contexts to
@@ -103,10 +123,6 @@ class _Message:
 
 
 _NAMESPACE = re.compile(r"^/([A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*)?$")
-
-
-InvalidNodeNameException = rt.InvalidNodeNameException
-_validate_node_name = rt.validate_node_name
 
 
 class InvalidNamespaceException(ValueError):
@@ -399,7 +415,7 @@ def _locate(cls: Any) -> None:
     def __new__(klass: Any, *args: Any, **kwargs: Any) -> Any:
         instance = real_new(klass) if real_new is object.__new__ else real_new(klass, *args, **kwargs)
         try:
-            instance._file, instance._line = rt.here()
+            instance._file, instance._line = here()
         except AttributeError:  # __slots__: no location
             pass
         return instance
@@ -444,9 +460,9 @@ def _hook_locations() -> None:
     parse_action = launch.frontend.Parser.parse_action
 
     def located_parse_action(self: Any, entity: Any) -> Any:
-        file = rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None
+        file = FRONTEND_LOCATION[-1][0] if FRONTEND_LOCATION else None
         line = _entity_line(entity)
-        rt._FRONTEND_LOCATION.append((file, line))
+        FRONTEND_LOCATION.append((file, line))
         try:
             action = parse_action(self, entity)
         except Exception as error:
@@ -458,7 +474,7 @@ def _hook_locations() -> None:
                     pass
             raise
         finally:
-            rt._FRONTEND_LOCATION.pop()
+            FRONTEND_LOCATION.pop()
         if hasattr(action, "__dict__"):  # the element's line, whatever its children set last
             action._file, action._line = file, line
         return action
@@ -478,8 +494,8 @@ def _locate_attributes(entity_class: Any) -> None:
 
     def located_get_attr(self: Any, *args: Any, **kwargs: Any) -> Any:
         line = _entity_line(self)
-        if rt._FRONTEND_LOCATION and line is not None:
-            rt._FRONTEND_LOCATION[-1] = (rt._FRONTEND_LOCATION[-1][0], line)
+        if FRONTEND_LOCATION and line is not None:
+            FRONTEND_LOCATION[-1] = (FRONTEND_LOCATION[-1][0], line)
         return get_attr(self, *args, **kwargs)
 
     entity_class.get_attr = located_get_attr
@@ -494,23 +510,23 @@ def _hook_loaders() -> None:
     real_frontend = frontend.get_launch_description_from_frontend_launch_file
 
     def from_python(path: Any, *args: Any, **kwargs: Any) -> Any:
-        rt._LAUNCH_FILES.add(os.fspath(path))
+        LAUNCH_FILES.add(os.fspath(path))
         return real_python(path, *args, **kwargs)
 
     def from_frontend(path: Any, *args: Any, **kwargs: Any) -> Any:
-        rt._LAUNCH_FILES.add(os.fspath(path))
-        rt._FRONTEND_LOCATION.append((os.fspath(path), None))
+        LAUNCH_FILES.add(os.fspath(path))
+        FRONTEND_LOCATION.append((os.fspath(path), None))
         try:
             return real_frontend(path, *args, **kwargs)
         finally:
-            rt._FRONTEND_LOCATION.pop()
+            FRONTEND_LOCATION.pop()
 
     real_module = python.load_python_launch_file_as_module
 
     def as_module(
         path: Any, *args: Any, **kwargs: Any
     ) -> Any:  # a launch file loaded by another one: user code too
-        rt._LAUNCH_FILES.add(os.fspath(path))
+        LAUNCH_FILES.add(os.fspath(path))
         return real_module(path, *args, **kwargs)
 
     replacements: dict[Any, Callable[..., Any]] = {
@@ -525,18 +541,15 @@ def _hook_loaders() -> None:
                     setattr(module, attribute, replacements[value])
 
 
-_record_path = rt._record_path
-
-
 def _hook_perform_substitutions(real: Callable[[Any, Any], str]) -> Callable[[Any, Any], str]:
     """launch's perform_substitutions, every module's name for it: in the visit, the built-in
-    engine's concatenation (runtime.joined), so a path that is only part of a name the list
+    engine's concatenation (builtin substitution.joined), so a path that is only part of a name the list
     builds is recorded as that whole name in both engines."""
 
     def perform_substitutions(context: Any, subs: Any) -> str:
         if not _evaluating(context):
             return real(context, subs)
-        return rt.joined(subs, context.perform_substitution)
+        return joined(subs, context.perform_substitution)
 
     for name, module in list(sys.modules.items()):
         if name.split(".")[0] in ("launch", "launch_xml", "launch_yaml", "launch_ros") and module is not None:
@@ -565,9 +578,9 @@ def _hook_substitutions() -> None:
 
         cls.perform = perform
 
-    wrap(subs.PathJoinSubstitution, after=lambda s, c, r: _record_path(r, s, "PathJoinSubstitution"))
+    wrap(subs.PathJoinSubstitution, after=lambda s, c, r: record_path(r, s, "PathJoinSubstitution"))
     if hasattr(subs, "FileContent"):
-        wrap(subs.FileContent, before=lambda s, c: _record_path(L.perform(c, s.path), s, "FileContent"))
+        wrap(subs.FileContent, before=lambda s, c: record_path(L.perform(c, s.path), s, "FileContent"))
 
     def find_executable(self: Any, context: Any) -> None:
         if L.perform(context, self.name) == "xacro":
@@ -576,8 +589,8 @@ def _hook_substitutions() -> None:
     wrap(subs.FindExecutable, before=find_executable)
     _mark_missing_configuration(subs.LaunchConfiguration)
     _locate_parameter_file_substitutions(L.launch_ros.parameter_descriptions.ParameterFile)
-    _mark_failure(subs.FindExecutable, rt.FAILURE_PROGRAM)
-    _mark_failure(subs.EnvironmentVariable, rt.FAILURE_VARIABLE)
+    _mark_failure(subs.FindExecutable, FAILURE_PROGRAM)
+    _mark_failure(subs.EnvironmentVariable, FAILURE_VARIABLE)
 
     real_perform = ros_subs.FindPackage.perform
 
@@ -597,11 +610,11 @@ def _hook_substitutions() -> None:
         real_executable = ros_subs.ExecutableInPackage.perform
 
         def executable_perform(self: Any, context: Any) -> Any:
-            """as the built-in engine (runtime.executable_in_package): a package not found here
+            """as the built-in engine (builtin launch_ros/substitutions.executable_in_package): a package not found here
             stands in as an empty one; an executable not built yet is no failure"""
             if not _evaluating(context):
                 return real_executable(self, context)
-            return rt.executable_in_package(
+            return executable_in_package(
                 self, L.perform(context, self.executable), L.perform(context, self.package)
             )
 
@@ -614,7 +627,7 @@ def _hook_substitutions() -> None:
 
 def _mark_failure(cls: Any, mark: str) -> None:
     """cls's SubstitutionFailure carries the name it looked up, as the built-in engine's does
-    (runtime.marked): FindExecutable's program not on PATH, EnvironmentVariable's variable not set
+    (builtin errors.marked): FindExecutable's program not on PATH, EnvironmentVariable's variable not set
     (launch says the former as the list of substitutions, not the name)."""
     real = cls.perform
 
@@ -624,7 +637,7 @@ def _mark_failure(cls: Any, mark: str) -> None:
             return real(self, context)
         except L.launch.substitutions.SubstitutionFailure as error:
             if getattr(self, "default_value", None) is None:  # (a default's failure is the default's)
-                rt.marked(error, mark, name)
+                marked(error, mark, name)
             raise
 
     cls.perform = perform
@@ -632,7 +645,7 @@ def _mark_failure(cls: Any, mark: str) -> None:
 
 def _mark_missing_configuration(cls: Any) -> None:
     """launch's failure of a LaunchConfiguration not set carries its name and the
-    substitution's place, as the built-in engine's does (runtime.missing_configuration): the
+    substitution's place, as the built-in engine's does (builtin errors.missing_configuration): the
     innermost one, where a configuration's name or default uses another."""
     real = cls.perform
 
@@ -640,12 +653,12 @@ def _mark_missing_configuration(cls: Any) -> None:
         try:
             return real(self, context)
         except L.launch.substitutions.SubstitutionFailure as error:
-            unset = rt.MISSING_CONFIGURATION_TEXT.search(str(error))
-            if unset is not None and all(rt.failure_mark(error, m) is None for m in rt.FAILURE_MARKS):
-                setattr(error, rt.FAILURE_CONFIGURATION, unset.group(1))
+            unset = MISSING_CONFIGURATION_TEXT.search(str(error))
+            if unset is not None and all(failure_mark(error, m) is None for m in FAILURE_MARKS):
+                setattr(error, FAILURE_CONFIGURATION, unset.group(1))
                 setattr(
                     error,
-                    rt.FAILURE_CONFIGURATION_AT,
+                    FAILURE_CONFIGURATION_AT,
                     (getattr(self, "_file", None), getattr(self, "_line", None)),
                 )
             raise
@@ -655,15 +668,15 @@ def _mark_missing_configuration(cls: Any) -> None:
 
 def _locate_parameter_file_substitutions(cls: Any) -> None:
     """A parameter file read with allow_substs: the substitutions launch_ros parses from its text
-    stand at the ParameterFile's place (the built-in engine's runtime._allowed_parameter_files)."""
+    stand at the ParameterFile's place (the built-in engine's launch_ros/parameter_descriptions._allowed_parameter_files)."""
     real = cls.evaluate
 
     def evaluate(self: Any, context: Any) -> Any:
-        rt._FRONTEND_LOCATION.append((getattr(self, "_file", None), getattr(self, "_line", None)))
+        FRONTEND_LOCATION.append((getattr(self, "_file", None), getattr(self, "_line", None)))
         try:
             return real(self, context)
         finally:
-            rt._FRONTEND_LOCATION.pop()
+            FRONTEND_LOCATION.pop()
 
     cls.evaluate = evaluate
 
@@ -672,14 +685,14 @@ def _run_time_value(name: str) -> Callable[[Any, Any], str]:
     def perform(self: Any, context: Any) -> str:
         if _evaluating(context):
             RECORDER.add("unsupported", {"name": name}, self)
-        raise rt.Unresolved(f"<{name}>")
+        raise Unresolved(f"<{name}>")
 
     return perform
 
 
 def _find(cls: Any, kind: str) -> None:
     """FindPackageShare/FindPackagePrefix's lookup, as the built-in engine does it
-    (runtime.lookup_package): recorded, and a package not found here reported and standing in as
+    (builtin launch_ros/substitutions.lookup_package): recorded, and a package not found here reported and standing in as
     an empty one, so the node using it and every later use in the file are still checked
     (issue 10, item 4). Performed in the visit: at the substitution's place; called by the launch
     file itself (`FindPackageShare('p').find('p')`): at that call's place; anything else (launch
@@ -688,16 +701,16 @@ def _find(cls: Any, kind: str) -> None:
 
     def find(self: Any, package_name: str) -> Any:
         if getattr(self, "_pkgforge_performing", False):
-            return rt.lookup_package(package_name, cls.__name__, self, kind)
-        if sys._getframe(1).f_code.co_filename in rt._LAUNCH_FILES:
-            return rt.lookup_package(package_name, cls.__name__, rt.here(), kind)
+            return lookup_package(package_name, cls.__name__, self, kind)
+        if sys._getframe(1).f_code.co_filename in LAUNCH_FILES:
+            return lookup_package(package_name, cls.__name__, here(), kind)
         return real(self, package_name)
 
     cls.find = find
 
 
 def _command_perform(self: Any, context: Any) -> str:
-    """Command as the built-in engine performs it (runtime.command_output, one policy for both):
+    """Command as the built-in engine performs it (builtin command.command_output, one policy for both):
     what is a pure function of files runs here (xacro with the real library); any other command
     is recorded as run-time only."""
     text = L.perform(context, self.command)
@@ -707,7 +720,7 @@ def _command_perform(self: Any, context: Any) -> str:
         if runs_at_verify_time(shlex.split(text)):
             raise L.launch.substitutions.SubstitutionFailure("not evaluated outside the launch file's visit")
         return ""
-    output: str = rt.command_output(self, text, on_stderr, L.launch.substitutions.SubstitutionFailure)
+    output: str = command_output(self, text, on_stderr, L.launch.substitutions.SubstitutionFailure)
     return output
 
 
@@ -776,11 +789,11 @@ def _parameters(context: Any, groups: Iterable[Any], owner: Any) -> list[Paramet
                     }
                 )
                 if isinstance(text, str):
-                    _record_path(text, owner, "parameter")
+                    record_path(text, owner, "parameter")
         else:
             source = group.param_file if isinstance(group, ParameterFile) else group
             path = os.fspath(source) if isinstance(source, os.PathLike) else _perform(context, source)
-            _record_path(path, owner, "parameter file")
+            record_path(path, owner, "parameter file")
             out.append(
                 {
                     "name": None,
@@ -802,7 +815,7 @@ def _record_node(node: Any, context: Any) -> None:
     for argument in node._pkgforge_arguments:
         text = _perform(context, argument)
         arguments.append(text)
-        _record_path(text, node, "Node arguments")
+        record_path(text, node, "Node arguments")
     # SetParameter's global parameters, which launch_ros gives every node in scope
     parameters: list[ParameterRecordDict] = [
         {
@@ -905,7 +918,7 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
             out.extend(e for e in entities if isinstance(e, launch.LaunchDescriptionEntity))
         return out + _shutdown_entities(action.event_handler)
     if name == "SetParametersFromFile":
-        _record_path(
+        record_path(
             _text(context, action._SetParametersFromFile__param_file), action, "SetParametersFromFile"
         )
     children: Iterable[Any] | None = action.execute(context)
@@ -915,20 +928,18 @@ def _handle(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
 def _execute(action: Any, context: Any, before: Callable[[], None] | None = None) -> None:
     """What the action's execute performs before it would start its process, by the real
     methods (launch_ros's Node._perform_substitutions in `before`, then ExecuteLocal.prepare and
-    the output), recorded as its execution (runtime.execute_process is the built-in engine's);
+    the output), recorded as its execution (builtin execute_process.execute_process is the built-in engine's);
     a failure is recorded there too, and raised as launch raises it. Nothing is started."""
     try:
         if before is not None:
             before()
-        rt.PREPARING[0] = True
+        PREPARING[0] = True
         try:
             record = _prepared(action, context)
         finally:
-            rt.PREPARING[0] = False
+            PREPARING[0] = False
     except Exception as error:
-        RECORDER.add(
-            "executions", {"action": type(action).__name__, "failure": rt.failure_text(error)}, action
-        )
+        RECORDER.add("executions", {"action": type(action).__name__, "failure": failure_text(error)}, action)
         raise
     RECORDER.add("executions", record, action)
 
@@ -982,13 +993,13 @@ def _shutdown_entities(handler: Any) -> list[Any]:
     return [e for e in entities if isinstance(e, L.launch.LaunchDescriptionEntity)]
 
 
-def _handled_event(action: Any) -> rt.HandledEvent:
-    """The event a RegisterEventHandler's handler handles (runtime.handler_event), with the action
+def _handled_event(action: Any) -> HandledEvent:
+    """The event a RegisterEventHandler's handler handles (builtin event_handlers.handler_event), with the action
     it watches: launch keeps that in the handler's private attributes."""
     handler = action.event_handler
     target = getattr(handler, "_OnActionEventBase__action_matcher", None)
     target = getattr(handler, "_OnStateTransition__target_lifecycle_node", target)
-    return rt.handler_event(handler, target if isinstance(target, L.launch.Action) else None)
+    return handler_event(handler, target if isinstance(target, L.launch.Action) else None)
 
 
 def _declare(action: Any, context: Any) -> Iterable[Any] | None:
@@ -1029,14 +1040,14 @@ def _phantom(path: str) -> bool:
 def _include(action: Any, context: Any, depth: int) -> Iterable[Any] | None:
     source = action.launch_description_source
     path = L.perform(context, source._LaunchDescriptionSource__location)
-    arguments = rt.include_arguments(context, action.launch_arguments, _perform)
+    arguments = include_arguments(context, action.launch_arguments, _perform)
     exists = os.path.isfile(path)
     RECORDER.add("includes", {"path": path, "arguments": arguments, "exists": exists}, action)
-    _record_path(path, action, "IncludeLaunchDescription")
+    record_path(path, action, "IncludeLaunchDescription")
     if not exists or _phantom(path):
         RECORDER.unfollowed.append(path)
         return None
-    rt._LAUNCH_FILES.add(path)
+    LAUNCH_FILES.add(path)
     children: Iterable[Any] | None = action.execute(context)
     return children
 
@@ -1130,8 +1141,8 @@ def _evaluate(
     builtin._watch_ament()
     builtin._watch_stand_in_reads()
     RECORDER.reset()
-    rt._LAUNCH_FILES.clear()
-    rt._LAUNCH_FILES.add(path)
+    LAUNCH_FILES.clear()
+    LAUNCH_FILES.add(path)
     environment = dict(os.environ)
     launch = L.launch
     try:
@@ -1190,7 +1201,7 @@ def _evaluate(
 def _result(status: Status, error: ErrorRecordDict | None, distro: str | None) -> LaunchResultDict:
     result: LaunchResultDict = {"status": status, "error": error}
     RECORDER.dump_into(result)
-    result["files"] = sorted(rt._LAUNCH_FILES)
+    result["files"] = sorted(LAUNCH_FILES)
     result["engine"], result["distro"] = "ros", distro
     return result
 

@@ -256,9 +256,9 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
         "line": None,
     }
     if "file" in request:
-        from pkgforge.launch import runtime
+        from pkgforge.launch.place import LAUNCH_FILES
 
-        frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in runtime._LAUNCH_FILES]
+        frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in LAUNCH_FILES]
         if frames:
             record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
     return record
@@ -295,9 +295,9 @@ def _install_guard(own: str) -> bool:
     )
 
     def where() -> tuple[str | None, int | None]:
-        from pkgforge.launch import runtime
+        from pkgforge.launch.place import here
 
-        file, line = runtime.here()
+        file, line = here()
         if file is None:  # a construct being visited (a Command running): where it was written
             frame: FrameType | None = sys._getframe(1)
             while frame is not None and file is None:
@@ -558,8 +558,8 @@ def _evaluate(request: WorkerRequest, engine: Engine, limits: WorkerLimits, guar
     except BaseException as error:  # noqa: BLE001 - the reply must always come
         result = {"status": "load-error", "error": _located(request, error)}
         if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
+            from pkgforge.launch.builtin.launch.launch_context import RECORDER
             from pkgforge.launch.records import as_dict
-            from pkgforge.launch.runtime import RECORDER
 
             result["errors"] = [cast(ErrorRecord, as_dict(e)) for e in RECORDER.errors]
     _mark_limits(result, limits)
