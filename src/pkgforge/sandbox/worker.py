@@ -40,7 +40,8 @@ from pkgforge.sandbox.protocol import (
 )
 
 if TYPE_CHECKING:
-    from pkgforge.launch.records import BranchBudget, LaunchResultDict
+    from pkgforge.launch.branches import BranchBudget
+    from pkgforge.launch.records import LaunchResultDict
 
     WorkerReply = LaunchResultDict | ModelReply | SetupReply
     from pkgforge.sandbox.processes import LoadAllowance
@@ -156,12 +157,12 @@ def _arm(limits: WorkerLimits) -> None:
 
 
 def _budget(limits: WorkerLimits) -> BranchBudget | None:
-    """How long this request's argument combinations past the defaults may run (records.BranchBudget):
+    """How long this request's argument combinations past the defaults may run (branches.BranchBudget):
     until BRANCH_SHARE of the time limit, leaving the rest for the reply. The defaults have the
     whole limit: a file that finishes them is never an error for want of time for the others."""
     import time
 
-    from pkgforge.launch.records import BranchBudget
+    from pkgforge.launch.branches import BranchBudget
 
     timeout = limits.get("timeout")
     if not timeout:

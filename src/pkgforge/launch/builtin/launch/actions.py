@@ -289,7 +289,7 @@ class TimerAction(Action):
         self.cancel_on_shutdown = cancel_on_shutdown
 
     def visit(self, context: LaunchContext) -> list[LaunchDescriptionEntity] | None:
-        # what its execute performs; its actions run when the period has passed (evaluate.defer)
+        # what its execute performs; its actions run when the period has passed (deferred.defer)
         if not isinstance(self.cancel_on_shutdown, bool):
             _typed_bool(context, normalize(self.cancel_on_shutdown))
         return list(self.actions)

@@ -14,8 +14,8 @@ class SubstitutionFailure(RuntimeError):
     pass
 
 
-# what a substitution's failure carries of its cause, for the record (evaluate._error_record,
-# evaluate.record_visit_failure); both engines set it, on their own SubstitutionFailure
+# what a substitution's failure carries of its cause, for the record (failures.error_record,
+# failures.record_visit_failure); both engines set it, on their own SubstitutionFailure
 FAILURE_PROGRAM = "_pkgforge_program"  # FindExecutable: the program not found on PATH
 FAILURE_VARIABLE = "_pkgforge_variable"  # EnvironmentVariable without a default: the variable not set
 FAILURE_CONFIGURATION = "_pkgforge_configuration"  # LaunchConfiguration not set: its name (ros_engine)
@@ -68,7 +68,7 @@ class MissingConfiguration(SubstitutionFailure, Unresolved):
     """LaunchConfiguration's failure in launch: no value set and no default. Launch's own
     SubstitutionFailure (a launch file's `except SubstitutionFailure` catches it, as in ROS), and
     Unresolved: verify has no value for a launch argument declared without a default either,
-    and what needs one is skipped then (evaluate.settle_unset_uses tells the two apart). `where`:
+    and what needs one is skipped then (deferred.settle_unset_uses tells the two apart). `where`:
     the LaunchConfiguration's place in the launch file."""
 
     def __init__(self, name: str, where: tuple[str | None, int | None]) -> None:

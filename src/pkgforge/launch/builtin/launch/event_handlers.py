@@ -131,7 +131,7 @@ class HandledEvent:
         return f"<{type(self).__name__} event (no event at verify time)>"
 
 
-# whether the stand-in event was read since the current handler's entities began (evaluate.handling)
+# whether the stand-in event was read since the current handler's entities began (deferred.handling)
 EVENT_READ = [False]
 
 
@@ -145,7 +145,7 @@ def _event(kind: str, **attributes: object) -> HandledEvent:
     return cls(**attributes)
 
 
-# the stand-in events whose handlers' entities are being visited (evaluate.handling)
+# the stand-in events whose handlers' entities are being visited (deferred.handling)
 HANDLING: list[object] = []
 
 
