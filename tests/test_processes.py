@@ -459,7 +459,7 @@ COMBINATIONS = {
 @pytest.mark.triggers("PF318")
 @pytest.mark.parametrize("engine", ["builtin", "ros"])
 def test_combinations_past_the_defaults_never_make_a_time_error(tmp_path, package, engine):
-    """Both engines branch through records.evaluate_branches under the same budget."""
+    """Both engines branch through branches.evaluate_branches under the same budget."""
     options = ["--launch-engine", "builtin"]
     if engine == "ros":
         from ros_prefix import make_prefix

@@ -24,7 +24,7 @@ from pkgforge.sandbox.protocol import ErrorRecord, WorkerLimits, WorkerRequest
 from pkgforge.sandbox.worker import WorkerReply
 
 if TYPE_CHECKING:
-    from pkgforge.launch.records import BranchBudget
+    from pkgforge.launch.branches import BranchBudget
 
 API_AMENT = Path(__file__).resolve().parent.parent / "launch" / "api_ament"
 # the extra argument combinations start and run only until this share of --launch-timeout
@@ -49,7 +49,7 @@ def _budget(limits: WorkerLimits) -> BranchBudget | None:
     whole limit: a file that finishes them is never an error for want of time for the others."""
     import time
 
-    from pkgforge.launch.records import BranchBudget
+    from pkgforge.launch.branches import BranchBudget
 
     timeout = limits.get("timeout")
     if not timeout:
@@ -79,9 +79,9 @@ def _located(request: WorkerRequest, error: BaseException) -> ErrorRecord:
         "line": None,
     }
     if "file" in request:
-        from pkgforge.launch import runtime
+        from pkgforge.launch.place import LAUNCH_FILES
 
-        frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in runtime._LAUNCH_FILES]
+        frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename in LAUNCH_FILES]
         if frames:
             record["file"], record["line"] = frames[-1].filename, frames[-1].lineno
     return record
@@ -241,16 +241,16 @@ class RequestEvaluator:
     def failed(self, request: WorkerRequest, error: BaseException) -> WorkerReply:
         result: dict[str, Any] = {"status": "load-error", "error": _located(request, error)}
         if "file" in request:  # what failed before it (a limit hit while visiting) is reported too
+            from pkgforge.launch.builtin.launch.launch_context import RECORDER
             from pkgforge.launch.records import as_dict
-            from pkgforge.launch.runtime import RECORDER
 
             result["errors"] = [cast(ErrorRecord, as_dict(e)) for e in RECORDER.errors]
         return result
 
     def locate(self) -> tuple[str | None, int | None]:
-        from pkgforge.launch import runtime
+        from pkgforge.launch.place import here
 
-        file, line = runtime.here()
+        file, line = here()
         if file is None:  # a construct being visited (a Command running): where it was written
             frame: FrameType | None = sys._getframe(1)
             while frame is not None and file is None:

@@ -8,7 +8,7 @@ the signatures of their classes and functions. An import hook serves these modul
 - the module paths are the real ones, submodules included (`launch.substitutions.
   launch_configuration`, `launch.launch_context`), and importing one imports what the real
   one imports, so the same submodule attributes exist afterwards;
-- a name pkgforge evaluates is its implementation in `runtime` (the same object under
+- a name pkgforge evaluates is its implementation in `builtin/` (the same object under
   every path, as in ROS); the real constructor's signature is enforced first, so a call ROS
   rejects raises the same TypeError;
 - a real name pkgforge does not evaluate is a stand-in with the real signature that records
@@ -26,7 +26,6 @@ import importlib
 import importlib.abc
 import importlib.util
 import json
-import os
 import sys
 import types
 import typing
@@ -35,23 +34,41 @@ from importlib.machinery import ModuleSpec
 from pathlib import Path
 from typing import Any, Literal, TypedDict
 
-from pkgforge.launch import runtime as rt
+from pkgforge.launch import place
+from pkgforge.launch.builtin import unsupported as unsupported_names
+from pkgforge.launch.builtin.distro import distro
+from pkgforge.launch.builtin.launch import (
+    action,
+    actions,
+    conditions,
+    errors,
+    event_handlers,
+    execute_process,
+    include_launch_description,
+    launch_context,
+    launch_description,
+    launch_description_sources,
+    substitution,
+    substitutions,
+    utilities,
+)
+from pkgforge.launch.builtin.launch import command as command_substitution
+from pkgforge.launch.builtin.launch_ros import actions as ros_actions
+from pkgforge.launch.builtin.launch_ros import (
+    composable_nodes,
+    namespaces,
+    node,
+    parameter_descriptions,
+)
+from pkgforge.launch.builtin.launch_ros import substitutions as ros_substitutions
 
 DATA = Path(__file__).resolve().parent / "api_names.json"
-LISTS = {"humble": "humble", "jazzy": "jazzy", "kilted": "jazzy", "lyrical": "jazzy", "rolling": "jazzy"}
-DEFAULT_DISTRO = "jazzy"
 NO_DEFAULT = "<required>"
 NOT_LITERAL = "<expression>"
 TOP = ("launch", "launch_ros", "launch_xml", "launch_yaml")
 
 
-def distro() -> str:
-    """The list of names used: the target distro's, or the nearest one generated."""
-    wanted = os.environ.get("PKGFORGE_LAUNCH_DISTRO", "").strip().lower() or DEFAULT_DISTRO
-    return LISTS.get(wanted, DEFAULT_DISTRO)
-
-
-# --- what pkgforge evaluates: the real name (where ROS defines it) → runtime's object ----------
+# --- what pkgforge evaluates: the real name (where ROS defines it) → builtin's object ----------
 
 _EVENT_CLASSES = ("launch.event.Event", "launch.events.", "launch_ros.events.")
 
@@ -192,6 +209,41 @@ IMPLEMENTED = {
     "launch_ros.utilities.namespace_utils.prefix_namespace": "prefix_namespace",
 }
 
+# the built-in engine's modules, laid out as launch and launch_ros lay theirs out; an
+# implementation above is found by its name in the one that defines it
+IMPLEMENTATIONS = (
+    place,
+    errors,
+    launch_context,
+    substitution,
+    conditions,
+    substitutions,
+    command_substitution,
+    action,
+    launch_description,
+    actions,
+    event_handlers,
+    execute_process,
+    launch_description_sources,
+    include_launch_description,
+    utilities,
+    unsupported_names,
+    ros_substitutions,
+    namespaces,
+    node,
+    parameter_descriptions,
+    composable_nodes,
+    ros_actions,
+)
+
+
+def implementation(name: str) -> Any:
+    """The built-in engine's object of that name (IMPLEMENTED's values)."""
+    for module in IMPLEMENTATIONS:
+        if name in vars(module):
+            return vars(module)[name]
+    raise LookupError(f"no built-in implementation named {name}")
+
 
 # --- the list of names ----------------------------------------------------------------------
 
@@ -247,7 +299,7 @@ Validator = Callable[[tuple[Any, ...], dict[str, Any]], None]
 # each distro's list, read once: the fork server reads its own distro's ahead, and a worker it
 # forks for a package of another target distro (PKGFORGE_LAUNCH_DISTRO) reads that one
 _data: dict[str, DistroData] = {}
-# what each canonical name stands for: a runtime class or function, a stand-in, typing.Any
+# what each canonical name stands for: a built-in class or function, a stand-in, typing.Any
 _objects: dict[str, Any] = {}
 
 
@@ -309,7 +361,7 @@ def resolve(target: str) -> Any:
     if kind == "external-module":
         return importlib.import_module(entry["module"])
     if canonical in IMPLEMENTED:
-        value = getattr(rt, IMPLEMENTED[canonical])
+        value = implementation(IMPLEMENTED[canonical])
         if isinstance(value, type) and kind == "class":
             _enforce_signature(value, canonical, entry)
     elif kind == "class" and canonical.startswith(_EVENT_CLASSES):
@@ -410,7 +462,7 @@ def _enforce_signature(cls: type, canonical: str, entry: Entry) -> None:
             rest = {k: v for k, v in rest.items() if k not in accepted}
 
     checker: Validator = validate
-    # on any class exposed under a real name (exceptions too); runtime.Located calls it
+    # on any class exposed under a real name (exceptions too); place.Located calls it
     setattr(cls, "_pkgforge_check", staticmethod(checker))  # noqa: B010
 
 
@@ -435,16 +487,16 @@ def _bases(entry: Entry) -> tuple[type, ...]:
 
 def _stand_in_class(canonical: str, entry: Entry) -> type:
     name = canonical.rsplit(".", 1)[-1]
-    bases = _bases(entry) or (rt.Located,)
+    bases = _bases(entry) or (place.Located,)
     if any(issubclass(b, BaseException) for b in bases):
         return type(name, bases, {"__module__": canonical.rsplit(".", 1)[0]})
-    if not any(issubclass(b, rt.Located) for b in bases):
-        bases = bases + (rt.Located,)
+    if not any(issubclass(b, place.Located) for b in bases):
+        bases = bases + (place.Located,)
     try:
-        cls = rt.unsupported(name, bases)
+        cls = unsupported_names.unsupported(name, bases)
     except TypeError:  # an impossible MRO of stand-ins: the plainest stand-in will do
-        cls = rt.unsupported(
-            name, (rt.Action,) if "Action" in str(entry.get("bases")) else (rt.Substitution,)
+        cls = unsupported_names.unsupported(
+            name, (action.Action,) if "Action" in str(entry.get("bases")) else (substitution.Substitution,)
         )
     cls.__module__ = canonical.rsplit(".", 1)[0]
     _enforce_signature(cls, canonical, entry)
@@ -454,7 +506,7 @@ def _stand_in_class(canonical: str, entry: Entry) -> type:
 def _inert_class(canonical: str, entry: Entry) -> type:
     """An event (Shutdown, ChangeState…): built to be emitted at run time, nothing to check."""
     name = canonical.rsplit(".", 1)[-1]
-    cls = type(name, (rt.InertEvent,), {"__module__": canonical.rsplit(".", 1)[0]})
+    cls = type(name, (event_handlers.InertEvent,), {"__module__": canonical.rsplit(".", 1)[0]})
     _enforce_signature(cls, canonical, entry)
     return cls
 
@@ -465,8 +517,8 @@ def _stand_in_function(canonical: str, entry: Entry) -> Callable[..., None]:
 
     def stand_in(*args: Any, **kwargs: Any) -> None:  # whatever the launch file passes
         check(*args, **kwargs)
-        file, line = rt.here()
-        rt.RECORDER.add("unsupported", {"name": name, "file": file, "line": line})
+        file, line = place.here()
+        launch_context.RECORDER.add("unsupported", {"name": name, "file": file, "line": line})
         return None
 
     stand_in.__name__ = stand_in.__qualname__ = name

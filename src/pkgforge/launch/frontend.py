@@ -1,4 +1,4 @@
-"""XML and YAML launch files → the same runtime objects the Python API builds.
+"""XML and YAML launch files → the same built-in objects the Python API builds.
 
 The tags and substitutions are the target distro's (api_names.json, generated from the
 real sources): one the distro lacks is the error ROS gives ("Unrecognized entity of the
@@ -21,15 +21,74 @@ from typing import Any
 import yaml
 from lxml import etree
 
-from pkgforge.launch import runtime as rt
+from pkgforge.launch.builtin.launch.action import LaunchDescriptionEntity
+from pkgforge.launch.builtin.launch.actions import (
+    AppendEnvironmentVariable,
+    DeclareLaunchArgument,
+    GroupAction,
+    LogInfo,
+    ResetEnvironment,
+    ResetLaunchConfigurations,
+    SetEnvironmentVariable,
+    SetLaunchConfiguration,
+    Shutdown,
+    TimerAction,
+    UnsetEnvironmentVariable,
+)
+from pkgforge.launch.builtin.launch.command import Command
+from pkgforge.launch.builtin.launch.conditions import Condition, IfCondition, UnlessCondition
+from pkgforge.launch.builtin.launch.execute_process import ExecuteProcess
+from pkgforge.launch.builtin.launch.include_launch_description import IncludeLaunchDescription
+from pkgforge.launch.builtin.launch.launch_description import LaunchDescription
+from pkgforge.launch.builtin.launch.launch_description_sources import AnyLaunchDescriptionSource
+from pkgforge.launch.builtin.launch.substitution import Substitution, TextSubstitution
+from pkgforge.launch.builtin.launch.substitutions import (
+    AllSubstitution,
+    AndSubstitution,
+    AnonName,
+    AnySubstitution,
+    EnvironmentVariable,
+    EqualsSubstitution,
+    FileContent,
+    FindExecutable,
+    IfElseSubstitution,
+    LaunchConfiguration,
+    NotEqualsSubstitution,
+    NotSubstitution,
+    OrSubstitution,
+    PythonExpression,
+    ThisLaunchFile,
+    ThisLaunchFileDir,
+)
+from pkgforge.launch.builtin.launch_ros.actions import (
+    PushRosNamespace,
+    SetParameter,
+    SetParametersFromFile,
+    SetRemap,
+    SetUseSimTime,
+)
+from pkgforge.launch.builtin.launch_ros.composable_nodes import (
+    ComposableNode,
+    ComposableNodeContainer,
+    LoadComposableNodes,
+)
+from pkgforge.launch.builtin.launch_ros.node import Node
+from pkgforge.launch.builtin.launch_ros.parameter_descriptions import ParameterFile, ParameterValue
+from pkgforge.launch.builtin.launch_ros.substitutions import (
+    ExecutableInPackage,
+    FindPackagePrefix,
+    FindPackageShare,
+)
+from pkgforge.launch.builtin.unsupported import unsupported
+from pkgforge.launch.place import FRONTEND_LOCATION, LAUNCH_FILES
 from pkgforge.model.source import NotRegularFile, open_regular
 from pkgforge.model.yamlnodes import YAMLLimit, compose, load
 
-Subs = list[rt.Substitution]  # one attribute's text as substitutions (parse_substitution)
+Subs = list[Substitution]  # one attribute's text as substitutions (parse_substitution)
 Attribute = str | list[str]  # an XML attribute, or a YAML scalar or list of scalars
 # one substitution's arguments -> the object (`arg(i, default)`: the i-th argument, or `default`)
 Arg = Callable[..., "Subs | str | None"]
-Maker = Callable[[list[Subs], Arg], rt.Substitution]
+Maker = Callable[[list[Subs], Arg], Substitution]
 
 
 class FrontendError(Exception):
@@ -65,7 +124,7 @@ def parse_substitution(text: str) -> Subs:
             index += 2
         elif text.startswith("$(", index):
             if buffer:
-                parts.append(rt.TextSubstitution(text="".join(buffer)))
+                parts.append(TextSubstitution(text="".join(buffer)))
                 buffer = []
             end = _matching_paren(text, index + 1)
             parts.append(_substitution(text[index + 2 : end]))
@@ -74,7 +133,7 @@ def parse_substitution(text: str) -> Subs:
             buffer.append(text[index])
             index += 1
     if buffer:
-        parts.append(rt.TextSubstitution(text="".join(buffer)))
+        parts.append(TextSubstitution(text="".join(buffer)))
     return parts
 
 
@@ -145,11 +204,11 @@ def _split_arguments(body: str) -> list[str]:
     return args
 
 
-def _substitution(body: str) -> rt.Substitution:
+def _substitution(body: str) -> Substitution:
     words = _split_arguments(body)
     if not words:
         raise FrontendError("empty substitution $()", None)
-    name, args = words[0], [parse_substitution(a) or [rt.TextSubstitution(text="")] for a in words[1:]]
+    name, args = words[0], [parse_substitution(a) or [TextSubstitution(text="")] for a in words[1:]]
 
     def arg(i: int, default: str | None = None) -> Subs | str | None:
         return args[i] if i < len(args) else default
@@ -162,7 +221,7 @@ def _substitution(body: str) -> rt.Substitution:
     api.resolve(exposed[name])  # the real constructor's signature is checked from here on
     if name in SUBSTITUTIONS:
         return SUBSTITUTIONS[name](args, arg)
-    unevaluated: rt.Substitution = api.resolve(exposed[name])(*args)  # a real one pkgforge does not evaluate
+    unevaluated: Substitution = api.resolve(exposed[name])(*args)  # a real one pkgforge does not evaluate
     return unevaluated
 
 
@@ -172,71 +231,71 @@ def _count(name: str, args: list[Subs], low: int, high: int) -> None:
         raise FrontendError(f"{name} substitution expects {expected} arguments", None)
 
 
-def _boolean(cls: Callable[..., rt.Substitution], name: str, count: int) -> Maker:
-    def make(args: list[Subs], arg: Arg) -> rt.Substitution:
+def _boolean(cls: Callable[..., Substitution], name: str, count: int) -> Maker:
+    def make(args: list[Subs], arg: Arg) -> Substitution:
         _count(name, args, count, count)
         return cls(*args)
 
     return make
 
 
-def _counted(name: str, low: int, high: int, build: Callable[[Arg], rt.Substitution]) -> Maker:
+def _counted(name: str, low: int, high: int, build: Callable[[Arg], Substitution]) -> Maker:
     """A substitution of `low` to `high` arguments, built from them by `build(arg)`."""
 
-    def make(args: list[Subs], arg: Arg) -> rt.Substitution:
+    def make(args: list[Subs], arg: Arg) -> Substitution:
         _count(name, args, low, high)
         return build(arg)
 
     return make
 
 
-def _by_keyword(cls: Callable[..., rt.Substitution]) -> Maker:
+def _by_keyword(cls: Callable[..., Substitution]) -> Maker:
     """The arguments as `args=[...]`, as jazzy's parse passes them (its constructor takes *args)."""
     return lambda args, arg: cls(args=args)
 
 
-def _var(args: list[Subs], arg: Arg) -> rt.Substitution:
+def _var(args: list[Subs], arg: Arg) -> Substitution:
     _count("var", args, 1, 2)
-    return rt.LaunchConfiguration(arg(0), default=arg(1))
+    return LaunchConfiguration(arg(0), default=arg(1))
 
 
-def _command(args: list[Subs], arg: Arg) -> rt.Substitution:
+def _command(args: list[Subs], arg: Arg) -> Substitution:
     _count("command", args, 1, 2)
-    return rt.Command(arg(0), on_stderr=arg(1, "fail"))
+    return Command(arg(0), on_stderr=arg(1, "fail"))
 
 
-def _if(args: list[Subs], arg: Arg) -> rt.Substitution:
+def _if(args: list[Subs], arg: Arg) -> Substitution:
     _count("if", args, 2, 3)
-    return rt.IfElseSubstitution(arg(0), if_value=arg(1), else_value=arg(2, ""))
+    return IfElseSubstitution(arg(0), if_value=arg(1), else_value=arg(2, ""))
 
 
-def _eval(args: list[Subs], arg: Arg) -> rt.Substitution:
+def _eval(args: list[Subs], arg: Arg) -> Substitution:
     _count("eval", args, 1, 2)
-    return rt.PythonExpression(arg(0)) if len(args) == 1 else rt.PythonExpression(arg(0), arg(1))
+    return PythonExpression(arg(0)) if len(args) == 1 else PythonExpression(arg(0), arg(1))
 
 
 SUBSTITUTIONS: dict[str, Maker] = {
     "var": _var,
-    "find-pkg-share": _counted("find-pkg-share", 1, 1, lambda arg: rt.FindPackageShare(arg(0))),
-    "find-pkg-prefix": _counted("find-pkg-prefix", 1, 1, lambda arg: rt.FindPackagePrefix(arg(0))),
-    "find-exec": _counted("find-exec", 1, 1, lambda arg: rt.FindExecutable(name=arg(0))),
-    "exec-in-pkg": _counted("exec-in-pkg", 2, 2, lambda arg: rt.ExecutableInPackage(arg(0), arg(1))),
+    "find-pkg-share": _counted("find-pkg-share", 1, 1, lambda arg: FindPackageShare(arg(0))),
+    "find-pkg-prefix": _counted("find-pkg-prefix", 1, 1, lambda arg: FindPackagePrefix(arg(0))),
+    "find-exec": _counted("find-exec", 1, 1, lambda arg: FindExecutable(name=arg(0))),
+    "exec-in-pkg": _counted("exec-in-pkg", 2, 2, lambda arg: ExecutableInPackage(arg(0), arg(1))),
     "command": _command,
-    "env": _counted("env", 1, 2, lambda arg: rt.EnvironmentVariable(arg(0), default_value=arg(1))),
+    "env": _counted("env", 1, 2, lambda arg: EnvironmentVariable(arg(0), default_value=arg(1))),
     "eval": _eval,
-    "dirname": _counted("dirname", 0, 0, lambda arg: rt.ThisLaunchFileDir()),
-    "filename": _counted("filename", 0, 0, lambda arg: rt.ThisLaunchFile()),
-    "anon": _counted("anon", 1, 1, lambda arg: rt.AnonName(arg(0))),
-    "not": _boolean(rt.NotSubstitution, "not", 1),
-    "and": _boolean(rt.AndSubstitution, "and", 2),
-    "or": _boolean(rt.OrSubstitution, "or", 2),
+    "dirname": _counted("dirname", 0, 0, lambda arg: ThisLaunchFileDir()),
+    "filename": _counted("filename", 0, 0, lambda arg: ThisLaunchFile()),
+    "anon": _counted("anon", 1, 1, lambda arg: AnonName(arg(0))),
+    "not": _boolean(NotSubstitution, "not", 1),
+    "and": _boolean(AndSubstitution, "and", 2),
+    "or": _boolean(OrSubstitution, "or", 2),
     # jazzy's parse passes args=[...] to a constructor that takes *args: a TypeError in ROS too
-    "all": _by_keyword(rt.AllSubstitution),
-    "any": _by_keyword(rt.AnySubstitution),
-    "equals": _boolean(rt.EqualsSubstitution, "equals", 2),
-    "not-equals": _boolean(rt.NotEqualsSubstitution, "not-equals", 2),
+    "all": _by_keyword(AllSubstitution),
+    "any": _by_keyword(AnySubstitution),
+    "equals": _boolean(EqualsSubstitution, "equals", 2),
+    "not-equals": _boolean(NotEqualsSubstitution, "not-equals", 2),
     "if": _if,
-    "file-content": _counted("file-content", 1, 1, lambda arg: rt.FileContent(arg(0))),
+    "file-content": _counted("file-content", 1, 1, lambda arg: FileContent(arg(0))),
 }
 
 
@@ -258,13 +317,11 @@ class Element:
         value = self.get(name)
         if value is None:
             return None
-        rt._FRONTEND_LOCATION.append(
-            (rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None, self.line)
-        )
+        FRONTEND_LOCATION.append((FRONTEND_LOCATION[-1][0] if FRONTEND_LOCATION else None, self.line))
         try:
             return parse_substitution(str(value))
         finally:
-            rt._FRONTEND_LOCATION.pop()
+            FRONTEND_LOCATION.pop()
 
     def named(self, tag: str) -> list[Element]:
         return [c for c in self.children if c.tag == tag]
@@ -298,8 +355,8 @@ def _from_yaml(tag: str, node: yaml.Node, line: int | None) -> Element:
     return Element(tag, attrs, children, line)
 
 
-def parse_file(path: str, kind: str) -> rt.LaunchDescription:
-    rt._LAUNCH_FILES.add(path)
+def parse_file(path: str, kind: str) -> LaunchDescription:
+    LAUNCH_FILES.add(path)
     try:
         handle = open_regular(path)[0]  # an included FIFO or /dev/zero: no read that never ends
     except NotRegularFile as error:
@@ -335,13 +392,13 @@ def parse_file(path: str, kind: str) -> rt.LaunchDescription:
                         )
     if element.tag != "launch":
         raise FrontendError(f"the root is <{element.tag}>, not <launch>", element.line)
-    return rt.LaunchDescription(_entities(element.children, path))
+    return LaunchDescription(_entities(element.children, path))
 
 
-def _entities(elements: list[Element], path: str) -> list[rt.LaunchDescriptionEntity]:
-    out: list[rt.LaunchDescriptionEntity] = []
+def _entities(elements: list[Element], path: str) -> list[LaunchDescriptionEntity]:
+    out: list[LaunchDescriptionEntity] = []
     for element in elements:
-        rt._FRONTEND_LOCATION.append((path, element.line))
+        FRONTEND_LOCATION.append((path, element.line))
         try:
             entity = _entity(element, path)
         except FrontendError as error:
@@ -351,17 +408,17 @@ def _entities(elements: list[Element], path: str) -> list[rt.LaunchDescriptionEn
         except (TypeError, ValueError, RuntimeError) as error:  # what building the element raised
             raise FrontendError(f"{type(error).__name__}: {error}", element.line) from error
         finally:
-            rt._FRONTEND_LOCATION.pop()
+            FRONTEND_LOCATION.pop()
         if entity is not None:
             out.append(entity)
     return out
 
 
-def _condition(element: Element) -> rt.Condition | None:
+def _condition(element: Element) -> Condition | None:
     if element.get("if") is not None:
-        return rt.IfCondition(element.sub("if"))
+        return IfCondition(element.sub("if"))
     if element.get("unless") is not None:
-        return rt.UnlessCondition(element.sub("unless"))
+        return UnlessCondition(element.sub("unless"))
     return None
 
 
@@ -377,7 +434,7 @@ def _flag(element: Element, name: str) -> bool | None:
     return loaded
 
 
-def _keeps(element: Element) -> dict[tuple[rt.Substitution, ...], Subs | None] | None:
+def _keeps(element: Element) -> dict[tuple[Substitution, ...], Subs | None] | None:
     keeps = element.named("keep")
     if not keeps:
         return None
@@ -391,7 +448,7 @@ def _required(subs: Subs | None) -> Subs:
     return subs
 
 
-def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
+def _entity(element: Element, path: str) -> LaunchDescriptionEntity:
     from pkgforge.launch import api
 
     tag, condition = element.tag, _condition(element)
@@ -400,7 +457,7 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
         raise FrontendError(f"Unrecognized entity of the type: {tag}", element.line)
     if tag == "arg":
         choices = [c.get("value") for c in element.named("choice")] or None
-        return rt.DeclareLaunchArgument(
+        return DeclareLaunchArgument(
             element.get("name"),
             default_value=element.sub("default"),
             description=element.get("description"),
@@ -408,11 +465,11 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             condition=condition,
         )
     if tag == "let":
-        return rt.SetLaunchConfiguration(element.sub("name"), element.sub("value"), condition=condition)
+        return SetLaunchConfiguration(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "include":
         arguments = [(a.sub("name"), a.sub("value")) for a in element.named("arg")]
-        return rt.IncludeLaunchDescription(
-            rt.AnyLaunchDescriptionSource(element.sub("file")),
+        return IncludeLaunchDescription(
+            AnyLaunchDescriptionSource(element.sub("file")),
             launch_arguments=arguments,
             condition=condition,
         )
@@ -426,12 +483,12 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
         if keeps is not None:
             options["launch_configurations"] = keeps
         children = [c for c in element.children if c.tag != "keep"]
-        return rt.GroupAction(_entities(children, path), condition=condition, **options)
+        return GroupAction(_entities(children, path), condition=condition, **options)
     if tag == "reset":
-        return rt.ResetLaunchConfigurations(_keeps(element), condition=condition)
+        return ResetLaunchConfigurations(_keeps(element), condition=condition)
     if tag == "node":
         ros_args = element.get("ros_args")
-        return rt.Node(
+        return Node(
             package=element.sub("pkg"),
             executable=element.sub("exec"),
             name=element.sub("name"),
@@ -445,7 +502,7 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             **_process_options(element),
         )
     if tag == "node_container":
-        return rt.ComposableNodeContainer(
+        return ComposableNodeContainer(
             package=element.sub("pkg"),
             executable=element.sub("exec"),
             name=element.sub("name"),
@@ -455,13 +512,13 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             condition=condition,
         )
     if tag == "load_composable_node":
-        return rt.LoadComposableNodes(
+        return LoadComposableNodes(
             composable_node_descriptions=[_composable(c) for c in element.named("composable_node")],
             target_container=element.sub("target"),
             condition=condition,
         )
     if tag == "executable":
-        return rt.ExecuteProcess(
+        return ExecuteProcess(
             cmd=_arguments(element.get("cmd")),
             shell=bool(_flag(element, "shell")),
             name=element.sub("name"),
@@ -469,41 +526,41 @@ def _entity(element: Element, path: str) -> rt.LaunchDescriptionEntity:
             **_process_options(element),
         )
     if tag == "set_env":
-        return rt.SetEnvironmentVariable(element.sub("name"), element.sub("value"), condition=condition)
+        return SetEnvironmentVariable(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "append_env":
         options = {}  # (the dict[str, object] of <group>'s options)
         if _flag(element, "prepend") is not None:
             options["prepend"] = _flag(element, "prepend")
         if element.get("separator") is not None:
             options["separator"] = element.sub("separator")
-        return rt.AppendEnvironmentVariable(
+        return AppendEnvironmentVariable(
             element.sub("name"), element.sub("value"), condition=condition, **options
         )
     if tag == "unset_env":
-        return rt.UnsetEnvironmentVariable(element.sub("name"), condition=condition)
+        return UnsetEnvironmentVariable(element.sub("name"), condition=condition)
     if tag == "reset_env":
-        return rt.ResetEnvironment(condition=condition)
+        return ResetEnvironment(condition=condition)
     if tag in ("timer", "ros_timer"):
-        return rt.TimerAction(
+        return TimerAction(
             period=element.sub("period"), actions=_entities(element.children, path), condition=condition
         )
     if tag in ("push-ros-namespace", "push_ros_namespace"):
-        return rt.PushRosNamespace(element.sub("namespace"), condition=condition)
+        return PushRosNamespace(element.sub("namespace"), condition=condition)
     if tag == "set_remap":
-        return rt.SetRemap(element.sub("from"), element.sub("to"), condition=condition)
+        return SetRemap(element.sub("from"), element.sub("to"), condition=condition)
     if tag == "set_parameter":
-        return rt.SetParameter(element.sub("name"), element.sub("value"), condition=condition)
+        return SetParameter(element.sub("name"), element.sub("value"), condition=condition)
     if tag == "set_use_sim_time":
-        sim_time: rt.LaunchDescriptionEntity = rt.SetUseSimTime(element.sub("value"), condition=condition)
-        return sim_time  # (an unsupported name: runtime.unsupported's class)
+        sim_time: LaunchDescriptionEntity = SetUseSimTime(element.sub("value"), condition=condition)
+        return sim_time  # (an unsupported name: builtin/unsupported.py's class)
     if tag == "set_parameters_from_file":
-        return rt.SetParametersFromFile(element.sub("filename"), condition=condition)
+        return SetParametersFromFile(element.sub("filename"), condition=condition)
     if tag == "log":
-        return rt.LogInfo(msg=element.sub("message"), condition=condition)
+        return LogInfo(msg=element.sub("message"), condition=condition)
     if tag == "shutdown":
-        return rt.Shutdown(condition=condition)
+        return Shutdown(condition=condition)
     # a real tag pkgforge does not evaluate (set_ros_log_dir…): recorded, and the file goes on
-    recorded: rt.LaunchDescriptionEntity = rt.unsupported(f"<{tag}>")()
+    recorded: LaunchDescriptionEntity = unsupported(f"<{tag}>")()
     return recorded
 
 
@@ -525,13 +582,13 @@ def _process_options(element: Element) -> dict[str, Any]:
     return options
 
 
-def _composable(element: Element) -> rt.ComposableNode:
+def _composable(element: Element) -> ComposableNode:
     with _located_at(element):
         return _composable_here(element)
 
 
-def _composable_here(element: Element) -> rt.ComposableNode:
-    return rt.ComposableNode(
+def _composable_here(element: Element) -> ComposableNode:
+    return ComposableNode(
         package=element.sub("pkg"),
         plugin=element.sub("plugin"),
         name=element.sub("name"),
@@ -549,16 +606,16 @@ def _arguments(text: Attribute | None) -> list[Subs]:
     return [parse_substitution(word) for word in _split_arguments(str(text))]
 
 
-def _parameters(element: Element) -> list[rt.ParameterFile | ParameterDict]:
+def _parameters(element: Element) -> list[ParameterFile | ParameterDict]:
     """As launch_ros's front end: one group per <param>, in the elements' order (a parameter file
     or a one-entry dict, nested <param>s as a nested dict), each located at its own line."""
-    out: list[rt.ParameterFile | ParameterDict] = []
+    out: list[ParameterFile | ParameterDict] = []
     for param in element.named("param"):
         with _located_at(param):
             if param.get("from") is not None:
                 allowed = param.get("allow_substs")
                 substs = False if allowed is None else _allow_substs(param, allowed)
-                out.append(rt.ParameterFile(param.sub("from"), allow_substs=substs))
+                out.append(ParameterFile(param.sub("from"), allow_substs=substs))
             else:
                 out.append(_parameter_dict([param]))
     return out
@@ -580,7 +637,7 @@ def _allow_substs(param: Element, value: Attribute) -> bool | Subs:
 
 
 # name -> value, or a nested dict of them (as launch_ros's front end builds it)
-ParameterDict = dict["Attribute | None", "rt.ParameterValue | ParameterDict"]
+ParameterDict = dict["Attribute | None", "ParameterValue | ParameterDict"]
 
 
 def _parameter_dict(params: list[Element]) -> ParameterDict:
@@ -592,7 +649,7 @@ def _parameter_dict(params: list[Element]) -> ParameterDict:
                 values[param.get("name")] = _parameter_dict(nested)
             else:
                 value_type = str if param.get("type") in ("str", "string") else None
-                values[param.get("name")] = rt.ParameterValue(param.sub("value") or [], value_type=value_type)
+                values[param.get("name")] = ParameterValue(param.sub("value") or [], value_type=value_type)
     return values
 
 
@@ -600,12 +657,12 @@ class _located_at:
     """What is built inside is located at the element's line (in the same file)."""
 
     def __init__(self, element: Element) -> None:
-        self.where = (rt._FRONTEND_LOCATION[-1][0] if rt._FRONTEND_LOCATION else None, element.line)
+        self.where = (FRONTEND_LOCATION[-1][0] if FRONTEND_LOCATION else None, element.line)
 
     def __enter__(self) -> None:
-        rt._FRONTEND_LOCATION.append(self.where)
+        FRONTEND_LOCATION.append(self.where)
 
     def __exit__(
         self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
     ) -> None:
-        rt._FRONTEND_LOCATION.pop()
+        FRONTEND_LOCATION.pop()

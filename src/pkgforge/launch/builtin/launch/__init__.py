@@ -1,0 +1,1 @@
+"""The built-in engine's `launch`: contexts, substitutions, conditions, actions, events, sources."""

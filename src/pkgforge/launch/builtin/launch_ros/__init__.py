@@ -1,0 +1,1 @@
+"""The built-in engine's `launch_ros`: package lookups, nodes, parameters, composable nodes, ROS actions."""
