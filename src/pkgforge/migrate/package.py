@@ -587,6 +587,7 @@ def _convert_files(
             distro=distro,
             launch_format=launch_format,
             package_description=description,
+            content=renames.apply(path.read_bytes())[0],
         )
 
     description = _package_description(
