@@ -343,7 +343,9 @@ def _one_line(message: str) -> str:
             return match.group(0)
         return f"'{value[:60]}...'"
 
-    message = re.sub(r"'([^']{80,})'", shorten, message, flags=re.S)
+    # a quote opens after a blank or a bracket and closes before one: an apostrophe inside the
+    # value (a comment's "humble's" in a URDF) neither opens nor closes it
+    message = re.sub(r"(?:^|(?<=[\s(\[=]))'(.{80,}?)'(?=[\s,.:;)\]]|$)", shorten, message, flags=re.S)
     return " ".join(part.strip() for part in message.splitlines() if part.strip())
 
 
@@ -1306,20 +1308,20 @@ def launch_configuration_undefined(ctx: CheckContext) -> Iterator[Finding]:
 def _unset_message(name: str, item: LaunchError, resolution: Resolution) -> str:
     message = (
         f"launch configuration '{name}' does not exist when {_a(item.entity or 'action')} uses it: nothing "
-        f"declares or sets it and it has no default, so `ros2 launch` stops here"
-        f"{_branch_note(item, resolution)}"
+        f"declares, sets or defaults it, so `ros2 launch` stops here{_branch_note(item, resolution)}"
     )
     if item.deferred:
+        # (said in few words: the message is one line of at most 300 characters)
         runs = "when its period has passed" if item.deferred == "TimerAction" else "when its event comes"
-        message += (
-            f" (in {_a(item.deferred)}: its actions run {runs}, after the rest of the launch description"
-        )
         if item.scoped_away:
             message += (
-                f"; {name} is set where the {item.deferred} stands, but the scoped GroupAction around it "
-                "has ended by then"
+                f" (in {_a(item.deferred)}, run {runs}: {name} is set where the {item.deferred} stands, "
+                "but the scoped GroupAction around it has ended by then)"
             )
-        message += ")"
+        else:
+            message += (
+                f" (in {_a(item.deferred)}: its actions run {runs}, after the rest of the launch description)"
+            )
     return message
 
 
