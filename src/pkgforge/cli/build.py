@@ -8,21 +8,16 @@ from pathlib import Path
 import click
 
 from pkgforge.cli.app import CONTEXT_SETTINGS, fail, main
+from pkgforge.cli.options import path_option
 from pkgforge.errors import PkgforgeError
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("path", type=click.Path(path_type=Path), default=".")
-@click.option(
-    "--build-base",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=None,
-    help="Build folder [default: build/ in the workspace root].",
-)
-@click.option(
+@path_option("--build-base", kind="folder", help="Build folder [default: build/ in the workspace root].")
+@path_option(
     "--install-base",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=None,
+    kind="folder",
     help="Install folder, merged layout [default: install/ in the workspace root].",
 )
 @click.option(

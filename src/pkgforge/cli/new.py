@@ -15,6 +15,7 @@ from pkgforge.cli.options import (
     distro_option,
     launch_format_option,
     maintainer_options,
+    path_option,
 )
 from pkgforge.errors import PkgforgeError
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS
@@ -57,11 +58,10 @@ if TYPE_CHECKING:
     multiple=True,
     help="Add a CI workflow that builds and verifies the package on ros:<distro>. Repeatable.",
 )
-@click.option(
+@path_option(
     "--from-urdf",
     "from_urdf",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
+    kind="file",
     metavar="FILE",
     help="Bring in this .urdf/.urdf.xacro (a CAD export) with every mesh and "
     "texture it names, instead of the example robot; then verify.",

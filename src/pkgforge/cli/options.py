@@ -67,6 +67,14 @@ def stacked(*decorators: Callable[[Any], Any]) -> Callable[[_Command], _Command]
     return apply
 
 
+def path_option(
+    *names: str, kind: str = "any", help: str, metavar: str | None = None
+) -> Callable[[_Command], _Command]:
+    """An option naming a path, None when not given: a "file", a "folder", or "any" path."""
+    accepts = click.Path(file_okay=kind != "folder", dir_okay=kind != "file", path_type=Path)
+    return click.option(*names, type=accepts, default=None, metavar=metavar, help=help)
+
+
 def color_option(function: _Command) -> _Command:
     """--color, for every command whose output can be coloured."""
     return click.option(
@@ -140,10 +148,9 @@ def sandbox_options(function: _Command) -> _Command:
             help="Evaluate launch files with a ROS 2 distro's own launch libraries (ros), pkgforge's "
             "built-in engine (builtin), or ros where a distro is found (auto).",
         ),
-        click.option(
+        path_option(
             "--ros-prefix",
-            type=click.Path(file_okay=False, path_type=Path),
-            default=None,
+            kind="folder",
             help="The ROS 2 distro whose launch libraries to use (e.g. /opt/ros/jazzy) "
             "[default: the sourced one, else the only one in /opt/ros].",
         ),
@@ -152,9 +159,7 @@ def sandbox_options(function: _Command) -> _Command:
 
 def destination_option(help: str) -> Callable[[_Command], _Command]:
     """--destination: the folder a new package is written in."""
-    return click.option(
-        "--destination", type=click.Path(file_okay=False, path_type=Path), default=None, help=help
-    )
+    return path_option("--destination", kind="folder", help=help)
 
 
 def launch_format_option(help: str) -> Callable[[_Command], _Command]:

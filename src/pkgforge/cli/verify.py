@@ -15,6 +15,7 @@ from pkgforge.cli.options import (
     color_option,
     jobs_option,
     launch_options,
+    path_option,
     sandbox_options,
     strict_option,
 )
@@ -66,19 +67,8 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
 @click.option(
     "--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True, help="Output format."
 )
-@click.option(
-    "--output",
-    "-o",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Write the report to this file instead of standard output.",
-)
-@click.option(
-    "--junit-xml",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Also write a JUnit XML report here (for CI test reports).",
-)
+@path_option("--output", "-o", kind="file", help="Write the report to this file instead of standard output.")
+@path_option("--junit-xml", kind="file", help="Also write a JUnit XML report here (for CI test reports).")
 @check_selection("Run only these checks: codes, code prefixes (PF2) or names; comma-separated.")
 @strict_option("Treat warnings as errors (exit 1 on any warning).")
 @click.option(
@@ -98,10 +88,9 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
     help="Resolve against a real colcon build into build/pkgforge-verify/ "
     "[default: the tree predicted from the install rules].",
 )
-@click.option(
+@path_option(
     "--install-base",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=None,
+    kind="folder",
     help="Resolve against an existing install folder from your own colcon build "
     "(merged or isolated); nothing is rebuilt.",
 )
@@ -127,19 +116,15 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
     help="The ROS 2 distro the packages target [default: ROS_DISTRO, pkgforge.toml "
     "[verify] distro, the package's CI file, else every active distro].",
 )
-@click.option(
+@path_option(
     "--explain-launch",
     "explain_launch",
-    type=click.Path(path_type=Path),
-    default=None,
     metavar="FILE",
     help="Print how FILE resolves in the install tree, then exit.",
 )
-@click.option(
+@path_option(
     "--explain-model",
     "explain_model",
-    type=click.Path(path_type=Path),
-    default=None,
     metavar="FILE",
     help="Print the model's link/joint tree with its meshes, then exit (xacro arguments from --launch-arg).",
 )
@@ -149,11 +134,10 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
     is_flag=True,
     help="Print what confines the launch files and xacro verify runs on this machine, then exit.",
 )
-@click.option(
+@path_option(
     "--artifacts",
     "artifacts_dir",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=None,
+    kind="folder",
     metavar="DIR",
     help="Also write pictures of every processed robot model into DIR (four "
     "views, kinematic tree SVG, summary.md), as `pkgforge view` does.",
