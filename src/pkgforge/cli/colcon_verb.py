@@ -18,7 +18,7 @@ from colcon_core.plugin_system import satisfies_version
 from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
-from pkgforge.cli.options import LAUNCH_ENGINES, parse_worker_memory
+from pkgforge.cli.limits import LAUNCH_ENGINES, parse_worker_memory
 from pkgforge.model.distros import DISTROS
 from pkgforge.report import COLOR_CHOICES, FORMATS
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY

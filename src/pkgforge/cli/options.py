@@ -1,6 +1,6 @@
 """The options several commands take, each declared once: a decorator (or a factory of one, where
 a command words its help in its own terms) that `verify`, `fix`, `view`, `new` and `migrate`
-stack; and the --worker-memory size that `colcon verify` reads too."""
+stack."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
+from pkgforge.cli.limits import LAUNCH_ENGINES, parse_worker_memory
 from pkgforge.model.distros import DISTROS, NEWEST_LTS, default_distro
 from pkgforge.report import COLOR_CHOICES
 from pkgforge.scaffold.kinds import LAUNCH_FORMATS
@@ -21,24 +22,6 @@ else:
     _SizeType = click.ParamType
 
 _Command = TypeVar("_Command", bound=Callable[..., Any])
-
-LAUNCH_ENGINES = ("auto", "ros", "builtin")
-WORKER_MEMORY_MINIMUM = 256 * 2**20  # bytes: what a launch worker needs to start
-
-
-def parse_worker_memory(text: str) -> int | None:
-    """--worker-memory: a size such as 2G or 512M (bytes), or None for `unlimited`; a ValueError
-    says what is wrong with `text`."""
-    from pkgforge.sandbox.processes import format_size, parse_size
-
-    if text.strip().lower() in ("unlimited", "none"):
-        return None
-    size = parse_size(text)
-    if size < WORKER_MEMORY_MINIMUM:
-        raise ValueError(
-            f"{text} is below the {format_size(WORKER_MEMORY_MINIMUM)} a launch worker needs to start"
-        )
-    return size
 
 
 class MemorySize(_SizeType):
