@@ -150,7 +150,7 @@ def _cycles(fixes: list[Fix], root: Path) -> dict[int, str]:
     from pkgforge.model.files import quick_name
     from pkgforge.model.manifest import load_manifest
     from pkgforge.model.source import read_source
-    from pkgforge.verify.pipeline import package_folders
+    from pkgforge.verify.discovery import package_folders
     from pkgforge.workspace import locate
 
     declaring = [(index, fix.declares) for index, fix in enumerate(fixes) if fix.declares is not None]
