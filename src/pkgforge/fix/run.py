@@ -30,7 +30,7 @@ from pkgforge.fix.edits import (
     unified_diff,
     write_atomically,
 )
-from pkgforge.fix.fixers import FIXERS, Fix, FixContext
+from pkgforge.fix.registry import Fix, FixContext, all_fixers
 from pkgforge.verify.pipeline import VerifyOptions, VerifyResult, verify
 from pkgforge.walk import WalkLimit, walk
 
@@ -92,7 +92,7 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
     candidates: list[tuple[Diagnostic, Fix]] = []
     for diagnostic in result.diagnostics:
         kind = fix_kind(diagnostic)
-        function = FIXERS.get(diagnostic.name)
+        function = all_fixers().get(diagnostic.name)
         if kind is None or function is None:
             continue
         if kind == "unsafe" and not unsafe:
