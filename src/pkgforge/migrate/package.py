@@ -265,7 +265,8 @@ def _read_models(source: Path, files: list[str], notes: Notes) -> Models:
 def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) -> None:
     """Each mesh and texture a model names literally must exist (a used model's missing mesh stops
     the migration; an unused model's is reported); Gazebo Classic plugins are reported."""
-    from pkgforge.scaffold.from_urdf import COMPUTED, model_references, resolve
+    from pkgforge.scaffold.from_urdf import model_references
+    from pkgforge.scaffold.model_uris import COMPUTED, resolve
 
     reported: set[str] = set()
     for reference in model_references(model.path, model.root, model.text):
