@@ -647,7 +647,7 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
     package is loaded again with catkin_pkg's message)."""
     import shutil
 
-    from pkgforge.verify.pipeline import PARALLEL_THRESHOLD
+    from pkgforge.verify.discovery import PARALLEL_THRESHOLD
 
     (tmp_path / "src").mkdir()
     first = new_package(tmp_path, "p00_description")

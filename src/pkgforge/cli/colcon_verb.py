@@ -109,7 +109,8 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
         from pkgforge.errors import PkgforgeError
         from pkgforge.report import render
         from pkgforge.verify.config import Selection, load_config, split_keys
-        from pkgforge.verify.pipeline import PackageTarget, VerifyOptions, _load, run
+        from pkgforge.verify.discovery import PackageTarget, _load
+        from pkgforge.verify.pipeline import VerifyOptions, run
         from pkgforge.workspace import Workspace
 
         args = context.args
