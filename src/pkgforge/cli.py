@@ -22,8 +22,8 @@ from pkgforge.report import COLOR_CHOICES, FORMATS  # noqa: E402
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
     from pkgforge.sandbox.zygote import Zygote
+    from pkgforge.scaffold.notes import Notes
     from pkgforge.verify.pipeline import VerifyResult
 
     # click 8.2 made ParamType generic (value, input); click 8.1 (which pyproject allows) is not
@@ -433,8 +433,8 @@ def migrate(
     add_root_link: bool,
 ) -> None:
     """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
-    from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.package import migrate as run_migrate
+    from pkgforge.scaffold.notes import Notes
 
     try:
         created, notes, source = run_migrate(
