@@ -15,7 +15,7 @@ from pkgforge import __version__
 from pkgforge.errors import PkgforgeError
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.notes import Notes
     from pkgforge.verify.pipeline import VerifyResult
 
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}

@@ -55,8 +55,8 @@ def migrate(
     add_root_link: bool,
 ) -> None:
     """Convert the ROS 1 catkin description package at PATH to a ROS 2 package; then verify it."""
-    from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.package import migrate as run_migrate
+    from pkgforge.scaffold.notes import Notes
 
     try:
         created, notes, source = run_migrate(

@@ -21,7 +21,7 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.notes import Notes
 
 
 @main.command(context_settings=CONTEXT_SETTINGS)

@@ -159,8 +159,8 @@ def fix_rviz1_config(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     """The whole config converted as `pkgforge migrate` converts one (unsafe: the file is written
     anew, its comments and RViz 1's window layout are not kept, classes RViz 2 lacks are left out)."""
     from pkgforge.errors import PkgforgeError
-    from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.rviz1 import convert
+    from pkgforge.scaffold.notes import Notes
 
     source = ctx.files.get(diagnostic.path)
     notes = Notes(diagnostic.package)

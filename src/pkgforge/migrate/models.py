@@ -11,8 +11,8 @@ from pkgforge.model import ros1_names
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
     from pkgforge.scaffold.from_urdf import ModelFile, Reference
+    from pkgforge.scaffold.notes import Notes
 
 
 def is_ros1_launch(relative: str) -> bool:

@@ -27,9 +27,9 @@ from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
     from pkgforge.migrate.manifest import Ros1Manifest
-    from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.roslaunch import Action, LaunchFile, Reader, Token
     from pkgforge.model.distros import Distro
+    from pkgforge.scaffold.notes import Notes
     from pkgforge.scaffold.package import CreatedPackage, PackageSpec
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}

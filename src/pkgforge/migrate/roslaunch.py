@@ -19,8 +19,8 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
     from pkgforge.model.distros import Distro
+    from pkgforge.scaffold.notes import Notes
 
 SUBSTITUTION = re.compile(r"\$\(([a-z_]+)((?:\s+[^)\s]+)*)\s*\)")
 XACRO_COMMAND = re.compile(

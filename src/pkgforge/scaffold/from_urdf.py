@@ -34,7 +34,7 @@ from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.notes import Notes
     from pkgforge.scaffold.package import CreatedPackage
 
 URI_STYLES = ("package", "find")
@@ -706,7 +706,7 @@ def new_from_urdf(
 ) -> tuple[CreatedPackage, Notes, Imported]:
     """Write the package; returns (CreatedPackage, Notes, Imported). `spec_options`: make_spec's.
     `name_note`: how the name was chosen when the command line gave none (default_name)."""
-    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.notes import Notes
     from pkgforge.scaffold.package import create_package, make_spec, render_files
 
     name = spec_options["name"]
