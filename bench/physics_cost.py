@@ -25,7 +25,8 @@ def main() -> None:
     parser.add_argument("--packages", type=int, default=200)
     arguments = parser.parse_args()
     from pkgforge.checks.registry import all_checks
-    from pkgforge.verify.pipeline import VerifyOptions, verify
+    from pkgforge.verify.options import VerifyOptions
+    from pkgforge.verify.pipeline import verify
 
     spent = {"seconds": 0.0, "calls": 0}
     for check in all_checks():

@@ -819,7 +819,7 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     from pkgforge.fix.edits import Edit
     from pkgforge.fix.run import FixOptions, run_fix
     from pkgforge.verify.config import Selection
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
 
     package = copy_fixture("seed001/small_turtle", tmp_path)
     package = package.rename(package.with_name("turtle"))

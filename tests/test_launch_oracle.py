@@ -177,7 +177,8 @@ def evaluations(prefixes, oracle_workspace) -> dict:
     """(engine, file) → canonical records; every file through the built-in engine and each distro."""
     from pkgforge.launch.resolve import find_launch_files, resolve
     from pkgforge.verify.discovery import load_models
-    from pkgforge.verify.pipeline import VerifyOptions, make_tree
+    from pkgforge.verify.options import VerifyOptions
+    from pkgforge.verify.pipeline import make_tree
     from pkgforge.workspace import locate
 
     workspace = locate(oracle_workspace)

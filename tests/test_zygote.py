@@ -10,7 +10,8 @@ from test_processes import MARKER, marked
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.verify.config import Selection
-from pkgforge.verify.pipeline import VerifyOptions, _early_zygote, verify
+from pkgforge.verify.options import VerifyOptions
+from pkgforge.verify.pipeline import _early_zygote, verify
 
 
 def _fork_servers() -> list[int]:

@@ -142,7 +142,7 @@ def finish_with_verify(package: Path, notes: Notes, distro: str) -> NoReturn:
     """`migrate` and `new --from-urdf`: what changed, then verify's report on the result; verify's exit status."""
     from pkgforge.report import render
     from pkgforge.verify.config import Selection
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
     click.echo(notes.render(Path.cwd()), nl=False)

@@ -110,7 +110,8 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
         from pkgforge.report import render
         from pkgforge.verify.config import Selection, load_config, split_keys
         from pkgforge.verify.discovery import PackageTarget, _load
-        from pkgforge.verify.pipeline import VerifyOptions, run
+        from pkgforge.verify.options import VerifyOptions
+        from pkgforge.verify.pipeline import run
         from pkgforge.workspace import Workspace
 
         args = context.args

@@ -46,7 +46,7 @@ def run_fix_command(
     from pkgforge.fix.run import FixOptions, run_fix
     from pkgforge.report import use_color
     from pkgforge.verify.config import Selection, split_keys
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
 
     options = FixOptions(
         VerifyOptions(

@@ -52,7 +52,7 @@ def _explain_sandbox(launch_engine: str, ros_prefix: Path | None, target_distro:
     """verify --explain-sandbox: a worker started as verify starts one says what confines it."""
     from pkgforge.launch.resolve import confinement_here
     from pkgforge.sandbox.confinement import describe
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
 
     engine = VerifyOptions(launch_engine=launch_engine, ros_prefix=ros_prefix, distro=target_distro).engine()
     try:
@@ -204,7 +204,7 @@ def verify(
             context.call_on_close(fork_server.close)  # however verify ends
     from pkgforge.report import render
     from pkgforge.verify.config import Selection, split_keys
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
     if build_tree and install_base is not None:

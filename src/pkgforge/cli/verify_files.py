@@ -24,7 +24,7 @@ def verify_files(files: tuple[Path, ...], strict: bool, color: str) -> NoReturn:
     """
     from pkgforge.report import render, use_color
     from pkgforge.verify.config import Selection
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
     from pkgforge.verify.pipeline import verify as run_verify
 
     colored = use_color(color, sys.stdout)

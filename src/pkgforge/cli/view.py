@@ -48,7 +48,7 @@ def view(
     TARGET is a package or workspace folder, a package name, or one .urdf/.xacro file
     (in a workspace package, or installed in a ROS prefix's share/<package>/).
     """
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
     from pkgforge.view import Artifacts, parse_joints
     from pkgforge.view.command import run_view
 

@@ -31,7 +31,8 @@ from pkgforge.fix.edits import (
     write_atomically,
 )
 from pkgforge.fix.registry import Fix, FixContext, all_fixers
-from pkgforge.verify.pipeline import VerifyOptions, VerifyResult, verify
+from pkgforge.verify.options import VerifyOptions
+from pkgforge.verify.pipeline import VerifyResult, verify
 from pkgforge.walk import WalkLimit, walk
 
 MAX_PASSES = 4

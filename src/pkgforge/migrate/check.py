@@ -38,7 +38,8 @@ def unloadable(spec: PackageSpec, files: Mapping[str, bytes], modes: Mapping[str
     (no cache): the files are evaluated as the final package's will be, in the sandboxed workers."""
     from pkgforge.scaffold.package import create_package, render_files
     from pkgforge.verify.config import Selection
-    from pkgforge.verify.pipeline import VerifyOptions, verify
+    from pkgforge.verify.options import VerifyOptions
+    from pkgforge.verify.pipeline import verify
 
     staging = Path(tempfile.mkdtemp(prefix="pkgforge-migrate-"))
     try:

@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     from pkgforge.launch.engines import LaunchEngine
     from pkgforge.launch.records import LaunchFile
     from pkgforge.model.package import PackageModel
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
 
 
 def package_distros(

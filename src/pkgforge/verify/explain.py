@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING, Any
 from pkgforge.errors import PkgforgeError
 from pkgforge.printable import printable
 from pkgforge.verify.discovery import load_models
-from pkgforge.verify.pipeline import VerifyOptions, make_tree
+from pkgforge.verify.options import VerifyOptions
+from pkgforge.verify.pipeline import make_tree
 from pkgforge.workspace import locate
 
 if TYPE_CHECKING:

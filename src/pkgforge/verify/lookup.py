@@ -17,7 +17,7 @@ from pkgforge.workspace import Workspace
 
 if TYPE_CHECKING:
     from pkgforge.verify.cache import ResultCache
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
 
 
 def cache_folder(workspace: Workspace) -> Path:

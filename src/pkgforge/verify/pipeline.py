@@ -7,7 +7,6 @@ the models and resolutions in this process. Only plain data crosses a process.
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from collections.abc import Callable, Iterable, Iterator
@@ -18,8 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Diagnostic, Finding, PackageReport, Severity
 from pkgforge.errors import BuildFailed, PkgforgeError
-from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
-from pkgforge.verify.config import Config, Selection, load_config
+from pkgforge.verify.config import Config, load_config
 from pkgforge.verify.discovery import (
     Namesakes,
     PackageTarget,
@@ -31,6 +29,7 @@ from pkgforge.verify.discovery import (
 )
 from pkgforge.verify.distros import by_launch_engine, launch_distro, package_distros
 from pkgforge.verify.lookup import cache_lookup, store_whole, workspace_lookup
+from pkgforge.verify.options import VerifyOptions
 from pkgforge.verify.progress import Progress
 from pkgforge.workspace import Workspace, locate
 
@@ -63,55 +62,6 @@ def _tree_codes() -> set[str]:
     from pkgforge.checks.registry import all_checks
 
     return {c.code for c in all_checks() if c.area in TREE_AREAS}
-
-
-@dataclass
-class VerifyOptions:
-    selection: Selection = field(default_factory=Selection)
-    jobs: int | None = None
-    strict: bool = False
-    mode: str = "predicted"  # predicted | build | install-base
-    install_base: Path | None = None
-    launch_timeout: float = 10.0
-    launch_arguments: dict[str, str] = field(default_factory=dict)
-    use_cache: bool = True
-    worker_memory: int | None = DEFAULT_WORKER_MEMORY  # bytes per launch worker; None: unlimited
-    simulate: bool = False  # --simulate: each robot model's drop test in MuJoCo (simulate/)
-    distro: str | None = (
-        None  # --distro; else ROS_DISTRO, pkgforge.toml, CI file (distro_data.target_distros)
-    )
-    launch_engine: str = "auto"  # auto | ros | builtin
-    ros_prefix: Path | None = None
-    progress: bool = True  # status lines on a terminal (never elsewhere); --quiet: none
-    _engine: LaunchEngine | None = field(default=None, repr=False, compare=False)
-    # called with (tree, [ModelResult]) while the install tree is open (`view`, --artifacts)
-    on_models: Callable[[InstallTree, list[ModelResult]], None] | None = field(
-        default=None, repr=False, compare=False
-    )
-
-    def engine(self) -> LaunchEngine:
-        """The launch engine these options choose (launch.engines.LaunchEngine), found once."""
-        if self._engine is None:
-            from pkgforge.launch.engines import choose
-
-            self._engine = choose(self.launch_engine, self.ros_prefix, distro=self.distro)
-        return self._engine
-
-    def cache_key(self) -> str:
-        engine = self.engine()
-        return json.dumps(
-            [
-                self.mode,
-                sorted(self.launch_arguments.items()),
-                self.launch_timeout,
-                self.distro,
-                os.environ.get("ROS_DISTRO", ""),
-                engine.name,
-                engine.prefix,
-                engine.distro,
-                *(["simulate"] if self.simulate else []),
-            ]
-        )
 
 
 @dataclass

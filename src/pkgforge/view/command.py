@@ -13,7 +13,7 @@ from pkgforge.view import Artifacts
 if TYPE_CHECKING:
     from pkgforge.tree import InstallTree
     from pkgforge.urdf.select import ModelResult
-    from pkgforge.verify.pipeline import VerifyOptions
+    from pkgforge.verify.options import VerifyOptions
 
 
 def _installed_prefix(file: Path) -> tuple[Path, str] | None:
