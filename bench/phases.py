@@ -46,8 +46,8 @@ def main() -> None:
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     os.chdir(sys.argv[1])
+    from pkgforge import robot_models as models
     from pkgforge.launch import resolve
-    from pkgforge.urdf import select as models
     from pkgforge.verify import pipeline as verify
 
     timed(verify, "cache_lookup", "cache lookup")

@@ -28,9 +28,9 @@ if TYPE_CHECKING:
     from pkgforge.model.manifest import Dependency
     from pkgforge.model.references import Reference
     from pkgforge.model.ros_params import ParametersFile, Problem
+    from pkgforge.robot_models import ModelResult
     from pkgforge.simulate import Outcome
     from pkgforge.urdf.meshes import MeshLookup
-    from pkgforge.urdf.select import ModelResult
 
 # an ImportError of a launch name (the built-in engine's message is ROS's own)
 BUILTIN_IMPORT_ERROR = re.compile(r"cannot import name '(\w+)' from 'launch[\w.]*'")

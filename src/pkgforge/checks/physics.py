@@ -17,11 +17,11 @@ from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
 from pkgforge.checks.urdf import model_item_position, model_source_position
 from pkgforge.diagnostics import Finding, Group, Severity
+from pkgforge.robot_models import ModelResult
 from pkgforge.simulate import Outcome, Problem
 from pkgforge.simulate.drop import ANGULAR_SPEED, LINEAR_SPEED
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
-from pkgforge.urdf.select import ModelResult
 from pkgforge.urdf.structure import Geometry, LinkDict, Part, RobotStructure
 
 MESH_SCALE_RATIO = 100.0  # a mesh this many times bigger (or smaller) than the rest: a unit mistake

@@ -28,7 +28,7 @@ from pkgforge.model.simulation import (
     data,
     plugin_verdict,
 )
-from pkgforge.urdf.select import ModelResult
+from pkgforge.robot_models import ModelResult
 from pkgforge.urdf.structure import ControlSystem
 
 SDF_SUFFIXES = (".sdf", ".world")

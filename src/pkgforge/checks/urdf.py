@@ -16,9 +16,9 @@ from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Group, Severity
 from pkgforge.launch.records import CommandRun, LaunchFile, Resolution
+from pkgforge.robot_models import ModelResult
 from pkgforge.tree import InstallTree
 from pkgforge.urdf.meshes import MeshLookup
-from pkgforge.urdf.select import ModelResult
 from pkgforge.urdf.structure import JointDict, LinkDict, MeshDict, ModelError, RobotStructure, UrdfProblem
 
 

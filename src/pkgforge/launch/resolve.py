@@ -46,7 +46,7 @@ MAX_REPLY_LINE = MAX_REPLY  # characters of one reply line (the coordinator alre
 MACHINE_DEPENDENT = ("timeout", "crashed")
 
 # what crosses the worker's pipe: one JSON object per line (a launch file's LaunchResultDict, or a
-# model's reply: urdf/select.py), the parent's own when the worker timed out or crashed
+# model's reply: robot_models.py), the parent's own when the worker timed out or crashed
 Reply = dict[str, Any]
 
 

@@ -1,7 +1,7 @@
 """The shape of a robot model's structure and of a model's failure, as the model worker sends them.
 
 urdf/robot.py builds these dicts in the worker (they cross the process boundary and the cache as
-JSON); urdf/select.py keeps them on a ModelResult; the checks, urdf/physics.py and view/ read them.
+JSON); robot_models.py keeps them on a ModelResult; the checks, urdf/physics.py and view/ read them.
 A TypedDict names every key once, so a renamed key is a type error on both sides, not a check
 that silently finds nothing.
 """

@@ -204,8 +204,8 @@ def _printed(lines: list[str]) -> str:
 
 def explain_model_file(path: Path, file: Path, options: VerifyOptions) -> str:
     """The model's link/joint tree with every mesh URI and whether it resolves (check_urdf, with meshes)."""
+    from pkgforge import robot_models
     from pkgforge.launch.resolve import source_of
-    from pkgforge.urdf import select as robot_models
     from pkgforge.urdf.meshes import resolve_uri
 
     with _installed(path, file, options) as (tree, installed, package, owner):

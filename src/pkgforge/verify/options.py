@@ -15,8 +15,8 @@ from pkgforge.verify.config import Selection
 
 if TYPE_CHECKING:
     from pkgforge.launch.engines import LaunchEngine
+    from pkgforge.robot_models import ModelResult
     from pkgforge.tree import InstallTree
-    from pkgforge.urdf.select import ModelResult
 
 
 @dataclass

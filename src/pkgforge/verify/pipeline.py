@@ -40,11 +40,11 @@ if TYPE_CHECKING:
     from pkgforge.launch.records import LaunchFile, Resolution
     from pkgforge.model.package import PackageModel
     from pkgforge.model.rviz import RvizConfig
+    from pkgforge.robot_models import ModelResult
     from pkgforge.sandbox.protocol import Confinement
     from pkgforge.sandbox.zygote import Zygote
     from pkgforge.simulate import Outcome
     from pkgforge.tree import InstallTree
-    from pkgforge.urdf.select import ModelResult
     from pkgforge.verify.cache import ResultCache
 
     # package → (its own RViz configs, [(a config, the launch file passing it with -d)])
@@ -440,9 +440,9 @@ def run(
         jobs,
     )
     if needs_tree:
+        from pkgforge import robot_models
         from pkgforge.launch.resolve import WorkerLimits, find_launch_files, resolve
         from pkgforge.launch.uninstalled import source_only
-        from pkgforge.urdf import select as robot_models
 
         limits = WorkerLimits(options.launch_timeout, options.worker_memory)
         progress = Progress(enabled=None if options.progress else False)

@@ -21,8 +21,8 @@ from pkgforge.view.tree_svg import tree_svg
 if TYPE_CHECKING:
     from PIL import Image
 
+    from pkgforge.robot_models import ModelResult
     from pkgforge.tree import InstallTree
-    from pkgforge.urdf.select import ModelResult
     from pkgforge.view.scene import Resolve, Robot
 
 VIEW_NAMES = ("front", "side", "top", "iso")

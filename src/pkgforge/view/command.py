@@ -11,8 +11,8 @@ from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.view import Artifacts
 
 if TYPE_CHECKING:
+    from pkgforge.robot_models import ModelResult
     from pkgforge.tree import InstallTree
-    from pkgforge.urdf.select import ModelResult
     from pkgforge.verify.options import VerifyOptions
 
 
@@ -63,8 +63,8 @@ def run_view(target: str, artifacts: Artifacts, options: VerifyOptions) -> None:
 
 
 def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None:
+    from pkgforge import robot_models
     from pkgforge.launch.resolve import source_of
-    from pkgforge.urdf import select as robot_models
 
     installed = _installed_prefix(file)
     folder = _package_folder(file)
@@ -99,8 +99,8 @@ def _one_model(file: Path, artifacts: Artifacts, options: VerifyOptions) -> None
 
 def _render(artifacts: Artifacts, tree: InstallTree, result: ModelResult, options: VerifyOptions) -> None:
     """Process the model (xacro in a worker: it is user code) and draw it."""
+    from pkgforge import robot_models
     from pkgforge.launch.resolve import WorkerLimits
-    from pkgforge.urdf import select as robot_models
 
     (result,) = robot_models.process(
         [result],
