@@ -175,7 +175,8 @@ def launch_load_error(ctx: CheckContext) -> Iterator[Finding]:
 def _import_hint(text: str) -> str | None:
     """Where a launch name imported from the wrong module lives (FindPackageShare from
     launch.substitutions: it is launch_ros's)."""
-    from pkgforge.checks.context import BUILTIN_IMPORT_ERROR, launch_name_home
+    from pkgforge.checks.context import BUILTIN_IMPORT_ERROR
+    from pkgforge.checks.facts import launch_name_home
 
     found = BUILTIN_IMPORT_ERROR.search(text)
     home = launch_name_home(found.group(1)) if found else None

@@ -10,7 +10,8 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from pkgforge.checks.context import CheckContext, FileFacts, only_with
+from pkgforge.checks.context import CheckContext, only_with
+from pkgforge.checks.facts import FileFacts
 from pkgforge.checks.files import read_problem_hint, undeclared_find, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
 from pkgforge.checks.registry import register
