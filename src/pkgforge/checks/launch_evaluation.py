@@ -432,7 +432,7 @@ def launch_combinations_unevaluated(ctx: CheckContext) -> Iterator[Finding]:
     "not), or verify against a real build (--build, --install-base)",
 )
 def unpredicted_lookup(ctx: CheckContext) -> Iterator[Finding]:
-    from pkgforge.checks.urdf import model_item_position
+    from pkgforge.checks.model_positions import model_item_position
 
     said: set[tuple[Path, int | None, str, str]] = set()
 

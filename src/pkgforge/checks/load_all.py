@@ -14,6 +14,7 @@ from pkgforge.checks import (  # noqa: F401
     migrate,
     nodes,
     physics,
+    physics_drop,
     rviz,
     sandbox,
     sdf,
