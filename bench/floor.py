@@ -113,7 +113,7 @@ def launch_engine(engine: str, ros_prefix: Path | None, distro: str) -> Callable
 
 def imports_seconds(engine: str) -> float:
     """A fresh interpreter importing what verify's processes import, less a bare interpreter."""
-    modules = "import pkgforge.cli, pkgforge.verify.pipeline, pkgforge.launch.evaluate, xacro, lxml.etree"
+    modules = "import pkgforge.verify.pipeline, pkgforge.launch.evaluate, xacro, lxml.etree; from pkgforge.cli import main"
 
     def once(code: str) -> float:
         start = time.perf_counter()

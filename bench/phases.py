@@ -50,7 +50,7 @@ def main() -> None:
     from pkgforge.urdf import select as models
     from pkgforge.verify import pipeline as verify
 
-    timed(verify, "_cache_lookup", "cache lookup")
+    timed(verify, "cache_lookup", "cache lookup")
     timed(verify, "load_models", "discovery + models")
     timed(verify, "load_one_package", "discovery + models (one package)")
     timed(verify, "make_tree", "install tree")

@@ -647,7 +647,7 @@ def test_parallel_model_loading_matches_the_serial_one(tmp_path):
     package is loaded again with catkin_pkg's message)."""
     import shutil
 
-    from pkgforge.verify.pipeline import PARALLEL_THRESHOLD
+    from pkgforge.verify.discovery import PARALLEL_THRESHOLD
 
     (tmp_path / "src").mkdir()
     first = new_package(tmp_path, "p00_description")
@@ -723,7 +723,7 @@ def test_shell_completion_is_documented_and_works(tmp_path):
 
 def test_exit_status_with_a_standard_stream_closed():
     """Started with stdout or stderr closed (`>&-`), Python has no stream there: the command's
-    own exit status still comes out (cli._exit_now flushes only the streams that exist)."""
+    own exit status still comes out (cli.app._exit_now flushes only the streams that exist)."""
     for closed, args, status in ((1, ["checks"], 0), (2, ["checks"], 0), (2, ["rule", "PF999"], 2)):
         result = subprocess.run(
             [sys.executable, "-m", "pkgforge", *args],

@@ -662,7 +662,7 @@ def test_find_package_undeclared_plugs_in(tmp_path):
     from pkgforge.checks.registry import DEFAULT_FIXES
     from pkgforge.diagnostics import Diagnostic, Severity
     from pkgforge.fix.edits import FileSet, apply
-    from pkgforge.fix.fixers import FIXERS, FixContext
+    from pkgforge.fix.registry import FixContext, all_fixers
 
     assert DEFAULT_FIXES["find-package-undeclared"] == "safe"
     package = copy_fixture("seed001/small_turtle", tmp_path)
@@ -685,7 +685,7 @@ def test_find_package_undeclared_plugs_in(tmp_path):
         "",
     )
     files = FileSet()
-    fix = FIXERS["find-package-undeclared"](diagnostic, FixContext(files))
+    fix = all_fixers()["find-package-undeclared"](diagnostic, FixContext(files))
     manifest = package / "package.xml"
     text = apply(files.get(manifest).text, fix.edits[manifest])
     assert text == manifest.read_text().replace(
@@ -757,11 +757,11 @@ def _fixed(name: str, path: Path, line: int, data: dict | None = None) -> str:
     """The text of path after the fixer of check `name` ran for a finding at `line` (in-process)."""
     from pkgforge.diagnostics import Diagnostic, Severity
     from pkgforge.fix.edits import FileSet, apply
-    from pkgforge.fix.fixers import FIXERS, FixContext
+    from pkgforge.fix.registry import FixContext, all_fixers
 
     diagnostic = Diagnostic("PF000", name, Severity.ERROR, "p", path, line, None, "m", "h", fix=data)
     files = FileSet()
-    fix = FIXERS[name](diagnostic, FixContext(files))
+    fix = all_fixers()[name](diagnostic, FixContext(files))
     return apply(files.get(path).text, fix.edits[path])
 
 
@@ -815,7 +815,7 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     import dataclasses
 
     from pkgforge.checks.registry import REGISTRY, all_checks
-    from pkgforge.fix import fixers
+    from pkgforge.fix import registry
     from pkgforge.fix.edits import Edit
     from pkgforge.fix.run import FixOptions, run_fix
     from pkgforge.verify.config import Selection
@@ -831,11 +831,11 @@ def test_a_fix_that_would_break_the_file_writes_nothing(tmp_path, monkeypatch):
     def breaking(diagnostic, context):
         source = context.files.get(manifest)
         start = source.text.index("</package>")
-        fix = fixers.Fix("drops </package>")
+        fix = registry.Fix("drops </package>")
         fix.add(manifest, Edit(start, start + len("</package>"), ""))
         return fix
 
-    monkeypatch.setitem(fixers.FIXERS, "folder-name-mismatch", breaking)
+    monkeypatch.setitem(registry.all_fixers(), "folder-name-mismatch", breaking)
     run = run_fix(package, FixOptions(VerifyOptions(Selection(["folder-name-mismatch"], []))))
     assert manifest.read_bytes() == before
     assert run.fixed == [] and run.files_written == set()

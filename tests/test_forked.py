@@ -122,7 +122,7 @@ def test_model_loading_without_loader_processes_loads_every_model_here(
     and no loader left behind."""
     import shutil
 
-    from pkgforge.verify.pipeline import PARALLEL_THRESHOLD, load_models
+    from pkgforge.verify.discovery import PARALLEL_THRESHOLD, load_models
     from pkgforge.workspace import Workspace
 
     for number in range(PARALLEL_THRESHOLD + 1):

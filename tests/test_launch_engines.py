@@ -171,8 +171,8 @@ def test_the_real_engine_reads_launch_yaml_within_pkgforge_s_bounds(tmp_path, pr
         str(prefixes["jazzy"]), cwd=tmp_path, timeout=240,
     )  # fmt: skip
     assert result.returncode == 1 and "Traceback" not in result.stderr, result.stdout + result.stderr
-    messages = {
-        d["path"].rsplit("/", 1)[-1]: d["message"]
+    messages = {  # the whole text: launch's "multiple exceptions" message runs past one line's 300
+        d["path"].rsplit("/", 1)[-1]: d["detail"] or d["message"]
         for d in json.loads(result.stdout)["diagnostics"]
         if d["code"] == "PF301"
     }

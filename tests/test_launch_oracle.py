@@ -176,7 +176,8 @@ def _strip(data: dict) -> dict:
 def evaluations(prefixes, oracle_workspace) -> dict:
     """(engine, file) → canonical records; every file through the built-in engine and each distro."""
     from pkgforge.launch.resolve import find_launch_files, resolve
-    from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
+    from pkgforge.verify.discovery import load_models
+    from pkgforge.verify.pipeline import VerifyOptions, make_tree
     from pkgforge.workspace import locate
 
     workspace = locate(oracle_workspace)

@@ -329,7 +329,7 @@ def as_nobody():
                 interpreter,
                 "-c",
                 "import subprocess, sys; subprocess.run("
-                "[sys.executable, '-c', 'import lxml, xacro, pkgforge.cli'], check=True)",
+                "[sys.executable, '-c', 'import lxml, xacro; from pkgforge.cli import main'], check=True)",
             ],
             capture_output=True,
             env=env,

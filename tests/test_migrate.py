@@ -70,7 +70,9 @@ def migrated(tmp_path_factory):
         ),
     }
     for name, result in outputs.items():
-        assert result.returncode == 0, (name, result.stdout, result.stderr)
+        # the models' own physics may fail verify (UR5's wrist_3_link inertia, PF610, is wrong
+        # upstream: ros-industrial/universal_robot#426); nothing else may
+        assert result.returncode in (0, 1), (name, result.stdout, result.stderr)
         assert not_physics(result.stdout) == [], (name, result.stdout)
     assert "0 errors, 0 warnings" in outputs["py"].stdout  # --add-root-link: no PF604 either
     build = run_pkgforge("build", cwd=workspace)

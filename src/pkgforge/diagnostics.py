@@ -60,20 +60,27 @@ class Finding:
 # A message is one line of at most this many characters (a terminal's two lines, a CI
 # annotation's title): what is longer goes to `detail`, which the JSON report holds.
 MESSAGE_LIMIT = 300
-CUT_NOTE = " ... (full text: --format json)"
+CUT_NOTE = " (full text: --format json)"
+GAP = " ... "
 
 
 def one_line(message: str, detail: str | None = None) -> tuple[str, str | None]:
     """(message, detail) with the message on one line of at most MESSAGE_LIMIT characters: its
-    line breaks (and the blanks around them) become one space, and a longer message is cut at a
-    word boundary and noted; the whole text is kept in detail (before the finding's own detail)."""
+    line breaks (and the blanks around them) become one space, and a longer message keeps its
+    beginning and its end (what an error says after the URDF it quotes), cut at word boundaries
+    and noted; the whole text is kept in detail (before the finding's own detail)."""
     flat = flattened(message)
     if len(flat) <= MESSAGE_LIMIT:
         return flat, detail if flat == message else _both(message, detail)
-    room = MESSAGE_LIMIT - len(CUT_NOTE)
-    cut = flat.rfind(" ", room * 2 // 3, room + 1)
-    head = flat[: cut if cut > 0 else room].rstrip(" ,;:(")
-    return head + CUT_NOTE, _both(message, detail)
+    room = MESSAGE_LIMIT - len(CUT_NOTE) - len(GAP)
+    head_room = room * 3 // 5
+    tail_room = room - head_room
+    cut = flat.rfind(" ", head_room * 2 // 3, head_room + 1)
+    head = flat[: cut if cut > 0 else head_room].rstrip(" ,;:(")
+    start = len(flat) - tail_room
+    space = flat.find(" ", start, start + tail_room // 3)
+    tail = flat[space + 1 if space >= 0 else start :]
+    return head + GAP + tail + CUT_NOTE, _both(message, detail)
 
 
 # a line break that lays text out: with blanks around it (indentation), or several in a row

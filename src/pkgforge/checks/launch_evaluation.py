@@ -126,20 +126,20 @@ def launch_configuration_undefined(ctx: CheckContext) -> Iterator[Finding]:
 def _unset_message(name: str, item: LaunchError, resolution: Resolution) -> str:
     message = (
         f"launch configuration '{name}' does not exist when {_a(item.entity or 'action')} uses it: nothing "
-        f"declares or sets it and it has no default, so `ros2 launch` stops here"
-        f"{_branch_note(item, resolution)}"
+        f"declares, sets or defaults it, so `ros2 launch` stops here{_branch_note(item, resolution)}"
     )
     if item.deferred:
+        # (said in few words: the message is one line of at most 300 characters)
         runs = "when its period has passed" if item.deferred == "TimerAction" else "when its event comes"
-        message += (
-            f" (in {_a(item.deferred)}: its actions run {runs}, after the rest of the launch description"
-        )
         if item.scoped_away:
             message += (
-                f"; {name} is set where the {item.deferred} stands, but the scoped GroupAction around it "
-                "has ended by then"
+                f" (in {_a(item.deferred)}, run {runs}: {name} is set where the {item.deferred} stands, "
+                "but the scoped GroupAction around it has ended by then)"
             )
-        message += ")"
+        else:
+            message += (
+                f" (in {_a(item.deferred)}: its actions run {runs}, after the rest of the launch description)"
+            )
     return message
 
 

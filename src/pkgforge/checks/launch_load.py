@@ -283,5 +283,7 @@ def _one_line(message: str) -> str:
             return match.group(0)
         return f"'{value[:60]}...'"
 
-    message = re.sub(r"'([^']{80,})'", shorten, message, flags=re.S)
+    # a quote opens after a blank or a bracket and closes before one: an apostrophe inside the
+    # value (a comment's "humble's" in a URDF) neither opens nor closes it
+    message = re.sub(r"(?:^|(?<=[\s(\[=]))'(.{80,}?)'(?=[\s,.:;)\]]|$)", shorten, message, flags=re.S)
     return " ".join(part.strip() for part in message.splitlines() if part.strip())

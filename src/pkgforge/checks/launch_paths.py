@@ -165,6 +165,13 @@ def _unresolved_paths(ctx: CheckContext) -> Iterator[_Unresolved]:
             ):
                 continue
             ctx.read_elsewhere.add(str(share / relative))  # (as a resolved path is: verify/cache.py)
+            failed = ctx.failed_to_load(source)
+            if (
+                failed is not None
+                and failed.error is not None
+                and f"{reference.package}/{relative}" in failed.error.message
+            ):
+                continue  # the file fails reading that very path: its load error is this finding
             if not ctx.files.exists(share / relative):
                 yield _Unresolved(str(share / relative), source, reference.line, None, None, reference)
 

@@ -504,7 +504,7 @@ def inertia_implausible(ctx: CheckContext) -> Iterator[Finding]:
     summary=f"a link a joint moves has a mass or a principal moment of inertia above 0 but below {ENGINE_MINIMUM:g}",
     explanation="MuJoCo refuses the model ('mass and inertia of moving bodies must be larger than "
     "mjMINVAL', 1e-15); DART, gz-sim's physics engine, computes NaN from such a body and aborts "
-    "(gz-physics issue 851). A link fixed to its parent is merged into it and passes.",
+    "(gz-physics#851). A link fixed to its parent is merged into it and passes.",
     hint="give the link its real mass and inertia (a few grams and the inertia of its shape "
     "for a light part), or fix it to its parent",
 )

@@ -225,3 +225,19 @@ class FileSet:
                 self.unreadable[path] = str(exc)
                 raise
         return self.files[path]
+
+
+Located = ast.expr | ast.stmt | ast.keyword  # the nodes ast.parse gives positions
+
+
+def node_end_line(node: Located) -> int:
+    # ast.parse sets the end of every node; nodes built by hand may lack it
+    return node.end_lineno if node.end_lineno is not None else node.lineno
+
+
+def node_span(source: SourceText, node: Located) -> tuple[int, int]:
+    end_column = node.end_col_offset if node.end_col_offset is not None else node.col_offset
+    return (
+        source.offset_utf8(node.lineno, node.col_offset),
+        source.offset_utf8(node_end_line(node), end_column),
+    )

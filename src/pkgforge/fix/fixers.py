@@ -1,4 +1,5 @@
-"""One fixer per check name: from a Diagnostic (its location and fix data) to text edits.
+"""The fixers of package.xml, CMakeLists.txt, setup.py and models: from a Diagnostic (its
+location and fix data) to text edits (registry.py: one fixer per check name).
 
 A fixer reads the files it edits through the FileSet (each file read once),
 finds the construct at the diagnostic's line and column, and returns the edits
@@ -9,20 +10,17 @@ short reason when the construct is not one it can edit without guessing.
 from __future__ import annotations
 
 import ast
-import json
 import posixpath
 import re
-from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pkgforge.diagnostics import Diagnostic
-from pkgforge.fix.edits import Edit, FileSet, NotOffered, SourceText, Unfixable
+from pkgforge.fix.edits import Edit, NotOffered, SourceText, Unfixable, node_end_line, node_span
+from pkgforge.fix.registry import Fix, FixContext, fixer, given
 from pkgforge.model.source import parse_python
 
 if TYPE_CHECKING:  # imported where used: `pkgforge fix` loads only what its fixers need
-    import yaml
     from lxml import etree
 
     from pkgforge.model.cmake import CMakeModel
@@ -43,50 +41,6 @@ DEPENDENCY_ORDER = (
 )
 # format 1 (catkin) manifests know no exec_depend: run_depend is the run-time tag there
 FORMAT_1_TAGS = {"exec_depend": "run_depend", "build_export_depend": "run_depend"}
-ROBOT_DESCRIPTION_TOPIC = "/robot_description"
-JSP_PACKAGES = ("joint_state_publisher", "joint_state_publisher_gui")
-
-
-@dataclass
-class Fix:
-    """What one diagnostic's fix does: edits per file, and a few words for the report."""
-
-    description: str
-    edits: dict[Path, list[Edit]] = field(default_factory=dict)
-    # a dependency it declares: (the package.xml, the name), so a run adds no cycle (run.py)
-    declares: tuple[Path, str] | None = None
-
-    def add(self, path: Path, edit: Edit) -> None:
-        self.edits.setdefault(Path(path), []).append(edit)
-
-
-class FixContext:
-    """What fixers share: the files read, and package models loaded again in this process."""
-
-    def __init__(self, files: FileSet):
-        self.files = files
-        self._models: dict[Path, PackageModel] = {}
-
-    def model(self, path: Path) -> PackageModel:
-        from pkgforge.model.package import load_package
-
-        path = Path(path)
-        if path not in self._models:
-            self._models[path] = load_package(path)
-        return self._models[path]
-
-
-Fixer = Callable[[Diagnostic, FixContext], Fix]
-FIXERS: dict[str, Fixer] = {}
-
-
-def fixer(*names: str) -> Callable[[Fixer], Fixer]:
-    def decorate(function: Fixer) -> Fixer:
-        for name in names:
-            FIXERS[name] = function
-        return function
-
-    return decorate
 
 
 # --- package.xml: a dependency tag ---------------------------------------------------------------
@@ -345,17 +299,9 @@ def _delete_span(source: SourceText, start: int, end: int) -> Edit:
     return Edit(start, end + trailing, "")
 
 
-def _given(diagnostic: Diagnostic, key: str, missing: str) -> str:
-    """The text the finding's fix data holds under `key`; Unfixable(missing) when there is none."""
-    value = (diagnostic.fix or {}).get(key)
-    if not isinstance(value, str) or not value:
-        raise Unfixable(missing)
-    return value
-
-
 @fixer("project-name-mismatch")
 def fix_project_name(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    name = _given(diagnostic, "name", "the finding does not name the package")
+    name = given(diagnostic, "name", "the finding does not name the package")
     source = ctx.files.get(diagnostic.path)
     command = _cmake_command_at(source, diagnostic.line, diagnostic.column, "project")
     if not command.args:
@@ -591,8 +537,8 @@ def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: st
         fix.description += f":{element.lineno}"
         return fix
     element, _, new = templates[-1]
-    start, end = _span(source, element)
-    end_line = _end_line(element)
+    start, end = node_span(source, element)
+    end_line = node_end_line(element)
     rest = source.text[end : source.line_end(end_line)]
     comma = rest.lstrip(" \t").startswith(",")
     fix.description += f":{end_line + 1}"
@@ -606,171 +552,6 @@ def _install_in_setup_py(model: PackageModel, setup_py: SetupPyModel, folder: st
             fix.add(source.path, Edit(offset, offset, indent + new + source.eol, folder))
     else:
         fix.add(source.path, Edit(end, end, ", " + new, folder))
-    return fix
-
-
-# --- RViz -------------------------------------------------------------------------------------------
-
-
-def _yaml(source: SourceText) -> yaml.Node | None:  # None: an empty file
-    import yaml
-
-    from pkgforge.model.yamlnodes import compose
-
-    try:
-        return compose(source.text)
-    except yaml.YAMLError as exc:  # (past the reader's bounds too)
-        raise Unfixable(f"{source.path.name} is not valid YAML") from exc
-
-
-def _mapping(node: yaml.Node | None) -> dict[str, tuple[yaml.Node, yaml.Node]]:
-    import yaml
-
-    if not isinstance(node, yaml.MappingNode):
-        return {}
-    return {key.value: (key, value) for key, value in node.value if isinstance(key, yaml.ScalarNode)}
-
-
-def _plain(value: str) -> str:
-    return value if re.fullmatch(r"[A-Za-z_/][A-Za-z0-9_./\-]*", value) else json.dumps(value)
-
-
-def _replace_scalar(node: yaml.Node, value: str) -> Edit:
-    import yaml
-
-    if not isinstance(node, yaml.ScalarNode):
-        raise Unfixable("the value is not a plain scalar")
-    if node.start_mark.index == node.end_mark.index:  # `Key:` with nothing after it
-        return Edit(node.start_mark.index, node.end_mark.index, " " + _plain(value))
-    return Edit(node.start_mark.index, node.end_mark.index, _plain(value))
-
-
-def _find_display(node: yaml.Node | None, line: int) -> yaml.MappingNode | None:
-    """The mapping whose Class value stands at `line` (a display, possibly in a group), the first
-    in the file's order."""
-    import yaml
-
-    todo = [node]
-    while todo:  # (no recursion: the config nests as deep as the reader lets it)
-        current = todo.pop()
-        if isinstance(current, yaml.MappingNode):
-            entries = _mapping(current)
-            if "Class" in entries and entries["Class"][1].start_mark.line + 1 == line:
-                return current
-            todo += reversed([value for _, value in current.value])
-        elif isinstance(current, yaml.SequenceNode):
-            todo += reversed(current.value)
-    return None
-
-
-def _insert_key(source: SourceText, mapping: yaml.MappingNode, key: str, lines: list[str]) -> Edit:
-    """New `key` lines in a block mapping, in alphabetical order where RViz keeps its keys."""
-    entries = list(mapping.value)
-    column = entries[0][0].start_mark.column
-    indent = source.text[source.line_start(entries[0][0].start_mark.line + 1) :][:column]
-    indent = indent if indent.strip(" ") == "" else " " * column
-    text = "".join(indent + line + source.eol for line in lines)
-    previous = [(k, v) for k, v in entries if str(k.value) < key]
-    if previous:
-        value = previous[-1][1]
-        end = value.end_mark
-        offset = end.index if end.column == 0 else source.line_end(end.line + 1)
-        return Edit(offset, offset, text, key)
-    first = entries[0][0]
-    if source.is_blank_before(first.start_mark.index):
-        start = source.line_start(first.start_mark.line + 1)
-        return Edit(start, start, text, key)
-    value = entries[0][1]
-    offset = value.end_mark.index if value.end_mark.column == 0 else source.line_end(value.end_mark.line + 1)
-    return Edit(offset, offset, text, key)
-
-
-@fixer("rviz-no-description")
-def fix_rviz_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    import yaml
-
-    line = (diagnostic.fix or {}).get("display_line")
-    source = ctx.files.get(diagnostic.path)
-    display = _find_display(_yaml(source), line) if line else None
-    if display is None:
-        raise Unfixable("cannot find the RobotModel display")
-    entries = _mapping(display)
-    fix = Fix(f"RobotModel: Description Source Topic, Description Topic {ROBOT_DESCRIPTION_TOPIC}")
-    if "Description Source" in entries:
-        value = entries["Description Source"][1]
-        if getattr(value, "value", None) != "Topic":
-            fix.add(source.path, _replace_scalar(value, "Topic"))
-    else:
-        fix.add(
-            source.path, _insert_key(source, display, "Description Source", ["Description Source: Topic"])
-        )
-    if "Description Topic" in entries:
-        value = entries["Description Topic"][1]
-        if isinstance(value, yaml.MappingNode):
-            inner = _mapping(value)
-            if "Value" in inner:
-                fix.add(source.path, _replace_scalar(inner["Value"][1], ROBOT_DESCRIPTION_TOPIC))
-            else:
-                fix.add(
-                    source.path, _insert_key(source, value, "Value", [f"Value: {ROBOT_DESCRIPTION_TOPIC}"])
-                )
-        else:
-            fix.add(source.path, _replace_scalar(value, ROBOT_DESCRIPTION_TOPIC))
-    else:
-        fix.add(
-            source.path,
-            _insert_key(
-                source,
-                display,
-                "Description Topic",
-                [
-                    "Description Topic:",
-                    "  Depth: 5",
-                    "  Durability Policy: Transient Local",
-                    "  History Policy: Keep Last",
-                    "  Reliability Policy: Reliable",
-                    f"  Value: {ROBOT_DESCRIPTION_TOPIC}",
-                ],
-            ),
-        )
-    return fix
-
-
-@fixer("rviz-fixed-frame-unknown")
-def fix_fixed_frame(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    frame = _given(diagnostic, "frame", "the model's root link is not known")
-    source = ctx.files.get(diagnostic.path)
-    manager = _mapping(_yaml(source)).get("Visualization Manager")
-    options = _mapping(manager[1]).get("Global Options") if manager else None
-    fixed = _mapping(options[1]).get("Fixed Frame") if options else None
-    if fixed is None:
-        raise Unfixable("no Global Options: Fixed Frame to change")
-    fix = Fix(f"Fixed Frame {getattr(fixed[1], 'value', '?')} → {frame} (the model's root link)")
-    fix.add(source.path, _replace_scalar(fixed[1], frame))
-    return fix
-
-
-@fixer("rviz-ros1-config")
-def fix_rviz1_config(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    """The whole config converted as `pkgforge migrate` converts one (unsafe: the file is written
-    anew, its comments and RViz 1's window layout are not kept, classes RViz 2 lacks are left out)."""
-    from pkgforge.errors import PkgforgeError
-    from pkgforge.migrate.notes import Notes
-    from pkgforge.migrate.rviz1 import convert
-
-    source = ctx.files.get(diagnostic.path)
-    notes = Notes(diagnostic.package)
-    try:
-        converted = convert(source.text, source.path, notes, set(), None, by="pkgforge fix")
-    except PkgforgeError as exc:
-        raise Unfixable(str(exc).split(": ", 1)[-1]) from exc
-    renamed = sum(1 for d in notes.diagnostics if d.name == "migrate-renamed")
-    dropped = sum(1 for d in notes.diagnostics if d.name == "migrate-dropped")
-    fix = Fix(
-        f"converted to RViz 2: {renamed} class(es) renamed"
-        + (f", {dropped} without an RViz 2 class left out" if dropped else "")
-    )
-    fix.add(source.path, Edit(0, len(source.text), converted.replace("\n", source.eol)))
     return fix
 
 
@@ -805,205 +586,4 @@ def fix_mesh_case(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         raise Unfixable(
             f"{uri} is not written literally in {source.path.name}: write {real} where it is built"
         )
-    return fix
-
-
-# --- Python launch files ------------------------------------------------------------------------------
-
-
-def _python(source: SourceText) -> ast.Module:
-    try:
-        return parse_python(source.text)
-    except SyntaxError as exc:
-        raise Unfixable(f"{source.path.name} does not parse: {exc.msg}") from exc
-
-
-def _call_name(node: ast.expr) -> str:
-    func = node.func if isinstance(node, ast.Call) else node
-    if isinstance(func, ast.Name):
-        return func.id
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    return ""
-
-
-_Located = ast.expr | ast.stmt | ast.keyword  # the nodes ast.parse gives positions
-
-
-def _end_line(node: _Located) -> int:
-    # ast.parse sets the end of every node; nodes built by hand may lack it
-    return node.end_lineno if node.end_lineno is not None else node.lineno
-
-
-def _span(source: SourceText, node: _Located) -> tuple[int, int]:
-    end_column = node.end_col_offset if node.end_col_offset is not None else node.col_offset
-    return (
-        source.offset_utf8(node.lineno, node.col_offset),
-        source.offset_utf8(_end_line(node), end_column),
-    )
-
-
-def _containing_calls(tree: ast.AST, line: int, name: str) -> list[ast.Call]:
-    calls = [
-        n
-        for n in ast.walk(tree)
-        if isinstance(n, ast.Call) and _call_name(n) == name and n.lineno <= line <= _end_line(n)
-    ]
-    return sorted(calls, key=lambda n: (_end_line(n) - n.lineno, -n.lineno))
-
-
-def _parents(tree: ast.AST) -> dict[ast.AST, ast.AST]:
-    return {child: parent for parent in ast.walk(tree) for child in ast.iter_child_nodes(parent)}
-
-
-@fixer("robot-description-not-string")
-def fix_robot_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    source = ctx.files.get(diagnostic.path)
-    if not source.path.name.endswith(".py"):
-        raise Unfixable("only Python launch files are edited")
-    tree = _python(source)
-    parents = _parents(tree)
-    command = _robot_description_command(tree, diagnostic.line or 0)
-    if command is None:
-        raise Unfixable("cannot find the Command() that makes robot_description")
-    fix = Fix("robot_description: ParameterValue(Command(...), value_type=str)")
-    parent = parents.get(command)
-    if isinstance(parent, ast.Call) and _call_name(parent) == "ParameterValue" and command in parent.args:
-        if any(k.arg == "value_type" for k in parent.keywords):
-            raise Unfixable("ParameterValue already has a value_type: make it str")
-        _, end = _span(source, parent.args[-1] if not parent.keywords else parent.keywords[-1].value)
-        fix.add(source.path, Edit(end, end, ", value_type=str"))
-        return fix
-    start, end = _span(source, command)
-    fix.add(source.path, Edit(start, start, "ParameterValue("))
-    fix.add(source.path, Edit(end, end, ", value_type=str)"))
-    import_edit = _import_edit(source, tree, "launch_ros.parameter_descriptions", "ParameterValue")
-    if import_edit is not None:
-        fix.add(source.path, import_edit)
-    return fix
-
-
-def _robot_description_command(tree: ast.Module, line: int) -> ast.Call | None:
-    calls = _containing_calls(tree, line, "Command")
-    if calls:
-        return calls[0]
-    # the line of the node or the dict: follow 'robot_description': <Command or a name bound to one>
-    around = [
-        n for n in ast.walk(tree) if isinstance(n, (ast.Dict, ast.Call)) and n.lineno <= line <= _end_line(n)
-    ]
-    inner = sorted(around, key=lambda n: _end_line(n) - n.lineno)[:1]
-    dicts = [n for n in ast.walk(inner[0]) if isinstance(n, ast.Dict)] if inner else []
-    for node in dicts:
-        for key, value in zip(node.keys, node.values, strict=False):
-            if isinstance(key, ast.Constant) and key.value == "robot_description":
-                if isinstance(value, ast.Call) and _call_name(value) == "Command":
-                    return value
-                if isinstance(value, ast.Name):
-                    bound = [
-                        n.value
-                        for n in ast.walk(tree)
-                        if isinstance(n, ast.Assign)
-                        and any(isinstance(t, ast.Name) and t.id == value.id for t in n.targets)
-                        and isinstance(n.value, ast.Call)
-                        and _call_name(n.value) == "Command"
-                    ]
-                    if len(bound) == 1:
-                        return bound[0]
-    return None
-
-
-def _import_edit(source: SourceText, tree: ast.Module, module: str, name: str) -> Edit | None:
-    """The import of `name` from `module`, after the module's last top-level import; None if bound."""
-    for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and any((a.asname or a.name) == name for a in node.names):
-            return None
-        if isinstance(node, (ast.Assign, ast.FunctionDef, ast.ClassDef)) and name in {
-            getattr(t, "id", None) for t in getattr(node, "targets", [])
-        } | {getattr(node, "name", None)}:
-            return None
-    imports = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
-    line = f"from {module} import {name}"
-    if imports:
-        last = imports[-1]
-        offset = source.line_end(_end_line(last))
-        prefix = "" if source.text[:offset].endswith("\n") else source.eol
-        return Edit(offset, offset, prefix + line + source.eol, "0")
-    first = tree.body[0] if tree.body else None
-    if (
-        first is not None
-        and isinstance(first, ast.Expr)
-        and isinstance(getattr(first, "value", None), ast.Constant)
-    ):
-        offset = source.line_end(_end_line(first))
-        return Edit(offset, offset, line + source.eol, "0")
-    return Edit(0, 0, line + source.eol, "0")
-
-
-@fixer("jsp-model-argument")
-def fix_jsp_argument(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
-    source = ctx.files.get(diagnostic.path)
-    name = source.path.name
-    if name.endswith(".py"):
-        return _jsp_python(source, diagnostic.line or 0)
-    if name.endswith(".xml"):
-        return _jsp_xml(source, diagnostic.line or 0)
-    raise Unfixable("only Python and XML launch files are edited")
-
-
-def _jsp_python(source: SourceText, line: int) -> Fix:
-    tree = _python(source)
-    for call in _containing_calls(tree, line, "Node"):
-        keywords = {k.arg: k for k in call.keywords if k.arg}
-        given = keywords.get("package")
-        if (
-            given is None
-            or not isinstance(given.value, ast.Constant)
-            or given.value.value not in JSP_PACKAGES
-        ):
-            continue
-        package = given.value.value
-        arguments = keywords.get("arguments")
-        if arguments is None:
-            raise Unfixable("the node's arguments are not given as arguments=[...]")
-        if isinstance(arguments.value, (ast.List, ast.Tuple)) and len(arguments.value.elts) > 1:
-            raise Unfixable("arguments=[...] holds more than the model: remove the model by hand")
-        siblings = list(call.args) + [k for k in call.keywords]
-        siblings.sort(key=lambda n: (n.lineno, n.col_offset))
-        index = siblings.index(arguments)
-        start, end = _span(source, arguments)
-        rest = source.text[end : source.line_end(_end_line(arguments))]
-        alone = source.is_blank_before(start) and re.fullmatch(r"\s*,?\s*(#.*)?\s*", rest)
-        previous = siblings[index - 1] if index > 0 else None
-        following = siblings[index + 1] if index + 1 < len(siblings) else None
-        if alone:  # the keyword has its own line(s): they go
-            start, end = source.line_start(arguments.lineno), source.line_end(_end_line(arguments))
-        elif previous is not None and _end_line(previous) == arguments.lineno:
-            start = _span(source, previous)[1]  # `, arguments=[...]`: what follows keeps its place
-        elif following is not None and following.lineno == _end_line(arguments):
-            end = _span(source, following)[0]  # `arguments=[...], ` up to the next argument
-        else:
-            end += len(rest) - len(rest.lstrip(" \t,"))
-        fix = Fix(f"removed arguments=... from the {package} node")
-        fix.add(source.path, Edit(start, end, ""))
-        return fix
-    raise Unfixable(f"cannot find the joint_state_publisher Node(...) at line {line}")
-
-
-def _jsp_xml(source: SourceText, line: int) -> Fix:
-    start = source.line_start(line)
-    match = re.compile(r"<node\b[^>]*>", re.S).search(source.text, start)
-    package = re.search(r"""\bpkg\s*=\s*["']([^"']*)["']""", match.group(0)) if match else None
-    if (
-        match is None
-        or source.line_of(match.start()) != line
-        or package is None
-        or package.group(1) not in JSP_PACKAGES
-    ):
-        raise Unfixable(f"cannot find the joint_state_publisher <node> at line {line}")
-    package_name = package.group(1)
-    attribute = re.search(r"""\s+args\s*=\s*("[^"]*"|'[^']*')""", match.group(0))
-    if attribute is None:
-        raise Unfixable("the node has no args attribute")
-    fix = Fix(f"removed args=... from the {package_name} node")
-    fix.add(source.path, Edit(match.start() + attribute.start(), match.start() + attribute.end(), ""))
     return fix

@@ -30,7 +30,7 @@ from pkgforge.fix.edits import (
     unified_diff,
     write_atomically,
 )
-from pkgforge.fix.fixers import FIXERS, Fix, FixContext
+from pkgforge.fix.registry import Fix, FixContext, all_fixers
 from pkgforge.verify.pipeline import VerifyOptions, VerifyResult, verify
 from pkgforge.walk import WalkLimit, walk
 
@@ -92,7 +92,7 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
     candidates: list[tuple[Diagnostic, Fix]] = []
     for diagnostic in result.diagnostics:
         kind = fix_kind(diagnostic)
-        function = FIXERS.get(diagnostic.name)
+        function = all_fixers().get(diagnostic.name)
         if kind is None or function is None:
             continue
         if kind == "unsafe" and not unsafe:
@@ -150,7 +150,7 @@ def _cycles(fixes: list[Fix], root: Path) -> dict[int, str]:
     from pkgforge.model.files import quick_name
     from pkgforge.model.manifest import load_manifest
     from pkgforge.model.source import read_source
-    from pkgforge.verify.pipeline import package_folders
+    from pkgforge.verify.discovery import package_folders
     from pkgforge.workspace import locate
 
     declaring = [(index, fix.declares) for index, fix in enumerate(fixes) if fix.declares is not None]

@@ -20,7 +20,7 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.model.source import read_regular
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.notes import Notes
 
 VERSION = re.compile(r"^\d+\.\d+\.\d+$")
 

@@ -20,17 +20,16 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
+from pkgforge.migrate.models import Models, is_ros1_launch, read_models
 from pkgforge.model import ros1_names
 from pkgforge.model.source import not_regular
-from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
     from pkgforge.migrate.manifest import Ros1Manifest
-    from pkgforge.migrate.notes import Notes
     from pkgforge.migrate.roslaunch import Action, LaunchFile, Reader, Token
     from pkgforge.model.distros import Distro
-    from pkgforge.scaffold.from_urdf import ModelFile, Reference
+    from pkgforge.scaffold.notes import Notes
     from pkgforge.scaffold.package import CreatedPackage, PackageSpec
 
 SKIPPED_FOLDERS = {"build", "devel", "install", "log", "__pycache__"}
@@ -91,10 +90,6 @@ def _copy_problems(source: Path, files: list[str]) -> list[str]:
         if problem is not None:
             problems.append(f"{source / relative}: {problem}: not copied")
     return problems
-
-
-def _is_ros1_launch(relative: str) -> bool:
-    return relative.endswith(".launch")
 
 
 def _is_asset(relative: str) -> bool:
@@ -204,101 +199,6 @@ def _package_name(manifest: Ros1Manifest, requested: str | None) -> tuple[str, s
 
 
 @dataclass
-class Models:
-    """The package's models as read, and what the migration learnt from them."""
-
-    read: dict[str, ModelFile] = field(default_factory=dict)
-    links: set[str] = field(default_factory=set)
-    root: str | None = None  # the root link of the first .urdf
-    missing: list[Reference] = field(default_factory=list)
-    found: dict[str, Path] = field(default_factory=dict)  # package://NAME/ naming no package → folder
-
-
-def _used_models(models: list[str], texts: dict[str, str], launch_files: list[str]) -> set[str]:
-    """The models a launch file names, and what they include (by file name: a model's name in a
-    launch file or in a used model's text). A file nothing names is never read by ROS 1 tools."""
-    used: set[str] = set()
-    readers = list(launch_files)
-    while readers:
-        text = texts.get(readers.pop(), "")
-        for model in models:
-            if model not in used and (model in text or Path(model).name in text):
-                used.add(model)
-                readers.append(model)
-    return used
-
-
-def _read_models(source: Path, files: list[str], notes: Notes) -> Models:
-    """Each model read (a model with content after its root as ROS 1 read it), the links of all,
-    the root link of the first .urdf, and the meshes that are missing. A model that is not
-    well-formed XML stops the migration only when a launch file uses it (ROS 1 never read it
-    otherwise): else it is copied as written, and reported."""
-    from pkgforge.scaffold.from_urdf import ModelUnreadable, decode, read_model, root_link, trailing_message
-
-    models = [r for r in files if r.endswith(XACRO_MODEL_SUFFIXES)]
-    texts = {r: decode((source / r).read_bytes()) for r in [*models, *filter(_is_ros1_launch, files)]}
-    used = _used_models(models, texts, [r for r in files if _is_ros1_launch(r)])
-    result = Models()
-    for relative in models:
-        path = source / relative
-        try:
-            model = result.read[relative] = read_model(path)
-        except ModelUnreadable as error:
-            if relative in used:
-                raise
-            notes.add(
-                "migrate-source-defect",
-                f"{error.why}; no launch file uses it: copied as written",
-                path,
-                error.line,
-            )
-            continue
-        if model.trailing_line is not None:
-            notes.add("migrate-source-defect", trailing_message(model), path, model.trailing_line)
-        result.links |= {name for e in model.root.iter("link") if (name := e.get("name"))}
-        if result.root is None and relative.endswith(".urdf"):
-            result.root = root_link(model.root)
-        _check_meshes(model, relative in used, result, notes)
-    return result
-
-
-def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) -> None:
-    """Each mesh and texture a model names literally must exist (a used model's missing mesh stops
-    the migration; an unused model's is reported); Gazebo Classic plugins are reported."""
-    from pkgforge.scaffold.from_urdf import COMPUTED, model_references, resolve
-
-    reported: set[str] = set()
-    for reference in model_references(model.path, model.root, model.text):
-        if reference.kind not in ("mesh", "texture") or COMPUTED.search(reference.uri):
-            continue
-        found, problem = resolve(reference.uri, model.path, result.found)
-        if found is not None and not found.is_file():
-            found, problem = None, f"no file {found}"  # a folder, a FIFO: no mesh
-        if found is not None:
-            continue
-        reference.problem = problem
-        if used:
-            result.missing.append(reference)
-        elif reference.uri not in reported:
-            reported.add(reference.uri)
-            notes.add(
-                "migrate-source-defect",
-                f"{reference.kind} '{reference.uri}' not found ({problem}); no launch file uses this model: "
-                "copied as written",
-                model.path,
-                reference.line,
-            )
-    for element in model.root.iter("plugin"):
-        if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
-            notes.add(
-                "migrate-gazebo-classic",
-                f"Gazebo Classic plugin {element.get('filename')} is kept as written; it does not load in Gazebo (gz)",
-                model.path,
-                element.sourceline,
-            )
-
-
-@dataclass
 class Converted:
     """The migrated package in memory: its files, their modes, and what each launch file uses."""
 
@@ -396,7 +296,7 @@ def migrate(
             f"{len(refused)} file(s) of the package cannot be copied: nothing written; replace each "
             "link that leads out of the package by the file it names, or move the file out of the package",
         )
-    models = _read_models(source, files, notes)
+    models = read_models(source, files, notes)
     if models.missing:
         raise PkgforgeError(*missing_message(models.missing, force=False))
     for folder_name, folder in models.found.items():
@@ -568,7 +468,7 @@ def _convert_files(
     # where things go: ROS 1 launch files get their ROS 2 name; an RViz config at the top moves to rviz/
     moved: dict[str, str] = {}
     for relative in files:
-        if _is_ros1_launch(relative):
+        if is_ros1_launch(relative):
             moved[relative] = relative.rsplit(".", 1)[0] + f".launch.{launch_format}"
         elif relative.endswith(".rviz") and "/" not in relative:
             moved[relative] = f"rviz/{relative}"
@@ -587,10 +487,11 @@ def _convert_files(
             distro=distro,
             launch_format=launch_format,
             package_description=description,
+            content=renames.apply(path.read_bytes())[0],
         )
 
     description = _package_description(
-        [source / r for r in files if _is_ros1_launch(r)],
+        [source / r for r in files if is_ros1_launch(r)],
         renames,
         lambda path: reader(path, type(notes)(renames.new), None),
     )
@@ -601,7 +502,7 @@ def _convert_files(
         # execute bits (a script), a converted one has none
         converted.modes[moved.get(relative, relative)] = path.stat().st_mode & 0o666
         data = path.read_bytes()
-        if relative in moved and _is_ros1_launch(relative):
+        if relative in moved and is_ros1_launch(relative):
             _, lines = renames.apply(data)
             renames.note(notes, path, lines)
             launch = reader(path, notes, description).read()

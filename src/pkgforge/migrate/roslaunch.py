@@ -19,8 +19,8 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
     from pkgforge.model.distros import Distro
+    from pkgforge.scaffold.notes import Notes
 
 SUBSTITUTION = re.compile(r"\$\(([a-z_]+)((?:\s+[^)\s]+)*)\s*\)")
 XACRO_COMMAND = re.compile(
@@ -184,8 +184,12 @@ class Reader:
         distro: Distro,
         launch_format: str = "py",
         package_description: list[Token] | None = None,
+        content: bytes | None = None,
     ):
         self.path, self.package, self.notes, self.gazebo = path, package, notes, gazebo
+        # the file's bytes as read (the package's old name already rewritten: a name with a space
+        # in it, as exporters write, is no $(find) argument until then); None: read from path
+        self.content = content
         self.rename_launch = rename_launch  # tokens of an included ROS 1 launch file → ROS 2 tokens
         self.distro, self.launch_format = distro, launch_format
         # the model the package's other launch files describe the robot with (ROS 1 set it as a
@@ -200,7 +204,11 @@ class Reader:
 
     def read(self) -> LaunchFile:
         try:
-            root = etree.parse(str(self.path), etree.XMLParser(remove_comments=True)).getroot()
+            parser = etree.XMLParser(remove_comments=True)
+            if self.content is None:
+                root = etree.parse(str(self.path), parser).getroot()
+            else:
+                root = etree.fromstring(self.content, parser)
         except etree.XMLSyntaxError as exc:
             raise PkgforgeError(
                 f"{self.path}:{exc.lineno}: not well-formed XML: {exc.msg}; fix the launch file "

@@ -11,7 +11,7 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.model import ros1_names
 
 if TYPE_CHECKING:
-    from pkgforge.migrate.notes import Notes
+    from pkgforge.scaffold.notes import Notes
 
 DESCRIPTION_TOPIC = {
     "Depth": 5,

@@ -53,7 +53,7 @@ def sandbox_note(result: VerifyResult) -> str:
 def engine_note(result: VerifyResult) -> str:
     """Which launch engine evaluated the launch files; for the built-in one, the distro whose
     launch API it followed and where that came from (`humble from pkgforge.toml`)."""
-    from pkgforge.verify.pipeline import NEWEST_LTS_SOURCE
+    from pkgforge.verify.distros import NEWEST_LTS_SOURCE
 
     if result.engine != "ros":
         chosen = result.launch_distros

@@ -118,7 +118,8 @@ if TYPE_CHECKING:
 #    grouped per file, per-file-ignores in the selection's key, no path of pkgforge's tree reported
 # 55: with 54, model structures carry their Gazebo plugins and <ros2_control> systems (issue 31)
 # 56: with 55, Gazebo worlds and SDF models read, --simulate's outcomes, inertia against geometry (issue 31)
-CACHE_FORMAT = 56
+# 57: with 56, a message over 300 characters keeps its beginning and its end; PF320's deferred note shorter
+CACHE_FORMAT = 57
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 

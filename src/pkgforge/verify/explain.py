@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Any
 
 from pkgforge.errors import PkgforgeError
 from pkgforge.printable import printable
-from pkgforge.verify.pipeline import VerifyOptions, load_models, make_tree
+from pkgforge.verify.discovery import load_models
+from pkgforge.verify.pipeline import VerifyOptions, make_tree
 from pkgforge.workspace import locate
 
 if TYPE_CHECKING:
@@ -89,7 +90,7 @@ def _engine_for(path: Path, owner: PackageModel | None, options: VerifyOptions) 
         return engine
     from pkgforge.launch.engines import builtin
     from pkgforge.verify.config import load_config
-    from pkgforge.verify.pipeline import launch_distro
+    from pkgforge.verify.distros import launch_distro
 
     workspace = locate(path)
     distro, _ = launch_distro(owner.path, workspace, load_config(workspace.root, options.selection), options)

@@ -18,11 +18,21 @@ from typing import TYPE_CHECKING, Any
 
 from pkgforge.diagnostics import Diagnostic, Finding, PackageReport, Severity
 from pkgforge.errors import BuildFailed, PkgforgeError
-from pkgforge.model.files import quick_name
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
 from pkgforge.verify.config import Config, Selection, load_config
+from pkgforge.verify.discovery import (
+    Namesakes,
+    PackageTarget,
+    first_of_each,
+    load_models,
+    load_one_package,
+    namesakes_of,
+    rviz_files,
+)
+from pkgforge.verify.distros import by_launch_engine, launch_distro, package_distros
+from pkgforge.verify.lookup import cache_lookup, store_whole, workspace_lookup
 from pkgforge.verify.progress import Progress
-from pkgforge.workspace import IGNORE_MARKERS, Workspace, discover, locate
+from pkgforge.workspace import Workspace, locate
 
 if TYPE_CHECKING:
     from pkgforge.checks.context import CheckContext
@@ -44,8 +54,6 @@ if TYPE_CHECKING:
 # The model layer (lxml, catkin_pkg) and the checks load only when something
 # must be verified: a run answered from the cache never imports them.
 
-# Below this many packages, starting worker processes costs more than it saves.
-PARALLEL_THRESHOLD = 16
 # areas whose checks need the install tree and worker subprocesses
 TREE_AREAS = ("launch", "model", "physics", "rviz", "simulation")
 
@@ -55,14 +63,6 @@ def _tree_codes() -> set[str]:
     from pkgforge.checks.registry import all_checks
 
     return {c.code for c in all_checks() if c.area in TREE_AREAS}
-
-
-@dataclass(frozen=True)
-class PackageTarget:
-    path: Path
-    name: str
-    colcon_type: str | None
-    parsed_by_colcon: bool
 
 
 @dataclass
@@ -159,113 +159,6 @@ class VerifyResult:
         return 0
 
 
-# --- finding the packages -------------------------------------------------------------------
-
-
-def package_folders(base: Path) -> list[Path]:
-    """Folders with a package.xml under base, honouring the ignore markers as colcon does."""
-    from pkgforge.walk import walk
-
-    found = []
-    # below a resolved top, the walk (which enters no linked folder) yields real paths already
-    for current, dirs, files in walk(Path(base).resolve()):
-        if any(marker in files for marker in IGNORE_MARKERS):
-            dirs[:] = []
-            continue
-        if "package.xml" in files:
-            found.append(Path(current))
-            dirs[:] = []
-            continue
-        dirs[:] = [d for d in dirs if not d.startswith(".")]
-    return found
-
-
-def find_targets(workspace: Workspace) -> list[PackageTarget]:
-    """Every ROS package of the workspace: colcon's discovery decides, and folders whose
-    package.xml colcon rejected are added, so their problems are reported, not skipped."""
-    targets = []
-    for descriptor in discover(workspace.base_path, augment=False, ros_only=True):  # names and types only
-        path = Path(descriptor.path).resolve()
-        if not (path / "package.xml").exists():
-            continue  # a plain CMake or Python package: not a ROS package
-        targets.append(
-            PackageTarget(
-                path, descriptor.name, str(descriptor.type), str(descriptor.type).startswith("ros.")
-            )
-        )
-    known = {t.path for t in targets}
-    for path in package_folders(workspace.base_path):
-        if path not in known:
-            targets.append(PackageTarget(path, quick_name(path), None, False))
-    return sorted(targets, key=lambda t: (t.name, str(t.path)))
-
-
-def _load(target: PackageTarget) -> PackageModel:
-    from pkgforge.model.package import load_package
-
-    return load_package(target.path, colcon_type=target.colcon_type, parsed_by_colcon=target.parsed_by_colcon)
-
-
-def _load_folder(folder: Path) -> PackageModel:
-    """A package folder's model, in a model loader. catkin_pkg is not run on its manifest here:
-    colcon's discovery runs it beside the loaders (its ROS extension parses every package.xml),
-    and a package it could not parse is loaded again after, with catkin_pkg's messages."""
-    model = _load(PackageTarget(folder, folder.name, None, True))
-    # read here, where loading just parsed the same texts (yamlnodes' memo)
-    model.rviz_read = {source: read for source, read in _rviz_files(model)}  # type: ignore[attr-defined]
-    return model
-
-
-def _rviz_files(
-    model: PackageModel, known: dict[Path, RvizConfig] | None = None
-) -> Iterator[tuple[Path, RvizConfig]]:
-    """(source, RvizConfig) of each RViz config the package installs; `known`: those read already."""
-    from pkgforge.model.rviz import read_rviz
-
-    for destination, installed in model.layout.files.items():
-        if destination.endswith(".rviz") and installed.source is not None:
-            source = installed.source
-            yield source, known[source] if known and source in known else read_rviz(source)
-
-
-def load_models(workspace: Workspace, jobs: int) -> tuple[list[PackageTarget], dict[Path, PackageModel]]:
-    """Models of every package; with several cores, loaded while colcon's discovery runs.
-
-    Discovery and loading each take about half of a run on their own, so a
-    quick walk hands the folders to workers first; colcon's answer then decides
-    which models count, and what it found that the walk did not is loaded after.
-    """
-    guessed = package_folders(workspace.base_path)
-    if jobs <= 1 or len(guessed) < PARALLEL_THRESHOLD:
-        targets = find_targets(workspace)
-        return targets, {t.path: _load(t) for t in targets}
-    # imported here, before the fork, so that the loaders inherit them: this process needs them
-    # anyway to unpickle the models, and each loader importing them again cost ~0.16 CPU s
-    import pkgforge.model.package
-    import pkgforge.model.rviz  # noqa: F401
-    from pkgforge.verify.forked import Forked, slices
-
-    # as many loaders as cores: this process's discovery (colcon's ROS extension alone) ends long
-    # before the loading. A loader that cannot be forked, or dies, leaves its models to this
-    # process, below (verify/forked.py)
-    loaders = Forked(_load_folder, guessed, slices(len(guessed), max(1, jobs)))
-    try:
-        targets = find_targets(workspace)
-        answers = loaders.answers()
-    finally:
-        loaders.stop()
-    loaded = {model.path: model for answer in answers if answer is not None for model in answer}
-    models = {}
-    for target in targets:
-        model = loaded.get(target.path)
-        if model is None or model.name != target.name or not target.parsed_by_colcon:
-            model = _load(target)
-        elif target.colcon_type and model.manifest.build_type is None:
-            model.build_type = target.colcon_type.removeprefix("ros.")
-        models[target.path] = model
-    return targets, models
-
-
 # --- checks ---------------------------------------------------------------------------------
 
 
@@ -349,68 +242,6 @@ def make_tree(options: VerifyOptions, workspace: Workspace, models: list[Package
     return predicted_tree(models, user_install=workspace.root / "install")
 
 
-def load_one_package(
-    workspace: Workspace,
-) -> tuple[list[PackageTarget], dict[Path, PackageModel], dict[str, Path], Namesakes]:
-    """One package of a workspace (pre-commit): it, the workspace packages it declares, every
-    package's name, and the other folders holding a package of its name.
-
-    The other packages matter only by name, which a walk reads cheaply; colcon
-    identifies just this folder.
-    """
-    if workspace.package_path is None:
-        raise ValueError("load_one_package: the workspace is no single package")
-    folder = workspace.package_path.resolve()
-    named = [(quick_name(p), p) for p in package_folders(workspace.base_path)]
-    everything = dict(named)
-    from pkgforge.workspace import identify_folder
-
-    descriptor = identify_folder(folder)
-    if descriptor is not None and (folder / "package.xml").exists():
-        targets = [PackageTarget(folder, descriptor.name, str(descriptor.type), True)]
-    else:
-        targets = [t for t in find_targets(Workspace(workspace.root, folder)) if t.path == folder]
-    if not targets:
-        return [], {}, everything, {}
-    namesakes = namesakes_of([(name, p) for name, p in named if p != folder] + [(targets[0].name, folder)])
-    everything[targets[0].name] = folder  # its own name is itself, whatever other copy the walk met
-    models = {folder: _load(targets[0])}
-    todo = [models[folder]]
-    while todo:
-        for dependency in todo.pop().manifest.declared():
-            path = everything.get(dependency)
-            if path is not None and path not in models:
-                models[path] = _load(PackageTarget(path, dependency, None, False))
-                todo.append(models[path])
-    return targets, models, everything, {folder: namesakes[folder]} if folder in namesakes else {}
-
-
-def first_of_each(models: Iterable[PackageModel], attribute: str) -> dict[str, PackageModel]:
-    """The first model of each value of `attribute` (name, share_name), in the models' order:
-    the copy of a name the install tree holds, and what every lookup of that name reads (PF110)."""
-    first: dict[str, PackageModel] = {}
-    for model in models:
-        first.setdefault(getattr(model, attribute), model)
-    return first
-
-
-# a package folder → the other folders of the workspace whose package has the same name
-Namesakes = dict[Path, tuple[Path, ...]]
-
-
-def namesakes_of(named: list[tuple[str, Path]]) -> Namesakes:
-    """For each (name, folder) whose name another folder has too: the other folders, sorted."""
-    folders: dict[str, list[Path]] = {}
-    for name, folder in named:
-        folders.setdefault(name, []).append(folder)
-    return {
-        folder: tuple(sorted(other for other in same if other != folder))
-        for same in folders.values()
-        if len(same) > 1
-        for folder in same
-    }
-
-
 def _shadowed(models: list[PackageModel], namesakes: Namesakes, tree: InstallTree) -> set[Path]:
     """Of the packages sharing a name, all but the one the install tree holds: the copy whose
     package.xml the tree's is (a predicted tree, a symlinked install), else the first, which the
@@ -439,7 +270,7 @@ def rviz_configs(
     out: RvizFound = {}
     for model in checked:
         # read by the loader processes when they loaded the model (beside discovery), else here
-        configs: dict[Path, RvizConfig] = dict(_rviz_files(model, getattr(model, "rviz_read", None)))
+        configs: dict[Path, RvizConfig] = dict(rviz_files(model, getattr(model, "rviz_read", None)))
         launches = []
         for resolution in resolutions.get(model.name, []):
             for node in resolution.nodes:
@@ -526,16 +357,16 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
     whole = None
     if options.use_cache and options.mode == "predicted":
         try:
-            whole, answer = _workspace_lookup(workspace, config, options)
+            whole, answer = workspace_lookup(workspace, config, options)
             if answer is not None:  # nothing changed anywhere since a run that cached every package
                 return VerifyResult(root, answer[0], answer[1], engine=engine.name, distro=engine.distro)
-            cache, keys, hits = _cache_lookup(workspace, config, options)
+            cache, keys, hits = cache_lookup(workspace, config, options)
         except OSError:  # a cache folder this user may not write: verify without the cache
             cache, keys, hits, whole = None, {}, {}, None
         if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
             codes = set().union(*(codes for _, codes in hits.values()))
-            _store_whole(cache, whole, keys, reports)
+            store_whole(cache, whole, keys, reports)
             return VerifyResult(root, reports, codes, engine=engine.name, distro=engine.distro)
     zygote = zygote if zygote is not None else _early_zygote(options, engine)
     try:
@@ -574,7 +405,7 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
         result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path))
     )
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
-    _store_whole(cache, whole, keys, result.reports)
+    store_whole(cache, whole, keys, result.reports)
     result.engine, result.distro = engine.name, engine.distro
     return result
 
@@ -590,137 +421,6 @@ def _early_zygote(options: VerifyOptions, engine: LaunchEngine) -> Zygote | None
     from pkgforge.sandbox.zygote import start_zygote
 
     return start_zygote(engine)
-
-
-def cache_folder(workspace: Workspace) -> Path:
-    """build/pkgforge-cache in a workspace (beside colcon's build folders); for a lone package
-    (a repository that is one package), the user's cache folder: nothing is written beside it."""
-    import hashlib
-
-    if (workspace.root / "src").is_dir() or (workspace.root / "build").is_dir():
-        build = workspace.root / "build"
-        if not build.exists():
-            # exist_ok: another run may create it between the check and here
-            build.mkdir(exist_ok=True)
-            (build / "COLCON_IGNORE").touch()  # as colcon marks it, so no crawl enters it
-        return build / "pkgforge-cache"
-    home = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-    return home / "pkgforge" / hashlib.sha1(os.fsencode(workspace.base_path)).hexdigest()[:16]
-
-
-def _cache_lookup(
-    workspace: Workspace, config: Config, options: VerifyOptions
-) -> tuple[ResultCache, dict[Path, str], dict[Path, tuple[PackageReport, set[str]]]]:
-    """(cache, package folder → key, package folder → cached report) for the packages to verify."""
-    import hashlib
-
-    from pkgforge.model.files import manifest_text, vcs_repos_files, walk_file_names
-    from pkgforge.verify.cache import ResultCache, workspace_key
-
-    cache = ResultCache(cache_folder(workspace), options.cache_key())
-    every = package_folders(workspace.base_path)
-    folders = [workspace.package_path.resolve()] if workspace.package_path is not None else every
-    texts = {folder: manifest_text(folder) for folder in every}  # each package.xml read once
-    # the .repos files name packages every check may count as the workspace's (source_repositories)
-    repos = "".join(
-        f"{path}\0{cache.digest(str(path)) or '-'}\0" for path in vcs_repos_files(every, workspace.base_path)
-    )
-    signature = workspace_key(every, texts) + hashlib.sha256(os.fsencode(repos)).hexdigest()
-    keys: dict[Path, str] = {}
-    hits: dict[Path, tuple[PackageReport, set[str]]] = {}
-    for folder in folders:
-        name = quick_name(folder, texts[folder] if folder in texts else "")
-        nested: list[str] = []
-        # a nested package's package.xml names it (context.nested_packages): part of the key
-        files = walk_file_names(folder, None, nested) + [f"{n}/package.xml" for n in nested]
-        selection = config.for_package(name, folder)
-        targets = _targets(folder, workspace, config, options)
-        # a package at the root of its git repository: folder-name-mismatch says nothing of it
-        clone = "|clone" if (folder / ".git").exists() else ""
-        keys[folder] = cache.package_key(
-            folder, files, f"{selection.key()}|{','.join(targets)}{clone}", signature
-        )
-        report = cache.load(folder, keys[folder])
-        if report is not None:
-            hits[folder] = report
-    cache.save_index()
-    return cache, keys, hits
-
-
-def _store_whole(
-    cache: ResultCache | None, whole: str | None, keys: dict[Path, str], reports: list[PackageReport]
-) -> None:
-    """The workspace entry, when every package of the run has a valid entry (answered by the cache
-    next time): the next unchanged run reads that one file."""
-    if whole is None or cache is None or not (set(cache.answered) == set(keys) == {r.path for r in reports}):
-        return
-    from pkgforge.verify.cache import store_workspace
-
-    try:
-        outside = set().union(*(externals for externals, _ in cache.answered.values()))
-        store_workspace(
-            cache.folder,
-            whole,
-            reports,
-            set().union(*(codes for _, codes in cache.answered.values())),
-            {path: cache.stamps.get(path) or [] for path in outside},
-        )
-    except OSError:
-        pass  # the per-package entries answer
-
-
-def _workspace_lookup(
-    workspace: Workspace, config: Config, options: VerifyOptions
-) -> tuple[str | None, tuple[list[PackageReport], set[str]] | None]:
-    """(the whole workspace's fingerprint, (reports, codes) when its entry answers), for a run on a
-    whole workspace; (None, None) for one package."""
-    if workspace.package_path is not None:
-        return None, None
-    from pkgforge.verify.cache import load_workspace, workspace_fingerprint
-
-    root, base = workspace.root.resolve(), workspace.base_path.resolve()
-    above = [folder for folder in base.parents if folder == root or root in folder.parents]
-    settings = json.dumps(
-        [
-            config.cli.select,
-            config.cli.ignore,
-            config.cli.severity,
-            config.workspace,
-            str(config.workspace_file),
-        ],
-        sort_keys=True,
-        default=str,
-    )
-    whole = workspace_fingerprint(base, above, options.cache_key(), settings)
-    if whole is None:
-        return None, None
-    return whole, load_workspace(cache_folder(workspace), whole)
-
-
-def _targets(folder: Path, workspace: Workspace, config: Config, options: VerifyOptions) -> tuple[str, ...]:
-    """The ROS 2 distros a package targets (empty: every active distro)."""
-    from pkgforge.model.distro_data import target_distros
-
-    return target_distros(folder, workspace.root.resolve(), options.distro, config.distro_for(folder))[0]
-
-
-NEWEST_LTS_SOURCE = "the newest LTS"
-
-
-def launch_distro(
-    folder: Path, workspace: Workspace, config: Config, options: VerifyOptions
-) -> tuple[str, str]:
-    """(the distro whose launch API the built-in engine follows for a package's launch files,
-    where it came from): its target distro as the checks see it (--distro, ROS_DISTRO, pkgforge.toml
-    [verify] distro, the CI files), the oldest of several (a name that one lacks fails there: a
-    humble CI job cannot import EqualsSubstitution), else the newest LTS."""
-    from pkgforge.model.distro_data import target_distros
-    from pkgforge.model.distros import NEWEST_LTS
-
-    distros, source = target_distros(
-        folder, workspace.root.resolve(), options.distro, config.distro_for(folder)
-    )
-    return (distros[0], source) if distros else (NEWEST_LTS, NEWEST_LTS_SOURCE)
 
 
 def check_launch_arguments(values: dict[str, str], resolutions: dict[str, list[Resolution]]) -> None:
@@ -827,7 +527,7 @@ def run(
             # a FIFO or a device where a launch file stands is no file to run (PF901 says what it is)
             launch_files = [f for f in launch_files if os.path.isfile(f.installed)]
             on_done = progress.counter("launch files", len(launch_files))
-            for engine, group in _by_launch_engine(launch_files, in_tree, launch_distros, options):
+            for engine, group in by_launch_engine(launch_files, in_tree, launch_distros, options):
                 for resolution in resolve(
                     group,
                     tree,
@@ -881,7 +581,7 @@ def run(
             # (by name: a shadowed namesake's would be the tree's copy's)
             own = target.path not in shadowed
             configs, launches = rviz.get(model.name, ([], [])) if own else ([], [])
-            model.manifest.distros = _targets(target.path, workspace, config, options)
+            model.manifest.distros = package_distros(target.path, workspace, config, options)
             context = CheckContext(
                 model,
                 everything,
@@ -949,31 +649,6 @@ def run(
         distro=engine.distro,
         sandbox=sandbox,
     )
-
-
-def _by_launch_engine(
-    launch_files: list[LaunchFile],
-    packages: list[PackageModel],
-    launch_distros: dict[Path, tuple[str, str]],
-    options: VerifyOptions,
-) -> list[tuple[LaunchEngine, list[LaunchFile]]]:
-    """The launch files in groups, each with the engine that evaluates it: the real engine takes
-    them all; the built-in one follows each package's target distro (launch_distro), so a humble
-    package's file that imports EqualsSubstitution fails as it does on humble."""
-    engine = options.engine()
-    if engine.name != "builtin":
-        return [(engine, launch_files)]
-    from pkgforge.launch.engines import builtin
-
-    folders = {model.name: model.path for model in packages}
-    groups: dict[str, list[LaunchFile]] = {}
-    for launch in launch_files:
-        chosen = launch_distros.get(folders.get(launch.package) or Path())
-        groups.setdefault(chosen[0] if chosen else engine.distro or "", []).append(launch)
-    return [
-        (engine if distro == engine.distro else builtin(distro or None), group)
-        for distro, group in groups.items()
-    ]
 
 
 BUILD_FAILED = "PF902"

@@ -30,7 +30,7 @@ def _package_folder(file: Path) -> Path | None:
 
 def _by_name(name: str) -> Path:
     from pkgforge.model.files import quick_name
-    from pkgforge.verify.pipeline import package_folders
+    from pkgforge.verify.discovery import package_folders
     from pkgforge.workspace import locate
 
     workspace = locate(Path.cwd())

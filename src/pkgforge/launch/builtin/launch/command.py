@@ -122,9 +122,10 @@ def _run_command(words: list[str]) -> tuple[bool, str, str, CommandRunRecordDict
 
 
 def _run_xacro(args: list[str]) -> tuple[bool, str, str, CommandRunRecordDict]:
-    """xacro with the real library (urdf.robot's runner); a success also yields the model's
+    """xacro with the real library (urdf.xacro_run's runner); a success also yields the model's
     structure, so the model checks need not run xacro on it a second time."""
-    from pkgforge.urdf.robot import run_xacro, structure_of_output
+    from pkgforge.urdf.robot import structure_of_output
+    from pkgforge.urdf.xacro_run import run_xacro
 
     files = [a for a in args if ":=" not in a and not a.startswith("-")]
     mappings = dict(a.split(":=", 1) for a in args if ":=" in a)

@@ -18,6 +18,7 @@ from colcon_core.plugin_system import satisfies_version
 from colcon_core.topological_order import topological_order_packages
 from colcon_core.verb import VerbExtensionPoint
 
+from pkgforge.cli.limits import LAUNCH_ENGINES, parse_worker_memory
 from pkgforge.model.distros import DISTROS
 from pkgforge.report import COLOR_CHOICES, FORMATS
 from pkgforge.sandbox.processes import DEFAULT_WORKER_MEMORY
@@ -85,7 +86,7 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
         )
         parser.add_argument(
             "--launch-engine",
-            choices=("auto", "ros", "builtin"),
+            choices=LAUNCH_ENGINES,
             default="auto",
             help="Evaluate launch files with the ROS 2 distro's launch libraries (ros), "
             "pkgforge's built-in engine (builtin), or ros where found (default: auto)",
@@ -108,7 +109,8 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
         from pkgforge.errors import PkgforgeError
         from pkgforge.report import render
         from pkgforge.verify.config import Selection, load_config, split_keys
-        from pkgforge.verify.pipeline import PackageTarget, VerifyOptions, _load, run
+        from pkgforge.verify.discovery import PackageTarget, _load
+        from pkgforge.verify.pipeline import VerifyOptions, run
         from pkgforge.workspace import Workspace
 
         args = context.args
@@ -166,16 +168,8 @@ class VerifyVerb(VerbExtensionPoint):  # type: ignore[misc]  # colcon_core has n
 
 
 def _memory(text: str) -> int | None:
-    import argparse
-
-    from pkgforge.sandbox.processes import parse_size
-
-    if text.strip().lower() in ("unlimited", "none"):
-        return None
+    """--worker-memory, as `pkgforge verify` reads it."""
     try:
-        size = parse_size(text)
+        return parse_worker_memory(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-    if size < 256 * 2**20:
-        raise argparse.ArgumentTypeError(f"{text} is below the 256 MiB a launch worker needs to start")
-    return size
