@@ -95,7 +95,7 @@ FILE_SYSTEM_CALLS = {
     "samefile",
 }
 # where those facts live: computed once per run (CheckContext.files and the context's methods)
-CONTEXT_MODULES = {"context.py", "catalogue.py", "__init__.py"}
+CONTEXT_MODULES = {"context.py", "facts.py", "catalogue.py", "__init__.py"}
 
 
 def file_system_calls(source: str) -> list[tuple[int, str]]:

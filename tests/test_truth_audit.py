@@ -545,7 +545,7 @@ def test_a_build_export_depend_is_declared_for_run_time_too(tmp_path):
 
 def test_a_long_path_in_an_action_failure_is_kept_whole():
     # ardupilot_gz: "No such file or directory: 'share/ardupilo.../'" named no file
-    from pkgforge.checks.launch import _one_line
+    from pkgforge.checks.launch_load import _one_line
 
     path = "/dev/shm/pkgforge-tree-1/phantom/share/ardupilot_gazebo/models/iris_with_gimbal/model.sdf"
     assert _one_line(f"[Errno 2] No such file or directory: '{path}'").endswith(f"'{path}'")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from pkgforge.checks.context import FileFacts
+from pkgforge.checks.facts import FileFacts
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding
 

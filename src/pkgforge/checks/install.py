@@ -7,7 +7,8 @@ from collections.abc import Collection, Iterator
 from pathlib import Path
 from typing import Any
 
-from pkgforge.checks.context import CheckContext, FileFacts
+from pkgforge.checks.context import CheckContext
+from pkgforge.checks.facts import FileFacts
 from pkgforge.checks.files import read_problem_hint
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity

@@ -298,7 +298,7 @@ def unused_exec_depend(ctx: CheckContext) -> Iterator[Finding]:
         used |= {"rviz_common", "rviz_default_plugins"}
     # a use the package leaves undeclared, which a declared package brings along (moveit brings
     # moveit_ros_move_group): that declaration is what installs it (missing-exec-depend names it)
-    from pkgforge.checks.launch import LAUNCH_INFRASTRUCTURE
+    from pkgforge.checks.launch_depends import LAUNCH_INFRASTRUCTURE
 
     unused = [
         dependency
@@ -499,7 +499,8 @@ def package_not_in_distro(ctx: CheckContext) -> Iterator[Finding]:
             )
     if not ctx.distros:
         return
-    from pkgforge.checks.launch import _looked_up, read_as_failed, static_note
+    from pkgforge.checks.launch import read_as_failed, static_note
+    from pkgforge.checks.launch_depends import _looked_up
 
     uses: dict[str, list[tuple[bool, bool, str, int, Path, int | None, str, bool]]] = {}
     # the argument settings other than the defaults each use is seen only with ([]: the defaults)

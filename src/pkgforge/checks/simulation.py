@@ -90,7 +90,7 @@ def _robot_items(result: ModelResult, key: Literal["gazebo_plugins", "ros2_contr
 
 
 def _position(ctx: CheckContext, result: ModelResult, file: str, line: int | None) -> tuple[Path, int | None]:
-    from pkgforge.checks.urdf import model_source_position
+    from pkgforge.checks.model_positions import model_source_position
 
     return model_source_position(ctx, result, file, line)
 

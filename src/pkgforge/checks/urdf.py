@@ -3,98 +3,24 @@
 from __future__ import annotations
 
 import os
-import re
 import shlex
 from collections import Counter
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from pkgforge.checks.context import CheckContext, FileFacts, only_with
+from pkgforge.checks.context import CheckContext, only_with
+from pkgforge.checks.facts import FileFacts
 from pkgforge.checks.files import read_problem_hint, undeclared_find, untree_xacro
 from pkgforge.checks.install import install_fix, install_fix_data, link_hint
+from pkgforge.checks.model_positions import model_item_position, model_source_position
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Group, Severity
-from pkgforge.launch.records import CommandRun, LaunchFile, Resolution
+from pkgforge.launch.records import CommandRun, LaunchFile
 from pkgforge.robot_models import ModelResult
 from pkgforge.tree import InstallTree
 from pkgforge.urdf.meshes import MeshLookup
 from pkgforge.urdf.structure import JointDict, LinkDict, MeshDict, ModelError, RobotStructure, UrdfProblem
-
-
-def model_source_position(
-    ctx: CheckContext, result: ModelResult, file: str | None, line: int | None
-) -> tuple[Path, int | None]:
-    """(source path, line) in this package, falling back to the model's own source file, and for
-    another package's model to the launch line of this package that feeds it to xacro (pkgforge's
-    tree is no place a person edits)."""
-    own = ctx.own_source(file) if file else None
-    if own is not None:
-        return own, line
-    if result.source is None:
-        for origin in result.origins:
-            resolution = next((r for r in ctx.resolutions if r.launch == origin["launch"]), None)
-            position = (
-                None if resolution is None else _fed_from(ctx, resolution, origin["file"], origin["line"])
-            )
-            if position is not None:
-                return position
-    if result.source is not None and file:
-        # a link or joint written in another package's file this model includes (roarm_moveit's
-        # model includes roarm_description's URDF): the include's line, not none
-        return result.source, _include_line(ctx, result.source, file)
-    return (result.source or result.installed), None
-
-
-def _include_line(ctx: CheckContext, model: Path, included: str) -> int | None:
-    """The line of `model` whose <xacro:include> names `included` by its package and its path
-    there ($(find pkg)/urdf/parts.xacro), else None (named otherwise, or on two lines)."""
-    located = ctx.tree.locate(included) if ctx.tree is not None else None
-    if located is None:
-        return None
-    package, relative = located[0], located[1]
-    texts = [re.sub(r"<!--.*?(-->|$)", "", text) for text in ctx.files.lines(model)]  # (comments out)
-    exact = [
-        n
-        for n, text in enumerate(texts, start=1)
-        if "include" in text and f"$(find {package})/{relative}" in text
-    ]
-    if exact:
-        return exact[0] if len(exact) == 1 else None
-    loose = [
-        n
-        for n, text in enumerate(texts, start=1)
-        if "include" in text and package in text and relative in text
-    ]
-    return loose[0] if len(loose) == 1 else None
-
-
-def _fed_from(
-    ctx: CheckContext, resolution: Resolution, file: str | None, line: int | None
-) -> tuple[Path, int | None] | None:
-    """The line of this package's launch file that leads to a construct: the construct's own
-    line, else the include line that (through other packages' launch files) brings in the file
-    it stands in (arduinobot_bringup includes arduinobot_description's gazebo.launch.py, which
-    runs xacro)."""
-    seen: set[str | None] = set()
-    while file not in seen:
-        seen.add(file)
-        position = ctx.source_position(resolution, file, line)
-        if position is not None:
-            return position
-        include = next((i for i in resolution.includes if i.path == file), None)
-        if include is None:
-            return None
-        file, line = include.file, include.line
-    return None
-
-
-def model_item_position(
-    ctx: CheckContext, result: ModelResult, item: Mapping[str, Any], line: int | None = None
-) -> tuple[Path, int | None]:
-    """model_source_position of an item of a model's structure or error (a link, joint, mesh):
-    its own file, at `line` when given (a line inside it, e.g. its <inertial>), else its own line."""
-    return model_source_position(ctx, result, item.get("file"), line or item.get("line"))
 
 
 def _path_split_at_spaces(files: FileFacts, words: list[str], model: str) -> str | None:

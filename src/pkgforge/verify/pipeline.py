@@ -651,7 +651,7 @@ def _report_build_failure(
     the verified ones failed (a dependency) or colcon stopped before any ran, each verified
     package gets one, so a failed build never passes."""
     from pkgforge.checks.build import build_failed_finding
-    from pkgforge.checks.context import FileFacts
+    from pkgforge.checks.facts import FileFacts
     from pkgforge.checks.registry import REGISTRY
 
     own: list[tuple[str | None, Path | None, str]] = [
