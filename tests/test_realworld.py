@@ -287,9 +287,12 @@ def test_a_real_package_outside_the_old_list_is_missing_exec_depend(every_distro
 def test_gazebo_ros_on_jazzy_is_package_not_in_distro(jazzy, workspace):
     manifest = src(workspace, "distro_description", "package.xml")
     launch = src(workspace, "distro_description", "launch/display.launch.py")
-    # the condition="$ROS_DISTRO == humble" dependency does not count on jazzy, $ROS_VERSION == 1 never
+    model = src(workspace, "distro_description", "urdf/robot.urdf")
+    # the condition="$ROS_DISTRO == humble" dependency does not count on jazzy, $ROS_VERSION == 1 never;
+    # and Gazebo Classic's diff drive plugin does not load on jazzy's Gazebo (PF701)
     assert findings(jazzy, "distro_description") == sorted(
         [
+            ("gazebo-plugin-unavailable", "urdf/robot.urdf", line_of(model, "libgazebo_ros_diff_drive")),
             ("missing-exec-depend", "launch/display.launch.py", line_of(launch, "'foxglove_bridge'")),
             ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>gazebo_ros<")),
             ("package-not-in-distro", "package.xml", line_of(manifest, "<exec_depend>rviz</exec_depend>")),
