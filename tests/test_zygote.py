@@ -48,15 +48,16 @@ def test_fork_server_is_gone_when_verify_stops_with_an_error(tmp_path):
 
 
 def test_cli_starts_the_fork_server_first_without_cache_and_ends_it_on_an_error(tmp_path):
-    """`verify --no-cache` starts the server before its own imports (cli._fork_server_first); a
+    """`verify --no-cache` starts the server before its own imports (cli.verify._fork_server_first); a
     verify that stops with an error before it would have started one (a path that is not there)
     still ends it, and says why on one line."""
     from click.testing import CliRunner
 
-    from pkgforge import cli
+    from pkgforge.cli import main
+    from pkgforge.cli import verify as command
 
     started: list[int | None] = []
-    first = cli._fork_server_first
+    first = command._fork_server_first
 
     def recorded(*args):
         server = first(*args)
@@ -64,13 +65,13 @@ def test_cli_starts_the_fork_server_first_without_cache_and_ends_it_on_an_error(
         return server
 
     missing = tmp_path / "missing"
-    cli._fork_server_first = recorded
+    command._fork_server_first = recorded
     try:
         result = CliRunner().invoke(
-            cli.main, ["verify", str(missing), "--no-cache", "--launch-engine", "builtin"]
+            main, ["verify", str(missing), "--no-cache", "--launch-engine", "builtin"]
         )
     finally:
-        cli._fork_server_first = first
+        command._fork_server_first = first
     assert result.exit_code == 2, result.output
     assert result.output.strip().splitlines() == [f"pkgforge: error: {missing} does not exist"]
     assert len(started) == 1 and started[0] is not None
