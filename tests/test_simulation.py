@@ -188,6 +188,17 @@ def test_new_sim_gz_checks_what_it_wrote(tmp_path, distro):
     ]
 
 
+def test_an_unreadable_controller_configuration_is_one_finding(tmp_path):
+    """One cause, one finding: the only controller YAML not valid YAML is PF705 at its line; the
+    spawners of controllers it would define are not each told that none is defined (PF708)."""
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "sim_robot", "--sim", "gz", "--distro", "jazzy")
+    controllers = package / "config" / "controllers.yaml"
+    controllers.write_text("controller_manager:\n  ros__parameters:\n    update_rate: 100\n  bad: [\n")
+    report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy", "--launch-engine", "builtin")[1]
+    assert found(report) == [("PF705", "src/sim_robot/config/controllers.yaml", 5, "error")]
+
+
 def test_a_type_given_in_the_controller_s_own_section_defines_the_controller(tmp_path, template_package):
     """Jazzy's form (gz_ros2_control's demos): `drive: ros__parameters: type: ...`; the spawner of
     it is no finding, and its joints are still checked."""

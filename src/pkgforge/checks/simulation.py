@@ -686,6 +686,8 @@ def spawner_controller_unknown(ctx: CheckContext) -> Iterator[Finding]:
     if not files:
         return
     defined = {name for f in files for name in f.parameters.controllers}
+    if broken and not defined:
+        return  # every controller the package has is in a file it cannot read: none is known missing
     for resolution in ctx.resolutions:
         for node in resolution.nodes:
             if (node.package, node.executable) != ("controller_manager", "spawner"):

@@ -119,7 +119,8 @@ if TYPE_CHECKING:
 # 55: with 54, model structures carry their Gazebo plugins and <ros2_control> systems (issue 31)
 # 56: with 55, Gazebo worlds and SDF models read, --simulate's outcomes, inertia against geometry (issue 31)
 # 57: with 56, a message over 300 characters keeps its beginning and its end; PF320's deferred note shorter
-CACHE_FORMAT = 57
+# 58: with 57, no spawner-controller-unknown while every controller configuration is unreadable
+CACHE_FORMAT = 58
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
