@@ -58,6 +58,18 @@ def test_an_rviz1_config_is_an_error_at_its_robot_model_naming_the_rviz2_classes
     assert message.endswith("it shows no robot")
 
 
+def test_the_plugins_an_rviz1_config_names_are_no_dependency(package):
+    """One cause, one finding: rviz2 loads no display of an RViz 1 config, so a display from an
+    undeclared plugin package there (husky_viz's rviz_imu_plugin/Imu) is not also missing-exec-depend."""
+    config = package / "rviz" / "display.rviz"
+    shutil.copy(ROS1 / "display_rviz1.rviz", config)
+    edit(config, "Class: rviz/TF", "Class: rviz_imu_plugin/Imu")
+    _, report = verify_report(package, "--no-cache")
+    assert at_least_warnings(report) == [
+        ("PF504", "rviz/display.rviz", line_of(config, "Class: rviz/RobotModel"))
+    ]
+
+
 def test_fix_converts_an_rviz1_config_only_with_unsafe_fixes(package):
     config = package / "rviz" / "display.rviz"
     shutil.copy(ROS1 / "display_rviz1.rviz", config)

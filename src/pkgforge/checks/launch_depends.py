@@ -71,11 +71,14 @@ def _looked_up(ctx: CheckContext) -> Iterator[Use]:
     for references in ctx.static_fallback().values():
         for reference in references:
             yield reference.package, reference.path, reference.line, reference.via, None, None
+    # one cause, one finding: rviz2 loads no display of an RViz 1 config (rviz-ros1-config says so),
+    # so the packages its displays came from are nothing it uses
+    ros1_configs = {config.path for config in ctx.rviz_configs if config.ros1_classes}
     # models: $(find pkg) and package://pkg, as written and as xacro expanded them
     for reference in ctx.model.references:
         if reference.via in ("package://", "$(find)") and reference.path.name.endswith(ANY_MODEL_SUFFIXES):
             yield reference.package, reference.path, reference.line, reference.via, None, None
-        elif reference.via == "rviz plugin":
+        elif reference.via == "rviz plugin" and reference.path not in ros1_configs:
             yield reference.package, reference.path, reference.line, "RViz display from", None, None
     for result in ctx.model_results:
         for mesh in result.robot["meshes"] if result.robot else []:

@@ -120,7 +120,8 @@ if TYPE_CHECKING:
 # 56: with 55, Gazebo worlds and SDF models read, --simulate's outcomes, inertia against geometry (issue 31)
 # 57: with 56, a message over 300 characters keeps its beginning and its end; PF320's deferred note shorter
 # 58: with 57, no spawner-controller-unknown while every controller configuration is unreadable
-CACHE_FORMAT = 58
+# 59: with 58, the displays of an RViz 1 config are no missing-exec-depend
+CACHE_FORMAT = 59
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
