@@ -105,7 +105,7 @@ def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
         if isinstance(root, etree.XMLSyntaxError):
             message = (str(root).splitlines() or ["not well formed"])[0][:200]
             yield Finding(
-                f"{sdf.installed} is not XML: {message}",
+                f"not an XML file: {message}",
                 sdf.source,
                 root.lineno or None,
                 hint="fix the XML at that line (every element closed, attribute values quoted)",
@@ -113,7 +113,7 @@ def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
             continue
         if root.tag != "sdf" or _version(root.get("version")) is None:
             yield Finding(
-                f"{sdf.installed}: root <{etree.QName(root).localname}>"
+                f"root <{etree.QName(root).localname}>"
                 + (
                     f" version={_shown(root.get('version') or '')!r}"
                     if root.get("version") is not None
@@ -127,7 +127,7 @@ def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
         declared = root.get("version", "").strip()
         if declared not in SDF_VERSIONS:
             yield Finding(
-                f"{sdf.installed}: SDF version {_shown(declared)} is none sdformat has (1.0 to 1.12)",
+                f"SDF version {_shown(declared)} is none sdformat has (1.0 to 1.12)",
                 sdf.source,
                 root.sourceline,
                 hint='declare the version the file is written for, e.g. version="1.9"',
@@ -223,9 +223,7 @@ def sdf_uri_unresolved(ctx: CheckContext) -> Iterator[Finding]:
             message = _unresolved(ctx, uri, here, roots)
             if message is not None:
                 text, severity = message
-                yield Finding(
-                    f"{sdf.installed}: {_shown(uri.text)}{text}", sdf.source, uri.line, severity=severity
-                )
+                yield Finding(f"{_shown(uri.text)}{text}", sdf.source, uri.line, severity=severity)
 
 
 def _unresolved(
@@ -323,7 +321,7 @@ def gazebo_resource_path_unset(ctx: CheckContext) -> Iterator[Finding]:
                 continue
             package = roots[found[0]]
             yield Finding(
-                f"{sdf.installed}: model://{name} is in share/{package}/{found[0].name}, which nothing "
+                f"model://{name} is in share/{package}/{found[0].name}, which nothing "
                 f"puts on Gazebo's resource path (no <gazebo_ros gazebo_model_path> export, hook or "
                 "launch file setting GZ_SIM_RESOURCE_PATH)",
                 sdf.source,

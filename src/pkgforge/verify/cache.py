@@ -121,7 +121,8 @@ if TYPE_CHECKING:
 # 57: with 56, a message over 300 characters keeps its beginning and its end; PF320's deferred note shorter
 # 58: with 57, no spawner-controller-unknown while every controller configuration is unreadable
 # 59: with 58, the displays of an RViz 1 config are no missing-exec-depend
-CACHE_FORMAT = 59
+# 60: with 59, SDF messages no longer repeat the file the location names
+CACHE_FORMAT = 60
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
