@@ -14,6 +14,7 @@ package's share folder by itself.
 
 from __future__ import annotations
 
+import functools
 import posixpath
 import re
 from collections.abc import Iterator
@@ -69,6 +70,9 @@ def _installed_sdf(ctx: CheckContext) -> Iterator[SdfFile]:
             yield SdfFile(installed.source, destination[len(share) :], text)
 
 
+# the three SDF checks run one after the other on a package's files: each file parsed once, not
+# three times (a world of thousands of lines), the last few kept (read only)
+@functools.lru_cache(maxsize=8)
 def _parse(sdf: SdfFile) -> etree._Element | etree.XMLSyntaxError:
     parser = etree.XMLParser(
         remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False
