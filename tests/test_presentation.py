@@ -158,6 +158,39 @@ def test_a_model_finding_in_a_xacro_macro_is_at_the_macros_line(tmp_path):
     ]
 
 
+def test_a_model_finding_reached_by_several_packages_launch_files_is_one_at_its_line(tmp_path):
+    """husky: husky_description's link without <inertial> was said four times, once by each
+    package whose launch file runs xacro on that model (at each launch line); it is one cause,
+    at the link's line, said once, by the package whose file that is."""
+    description = scaffold(tmp_path)
+    bringup = new_package(tmp_path, "rob_bringup")
+    model = description / "urdf" / "rob_description.urdf.xacro"
+    edit(model, '<xacro:box_inertial x="${arm_width}" y="${arm_width}" z="${arm_length}" mass="0.2"/>', "")
+    edit(
+        bringup / "launch" / "display.launch.py",
+        "FindPackageShare('rob_bringup')",
+        "FindPackageShare('rob_description')",
+    )
+    launch = bringup / "launch" / "display.launch.py"
+    edit(launch, "'urdf/rob_bringup.urdf.xacro'", "'urdf/rob_description.urdf.xacro'")
+    # (with an argument of its own: a model of its own, not the one the description package shows)
+    edit(launch, "LaunchConfiguration('model')])", "LaunchConfiguration('model'), ' name:=rob'])")
+    edit(
+        bringup / "package.xml",
+        "<exec_depend>",
+        "<exec_depend>rob_description</exec_depend>\n  <exec_depend>",
+    )
+    _, report = verify_report(tmp_path, "--no-cache")
+    found = [(d["package"], d["path"], d["line"]) for d in report["diagnostics"] if d["code"] == "PF603"]
+    assert found == [
+        (
+            "rob_description",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, '<link name="arm_link">'),
+        )
+    ]
+
+
 GRIPPER = """<?xml version="1.0"?>
 <robot name="gripper" xmlns:xacro="http://www.ros.org/wiki/xacro">
   <xacro:macro name="finger" params="prefix">

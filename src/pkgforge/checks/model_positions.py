@@ -16,10 +16,11 @@ from pkgforge.robot_models import ModelResult
 def model_source_position(
     ctx: CheckContext, result: ModelResult, file: str | None, line: int | None
 ) -> tuple[Path, int | None]:
-    """(source path, line) in this package, falling back to the model's own source file, and for
-    another package's model to the launch line of this package that feeds it to xacro (pkgforge's
-    tree is no place a person edits)."""
-    own = ctx.own_source(file) if file else None
+    """(source path, line) in this package, or in another package verified in the same run whose
+    file it is (the line a person edits, whichever package's launch file led there), falling back
+    to the model's own source file, and for another package's model to the launch line of this
+    package that feeds it to xacro (pkgforge's tree is no place a person edits)."""
+    own = (ctx.own_source(file) or _verified_elsewhere(ctx, file)) if file else None
     if own is not None:
         return own, line
     if result.source is None:
@@ -35,6 +36,17 @@ def model_source_position(
         # model includes roarm_description's URDF): the include's line, not none
         return result.source, _include_line(ctx, result.source, file)
     return (result.source or result.installed), None
+
+
+def _verified_elsewhere(ctx: CheckContext, installed: str) -> Path | None:
+    """The source of an installed file of another package this run verifies, else None."""
+    from pkgforge.launch.resolve import source_of
+
+    located = ctx.tree.locate(installed) if ctx.tree is not None else None
+    other = ctx.models.get(located[0]) if located is not None else None
+    if other is None or other is ctx.model or ctx.tree is None:
+        return None
+    return source_of(Path(installed), ctx.tree, other)
 
 
 def _include_line(ctx: CheckContext, model: Path, included: str) -> int | None:

@@ -14,7 +14,7 @@ import json
 from collections.abc import Iterable
 from dataclasses import replace
 
-from pkgforge.diagnostics import MESSAGE_LIMIT, Diagnostic, one_line
+from pkgforge.diagnostics import MESSAGE_LIMIT, Diagnostic, PackageReport, one_line
 
 
 def grouped(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
@@ -104,3 +104,25 @@ def listed(words: list[str], room: int) -> str:
         if len(text) <= room:
             return text
     return f"{words[0][: max(room - 20, 10)]} and {len(words) - 1} more"
+
+
+def once_across_packages(reports: list[PackageReport]) -> list[PackageReport]:
+    """The reports with a diagnostic that several packages give at the same place (a link of one
+    package's model that three packages' launch files run xacro on: each package's check places it
+    at the link's line) kept once: by the package whose folder holds that file, else the first."""
+    keeper: dict[tuple[object, ...], PackageReport] = {}
+    for report in reports:
+        for diagnostic in report.diagnostics:
+            key = _place(diagnostic)
+            kept = keeper.get(key)
+            if kept is None or (
+                diagnostic.path.is_relative_to(report.path) and not diagnostic.path.is_relative_to(kept.path)
+            ):
+                keeper[key] = report
+    for report in reports:
+        report.diagnostics = [d for d in report.diagnostics if keeper[_place(d)] is report]
+    return reports
+
+
+def _place(diagnostic: Diagnostic) -> tuple[object, ...]:
+    return (diagnostic.code, str(diagnostic.path), diagnostic.line, diagnostic.column, diagnostic.message)

@@ -28,6 +28,7 @@ from pkgforge.verify.discovery import (
     rviz_files,
 )
 from pkgforge.verify.distros import by_launch_engine, launch_distro, package_distros
+from pkgforge.verify.grouping import once_across_packages
 from pkgforge.verify.lookup import cache_lookup, store_whole, workspace_lookup
 from pkgforge.verify.options import VerifyOptions
 from pkgforge.verify.progress import Progress
@@ -309,12 +310,14 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
         try:
             whole, answer = workspace_lookup(workspace, config, options)
             if answer is not None:  # nothing changed anywhere since a run that cached every package
-                return VerifyResult(root, answer[0], answer[1], engine=engine.name, distro=engine.distro)
+                reports = once_across_packages(answer[0])
+                return VerifyResult(root, reports, answer[1], engine=engine.name, distro=engine.distro)
             cache, keys, hits = cache_lookup(workspace, config, options)
         except OSError:  # a cache folder this user may not write: verify without the cache
             cache, keys, hits, whole = None, {}, {}, None
         if keys and len(hits) == len(keys):  # everything unchanged: no discovery, no models
             reports = sorted((report for report, _ in hits.values()), key=lambda r: (r.name, str(r.path)))
+            reports = once_across_packages(reports)
             codes = set().union(*(codes for _, codes in hits.values()))
             store_whole(cache, whole, keys, reports)
             return VerifyResult(root, reports, codes, engine=engine.name, distro=engine.distro)
@@ -351,8 +354,8 @@ def verify(path: Path, options: VerifyOptions, zygote: Zygote | None = None) -> 
             cache.save_index()
         except OSError:
             pass  # the results stand; the next run verifies again
-    result.reports = sorted(
-        result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path))
+    result.reports = once_across_packages(
+        sorted(result.reports + [r for r, _ in hits.values()], key=lambda r: (r.name, str(r.path)))
     )
     result.checks_run |= set().union(*(codes for _, codes in hits.values()))
     store_whole(cache, whole, keys, result.reports)
