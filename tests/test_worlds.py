@@ -61,6 +61,25 @@ def test_an_attribute_newer_than_the_declared_version_and_model_uris_with_three_
     assert (status, report["diagnostics"]) == (0, [])
 
 
+def test_what_sdformats_xml_reader_reads_is_no_error(tmp_path):
+    """Nearest clean (gz_ros2_control_demos' empty_ft_sensor.sdf): tinyxml2, sdformat's reader,
+    ends a comment at the first "-->" ("--" inside is text), an attribute at its quote and keeps an
+    unknown entity as text; what it refuses too (a tag left open) is still PF420."""
+    package = world_package(tmp_path)
+    world = package / "worlds" / "yard.sdf"
+    edit(
+        world,
+        '<sdf version="1.9">',
+        '<!--\n  gz service -s /world/yard/create --req "..."\n-->\n<sdf version="1.9">',
+    )
+    edit(world, "<uri>model://crate</uri>", "<uri>model://crate</uri><!-- a <b> &nbsp; -- note -->")
+    (package / "worlds" / "open.world").write_text(
+        '<!-- a -- b -->\n<sdf version="1.6">\n  <world name="w">\n</sdf>\n'
+    )
+    status, report = verify_report(tmp_path)
+    assert found(report) == [("PF420", "error", "src/world_sim/worlds/open.world", 4)]
+
+
 @pytest.mark.triggers("PF421")
 def test_uris_not_found_or_into_a_home_folder(tmp_path):
     package = world_package(tmp_path)

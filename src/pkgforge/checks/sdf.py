@@ -74,13 +74,49 @@ def _installed_sdf(ctx: CheckContext) -> Iterator[SdfFile]:
 # three times (a world of thousands of lines), the last few kept (read only)
 @functools.lru_cache(maxsize=8)
 def _parse(sdf: SdfFile) -> etree._Element | etree.XMLSyntaxError:
-    parser = etree.XMLParser(
-        remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True, huge_tree=False
-    )
     try:
-        return etree.fromstring(sdf.text.encode("utf-8"), parser)
+        return etree.fromstring(sdf.text.encode("utf-8"), _parser(recover=False))
     except etree.XMLSyntaxError as error:
+        return _as_tinyxml2_reads(sdf.text, error)
+
+
+def _parser(recover: bool) -> etree.XMLParser:
+    return etree.XMLParser(
+        remove_comments=True,
+        remove_pis=True,
+        resolve_entities=False,
+        no_network=True,
+        huge_tree=False,
+        recover=recover,
+    )
+
+
+# what sdformat's XML reader (tinyxml2) reads although XML forbids it: it ends a comment at the
+# first "-->" ("--" inside is text: gz_ros2_control's own demo worlds have it), an attribute value
+# at its quote ("<" inside), and keeps an entity it does not know as text
+TINYXML2_READS = frozenset(
+    {
+        etree.ErrorTypes.ERR_HYPHEN_IN_COMMENT,
+        etree.ErrorTypes.ERR_LT_IN_ATTRIBUTE,
+        etree.ErrorTypes.ERR_UNDECLARED_ENTITY,
+        etree.ErrorTypes.WAR_UNDECLARED_ENTITY,
+    }
+)
+
+
+def _as_tinyxml2_reads(text: str, error: etree.XMLSyntaxError) -> etree._Element | etree.XMLSyntaxError:
+    """The document as sdformat reads it when each of libxml2's complaints is one tinyxml2 does
+    not make, else the first complaint it makes too."""
+    parser = _parser(recover=True)
+    try:
+        root = etree.fromstring(text.encode("utf-8"), parser)
+    except etree.XMLSyntaxError:
         return error
+    refused = [entry for entry in parser.error_log if entry.type not in TINYXML2_READS]
+    if refused:
+        first = refused[0]
+        return etree.XMLSyntaxError(first.message.strip(), first.type, first.line, first.column)
+    return error if root is None else root
 
 
 def _version(text: str | None) -> tuple[int, int] | None:
