@@ -199,6 +199,52 @@ def test_an_unreadable_controller_configuration_is_one_finding(tmp_path):
     assert found(report) == [("PF705", "src/sim_robot/config/controllers.yaml", 5, "error")]
 
 
+FOREIGN_CONTROLLERS = """from launch import LaunchDescription
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    controllers = PathJoinSubstitution([FindPackageShare("PACKAGE"), "config", "FILE"])
+    return LaunchDescription([
+        Node(package="controller_manager", executable="ros2_control_node", parameters=[controllers]),
+        Node(
+            package="controller_manager",
+            executable="spawner",
+            arguments=["forward_position_controller", "--param-file", controllers],
+        ),
+    ])
+"""
+
+
+@pytest.mark.parametrize(
+    ("package", "file", "expected"),
+    [
+        ("ros2_control_demo_example_9", "rrbot_controllers.yaml", False),
+        ("sim_robot", "controllers.yaml", True),  # nearest unclean: its own file, which lacks it
+    ],
+)
+def test_a_spawner_of_a_controller_manager_reading_another_package_s_file_is_that_package_s(
+    tmp_path, package, file, expected
+):
+    """protobot_bringup: ros2_control_node and the spawner read ros2_control_demo_example_9's
+    rrbot_controllers.yaml, which defines forward_position_controller; what that file defines is
+    not known here, so the spawner is no PF708 (the package not being there is PF304's)."""
+    (tmp_path / "src").mkdir()
+    robot = new_package(tmp_path, "sim_robot", "--sim", "gz", "--distro", "jazzy")
+    launch = robot / "launch" / "demo.launch.py"
+    launch.write_text(FOREIGN_CONTROLLERS.replace("PACKAGE", package).replace("FILE", file))
+    report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy", "--launch-engine", "builtin")[1]
+    where = (
+        "PF708",
+        "src/sim_robot/launch/demo.launch.py",
+        line_of(launch, 'executable="spawner"') - 2,
+        "error",
+    )
+    assert found(report, "PF708") == ([where] if expected else [])
+
+
 def test_a_type_given_in_the_controller_s_own_section_defines_the_controller(tmp_path, template_package):
     """Jazzy's form (gz_ros2_control's demos): `drive: ros__parameters: type: ...`; the spawner of
     it is no finding, and its joints are still checked."""

@@ -17,7 +17,7 @@ from typing import Any, Literal
 from pkgforge.checks.context import CheckContext
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Severity
-from pkgforge.launch.records import Node
+from pkgforge.launch.records import Node, Resolution
 from pkgforge.model.controllers import ControllerParameters, read_controller_parameters
 from pkgforge.model.manifest import EXPORT_TAGS
 from pkgforge.model.simulation import (
@@ -688,7 +688,15 @@ def spawner_controller_unknown(ctx: CheckContext) -> Iterator[Finding]:
     defined = {name for f in files for name in f.parameters.controllers}
     if broken and not defined:
         return  # every controller the package has is in a file it cannot read: none is known missing
+    foreign_model_file = any(
+        ctx.own_source(text) is None
+        for result in _models(ctx)
+        for plugin in _robot_items(result, "gazebo_plugins")
+        for text in plugin["parameters"]
+    )
     for resolution in ctx.resolutions:
+        if foreign_model_file or _reads_foreign_configuration(ctx, resolution):
+            continue  # what the controller manager is given is not all known here
         for node in resolution.nodes:
             if (node.package, node.executable) != ("controller_manager", "spawner"):
                 continue
@@ -710,6 +718,22 @@ def spawner_controller_unknown(ctx: CheckContext) -> Iterator[Finding]:
                         f"{ctx.model.name} defines ({', '.join(sorted(defined)) or 'none'})",
                         *position,
                     )
+
+
+def _reads_foreign_configuration(ctx: CheckContext, resolution: Resolution) -> bool:
+    """Whether a controller manager this launch file starts, or one of its spawners, is given a
+    parameters file that is not this package's (protobot_bringup's ros2_control_node and spawner
+    read ros2_control_demo_example_9's rrbot_controllers.yaml): the controllers it defines are
+    that package's to check."""
+    given: list[str] = []
+    for node in resolution.nodes:
+        if node.package != "controller_manager":
+            continue
+        if node.executable == "ros2_control_node":
+            given += [p.value_preview for p in node.parameters if p.form == "file"]
+        elif node.executable == "spawner":
+            given += _spawner_files(node)
+    return any(ctx.own_source(path) is None for path in given)
 
 
 def _description_given(node: Node) -> bool:
