@@ -80,6 +80,24 @@ def test_what_sdformats_xml_reader_reads_is_no_error(tmp_path):
     assert found(report) == [("PF420", "error", "src/world_sim/worlds/open.world", 4)]
 
 
+def test_a_world_plugin_written_over_two_lines_is_checked_and_a_commented_one_is_not(tmp_path):
+    """gopigo3's worlds: `<plugin` on one line, `filename="libignition-gazebo-...so"` on the next
+    was not read (Gazebo Ionic loads no ignition-gazebo- library); a plugin inside a comment loads
+    nowhere and is no finding."""
+    package = world_package(tmp_path)
+    world = package / "worlds" / "yard.sdf"
+    edit(
+        world,
+        '<world name="yard">',
+        '<world name="yard">\n    <plugin\n      filename="libignition-gazebo-user-commands-system.so"\n'
+        '      name="ignition::gazebo::systems::UserCommands"/>\n'
+        '    <!-- <plugin filename="libgazebo_ros_diff_drive.so" name="drive"/> -->',
+    )
+    status, report = verify_report(tmp_path, "--distro", "kilted")
+    assert found(report) == [("PF701", "error", WORLD, line_of(world, "    <plugin"))]
+    assert "use gz-sim-user-commands-system" in report["diagnostics"][0]["message"]
+
+
 @pytest.mark.triggers("PF421")
 def test_uris_not_found_or_into_a_home_folder(tmp_path):
     package = world_package(tmp_path)

@@ -32,6 +32,7 @@ from pkgforge.robot_models import ModelResult
 from pkgforge.urdf.structure import ControlSystem
 
 SDF_SUFFIXES = (".sdf", ".world")
+XML_COMMENT = re.compile(r"<!--.*?(?:-->|$)", re.DOTALL)
 SDF_PLUGIN = re.compile(r"<\s*plugin\b[^>]*?\bfilename\s*=\s*([\"'])([^\"'$]+)\1")
 # the distros whose controller manager reads the description from the /robot_description topic
 # only (ros2_control's jazzy branch, controller_manager.cpp: no robot_description parameter)
@@ -115,9 +116,11 @@ def _plugin_places(ctx: CheckContext) -> Iterator[tuple[str, Path, int | None, f
     for relative in ctx.model.files:
         if relative.suffix in SDF_SUFFIXES and relative not in fallbacks:
             path = ctx.model.path / relative
-            for number, text in enumerate(ctx.files.lines(path), start=1):
-                for match in SDF_PLUGIN.finditer(text):
-                    yield match.group(2).strip(), path, number, frozenset()
+            text = "\n".join(ctx.files.lines(path))
+            # (a <plugin on one line and its filename= on the next; a commented-out plugin is none)
+            read = XML_COMMENT.sub(lambda comment: re.sub(r"[^\n]", " ", comment.group(0)), text)
+            for match in SDF_PLUGIN.finditer(read):
+                yield match.group(2).strip(), path, text.count("\n", 0, match.start()) + 1, frozenset()
 
 
 def _conditional(element: Any) -> str | None:
