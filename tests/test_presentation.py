@@ -386,6 +386,39 @@ def test_velocity_zero_is_an_error_only_on_the_joints_something_enforces(tmp_pat
     ]
 
 
+def test_effort_zero_is_an_error_only_where_the_effort_is_commanded_or_simulated(tmp_path):
+    """abb_ros2: position-controlled arms with effort="0" (as ROS-Industrial writes it) under a
+    <ros2_control> of real or mock hardware: ros2_control's limiters clamp only an effort command,
+    so nothing holds those joints to it (a warning); a joint whose effort is commanded, or that
+    Gazebo's hardware simulates, cannot move (an error)."""
+    package = scaffold(tmp_path)
+    model = package / "urdf" / "arm.urdf"
+    text = _arm(3, ros2_control=["j1", "j2", "j3"]).replace(
+        'effort="10" velocity="0"', 'effort="0" velocity="1"'
+    )
+    text = text.replace(
+        '<joint name="j3"><command_interface name="position"/>',
+        '<joint name="j3"><command_interface name="effort"/>',
+    )
+    model.write_text(text)
+    _, report = verify_report(tmp_path, "--no-cache", "--select", "PF605")
+    lines = limit_lines(model)
+    assert [(s, line, m.split(":")[0]) for s, _, line, m in diagnostics(report, "PF605")] == [
+        ("warning", lines[0], '2 joints have effort="0" (nothing here enforces it'),
+        ("error", lines[2], "revolute joint 'j3'"),
+    ]
+    model.write_text(
+        text.replace(
+            '<ros2_control name="arm" type="system">',
+            '<ros2_control name="arm" type="system">\n    <hardware><plugin>gz_ros2_control/GazeboSimSystem</plugin></hardware>',
+        )
+    )
+    _, report = verify_report(tmp_path, "--no-cache", "--select", "PF605")
+    assert [(s, m.split(":")[0]) for s, _, _, m in diagnostics(report, "PF605")] == [
+        ("error", '3 joints have effort="0", and <ros2_control> holds them to it (they cannot move)')
+    ]
+
+
 def test_a_missing_mesh_of_a_visual_and_a_collision_is_one_diagnostic(tmp_path):
     package = scaffold(tmp_path)
     model = package / "urdf" / "tool.urdf.xacro"

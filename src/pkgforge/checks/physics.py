@@ -16,6 +16,7 @@ from pkgforge.checks.context import CheckContext
 from pkgforge.checks.model_positions import model_item_position
 from pkgforge.checks.registry import register
 from pkgforge.diagnostics import Finding, Group, Severity
+from pkgforge.model.simulation import GAZEBO_HARDWARE
 from pkgforge.robot_models import ModelResult
 from pkgforge.urdf import physics
 from pkgforge.urdf.meshes import resolve_uri
@@ -280,8 +281,11 @@ def root_link_inertia(ctx: CheckContext) -> Iterator[Finding]:
     'reads a zero velocity as no limit, and exporters write 0 by default: velocity="0" or '
     'effort="0" is an error only where something of the workspace enforces it (a <ros2_control> '
     "block or a Gazebo plugin of the model naming the joint, a launch file that feeds the model to "
-    "a simulator), a warning that says who would elsewhere. The joints of one model with the same "
-    "defect are one diagnostic.",
+    "a simulator), a warning that says who would elsewhere. ros2_control's joint limiters clamp the "
+    'effort command only: effort="0" is held by a <ros2_control> joint that commands effort or '
+    "that Gazebo's hardware simulates, not by a position-controlled arm on real or mock hardware "
+    '(ROS-Industrial writes effort="0"). The joints of one model with the same defect are one '
+    "diagnostic.",
     hint="give <limit lower=... upper=... velocity=... effort=...> with lower <= upper and "
     "velocity, effort > 0",
 )
@@ -325,7 +329,29 @@ def joint_limit_invalid(ctx: CheckContext) -> Iterator[Finding]:
             enforcer = users.get(str(joint["name"])) or simulator
             for what, value in (("velocity", limit["velocity"]), ("effort", limit["effort"])):
                 if value is not None and not value > 0:  # (NaN too)
-                    yield _limit_zero(what, value, str(joint["name"]), name, enforcer, where)
+                    held = (
+                        _effort_enforcer(robot, str(joint["name"]), enforcer, simulator)
+                        if what == "effort"
+                        else enforcer
+                    )
+                    yield _limit_zero(what, value, str(joint["name"]), name, held, where)
+
+
+def _effort_enforcer(
+    robot: RobotStructure, joint: str, enforcer: str | None, simulator: str | None
+) -> str | None:
+    """What holds a joint to its effort limit. A <ros2_control> block does where it commands the
+    joint's effort or where Gazebo's hardware simulates it; ros2_control's joint limiters clamp
+    the effort command only (a position- or velocity-commanded joint on real or mock hardware
+    never reads effort=: abb_ros2's IRB 4600 joints, effort="0" as ROS-Industrial writes it)."""
+    if enforcer != "<ros2_control>":
+        return enforcer
+    for system in robot.get("ros2_control") or []:
+        simulated = (system["plugin"] or "") in GAZEBO_HARDWARE.values()
+        for control in system["joints"]:
+            if control["name"] == joint and (simulated or "effort" in control["command"]):
+                return enforcer
+    return simulator
 
 
 def _limit_zero(
