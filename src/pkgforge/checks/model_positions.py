@@ -14,13 +14,13 @@ from pkgforge.robot_models import ModelResult
 
 
 def model_source_position(
-    ctx: CheckContext, result: ModelResult, file: str | None, line: int | None
+    ctx: CheckContext, result: ModelResult, file: str | None, line: int | None, elsewhere: bool = True
 ) -> tuple[Path, int | None]:
     """(source path, line) in this package, or in another package verified in the same run whose
     file it is (the line a person edits, whichever package's launch file led there), falling back
     to the model's own source file, and for another package's model to the launch line of this
     package that feeds it to xacro (pkgforge's tree is no place a person edits)."""
-    own = (ctx.own_source(file) or _verified_elsewhere(ctx, file)) if file else None
+    own = (ctx.own_source(file) or (_verified_elsewhere(ctx, file) if elsewhere else None)) if file else None
     if own is not None:
         return own, line
     if result.source is None:
@@ -96,5 +96,9 @@ def model_item_position(
     ctx: CheckContext, result: ModelResult, item: Mapping[str, Any], line: int | None = None
 ) -> tuple[Path, int | None]:
     """model_source_position of an item of a model's structure or error (a link, joint, mesh):
-    its own file, at `line` when given (a line inside it, e.g. its <inertial>), else its own line."""
-    return model_source_position(ctx, result, item.get("file"), line or item.get("line"))
+    its own file, at `line` when given (a line inside it, e.g. its <inertial>), else its own line.
+    A model's error in another package's file stays at this package's launch line: the arguments
+    that launch gave xacro may be its cause (dof:=9 naming no folder), not that file."""
+    return model_source_position(
+        ctx, result, item.get("file"), line or item.get("line"), elsewhere=item is not result.error
+    )

@@ -107,9 +107,10 @@ def listed(words: list[str], room: int) -> str:
 
 
 def once_across_packages(reports: list[PackageReport]) -> list[PackageReport]:
-    """The reports with a diagnostic that several packages give at the same place (a link of one
+    """The reports with a diagnostic that several packages give in the same file (a link of one
     package's model that three packages' launch files run xacro on: each package's check places it
-    at the link's line) kept once: by the package whose folder holds that file, else the first."""
+    in the link's file, at its line, or at the link's own line where xacro's output hides the
+    <limit>'s) kept once: by the package whose folder holds that file, else the first."""
     keeper: dict[tuple[object, ...], PackageReport] = {}
     for report in reports:
         for diagnostic in report.diagnostics:
@@ -125,4 +126,4 @@ def once_across_packages(reports: list[PackageReport]) -> list[PackageReport]:
 
 
 def _place(diagnostic: Diagnostic) -> tuple[object, ...]:
-    return (diagnostic.code, str(diagnostic.path), diagnostic.line, diagnostic.column, diagnostic.message)
+    return (diagnostic.code, str(diagnostic.path), diagnostic.message)
