@@ -7,7 +7,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from conftest import edit, line_of, new_package, verify_report
+from conftest import edit, line_of, new_package, run_pkgforge, verify_report
 
 FIXTURE = Path(__file__).parent / "fixtures" / "simulation"
 
@@ -355,3 +355,23 @@ def test_selecting_the_simulation_checks_runs_what_they_read(broken, tmp_path, t
     package = simulation_package(tmp_path, template_package)
     report = verify_report(package, "--no-cache", "--distro", "jazzy", "--select", "PF7")[1]
     assert found(report) == found(broken[1]["jazzy"])
+
+
+@pytest.mark.parametrize(
+    ("code", "named"),
+    [
+        ("PF701", ["gazebosim/gz-sim", "gz-sim8@", "(Harmonic)", "gazebo_ros_pkgs: ros2@"]),
+        ("PF706", ["ros-controls/ros2_controllers", "jazzy@", "master@"]),
+        ("PF709", ["ros-controls/ros2_control", "controller_manager.cpp"]),
+        ("PF422", ["gazebosim/ros_gz", "gz_sim.launch.py.in"]),
+    ],
+)
+def test_a_simulation_rule_names_the_branch_and_commit_it_is_read_from(tmp_path, code, named):
+    """Issue 31: the sources of each rule (which gz-sim, ros_gz, ros2_control branch) are named
+    by `pkgforge rule` and in docs/checks.md."""
+    shown = run_pkgforge("rule", code, cwd=tmp_path).stdout
+    sources = [line for line in shown.splitlines() if line.startswith(("Source:", "  "))]
+    assert sources and all(any(name in line for line in sources) for name in named), shown
+    catalogue = (Path(__file__).parent.parent / "docs" / "checks.md").read_text()
+    section = catalogue.split(f"## {code} ", 1)[1].split("\n## ", 1)[0]
+    assert "**Sources:**" in section and all(name in section for name in named)

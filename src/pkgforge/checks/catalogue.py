@@ -46,7 +46,7 @@ def checks_markdown() -> str:
             f"**Severity:** {c.severity.label}. **Area:** {c.area}. "
             f"**Automatic fix:** {FIX_WORDS[c.fix]}.\n\n"
             f"{c.summary[0].upper()}{c.summary[1:]}. {c.explanation}\n\n"
-            f"**Fix:** {c.hint}.\n" + _examples_markdown(c)
+            f"**Fix:** {c.hint}.\n" + _sources_markdown(c) + _examples_markdown(c)
         )
     return HEADER + "\n".join(rows) + "\n\n" + "\n".join(sections)
 
@@ -96,6 +96,13 @@ def _fence(snippet: str) -> str:
     return "```\n" + snippet.strip("\n") + "\n```\n"
 
 
+def _sources_markdown(check: Check) -> str:
+    from pkgforge.checks.sources import sources
+
+    read = sources(check.code)
+    return "\n**Sources:**\n\n" + "".join(f"- {source}\n" for source in read) if read else ""
+
+
 def _examples_markdown(check: Check) -> str:
     if not check.bad:
         return ""
@@ -126,6 +133,12 @@ def rule_text(check: Check) -> str:
         "",
         textwrap.fill(f"Fix: {check.hint}.", 88),
         f"Automatic fix: {FIX_WORDS[check.fix]}.",
-        f"Documentation: {help_uri(check)}",
     ]
+    from pkgforge.checks.sources import sources
+
+    lines += [
+        textwrap.fill(f"Source: {source}", 88, subsequent_indent="  ", break_on_hyphens=False)
+        for source in sources(check.code)
+    ]
+    lines.append(f"Documentation: {help_uri(check)}")
     return "\n".join(lines) + "\n"
