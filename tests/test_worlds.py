@@ -63,8 +63,10 @@ def test_an_attribute_newer_than_the_declared_version_and_model_uris_with_three_
 
 def test_what_sdformats_xml_reader_reads_is_no_error(tmp_path):
     """Nearest clean (gz_ros2_control_demos' empty_ft_sensor.sdf): tinyxml2, sdformat's reader,
-    ends a comment at the first "-->" ("--" inside is text), an attribute at its quote and keeps an
-    unknown entity as text; what it refuses too (a tag left open) is still PF420."""
+    ends a comment at the first "-->" ("--" inside is text), an attribute at its quote, keeps an
+    unknown entity as text and knows no namespaces (a world Gazebo saved keeps its models'
+    <surface_props:material> without their xmlns); what it refuses too (a tag left open) is still
+    PF420."""
     package = world_package(tmp_path)
     world = package / "worlds" / "yard.sdf"
     edit(
@@ -72,7 +74,12 @@ def test_what_sdformats_xml_reader_reads_is_no_error(tmp_path):
         '<sdf version="1.9">',
         '<!--\n  gz service -s /world/yard/create --req "..."\n-->\n<sdf version="1.9">',
     )
-    edit(world, "<uri>model://crate</uri>", "<uri>model://crate</uri><!-- a <b> &nbsp; -- note -->")
+    edit(
+        world,
+        "<uri>model://crate</uri>",
+        "<uri>model://crate</uri><!-- a <b> -- note -->\n"
+        "      <surface_props:material>metal&nbsp;sheet</surface_props:material>",
+    )
     (package / "worlds" / "open.world").write_text(
         '<!-- a -- b -->\n<sdf version="1.6">\n  <world name="w">\n</sdf>\n'
     )

@@ -93,9 +93,11 @@ def _parser(recover: bool) -> etree.XMLParser:
 
 # what sdformat's XML reader (tinyxml2) reads although XML forbids it: it ends a comment at the
 # first "-->" ("--" inside is text: gz_ros2_control's own demo worlds have it), an attribute value
-# at its quote ("<" inside), and keeps an entity it does not know as text
+# at its quote ("<" inside), keeps an entity it does not know as text, and knows no namespaces (a
+# world Gazebo saved has its models' custom <surface_props:material> without their xmlns)
 TINYXML2_READS = frozenset(
     {
+        etree.ErrorTypes.NS_ERR_UNDEFINED_NAMESPACE,
         etree.ErrorTypes.ERR_HYPHEN_IN_COMMENT,
         etree.ErrorTypes.ERR_LT_IN_ATTRIBUTE,
         etree.ErrorTypes.ERR_UNDECLARED_ENTITY,
