@@ -102,3 +102,4 @@ def test_build_one_package_path_inside_a_workspace(tmp_path):
     assert result.returncode == 0, result.stdout + result.stderr
     assert (tmp_path / "install" / "share" / "only_me" / "package.xml").is_file()
     assert not (tmp_path / "install" / "share" / "small_turtle").exists()
+    assert "built 1 package into install/" in result.stdout

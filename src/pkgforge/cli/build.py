@@ -72,4 +72,8 @@ def build(
         result = run_build(workspace, options)
     except PkgforgeError as error:
         fail(error)
-    click.echo(f"built {len(result.packages)} package(s) into {os.path.relpath(result.install_base)}/")
+    from pkgforge.report.text import counted
+
+    click.echo(
+        f"built {counted(len(result.packages), 'package')} into {os.path.relpath(result.install_base)}/"
+    )
