@@ -245,6 +245,23 @@ def test_a_spawner_of_a_controller_manager_reading_another_package_s_file_is_tha
     assert found(report, "PF708") == ([where] if expected else [])
 
 
+def test_a_controller_file_ros2_control_node_reads_is_said_once_by_rcl_s_check(tmp_path):
+    """One cause, one finding: a controllers.yaml given to ros2_control_node that rcl refuses is
+    parameters-file-invalid (PF322, the node does not start), not controller-config-invalid too;
+    both read it with the one reader of rcl's rules (model/ros_params)."""
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "sim_robot", "--sim", "gz", "--distro", "jazzy")
+    controllers = package / "config" / "controllers.yaml"
+    controllers.write_text("controller_manager:\n  ros__parameters:\n    update_rate: 100\n  bad: [\n")
+    (package / "launch" / "cm.launch.py").write_text(
+        FOREIGN_CONTROLLERS.replace("PACKAGE", "sim_robot").replace("FILE", "controllers.yaml")
+    )
+    report = verify_report(tmp_path, "--no-cache", "--distro", "jazzy", "--launch-engine", "builtin")[1]
+    assert [f for f in found(report, "PF") if f[3] == "error"] == [
+        ("PF322", "src/sim_robot/config/controllers.yaml", 5, "error")
+    ]
+
+
 def test_a_type_given_in_the_controller_s_own_section_defines_the_controller(tmp_path, template_package):
     """Jazzy's form (gz_ros2_control's demos): `drive: ros__parameters: type: ...`; the spawner of
     it is no finding, and its joints are still checked."""

@@ -555,12 +555,23 @@ def _spawner_files(node: Node) -> list[str]:
     explanation="ros2_control_node (and gz_ros2_control's controller manager, given the file with "
     "<parameters>) read the file with rcl's parameter parser: it must be YAML, a mapping of node "
     "names, each with a ros__parameters mapping. rcl refuses anything else and the controller "
-    "manager does not start.",
+    "manager does not start. (A file a ros2_control_node is given as its parameters file is "
+    "parameters-file-invalid's, PF322: one cause, one finding.)",
     hint="write node_name: {ros__parameters: {...}} (controller_manager: ros__parameters: <controller>: {type: ...})",
 )
 def controller_config_invalid(ctx: CheckContext) -> Iterator[Finding]:
+    # one cause, one finding: a file a ros2_control_node is given as its parameters file is
+    # parameters-file-invalid's (PF322: rcl refuses it, the node does not start)
+    read_by_node = {
+        p.value_preview
+        for resolution in ctx.resolutions
+        for node in resolution.nodes
+        if (node.package, node.executable) == ("controller_manager", "ros2_control_node")
+        for p in node.parameters
+        if p.form == "file"
+    }
     for file in _controller_files(ctx):
-        if file.parameters.error is not None:
+        if file.parameters.error is not None and file.installed not in read_by_node:
             yield Finding(
                 f"{file.source.name} is not a ROS parameters file: {file.parameters.error}",
                 file.source,

@@ -1,9 +1,9 @@
 """A controller configuration: the ROS parameters file ros2_control_node (or gz_ros2_control's
 <parameters>) reads, as far as the simulation checks need it.
 
-`read_controller_parameters` is the minimal reading of a parameters file (rcl's rules: a mapping
-of node names, each with a `ros__parameters` mapping) that the controller checks need; a full
-parameters-file validator would replace its first half (the name says which part to unify).
+`read_controller_parameters` takes whether rcl reads the file from model/ros_params (the one
+reader of rcl's rules, PF322's too) and reads from it what the controller checks need: each
+controller, its type and the joints its parameters name.
 """
 
 from __future__ import annotations
@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 
 import yaml
 
-from pkgforge.model.yamlnodes import compose, problem
+from pkgforge.model.ros_params import read_parameters
+from pkgforge.model.yamlnodes import compose_all
 
 
 @dataclass
@@ -54,15 +55,14 @@ def read_controller_parameters(text: str, joint_parameters: dict[str, list[str]]
     joints their parameters name (`joint_parameters`: controller type → the parameters that name
     joints). A file rcl refuses gives `error` (and its line)."""
     found = ControllerParameters()
-    try:
-        root = compose(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        found.error, found.error_line = problem(exc), (int(mark.line) + 1 if mark is not None else None)
+    refused = read_parameters(text).problem
+    if refused is not None:
+        found.error, found.error_line = refused.message, refused.line
         return found
-    sections = _node_sections(root, found)
-    if found.error is not None:
-        return found
+    sections: dict[str, tuple[yaml.Node, yaml.Node]] = {}
+    for root in compose_all(text):  # (rcl reads on from one document into the next)
+        for name, section in _node_sections(root, found).items():
+            sections.setdefault(name, section)
     for _name, (_key, parameters) in sections.items():
         for entry, (entry_key, value) in (_mapping(parameters) or {}).items():
             spec = _mapping(value)
@@ -90,17 +90,12 @@ def read_controller_parameters(text: str, joint_parameters: dict[str, list[str]]
     return found
 
 
-def _node_sections(
-    root: yaml.Node | None, found: ControllerParameters
-) -> dict[str, tuple[yaml.Node, yaml.Node]]:
+def _node_sections(root: yaml.Node, found: ControllerParameters) -> dict[str, tuple[yaml.Node, yaml.Node]]:
     """node name (its last part: /robot/controller_manager → controller_manager) → (key, its
     ros__parameters mapping); a node's parameters may sit under namespace keys (rcl nests them)."""
     sections: dict[str, tuple[yaml.Node, yaml.Node]] = {}
     top = _mapping(root)
-    if root is None:
-        return sections
-    if top is None:
-        found.error, found.error_line = "a ROS parameters file is a mapping of node names", _line(root)
+    if top is None:  # (rcl refuses it: read_parameters said so first)
         return sections
 
     def visit(entries: dict[str, tuple[yaml.Node, yaml.Node]], depth: int) -> None:
