@@ -34,12 +34,6 @@ if TYPE_CHECKING:
     from pkgforge.scaffold.notes import Notes
 
 PROPERTY = re.compile(r"^\$\{\s*([A-Za-z_][\w]*)\s*\}$")
-# the plugins ROS 1 put inside a <sensor> (gazebo_plugins' sensor plugins): gz-sim's sensors
-# system runs the <sensor> itself
-SENSOR_PLUGIN = re.compile(
-    r"^libgazebo_ros_(camera|depth_camera|openni_kinect|multicamera|(gpu_)?laser|"
-    r"block_laser|ray_sensor|imu_sensor|imu|gps|range|bumper|ft_sensor)"
-)
 
 
 @dataclass(frozen=True)
@@ -330,7 +324,8 @@ def plugins(
         left: list[str] = []
         if library == ros1_names.GAZEBO_ROS_CONTROL:
             snippet: str | None = _control(names, models)
-            models.depends |= {names["control"], "controller_manager"}
+            models.depends.add(names["control"])  # which depends on controller_manager
+            left = sorted(set(_children(plugin)) - {"parameters"})
             files = (
                 ", ".join(models.controller_files)
                 or "none: the package's launch files load no controller file"
@@ -346,7 +341,7 @@ def plugins(
             message = f"{library} → {names['system']}-joint-state-publisher-system on /joint_states, bridged"
         elif any(
             etree.QName(a).localname == "sensor" for a in plugin.iterancestors() if isinstance(a.tag, str)
-        ) or SENSOR_PLUGIN.match(library):
+        ):
             snippet = None
             message = (
                 f"sensor plugin {library} removed: the <sensor> stays, gz-sim runs it given the sensors "
