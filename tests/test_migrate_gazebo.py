@@ -214,6 +214,17 @@ def test_nearest_unclean_input_gets_its_note_and_stays_clean(tmp_path, distro):
         'args="joint_state_controller arm_controller"',
         'args="joint_state_controller arm_controller arm_pid"',
     )
+    # hector_gazebo_plugins' IMU (mir_description): Gazebo Classic too, plugin and dependency
+    edit(
+        model,
+        "</robot>",
+        '  <gazebo><plugin name="imu" filename="libhector_gazebo_ros_imu.so"/></gazebo>\n</robot>',
+    )
+    edit(
+        source / "package.xml",
+        "  <exec_depend>xacro",
+        "  <exec_depend>hector_gazebo_plugins</exec_depend>\n  <exec_depend>xacro",
+    )
     workspace, out = migrate(tmp_path, distro, source=source)
 
     def shown(path: Path) -> str:
@@ -229,7 +240,15 @@ def test_nearest_unclean_input_gets_its_note_and_stays_clean(tmp_path, distro):
         f"controller 'arm_pid' (effort_controllers/JointPositionController) has no ROS 2 equivalent on {distro}: "
         "left out, and out of the spawner (migrate-gazebo-classic)"
     ) in out.splitlines()
+    assert (
+        f"{shown(model)}:{line_of(model, 'libhector_gazebo_ros_imu.so')}: PF802 [warning] Gazebo Classic plugin "
+        "libhector_gazebo_ros_imu.so removed: it loads in no Gazebo (gz) (migrate-gazebo-classic)"
+    ) in out.splitlines()
     package = workspace / "src" / "sim_bot"
+    assert (
+        "hector"
+        not in (package / "package.xml").read_text() + (package / "urdf" / "sim_bot.urdf.xacro").read_text()
+    )
     assert "ghost" not in (package / "urdf" / "sim_bot.urdf.xacro").read_text()
     assert "arm_pid" not in (package / "config" / "controllers.yaml").read_text()
     assert (

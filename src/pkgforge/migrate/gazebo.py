@@ -33,6 +33,8 @@ if TYPE_CHECKING:
     from pkgforge.migrate.roslaunch import Action
     from pkgforge.scaffold.notes import Notes
 
+# a launch token's kind → the ROS 1 substitution it was read from (for a message)
+ROS1_SUBSTITUTIONS = {"var": "arg", "env": "optenv"}
 PROPERTY = re.compile(r"^\$\{\s*([A-Za-z_][\w]*)\s*\}$")
 
 
@@ -171,8 +173,12 @@ def transmissions(root: etree._Element, path: Path, joints: set[str], hardware: 
         if command is None:
             notes.add(
                 "migrate-gazebo-classic",
-                f"transmission '{name}' has hardware interface '{interface}', which no Gazebo ros2_control "
-                "system commands: left out",
+                (
+                    f"transmission '{name}' has hardware interface '{interface}', which no Gazebo ros2_control "
+                    "system commands: left out"
+                    if interface
+                    else f"transmission '{name}' names no hardware interface: left out"
+                ),
                 path,
                 line,
             )
@@ -227,10 +233,11 @@ def _diff_drive(plugin: etree._Element, names: dict[str, str], models: GazeboMod
             out.append((new, given[old]))
     if given.get("wheelDiameter"):
         diameter = given["wheelDiameter"]
-        try:
-            out.append(("wheel_radius", repr(float(diameter) / 2)))
-        except ValueError:
-            out.append(("wheel_radius", f"${{({diameter}) / 2}}"))  # a xacro expression halves it
+        radius = _half(diameter)
+        if radius is not None:
+            out.append(("wheel_radius", radius))
+        else:
+            given["wheelDiameter (no number)"] = diameter  # said left out
     command = _topic(given.get("commandTopic") or "cmd_vel")
     odometry = _topic(given.get("odometryTopic") or "odom")
     out += [("topic", command), ("odom_topic", odometry)]
@@ -261,6 +268,16 @@ def _diff_drive(plugin: etree._Element, names: dict[str, str], models: GazeboMod
         "publishOdomTF",
     }
     return _system(names, "diff-drive", "DiffDrive", out), sorted(set(given) - kept)
+
+
+def _half(value: str) -> str | None:
+    """Half a wheel diameter: a number halved, a xacro expression ${...} halved by xacro; None for
+    anything else (it was no number for Gazebo Classic either)."""
+    try:
+        return repr(float(value) / 2)
+    except ValueError:
+        expression = re.fullmatch(r"\$\{(.+)\}", value.strip())
+        return f"${{({expression.group(1)}) / 2}}" if expression and "${" not in expression.group(1) else None
 
 
 def _joint_state_publisher(
@@ -417,7 +434,7 @@ def convert_package(
     files = _controller_files(converted, package, notes)
     names: dict[str, str] = {}
     dropped: set[str] = set()
-    gazebo = GazeboModels([r for r in files if r in converted.output], package, distro)
+    gazebo = GazeboModels(files, package, distro)
     for relative in gazebo.controller_files:
         converted.output[relative], conversion = convert_controllers(
             converted.output[relative], source / relative, distro, notes
@@ -445,14 +462,23 @@ def _controller_files(converted: Converted, package: str, notes: Notes) -> list[
     found: list[str] = []
     for relative, launch in converted.launches.items():
         for parts, line in launch.controller_files:
-            if len(parts) == 2 and parts[0] == Token("find", package) and parts[1][0] == "text":
-                found.append(parts[1][1].lstrip("/"))
+            own = len(parts) == 2 and parts[0] == Token("find", package) and parts[1][0] == "text"
+            file = parts[1][1].lstrip("/") if own else None
+            if file is not None and file in converted.output:
+                found.append(file)
                 continue
-            shown = "".join(p[1] if p[0] == "text" else f"$({p[0]} {p[1]})" for p in parts)
+            shown = "".join(
+                p[1] if p[0] == "text" else f"$({ROS1_SUBSTITUTIONS.get(p[0], p[0])} {p[1]})" for p in parts
+            )
+            why = (
+                "is no file of the package"
+                if own
+                else "names no file of this package pkgforge can tell (another package's, or computed)"
+            )
             notes.add(
                 "migrate-gazebo-classic",
-                f"controller file {shown} is not this package's: not converted, and gz_ros2_control is not "
-                "given it (migrate the package that holds it, then add a <parameters> naming it)",
+                f"controller file {shown} {why}: not converted, and gz_ros2_control is not given it (convert it "
+                "to a controller_manager parameters file and add a <parameters> naming it)",
                 converted.launch_sources[relative],
                 line,
             )

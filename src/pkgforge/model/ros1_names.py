@@ -47,7 +47,14 @@ PACKAGES: dict[str, tuple[str, str]] = {
 DROPPED_DEPENDENCIES = frozenset({"catkin", "roslaunch", "rospy", "roscpp", "rosbag", "roslib", "rospack"})
 # dependencies that stand for Gazebo Classic: ros_gz_sim with --gazebo, else dropped
 GAZEBO_DEPENDENCIES = frozenset(
-    {"gazebo", "gazebo_ros", "gazebo_plugins", "gazebo_ros_pkgs", "gazebo_ros_control"}
+    {
+        "gazebo",
+        "gazebo_ros",
+        "gazebo_plugins",
+        "gazebo_ros_pkgs",
+        "gazebo_ros_control",
+        "hector_gazebo_plugins",
+    }
 )
 
 # (package, executable) in ROS 1 → in ROS 2, for nodes whose name changed
@@ -191,8 +198,9 @@ def executable(package_name: str, executable_name: str) -> tuple[str, str]:
 
 
 def is_gazebo_classic_plugin(filename: str) -> bool:
-    """A Gazebo Classic ROS plugin (libgazebo_ros_*.so): gone with ROS 1 and Gazebo Classic."""
-    return filename.startswith("libgazebo_ros")
+    """A Gazebo Classic ROS plugin (gazebo_plugins' libgazebo_ros_*.so, hector_gazebo_plugins'
+    libhector_gazebo_ros_*.so, as mir_description's IMU): gone with ROS 1 and Gazebo Classic."""
+    return filename.startswith(("libgazebo_ros", "libhector_gazebo_ros"))
 
 
 # ros_control's hardware interfaces (a <transmission>'s <hardwareInterface>, with or without the
