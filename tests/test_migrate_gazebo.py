@@ -273,3 +273,30 @@ def test_migrated_controllers_are_really_checked(migrated, tmp_path):
     assert [
         (d["code"], d["path"], d["line"]) for d in report["diagnostics"] if d["code"].startswith("PF7")
     ] == [("PF708", "src/sim_bot/launch/gazebo.launch.py", line_of(launch, "'arm_ctrl'") - 5)]
+
+
+def test_a_converted_model_keeps_its_declaration_and_line_ends(tmp_path):
+    """The model is re-serialised where it changed: its own XML declaration and CRLF stay; a
+    plain .urdf's controller <parameters> use $(find), which xacro (run on it by the migrated
+    launch files and by verify) resolves: said so."""
+    source = ros1_gazebo_package(tmp_path / "ros1", "sim_bot")
+    model = source / "urdf" / "sim_bot.urdf.xacro"
+    urdf = model.with_name("sim_bot.urdf")
+    model.rename(urdf)
+    urdf.write_bytes(urdf.read_bytes().replace(b"\n", b"\r\n"))
+    edit(
+        source / "launch" / "gazebo.launch",
+        'command="$(find xacro)/xacro $(find sim_bot)/urdf/sim_bot.urdf.xacro"',
+        'textfile="$(find sim_bot)/urdf/sim_bot.urdf"',
+    )
+    workspace, out = migrate(tmp_path, "jazzy", source=source)
+    written = (workspace / "src" / "sim_bot" / "urdf" / "sim_bot.urdf").read_bytes()
+    assert written.startswith(b'<?xml version="1.0"?>\r\n<robot ')
+    assert b"\n" not in written.replace(b"\r\n", b"")
+    assert b"<parameters>$(find sim_bot)/config/controllers.yaml</parameters>" in written
+    assert (
+        "; its $(find) needs xacro, which the migrated launch files run on the .urdf "
+        "(ros_gz_sim create -file of the .urdf itself would not resolve it); left out: robotNamespace (migrate-changed)"
+    ) in out
+    report = verify_report(workspace, "--no-cache", "--distro", "jazzy", "--launch-engine", "builtin")[1]
+    assert simulation_findings(report) == []

@@ -35,6 +35,7 @@ if TYPE_CHECKING:
 
 # a launch token's kind → the ROS 1 substitution it was read from (for a message)
 ROS1_SUBSTITUTIONS = {"var": "arg", "env": "optenv"}
+DECLARATION = re.compile(rb"\s*<\?xml[^>]*\?>[ \t]*\r?\n?")
 PROPERTY = re.compile(r"^\$\{\s*([A-Za-z_][\w]*)\s*\}$")
 
 
@@ -213,7 +214,14 @@ def _attribute(value: str) -> str:
 
 
 def _children(plugin: etree._Element) -> dict[str, str]:
-    return {etree.QName(c).localname: (c.text or "").strip() for c in plugin if isinstance(c.tag, str)}
+    """A plugin's parameters by name (a xacro conditional inside it by its xacro: name)."""
+    return {
+        (f"xacro:{etree.QName(c).localname}" if c.prefix == "xacro" else etree.QName(c).localname): (
+            c.text or ""
+        ).strip()
+        for c in plugin
+        if isinstance(c.tag, str)
+    }
 
 
 def _topic(name: str) -> str:
@@ -348,6 +356,11 @@ def plugins(
                 or "none: the package's launch files load no controller file"
             )
             message = f"{library} → {names['plugin']} (ros2_control in Gazebo; controllers: {files})"
+            if models.controller_files and path.suffix == ".urdf":
+                message += (
+                    "; its $(find) needs xacro, which the migrated launch files run on the .urdf "
+                    "(ros_gz_sim create -file of the .urdf itself would not resolve it)"
+                )
         elif library == "libgazebo_ros_diff_drive.so":
             snippet, left = _diff_drive(plugin, names, models)
             models.depends.add("ros_gz_bridge")
@@ -405,9 +418,17 @@ def convert_model(
     changed |= plugins(root, path, context.properties, models, notes)
     if not changed:
         return data
-    declaration = data.lstrip().startswith(b"<?xml")
-    text = etree.tostring(root.getroottree(), encoding="utf-8", xml_declaration=declaration)
-    return text if text.endswith(b"\n") else text + b"\n"
+    text = etree.tostring(root.getroottree(), encoding="utf-8")
+    declaration = DECLARATION.match(data)
+    if declaration is not None:  # the source's own, as it was written (lxml's quotes differ)
+        encoding = re.search(rb"encoding\s*=\s*[\"']([^\"']+)", declaration.group(0))
+        if encoding is None or encoding.group(1).lower() in (b"utf-8", b"utf8"):
+            text = declaration.group(0) + text
+        else:
+            text = etree.tostring(root.getroottree(), encoding="utf-8", xml_declaration=True)
+    text = text if text.endswith(b"\n") else text + b"\n"
+    # the XML parser reads CRLF as LF: a CRLF file stays CRLF
+    return text.replace(b"\r\n", b"\n").replace(b"\n", b"\r\n") if b"\r\n" in data else text
 
 
 @dataclass
