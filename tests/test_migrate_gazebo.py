@@ -225,6 +225,14 @@ def test_nearest_unclean_input_gets_its_note_and_stays_clean(tmp_path, distro):
         "  <exec_depend>xacro",
         "  <exec_depend>hector_gazebo_plugins</exec_depend>\n  <exec_depend>xacro",
     )
+    # ROS 1's gazebo_ros_control PID gains, loaded for the spawner too: no controller in it
+    pid = source / "config" / "pid.yaml"
+    pid.write_text("gazebo_ros_control:\n  pid_gains:\n    arm_joint: {p: 100.0, i: 0.01, d: 10.0}\n")
+    edit(
+        source / "launch" / "gazebo.launch",
+        '  <node name="controller_spawner"',
+        '  <rosparam file="$(find sim_bot)/config/pid.yaml" command="load"/>\n  <node name="controller_spawner"',
+    )
     workspace, out = migrate(tmp_path, distro, source=source)
 
     def shown(path: Path) -> str:
@@ -244,7 +252,13 @@ def test_nearest_unclean_input_gets_its_note_and_stays_clean(tmp_path, distro):
         f"{shown(model)}:{line_of(model, 'libhector_gazebo_ros_imu.so')}: PF802 [warning] Gazebo Classic plugin "
         "libhector_gazebo_ros_imu.so removed: it loads in no Gazebo (gz) (migrate-gazebo-classic)"
     ) in out.splitlines()
+    assert (
+        f"{shown(pid)}: PF802 [warning] config/pid.yaml holds no ros_control controller (a mapping with a type): "
+        "copied as written, not given to gz_ros2_control (migrate-gazebo-classic)"
+    ) in out.splitlines()
     package = workspace / "src" / "sim_bot"
+    assert (package / "config" / "pid.yaml").read_text() == pid.read_text()
+    assert "pid.yaml" not in (package / "urdf" / "sim_bot.urdf.xacro").read_text()
     assert (
         "hector"
         not in (package / "package.xml").read_text() + (package / "urdf" / "sim_bot.urdf.xacro").read_text()
@@ -300,3 +314,25 @@ def test_a_converted_model_keeps_its_declaration_and_line_ends(tmp_path):
     ) in out
     report = verify_report(workspace, "--no-cache", "--distro", "jazzy", "--launch-engine", "builtin")[1]
     assert simulation_findings(report) == []
+
+
+def test_controllers_no_model_loads_are_said_to_reach_nothing(tmp_path):
+    """A package whose launch file loads controllers for the spawner but whose models load no
+    gazebo_ros_control (diffbot_control: the model is another package's): the converted file
+    reaches no controller manager, said at the file; the transmissions stay as written."""
+    source = ros1_gazebo_package(tmp_path / "ros1", "sim_bot")
+    edit(
+        source / "urdf" / "sim_bot.urdf.xacro",
+        '  <gazebo>\n    <plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">\n'
+        "      <robotNamespace>/</robotNamespace>\n    </plugin>\n  </gazebo>\n",
+        "",
+    )
+    workspace, out = migrate(tmp_path, "jazzy", source=source)
+    controllers = source / "config" / "controllers.yaml"
+    assert (
+        f"{os.path.relpath(controllers, workspace)}: PF802 [warning] no model of this package loads "
+        "gazebo_ros_control: config/controllers.yaml reaches no controller manager (name it in a <parameters> "
+        "of the gz_ros2_control-system plugin of the robot's model) (migrate-gazebo-classic)"
+    ) in out.splitlines()
+    model = (workspace / "src" / "sim_bot" / "urdf" / "sim_bot.urdf.xacro").read_text()
+    assert '<transmission name="arm_transmission">' in model and "ros2_control" not in model

@@ -61,6 +61,7 @@ class GazeboModels:
     distro: str
     bridges: list[Bridge] = field(default_factory=list)
     depends: set[str] = field(default_factory=set)
+    control: bool = False  # a gazebo_ros_control plugin was converted
 
 
 def _classic(filename: str) -> bool:
@@ -350,6 +351,7 @@ def plugins(
         if library == ros1_names.GAZEBO_ROS_CONTROL:
             snippet: str | None = _control(names, models)
             models.depends.add(names["control"])  # which depends on controller_manager
+            models.control = True
             left = sorted(set(_children(plugin)) - {"parameters"})
             files = (
                 ", ".join(models.controller_files)
@@ -451,15 +453,27 @@ def convert_package(
     """--gazebo, after the launch files are read: their controller files converted, their spawners
     naming what those define, the models converted, the clock and the plugins' topics bridged."""
     from pkgforge.migrate.controllers import convert as convert_controllers
+    from pkgforge.scaffold.package import gz_names
 
-    files = _controller_files(converted, package, notes)
     names: dict[str, str] = {}
     dropped: set[str] = set()
-    gazebo = GazeboModels(files, package, distro)
-    for relative in gazebo.controller_files:
+    gazebo = GazeboModels([], package, distro)
+    for relative in _controller_files(converted, package, notes):
         converted.output[relative], conversion = convert_controllers(
             converted.output[relative], source / relative, distro, notes
         )
+        if not (conversion.names or conversion.dropped):
+            # copied as written: a ROS 1 file given to the controller manager stops it (rcl reads
+            # node: ros__parameters: only), so no <parameters> names it
+            notes.add(
+                "migrate-gazebo-classic",
+                f"{relative} holds no ros_control controller (a mapping with a type): copied as written, "
+                "not given to gz_ros2_control",
+                source / relative,
+                None,
+            )
+            continue
+        gazebo.controller_files.append(relative)
         names |= conversion.names
         dropped |= conversion.dropped
         gazebo.depends |= conversion.packages
@@ -470,6 +484,15 @@ def convert_package(
         if relative in converted.output:
             converted.output[relative] = convert_model(
                 converted.output[relative], source / relative, gazebo, context, notes
+            )
+    if not gazebo.control:
+        for relative in gazebo.controller_files:
+            notes.add(
+                "migrate-gazebo-classic",
+                f"no model of this package loads gazebo_ros_control: {relative} reaches no controller manager "
+                f"(name it in a <parameters> of the {gz_names(distro)['plugin']} plugin of the robot's model)",
+                source / relative,
+                None,
             )
     for relative, launch in converted.launches.items():
         _bridge(launch.actions, gazebo, converted.launch_sources[relative], notes)

@@ -252,8 +252,8 @@ class Reader:
             if spawns:
                 self.note(
                     "migrate-changed",
-                    "global <rosparam> of the spawner's controllers → a ROS 2 controller_manager parameters "
-                    "file, given to gz_ros2_control through the model's <parameters>",
+                    "global <rosparam> loaded for the spawner: its controllers become a ROS 2 "
+                    "controller_manager parameters file (--gazebo; see that file's notes)",
                     element,
                 )
             else:
