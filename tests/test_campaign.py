@@ -1048,3 +1048,119 @@ def test_campaign_build_mode(bases, tmp_path):
         check(workspace, cases, "--build")
     finally:
         readable(tmp_path)
+
+
+# --- migrate --gazebo on broken ROS 1 input (issue 31) ------------------------------------------
+
+GAZEBO_MODEL, GAZEBO_CONTROLLERS, GAZEBO_LAUNCH = (
+    "urdf/sim_bot.urdf.xacro",
+    "config/controllers.yaml",
+    "launch/gazebo.launch",
+)
+# what is broken → (file of migrate_fixtures.ros1_gazebo_package, text replaced or None for the
+# whole file, the new text): controller YAML, transmissions, Classic plugins, the launch file's
+# <rosparam> and spawner
+HOSTILE_GAZEBO_MIGRATE: dict[str, tuple[str, str | None, str | bytes]] = {
+    "controllers not YAML": (GAZEBO_CONTROLLERS, None, "a: [\n"),
+    "controllers alias bomb": (GAZEBO_CONTROLLERS, None, "\n".join(ALIAS_BOMB) + "\n"),
+    "controllers nested 5000 deep": (GAZEBO_CONTROLLERS, None, "a: " + "[" * 5000 + "]" * 5000 + "\n"),
+    "controllers a list": (GAZEBO_CONTROLLERS, None, "- type: x/Y\n"),
+    "controllers with odd values": (
+        GAZEBO_CONTROLLERS,
+        None,
+        "c1: {type: 123}\nc2: {type: [a/b]}\nc3: {type: position_controllers/JointTrajectoryController, "
+        "joints: {a: 1}}\nc4: {type: diff_drive_controller/DiffDriveController, left_wheel: {x: 1}, right_wheel: 5}\n",
+    ),
+    "controllers binary": (GAZEBO_CONTROLLERS, None, b"\xff\xfe\x00\x01type: \x80\n"),
+    "controllers empty": (GAZEBO_CONTROLLERS, None, ""),
+    "only controllers with no ROS 2 type": (
+        GAZEBO_CONTROLLERS,
+        None,
+        "pid: {type: effort_controllers/JointPositionController, joint: arm_joint}\n",
+    ),
+    "transmission with no interface": (GAZEBO_MODEL, "hardware_interface/PositionJointInterface", ""),
+    "transmission with a state interface": (
+        GAZEBO_MODEL,
+        "hardware_interface/PositionJointInterface",
+        "hardware_interface/JointStateInterface",
+    ),
+    "transmission names with markup": (
+        GAZEBO_MODEL,
+        '<transmission name="arm_transmission">',
+        '<transmission name="a&quot;&lt;b&amp;">',
+    ),
+    "plugin filename an unknown property": (
+        GAZEBO_MODEL,
+        'filename="libgazebo_ros_diff_drive.so"',
+        'filename="${nope}"',
+    ),
+    "plugin filename empty": (GAZEBO_MODEL, 'filename="libgazebo_ros_diff_drive.so"', 'filename=""'),
+    "wheel diameter no number": (
+        GAZEBO_MODEL,
+        "<wheelDiameter>0.1</wheelDiameter>",
+        "<wheelDiameter>abc</wheelDiameter>",
+    ),
+    "wheel diameter nested expression": (
+        GAZEBO_MODEL,
+        "<wheelDiameter>0.1</wheelDiameter>",
+        "<wheelDiameter>${2*${r}}</wheelDiameter>",
+    ),
+    "Classic plugin at the robot's root": (
+        GAZEBO_MODEL,
+        '  <gazebo>\n    <plugin name="gazebo_ros_control"',
+        '  <plugin name="x" filename="libgazebo_ros_p3d.so"/>\n  <gazebo>\n    <plugin name="gazebo_ros_control"',
+    ),
+    "model with an external entity": (
+        GAZEBO_MODEL,
+        '<?xml version="1.0"?>',
+        '<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY x SYSTEM "file:///etc/passwd">]>',
+    ),
+    "rosparam file computed": (GAZEBO_LAUNCH, "config/controllers.yaml", "config/$(arg c).yaml"),
+    "rosparam file missing": (GAZEBO_LAUNCH, "config/controllers.yaml", "config/none.yaml"),
+    "rosparam file a folder": (GAZEBO_LAUNCH, "config/controllers.yaml", "config"),
+    "rosparam file of another package": (GAZEBO_LAUNCH, "$(find sim_bot)/config", "$(find other_pkg)/config"),
+    "spawner arguments computed": (
+        GAZEBO_LAUNCH,
+        'args="joint_state_controller arm_controller"',
+        'args="$(arg controllers)"',
+    ),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("what", list(HOSTILE_GAZEBO_MIGRATE))
+def test_campaign_migrate_gazebo(tmp_path, what):
+    """`migrate --gazebo` of a broken ROS 1 Gazebo package: no traceback, exit 0, 1 or 2, nothing
+    of the source changed, nothing written on exit 2, every note naming a file."""
+    from migrate_fixtures import ros1_gazebo_package
+
+    relative, old, new = HOSTILE_GAZEBO_MIGRATE[what]
+    source = ros1_gazebo_package(tmp_path / "ros1", "sim_bot")
+    path = source / relative
+    if old is None:
+        path.write_bytes(new if isinstance(new, bytes) else new.encode())
+    else:
+        text = path.read_text()
+        assert old in text
+        path.write_text(text.replace(old, str(new), 1))
+    before = fingerprint(source)
+    (tmp_path / "ws" / "src").mkdir(parents=True)
+    result = run_pkgforge(
+        "migrate",
+        source,
+        "--gazebo",
+        "--distro",
+        "jazzy",
+        "--destination",
+        "src",
+        cwd=tmp_path / "ws",
+        timeout=300,
+    )
+    assert "Traceback" not in result.stdout + result.stderr, result.stderr
+    assert result.returncode in (0, 1, 2), result.stdout + result.stderr
+    assert fingerprint(source) == before
+    if result.returncode == 2:
+        assert not (tmp_path / "ws" / "src" / "sim_bot").exists()
+        assert len(result.stderr.strip().splitlines()) == 1 and "(nothing written)" in result.stderr
+    notes = [line for line in result.stdout.splitlines() if re.search(r" PF\d{3} \[", line)]
+    assert all(re.match(r"^\S+: PF\d{3} \[", line) for line in notes), notes

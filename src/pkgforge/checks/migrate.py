@@ -32,7 +32,11 @@ register(
     summary="Gazebo Classic (ROS 1) is used: left out, or a plugin kept and reported",
     explanation="Gazebo Classic and its ROS 1 plugins (gazebo_ros, spawn_model, libgazebo_ros_*.so) "
     "do not exist after Humble; Gazebo (gz) with ros_gz_sim replaces them. Without "
-    "--gazebo the launch actions are left out; plugins in a model are kept as written.",
+    "--gazebo the launch actions are left out; plugins in a model are kept as written. With "
+    "--gazebo, what has no gz equivalent pkgforge can write is left out and said so: a Classic "
+    "plugin (a sensor's: the <sensor> stays), a ros_control controller type ros2_controllers lacks "
+    "on the target distro, a transmission's hardware interface no Gazebo system commands, a "
+    "controller file of another package.",
     hint="migrate with --gazebo to start Gazebo with ros_gz_sim and spawn with `ros_gz_sim create`; "
     "replace libgazebo_ros_*.so plugins by gz-sim systems (gz_ros2_control)",
 )(None)

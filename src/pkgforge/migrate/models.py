@@ -44,11 +44,12 @@ def _used_models(models: list[str], texts: dict[str, str], launch_files: list[st
     return used
 
 
-def read_models(source: Path, files: list[str], notes: Notes) -> Models:
+def read_models(source: Path, files: list[str], notes: Notes, *, gazebo: bool = False) -> Models:
     """Each model read (a model with content after its root as ROS 1 read it), the links of all,
     the root link of the first .urdf, and the meshes that are missing. A model that is not
     well-formed XML stops the migration only when a launch file uses it (ROS 1 never read it
-    otherwise): else it is copied as written, and reported."""
+    otherwise): else it is copied as written, and reported. Without --gazebo, each Gazebo Classic
+    plugin is reported as kept (with it, migrate/gazebo.py converts them)."""
     from pkgforge.scaffold.from_urdf import ModelUnreadable, decode, read_model, root_link, trailing_message
 
     models = [r for r in files if r.endswith(XACRO_MODEL_SUFFIXES)]
@@ -75,12 +76,14 @@ def read_models(source: Path, files: list[str], notes: Notes) -> Models:
         if result.root is None and relative.endswith(".urdf"):
             result.root = root_link(model.root)
         _check_meshes(model, relative in used, result, notes)
+        if not gazebo:
+            _note_classic_plugins(model, notes)
     return result
 
 
 def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) -> None:
     """Each mesh and texture a model names literally must exist (a used model's missing mesh stops
-    the migration; an unused model's is reported); Gazebo Classic plugins are reported."""
+    the migration; an unused model's is reported)."""
     from pkgforge.scaffold.from_urdf import model_references
     from pkgforge.scaffold.model_uris import COMPUTED, resolve
 
@@ -105,6 +108,9 @@ def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) ->
                 model.path,
                 reference.line,
             )
+
+
+def _note_classic_plugins(model: ModelFile, notes: Notes) -> None:
     for element in model.root.iter("plugin"):
         if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
             notes.add(

@@ -209,6 +209,9 @@ class Converted:
     launch_sources: dict[str, Path] = field(default_factory=dict)  # ROS 2 launch file → the ROS 1 file
     launch_names: dict[str, str] = field(default_factory=dict)  # ROS 2 launch file → ROS 1's, relative
     generated_rviz: dict[str, int | None] = field(default_factory=dict)
+    depends: set[str] = field(
+        default_factory=set
+    )  # what the converted files need beyond the launch files' uses
 
     def emit(self, leave_out: set[str], name: str, launch_format: str, distro: Distro, notes: Notes) -> None:
         """Write the launch files in output, but for those in leave_out and those that come to start
@@ -296,7 +299,7 @@ def migrate(
             f"{len(refused)} file(s) of the package cannot be copied: nothing written; replace each "
             "link that leads out of the package by the file it names, or move the file out of the package",
         )
-    models = read_models(source, files, notes)
+    models = read_models(source, files, notes, gazebo=gazebo)
     if models.missing:
         raise PkgforgeError(*missing_message(models.missing, force=False))
     for folder_name, folder in models.found.items():
@@ -323,7 +326,7 @@ def migrate(
         rviz_spec = make_spec(new_name, distro=target, fixed_frame=models.root or "base_link")
         converted.output[rviz] = render_files(rviz_spec)["rviz/display.rviz"]
         converted.modes.pop(rviz, None)
-    declared = _dependencies(manifest, new_name, target, gazebo, notes)
+    declared = _dependencies(manifest, new_name, target, gazebo, notes) | converted.depends
     package_version = version(manifest, notes)
 
     def spec_for(launch_files: tuple[str, ...]) -> PackageSpec:
@@ -535,6 +538,10 @@ def _convert_files(
             converted.output[relative] = _as_ros2_parameters(
                 converted.output[relative], source / relative, notes
             )
+    if gazebo:
+        from pkgforge.migrate.gazebo import convert_package
+
+        convert_package(converted, models, source, renames.new, target, notes)
     return converted
 
 

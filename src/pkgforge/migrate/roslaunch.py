@@ -158,6 +158,9 @@ class LaunchFile:
     used_args: set[str] = field(default_factory=set)
     # the robot description this file gives robot_state_publisher, its arguments' defaults filled in
     description: list[Token] | None = None
+    # --gazebo: the files a global <rosparam command="load"> gives controller_manager's spawner
+    # (ROS 1's controller configuration), with the line of each; gz_ros2_control reads them
+    controller_files: list[tuple[list[Token], int | None]] = field(default_factory=list)
 
     def runs_anything(self) -> bool:
         """Whether it starts or includes anything (a file of arguments only launches nothing)."""
@@ -198,6 +201,7 @@ class Reader:
         # (xacro tokens, line, kind)
         self.description: tuple[list[Token], int | None, str] | None = None
         self.use_gui: list[Token] | None = None
+        self.rosparams: list[tuple[list[Token], etree._Element]] = []  # global <rosparam file> (--gazebo)
 
     def note(self, name: str, message: str, element: etree._Element) -> None:
         self.notes.add(name, message, self.path, element.sourceline)
@@ -235,7 +239,31 @@ class Reader:
                 self.path,
                 arg.line,
             )
-        return LaunchFile(self.path, actions, description=resolved)
+        return LaunchFile(
+            self.path, actions, description=resolved, controller_files=self.controller_files(actions)
+        )
+
+    def controller_files(self, actions: list[Action]) -> list[tuple[list[Token], int | None]]:
+        """--gazebo: the global <rosparam> files of a launch file that starts controller_manager's
+        spawner (ROS 1's controller configuration: gz_ros2_control reads it once converted); any
+        other global <rosparam> is left out as without --gazebo."""
+        spawns = any((n.package, n.executable) == ros1_names.CONTROLLER_SPAWNER for n in nodes(actions))
+        for _, element in self.rosparams:
+            if spawns:
+                self.note(
+                    "migrate-changed",
+                    "global <rosparam> loaded for the spawner: its controllers become a ROS 2 "
+                    "controller_manager parameters file (--gazebo; see that file's notes)",
+                    element,
+                )
+            else:
+                self.note(
+                    "migrate-dropped",
+                    "<rosparam> left out: global <rosparam>: ROS 2 has no global parameters (load it in a "
+                    "node's <param from>)",
+                    element,
+                )
+        return [(parts, element.sourceline) for parts, element in self.rosparams] if spawns else []
 
     def value(self, element: etree._Element, attribute: str) -> list[Token] | None:
         text = element.get(attribute)
@@ -338,6 +366,9 @@ class Reader:
         raise Unconvertible(f"global parameter '{name}': ROS 2 has no global parameters")
 
     def read_rosparam(self, element: etree._Element) -> None:
+        if self.gazebo and element.get("file") and element.get("command", "load") == "load":
+            self.rosparams.append((tokens(element.get("file")), element))  # a spawner's, if one is here
+            return None
         raise Unconvertible(
             "global <rosparam>: ROS 2 has no global parameters (load it in a node's <param from>)"
         )

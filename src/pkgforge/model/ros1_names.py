@@ -47,7 +47,14 @@ PACKAGES: dict[str, tuple[str, str]] = {
 DROPPED_DEPENDENCIES = frozenset({"catkin", "roslaunch", "rospy", "roscpp", "rosbag", "roslib", "rospack"})
 # dependencies that stand for Gazebo Classic: ros_gz_sim with --gazebo, else dropped
 GAZEBO_DEPENDENCIES = frozenset(
-    {"gazebo", "gazebo_ros", "gazebo_plugins", "gazebo_ros_pkgs", "gazebo_ros_control"}
+    {
+        "gazebo",
+        "gazebo_ros",
+        "gazebo_plugins",
+        "gazebo_ros_pkgs",
+        "gazebo_ros_control",
+        "hector_gazebo_plugins",
+    }
 )
 
 # (package, executable) in ROS 1 → in ROS 2, for nodes whose name changed
@@ -191,5 +198,84 @@ def executable(package_name: str, executable_name: str) -> tuple[str, str]:
 
 
 def is_gazebo_classic_plugin(filename: str) -> bool:
-    """A Gazebo Classic ROS plugin (libgazebo_ros_*.so): gone with ROS 1 and Gazebo Classic."""
-    return filename.startswith("libgazebo_ros")
+    """A Gazebo Classic ROS plugin (gazebo_plugins' libgazebo_ros_*.so, hector_gazebo_plugins'
+    libhector_gazebo_ros_*.so, as mir_description's IMU): gone with ROS 1 and Gazebo Classic."""
+    return filename.startswith(("libgazebo_ros", "libhector_gazebo_ros"))
+
+
+# ros_control's hardware interfaces (a <transmission>'s <hardwareInterface>, with or without the
+# hardware_interface/ prefix) → the ros2_control command interface a Gazebo system exports
+HARDWARE_INTERFACES: dict[str, str] = {
+    "EffortJointInterface": "effort",
+    "PositionJointInterface": "position",
+    "VelocityJointInterface": "velocity",
+}
+# gazebo_ros_control's plugin (ROS 1): ros2_control in Gazebo replaces it (migrate --gazebo)
+GAZEBO_ROS_CONTROL = "libgazebo_ros_control.so"
+# ros_control's controller types (ROS 1) → ros2_controllers' (ROS 2): (type, the command interface
+# it claims or None). A type missing
+# here has no ROS 2 equivalent (effort_controllers/JointPositionController: a PID on effort).
+# The interface is the joint_trajectory_controller's command_interfaces.
+CONTROLLER_TYPES: dict[str, tuple[str, str | None]] = {
+    "joint_state_controller/JointStateController": ("joint_state_broadcaster/JointStateBroadcaster", None),
+    "position_controllers/JointTrajectoryController": (
+        "joint_trajectory_controller/JointTrajectoryController",
+        "position",
+    ),
+    "velocity_controllers/JointTrajectoryController": (
+        "joint_trajectory_controller/JointTrajectoryController",
+        "velocity",
+    ),
+    "effort_controllers/JointTrajectoryController": (
+        "joint_trajectory_controller/JointTrajectoryController",
+        "effort",
+    ),
+    "position_controllers/JointGroupPositionController": (
+        "position_controllers/JointGroupPositionController",
+        None,
+    ),
+    "velocity_controllers/JointGroupVelocityController": (
+        "velocity_controllers/JointGroupVelocityController",
+        None,
+    ),
+    "effort_controllers/JointGroupEffortController": ("effort_controllers/JointGroupEffortController", None),
+    # a single joint's forwarding controller: ROS 2's group controller with one joint
+    "position_controllers/JointPositionController": (
+        "position_controllers/JointGroupPositionController",
+        None,
+    ),
+    "velocity_controllers/JointVelocityController": (
+        "velocity_controllers/JointGroupVelocityController",
+        None,
+    ),
+    "effort_controllers/JointEffortController": ("effort_controllers/JointGroupEffortController", None),
+    "diff_drive_controller/DiffDriveController": ("diff_drive_controller/DiffDriveController", None),
+    "position_controllers/GripperActionController": ("position_controllers/GripperActionController", None),
+    "effort_controllers/GripperActionController": ("effort_controllers/GripperActionController", None),
+}
+# ROS 1 diff_drive_controller parameters → ROS 2's (ros2_controllers' diff_drive_controller
+# parameter YAML, humble and jazzy); a parameter missing here and not in DIFF_DRIVE_KEPT is left out
+DIFF_DRIVE_RENAMED = {"left_wheel": "left_wheel_names", "right_wheel": "right_wheel_names"}
+DIFF_DRIVE_KEPT = frozenset(
+    {
+        "wheel_separation",
+        "wheel_radius",
+        "wheel_separation_multiplier",
+        "left_wheel_radius_multiplier",
+        "right_wheel_radius_multiplier",
+        "base_frame_id",
+        "odom_frame_id",
+        "enable_odom_tf",
+        "cmd_vel_timeout",
+        "publish_rate",
+        "pose_covariance_diagonal",
+        "twist_covariance_diagonal",
+        "open_loop",
+        "velocity_rolling_window_size",
+        "publish_limited_velocity",
+        "linear",
+        "angular",
+    }
+)
+# ROS 1 joint_trajectory_controller parameters ROS 2's has under the same name
+TRAJECTORY_KEPT = frozenset({"constraints", "gains"})

@@ -60,6 +60,34 @@ SIM_FOLDERS = ("config", "worlds")
 ARM_MESH_SIZE = (0.04, 0.04, 0.3)
 
 
+def gz_names(distro: str) -> dict[str, str]:
+    """The names the distro's Gazebo and its ros2_control plugin answer to (Humble: Fortress
+    and ign_ros2_control, gz_ros2_control's humble branch; later: gz-sim and gz_ros2_control;
+    the bridge's message names: ros_gz's humble README ignition.msgs, jazzy gz.msgs). What
+    `new --sim gz` writes and what `migrate --gazebo` converts Gazebo Classic to."""
+    if distro == "humble":
+        return {
+            "system": "ignition-gazebo",
+            "control": "ign_ros2_control",
+            "plugin": "ign_ros2_control-system",
+            "plugin_name": "ign_ros2_control::IgnitionROS2ControlPlugin",
+            "hardware": "ign_ros2_control/IgnitionSystem",
+            "msgs": "ignition.msgs",
+            "namespace": "ignition::gazebo",
+            "resource": "IGN_GAZEBO_RESOURCE_PATH",
+        }
+    return {
+        "system": "gz-sim",
+        "control": "gz_ros2_control",
+        "plugin": "gz_ros2_control-system",
+        "plugin_name": "gz_ros2_control::GazeboSimROS2ControlPlugin",
+        "hardware": "gz_ros2_control/GazeboSimSystem",
+        "msgs": "gz.msgs",
+        "namespace": "gz::sim",
+        "resource": "GZ_SIM_RESOURCE_PATH",
+    }
+
+
 @dataclass(frozen=True)
 class PackageSpec:
     """Everything that decides what `pkgforge new` writes."""
@@ -99,30 +127,8 @@ class PackageSpec:
 
     @property
     def gz(self) -> dict[str, str]:
-        """The names the distro's Gazebo and its ros2_control plugin answer to (Humble: Fortress
-        and ign_ros2_control, gz_ros2_control's humble branch; later: gz-sim and gz_ros2_control;
-        the bridge's message names: ros_gz's humble README ignition.msgs, jazzy gz.msgs)."""
-        if self.distro.name == "humble":
-            return {
-                "system": "ignition-gazebo",
-                "control": "ign_ros2_control",
-                "plugin": "ign_ros2_control-system",
-                "plugin_name": "ign_ros2_control::IgnitionROS2ControlPlugin",
-                "hardware": "ign_ros2_control/IgnitionSystem",
-                "msgs": "ignition.msgs",
-                "namespace": "ignition::gazebo",
-                "resource": "IGN_GAZEBO_RESOURCE_PATH",
-            }
-        return {
-            "system": "gz-sim",
-            "control": "gz_ros2_control",
-            "plugin": "gz_ros2_control-system",
-            "plugin_name": "gz_ros2_control::GazeboSimROS2ControlPlugin",
-            "hardware": "gz_ros2_control/GazeboSimSystem",
-            "msgs": "gz.msgs",
-            "namespace": "gz::sim",
-            "resource": "GZ_SIM_RESOURCE_PATH",
-        }
+        """The names the distro's Gazebo and its ros2_control plugin answer to (gz_names)."""
+        return gz_names(self.distro.name)
 
     @property
     def exec_depends(self) -> list[str]:
