@@ -392,3 +392,49 @@ def test_a_simulation_rule_names_the_branch_and_commit_it_is_read_from(tmp_path,
     catalogue = (Path(__file__).parent.parent / "docs" / "checks.md").read_text()
     section = catalogue.split(f"## {code} ", 1)[1].split("\n## ", 1)[0]
     assert "**Sources:**" in section and all(name in section for name in named)
+
+
+ROS1_PLUGINS = """  <gazebo>
+    <plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so"/>
+  </gazebo>
+  <gazebo reference="arm_link">
+    <sensor type="ray" name="laser">
+      <plugin name="laser" filename="libgazebo_ros_laser.so"/>
+    </sensor>
+  </gazebo>
+</robot>"""
+
+
+@pytest.mark.parametrize(
+    ("distro", "control", "laser"),
+    [
+        ("humble", "libgazebo_ros2_control.so", "libgazebo_ros_ray_sensor.so"),
+        ("jazzy", "gz_ros2_control-system", "gz-sim-sensors-system"),
+    ],
+)
+def test_a_ros1_gazebo_classic_plugin_loads_on_no_ros2_distro(tmp_path, distro, control, laser):
+    """ROS 1's libgazebo_ros_control.so and libgazebo_ros_laser.so (gazebo_ros_pkgs' noetic-devel)
+    are in no ROS 2 gazebo_plugins: a package copied from a ROS 1 tutorial loads neither, on any
+    distro (they were missed: only ROS 2's Classic names were known). The replacement is ROS 2
+    Classic's name where the distro releases Classic, else Gazebo's."""
+    (tmp_path / "src").mkdir()
+    package = new_package(tmp_path, "rob_description", "--distro", distro)
+    model = package / "urdf" / "rob_description.urdf.xacro"
+    edit(model, "</robot>", ROS1_PLUGINS)
+    report = verify_report(tmp_path, "--no-cache", "--distro", distro, "--select", "PF701")[1]
+    assert found(report, "PF701") == [
+        (
+            "PF701",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "libgazebo_ros_control.so"),
+            "error",
+        ),
+        (
+            "PF701",
+            "src/rob_description/urdf/rob_description.urdf.xacro",
+            line_of(model, "libgazebo_ros_laser.so"),
+            "error",
+        ),
+    ]
+    messages = [d["message"] for d in report["diagnostics"]]
+    assert f"use {control}" in messages[0] and f"use {laser}" in messages[1], messages

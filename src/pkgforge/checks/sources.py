@@ -35,8 +35,11 @@ def _gz_sim() -> str:
 
 
 def _classic() -> str:
-    classic = data()["classic"]
-    return f"ros-simulation/gazebo_ros_pkgs: {classic['branch']}@{_short(classic['commit'])} (Gazebo Classic's plugins)"
+    classic, ros1 = data()["classic"], data()["ros1_classic"]
+    return (
+        f"ros-simulation/gazebo_ros_pkgs: {classic['branch']}@{_short(classic['commit'])} (Gazebo "
+        f"Classic's plugins), {ros1['branch']}@{_short(ros1['commit'])} (ROS 1's)"
+    )
 
 
 def _gz_ros2_control() -> str:

@@ -1,7 +1,7 @@
 """What Gazebo and ros2_control offer on each ROS 2 distro, read from data/simulation.json.
 
 scripts/update-sim-data writes that file from the sources (gz-sim's ign-gazebo6, gz-sim8, gz-sim9
-and gz-sim10 branches; gazebo_ros_pkgs' ros2 branch; gz_ros2_control's humble and jazzy branches;
+and gz-sim10 branches; gazebo_ros_pkgs' ros2 branch (and noetic-devel: ROS 1's plugins); gz_ros2_control's humble and jazzy branches;
 ros2_control's and ros2_controllers' humble, jazzy, kilted and master branches), naming each
 branch's commit. The checks in checks/simulation.py ask the questions below.
 """
@@ -32,6 +32,20 @@ CLASSIC_REPLACEMENTS = {
     "libgazebo_ros_ackermann_drive.so": "gz-sim-ackermann-steering-system",
     "libgazebo_ros_joint_pose_trajectory.so": "gz-sim-joint-position-controller-system",
     "libgazebo_ros2_control.so": "gz_ros2_control-system",
+}
+# ROS 1's Classic plugins that ROS 2's gazebo_plugins ships under another name (the ROS 2 port
+# of gazebo_ros_pkgs merged the laser plugins into ray_sensor, the cameras into camera, ...)
+ROS1_CLASSIC_RENAMED = {
+    "libgazebo_ros_control.so": "libgazebo_ros2_control.so",
+    "libgazebo_ros_laser.so": "libgazebo_ros_ray_sensor.so",
+    "libgazebo_ros_gpu_laser.so": "libgazebo_ros_ray_sensor.so",
+    "libgazebo_ros_block_laser.so": "libgazebo_ros_ray_sensor.so",
+    "libgazebo_ros_range.so": "libgazebo_ros_ray_sensor.so",
+    "libgazebo_ros_imu.so": "libgazebo_ros_imu_sensor.so",
+    "libgazebo_ros_depth_camera.so": "libgazebo_ros_camera.so",
+    "libgazebo_ros_openni_kinect.so": "libgazebo_ros_camera.so",
+    "libgazebo_ros_multicamera.so": "libgazebo_ros_camera.so",
+    "libgazebo_ros_skid_steer_drive.so": "libgazebo_ros_diff_drive.so",
 }
 # the Classic ros2_control plugin (ros-controls/gazebo_ros2_control, released for Humble only)
 CLASSIC_CONTROL = "libgazebo_ros2_control.so"
@@ -87,6 +101,9 @@ def plugin_verdict(filename: str, distro: str, released: frozenset[str]) -> Plug
             f"Gazebo Classic's {name} ({package}) is not released for {distro}",
             CLASSIC_REPLACEMENTS.get(library),
         )
+    ros1 = _ros1_verdict(name, distro, released, classic)
+    if ros1 is not None:
+        return ros1
     control = GZ_CONTROL.match(name)
     if control:
         package = f"{control.group(1)}_ros2_control"
@@ -98,6 +115,26 @@ def plugin_verdict(filename: str, distro: str, released: frozenset[str]) -> Plug
             f"{other}-system" if other in released else None,
         )
     return _system_verdict(name, distro)
+
+
+def _ros1_verdict(
+    name: str, distro: str, released: frozenset[str], classic: set[str]
+) -> PluginVerdict | None:
+    """ROS 1's Classic plugins (gazebo_ros_pkgs' noetic-devel) that no ROS 2 gazebo_plugins ships
+    by that name: libgazebo_ros_control.so and the laser plugins load in no Gazebo of any ROS 2
+    distro. The replacement: the ROS 2 Classic name where the distro releases Classic, else gz's."""
+    library = name if name.endswith(".so") else f"lib{name}.so"
+    if library in classic or library not in data()["ros1_classic"]["libraries"]:
+        return None
+    renamed = ROS1_CLASSIC_RENAMED.get(library)
+    on_classic = (
+        renamed is not None
+        and ("gazebo_ros2_control" if renamed == CLASSIC_CONTROL else "gazebo_plugins") in released
+    )
+    return PluginVerdict(
+        f"{library} is ROS 1's Gazebo Classic plugin (gazebo_ros_pkgs' noetic-devel): no ROS 2 distro ships it",
+        renamed if on_classic else CLASSIC_REPLACEMENTS.get(renamed or library),
+    )
 
 
 def _system_verdict(name: str, distro: str) -> PluginVerdict | None:

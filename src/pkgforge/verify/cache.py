@@ -122,7 +122,7 @@ if TYPE_CHECKING:
 # 58: with 57, no spawner-controller-unknown while every controller configuration is unreadable
 # 59: with 58, the displays of an RViz 1 config are no missing-exec-depend
 # 60: with 59, SDF messages no longer repeat the file the location names
-CACHE_FORMAT = 63
+CACHE_FORMAT = 64
 DEPENDENCY = re.compile(r"<(depend|\w+_depend)([^>]*)>\s*([^<\s]+)\s*<")
 COMMENT = re.compile(r"<!--.*?-->", re.S)
 
