@@ -195,7 +195,7 @@ def _extra(folder: Path) -> Callable[[Build, Path], None]:
 
     def make(build: Build, src: Path) -> None:
         if (folder / "src").is_dir():
-            shutil.copytree(folder / "src", src, symlinks=True)
+            shutil.copytree(folder / "src", src, symlinks=True, dirs_exist_ok=True)
         else:
             shutil.copytree(folder, src / folder.name, symlinks=True)
 
