@@ -278,8 +278,9 @@ def _colcon(
     if usage.returncode != 0:
         print(f"skipped: colcon verify ({colcon} has no verify verb)", file=sys.stderr)
         return
+    (out / "cli").mkdir(exist_ok=True)
     (out / "cli" / "colcon-verify.help.txt").write_text(usage.stdout.replace(str(colcon), "colcon"))
-    for name in COLCON_WORKSPACES:
+    for name in roots:
         root = place / f"colcon_{name}"
         shutil.rmtree(root, ignore_errors=True)
         shutil.copytree(roots[name], root)
@@ -308,16 +309,29 @@ def main() -> int:
         "--extra", action="append", default=[], type=Path, help="repeatable: a real workspace"
     )
     parser.add_argument("--place", type=Path, default=PLACE, help="where the workspaces are laid out")
+    parser.add_argument(
+        "--only",
+        action="append",
+        default=[],
+        help="repeatable: only the outputs whose name starts so (a bisection)",
+    )
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     build = Build(args.pkgforge)
     engines = [("builtin", ["--launch-engine", "builtin"])]
     for prefix in args.ros_prefix:
         engines.append((f"ros_{Path(prefix).name}", ["--launch-engine", "ros", "--ros-prefix", prefix]))
-    _cli(build, args.out / "cli")
+
+    def wanted(name: str) -> bool:
+        return not args.only or any(name.startswith(prefix) for prefix in args.only)
+
+    if wanted("cli"):
+        _cli(build, args.out / "cli")
     makers, cases = _plan(build, [p.resolve() for p in args.extra])
     roots: dict[str, Path] = {}
-    for report, name, options in cases:
+
+    def lay_out(name: str) -> Path:
+        """PLACE/name with the workspace in it, laid out once per run."""
         if name not in roots:
             root = args.place / name
             shutil.rmtree(root, ignore_errors=True)
@@ -326,12 +340,20 @@ def main() -> int:
             roots[name] = root
             if name.startswith("new_"):
                 (args.out / f"{name}.files").write_text(_files(root))
+        return roots[name]
+
+    for report, name, options in cases:
+        if not wanted(report):
+            continue
+        root = lay_out(name)
         for engine, engine_options in engines:
             (args.out / f"{report}.{engine}.json").write_text(
-                _verify(args.pkgforge, roots[name], [*engine_options, *options])
+                _verify(args.pkgforge, root, [*engine_options, *options])
             )
         print(report, file=sys.stderr)
-    _colcon(build, roots, args.place, engines, args.out)
+    colcon = {name: lay_out(name) for name in COLCON_WORKSPACES if wanted(f"colcon_{name}")}
+    if colcon:
+        _colcon(build, colcon, args.place, engines, args.out)
     return 0
 
 
