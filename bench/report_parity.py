@@ -280,13 +280,15 @@ def _colcon(
         return
     (out / "cli").mkdir(exist_ok=True)
     (out / "cli" / "colcon-verify.help.txt").write_text(usage.stdout.replace(str(colcon), "colcon"))
+    # older builds name the verb's format option --pkgforge-format (later a hidden alias of --format)
+    fmt = "--pkgforge-format" if "--pkgforge-format" in usage.stdout else "--format"
     for name in roots:
         root = place / f"colcon_{name}"
         shutil.rmtree(root, ignore_errors=True)
         shutil.copytree(roots[name], root)
         built = _run(build.pkgforge, "build", str(root))
         for engine, options in engines:
-            words = [str(colcon), "verify", "--format", "json", *options]
+            words = [str(colcon), "verify", fmt, "json", *options]
             run = subprocess.run(words, capture_output=True, text=True, env=ENVIRONMENT, cwd=root)
             try:
                 text = json.dumps(_blank_timing(json.loads(run.stdout)), indent=1, sort_keys=True)
