@@ -66,8 +66,14 @@ RULES = ("PF101", "PF202", "PF305", "PF401", "PF612", "PF701", "PF999")
 MAINTAINER = ["--maintainer-name", "Test Maintainer", "--maintainer-email", "test@example.com"]
 PLACE = Path("/tmp/pkgforge-parity")
 TIMING_KEYS = {"elapsed", "seconds", "duration", "time", "timings", "wall"}
-# the same environment for both builds: no user git identity, one help width
-ENVIRONMENT = {**os.environ, "GIT_CONFIG_GLOBAL": "/dev/null", "COLUMNS": "80"}
+# the same environment for both builds: no user git identity, one help width, and one catalogue
+# URL (else `rule` names the docs/checks.md of the checkout each build is installed from)
+ENVIRONMENT = {
+    **os.environ,
+    "GIT_CONFIG_GLOBAL": "/dev/null",
+    "COLUMNS": "80",
+    "PKGFORGE_DOCS_URL": "https://example.invalid/pkgforge/docs/checks.md",
+}
 
 
 def _blank_timing(value: object) -> object:
