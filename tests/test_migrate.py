@@ -71,9 +71,11 @@ def migrated(tmp_path_factory):
     }
     for name, result in outputs.items():
         # the models' own physics may fail verify (UR5's wrist_3_link inertia, PF610, is wrong
-        # upstream: ros-industrial/universal_robot#426); nothing else may
+        # upstream: ros-industrial/universal_robot#426), and UR5's ROS 1 gazebo_ros_control plugin,
+        # which --from-urdf keeps as written, loads in no ROS 2 Gazebo (PF701); nothing else may
         assert result.returncode in (0, 1), (name, result.stdout, result.stderr)
-        assert not_physics(result.stdout) == [], (name, result.stdout)
+        left = [line for line in not_physics(result.stdout) if not (name == "ur5" and " PF701 " in line)]
+        assert left == [], (name, result.stdout)
     assert "0 errors, 0 warnings" in outputs["py"].stdout  # --add-root-link: no PF604 either
     build = run_pkgforge("build", cwd=workspace)
     assert build.returncode == 0, build.stdout + build.stderr
@@ -187,16 +189,17 @@ def test_all_verify_clean_in_every_mode(migrated, mode):
         "ur5_description",
     ]
     assert [
-        (d["code"], d["path"], d["message"])
+        (d["code"], d["path"], d["message"][:40])
         for d in report["diagnostics"]
         if d["severity"] != "info" and not d["code"].startswith("PF6")
-    ] == []
-    # the only error left is UR5's own wrist_3_link inertia (PF610: wrong upstream,
-    # ros-industrial/universal_robot#426)
+    ] == [("PF701", "src/ur5_description/urdf/ur5_robot.urdf", "plugin 'libgazebo_ros_control.so' does n")]
+    # the errors left are UR5's own: its wrist_3_link inertia (PF610: wrong upstream,
+    # ros-industrial/universal_robot#426) and its ROS 1 gazebo_ros_control plugin (PF701), which
+    # --from-urdf keeps as written (migrate leaves it out, or converts it with --gazebo)
     errors = {
         (d["code"], d["path"].split("/")[-1]) for d in report["diagnostics"] if d["severity"] == "error"
     }
-    assert errors <= {("PF610", "ur5_robot.urdf")}, errors
+    assert errors <= {("PF610", "ur5_robot.urdf"), ("PF701", "ur5_robot.urdf")}, errors
     assert result.returncode == (1 if errors else 0)
 
 

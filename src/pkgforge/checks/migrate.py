@@ -29,10 +29,11 @@ register(
     area="migrate",
     bad='<!-- launch/gazebo.launch (ROS 1) -->\n<node pkg="gazebo_ros" type="spawn_model" name="spawn"\n      args="-urdf -param robot_description -model arm"/>',
     good='# pkgforge migrate --gazebo\nNode(package="ros_gz_sim", executable="create",\n     arguments=["-topic", "robot_description", "-name", "arm"])',
-    summary="Gazebo Classic (ROS 1) is used: left out, or a plugin kept and reported",
+    summary="Gazebo Classic (ROS 1) is used: left out and reported",
     explanation="Gazebo Classic and its ROS 1 plugins (gazebo_ros, spawn_model, libgazebo_ros_*.so) "
-    "do not exist after Humble; Gazebo (gz) with ros_gz_sim replaces them. Without "
-    "--gazebo the launch actions are left out; plugins in a model are kept as written. With "
+    "do not exist after Humble, and ROS 1's plugins load in no Gazebo of a ROS 2 distro; Gazebo (gz) "
+    "with ros_gz_sim replaces them. Without --gazebo the launch actions and the models' plugins are "
+    "left out (`new --from-urdf` keeps a model's as written: verify reports them, PF701). With "
     "--gazebo, what has no gz equivalent pkgforge can write is left out and said so: a Classic "
     "plugin (a sensor's: the <sensor> stays), a ros_control controller type ros2_controllers lacks "
     "on the target distro, a transmission's hardware interface no Gazebo system commands, a "

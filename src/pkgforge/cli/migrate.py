@@ -70,6 +70,9 @@ def migrate(
             maintainer_name=maintainer_name,
             maintainer_email=maintainer_email,
             add_root_link=add_root_link,
+            # the distro given on the command line is recorded in the package (pkgforge.toml)
+            record_distro=click.get_current_context().get_parameter_source("distro")
+            == click.core.ParameterSource.COMMANDLINE,
         )
     except PkgforgeError as error:
         fail(error)

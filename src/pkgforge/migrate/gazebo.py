@@ -17,7 +17,7 @@ A model with such parts is re-serialised by lxml (comments and layout kept; quot
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -386,21 +386,28 @@ def plugins(
             message = f"Gazebo Classic plugin {library} removed: it loads in no Gazebo (gz){instead}"
         if left:
             message += f"; left out: {', '.join(left)}"
-        parent = plugin.getparent()
-        _replace(plugin, _reindent(snippet, indent) if snippet is not None else None)
-        if (
-            snippet is None
-            and parent is not None
-            and etree.QName(parent).localname == "gazebo"
-            and not len(parent)
-            and parent.getparent() is not None
-            and not (parent.text or "").strip()
-        ):
-            _replace(parent, None)  # a <gazebo> that held only this plugin
+        if snippet is None:
+            _remove_plugin(plugin)
+        else:
+            _replace(plugin, _reindent(snippet, indent))
         kind = "migrate-changed" if snippet is not None else "migrate-gazebo-classic"
         notes.add(kind, message, path, line)
         changed = True
     return changed
+
+
+def _remove_plugin(plugin: etree._Element) -> None:
+    """The plugin left out, and the <gazebo> that held only it."""
+    parent = plugin.getparent()
+    _replace(plugin, None)
+    if (
+        parent is not None
+        and etree.QName(parent).localname == "gazebo"
+        and not len(parent)
+        and parent.getparent() is not None
+        and not (parent.text or "").strip()
+    ):
+        _replace(parent, None)
 
 
 def convert_model(
@@ -409,16 +416,45 @@ def convert_model(
     """The model's bytes with its Gazebo Classic parts converted (unchanged when it has none)."""
     from pkgforge.scaffold.package import gz_names
 
+    def convert(root: etree._Element) -> bool:
+        changed = False
+        if context.control:
+            changed |= transmissions(root, path, context.joints, gz_names(models.distro)["hardware"], notes)
+        return plugins(root, path, context.properties, models, notes) | changed
+
+    return _rewritten(data, convert)
+
+
+def strip_model(data: bytes, path: Path, props: dict[str, set[str]], notes: Notes) -> bytes:
+    """Without --gazebo: the model's bytes with each Gazebo Classic <plugin> left out, as the
+    launch files' Classic actions are (ROS 1's plugins load in no Gazebo of a ROS 2 distro, and
+    verify would report each, PF701); --gazebo converts them instead."""
+
+    def strip(root: etree._Element) -> bool:
+        found = list(_plugins(root, props))
+        for plugin, library in found:
+            notes.add(
+                "migrate-gazebo-classic",
+                f"Gazebo Classic plugin {library} left out: it loads in no Gazebo of a ROS 2 distro "
+                "(migrate --gazebo converts it)",
+                path,
+                plugin.sourceline,
+            )
+            _remove_plugin(plugin)
+        return bool(found)
+
+    return _rewritten(data, strip)
+
+
+def _rewritten(data: bytes, edit: Callable[[etree._Element], bool]) -> bytes:
+    """The model's bytes after `edit` changed its tree (unchanged when it changed nothing), with
+    the source's own XML declaration and line ends."""
     parser = etree.XMLParser(remove_comments=False, resolve_entities=False, no_network=True)
     try:
         root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError:
         return data  # read as ROS 1 did (content after the root): reported by read_models
-    changed = False
-    if context.control:
-        changed |= transmissions(root, path, context.joints, gz_names(models.distro)["hardware"], notes)
-    changed |= plugins(root, path, context.properties, models, notes)
-    if not changed:
+    if not edit(root):
         return data
     text = etree.tostring(root.getroottree(), encoding="utf-8")
     declaration = DECLARATION.match(data)
@@ -497,6 +533,16 @@ def convert_package(
     for relative, launch in converted.launches.items():
         _bridge(launch.actions, gazebo, converted.launch_sources[relative], notes)
     converted.depends |= gazebo.depends
+
+
+def strip_package(converted: Converted, models: Models, source: Path, notes: Notes) -> None:
+    """Without --gazebo: every model written leaves its Gazebo Classic plugins out."""
+    props = properties([model.root for model in models.read.values()])
+    for relative in models.read:
+        if relative in converted.output:
+            converted.output[relative] = strip_model(
+                converted.output[relative], source / relative, props, notes
+            )
 
 
 def _controller_files(converted: Converted, package: str, notes: Notes) -> list[str]:

@@ -3,11 +3,11 @@ model, its links and root, the meshes it names that are missing, the Gazebo Clas
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pkgforge.model import ros1_names
 from pkgforge.urdf import XACRO_MODEL_SUFFIXES
 
 if TYPE_CHECKING:
@@ -44,15 +44,15 @@ def _used_models(models: list[str], texts: dict[str, str], launch_files: list[st
     return used
 
 
-def read_models(source: Path, files: list[str], notes: Notes, *, gazebo: bool = False) -> Models:
+def read_models(source: Path, files: list[str], notes: Notes) -> Models:
     """Each model read (a model with content after its root as ROS 1 read it), the links of all,
     the root link of the first .urdf, and the meshes that are missing. A model that is not
     well-formed XML stops the migration only when a launch file uses it (ROS 1 never read it
-    otherwise): else it is copied as written, and reported. Without --gazebo, each Gazebo Classic
-    plugin is reported as kept (with it, migrate/gazebo.py converts them)."""
+    otherwise): else it is copied as written, and reported. (Gazebo Classic plugins are
+    migrate/gazebo.py's: converted with --gazebo, else left out.)"""
     from pkgforge.scaffold.from_urdf import ModelUnreadable, decode, read_model, root_link, trailing_message
 
-    models = [r for r in files if r.endswith(XACRO_MODEL_SUFFIXES)]
+    models = [r for r in files if r.endswith(XACRO_MODEL_SUFFIXES) or _model_part(source / r)]
     texts = {r: decode((source / r).read_bytes()) for r in [*models, *filter(is_ros1_launch, files)]}
     used = _used_models(models, texts, [r for r in files if is_ros1_launch(r)])
     result = Models()
@@ -76,9 +76,26 @@ def read_models(source: Path, files: list[str], notes: Notes, *, gazebo: bool = 
         if result.root is None and relative.endswith(".urdf"):
             result.root = root_link(model.root)
         _check_meshes(model, relative in used, result, notes)
-        if not gazebo:
-            _note_classic_plugins(model, notes)
     return result
+
+
+# fusion2urdf writes the model's Gazebo plugins and transmissions into urdf/<name>.gazebo and
+# <name>.trans, files its xacro includes: whatever its name, a file whose root is <robot> is part of
+# the model (its plugins converted or left out as the model's own)
+ROBOT_ROOT = re.compile(rb"(?:\xef\xbb\xbf)?\s*(?:<\?xml[^>]*\?>\s*)?(?:<!--.*?-->\s*)*<robot\b", re.DOTALL)
+OTHER_KINDS = (".launch", ".rviz", ".yaml", ".yml", ".sdf", ".world", ".dae", ".stl", ".obj", ".xml")
+
+
+def _model_part(path: Path) -> bool:
+    from pkgforge.model.source import read_head
+
+    if path.name.lower().endswith(OTHER_KINDS):
+        return False
+    try:
+        head, _ = read_head(path, 4096)
+    except OSError:
+        return False
+    return ROBOT_ROOT.match(head) is not None
 
 
 def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) -> None:
@@ -107,15 +124,4 @@ def _check_meshes(model: ModelFile, used: bool, result: Models, notes: Notes) ->
                 "copied as written",
                 model.path,
                 reference.line,
-            )
-
-
-def _note_classic_plugins(model: ModelFile, notes: Notes) -> None:
-    for element in model.root.iter("plugin"):
-        if ros1_names.is_gazebo_classic_plugin(element.get("filename", "")):
-            notes.add(
-                "migrate-gazebo-classic",
-                f"Gazebo Classic plugin {element.get('filename')} is kept as written; it does not load in Gazebo (gz)",
-                model.path,
-                element.sourceline,
             )

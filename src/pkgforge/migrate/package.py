@@ -273,6 +273,7 @@ def migrate(
     maintainer_email: str | None = None,
     add_root_link: bool = False,
     check_launch: bool = True,
+    record_distro: bool = False,
 ) -> tuple[CreatedPackage, Notes, Path]:
     from pkgforge.migrate.check import unloadable
     from pkgforge.migrate.manifest import maintainers, read_manifest, version
@@ -299,7 +300,7 @@ def migrate(
             f"{len(refused)} file(s) of the package cannot be copied: nothing written; replace each "
             "link that leads out of the package by the file it names, or move the file out of the package",
         )
-    models = read_models(source, files, notes, gazebo=gazebo)
+    models = read_models(source, files, notes)
     if models.missing:
         raise PkgforgeError(*missing_message(models.missing, force=False))
     for folder_name, folder in models.found.items():
@@ -353,6 +354,7 @@ def migrate(
             authors=tuple((a.name, a.email) for a in manifest.authors),
             urls=tuple(manifest.urls),
             description_xml=manifest.description_xml,
+            record_distro=record_distro,
         )
 
     leave_out: set[str] = set()
@@ -383,6 +385,8 @@ def migrate(
     rendered = render_files(spec)
     converted.output["package.xml"] = rendered["package.xml"]
     converted.output["CMakeLists.txt"] = rendered["CMakeLists.txt"]
+    if "pkgforge.toml" in rendered:  # --distro given: verify and fix target it, as after new --distro
+        converted.output["pkgforge.toml"] = rendered["pkgforge.toml"]
     notes.add(
         "migrate-changed",
         "package.xml: format 3, ament_cmake, exec_depends from what the launch files use",
@@ -538,10 +542,12 @@ def _convert_files(
             converted.output[relative] = _as_ros2_parameters(
                 converted.output[relative], source / relative, notes
             )
-    if gazebo:
-        from pkgforge.migrate.gazebo import convert_package
+    from pkgforge.migrate.gazebo import convert_package, strip_package
 
+    if gazebo:
         convert_package(converted, models, source, renames.new, target, notes)
+    else:
+        strip_package(converted, models, source, notes)
     return converted
 
 
