@@ -20,6 +20,7 @@ import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 from urllib.parse import unquote, urlparse
 
 from lxml import etree
@@ -100,7 +101,10 @@ def _version(text: str | None) -> tuple[int, int] | None:
     explanation="sdformat (Gazebo's parser, every version) refuses a file that is not XML or whose "
     "root is not <sdf> with a version it has a description of (1.0 to 1.12): Gazebo loads no world. "
     "(sdformat converts an older file to its own newest version and reads it against that "
-    "version's description: an attribute newer than the declared version is read, not refused.)",
+    "version's description: an attribute newer than the declared version is read, not refused.) "
+    "No automatic fix: the version a file is written for is the author's knowledge (an <sdf> "
+    "wrapper with a guessed version makes sdformat read elements of another version against the "
+    "wrong description), and broken XML has no one repair.",
     hint='declare the SDF version the file is written for, e.g. <sdf version="1.9">',
 )
 def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
@@ -208,7 +212,13 @@ def _exported_paths(ctx: CheckContext, package: str, share: Path) -> list[Path]:
     "PKG's share folder, and a relative URI beside the SDF file; a path into /home/<someone> exists "
     "on its author's machine only. Not found, Gazebo loads the world without the model (or the "
     "mesh) or stops. A model:// no folder of the workspace has may come from the user's own "
-    "resource path or Gazebo's model database: a warning.",
+    "resource path or Gazebo's model database: a warning. `pkgforge fix` rewrites a path into a "
+    "home folder whose model or mesh the package itself installs: an <include> of a folder NAME "
+    "of its models/ as model://NAME, a mesh inside an installed models/NAME as model://NAME/..., "
+    "another mesh of its share folder as package://PKG/... (unsafe: Gazebo finds it only with the "
+    "folder holding share/PKG on its resource path). The model:// rewrite is safe when the models "
+    "folder is on Gazebo's resource path, else unsafe: with --unsafe-fixes PF422's fix puts it there.",
+    fix="safe",
     hint="install the model folder (install(DIRECTORY models ...)) and refer to it as model://NAME, "
     "or to a file of a package as package://PKG/path",
 )
@@ -227,7 +237,78 @@ def sdf_uri_unresolved(ctx: CheckContext) -> Iterator[Finding]:
             message = _unresolved(ctx, uri, here, roots)
             if message is not None:
                 text, severity = message
-                yield Finding(f"{_shown(uri.text)}{text}", sdf.source, uri.line, severity=severity)
+                yield Finding(
+                    f"{_shown(uri.text)}{text}",
+                    sdf.source,
+                    uri.line,
+                    severity=severity,
+                    fix=_home_replacement(ctx, uri, share, roots),
+                )
+
+
+def _home_path(uri: str) -> list[str] | None:
+    """The parts of a file:// URI's or an absolute path's path when it is in a home folder."""
+    parsed = urlparse(uri)
+    if parsed.scheme not in ("file", ""):
+        return None
+    path = unquote(parsed.path if parsed.scheme else uri)
+    if not HOME.match(path):
+        return None
+    return [part for part in posixpath.normpath(path).split("/") if part]
+
+
+def _home_replacement(
+    ctx: CheckContext, found: _Uri, share: Path, roots: dict[Path, str]
+) -> dict[str, Any] | None:
+    """The fix data of a home-folder URI whose target the package itself installs: the URI Gazebo
+    finds it by, and whether that is unsafe (see PF421's explanation); None when there is none."""
+    parts = _home_path(found.text)
+    if not parts:
+        return None
+    target = _home_target(ctx, found, parts, share, roots)
+    return {"uri": found.text, **target} if target else {"uri": found.text}
+
+
+def _home_target(
+    ctx: CheckContext, found: _Uri, parts: list[str], share: Path, roots: dict[Path, str]
+) -> dict[str, Any] | None:
+    own = ctx.model.share_name
+    own_roots = [root for root, package in roots.items() if package == own]
+    on_path = _on_resource_path(ctx)
+    if found.include:  # the model folder, by the name of the path's last folder
+        name = parts[-1]
+        for root in own_roots:
+            if name not in (".", "..") and ctx.files.is_dir(root / name):
+                return {"replacement": f"model://{name}", "unsafe": root not in on_path}
+        return None
+    # a mesh: the longest end of the path that is a file of the package's share folder
+    for start in range(1, len(parts) - 1):
+        relative = "/".join(parts[start:])
+        if not ctx.files.exists(share / relative) or ctx.files.is_dir(share / relative):
+            continue
+        for root in own_roots:
+            if (share / relative).is_relative_to(root) and root != share:
+                inside = (share / relative).relative_to(root).as_posix()
+                return {"replacement": f"model://{inside}", "unsafe": root not in on_path}
+        return {"replacement": f"package://{own}/{relative}", "unsafe": True}
+    return None
+
+
+def _on_resource_path(ctx: CheckContext) -> set[Path]:
+    """The model folders Gazebo finds models in: what packages export (gazebo_model_path), every
+    one when a hook or launch file of the workspace names a resource variable."""
+    roots = _model_roots(ctx)
+    if _sets_resource_path(ctx):
+        return set(roots)
+    tree = ctx.tree
+    if tree is None:
+        return set()
+    return {
+        path
+        for package in tree.packages
+        if (s := tree.share(package))
+        for path in _exported_paths(ctx, package, s)
+    }
 
 
 def _unresolved(
@@ -296,7 +377,13 @@ def _unresolved(
     "gz_sim.launch.py (humble 0.244.14 and later, jazzy) and gazebo_ros's gazebo.launch.py add "
     'what a package exports with <export><gazebo_ros gazebo_model_path="${prefix}/models"/>; '
     "neither adds a share folder by itself. An environment hook of the package or a launch file "
-    "of the workspace naming one of those variables counts too (read as text).",
+    "of the workspace naming one of those variables counts too (read as text). `pkgforge fix` "
+    "gives an ament_cmake package's own models folder an environment hook (hooks/gz_resource_path.dsv.in, "
+    "named in ament_environment_hooks() before ament_package(), as ros_gz_sim_demos does) prepending "
+    "share/<package>/models to IGN_GAZEBO_RESOURCE_PATH (humble: Fortress) or GZ_SIM_RESOURCE_PATH "
+    "(jazzy and later): a safe fix, the path is set for whoever sources the workspace, whichever way "
+    "Gazebo is started.",
+    fix="safe",
     hint='add <gazebo_ros gazebo_model_path="${prefix}/models"/> to package.xml\'s <export>, or an '
     "environment hook that appends share/<package>/models to GZ_SIM_RESOURCE_PATH",
 )
@@ -305,12 +392,7 @@ def gazebo_resource_path_unset(ctx: CheckContext) -> Iterator[Finding]:
     if tree is None:
         return
     roots = _model_roots(ctx)
-    exported = {
-        path
-        for package in tree.packages
-        if (s := tree.share(package))
-        for path in _exported_paths(ctx, package, s)
-    }
+    exported = _on_resource_path(ctx)
     for sdf in _installed_sdf(ctx):
         root = _parse(sdf)
         if isinstance(root, etree.XMLSyntaxError):
@@ -330,8 +412,38 @@ def gazebo_resource_path_unset(ctx: CheckContext) -> Iterator[Finding]:
                 "launch file setting GZ_SIM_RESOURCE_PATH)",
                 sdf.source,
                 uri.line,
+                fix=_hook_fix_data(ctx, package, found[0]),
             )
             return  # once per package: one export fixes every model of the folder
+
+
+def _hook_fix_data(ctx: CheckContext, package: str, folder: Path) -> dict[str, Any] | None:
+    """What PF422's fix needs: the package's folder and the variables of its target distros; None
+    for another package's folder or an exported one (that package's own finding fixes it)."""
+    if package != ctx.model.share_name or folder.name != "models" or ctx.tree is None:
+        return None
+    if folder != (ctx.tree.share(package) or Path("/nonexistent")) / "models":
+        return None
+    return {
+        "package": str(ctx.model.path),
+        "build_type": ctx.model.build_type,
+        "variables": resource_variables(ctx.distros),
+    }
+
+
+def resource_variables(distros: tuple[str, ...]) -> list[str]:
+    """The variable each target distro's Gazebo reads its resource path from: Fortress (humble)
+    IGN_GAZEBO_RESOURCE_PATH (ign-gazebo6's Util.hh; its later releases read GZ_SIM_RESOURCE_PATH
+    too, its first did not), gz-sim 8 and later GZ_SIM_RESOURCE_PATH only (gz-sim8's Util.hh).
+    No target: both."""
+    if not distros:
+        return ["GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH"]
+    out = []
+    if any(d != "humble" for d in distros):
+        out.append("GZ_SIM_RESOURCE_PATH")
+    if "humble" in distros:
+        out.append("IGN_GAZEBO_RESOURCE_PATH")
+    return out
 
 
 def _sets_resource_path(ctx: CheckContext) -> bool:
