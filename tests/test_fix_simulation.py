@@ -164,6 +164,21 @@ def test_a_mesh_outside_the_models_becomes_package_uri_only_with_unsafe_fixes(tm
     assert codes(tmp_path) == []
 
 
+def test_an_include_of_an_sdf_file_in_the_models_folder_keeps_the_file(tmp_path):
+    """sdformat's <include> takes an SDF file too: model://crate/model.sdf, found as the folder is."""
+    package = home_world(tmp_path)
+    world = package / "worlds" / "yard.sdf"
+    edit(world, "/models/crate</uri>", "/models/crate/model.sdf</uri>")
+    line = line_of(world, "model.sdf</uri>")
+    result = fix(tmp_path)
+    assert (
+        f"fixed {WORLD}:{line}: PF421 sdf-uri-unresolved: <uri> "
+        "file:///home/ada/ws/src/world_sim/models/crate/model.sdf → model://crate/model.sdf"
+    ) in result.stdout
+    assert line_of(world, "<uri>model://crate/model.sdf</uri>") == line
+    assert codes(tmp_path) == []
+
+
 def test_uris_the_fixer_does_not_expect_are_left_as_they_are_with_a_reason(tmp_path):
     package = home_world(tmp_path)
     world = package / "worlds" / "yard.sdf"

@@ -213,8 +213,8 @@ def _exported_paths(ctx: CheckContext, package: str, share: Path) -> list[Path]:
     "on its author's machine only. Not found, Gazebo loads the world without the model (or the "
     "mesh) or stops. A model:// no folder of the workspace has may come from the user's own "
     "resource path or Gazebo's model database: a warning. `pkgforge fix` rewrites a path into a "
-    "home folder whose model or mesh the package itself installs: an <include> of a folder NAME "
-    "of its models/ as model://NAME, a mesh inside an installed models/NAME as model://NAME/..., "
+    "home folder whose model or mesh the package itself installs: a path whose end is in its "
+    "installed models folder (a model folder NAME, an SDF file or a mesh in it) as model://NAME[/...], "
     "another mesh of its share folder as package://PKG/... (unsafe: Gazebo finds it only with the "
     "folder holding share/PKG on its resource path). The model:// rewrite is safe when the models "
     "folder is on Gazebo's resource path, else unsafe: with --unsafe-fixes PF422's fix puts it there.",
@@ -273,24 +273,22 @@ def _home_target(
     ctx: CheckContext, found: _Uri, parts: list[str], share: Path, roots: dict[Path, str]
 ) -> dict[str, Any] | None:
     own = ctx.model.share_name
-    own_roots = [root for root, package in roots.items() if package == own]
     on_path = _on_resource_path(ctx)
-    if found.include:  # the model folder, by the name of the path's last folder
-        name = parts[-1]
-        for root in own_roots:
-            if name not in (".", "..") and ctx.files.is_dir(root / name):
-                return {"replacement": f"model://{name}", "unsafe": root not in on_path}
+    # the longest end of the path that is in a models folder of the package: model://NAME[/...]
+    # (sdformat's <include> takes a model folder or an SDF file, gz-common a mesh, both found by
+    # model:// in the folders of the resource path)
+    for start in range(1, len(parts)):
+        inside = "/".join(parts[start:])
+        for root, package in roots.items():
+            if package == own and root != share and ctx.files.exists(root / inside):
+                return {"replacement": f"model://{inside}", "unsafe": root not in on_path}
+    if found.include:
         return None
-    # a mesh: the longest end of the path that is a file of the package's share folder
+    # another mesh of the package's share folder: package://PKG/...
     for start in range(1, len(parts) - 1):
         relative = "/".join(parts[start:])
-        if not ctx.files.exists(share / relative) or ctx.files.is_dir(share / relative):
-            continue
-        for root in own_roots:
-            if (share / relative).is_relative_to(root) and root != share:
-                inside = (share / relative).relative_to(root).as_posix()
-                return {"replacement": f"model://{inside}", "unsafe": root not in on_path}
-        return {"replacement": f"package://{own}/{relative}", "unsafe": True}
+        if ctx.files.exists(share / relative) and not ctx.files.is_dir(share / relative):
+            return {"replacement": f"package://{own}/{relative}", "unsafe": True}
     return None
 
 
