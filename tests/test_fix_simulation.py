@@ -99,6 +99,26 @@ def test_home_uris_become_model_uris_and_a_hook_puts_the_models_on_the_resource_
     assert sorted(p.name for p in tmp_path.iterdir()) == ["src"]
 
 
+@pytest.mark.parametrize(
+    ("depends", "variables"),
+    [
+        ("gazebo_ros", "GAZEBO_MODEL_PATH"),  # Classic (turtlebot3_manipulation_gazebo's humble)
+        ("gazebo_ros</exec_depend>\n  <exec_depend>ros_gz_sim", "IGN_GAZEBO_RESOURCE_PATH;GAZEBO_MODEL_PATH"),
+    ],
+)
+def test_the_hook_names_the_variable_of_the_gazebo_the_package_runs(tmp_path, depends, variables):
+    package = home_world(tmp_path, "humble")
+    edit(
+        package / "package.xml",
+        "  <export>",
+        f"  <exec_depend>{depends}</exec_depend>\n\n  <export>",
+    )
+    fix(tmp_path, "--select", "PF422")
+    assert (package / "hooks" / "gz_resource_path.dsv.in").read_text() == "".join(
+        f"prepend-non-duplicate;{v};share/@PROJECT_NAME@/models\n" for v in variables.split(";")
+    )
+
+
 @pytest.mark.slow
 def test_the_hook_builds_and_sets_the_variable(tmp_path):
     """A real colcon build of the fixed package: ament_cmake installs the hook and lists it in the

@@ -378,8 +378,8 @@ def _unresolved(
     "of the workspace naming one of those variables counts too (read as text). `pkgforge fix` "
     "gives an ament_cmake package's own models folder an environment hook (hooks/gz_resource_path.dsv.in, "
     "named in ament_environment_hooks() before ament_package(), as ros_gz_sim_demos does) prepending "
-    "share/<package>/models to IGN_GAZEBO_RESOURCE_PATH (humble: Fortress) or GZ_SIM_RESOURCE_PATH "
-    "(jazzy and later): a safe fix, the path is set for whoever sources the workspace, whichever way "
+    "share/<package>/models to IGN_GAZEBO_RESOURCE_PATH (humble: Fortress), GZ_SIM_RESOURCE_PATH "
+    "(jazzy and later) or GAZEBO_MODEL_PATH (a humble package depending on gazebo_ros: Classic): a safe fix, the path is set for whoever sources the workspace, whichever way "
     "Gazebo is started.",
     fix="safe",
     hint='add <gazebo_ros gazebo_model_path="${prefix}/models"/> to package.xml\'s <export>, or an '
@@ -425,22 +425,48 @@ def _hook_fix_data(ctx: CheckContext, package: str, folder: Path) -> dict[str, A
     return {
         "package": str(ctx.model.path),
         "build_type": ctx.model.build_type,
-        "variables": resource_variables(ctx.distros),
+        "variables": resource_variables(ctx.distros, _gazebos(ctx)),
     }
 
 
-def resource_variables(distros: tuple[str, ...]) -> list[str]:
-    """The variable each target distro's Gazebo reads its resource path from: Fortress (humble)
+# what a package depends on to run each Gazebo (gazebo_ros_pkgs for Classic; ros_gz, and
+# ros_ign on humble, for gz-sim and Fortress)
+CLASSIC_PACKAGES = frozenset({"gazebo_ros", "gazebo_ros_pkgs", "gazebo_plugins", "gazebo_ros2_control"})
+GZ_PACKAGES = frozenset(
+    {
+        "ros_gz",
+        "ros_gz_sim",
+        "ros_gz_bridge",
+        "ros_ign",
+        "ros_ign_gazebo",
+        "gz_ros2_control",
+        "ign_ros2_control",
+    }
+)
+
+
+def _gazebos(ctx: CheckContext) -> tuple[bool, bool]:
+    """(whether the package depends on Gazebo Classic's ROS packages, on gz-sim's)."""
+    names = {d.name for d in ctx.model.manifest.dependencies if d.active()}
+    return bool(names & CLASSIC_PACKAGES), bool(names & GZ_PACKAGES)
+
+
+def resource_variables(distros: tuple[str, ...], gazebos: tuple[bool, bool] = (False, True)) -> list[str]:
+    """The variables the package's Gazebo reads its resource path from: Gazebo Classic
+    GAZEBO_MODEL_PATH (a humble package depending on gazebo_ros); Fortress (humble)
     IGN_GAZEBO_RESOURCE_PATH (ign-gazebo6's Util.hh; its later releases read GZ_SIM_RESOURCE_PATH
-    too, its first did not), gz-sim 8 and later GZ_SIM_RESOURCE_PATH only (gz-sim8's Util.hh).
-    No target: both."""
-    if not distros:
-        return ["GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH"]
+    too, its first did not); gz-sim 8 and later GZ_SIM_RESOURCE_PATH only (gz-sim8's Util.hh).
+    No target: both gz variables. A package depending on neither Gazebo's ROS packages: gz-sim."""
+    classic, gz = gazebos
+    humble = not distros or "humble" in distros
     out = []
-    if any(d != "humble" for d in distros):
-        out.append("GZ_SIM_RESOURCE_PATH")
-    if "humble" in distros:
-        out.append("IGN_GAZEBO_RESOURCE_PATH")
+    if gz or not classic or not humble:
+        if not distros or any(d != "humble" for d in distros):
+            out.append("GZ_SIM_RESOURCE_PATH")
+        if humble:
+            out.append("IGN_GAZEBO_RESOURCE_PATH")
+    if classic and humble:
+        out.append("GAZEBO_MODEL_PATH")
     return out
 
 
