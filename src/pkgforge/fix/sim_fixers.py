@@ -90,9 +90,12 @@ def fix_resource_path(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     if HOOK in source.text:
         raise Unfixable(f"CMakeLists.txt names {HOOK} already; its hook does not set the path")
     ament = _top_level_ament_package(source)
-    start = source.line_start(ament.line)
     if not source.is_blank_before(source.offset(ament.line, ament.column)):
         raise Unfixable("ament_package() does not start its own line in CMakeLists.txt")
+    line = ament.line
+    while line > 1 and source.line_text(line - 1).lstrip().startswith("#"):
+        line -= 1  # above the comment that goes with ament_package()
+    start = source.line_start(line)
     fix = Fix(f"added {HOOK} (share/<package>/models on {' and '.join(variables)}) to CMakeLists.txt")
     indent = source.indentation(ament.line)
     comment = "# Gazebo finds model://NAME of share/<package>/models on its resource path only"
