@@ -352,10 +352,12 @@ YAML_LAUNCH = """launch:
     param:
     - name: robot_description
       value: "$(command 'xacro $(find-pkg-share rob_description)/urdf/sim.urdf.xacro')"
+    - name: use_sim_time
+      value: true
 """
 
 
-def test_xml_is_edited_yaml_and_humble_targets_are_not(tmp_path, template_package):
+def test_xml_and_yaml_are_edited_a_flow_list_and_humble_targets_are_not(tmp_path, template_package):
     package = simulation_package(tmp_path, template_package)
     (package / "launch" / "sim.launch.py").unlink()
     xml, yaml = package / "launch" / "control.launch.xml", package / "launch" / "control.launch.yaml"
@@ -370,14 +372,31 @@ def test_xml_is_edited_yaml_and_humble_targets_are_not(tmp_path, template_packag
     lines = XML_LAUNCH.splitlines(keepends=True)
     assert xml.read_text() == "".join(lines[:5] + lines[6:])
     assert (
-        "not fixed src/rob_description/launch/control.launch.yaml:2: PF709 controller-description-delivery: "
-        "only Python and XML launch files are edited: drop the parameter by hand"
+        "fixed src/rob_description/launch/control.launch.yaml:2: PF709 controller-description-delivery: "
+        "removed the robot_description item from ros2_control_node's param"
     ) in result.stdout
-    assert yaml.read_text() == YAML_LAUNCH
+    lines = YAML_LAUNCH.splitlines(keepends=True)
+    assert yaml.read_text() == "".join(lines[:5] + lines[7:])
+    assert "PF709" not in [c for c, _, _ in codes(tmp_path)]
+    # the only item: the param key goes with it (an empty param is null, which launch refuses)
+    yaml.write_text("".join(lines[:7]))
+    fix(tmp_path, "--select", "PF709")
+    assert yaml.read_text() == "".join(lines[:4])
+    # a flow-style list is not what the fixer edits: left as it is, with the reason
+    flow = YAML_LAUNCH.replace(
+        "    param:\n    - name: robot_description\n", "    param: [{name: robot_description, "
+    ).replace("\n    - name: use_sim_time\n      value: true\n", "}]\n")
+    yaml.write_text(flow)
+    result = fix(tmp_path, "--select", "PF709")
+    assert (
+        "not fixed src/rob_description/launch/control.launch.yaml:2: PF709 controller-description-delivery: "
+        "the node's param is not a block list (- name: ...): drop the parameter by hand"
+    ) in result.stdout
+    assert yaml.read_text() == flow
     # humble and jazzy: humble reads the parameter, so dropping it is the user's decision
     xml.write_text(XML_LAUNCH)
     (package / "pkgforge.toml").write_text('[verify]\ndistro = ["humble", "jazzy"]\n')
     result = fix(tmp_path, "--select", "PF709", "--unsafe-fixes")
-    assert "fixed" not in result.stdout and "not fixed" not in result.stdout
+    assert "fixed" not in result.stdout
     assert xml.read_text() == XML_LAUNCH
     assert [c for c, p, _ in codes(tmp_path) if c == "PF709" and p.endswith(".xml")] == ["PF709"]

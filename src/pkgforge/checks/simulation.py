@@ -736,7 +736,8 @@ def _remapped(node: Node) -> bool:
     "/robot_description); from Jazzy on (branches jazzy, kilted) it only subscribes to the "
     "robot_description topic and ignores the parameter. A controller manager without its "
     "description never loads its hardware. `pkgforge fix` drops the parameter where every target "
-    "distro ignores it (a dict entry or a <param> written in the node, Python or XML launch files): "
+    "distro ignores it (written in the node: a dict entry in Python, a <param> in XML, a param item in "
+    "YAML launch files): "
     "safe, since the node never read it.",
     fix="safe",
     hint="Jazzy and later: drop the parameter and run robot_state_publisher; Humble: pass robot_description, "

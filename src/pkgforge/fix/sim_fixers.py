@@ -7,6 +7,8 @@ import ast
 import re
 from pathlib import Path
 
+from yaml import MappingNode
+
 from pkgforge.diagnostics import Diagnostic
 from pkgforge.fix.edits import Edit, NotOffered, SourceText, Unfixable, node_span
 from pkgforge.fix.registry import Fix, FixContext, fixer, given
@@ -138,7 +140,8 @@ def fix_controller_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     ~/robot_description was humble's topic.) Edited where the parameter is written as a literal
     in the node itself: an entry of a dict in parameters=[...] (or a list item that is a name
     bound once to such a dict of that key alone) in Python, a <param name="robot_description"
-    .../> in XML. A YAML launch file, a parameter file or a computed list: by hand."""
+    .../> in XML, a `- name: robot_description` item of the node's block `param:` list of one-line
+    name and value in YAML. A parameter file, a computed list or a flow-style list: by hand."""
     if (diagnostic.fix or {}).get("drop") is not True:
         raise NotOffered("the fix is a decision for the user (see the hint)")
     source = ctx.files.get(diagnostic.path)
@@ -147,7 +150,9 @@ def fix_controller_description(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
         return _drop_python(source, diagnostic.line or 0)
     if name.endswith(".xml"):
         return _drop_xml(source, diagnostic.line or 0)
-    raise Unfixable("only Python and XML launch files are edited: drop the parameter by hand")
+    if name.endswith((".yaml", ".yml")):
+        return _drop_yaml(source, diagnostic.line or 0)
+    raise Unfixable("only Python, XML and YAML launch files are edited: drop the parameter by hand")
 
 
 def _drop_python(source: SourceText, line: int) -> Fix:
@@ -265,3 +270,75 @@ def _drop_xml(source: SourceText, line: int) -> Fix:
     offset = node.end()
     fix.add(source.path, _delete_span(source, offset + params[0].start(), offset + params[0].end()))
     return fix
+
+
+def _drop_yaml(source: SourceText, line: int) -> Fix:
+    """The node's `- name: robot_description` item, its lines removed (the `param:` key's too
+    when it is the only item: an empty param is null, which launch's YAML parser refuses)."""
+    import yaml
+
+    from pkgforge.model.yamlnodes import compose
+
+    try:
+        root = compose(source.text)
+    except yaml.YAMLError as exc:
+        raise Unfixable(f"{source.path.name} does not parse: {exc}".splitlines()[0]) from exc
+    node = _yaml_node_at(root, line)
+    if node is None:
+        raise Unfixable(f"cannot find the ros2_control_node node at line {line}")
+    param = next(((k, v) for k, v in node.value if k.value == "param"), None)
+    if param is None or not isinstance(param[1], yaml.SequenceNode) or param[1].flow_style:
+        raise Unfixable("the node's param is not a block list (- name: ...): drop the parameter by hand")
+    items = param[1].value
+    index = next((i for i, item in enumerate(items) if _names_description(item)), None)
+    if index is None:
+        raise Unfixable("no `- name: robot_description` item of one-line name and value: drop it by hand")
+    first = items[index].start_mark.line  # 0-based
+    last = max(v.end_mark.line for _, v in items[index].value)
+    if not source.line_text(first + 1).lstrip().startswith("- "):
+        raise Unfixable("the robot_description item does not start its own line: drop it by hand")
+    if len(items) == 1:  # the key goes too
+        if param[0].start_mark.line + 1 != first:
+            raise Unfixable("param: and its one item are not on consecutive lines: drop it by hand")
+        first = param[0].start_mark.line
+    fix = Fix("removed the robot_description item from ros2_control_node's param")
+    fix.add(source.path, Edit(source.line_start(first + 1), source.line_end(last + 1), ""))
+    return fix
+
+
+def _yaml_node_at(root: object, line: int) -> MappingNode | None:
+    """The mapping under a `node:` key whose list item starts at the 1-based line."""
+    import yaml
+
+    todo: list[object] = [root]
+    while todo:
+        current = todo.pop()
+        if isinstance(current, yaml.MappingNode):
+            for key, value in current.value:
+                if (
+                    key.value == "node"
+                    and isinstance(value, yaml.MappingNode)
+                    and key.start_mark.line + 1 <= line <= value.start_mark.line + 1
+                    and any(k.value == "exec" and v.value == "ros2_control_node" for k, v in value.value)
+                ):
+                    return value
+                todo.append(value)
+        elif isinstance(current, yaml.SequenceNode):
+            todo.extend(current.value)
+    return None
+
+
+def _names_description(item: object) -> bool:
+    """A `name: robot_description` item whose every value is a scalar on one line."""
+    import yaml
+
+    if not isinstance(item, yaml.MappingNode):
+        return False
+    values = {k.value: v for k, v in item.value}
+    return (
+        set(values) == {"name", "value"}
+        and all(
+            isinstance(v, yaml.ScalarNode) and v.start_mark.line == v.end_mark.line for v in values.values()
+        )
+        and values["name"].value == "robot_description"
+    )
