@@ -69,9 +69,11 @@ def fix_resource_path(diagnostic: Diagnostic, ctx: FixContext) -> Fix:
     include from; whoever sources the workspace gets it, whichever way Gazebo is started (the
     <gazebo_ros gazebo_model_path> export works only through ros_gz_sim's gz_sim.launch.py, and
     only from ros_gz 0.244.14 on humble). A model of the same name elsewhere on the path is found
-    after this one: the package's own worlds mean the package's own. ament_python has no hook
-    mechanism of its own (colcon writes its hooks; the launch file that starts Gazebo would need
-    an AppendEnvironmentVariable): no fix there."""
+    after this one: the package's own worlds mean the package's own. ament_python: no fix. Its
+    environment files are written by colcon's python build (colcon-ros' AmentPythonBuildTask), not
+    from an ament_environment_hooks() list; a hook installed through setup.py's data_files is not
+    one mechanical edit, and the alternative, an AppendEnvironmentVariable in the launch file that
+    starts Gazebo, depends on which launch file the user starts: the reason says so."""
     folder = Path(
         given(
             diagnostic,
