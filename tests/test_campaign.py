@@ -461,6 +461,19 @@ HOSTILE_XACRO = {
         "</mesh></geometry></visual></link></model><include><uri>\u00e9</uri></include>"
         '<pose relative_to="" degrees="maybe"/></world></sdf>\n'
     ),
+    # home-folder URIs PF421's fix reads back to the package's own files (issue 31 fixes): climbing,
+    # escaped, endless, a file for a folder, a link's name
+    "homes.world": (
+        '<sdf version="1.9"><world name="w"><include><uri>file:///home/a/../../etc/passwd</uri></include>'
+        "<include><uri>file:///home/a/%2e%2e/%2e%2e/etc</uri></include>"
+        "<include><uri>/home/a/" + "deep/" * 400 + "urdf</uri></include>"
+        "<include><uri>/home/a/ws/src/NAME/urdf/</uri></include><include><uri>/root/.</uri></include>"
+        "<include><uri>file:///home/a/NAME/package.xml</uri></include>"
+        "<include><uri><![CDATA[/home/a/NAME/urdf]]></uri></include>"
+        "<model name='m'><link name='l'><visual name='v'><geometry><mesh><uri>/home/a/ws/src/NAME/urdf/"
+        + "x" * 300
+        + ".stl</uri></mesh></geometry></visual></link></model></world></sdf>\n"
+    ),
 }
 
 # hostile setup.py files (issue 34): each computes its data_files (a helper the static reader cannot

@@ -20,6 +20,7 @@ import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 from urllib.parse import unquote, urlparse
 
 from lxml import etree
@@ -138,7 +139,10 @@ def _version(text: str | None) -> tuple[int, int] | None:
     explanation="sdformat (Gazebo's parser, every version) refuses a file that is not XML or whose "
     "root is not <sdf> with a version it has a description of (1.0 to 1.12): Gazebo loads no world. "
     "(sdformat converts an older file to its own newest version and reads it against that "
-    "version's description: an attribute newer than the declared version is read, not refused.)",
+    "version's description: an attribute newer than the declared version is read, not refused.) "
+    "No automatic fix: the version a file is written for is the author's knowledge (an <sdf> "
+    "wrapper with a guessed version makes sdformat read elements of another version against the "
+    "wrong description), and broken XML has no one repair.",
     hint='declare the SDF version the file is written for, e.g. <sdf version="1.9">',
 )
 def sdf_invalid(ctx: CheckContext) -> Iterator[Finding]:
@@ -246,7 +250,13 @@ def _exported_paths(ctx: CheckContext, package: str, share: Path) -> list[Path]:
     "PKG's share folder, and a relative URI beside the SDF file; a path into /home/<someone> exists "
     "on its author's machine only. Not found, Gazebo loads the world without the model (or the "
     "mesh) or stops. A model:// no folder of the workspace has may come from the user's own "
-    "resource path or Gazebo's model database: a warning.",
+    "resource path or Gazebo's model database: a warning. `pkgforge fix` rewrites a path into a "
+    "home folder whose model or mesh the package itself installs: a path whose end is in its "
+    "installed models folder (a model folder NAME, an SDF file or a mesh in it) as model://NAME[/...], "
+    "another mesh of its share folder as package://PKG/... (unsafe: Gazebo finds it only with the "
+    "folder holding share/PKG on its resource path). The model:// rewrite is safe when the models "
+    "folder is on Gazebo's resource path, else unsafe: with --unsafe-fixes PF422's fix puts it there.",
+    fix="safe",
     hint="install the model folder (install(DIRECTORY models ...)) and refer to it as model://NAME, "
     "or to a file of a package as package://PKG/path",
 )
@@ -265,7 +275,76 @@ def sdf_uri_unresolved(ctx: CheckContext) -> Iterator[Finding]:
             message = _unresolved(ctx, uri, here, roots)
             if message is not None:
                 text, severity = message
-                yield Finding(f"{_shown(uri.text)}{text}", sdf.source, uri.line, severity=severity)
+                yield Finding(
+                    f"{_shown(uri.text)}{text}",
+                    sdf.source,
+                    uri.line,
+                    severity=severity,
+                    fix=_home_replacement(ctx, uri, share, roots),
+                )
+
+
+def _home_path(uri: str) -> list[str] | None:
+    """The parts of a file:// URI's or an absolute path's path when it is in a home folder."""
+    parsed = urlparse(uri)
+    if parsed.scheme not in ("file", ""):
+        return None
+    path = unquote(parsed.path if parsed.scheme else uri)
+    if not HOME.match(path):
+        return None
+    return [part for part in posixpath.normpath(path).split("/") if part]
+
+
+def _home_replacement(
+    ctx: CheckContext, found: _Uri, share: Path, roots: dict[Path, str]
+) -> dict[str, Any] | None:
+    """The fix data of a home-folder URI whose target the package itself installs: the URI Gazebo
+    finds it by, and whether that is unsafe (see PF421's explanation); None when there is none."""
+    parts = _home_path(found.text)
+    if not parts:
+        return None
+    target = _home_target(ctx, found, parts, share, roots)
+    return {"uri": found.text, **target} if target else {"uri": found.text}
+
+
+def _home_target(
+    ctx: CheckContext, found: _Uri, parts: list[str], share: Path, roots: dict[Path, str]
+) -> dict[str, Any] | None:
+    own = ctx.model.share_name
+    on_path = _on_resource_path(ctx)
+    # the longest end of the path that is in a models folder of the package: model://NAME[/...]
+    # (sdformat's <include> takes a model folder or an SDF file, gz-common a mesh, both found by
+    # model:// in the folders of the resource path)
+    for start in range(1, len(parts)):
+        inside = "/".join(parts[start:])
+        for root, package in roots.items():
+            if package == own and root != share and ctx.files.exists(root / inside):
+                return {"replacement": f"model://{inside}", "unsafe": root not in on_path}
+    if found.include:
+        return None
+    # another mesh of the package's share folder: package://PKG/...
+    for start in range(1, len(parts) - 1):
+        relative = "/".join(parts[start:])
+        if ctx.files.exists(share / relative) and not ctx.files.is_dir(share / relative):
+            return {"replacement": f"package://{own}/{relative}", "unsafe": True}
+    return None
+
+
+def _on_resource_path(ctx: CheckContext) -> set[Path]:
+    """The model folders Gazebo finds models in: what packages export (gazebo_model_path), every
+    one when a hook or launch file of the workspace names a resource variable."""
+    roots = _model_roots(ctx)
+    if _sets_resource_path(ctx):
+        return set(roots)
+    tree = ctx.tree
+    if tree is None:
+        return set()
+    return {
+        path
+        for package in tree.packages
+        if (s := tree.share(package))
+        for path in _exported_paths(ctx, package, s)
+    }
 
 
 def _unresolved(
@@ -334,7 +413,13 @@ def _unresolved(
     "gz_sim.launch.py (humble 0.244.14 and later, jazzy) and gazebo_ros's gazebo.launch.py add "
     'what a package exports with <export><gazebo_ros gazebo_model_path="${prefix}/models"/>; '
     "neither adds a share folder by itself. An environment hook of the package or a launch file "
-    "of the workspace naming one of those variables counts too (read as text).",
+    "of the workspace naming one of those variables counts too (read as text). `pkgforge fix` "
+    "gives an ament_cmake package's own models folder an environment hook (hooks/gz_resource_path.dsv.in, "
+    "named in ament_environment_hooks() before ament_package(), as ros_gz_sim_demos does) prepending "
+    "share/<package>/models to IGN_GAZEBO_RESOURCE_PATH (humble: Fortress), GZ_SIM_RESOURCE_PATH "
+    "(jazzy and later) or GAZEBO_MODEL_PATH (a humble package depending on gazebo_ros: Classic): a safe fix, the path is set for whoever sources the workspace, whichever way "
+    "Gazebo is started.",
+    fix="safe",
     hint='add <gazebo_ros gazebo_model_path="${prefix}/models"/> to package.xml\'s <export>, or an '
     "environment hook that appends share/<package>/models to GZ_SIM_RESOURCE_PATH",
 )
@@ -343,12 +428,7 @@ def gazebo_resource_path_unset(ctx: CheckContext) -> Iterator[Finding]:
     if tree is None:
         return
     roots = _model_roots(ctx)
-    exported = {
-        path
-        for package in tree.packages
-        if (s := tree.share(package))
-        for path in _exported_paths(ctx, package, s)
-    }
+    exported = _on_resource_path(ctx)
     for sdf in _installed_sdf(ctx):
         root = _parse(sdf)
         if isinstance(root, etree.XMLSyntaxError):
@@ -368,8 +448,64 @@ def gazebo_resource_path_unset(ctx: CheckContext) -> Iterator[Finding]:
                 "launch file setting GZ_SIM_RESOURCE_PATH)",
                 sdf.source,
                 uri.line,
+                fix=_hook_fix_data(ctx, package, found[0]),
             )
             return  # once per package: one export fixes every model of the folder
+
+
+def _hook_fix_data(ctx: CheckContext, package: str, folder: Path) -> dict[str, Any] | None:
+    """What PF422's fix needs: the package's folder and the variables of its target distros; None
+    for another package's folder or an exported one (that package's own finding fixes it)."""
+    if package != ctx.model.share_name or folder.name != "models" or ctx.tree is None:
+        return None
+    if folder != (ctx.tree.share(package) or Path("/nonexistent")) / "models":
+        return None
+    return {
+        "package": str(ctx.model.path),
+        "build_type": ctx.model.build_type,
+        "variables": resource_variables(ctx.distros, _gazebos(ctx)),
+    }
+
+
+# what a package depends on to run each Gazebo (gazebo_ros_pkgs for Classic; ros_gz, and
+# ros_ign on humble, for gz-sim and Fortress)
+CLASSIC_PACKAGES = frozenset({"gazebo_ros", "gazebo_ros_pkgs", "gazebo_plugins", "gazebo_ros2_control"})
+GZ_PACKAGES = frozenset(
+    {
+        "ros_gz",
+        "ros_gz_sim",
+        "ros_gz_bridge",
+        "ros_ign",
+        "ros_ign_gazebo",
+        "gz_ros2_control",
+        "ign_ros2_control",
+    }
+)
+
+
+def _gazebos(ctx: CheckContext) -> tuple[bool, bool]:
+    """(whether the package depends on Gazebo Classic's ROS packages, on gz-sim's)."""
+    names = {d.name for d in ctx.model.manifest.dependencies if d.active()}
+    return bool(names & CLASSIC_PACKAGES), bool(names & GZ_PACKAGES)
+
+
+def resource_variables(distros: tuple[str, ...], gazebos: tuple[bool, bool] = (False, True)) -> list[str]:
+    """The variables the package's Gazebo reads its resource path from: Gazebo Classic
+    GAZEBO_MODEL_PATH (a humble package depending on gazebo_ros); Fortress (humble)
+    IGN_GAZEBO_RESOURCE_PATH (ign-gazebo6's Util.hh; its later releases read GZ_SIM_RESOURCE_PATH
+    too, its first did not); gz-sim 8 and later GZ_SIM_RESOURCE_PATH only (gz-sim8's Util.hh).
+    No target: both gz variables. A package depending on neither Gazebo's ROS packages: gz-sim."""
+    classic, gz = gazebos
+    humble = not distros or "humble" in distros
+    out = []
+    if gz or not classic or not humble:
+        if not distros or any(d != "humble" for d in distros):
+            out.append("GZ_SIM_RESOURCE_PATH")
+        if humble:
+            out.append("IGN_GAZEBO_RESOURCE_PATH")
+    if classic and humble:
+        out.append("GAZEBO_MODEL_PATH")
+    return out
 
 
 def _sets_resource_path(ctx: CheckContext) -> bool:

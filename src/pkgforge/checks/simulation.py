@@ -773,7 +773,11 @@ def _remapped(node: Node) -> bool:
     "(/controller_manager/robot_description unless remapped: robot_state_publisher publishes "
     "/robot_description); from Jazzy on (branches jazzy, kilted) it only subscribes to the "
     "robot_description topic and ignores the parameter. A controller manager without its "
-    "description never loads its hardware.",
+    "description never loads its hardware. `pkgforge fix` drops the parameter where every target "
+    "distro ignores it (written in the node: a dict entry in Python, a <param> in XML, a param item in "
+    "YAML launch files): "
+    "safe, since the node never read it.",
+    fix="safe",
     hint="Jazzy and later: drop the parameter and run robot_state_publisher; Humble: pass robot_description, "
     "or remap ~/robot_description to /robot_description",
 )
@@ -793,6 +797,8 @@ def controller_description_delivery(ctx: CheckContext) -> Iterator[Finding]:
                     f"{_which(ignored)}: it reads the /robot_description topic",
                     *position,
                     hint="drop the parameter; robot_state_publisher publishes /robot_description",
+                    # dropped only where no target reads it (humble too: the user's decision)
+                    fix={"drop": True} if len(ignored) == len(_distros(ctx)[0]) else None,
                 )
             missing = _failing(
                 ctx, {d: d not in TOPIC_DISTROS and not given and not remapped for d in _distros(ctx)[0]}

@@ -200,6 +200,33 @@ def write_atomically(source: SourceText, new_text: str) -> Outcome:
     return Outcome(source.path, True)
 
 
+def create_exclusively(path: Path, text: str) -> Outcome:
+    """Write a new file (its folder made if missing) where no file is; never over one. Its text is
+    written beside it first and linked into place, so no half-written file is ever seen."""
+    path = Path(path)
+    temporary = None
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".pkgforge-fix")
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(text.encode("utf-8"))
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.chmod(temporary, 0o644)
+        os.link(temporary, path)  # refuses an existing file, where a rename would replace it
+    except FileExistsError:
+        return Outcome(path, False, "it was created since pkgforge looked; run pkgforge fix again")
+    except OSError as exc:
+        return Outcome(path, False, f"cannot create it: {exc.strerror or exc}")
+    finally:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+    return Outcome(path, True)
+
+
 class _Changed(Exception):
     pass
 

@@ -1,5 +1,6 @@
 """The fixers' registry: one fixer per check name (`fixer`), what a fix is (`Fix`), what fixers
-share (`FixContext`). The fixers themselves are in fixers, rviz_fixers and launch_fixers."""
+share (`FixContext`). The fixers themselves are in fixers, rviz_fixers, launch_fixers and
+sim_fixers."""
 
 from __future__ import annotations
 
@@ -23,9 +24,21 @@ class Fix:
     edits: dict[Path, list[Edit]] = field(default_factory=dict)
     # a dependency it declares: (the package.xml, the name), so a run adds no cycle (run.py)
     declares: tuple[Path, str] | None = None
+    # new files (an environment hook): written only where no file is; the fixer checks first
+    creates: dict[Path, str] = field(default_factory=dict)
 
     def add(self, path: Path, edit: Edit) -> None:
         self.edits.setdefault(Path(path), []).append(edit)
+
+    def create(self, path: Path, text: str) -> None:
+        if Path(path).exists() or Path(path).is_symlink():
+            raise Unfixable(f"{Path(path).name} exists already: pkgforge does not overwrite it")
+        self.creates[Path(path)] = text
+
+    @property
+    def paths(self) -> list[Path]:
+        """Every file the fix writes: edited or created."""
+        return [*self.edits, *self.creates]
 
 
 class FixContext:
@@ -67,6 +80,11 @@ def given(diagnostic: Diagnostic, key: str, missing: str) -> str:
 
 def all_fixers() -> dict[str, Fixer]:
     """Every fixer, by check name."""
-    from pkgforge.fix import fixers, launch_fixers, rviz_fixers  # noqa: F401  (importing registers them)
+    from pkgforge.fix import (  # noqa: F401  (importing registers them)
+        fixers,
+        launch_fixers,
+        rviz_fixers,
+        sim_fixers,
+    )
 
     return FIXERS

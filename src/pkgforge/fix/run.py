@@ -26,6 +26,7 @@ from pkgforge.fix.edits import (
     Outcome,
     Unfixable,
     apply,
+    create_exclusively,
     parse_problem,
     unified_diff,
     write_atomically,
@@ -71,6 +72,7 @@ class FixRun:
 class _Plan:
     fixes: list[tuple[Diagnostic, Fix]] = field(default_factory=list)
     edits: dict[Path, list[Edit]] = field(default_factory=dict)
+    creates: dict[Path, str] = field(default_factory=dict)
     deferred: list[Diagnostic] = field(default_factory=list)
 
 
@@ -116,7 +118,7 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
             )
             continue
         outside = [
-            p for p in fix.edits if not any(Path(os.path.realpath(p)).is_relative_to(r) for r in roots)
+            p for p in fix.paths if not any(Path(os.path.realpath(p)).is_relative_to(r) for r in roots)
         ]
         if outside:
             run.not_fixed.append(
@@ -129,12 +131,13 @@ def plan(result: VerifyResult, files: FileSet, unsafe: bool, run: FixRun) -> _Pl
         if index in cycles:
             run.not_fixed.append((diagnostic, cycles[index]))
             continue
-        if _clashes(fix, out.edits):
+        if _clashes(fix, out.edits, out.creates):
             out.deferred.append(diagnostic)
             continue
         for path, edits in fix.edits.items():
             merged = out.edits.setdefault(path, [])
             merged.extend(e for e in edits if e not in merged)
+        out.creates.update(fix.creates)
         out.fixes.append((diagnostic, fix))
     return out
 
@@ -218,7 +221,9 @@ def _path(edges: dict[str, set[str]], start: str, goal: str) -> list[str] | None
     return None
 
 
-def _clashes(fix: Fix, edits: dict[Path, list[Edit]]) -> bool:
+def _clashes(fix: Fix, edits: dict[Path, list[Edit]], creates: dict[Path, str]) -> bool:
+    if any(path in creates and creates[path] != text for path, text in fix.creates.items()):
+        return True
     for path, new in fix.edits.items():
         for edit in new:
             for other in edits.get(path, []):
@@ -273,9 +278,13 @@ def run_fix(
 
                 text = keep_formatted(_original(file) if _original else file, source.text, text)
             new_texts[file] = text
+        for file, text in planned.creates.items():
+            problem = parse_problem(file, text)
+            if problem is not None:
+                broken[file] = problem
         applied: list[tuple[Diagnostic, Fix]] = []
         for diagnostic, fix in planned.fixes:
-            bad = [broken[p] for p in fix.edits if p in broken]
+            bad = [broken[p] for p in fix.paths if p in broken]
             if bad:
                 run.not_fixed.append(
                     (diagnostic, f"the fix would leave the file unparsable ({bad[0]}); nothing written")
@@ -283,9 +292,10 @@ def run_fix(
             else:
                 applied.append((diagnostic, fix))
         if options.diff:
+            created = {p: t for p, t in planned.creates.items() if p not in broken}
             run.diff = "".join(
-                unified_diff(p, files.get(p).text, t, _shown(p, shown_root))
-                for p, t in sorted(new_texts.items())
+                unified_diff(p, files.get(p).text if p in files.files else "", t, _shown(p, shown_root))
+                for p, t in sorted({**new_texts, **created}.items())
             )
             run.fixed = [Applied(d, f.description) for d, f in applied]
             return run
@@ -297,13 +307,24 @@ def run_fix(
             else:
                 run.failures.append(outcome)
                 failed.add(file)
+        written = set(new_texts) - failed
+        for file, text in sorted(planned.creates.items()):
+            if file in broken or not any(file in fix.creates for _, fix in applied):
+                continue
+            outcome = create_exclusively(file, text)
+            if outcome.written:
+                run.files_written.add(file)
+                written.add(file)
+            else:
+                run.failures.append(outcome)
+                failed.add(file)
         for diagnostic, fix in applied:
-            if any(p in failed for p in fix.edits):
+            if any(p in failed for p in fix.paths):
                 continue
             if all(p in broken or p in new_texts for p in fix.edits) or not fix.edits:
                 run.fixed.append(Applied(diagnostic, fix.description))
-        if failed or not (set(new_texts) - failed):
-            result = verify(path, verify_options) if set(new_texts) - failed else result
+        if failed or not written:
+            result = verify(path, verify_options) if written else result
             break
         result = verify(path, verify_options)
     run.result = result
@@ -381,7 +402,8 @@ def _diff_on_a_copy(path: Path, options: FixOptions, shown_root: Path) -> FixRun
         diffs: list[str] = []
         for written in sorted(run.files_written):
             original = back(written)
-            before = original.read_bytes().decode("utf-8")
+            # a file the fix creates: its diff is from nothing
+            before = original.read_bytes().decode("utf-8") if original.exists() else ""
             after = written.read_bytes().decode("utf-8")
             diffs.append(
                 unified_diff(
