@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING, TypeAlias
 
 import yaml
 
-from pkgforge.migrate.roslaunch import Action, Arg, Condition, Group, Include, Node, Token
+from pkgforge.migrate.roslaunch import Action, Arg, Group, Include, Node
+from pkgforge.migrate.tokens import Condition, Token
 
 if TYPE_CHECKING:
     from pkgforge.model.distros import Distro

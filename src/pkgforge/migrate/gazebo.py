@@ -28,8 +28,8 @@ from pkgforge.model import ros1_names
 if TYPE_CHECKING:
     from pathlib import Path
 
+    from pkgforge.migrate.converted import Converted
     from pkgforge.migrate.models import Models
-    from pkgforge.migrate.package import Converted
     from pkgforge.migrate.roslaunch import Action
     from pkgforge.scaffold.notes import Notes
 
@@ -547,7 +547,7 @@ def strip_package(converted: Converted, models: Models, source: Path, notes: Not
 
 def _controller_files(converted: Converted, package: str, notes: Notes) -> list[str]:
     """The package's own files its launch files load for the spawner (relative paths), in order."""
-    from pkgforge.migrate.roslaunch import Token
+    from pkgforge.migrate.tokens import Token
 
     found: list[str] = []
     for relative, launch in converted.launches.items():
@@ -578,7 +578,8 @@ def _controller_files(converted: Converted, package: str, notes: Notes) -> list[
 def _fix_spawners(actions: list[Action], names: dict[str, str], dropped: set[str]) -> None:
     """Each spawner names the ROS 2 controllers: renamed ones by their new name, left-out ones not
     at all (a spawner left with none is left out too)."""
-    from pkgforge.migrate.roslaunch import Group, Node, Token, literal
+    from pkgforge.migrate.roslaunch import Group, Node
+    from pkgforge.migrate.tokens import Token, literal
 
     for action in list(actions):
         if isinstance(action, Group):
@@ -597,7 +598,8 @@ def _fix_spawners(actions: list[Action], names: dict[str, str], dropped: set[str
 def _bridge(actions: list[Action], gazebo: GazeboModels, path: Path, notes: Notes) -> None:
     """After the include of ros_gz_sim's gz_sim.launch.py: ros_gz_bridge's parameter_bridge of the
     clock (use_sim_time) and of the converted plugins' topics."""
-    from pkgforge.migrate.roslaunch import Group, Include, Node, Token
+    from pkgforge.migrate.roslaunch import Group, Include, Node
+    from pkgforge.migrate.tokens import Token
     from pkgforge.scaffold.package import gz_names
 
     msgs = gz_names(gazebo.distro)["msgs"]

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from pkgforge.errors import PkgforgeError
+from pkgforge.migrate.converted import Converted
 from pkgforge.migrate.models import Models, is_ros1_launch, read_models
 from pkgforge.model import ros1_names
 from pkgforge.model.source import not_regular
@@ -27,8 +28,8 @@ from pkgforge.walk import WalkLimit, walk
 
 if TYPE_CHECKING:
     from pkgforge.migrate.manifest import Ros1Manifest
-    from pkgforge.migrate.roslaunch import Action, LaunchFile, Reader, Token
-    from pkgforge.model.distros import Distro
+    from pkgforge.migrate.roslaunch import Action, Reader
+    from pkgforge.migrate.tokens import Token
     from pkgforge.scaffold.notes import Notes
     from pkgforge.scaffold.package import CreatedPackage, PackageSpec
 
@@ -198,68 +199,6 @@ def _package_name(manifest: Ros1Manifest, requested: str | None) -> tuple[str, s
     return new, f"{problem.split(' (try')[0]}, which REP 144 forbids"
 
 
-@dataclass
-class Converted:
-    """The migrated package in memory: its files, their modes, and what each launch file uses."""
-
-    output: dict[str, bytes] = field(default_factory=dict)
-    modes: dict[str, int] = field(default_factory=dict)
-    uses: dict[str, set[str]] = field(default_factory=dict)  # written launch file → packages it uses
-    launches: dict[str, LaunchFile] = field(default_factory=dict)  # ROS 2 launch file → its actions
-    launch_sources: dict[str, Path] = field(default_factory=dict)  # ROS 2 launch file → the ROS 1 file
-    launch_names: dict[str, str] = field(default_factory=dict)  # ROS 2 launch file → ROS 1's, relative
-    generated_rviz: dict[str, int | None] = field(default_factory=dict)
-    depends: set[str] = field(
-        default_factory=set
-    )  # what the converted files need beyond the launch files' uses
-
-    def emit(self, leave_out: set[str], name: str, launch_format: str, distro: Distro, notes: Notes) -> None:
-        """Write the launch files in output, but for those in leave_out and those that come to start
-        nothing (a Gazebo Classic file without --gazebo); an include of a file not written is left
-        out of the file including it."""
-        from pkgforge.migrate.emit import to_python, to_xml, to_yaml, used_packages
-
-        written = set(self.launches) - leave_out
-        changed = True
-        while changed:
-            changed = False
-            for relative in sorted(written):
-                launch, path = self.launches[relative], self.launch_sources[relative]
-                for include in _includes_of(launch.actions, name, set(self.launches) - written):
-                    notes.add(
-                        "migrate-dropped",
-                        f"include of {include[1]} left out: it is not written",
-                        path,
-                        include[0],
-                    )
-                if not launch.runs_anything():
-                    notes.add(
-                        "migrate-dropped",
-                        f"{relative} not written: nothing in it starts in ROS 2",
-                        path,
-                        None,
-                    )
-                    written.discard(relative)
-                    changed = True
-        self.uses = {}
-        for relative, launch in self.launches.items():
-            self.output.pop(relative, None)
-            if relative not in written:
-                continue
-            source = os.path.relpath(
-                self.launch_sources[relative].as_posix(),
-                self.launch_sources[relative].parents[len(Path(relative).parts) - 1],
-            )
-            if launch_format == "py":
-                text = to_python(launch.actions, source)
-            elif launch_format == "xml":
-                text = to_xml(launch.actions, source, distro=distro)
-            else:
-                text = to_yaml(launch.actions, source, distro=distro)
-            self.output[relative] = text.encode("utf-8")
-            self.uses[relative] = used_packages(launch.actions)
-
-
 def migrate(
     source: Path,
     destination: Path | None,
@@ -422,22 +361,6 @@ def _write(spec: PackageSpec, converted: Converted, source: Path, destination: P
     return create_package(spec, parent, files=converted.output, folder=folder, modes=converted.modes)
 
 
-def _includes_of(actions: list[Action], name: str, gone: set[str]) -> list[tuple[int | None, str]]:
-    """Take out each include of one of the package's launch files in `gone`: (its line, the file)."""
-    from pkgforge.migrate.roslaunch import Group, Include, Token
-
-    taken: list[tuple[int | None, str]] = []
-    for action in list(actions):
-        if isinstance(action, Group):
-            taken += _includes_of(action.actions, name, gone)
-        elif isinstance(action, Include) and len(action.path) == 2 and action.path[0] == Token("find", name):
-            relative = action.path[1][1].lstrip("/")
-            if relative in gone:
-                actions.remove(action)
-                taken.append((action.line, relative))
-    return taken
-
-
 def _note_folder(notes: Notes, models: Models, name: str, folder: Path) -> None:
     from pkgforge.scaffold.from_urdf import folder_message, model_references
 
@@ -553,7 +476,8 @@ def _convert_files(
 
 def _parameter_files(actions: list[Action], name: str) -> set[str]:
     """The package's own files (relative paths) a node's <rosparam command="load" file=...> loads."""
-    from pkgforge.migrate.roslaunch import Group, Node, Token
+    from pkgforge.migrate.roslaunch import Group, Node
+    from pkgforge.migrate.tokens import Token
 
     found: set[str] = set()
     for action in actions:
@@ -611,7 +535,8 @@ def _package_description(
 
 def _rename_tokens(actions: list[Action], renames: Renames) -> None:
     """$(find OLD) → $(find NEW), a node of package OLD → NEW, package://OLD/ in a value → NEW."""
-    from pkgforge.migrate.roslaunch import Token, nodes, token_lists
+    from pkgforge.migrate.roslaunch import nodes, token_lists
+    from pkgforge.migrate.tokens import Token
 
     if not renames.prefixes:
         return
@@ -663,7 +588,7 @@ def _dependencies(manifest: Ros1Manifest, name: str, target: str, gazebo: bool, 
 def _rewrite(parts: list[Token], own: set[str], moved: dict[str, str], foreign_launch: str) -> list[Token]:
     """$(find NAME)/old → $(find NAME)/new for a moved file (NAME: the package, by its old or new
     name); other packages' .launch → their ROS 2 name."""
-    from pkgforge.migrate.roslaunch import Token
+    from pkgforge.migrate.tokens import Token
 
     out = list(parts)
     for index in range(len(out) - 1):
@@ -689,7 +614,8 @@ def _rewrite_all(
     path: Path,
 ) -> None:
     """References to moved files follow them; an RViz config the source lacks is generated in rviz/."""
-    from pkgforge.migrate.roslaunch import Arg, Group, Node, Token
+    from pkgforge.migrate.roslaunch import Arg, Group, Node
+    from pkgforge.migrate.tokens import Token
 
     for action in actions:
         if isinstance(action, Arg) and action.default:
