@@ -160,7 +160,9 @@ def test_example_robot_data_models_have_no_physical_errors(model):
         def installed_share(self, package):
             return share if package == "example-robot-data" else None
 
-    result = SimpleNamespace(status="ok", robot=data["robot"], installed=path, source=path, origins=[])
+    result = SimpleNamespace(
+        status="ok", robot=data["robot"], installed=path, source=path, origins=[], error=None
+    )
     context = SimpleNamespace(
         model_results=[result],
         tree=Tree(),

@@ -117,16 +117,29 @@ def test_real_robots_verify_without_errors(tmp_path, robot_prefix):
     talos = [
         d
         for d in report["diagnostics"]
-        if d["package"] == "talos_wrap_description" and d["code"] not in ("PF604", "PF410")
+        if d["package"] == "talos_wrap_description" and d["code"] not in ("PF604", "PF410", "PF701")
     ]
     assert talos and all(d["code"] == "PF402" and "names no package" in d["message"] for d in talos)
+    # and ROS 1's Gazebo Classic plugins (gazebo_ros_pkgs' noetic-devel), which load in no ROS 2
+    # Gazebo: TALOS's and UR5's gazebo_ros_control, TALOS's openni_kinect camera
+    classic = sorted(
+        (d["package"], d["message"].split("'")[1]) for d in report["diagnostics"] if d["code"] == "PF701"
+    )
+    assert classic == [
+        ("talos_wrap_description", "libgazebo_ros_control.so"),
+        ("talos_wrap_description", "libgazebo_ros_openni_kinect.so"),
+        ("ur5_wrap_description", "libgazebo_ros_control.so"),
+    ]
     # and a true colour: rgbd_link writes DarkGrey as 0.5 grey, urdfdom keeps <robot>'s DarkGrey (0.2)
     (colour,) = [d for d in report["diagnostics"] if d["code"] == "PF410"]
     assert colour["package"] == "talos_wrap_description" and colour["severity"] == "warning"
     assert colour["message"].startswith("link 'rgbd_link': material 'DarkGrey' is given another colour")
     assert len({d["line"] for d in talos}) == len(talos)  # each at its own <mesh> line
     # and UR5's wrist_3_link inertia, wrong upstream (ros-industrial/universal_robot#426): PF610
-    assert [p for p in problems if p[0] != "talos_wrap_description"] == [("ur5_wrap_description", "PF610")]
+    assert sorted(p for p in problems if p[0] != "talos_wrap_description") == [
+        ("ur5_wrap_description", "PF610"),
+        ("ur5_wrap_description", "PF701"),
+    ]
     # the meshes were resolved in the installed package, not skipped
     explain = run_pkgforge(
         "verify",
