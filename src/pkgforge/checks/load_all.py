@@ -3,6 +3,7 @@
 # imported for their effect: each module registers its checks with the registry
 from pkgforge.checks import (  # noqa: F401
     build,
+    controllers,
     files,
     install,
     launch,
