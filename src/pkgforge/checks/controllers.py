@@ -75,12 +75,8 @@ def _controller_files(ctx: CheckContext) -> list[ControllerFile]:
         for resolution in ctx.resolutions:
             for node in resolution.nodes:
                 position = ctx.source_position(resolution, node.file, node.line)
-                if position is None or node.package != "controller_manager":
-                    continue
-                if node.executable == "ros2_control_node":
-                    given += [(p.value_preview, *position) for p in node.parameters if p.form == "file"]
-                elif node.executable == "spawner":
-                    given += [(path, *position) for path in _spawner_files(node)]
+                if position is not None:
+                    given += [(path, *position) for path in _files_given(node)]
         for result in _models(ctx):
             for plugin in _robot_items(result, "gazebo_plugins"):
                 place = _position(ctx, result, plugin["file"], plugin["line"])
@@ -99,6 +95,16 @@ def _controller_files(ctx: CheckContext) -> list[ControllerFile]:
 
     found: list[ControllerFile] = ctx._shared(("controller-files", str(ctx.model.path)), compute)
     return found
+
+
+def _files_given(node: Node) -> list[str]:
+    """The parameters files a controller_manager node reads: ros2_control_node's, a spawner's
+    --param-file."""
+    if node.package != "controller_manager":
+        return []
+    if node.executable == "ros2_control_node":
+        return [p.value_preview for p in node.parameters if p.form == "file"]
+    return _spawner_files(node) if node.executable == "spawner" else []
 
 
 def _spawner_files(node: Node) -> list[str]:
@@ -125,12 +131,11 @@ def controller_config_invalid(ctx: CheckContext) -> Iterator[Finding]:
     # one cause, one finding: a file a ros2_control_node is given as its parameters file is
     # parameters-file-invalid's (PF322: rcl refuses it, the node does not start)
     read_by_node = {
-        p.value_preview
+        path
         for resolution in ctx.resolutions
         for node in resolution.nodes
-        if (node.package, node.executable) == ("controller_manager", "ros2_control_node")
-        for p in node.parameters
-        if p.form == "file"
+        if node.executable == "ros2_control_node"
+        for path in _files_given(node)
     }
     for file in _controller_files(ctx):
         if file.parameters.error is not None and file.installed not in read_by_node:
@@ -301,15 +306,7 @@ def _reads_foreign_configuration(ctx: CheckContext, resolution: Resolution) -> b
     parameters file that is not this package's (protobot_bringup's ros2_control_node and spawner
     read ros2_control_demo_example_9's rrbot_controllers.yaml): the controllers it defines are
     that package's to check."""
-    given: list[str] = []
-    for node in resolution.nodes:
-        if node.package != "controller_manager":
-            continue
-        if node.executable == "ros2_control_node":
-            given += [p.value_preview for p in node.parameters if p.form == "file"]
-        elif node.executable == "spawner":
-            given += _spawner_files(node)
-    return any(ctx.own_source(path) is None for path in given)
+    return any(ctx.own_source(path) is None for node in resolution.nodes for path in _files_given(node))
 
 
 def _description_given(node: Node) -> bool:

@@ -495,14 +495,17 @@ def resource_variables(distros: tuple[str, ...], gazebos: tuple[bool, bool] = (F
     IGN_GAZEBO_RESOURCE_PATH (ign-gazebo6's Util.hh; its later releases read GZ_SIM_RESOURCE_PATH
     too, its first did not); gz-sim 8 and later GZ_SIM_RESOURCE_PATH only (gz-sim8's Util.hh).
     No target: both gz variables. A package depending on neither Gazebo's ROS packages: gz-sim."""
+    from pkgforge.model.simulation import gz_names
+
     classic, gz = gazebos
     humble = not distros or "humble" in distros
-    out = []
+    out: list[str] = []
     if gz or not classic or not humble:
-        if not distros or any(d != "humble" for d in distros):
-            out.append("GZ_SIM_RESOURCE_PATH")
-        if humble:
-            out.append("IGN_GAZEBO_RESOURCE_PATH")
+        # (no target: both gz variables, the newest's first)
+        for distro in sorted(distros or ("jazzy", "humble"), key=lambda d: d == "humble"):
+            variable = gz_names(distro)["resource"]
+            if variable not in out:
+                out.append(variable)
     if classic and humble:
         out.append("GAZEBO_MODEL_PATH")
     return out

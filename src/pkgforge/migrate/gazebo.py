@@ -1,6 +1,6 @@
 """`migrate --gazebo`: a ROS 1 model's Gazebo Classic parts → what the target distro's Gazebo loads.
 
-- gazebo_ros_control's plugin → the distro's gz ros2_control plugin (scaffold's gz_names, what
+- gazebo_ros_control's plugin → the distro's gz ros2_control plugin (model.simulation's gz_names, what
   `new --sim gz` writes), with a <parameters> for each converted controller file;
 - each <transmission> → a <ros2_control name=TRANSMISSION type="system"> at its place, with the
   distro's hardware plugin and its joint's command interface (one block per transmission: a
@@ -340,8 +340,7 @@ def plugins(
 ) -> bool:
     """Each Gazebo Classic <plugin> → its gz replacement, or removed (see the module's docstring).
     True when anything changed."""
-    from pkgforge.model.simulation import CLASSIC_REPLACEMENTS
-    from pkgforge.scaffold.package import gz_names
+    from pkgforge.model.simulation import CLASSIC_REPLACEMENTS, gz_names
 
     names = gz_names(models.distro)
     changed = False
@@ -414,7 +413,7 @@ def convert_model(
     data: bytes, path: Path, models: GazeboModels, context: ModelContext, notes: Notes
 ) -> bytes:
     """The model's bytes with its Gazebo Classic parts converted (unchanged when it has none)."""
-    from pkgforge.scaffold.package import gz_names
+    from pkgforge.model.simulation import gz_names
 
     def convert(root: etree._Element) -> bool:
         changed = False
@@ -489,7 +488,7 @@ def convert_package(
     """--gazebo, after the launch files are read: their controller files converted, their spawners
     naming what those define, the models converted, the clock and the plugins' topics bridged."""
     from pkgforge.migrate.controllers import convert as convert_controllers
-    from pkgforge.scaffold.package import gz_names
+    from pkgforge.model.simulation import gz_names
 
     names: dict[str, str] = {}
     dropped: set[str] = set()
@@ -600,7 +599,7 @@ def _bridge(actions: list[Action], gazebo: GazeboModels, path: Path, notes: Note
     clock (use_sim_time) and of the converted plugins' topics."""
     from pkgforge.migrate.roslaunch import Group, Include, Node
     from pkgforge.migrate.tokens import Token
-    from pkgforge.scaffold.package import gz_names
+    from pkgforge.model.simulation import gz_names
 
     msgs = gz_names(gazebo.distro)["msgs"]
     world = [Token("find", ros1_names.GZ_WORLD_LAUNCH[0]), Token("text", "/" + ros1_names.GZ_WORLD_LAUNCH[1])]

@@ -62,6 +62,35 @@ GZ_SYSTEM = re.compile(r"^(?:lib)?(gz-sim|ignition-gazebo)(\d*)-(.+)-system(?:\.
 GZ_CONTROL = re.compile(r"^(?:lib)?(gz|ign)_ros2_control-system(?:\.so)?$")
 
 
+def gz_names(distro: str) -> dict[str, str]:
+    """The names the distro's Gazebo and its ros2_control plugin answer to (Humble: Fortress
+    and ign_ros2_control, gz_ros2_control's humble branch; later: gz-sim and gz_ros2_control;
+    the bridge's message names: ros_gz's humble README ignition.msgs, jazzy gz.msgs). What
+    `new --sim gz` writes, what `migrate --gazebo` converts Gazebo Classic to, and the resource
+    variable PF422 (and its fix) names."""
+    if distro == "humble":
+        return {
+            "system": "ignition-gazebo",
+            "control": "ign_ros2_control",
+            "plugin": "ign_ros2_control-system",
+            "plugin_name": "ign_ros2_control::IgnitionROS2ControlPlugin",
+            "hardware": "ign_ros2_control/IgnitionSystem",
+            "msgs": "ignition.msgs",
+            "namespace": "ignition::gazebo",
+            "resource": "IGN_GAZEBO_RESOURCE_PATH",
+        }
+    return {
+        "system": "gz-sim",
+        "control": "gz_ros2_control",
+        "plugin": "gz_ros2_control-system",
+        "plugin_name": "gz_ros2_control::GazeboSimROS2ControlPlugin",
+        "hardware": "gz_ros2_control/GazeboSimSystem",
+        "msgs": "gz.msgs",
+        "namespace": "gz::sim",
+        "resource": "GZ_SIM_RESOURCE_PATH",
+    }
+
+
 @functools.lru_cache(maxsize=1)
 def data() -> dict[str, Any]:
     loaded: dict[str, Any] = json.loads(DATA_FILE.read_text(encoding="utf-8"))

@@ -20,6 +20,7 @@ from pkgforge.errors import PkgforgeError
 from pkgforge.model.catkin import InvalidPackage, parse_package_string
 from pkgforge.model.distros import DISTROS, Distro, default_distro
 from pkgforge.model.names import REP144_RULE, rep144_advice, rep144_problem
+from pkgforge.model.simulation import gz_names
 from pkgforge.model.source import FileTooLarge, read_regular
 from pkgforge.scaffold.kinds import BUILD_TYPES, CI_SYSTEMS, LAUNCH_FORMATS
 from pkgforge.scaffold.stl import binary_stl, box_triangles
@@ -58,34 +59,6 @@ SIM_FOLDERS = ("config", "worlds")
 
 # The mesh the scaffold writes: a 4 cm x 4 cm x 30 cm arm segment.
 ARM_MESH_SIZE = (0.04, 0.04, 0.3)
-
-
-def gz_names(distro: str) -> dict[str, str]:
-    """The names the distro's Gazebo and its ros2_control plugin answer to (Humble: Fortress
-    and ign_ros2_control, gz_ros2_control's humble branch; later: gz-sim and gz_ros2_control;
-    the bridge's message names: ros_gz's humble README ignition.msgs, jazzy gz.msgs). What
-    `new --sim gz` writes and what `migrate --gazebo` converts Gazebo Classic to."""
-    if distro == "humble":
-        return {
-            "system": "ignition-gazebo",
-            "control": "ign_ros2_control",
-            "plugin": "ign_ros2_control-system",
-            "plugin_name": "ign_ros2_control::IgnitionROS2ControlPlugin",
-            "hardware": "ign_ros2_control/IgnitionSystem",
-            "msgs": "ignition.msgs",
-            "namespace": "ignition::gazebo",
-            "resource": "IGN_GAZEBO_RESOURCE_PATH",
-        }
-    return {
-        "system": "gz-sim",
-        "control": "gz_ros2_control",
-        "plugin": "gz_ros2_control-system",
-        "plugin_name": "gz_ros2_control::GazeboSimROS2ControlPlugin",
-        "hardware": "gz_ros2_control/GazeboSimSystem",
-        "msgs": "gz.msgs",
-        "namespace": "gz::sim",
-        "resource": "GZ_SIM_RESOURCE_PATH",
-    }
 
 
 @dataclass(frozen=True)
